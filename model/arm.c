@@ -1,0 +1,117 @@
+/* Arm parameters: the paper's Tables 1 and 2 and assumed actuator data. */
+#include "ea_model.h"
+
+#include <math.h>
+
+#define EA__DEG (M_PI / 180.0)
+
+void ea_arm_default(ea_arm_t *arm) {
+  /* Table 1 */
+  arm->rho = 0.501;
+  arm->m_hand = 0.230;
+  arm->length = 0.914;
+  arm->EI = 0.705;
+  arm->x_c = 0.098;
+  arm->y_c = -0.006;
+  arm->g = 9.81;
+  /* Table 2 */
+  arm->EA = 1.28e8;
+  arm->GA_s = 3.28e6;
+  arm->EA_cable = 1.02e5;
+  arm->I_zz = 2.68e-8;
+  arm->I_hand = 4.00e-4;
+  /* Actuators: assumptions (see data/elasticarm.yaml) */
+  ea_actuators_t *a = &arm->act;
+  a->spool_radius = 0.015;
+  a->spool_gear_ratio = 1.0;
+  a->spool_zero_length = 0.254;
+  a->cable_length_min = 0.254;
+  a->cable_length_max = 1.2;
+  a->cable_speed_max = 0.25;
+  a->cable_accel_max = 1.0;
+  a->tension_max = 60.0;
+  a->tension_min = 0.05;
+  a->shoulder_torque_max = 4.0;
+  a->shoulder_speed_max = 2.0;
+  a->shoulder_accel_max = 8.0;
+  a->shoulder_angle_min = -30.0 * EA__DEG;
+  a->shoulder_angle_max = 210.0 * EA__DEG;
+  a->base_speed_max = 1.0;
+  a->base_accel_max = 3.0;
+  a->base_angle_min = -180.0 * EA__DEG;
+  a->base_angle_max = 180.0 * EA__DEG;
+}
+
+#define EA__CHECK_POS(field)                                                      \
+  do {                                                                            \
+    if (!isfinite(arm->field) || !(arm->field > 0.0))                             \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite and > 0",   \
+                          #field, arm->field);                                    \
+  } while (0)
+#define EA__CHECK_NONNEG(field)                                                   \
+  do {                                                                            \
+    if (!isfinite(arm->field) || !(arm->field >= 0.0))                            \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite and >= 0",  \
+                          #field, arm->field);                                    \
+  } while (0)
+#define EA__CHECK_FINITE(field)                                                   \
+  do {                                                                            \
+    if (!isfinite(arm->field))                                                    \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite", #field,   \
+                          arm->field);                                            \
+  } while (0)
+#define EA__CHECK_LT(lo, hi)                                                      \
+  do {                                                                            \
+    if (!(arm->lo < arm->hi))                                                     \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g must be below %s = %g", #lo, \
+                          arm->lo, #hi, arm->hi);                                 \
+  } while (0)
+
+ea_status_t ea_arm_validate(const ea_arm_t *arm, ea_error_t *err) {
+  if (!arm) return ea_error_set(err, EA_ERR_ARG, "arm is NULL");
+  EA__CHECK_NONNEG(rho);
+  EA__CHECK_NONNEG(m_hand);
+  EA__CHECK_POS(length);
+  EA__CHECK_POS(EI);
+  EA__CHECK_FINITE(x_c);
+  EA__CHECK_FINITE(y_c);
+  EA__CHECK_NONNEG(g);
+  EA__CHECK_POS(EA);
+  EA__CHECK_POS(GA_s);
+  EA__CHECK_POS(EA_cable);
+  EA__CHECK_NONNEG(I_zz);
+  EA__CHECK_NONNEG(I_hand);
+  EA__CHECK_POS(act.spool_radius);
+  EA__CHECK_POS(act.spool_gear_ratio);
+  EA__CHECK_FINITE(act.spool_zero_length);
+  EA__CHECK_POS(act.cable_length_min);
+  EA__CHECK_POS(act.cable_length_max);
+  EA__CHECK_LT(act.cable_length_min, act.cable_length_max);
+  EA__CHECK_POS(act.cable_speed_max);
+  EA__CHECK_POS(act.cable_accel_max);
+  EA__CHECK_POS(act.tension_max);
+  EA__CHECK_POS(act.tension_min);
+  EA__CHECK_LT(act.tension_min, act.tension_max);
+  EA__CHECK_POS(act.shoulder_torque_max);
+  EA__CHECK_POS(act.shoulder_speed_max);
+  EA__CHECK_POS(act.shoulder_accel_max);
+  EA__CHECK_FINITE(act.shoulder_angle_min);
+  EA__CHECK_FINITE(act.shoulder_angle_max);
+  EA__CHECK_LT(act.shoulder_angle_min, act.shoulder_angle_max);
+  EA__CHECK_POS(act.base_speed_max);
+  EA__CHECK_POS(act.base_accel_max);
+  EA__CHECK_FINITE(act.base_angle_min);
+  EA__CHECK_FINITE(act.base_angle_max);
+  EA__CHECK_LT(act.base_angle_min, act.base_angle_max);
+  if (!(arm->act.cable_length_min > 0.0))
+    return ea_error_set(err, EA_ERR_INPUT, "cable_length_min must be > 0");
+  return ea_error_set(err, EA_OK, "ok");
+}
+
+double ea_arm_payload_from_factor(const ea_arm_t *arm, double gamma) {
+  return gamma * (arm->m_hand + arm->rho * arm->length);
+}
+
+double ea_arm_tip_mass(const ea_arm_t *arm, double payload_kg) {
+  return arm->m_hand + payload_kg;
+}

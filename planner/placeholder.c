@@ -1,0 +1,1 @@
+typedef int ea__planner_placeholder;

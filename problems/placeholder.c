@@ -1,0 +1,1 @@
+typedef int ea__problems_placeholder;
