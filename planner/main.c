@@ -1,1 +1,51 @@
-int main(void) { return 0; }
+/* elasticarm: the command-line tool. main() owns printing and exit codes;
+ * the library never prints or aborts. */
+#include "cli_impl.h"
+
+#include <gsl/gsl_errno.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct {
+  const char *name;
+  ea__cli_fn fn;
+  const char *help;
+} ea__cmd_t;
+
+static const ea__cmd_t ea__cmds[] = {
+    {"statics", ea__cli_statics, "solve one static configuration (paper sec. 2)"},
+    {"workspace", ea__cli_workspace, "workspace edges for payload factors (Fig. 3)"},
+    {"torque-map", ea__cli_torque_map, "shoulder torque and tension over (L_c, alpha)"},
+    {"path", ea__cli_path, "admissibility of a straight tip path (Fig. 4, eqs. 18-20)"},
+    /* EA_CLI_TABLE_BEGIN (other subcommands add a line here) */
+    /* EA_CLI_TABLE_END */
+};
+
+static void ea__usage(FILE *fp) {
+  fprintf(fp, "usage: elasticarm COMMAND [options]   (elasticarm COMMAND --help)\n\n"
+              "Models a cable-actuated elastica manipulator arm and plans its motions.\n\n"
+              "commands:\n");
+  for (size_t i = 0; i < sizeof ea__cmds / sizeof *ea__cmds; ++i)
+    fprintf(fp, "  %-14s %s\n", ea__cmds[i].name, ea__cmds[i].help);
+}
+
+int main(int argc, char **argv) {
+  gsl_set_error_handler_off(); /* every GSL return is checked */
+  if (argc < 2) {
+    ea__usage(stderr);
+    return EA_EXIT_USAGE;
+  }
+  if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+    ea__usage(stdout);
+    return EA_EXIT_OK;
+  }
+  if (!strcmp(argv[1], "--version")) {
+    printf("elasticarm 0.1.0\n");
+    return EA_EXIT_OK;
+  }
+  for (size_t i = 0; i < sizeof ea__cmds / sizeof *ea__cmds; ++i)
+    if (!strcmp(argv[1], ea__cmds[i].name)) return ea__cmds[i].fn(argc - 1, argv + 1);
+  fprintf(stderr, "elasticarm: unknown command '%s'\n", argv[1]);
+  ea__usage(stderr);
+  return EA_EXIT_USAGE;
+}

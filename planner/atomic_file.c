@@ -1,0 +1,64 @@
+/* Atomic output: temporary beside the target, fsync, rename. */
+#include "ea_planner.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err) {
+  memset(f, 0, sizeof *f);
+  if (!path || !*path) return ea_error_set(err, EA_ERR_ARG, "empty output path");
+  if (strlen(path) >= sizeof f->path)
+    return ea_error_set(err, EA_ERR_ARG, "output path too long: %s", path);
+  snprintf(f->path, sizeof f->path, "%s", path);
+  if (strcmp(path, "-") == 0) {
+    f->fp = stdout;
+    return EA_OK;
+  }
+  snprintf(f->tmp, sizeof f->tmp, "%s.tmpXXXXXX", path);
+  int fd = mkstemp(f->tmp);
+  if (fd < 0) {
+    f->tmp[0] = '\0';
+    return ea_error_set(err, EA_ERR_IO, "%s: cannot create a temporary file: %s", path,
+                        strerror(errno));
+  }
+  f->fp = fdopen(fd, "w");
+  if (!f->fp) {
+    close(fd);
+    unlink(f->tmp);
+    f->tmp[0] = '\0';
+    return ea_error_set(err, EA_ERR_IO, "%s: %s", path, strerror(errno));
+  }
+  return EA_OK;
+}
+
+ea_status_t ea_afile_commit(ea_afile_t *f, ea_error_t *err) {
+  if (!f->fp) return ea_error_set(err, EA_ERR_ARG, "%s: file is not open", f->path);
+  if (f->fp == stdout) {
+    fflush(stdout);
+    f->fp = NULL;
+    return EA_OK;
+  }
+  int bad = ferror(f->fp) || fflush(f->fp) != 0 || fsync(fileno(f->fp)) != 0;
+  int eno = errno;
+  if (fclose(f->fp) != 0) bad = 1;
+  f->fp = NULL;
+  if (bad || rename(f->tmp, f->path) != 0) {
+    if (!bad) eno = errno;
+    unlink(f->tmp);
+    f->tmp[0] = '\0';
+    return ea_error_set(err, EA_ERR_IO, "%s: write failed: %s", f->path, strerror(eno));
+  }
+  f->tmp[0] = '\0';
+  return EA_OK;
+}
+
+void ea_afile_abort(ea_afile_t *f) {
+  if (!f) return;
+  if (f->fp && f->fp != stdout) fclose(f->fp);
+  f->fp = NULL;
+  if (f->tmp[0]) unlink(f->tmp);
+  f->tmp[0] = '\0';
+}

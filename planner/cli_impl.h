@@ -1,0 +1,60 @@
+/* Private: the CLI's subcommands and their shared helpers. Each subcommand
+ * lives in planner/cli_<name>.c and is listed in main.c's table. */
+#ifndef EA_CLI_IMPL_H
+#define EA_CLI_IMPL_H
+
+#include "ea_planner.h"
+
+/** A subcommand: returns the process exit code (0 ok, 1 failure or not
+ *  converged / inadmissible, 2 usage error). Prints only to stdout/stderr. */
+typedef int (*ea__cli_fn)(int argc, char **argv);
+
+int ea__cli_statics(int argc, char **argv);
+int ea__cli_workspace(int argc, char **argv);
+int ea__cli_torque_map(int argc, char **argv);
+int ea__cli_path(int argc, char **argv);
+/* EA_CLI_DECL_BEGIN (other subcommands add their prototypes here) */
+/* EA_CLI_DECL_END */
+
+/** Exit codes. */
+enum { EA_EXIT_OK = 0, EA_EXIT_FAIL = 1, EA_EXIT_USAGE = 2 };
+
+/** Print "elasticarm CMD: message" to stderr; returns EA_EXIT_USAGE. */
+int ea__cli_usage_error(const char *cmd, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/** Print "elasticarm CMD: error: msg" for a failed call; returns EA_EXIT_FAIL
+ *  (EA_EXIT_USAGE for EA_ERR_ARG/EA_ERR_INPUT/EA_ERR_PARSE/EA_ERR_IO). */
+int ea__cli_fail(const char *cmd, ea_status_t st, const ea_error_t *err);
+
+/** Parse a finite double option value: "--flag" named in the error. */
+int ea__cli_double(const char *cmd, const char *flag, const char *text, double lo, double hi,
+                   double *out);
+/** Parse an integer option value in [lo, hi]. */
+int ea__cli_int(const char *cmd, const char *flag, const char *text, long lo, long hi,
+                long *out);
+/** Parse "a,b" (two finite doubles). */
+int ea__cli_pair(const char *cmd, const char *flag, const char *text, double out[2]);
+/** Parse a list "a,b,c" or a range "start:step:stop" into a malloc'd array. */
+int ea__cli_list(const char *cmd, const char *flag, const char *text, double **out, int *n);
+/** The value after flag argv[*i] (advances *i); NULL (and a message) if missing. */
+const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i);
+
+/** Default arm file: $EA_ARM_FILE, ./data/elasticarm.yaml, or the source tree's. */
+const char *ea__cli_default_arm(void);
+/** Load the arm file (path NULL = default). Prints errors; returns exit code. */
+int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm);
+
+/** Payload options shared by commands: --payload-factor G | --payload-kg M. */
+typedef struct ea__cli_payload {
+  int given;      /**< 0 none, 1 factor, 2 kg */
+  double value;
+} ea__cli_payload_t;
+/** Tip mass m_L for the payload option. */
+double ea__cli_tip_mass(const ea_arm_t *arm, const ea__cli_payload_t *p);
+
+#define EA__DEG (M_PI / 180.0)
+
+#endif

@@ -1,0 +1,141 @@
+/* Shared CLI helpers: option parsing with clear messages, arm loading. */
+#include "cli_impl.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int ea__cli_usage_error(const char *cmd, const char *fmt, ...) {
+  va_list ap;
+  fprintf(stderr, "elasticarm %s: ", cmd);
+  va_start(ap, fmt);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fprintf(stderr, "\n(see 'elasticarm %s --help')\n", cmd);
+  return EA_EXIT_USAGE;
+}
+
+int ea__cli_fail(const char *cmd, ea_status_t st, const ea_error_t *err) {
+  fprintf(stderr, "elasticarm %s: error: %s\n", cmd,
+          (err && err->msg[0]) ? err->msg : ea_strerror(st));
+  if (st == EA_ERR_ARG || st == EA_ERR_INPUT || st == EA_ERR_PARSE || st == EA_ERR_IO)
+    return EA_EXIT_USAGE;
+  return EA_EXIT_FAIL;
+}
+
+int ea__cli_double(const char *cmd, const char *flag, const char *text, double lo, double hi,
+                   double *out) {
+  char *end;
+  errno = 0;
+  const double v = text ? strtod(text, &end) : NAN;
+  if (!text || end == text || *end || errno == ERANGE || !isfinite(v))
+    return ea__cli_usage_error(cmd, "%s: '%s' is not a finite number", flag,
+                               text ? text : "");
+  if (v < lo || v > hi)
+    return ea__cli_usage_error(cmd, "%s: value %s is outside [%g, %g]", flag, text, lo, hi);
+  *out = v;
+  return 0;
+}
+
+int ea__cli_int(const char *cmd, const char *flag, const char *text, long lo, long hi,
+                long *out) {
+  char *end;
+  errno = 0;
+  const long v = text ? strtol(text, &end, 10) : 0;
+  if (!text || end == text || *end || errno == ERANGE)
+    return ea__cli_usage_error(cmd, "%s: '%s' is not an integer", flag, text ? text : "");
+  if (v < lo || v > hi)
+    return ea__cli_usage_error(cmd, "%s: value %ld is outside [%ld, %ld]", flag, v, lo, hi);
+  *out = v;
+  return 0;
+}
+
+int ea__cli_pair(const char *cmd, const char *flag, const char *text, double out[2]) {
+  char *end;
+  errno = 0;
+  double a = strtod(text, &end);
+  if (end == text || *end != ',' || !isfinite(a))
+    return ea__cli_usage_error(cmd, "%s: '%s' is not 'X,Y'", flag, text);
+  const char *s = end + 1;
+  double b = strtod(s, &end);
+  if (end == s || *end || !isfinite(b) || errno == ERANGE)
+    return ea__cli_usage_error(cmd, "%s: '%s' is not 'X,Y'", flag, text);
+  out[0] = a;
+  out[1] = b;
+  return 0;
+}
+
+int ea__cli_list(const char *cmd, const char *flag, const char *text, double **out, int *n) {
+  *out = NULL;
+  *n = 0;
+  double a, st, b;
+  char tail;
+  if (sscanf(text, "%lf:%lf:%lf%c", &a, &st, &b, &tail) == 3) {
+    if (!isfinite(a) || !isfinite(st) || !isfinite(b) || !(st > 0) || b < a ||
+        (b - a) / st > 1e6)
+      return ea__cli_usage_error(cmd, "%s: '%s' is not a range start:step:stop with step > 0",
+                                 flag, text);
+    const int m = (int)floor((b - a) / st + 1e-9) + 1;
+    double *v = malloc((size_t)m * sizeof *v);
+    if (!v) return ea__cli_usage_error(cmd, "out of memory");
+    for (int i = 0; i < m; ++i) v[i] = a + i * st;
+    *out = v;
+    *n = m;
+    return 0;
+  }
+  int m = 1;
+  for (const char *c = text; *c; ++c) m += (*c == ',');
+  double *v = malloc((size_t)m * sizeof *v);
+  if (!v) return ea__cli_usage_error(cmd, "out of memory");
+  const char *s = text;
+  for (int i = 0; i < m; ++i) {
+    char *end;
+    v[i] = strtod(s, &end);
+    if (end == s || !isfinite(v[i]) || (*end && *end != ',')) {
+      free(v);
+      return ea__cli_usage_error(cmd, "%s: '%s' is not a list a,b,c or a range start:step:stop",
+                                 flag, text);
+    }
+    s = end + 1;
+  }
+  *out = v;
+  *n = m;
+  return 0;
+}
+
+const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i) {
+  if (*i + 1 >= argc) {
+    ea__cli_usage_error(cmd, "%s needs a value", argv[*i]);
+    return NULL;
+  }
+  ++*i;
+  return argv[*i];
+}
+
+const char *ea__cli_default_arm(void) {
+  const char *e = getenv("EA_ARM_FILE");
+  if (e && *e) return e;
+  if (access("data/elasticarm.yaml", R_OK) == 0) return "data/elasticarm.yaml";
+#ifdef EA_DEFAULT_ARM_FILE
+  return EA_DEFAULT_ARM_FILE;
+#else
+  return "data/elasticarm.yaml";
+#endif
+}
+
+int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm) {
+  ea_error_t err = {0};
+  ea_status_t st = ea_arm_load(path ? path : ea__cli_default_arm(), arm, &err);
+  if (st) return ea__cli_fail(cmd, st, &err);
+  return 0;
+}
+
+double ea__cli_tip_mass(const ea_arm_t *arm, const ea__cli_payload_t *p) {
+  double mp = 0.0;
+  if (p->given == 1) mp = ea_arm_payload_from_factor(arm, p->value);
+  if (p->given == 2) mp = p->value;
+  return ea_arm_tip_mass(arm, mp);
+}

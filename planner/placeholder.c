@@ -1,1 +1,0 @@
-typedef int ea__planner_placeholder;

@@ -1,0 +1,171 @@
+/* Trajectory files, format version 1 (docs/trajectory-format.md). */
+#include "ea_planner.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define EA__TRAJ_NAME(name, header) header,
+static const char *const ea__traj_names[EA_TRAJ_NCOL] = {EA_TRAJ_COLUMNS(EA__TRAJ_NAME)};
+#undef EA__TRAJ_NAME
+
+const char *ea_traj_column_name(int c) {
+  return (c >= 0 && c < EA_TRAJ_NCOL) ? ea__traj_names[c] : "?";
+}
+
+ea_status_t ea_traj_alloc(ea_traj_t *tr, int n) {
+  if (n < 0) return EA_ERR_ARG;
+  free(tr->data);
+  tr->data = n ? calloc((size_t)n * EA_TRAJ_NCOL, sizeof *tr->data) : NULL;
+  tr->n = (n && !tr->data) ? 0 : n;
+  return (n && !tr->data) ? EA_ERR_NOMEM : EA_OK;
+}
+
+void ea_traj_free(ea_traj_t *tr) {
+  if (!tr) return;
+  free(tr->data);
+  tr->data = NULL;
+  tr->n = 0;
+}
+
+ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err) {
+  ea_afile_t f;
+  ea_status_t st = ea_afile_open(&f, path, err);
+  if (st) return st;
+  fprintf(f.fp, "# elasticarm-trajectory %d\n", EA_TRAJ_FORMAT_VERSION);
+  fprintf(f.fp, "# arm_file: %s\n", tr->arm_file);
+  fprintf(f.fp, "# task: %s\n", tr->task);
+  fprintf(f.fp, "# status: %s\n", tr->status);
+  fprintf(f.fp, "# payload_kg: %.17g\n", tr->payload_kg);
+  fprintf(f.fp, "# tip_mass_kg: %.17g\n", tr->tip_mass_kg);
+  for (int c = 0; c < EA_TRAJ_NCOL; ++c) fprintf(f.fp, c ? ",%s" : "%s", ea__traj_names[c]);
+  fputc('\n', f.fp);
+  for (int i = 0; i < tr->n; ++i) {
+    for (int c = 0; c < EA_TRAJ_NCOL; ++c)
+      fprintf(f.fp, c ? ",%.17g" : "%.17g", EA_TRAJ_AT(tr, i, c));
+    fputc('\n', f.fp);
+  }
+  return ea_afile_commit(&f, err);
+}
+
+static void ea__meta(ea_traj_t *tr, const char *line) {
+  const char *v;
+#define EA__META_STR(key, field)                                                     \
+  if (!strncmp(line, "# " key ": ", strlen("# " key ": "))) {                        \
+    v = line + strlen("# " key ": ");                                                \
+    snprintf(tr->field, sizeof tr->field, "%.*s", (int)strcspn(v, "\r\n"), v);       \
+    return;                                                                          \
+  }
+  EA__META_STR("arm_file", arm_file)
+  EA__META_STR("task", task)
+  EA__META_STR("status", status)
+#undef EA__META_STR
+  if (!strncmp(line, "# payload_kg: ", 14)) tr->payload_kg = strtod(line + 14, NULL);
+  if (!strncmp(line, "# tip_mass_kg: ", 15)) tr->tip_mass_kg = strtod(line + 15, NULL);
+}
+
+ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
+  memset(tr, 0, sizeof *tr);
+  FILE *fp = fopen(path, "r");
+  if (!fp) return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  char *line = NULL;
+  size_t cap = 0;
+  long lineno = 0;
+  int cap_rows = 0, header_seen = 0, version_seen = 0;
+  ea_status_t st = EA_OK;
+  while (getline(&line, &cap, fp) != -1) {
+    ++lineno;
+    if (line[0] == '#') {
+      int ver;
+      if (sscanf(line, "# elasticarm-trajectory %d", &ver) == 1) {
+        if (ver != EA_TRAJ_FORMAT_VERSION) {
+          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: trajectory format version %d, expected %d",
+                            path, lineno, ver, EA_TRAJ_FORMAT_VERSION);
+          break;
+        }
+        version_seen = 1;
+      }
+      ea__meta(tr, line);
+      continue;
+    }
+    if (line[0] == '\n' || line[0] == '\0') continue;
+    if (!version_seen) {
+      st = ea_error_set(err, EA_ERR_INPUT,
+                        "%s:%ld:1: not an elasticarm trajectory (no '# elasticarm-trajectory' line)",
+                        path, lineno);
+      break;
+    }
+    if (!header_seen) {
+      char *save = NULL, *tok = strtok_r(line, ",\r\n", &save);
+      int c = 0;
+      long col = 1;
+      for (; tok; tok = strtok_r(NULL, ",\r\n", &save), ++c) {
+        if (c >= EA_TRAJ_NCOL || strcmp(tok, ea__traj_names[c]) != 0) {
+          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: column %d is '%s', expected '%s'",
+                            path, lineno, col, c + 1, tok,
+                            c < EA_TRAJ_NCOL ? ea__traj_names[c] : "(end of line)");
+          break;
+        }
+        col += (long)strlen(tok) + 1;
+      }
+      if (st) break;
+      if (c != EA_TRAJ_NCOL) {
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: header has %d columns, expected %d",
+                          path, lineno, col, c, EA_TRAJ_NCOL);
+        break;
+      }
+      header_seen = 1;
+      continue;
+    }
+    if (tr->n == cap_rows) {
+      int nc = cap_rows ? 2 * cap_rows : 256;
+      double *nd = realloc(tr->data, (size_t)nc * EA_TRAJ_NCOL * sizeof *nd);
+      if (!nd) {
+        st = ea_error_set(err, EA_ERR_NOMEM, "out of memory reading %s", path);
+        break;
+      }
+      tr->data = nd;
+      cap_rows = nc;
+    }
+    const char *s = line;
+    for (int c = 0; c < EA_TRAJ_NCOL; ++c) {
+      char *end;
+      errno = 0;
+      double v = strtod(s, &end);
+      const long col = (long)(s - line) + 1;
+      if (end == s || errno == ERANGE || !isfinite(v)) {
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: column '%s': not a finite number",
+                          path, lineno, col, ea__traj_names[c]);
+        break;
+      }
+      if (c + 1 < EA_TRAJ_NCOL && *end != ',') {
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: expected %d columns", path, lineno,
+                          (long)(end - line) + 1, EA_TRAJ_NCOL);
+        break;
+      }
+      if (c + 1 == EA_TRAJ_NCOL && *end && *end != '\n' && *end != '\r') {
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: extra data after column %d", path,
+                          lineno, (long)(end - line) + 1, EA_TRAJ_NCOL);
+        break;
+      }
+      tr->data[(size_t)tr->n * EA_TRAJ_NCOL + c] = v;
+      s = end + 1;
+    }
+    if (st) break;
+    if (tr->n > 0 && !(EA_TRAJ_AT(tr, tr->n, EA_TRAJ_t) > EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t))) {
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: time %.17g does not increase", path,
+                        lineno, EA_TRAJ_AT(tr, tr->n, EA_TRAJ_t));
+      break;
+    }
+    ++tr->n;
+  }
+  free(line);
+  fclose(fp);
+  if (!st && !header_seen)
+    st = ea_error_set(err, EA_ERR_INPUT, "%s: no header line: not a trajectory file", path);
+  if (!st && tr->n < 2)
+    st = ea_error_set(err, EA_ERR_INPUT, "%s: a trajectory needs at least 2 samples", path);
+  if (st) ea_traj_free(tr);
+  return st;
+}

@@ -1,0 +1,121 @@
+/* Arm files: YAML -> ea_arm_t with positions in every error. */
+#include "ea_problems.h"
+#include "yaml_impl.h"
+
+#include <math.h>
+#include <string.h>
+
+#define EA__INF INFINITY
+
+typedef struct {
+  const char *key;
+  double lo, hi;
+  size_t off; /* offset of the double in ea_arm_t */
+} ea__field_t;
+
+#define EA__F(key, lo, hi, member) {key, lo, hi, offsetof(ea_arm_t, member)}
+
+static ea_status_t ea__read_fields(ea__ydoc_t *d, yaml_node_t *map, const char *ctx,
+                                   const ea__field_t *f, size_t n, ea_arm_t *arm,
+                                   ea_error_t *err) {
+  const char *allowed[16];
+  for (size_t i = 0; i < n && i < 15; ++i) allowed[i] = f[i].key;
+  allowed[n < 15 ? n : 15] = NULL;
+  ea_status_t st = ea__ymap_check_keys(d, map, allowed, ctx, err);
+  if (st) return st;
+  for (size_t i = 0; i < n; ++i) {
+    double *dst = (double *)((char *)arm + f[i].off);
+    st = ea__ymap_double(d, map, f[i].key, 1, f[i].lo, f[i].hi, dst, err);
+    if (st) return st;
+  }
+  return EA_OK;
+}
+
+static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *err) {
+  yaml_node_t *root, *beam, *hand, *cable, *act, *spool, *ten, *sho, *base;
+  ea_status_t st = ea__ydoc_root_map(d, &root, err);
+  if (st) return st;
+  static const char *const top[] = {"beam", "hand", "cable", "gravity_m_per_s2", "actuators",
+                                    NULL};
+  if ((st = ea__ymap_check_keys(d, root, top, "the arm file", err))) return st;
+  ea_arm_default(arm);
+  if ((st = ea__ymap_map(d, root, "beam", 1, &beam, err))) return st;
+  if ((st = ea__ymap_map(d, root, "hand", 1, &hand, err))) return st;
+  if ((st = ea__ymap_map(d, root, "cable", 1, &cable, err))) return st;
+  if ((st = ea__ymap_map(d, root, "actuators", 1, &act, err))) return st;
+  static const ea__field_t fb[] = {
+      EA__F("rho_kg_per_m", 0, EA__INF, rho),   EA__F("length_m", 1e-6, EA__INF, length),
+      EA__F("EI_Nm2", 1e-12, EA__INF, EI),      EA__F("EA_N", 1e-12, EA__INF, EA),
+      EA__F("GA_N", 1e-12, EA__INF, GA_s),      EA__F("Izz_kg_m", 0, EA__INF, I_zz)};
+  static const ea__field_t fh[] = {EA__F("mass_kg", 0, EA__INF, m_hand),
+                                   EA__F("Izz_kg_m2", 0, EA__INF, I_hand)};
+  static const ea__field_t fc[] = {EA__F("root_x_m", -EA__INF, EA__INF, x_c),
+                                   EA__F("root_y_m", -EA__INF, EA__INF, y_c),
+                                   EA__F("EA_N", 1e-12, EA__INF, EA_cable)};
+  if ((st = ea__read_fields(d, beam, "beam", fb, sizeof fb / sizeof *fb, arm, err))) return st;
+  if ((st = ea__read_fields(d, hand, "hand", fh, sizeof fh / sizeof *fh, arm, err))) return st;
+  if ((st = ea__read_fields(d, cable, "cable", fc, sizeof fc / sizeof *fc, arm, err))) return st;
+  if ((st = ea__ymap_double(d, root, "gravity_m_per_s2", 1, 0, 1e3, &arm->g, err))) return st;
+
+  static const char *const acts[] = {"spool", "tension", "shoulder", "base", NULL};
+  if ((st = ea__ymap_check_keys(d, act, acts, "actuators", err))) return st;
+  if ((st = ea__ymap_map(d, act, "spool", 1, &spool, err))) return st;
+  if ((st = ea__ymap_map(d, act, "tension", 1, &ten, err))) return st;
+  if ((st = ea__ymap_map(d, act, "shoulder", 1, &sho, err))) return st;
+  if ((st = ea__ymap_map(d, act, "base", 1, &base, err))) return st;
+  static const ea__field_t fs[] = {
+      EA__F("radius_m", 1e-9, EA__INF, act.spool_radius),
+      EA__F("gear_ratio", 1e-9, EA__INF, act.spool_gear_ratio),
+      EA__F("zero_length_m", -EA__INF, EA__INF, act.spool_zero_length),
+      EA__F("cable_length_min_m", 1e-9, EA__INF, act.cable_length_min),
+      EA__F("cable_length_max_m", 1e-9, EA__INF, act.cable_length_max),
+      EA__F("speed_max_m_per_s", 1e-12, EA__INF, act.cable_speed_max),
+      EA__F("accel_max_m_per_s2", 1e-12, EA__INF, act.cable_accel_max)};
+  static const ea__field_t ft[] = {EA__F("min_N", 1e-12, EA__INF, act.tension_min),
+                                   EA__F("max_N", 1e-12, EA__INF, act.tension_max)};
+  static const ea__field_t fsh[] = {
+      EA__F("torque_max_Nm", 1e-12, EA__INF, act.shoulder_torque_max),
+      EA__F("speed_max_rad_per_s", 1e-12, EA__INF, act.shoulder_speed_max),
+      EA__F("accel_max_rad_per_s2", 1e-12, EA__INF, act.shoulder_accel_max),
+      EA__F("angle_min_rad", -EA__INF, EA__INF, act.shoulder_angle_min),
+      EA__F("angle_max_rad", -EA__INF, EA__INF, act.shoulder_angle_max)};
+  static const ea__field_t fba[] = {
+      EA__F("speed_max_rad_per_s", 1e-12, EA__INF, act.base_speed_max),
+      EA__F("accel_max_rad_per_s2", 1e-12, EA__INF, act.base_accel_max),
+      EA__F("angle_min_rad", -EA__INF, EA__INF, act.base_angle_min),
+      EA__F("angle_max_rad", -EA__INF, EA__INF, act.base_angle_max)};
+  if ((st = ea__read_fields(d, spool, "actuators.spool", fs, sizeof fs / sizeof *fs, arm, err)))
+    return st;
+  if ((st = ea__read_fields(d, ten, "actuators.tension", ft, sizeof ft / sizeof *ft, arm, err)))
+    return st;
+  if ((st = ea__read_fields(d, sho, "actuators.shoulder", fsh, sizeof fsh / sizeof *fsh, arm,
+                            err)))
+    return st;
+  if ((st = ea__read_fields(d, base, "actuators.base", fba, sizeof fba / sizeof *fba, arm, err)))
+    return st;
+  /* Cross-field consistency, reported at the mapping that holds the pair. */
+  ea_error_t e2;
+  if ((st = ea_arm_validate(arm, &e2)))
+    return ea__yerr(d, act, err, st, "inconsistent arm data: %s", e2.msg);
+  return EA_OK;
+}
+
+ea_status_t ea_arm_load_string(const char *name, const char *text, size_t len, ea_arm_t *arm,
+                               ea_error_t *err) {
+  if (!text || !arm) return ea_error_set(err, EA_ERR_ARG, "ea_arm_load_string: NULL argument");
+  ea__ydoc_t d;
+  ea_status_t st = ea__ydoc_load(&d, name, text, len, err);
+  if (!st) st = ea__arm_from_doc(&d, arm, err);
+  ea__ydoc_free(&d);
+  return st;
+}
+
+ea_status_t ea_arm_load(const char *path, ea_arm_t *arm, ea_error_t *err) {
+  if (!path || !arm) return ea_error_set(err, EA_ERR_ARG, "ea_arm_load: NULL argument");
+  ea__ydoc_t d;
+  ea_status_t st = ea__ydoc_load(&d, path, NULL, 0, err);
+  if (!st) st = ea__arm_from_doc(&d, arm, err);
+  ea__ydoc_free(&d);
+  if (!st) ea_error_set(err, EA_OK, "ok");
+  return st;
+}

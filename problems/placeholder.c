@@ -1,1 +1,0 @@
-typedef int ea__problems_placeholder;

@@ -1,0 +1,72 @@
+/* Private: a thin typed reader over libyaml's document API. Every error says
+ * file:line:column, the key and the value. libcyaml was considered: its
+ * schema loader reports errors only through a log callback without the
+ * node's position, and we want positions in the returned message. */
+#ifndef EA_YAML_IMPL_H
+#define EA_YAML_IMPL_H
+
+#include "ea_model.h"
+
+#include <yaml.h>
+
+typedef struct ea__ydoc {
+  yaml_document_t doc;
+  int loaded;
+  char file[256];
+} ea__ydoc_t;
+
+/** Parse path (or, if text != NULL, the len bytes of text named path). */
+ea_status_t ea__ydoc_load(ea__ydoc_t *d, const char *path, const char *text, size_t len,
+                          ea_error_t *err);
+void ea__ydoc_free(ea__ydoc_t *d);
+/** Root node, required to be a mapping. */
+ea_status_t ea__ydoc_root_map(ea__ydoc_t *d, yaml_node_t **root, ea_error_t *err);
+
+/** Position of a node as "file:line:col". */
+void ea__ynode_where(const ea__ydoc_t *d, const yaml_node_t *n, char *buf, size_t len);
+/** Error at node n: "file:line:col: " followed by the message. */
+ea_status_t ea__yerr(ea__ydoc_t *d, const yaml_node_t *n, ea_error_t *err, ea_status_t st,
+                     const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+
+/** Value node of key in mapping map, or NULL. */
+yaml_node_t *ea__ymap_get(ea__ydoc_t *d, yaml_node_t *map, const char *key);
+/** Every key of map must be in the NULL-terminated list allowed; duplicate
+ *  keys are errors too. ctx names the mapping in the message. */
+ea_status_t ea__ymap_check_keys(ea__ydoc_t *d, yaml_node_t *map, const char *const *allowed,
+                                const char *ctx, ea_error_t *err);
+/** Required (or optional: *out left unchanged when absent) sub-mapping. */
+ea_status_t ea__ymap_map(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
+                         yaml_node_t **out, ea_error_t *err);
+/** Sequence node of key (required or optional; *out = NULL when absent). */
+ea_status_t ea__ymap_seq(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
+                         yaml_node_t **out, ea_error_t *err);
+/** A finite number in [lo, hi] (pass -INFINITY / INFINITY for none). */
+ea_status_t ea__ymap_double(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
+                            double lo, double hi, double *out, ea_error_t *err);
+/** A scalar node as a finite double; key used in messages. */
+ea_status_t ea__ynode_double(ea__ydoc_t *d, yaml_node_t *n, const char *key, double lo,
+                             double hi, double *out, ea_error_t *err);
+/** An integer in [lo, hi]. */
+ea_status_t ea__ymap_int(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
+                         long lo, long hi, long *out, ea_error_t *err);
+/** A boolean (true/false/yes/no). */
+ea_status_t ea__ymap_bool(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
+                          int *out, ea_error_t *err);
+/** A string copied into buf (len bytes incl. NUL); too long is an error. */
+ea_status_t ea__ymap_string(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
+                            char *buf, size_t len, ea_error_t *err);
+/** One of the NULL-terminated names; *out = its index. */
+ea_status_t ea__ymap_enum(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
+                          const char *const *names, int *out, ea_error_t *err);
+/** A sequence of exactly n numbers (n > 0) or, with n < 0, 1..-n numbers
+ *  (*count set). */
+ea_status_t ea__ymap_vec(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required, int n,
+                         double *out, int *count, ea_error_t *err);
+/** Scalar text of a node (NULL if not a scalar). */
+const char *ea__ynode_text(const yaml_node_t *n);
+
+#endif
