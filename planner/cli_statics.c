@@ -1,5 +1,757 @@
+/* CLI: statics, workspace, torque-map, path (paper sec. 2). */
 #include "cli_impl.h"
-int ea__cli_statics(int argc, char **argv) { (void)argc; (void)argv; return 1; }
-int ea__cli_workspace(int argc, char **argv) { (void)argc; (void)argv; return 1; }
-int ea__cli_torque_map(int argc, char **argv) { (void)argc; (void)argv; return 1; }
-int ea__cli_path(int argc, char **argv) { (void)argc; (void)argv; return 1; }
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ------------------------------------------------------------------------ */
+/* Shared pieces                                                             */
+/* ------------------------------------------------------------------------ */
+
+typedef struct {
+  const char *arm_file;
+  ea__cli_payload_t payload;
+  int json;
+  const char *figure;
+  const char *csv;
+} ea__common_t;
+
+/* Parse options shared by the statics commands; returns 1 if consumed,
+ * 0 if not ours, -1 on error (message printed). */
+static int ea__common_opt(const char *cmd, int argc, char **argv, int *i, ea__common_t *c) {
+  const char *a = argv[*i], *v;
+  if (!strcmp(a, "--arm")) {
+    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
+    c->arm_file = v;
+  } else if (!strcmp(a, "--payload-factor") || !strcmp(a, "--payload-kg")) {
+    if (c->payload.given)
+      return ea__cli_usage_error(cmd, "give --payload-factor or --payload-kg once"), -1;
+    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
+    c->payload.given = !strcmp(a, "--payload-factor") ? 1 : 2;
+    if (ea__cli_double(cmd, a, v, 0.0, 1e3, &c->payload.value)) return -1;
+  } else if (!strcmp(a, "--json")) {
+    c->json = 1;
+  } else if (!strcmp(a, "--figure")) {
+    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
+    c->figure = v;
+  } else if (!strcmp(a, "--csv")) {
+    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
+    c->csv = v;
+  } else {
+    return 0;
+  }
+  return 1;
+}
+
+static const char *ea__common_help =
+    "  --arm FILE            arm parameters (default data/elasticarm.yaml)\n"
+    "  --payload-factor G    payload m_p = G (m_h + rho L) (eq. 17)\n"
+    "  --payload-kg M        payload mass [kg]\n"
+    "  --json                JSON on stdout\n"
+    "  --figure OUT          draw a figure (.svg, .png or .pdf)\n";
+
+static int ea__make_shooter(const char *cmd, const ea_arm_t *arm, double tip_mass,
+                            ea_shooter_t **sh) {
+  ea_error_t err = {0};
+  ea_status_t st = ea_shooter_alloc(arm, NULL, sh, &err);
+  if (st) return ea__cli_fail(cmd, st, &err);
+  ea_load_t load = {tip_mass};
+  ea_shooter_set_load(*sh, &load);
+  return 0;
+}
+
+/* Beam centreline of p into a data block: x y per row, then a blank line. */
+static void ea__plot_beam(ea_plot_t *pl, ea_shooter_t *sh, const double p[EA_NP], int n) {
+  double xs[101], ys[101];
+  if (n > 101) n = 101;
+  if (ea_shoot_shape(sh, p, n, NULL, NULL, NULL, xs, ys) != EA_OK) return;
+  for (int i = 0; i < n; ++i) ea_plot_data_row(pl, 2, (double[]){xs[i], ys[i]});
+  const double nan = NAN;
+  ea_plot_data_row(pl, 1, &nan);
+}
+
+static void ea__json_point(ea_json_t *j, const char *key, const ea_config_point_t *p) {
+  ea_json_obj_begin(j, key);
+  ea_json_num(j, "cable_length_m", p->cable_length);
+  ea_json_num(j, "cable_angle_rad", p->alpha);
+  ea_json_vec(j, "tip_m", (double[]){p->x, p->y}, 2);
+  ea_json_num(j, "tension_N", p->tension);
+  ea_json_num(j, "theta0_rad", p->theta0);
+  ea_json_num(j, "kappa0_per_m", p->kappa0);
+  ea_json_num(j, "shoulder_torque_Nm", p->shoulder_torque);
+  ea_json_num(j, "residual", p->residual);
+  ea_json_str(j, "status", ea_status_name(p->status));
+  ea_json_bool(j, "admissible", p->admissible);
+  ea_json_str(j, "reason", p->reason);
+  ea_json_obj_end(j);
+}
+
+static const char *ea__csv_point_header =
+    "cable_length_m,cable_angle_rad,tip_x_m,tip_y_m,tension_N,theta0_rad,kappa0_per_m,"
+    "shoulder_torque_Nm,residual,status,admissible,reason";
+
+static void ea__csv_point(FILE *fp, const ea_config_point_t *p) {
+  fprintf(fp, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.3g,%s,%d,\"%s\"",
+          p->cable_length, p->alpha, p->x, p->y, p->tension, p->theta0, p->kappa0,
+          p->shoulder_torque, p->residual, ea_status_name(p->status), p->admissible, p->reason);
+}
+
+static int ea__help_requested(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i)
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
+  return 0;
+}
+
+/* ------------------------------------------------------------------------ */
+/* statics                                                                   */
+/* ------------------------------------------------------------------------ */
+
+int ea__cli_statics(int argc, char **argv) {
+  const char *cmd = "statics";
+  if (ea__help_requested(argc, argv)) {
+    printf("usage: elasticarm statics (--cable-length M --cable-angle-deg A | --tip X,Y |\n"
+           "                           --tension N --cable-angle-deg A | --tension N "
+           "--theta0-deg D) [options]\n"
+           "Solves the planar statics (eq. 11, 14-16) on the physical branch.\n"
+           "  --shape N             add N centreline points to the output\n"
+           "  --guess-deg A,T,TH,K  warm start (alpha deg, T N, theta0 deg, kappa0 1/m)\n%s",
+           ea__common_help);
+    return EA_EXIT_OK;
+  }
+  ea__common_t c = {0};
+  double Lc = NAN, adeg = NAN, T = NAN, th0deg = NAN, tip[2] = {NAN, NAN};
+  long shape = 0;
+  for (int i = 1; i < argc; ++i) {
+    int r = ea__common_opt(cmd, argc, argv, &i, &c);
+    if (r < 0) return EA_EXIT_USAGE;
+    if (r) continue;
+    const char *a = argv[i], *v;
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    int bad;
+    if (!strcmp(a, "--cable-length"))
+      bad = ea__cli_double(cmd, a, v, 1e-6, 100.0, &Lc);
+    else if (!strcmp(a, "--cable-angle-deg"))
+      bad = ea__cli_double(cmd, a, v, -180.0, 180.0, &adeg);
+    else if (!strcmp(a, "--tension"))
+      bad = ea__cli_double(cmd, a, v, -1e6, 1e6, &T);
+    else if (!strcmp(a, "--theta0-deg"))
+      bad = ea__cli_double(cmd, a, v, -360.0, 360.0, &th0deg);
+    else if (!strcmp(a, "--tip"))
+      bad = ea__cli_pair(cmd, a, v, tip);
+    else if (!strcmp(a, "--shape"))
+      bad = ea__cli_int(cmd, a, v, 2, 10000, &shape);
+    else
+      return ea__cli_usage_error(cmd, "unknown option '%s'", a);
+    if (bad) return EA_EXIT_USAGE;
+  }
+  ea_statics_problem_t prob;
+  const int has_L = isfinite(Lc), has_a = isfinite(adeg), has_T = isfinite(T),
+            has_th = isfinite(th0deg), has_tip = isfinite(tip[0]);
+  if (has_L && has_a && !has_T && !has_th && !has_tip)
+    prob = ea_statics_problem_cable(Lc, adeg * EA__DEG);
+  else if (has_tip && !has_L && !has_a && !has_T && !has_th)
+    prob = ea_statics_problem_tip(tip[0], tip[1]);
+  else if (has_T && has_a && !has_L && !has_th && !has_tip)
+    prob = ea_statics_problem_tension_alpha(T, adeg * EA__DEG);
+  else if (has_T && has_th && !has_L && !has_a && !has_tip)
+    prob = ea_statics_problem_tension_theta0(T, th0deg * EA__DEG);
+  else
+    return ea__cli_usage_error(cmd, "give exactly one of: --cable-length with "
+                                    "--cable-angle-deg; --tip; --tension with "
+                                    "--cable-angle-deg; --tension with --theta0-deg");
+  ea_arm_t arm;
+  int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);
+  if (rc) return rc;
+  ea_shooter_t *sh = NULL;
+  if ((rc = ea__make_shooter(cmd, &arm, ea__cli_tip_mass(&arm, &c.payload), &sh))) return rc;
+  ea_statics_solution_t sol;
+  ea_error_t err = {0};
+  ea_status_t st = ea_statics_solve(sh, &prob, NULL, NULL, &sol, &err);
+  const int solved = st == EA_OK;
+  double *sx = NULL, *sy = NULL;
+  if (solved && shape > 0) {
+    sx = malloc((size_t)shape * sizeof *sx);
+    sy = malloc((size_t)shape * sizeof *sy);
+    if (!sx || !sy || ea_shoot_shape(sh, sol.p, (int)shape, NULL, NULL, NULL, sx, sy)) shape = 0;
+  }
+  if (c.json) {
+    ea_json_t j;
+    ea_json_init(&j, stdout, 1);
+    ea_json_obj_begin(&j, NULL);
+    ea_json_str(&j, "status", ea_status_name(sol.status));
+    ea_json_str(&j, "message", solved ? "ok" : err.msg);
+    ea_json_num(&j, "tension_N", sol.p[EA_P_TENSION]);
+    ea_json_num(&j, "theta0_rad", sol.p[EA_P_THETA0]);
+    ea_json_num(&j, "kappa0_per_m", sol.p[EA_P_KAPPA0]);
+    ea_json_num(&j, "shoulder_torque_Nm", arm.EI * sol.p[EA_P_KAPPA0]);
+    ea_json_num(&j, "cable_angle_rad", sol.p[EA_P_ALPHA]);
+    ea_json_num(&j, "cable_length_m", solved ? sol.cable_length : NAN);
+    ea_json_vec(&j, "tip_m", (double[]){sol.tip[EA_X_X], sol.tip[EA_X_Y]}, 2);
+    ea_json_num(&j, "tip_angle_rad", sol.tip[EA_X_THETA]);
+    ea_json_num(&j, "tip_mass_kg", ea_shooter_load(sh)->tip_mass);
+    ea_json_num(&j, "residual", sol.residual);
+    ea_json_int(&j, "iterations", sol.iterations);
+    ea_json_int(&j, "continuation_steps", sol.cont_steps);
+    ea_json_str(&j, "branch", sol.branch == EA_BRANCH_EDGE   ? "physical (continued from T = 0 edge)"
+                              : sol.branch == EA_BRANCH_WARM ? "warm start"
+                                                             : "none");
+    ea_json_num(&j, "winding_rad", sol.winding);
+    if (solved && shape > 0) {
+      ea_json_arr_begin(&j, "shape_m");
+      for (long k = 0; k < shape; ++k) ea_json_vec(&j, NULL, (double[]){sx[k], sy[k]}, 2);
+      ea_json_arr_end(&j);
+    }
+    ea_json_obj_end(&j);
+    ea_json_end(&j);
+  } else if (solved) {
+    printf("status            %s (residual %.2e, %d iterations, %d continuation steps)\n",
+           ea_status_name(sol.status), sol.residual, sol.iterations, sol.cont_steps);
+    printf("cable length      %.9f m\ncable angle       %.9f deg\ntension           %.9f N\n"
+           "theta0            %.9f deg\nkappa0            %.9f 1/m\nshoulder torque   %.9f N m\n"
+           "tip               (%.9f, %.9f) m\n",
+           sol.cable_length, sol.p[EA_P_ALPHA] / EA__DEG, sol.p[EA_P_TENSION],
+           sol.p[EA_P_THETA0] / EA__DEG, sol.p[EA_P_KAPPA0], sol.shoulder_torque,
+           sol.tip[EA_X_X], sol.tip[EA_X_Y]);
+    for (long k = 0; k < shape; ++k) printf("shape %ld  %.9f %.9f\n", k, sx[k], sy[k]);
+  }
+  if (solved && c.figure) {
+    ea_plot_t *pl;
+    ea_error_t fe = {0};
+    if (ea_plot_open(&pl, c.figure, 700, 650, &fe) == EA_OK) {
+      ea_plot_data_begin(pl, "beam");
+      ea__plot_beam(pl, sh, sol.p, 81);
+      ea_plot_data_end(pl);
+      ea_plot_data_begin(pl, "cable");
+      ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
+      ea_plot_data_row(pl, 2, (double[]){sol.tip[EA_X_X], sol.tip[EA_X_Y]});
+      ea_plot_data_end(pl);
+      ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'");
+      ea_plot_cmd(pl, "set title 'L_c = %.3f m, {/Symbol a} = %.1f deg, T = %.2f N, "
+                      "{/Symbol q}_0 = %.1f deg'",
+                  sol.cable_length, sol.p[EA_P_ALPHA] / EA__DEG, sol.p[EA_P_TENSION],
+                  sol.p[EA_P_THETA0] / EA__DEG);
+      ea_plot_cmd(pl, "plot $beam w l lw 3 lc rgb '#1f4e9c' t 'beam', $cable w lp lw 1 dt 2 "
+                      "pt 7 lc rgb '#c0392b' t 'cable'");
+      fe.status = ea_plot_close(pl, &fe);
+    }
+    if (fe.status) fprintf(stderr, "elasticarm statics: figure: %s\n", fe.msg);
+  }
+  free(sx);
+  free(sy);
+  ea_shooter_free(sh);
+  if (!solved) {
+    if (!c.json) ea__cli_fail(cmd, st, &err);
+    return EA_EXIT_FAIL;
+  }
+  return EA_EXIT_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* workspace                                                                 */
+/* ------------------------------------------------------------------------ */
+
+int ea__cli_workspace(int argc, char **argv) {
+  const char *cmd = "workspace";
+  if (ea__help_requested(argc, argv)) {
+    printf("usage: elasticarm workspace [--payload-factors LIST] [options]\n"
+           "Outer edge (T = 0, eq. 16) and inner edge (shortest cable) for each payload (Fig. "
+           "3).\n"
+           "  --payload-factors L   list a,b,c or range start:step:stop (default "
+           "0,0.1,0.25,0.5)\n"
+           "  --alpha-min-deg A     first cable angle (default -60)\n"
+           "  --alpha-max-deg A     last cable angle (default 10)\n"
+           "  --points N            cable angles per edge (default 71)\n"
+           "  --inner-length M      inner edge cable length (default: arm's minimum)\n"
+           "  --csv FILE            tidy CSV of every edge point ('-' = stdout)\n%s",
+           ea__common_help);
+    return EA_EXIT_OK;
+  }
+  ea__common_t c = {0};
+  double amin = -60.0, amax = 10.0, inner = NAN;
+  long npts = 71;
+  double *gam = NULL;
+  int ng = 0;
+  for (int i = 1; i < argc; ++i) {
+    int r = ea__common_opt(cmd, argc, argv, &i, &c);
+    if (r < 0) goto usage;
+    if (r) continue;
+    const char *a = argv[i], *v;
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+    int bad;
+    if (!strcmp(a, "--payload-factors")) {
+      free(gam);
+      bad = ea__cli_list(cmd, a, v, &gam, &ng);
+      for (int k = 0; !bad && k < ng; ++k)
+        if (!(gam[k] >= 0 && gam[k] <= 100))
+          bad = ea__cli_usage_error(cmd, "%s: payload factor %g is outside [0, 100]", a, gam[k]);
+    } else if (!strcmp(a, "--alpha-min-deg"))
+      bad = ea__cli_double(cmd, a, v, -180, 180, &amin);
+    else if (!strcmp(a, "--alpha-max-deg"))
+      bad = ea__cli_double(cmd, a, v, -180, 180, &amax);
+    else if (!strcmp(a, "--points"))
+      bad = ea__cli_int(cmd, a, v, 2, 100000, &npts);
+    else if (!strcmp(a, "--inner-length"))
+      bad = ea__cli_double(cmd, a, v, 1e-6, 100, &inner);
+    else
+      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
+    if (bad) goto usage;
+  }
+  if (!(amin < amax)) {
+    ea__cli_usage_error(cmd, "--alpha-min-deg %g must be below --alpha-max-deg %g", amin, amax);
+    goto usage;
+  }
+  if (!gam) {
+    static const double def[] = {0.0, 0.1, 0.25, 0.5};
+    ng = 4;
+    gam = malloc(sizeof def);
+    if (!gam) return EA_EXIT_FAIL;
+    memcpy(gam, def, sizeof def);
+  }
+  ea_arm_t arm;
+  int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);
+  if (rc) {
+    free(gam);
+    return rc;
+  }
+  if (!isfinite(inner)) inner = arm.act.cable_length_min;
+  const int n = (int)npts;
+  double *alpha = malloc((size_t)n * sizeof *alpha);
+  ea_config_point_t *outer = calloc((size_t)n * ng, sizeof *outer);
+  ea_config_point_t *inn = calloc((size_t)n * ng, sizeof *inn);
+  ea_shooter_t *sh = NULL;
+  if (!alpha || !outer || !inn) {
+    rc = EA_EXIT_FAIL;
+    goto out;
+  }
+  for (int k = 0; k < n; ++k) alpha[k] = (amin + (amax - amin) * k / (n - 1)) * EA__DEG;
+  if ((rc = ea__make_shooter(cmd, &arm, arm.m_hand, &sh))) goto out;
+  int failures = 0;
+  for (int g = 0; g < ng; ++g) {
+    ea_load_t load = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, gam[g]))};
+    ea_shooter_set_load(sh, &load);
+    if (ea_workspace_outer(sh, alpha, n, outer + (size_t)g * n)) ++failures;
+    ea_workspace_inner(sh, inner, alpha, n, inn + (size_t)g * n);
+  }
+  if (c.csv) {
+    ea_afile_t f;
+    ea_error_t err = {0};
+    if (ea_afile_open(&f, c.csv, &err)) {
+      rc = ea__cli_fail(cmd, err.status, &err);
+      goto out;
+    }
+    fprintf(f.fp, "payload_factor,edge,%s\n", ea__csv_point_header);
+    for (int g = 0; g < ng; ++g)
+      for (int e = 0; e < 2; ++e)
+        for (int k = 0; k < n; ++k) {
+          fprintf(f.fp, "%.6g,%s,", gam[g], e ? "inner" : "outer");
+          ea__csv_point(f.fp, (e ? inn : outer) + (size_t)g * n + k);
+          fputc('\n', f.fp);
+        }
+    if (ea_afile_commit(&f, &err)) {
+      rc = ea__cli_fail(cmd, err.status, &err);
+      goto out;
+    }
+  }
+  if (c.json) {
+    ea_json_t j;
+    ea_json_init(&j, stdout, 1);
+    ea_json_obj_begin(&j, NULL);
+    ea_json_num(&j, "inner_cable_length_m", inner);
+    ea_json_arr_begin(&j, "payloads");
+    for (int g = 0; g < ng; ++g) {
+      const ea_config_point_t *o = outer + (size_t)g * n, *in = inn + (size_t)g * n;
+      double reach = 0;
+      for (int k = 0; k < n; ++k)
+        if (o[k].status == EA_OK) reach = fmax(reach, hypot(o[k].x, o[k].y));
+      ea_json_obj_begin(&j, NULL);
+      ea_json_num(&j, "payload_factor", gam[g]);
+      ea_json_num(&j, "payload_kg", ea_arm_payload_from_factor(&arm, gam[g]));
+      ea_json_num(&j, "area_m2", ea_workspace_area(o, in, n));
+      ea_json_num(&j, "max_reach_m", reach);
+      ea_json_arr_begin(&j, "outer");
+      for (int k = 0; k < n; ++k) ea__json_point(&j, NULL, &o[k]);
+      ea_json_arr_end(&j);
+      ea_json_arr_begin(&j, "inner");
+      for (int k = 0; k < n; ++k) ea__json_point(&j, NULL, &in[k]);
+      ea_json_arr_end(&j);
+      ea_json_obj_end(&j);
+    }
+    ea_json_arr_end(&j);
+    ea_json_obj_end(&j);
+    ea_json_end(&j);
+  } else if (!c.csv || strcmp(c.csv, "-")) {
+    printf("%-8s %-10s %-10s %-12s %-10s\n", "gamma", "area_m2", "reach_m", "alpha_deg",
+           "outer tip (x, y) m");
+    for (int g = 0; g < ng; ++g) {
+      const ea_config_point_t *o = outer + (size_t)g * n, *in = inn + (size_t)g * n;
+      double reach = 0;
+      for (int k = 0; k < n; ++k)
+        if (o[k].status == EA_OK) reach = fmax(reach, hypot(o[k].x, o[k].y));
+      for (int k = 0; k < n; k += (n - 1) / 4 > 0 ? (n - 1) / 4 : 1)
+        printf("%-8.3g %-10.5f %-10.5f %-12.2f (%.5f, %.5f)%s\n", gam[g],
+               ea_workspace_area(o, in, n), reach, o[k].alpha / EA__DEG, o[k].x, o[k].y,
+               o[k].status ? "  (no solution)" : "");
+    }
+  }
+  if (c.figure) {
+    ea_plot_t *pl;
+    ea_error_t fe = {0};
+    if (ea_plot_open(&pl, c.figure, 800, 650, &fe) == EA_OK) {
+      for (int g = 0; g < ng; ++g) {
+        char name[32];
+        snprintf(name, sizeof name, "outer%d", g);
+        ea_plot_data_begin(pl, name);
+        for (int k = 0; k < n; ++k) {
+          const ea_config_point_t *o = outer + (size_t)g * n + k;
+          const double row[2] = {o->status ? NAN : o->x, o->y};
+          ea_plot_data_row(pl, 2, row);
+        }
+        ea_plot_data_end(pl);
+      }
+      ea_plot_data_begin(pl, "inner");
+      for (int k = 0; k < n; ++k)
+        ea_plot_data_row(pl, 2,
+                         (double[]){arm.x_c + inner * cos(alpha[k]), arm.y_c + inner * sin(alpha[k])});
+      ea_plot_data_end(pl);
+      ea_plot_data_begin(pl, "root");
+      ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
+      ea_plot_data_end(pl);
+      ea_plot_data_begin(pl, "beams");
+      ea_load_t load0 = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, gam[0]))};
+      ea_shooter_set_load(sh, &load0);
+      for (int k = 0; k < n; k += (n - 1) / 3 > 0 ? (n - 1) / 3 : 1) {
+        const ea_config_point_t *o = outer + k;
+        if (o->status) continue;
+        ea__plot_beam(pl, sh, (double[]){o->alpha, o->tension, o->theta0, o->kappa0}, 61);
+      }
+      ea_plot_data_end(pl);
+      ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
+                      "set title 'Workspace for payload factors {/Symbol g} (Fig. 3)'\n"
+                      "set key outside right");
+      char plot[4096];
+      int used = snprintf(plot, sizeof plot,
+                          "plot $beams w l lc rgb '#bbbbbb' t 'T = 0 shapes ({/Symbol g} = %g)'",
+                          gam[0]);
+      for (int g = 0; g < ng && used < (int)sizeof plot - 100; ++g)
+        used += snprintf(plot + used, sizeof plot - (size_t)used,
+                         ", $outer%d w l lw 2 t 'outer, {/Symbol g} = %g'", g, gam[g]);
+      snprintf(plot + used, sizeof plot - (size_t)used,
+               ", $inner w l lw 2 dt 2 lc rgb 'black' t 'inner, L_c = %.3f m', $root w p pt 7 "
+               "ps 1.5 lc rgb '#c0392b' t 'cable root'",
+               inner);
+      ea_plot_cmd(pl, "%s", plot);
+      fe.status = ea_plot_close(pl, &fe);
+    }
+    if (fe.status) {
+      fprintf(stderr, "elasticarm workspace: figure: %s\n", fe.msg);
+      rc = EA_EXIT_FAIL;
+    }
+  }
+  if (failures && !rc) {
+    fprintf(stderr, "elasticarm workspace: %d payload(s) had edge points without a solution\n",
+            failures);
+    rc = EA_EXIT_FAIL;
+  }
+out:
+  ea_shooter_free(sh);
+  free(alpha);
+  free(outer);
+  free(inn);
+  free(gam);
+  return rc;
+usage:
+  free(gam);
+  return EA_EXIT_USAGE;
+}
+
+/* ------------------------------------------------------------------------ */
+/* torque-map                                                                */
+/* ------------------------------------------------------------------------ */
+
+int ea__cli_torque_map(int argc, char **argv) {
+  const char *cmd = "torque-map";
+  if (ea__help_requested(argc, argv)) {
+    printf("usage: elasticarm torque-map [options]\n"
+           "Shoulder torque EI kappa0 and tension T over a (L_c, alpha) grid; cells outside\n"
+           "the workspace or beyond a limit are marked (admissible = 0, with the reason).\n"
+           "  --cable-lengths L      list or start:step:stop [m] (default 0.254:0.01:0.834)\n"
+           "  --cable-angles-deg L   list or start:step:stop [deg] (default -60:5:10)\n"
+           "  --csv FILE             tidy CSV ('-' = stdout, the default without --json)\n%s",
+           ea__common_help);
+    return EA_EXIT_OK;
+  }
+  ea__common_t c = {0};
+  double *Ls = NULL, *As = NULL;
+  int nL = 0, nA = 0, rc = 0;
+  for (int i = 1; i < argc; ++i) {
+    int r = ea__common_opt(cmd, argc, argv, &i, &c);
+    if (r < 0) goto usage;
+    if (r) continue;
+    const char *a = argv[i], *v;
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+    int bad;
+    if (!strcmp(a, "--cable-lengths")) {
+      free(Ls);
+      bad = ea__cli_list(cmd, a, v, &Ls, &nL);
+      for (int k = 0; !bad && k < nL; ++k)
+        if (!(Ls[k] > 0)) bad = ea__cli_usage_error(cmd, "%s: %g is not > 0", a, Ls[k]);
+    } else if (!strcmp(a, "--cable-angles-deg")) {
+      free(As);
+      bad = ea__cli_list(cmd, a, v, &As, &nA);
+      for (int k = 0; !bad && k < nA; ++k)
+        if (!(fabs(As[k]) <= 180)) bad = ea__cli_usage_error(cmd, "%s: %g is not in [-180, 180]", a, As[k]);
+    } else
+      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
+    if (bad) goto usage;
+  }
+  if (!Ls && ea__cli_list(cmd, "--cable-lengths", "0.254:0.01:0.834", &Ls, &nL)) goto usage;
+  if (!As && ea__cli_list(cmd, "--cable-angles-deg", "-60:5:10", &As, &nA)) goto usage;
+  if ((size_t)nL * (size_t)nA > 4000000u) {
+    ea__cli_usage_error(cmd, "grid of %d x %d cells is too large", nL, nA);
+    goto usage;
+  }
+  for (int k = 0; k < nA; ++k) As[k] *= EA__DEG;
+  ea_arm_t arm;
+  if ((rc = ea__cli_load_arm(cmd, c.arm_file, &arm))) goto done;
+  ea_shooter_t *sh = NULL;
+  if ((rc = ea__make_shooter(cmd, &arm, ea__cli_tip_mass(&arm, &c.payload), &sh))) goto done;
+  ea_config_point_t *cells = calloc((size_t)nL * nA, sizeof *cells);
+  if (!cells) {
+    ea_shooter_free(sh);
+    rc = EA_EXIT_FAIL;
+    goto done;
+  }
+  ea_torque_map(sh, Ls, nL, As, nA, &arm.act, cells);
+  int inside = 0;
+  double tmin = INFINITY, tmax = -INFINITY, Tmin = INFINITY, Tmax = -INFINITY;
+  for (size_t k = 0; k < (size_t)nL * nA; ++k)
+    if (cells[k].admissible) {
+      ++inside;
+      tmin = fmin(tmin, cells[k].shoulder_torque);
+      tmax = fmax(tmax, cells[k].shoulder_torque);
+      Tmin = fmin(Tmin, cells[k].tension);
+      Tmax = fmax(Tmax, cells[k].tension);
+    }
+  const char *csv = c.csv ? c.csv : (c.json ? NULL : "-");
+  if (csv) {
+    ea_afile_t f;
+    ea_error_t err = {0};
+    if (ea_afile_open(&f, csv, &err)) {
+      rc = ea__cli_fail(cmd, err.status, &err);
+    } else {
+      fprintf(f.fp, "%s\n", ea__csv_point_header);
+      for (size_t k = 0; k < (size_t)nL * nA; ++k) {
+        ea__csv_point(f.fp, &cells[k]);
+        fputc('\n', f.fp);
+      }
+      if (ea_afile_commit(&f, &err)) rc = ea__cli_fail(cmd, err.status, &err);
+    }
+  }
+  if (c.json && !rc) {
+    ea_json_t j;
+    ea_json_init(&j, stdout, 1);
+    ea_json_obj_begin(&j, NULL);
+    ea_json_num(&j, "tip_mass_kg", ea_shooter_load(sh)->tip_mass);
+    ea_json_vec(&j, "cable_length_m", Ls, nL);
+    ea_json_vec(&j, "cable_angle_rad", As, nA);
+    ea_json_int(&j, "cells_admissible", inside);
+    ea_json_vec(&j, "shoulder_torque_range_Nm", (double[]){tmin, tmax}, 2);
+    ea_json_vec(&j, "tension_range_N", (double[]){Tmin, Tmax}, 2);
+    ea_json_arr_begin(&j, "cells");
+    for (size_t k = 0; k < (size_t)nL * nA; ++k) ea__json_point(&j, NULL, &cells[k]);
+    ea_json_arr_end(&j);
+    ea_json_obj_end(&j);
+    ea_json_end(&j);
+  }
+  if (c.figure && !rc) {
+    ea_plot_t *pl;
+    ea_error_t fe = {0};
+    if (ea_plot_open(&pl, c.figure, 850, 650, &fe) == EA_OK) {
+      {
+        ea_plot_cmd(pl, "$map << EOD");
+        for (int i = 0; i < nA; ++i) {
+          for (int jx = 0; jx < nL; ++jx) {
+            const ea_config_point_t *p = &cells[(size_t)i * nL + jx];
+            if (p->status == EA_OK)
+              ea_plot_cmd(pl, "%.9g %.9g %.9g", Ls[jx], As[i] / EA__DEG, p->shoulder_torque);
+            else
+              ea_plot_cmd(pl, "%.9g %.9g NaN", Ls[jx], As[i] / EA__DEG);
+          }
+          ea_plot_cmd(pl, "%s", "");
+        }
+        ea_plot_cmd(pl, "EOD");
+        ea_plot_cmd(pl, "set view map\nset xlabel 'cable length L_c [m]'\nset ylabel 'cable "
+                        "angle {/Symbol a} [deg]'\nset cblabel 'shoulder torque EI {/Symbol "
+                        "k}_0 [N m]'\nset title 'Shoulder torque map (blank: outside the "
+                        "workspace)'\nset palette rgb 33,13,10\nunset key");
+        ea_plot_cmd(pl, "plot $map u 1:2:3 w image");
+        fe.status = ea_plot_close(pl, &fe);
+      }
+    }
+    if (fe.status) {
+      fprintf(stderr, "elasticarm torque-map: figure: %s\n", fe.msg);
+      rc = EA_EXIT_FAIL;
+    }
+  }
+  free(cells);
+  ea_shooter_free(sh);
+done:
+  free(Ls);
+  free(As);
+  return rc;
+usage:
+  free(Ls);
+  free(As);
+  return EA_EXIT_USAGE;
+}
+
+/* ------------------------------------------------------------------------ */
+/* path                                                                      */
+/* ------------------------------------------------------------------------ */
+
+int ea__cli_path(int argc, char **argv) {
+  const char *cmd = "path";
+  if (ea__help_requested(argc, argv)) {
+    printf("usage: elasticarm path [--from X,Y] [--to X,Y] [--steps N] [options]\n"
+           "Admissibility of a straight tip path (Fig. 4, eqs. 18-20): per step L_c, alpha,\n"
+           "T, theta0, shoulder torque, and whether every limit holds (with the reason).\n"
+           "Default: the paper's line x = 0.3 beta + 0.3, y = -0.2, 6 steps.\n"
+           "  --csv FILE            per-step table as CSV ('-' = stdout)\n%s",
+           ea__common_help);
+    return EA_EXIT_OK;
+  }
+  ea__common_t c = {0};
+  double p0[2] = {0.3, -0.2}, p1[2] = {0.6, -0.2};
+  long steps = 6;
+  for (int i = 1; i < argc; ++i) {
+    int r = ea__common_opt(cmd, argc, argv, &i, &c);
+    if (r < 0) return EA_EXIT_USAGE;
+    if (r) continue;
+    const char *a = argv[i], *v;
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    int bad;
+    if (!strcmp(a, "--from"))
+      bad = ea__cli_pair(cmd, a, v, p0);
+    else if (!strcmp(a, "--to"))
+      bad = ea__cli_pair(cmd, a, v, p1);
+    else if (!strcmp(a, "--steps"))
+      bad = ea__cli_int(cmd, a, v, 1, 100000, &steps);
+    else
+      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
+    if (bad) return EA_EXIT_USAGE;
+  }
+  ea_arm_t arm;
+  int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);
+  if (rc) return rc;
+  ea_shooter_t *sh = NULL;
+  if ((rc = ea__make_shooter(cmd, &arm, ea__cli_tip_mass(&arm, &c.payload), &sh))) return rc;
+  const int n = (int)steps + 1;
+  ea_config_point_t *pts = calloc((size_t)n, sizeof *pts);
+  if (!pts) {
+    ea_shooter_free(sh);
+    return EA_EXIT_FAIL;
+  }
+  ea_status_t st = ea_path_check_line(sh, p0, p1, (int)steps, &arm.act, pts);
+  int nbad = 0;
+  for (int k = 0; k < n; ++k) nbad += !pts[k].admissible;
+  if (c.csv) {
+    ea_afile_t f;
+    ea_error_t err = {0};
+    if (ea_afile_open(&f, c.csv, &err)) {
+      rc = ea__cli_fail(cmd, err.status, &err);
+    } else {
+      fprintf(f.fp, "beta,%s\n", ea__csv_point_header);
+      for (int k = 0; k < n; ++k) {
+        fprintf(f.fp, "%.9g,", (double)k / (double)steps);
+        ea__csv_point(f.fp, &pts[k]);
+        fputc('\n', f.fp);
+      }
+      if (ea_afile_commit(&f, &err)) rc = ea__cli_fail(cmd, err.status, &err);
+    }
+  }
+  if (c.json) {
+    ea_json_t j;
+    ea_json_init(&j, stdout, 1);
+    ea_json_obj_begin(&j, NULL);
+    ea_json_vec(&j, "from_m", p0, 2);
+    ea_json_vec(&j, "to_m", p1, 2);
+    ea_json_num(&j, "tip_mass_kg", ea_shooter_load(sh)->tip_mass);
+    ea_json_bool(&j, "admissible", st == EA_OK);
+    ea_json_int(&j, "inadmissible_steps", nbad);
+    ea_json_arr_begin(&j, "steps");
+    for (int k = 0; k < n; ++k) {
+      ea_json_obj_begin(&j, NULL);
+      ea_json_num(&j, "beta", (double)k / (double)steps);
+      ea_json_num(&j, "cable_length_m", pts[k].cable_length);
+      ea_json_num(&j, "cable_angle_rad", pts[k].alpha);
+      ea_json_vec(&j, "tip_m", (double[]){pts[k].x, pts[k].y}, 2);
+      ea_json_num(&j, "tension_N", pts[k].tension);
+      ea_json_num(&j, "theta0_rad", pts[k].theta0);
+      ea_json_num(&j, "kappa0_per_m", pts[k].kappa0);
+      ea_json_num(&j, "shoulder_torque_Nm", pts[k].shoulder_torque);
+      ea_json_num(&j, "residual", pts[k].residual);
+      ea_json_bool(&j, "admissible", pts[k].admissible);
+      ea_json_str(&j, "reason", pts[k].reason);
+      ea_json_obj_end(&j);
+    }
+    ea_json_arr_end(&j);
+    ea_json_obj_end(&j);
+    ea_json_end(&j);
+  } else if (!c.csv || strcmp(c.csv, "-")) {
+    printf("Straight path (%.4g, %.4g) -> (%.4g, %.4g) m, tip mass %.4g kg, %ld steps\n", p0[0],
+           p0[1], p1[0], p1[1], ea_shooter_load(sh)->tip_mass, steps);
+    printf("%6s %10s %10s %10s %10s %11s %s\n", "beta", "L_c [m]", "alpha[deg]", "T [N]",
+           "th0 [deg]", "torque[Nm]", "admissible");
+    for (int k = 0; k < n; ++k)
+      printf("%6.3f %10.5f %10.3f %10.4f %10.3f %11.5f %s%s\n", (double)k / (double)steps,
+             pts[k].cable_length, pts[k].alpha / EA__DEG, pts[k].tension,
+             pts[k].theta0 / EA__DEG, pts[k].shoulder_torque, pts[k].admissible ? "yes" : "NO: ",
+             pts[k].reason);
+    printf("path %s\n", st == EA_OK ? "ADMISSIBLE" : "NOT admissible");
+  }
+  if (c.figure) {
+    ea_plot_t *pl;
+    ea_error_t fe = {0};
+    if (ea_plot_open(&pl, c.figure, 800, 650, &fe) == EA_OK) {
+      ea_plot_data_begin(pl, "beams");
+      for (int k = 0; k < n; ++k)
+        if (pts[k].status == EA_OK || pts[k].status == EA_ERR_INADMISSIBLE)
+          ea__plot_beam(pl, sh, (double[]){pts[k].alpha, pts[k].tension, pts[k].theta0,
+                                           pts[k].kappa0},
+                        61);
+      ea_plot_data_end(pl);
+      ea_plot_data_begin(pl, "cables");
+      for (int k = 0; k < n; ++k) {
+        ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
+        ea_plot_data_row(pl, 2, (double[]){pts[k].x, pts[k].y});
+        ea_plot_data_row(pl, 1, (double[]){NAN});
+      }
+      ea_plot_data_end(pl);
+      ea_plot_data_begin(pl, "line");
+      ea_plot_data_row(pl, 2, p0);
+      ea_plot_data_row(pl, 2, p1);
+      ea_plot_data_end(pl);
+      ea_plot_data_begin(pl, "bad");
+      for (int k = 0; k < n; ++k)
+        if (!pts[k].admissible) ea_plot_data_row(pl, 2, (double[]){pts[k].x, pts[k].y});
+      ea_plot_data_row(pl, 2, (double[]){NAN, NAN});
+      ea_plot_data_end(pl);
+      ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset title "
+                      "'Straight-line tip path (Fig. 4): %s'",
+                  st == EA_OK ? "admissible" : "NOT admissible");
+      ea_plot_cmd(pl, "plot $beams w l lw 2 lc rgb '#1f4e9c' t 'beam', $cables w l dt 2 lc rgb "
+                      "'#c0392b' t 'cable', $line w l lw 2 lc rgb 'black' t 'desired path', $bad "
+                      "w p pt 2 ps 2 lc rgb 'red' t 'inadmissible'");
+      fe.status = ea_plot_close(pl, &fe);
+    }
+    if (fe.status) {
+      fprintf(stderr, "elasticarm path: figure: %s\n", fe.msg);
+      rc = EA_EXIT_FAIL;
+    }
+  }
+  free(pts);
+  ea_shooter_free(sh);
+  if (rc) return rc;
+  return st == EA_OK ? EA_EXIT_OK : EA_EXIT_FAIL;
+}
