@@ -1,0 +1,189 @@
+/* Finite element model: natural frequencies (paper eq. 24) and stability. */
+#include "fe_impl.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+
+#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j) * EA__FE_LDS]
+
+/* Free-DOF block of a full symmetric band matrix into a free band (LDS x nf). */
+static void ea__fe_band_free(const ea_fe_model_t *m, const double *full, double *fr) {
+  memset(fr, 0, sizeof(double) * EA__FE_LDS * (size_t)m->nf);
+  for (int j = 0; j < m->nf; ++j)
+    for (int i = (j > EA__FE_KD ? j - EA__FE_KD : 0); i <= j; ++i)
+      EA__SB(fr, i, j) = EA__SB(full, i + 3, j + 3);
+}
+
+/* Dense (column-major, both triangles) copy of a free band. */
+static void ea__fe_band_dense(const ea_fe_model_t *m, const double *fr, double *d) {
+  const size_t n = (size_t)m->nf;
+  memset(d, 0, sizeof(double) * n * n);
+  for (size_t j = 0; j < n; ++j)
+    for (size_t i = (j > EA__FE_KD ? j - EA__FE_KD : 0); i <= j; ++i)
+      d[i + j * n] = d[j + i * n] = EA__SB(fr, i, j);
+}
+
+/* Passive stiffness (free band in m->Ab) and mass (m->Bb) at the current state. */
+static void ea__fe_passive_free(ea_fe_model_t *m) {
+  ea_fe_cable_phase_t ph;
+  double val;
+  ea__fe_passive_equiv(m, m->q, &ph, &val);
+  ea__fe_assemble(m, m->q, ph, val, m->fi, m->Kb);
+  ea__fe_band_free(m, m->Kb, m->Ab);
+  ea__fe_band_free(m, m->Mb, m->Bb);
+}
+
+/* Cholesky of the free stiffness band in m->Ab (copied to m->Gb). */
+static int ea__fe_posdef(ea_fe_model_t *m) {
+  const int n = m->nf, kd = EA__FE_KD, ld = EA__FE_LDS;
+  memcpy(m->Gb, m->Ab, sizeof(double) * EA__FE_LDS * (size_t)n);
+  int info = 0;
+  dpbtrf_("U", &n, &kd, m->Gb, &ld, &info, 1);
+  return info == 0;
+}
+
+ea_status_t ea_fe_stability(ea_fe_model_t *m, int *stable, ea_error_t *err) {
+  if (!m || !stable) return ea_error_set(err, EA_ERR_ARG, "fe stability: NULL argument");
+  ea__fe_passive_free(m);
+  *stable = ea__fe_posdef(m);
+  return EA_OK;
+}
+
+/* The low modes are computed from the inverted pencil
+ *   M v = mu (K + sigma M) v,   lambda = omega^2 = 1/mu - sigma,
+ * taking the k largest mu. K + sigma M is factored by Cholesky (its errors are
+ * eps |K|, which moves the low omega^2 by a relative ~eps cond-free amount),
+ * whereas a Cholesky of M (tiny rotary inertia I_zz h ~ 1e-9) would amplify
+ * rounding in K by 1/min(M) and destroy the low modes. sigma = 0 when K is
+ * positive definite (stable), else the smallest power of 10 >= 1 that makes
+ * K + sigma M positive definite. M may be singular (I_zz = 0). */
+ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *err) {
+  if (!m) return ea_error_set(err, EA_ERR_ARG, "fe modes: model is NULL");
+  ea_fe_modes_info_t loc;
+  if (!info) info = &loc;
+  memset(info, 0, sizeof *info);
+  const double t0 = ea__fe_now();
+  m->modes_valid = 0;
+  ea__fe_passive_free(m);
+  info->stable = ea__fe_posdef(m);
+  double sigma = 0.0;
+  if (!info->stable) {
+    /* shift until K + sigma M is positive definite */
+    double *K0 = m->Qw; /* spare: LDS x nf fits in nf x nf for nf >= LDS */
+    const size_t nb = EA__FE_LDS * (size_t)m->nf;
+    if ((size_t)m->nf * (size_t)m->nf < nb)
+      return ea_error_set(err, EA_ERR_ARG, "fe modes: mesh too small to shift");
+    memcpy(K0, m->Ab, sizeof(double) * nb);
+    int ok = 0;
+    for (sigma = 1.0; sigma < 1e12 && !ok; sigma *= 10.0) {
+      for (size_t i = 0; i < nb; ++i) m->Ab[i] = K0[i] + sigma * m->Bb[i];
+      ok = ea__fe_posdef(m);
+      if (ok) break;
+    }
+    if (!ok) return ea_error_set(err, EA_ERR_BACKEND, "fe modes: no shift makes K + s M definite");
+  }
+  /* A := M, B := K + sigma M (swap the band arrays' roles) */
+  double *A = m->Bb, *B = m->Ab;
+  const double t1 = ea__fe_now();
+  const int n = m->nf, k = m->set.modes, kd = EA__FE_KD, ld = EA__FE_LDS;
+  int info_l = 0, found = 0;
+  ea_status_t st = EA_OK;
+  double *mu = m->evals; /* mu of mode j (ascending lambda) at mu[j] after the switch */
+  switch (m->set.eig_backend) {
+  case EA_FE_EIG_DSBGVX: {
+    const double vl = 0.0, vu = 0.0, abstol = 2.0 * DBL_MIN;
+    const int il = n - k + 1, iu = n;
+    dsbgvx_("V", "I", "U", &n, &kd, &kd, A, &ld, B, &ld, m->Qw, &n, &vl, &vu, &il, &iu,
+            &abstol, &found, m->work, m->Z, &n, m->work + n, m->iwork,
+            m->ifail, &info_l, 1, 1, 1);
+    if (info_l != 0 || found < k) {
+      st = EA_ERR_BACKEND;
+      break;
+    }
+    /* found ascending mu: reverse into ascending lambda */
+    for (int j = 0; j < k / 2; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double t = m->Z[i + (size_t)j * n];
+        m->Z[i + (size_t)j * n] = m->Z[i + (size_t)(k - 1 - j) * n];
+        m->Z[i + (size_t)(k - 1 - j) * n] = t;
+      }
+    for (int j = 0; j < k; ++j) mu[j] = m->work[k - 1 - j];
+    break;
+  }
+  case EA_FE_EIG_DSYGV: {
+    const int itype = 1;
+    ea__fe_band_dense(m, A, m->Ad);
+    ea__fe_band_dense(m, B, m->Bd);
+    dsygv_(&itype, "V", "U", &n, m->Ad, &n, m->Bd, &n, m->evals, m->work, &m->lwork, &info_l,
+           1, 1);
+    if (info_l != 0) {
+      st = EA_ERR_BACKEND;
+      break;
+    }
+    for (int j = 0; j < k; ++j) {
+      memcpy(m->Z + (size_t)j * n, m->Ad + (size_t)(n - 1 - j) * n, sizeof(double) * (size_t)n);
+      m->work[j] = m->evals[n - 1 - j];
+    }
+    for (int j = 0; j < k; ++j) mu[j] = m->work[j];
+    break;
+  }
+  case EA_FE_EIG_GSL: {
+    ea__fe_band_dense(m, A, m->gA->data);
+    ea__fe_band_dense(m, B, m->gB->data);
+    gsl_error_handler_t *old = gsl_set_error_handler_off();
+    info_l = gsl_eigen_gensymmv(m->gA, m->gB, m->geval, m->gevec, m->gws);
+    if (info_l == GSL_SUCCESS)
+      info_l = gsl_eigen_gensymmv_sort(m->geval, m->gevec, GSL_EIGEN_SORT_VAL_DESC);
+    gsl_set_error_handler(old);
+    if (info_l != GSL_SUCCESS) {
+      st = EA_ERR_BACKEND;
+      break;
+    }
+    for (int j = 0; j < k; ++j) {
+      mu[j] = gsl_vector_get(m->geval, (size_t)j);
+      for (int i = 0; i < n; ++i)
+        m->Z[i + (size_t)j * n] = gsl_matrix_get(m->gevec, (size_t)i, (size_t)j);
+    }
+    break;
+  }
+  default:
+    st = EA_ERR_ARG;
+  }
+  info->time_assembly_s = t1 - t0;
+  info->time_eigen_s = ea__fe_now() - t1;
+  info->backend_info = info_l;
+  info->status = st;
+  if (st)
+    return ea_error_set(err, st, "fe modes: eigen-solver failed (backend %d, info %d)",
+                        (int)m->set.eig_backend, info_l);
+  info->modes = k;
+  for (int j = 0; j < k; ++j) {
+    const double lam = (mu[j] > 0.0) ? 1.0 / mu[j] - sigma : INFINITY;
+    info->lambda[j] = lam;
+    info->freq_hz[j] = (lam >= 0 ? 1.0 : -1.0) * sqrt(fabs(lam)) / (2.0 * M_PI);
+    /* full-length, normalized mode shape */
+    double *phi = m->phi + (size_t)j * m->nd;
+    phi[0] = phi[1] = phi[2] = 0.0;
+    memcpy(phi + 3, m->Z + (size_t)j * n, sizeof(double) * (size_t)n);
+    double amax = 0.0;
+    int imax = 3;
+    for (int i = 3; i < m->nd; ++i)
+      if (i % 3 != 2 && fabs(phi[i]) > amax) amax = fabs(phi[i]), imax = i;
+    const double ty = phi[m->nd - 2];
+    const double sgn =
+        (fabs(ty) > 1e-6 * amax) ? (ty > 0 ? 1.0 : -1.0) : (phi[imax] > 0 ? 1.0 : -1.0);
+    if (amax > 0)
+      for (int i = 0; i < m->nd; ++i) phi[i] *= sgn / amax;
+  }
+  m->modes_valid = k;
+  return EA_OK;
+}
+
+ea_status_t ea_fe_mode_shape(const ea_fe_model_t *m, int k, double *phi) {
+  if (!m || !phi || k < 0 || k >= m->modes_valid) return EA_ERR_ARG;
+  memcpy(phi, m->phi + (size_t)k * m->nd, sizeof(double) * (size_t)m->nd);
+  return EA_OK;
+}

@@ -1,0 +1,103 @@
+/* Finite element model: the geometrically exact beam element and the cable
+ * element (paper sec. 3, 3.1). Formulas in docs/fe.md. */
+#include "fe_impl.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Strains of the planar Reissner beam with a straight, unstrained reference:
+ *   Gamma1 = x' cos(th) + y' sin(th) - 1   (axial)
+ *   Gamma2 = -x' sin(th) + y' cos(th)      (shear)
+ *   K      = th'                            (bending)
+ * Resultants N = EA Gamma1, Q = GA Gamma2, M = EI K. Virtual work
+ *   dW = int (N dGamma1 + Q dGamma2 + M dK) ds
+ * gives the internal force; its linearization the material part B^T D B and
+ * the geometric part (second variation of the strains times the resultants). */
+double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[9],
+                           double *ke) {
+  const double EA = m->arm.EA, GA = m->arm.GA_s, EI = m->arm.EI;
+  const ea__fe_quad_t *qd = &m->quad_k;
+  double W = 0.0;
+  memset(fe, 0, 9 * sizeof(double));
+  if (ke) memset(ke, 0, 81 * sizeof(double));
+  for (int g = 0; g < qd->n; ++g) {
+    const double *N = qd->N[g], *dN = qd->dN[g], w = qd->w[g];
+    double xp = 0, yp = 0, th = 0, thp = 0;
+    for (int a = 0; a < 3; ++a) {
+      xp += dN[a] * u[3 * a];
+      yp += dN[a] * u[3 * a + 1];
+      th += N[a] * u[3 * a + 2];
+      thp += dN[a] * u[3 * a + 2];
+    }
+    const double c = cos(th), s = sin(th);
+    const double G1 = xp * c + yp * s - 1.0, G2 = -xp * s + yp * c, K = thp;
+    const double Nf = EA * G1, Qf = GA * G2, Mf = EI * K;
+    W += 0.5 * w * (EA * G1 * G1 + GA * G2 * G2 + EI * K * K);
+    double B[3][9];
+    for (int a = 0; a < 3; ++a) {
+      B[0][3 * a] = c * dN[a];
+      B[0][3 * a + 1] = s * dN[a];
+      B[0][3 * a + 2] = G2 * N[a];
+      B[1][3 * a] = -s * dN[a];
+      B[1][3 * a + 1] = c * dN[a];
+      B[1][3 * a + 2] = -(1.0 + G1) * N[a];
+      B[2][3 * a] = 0.0;
+      B[2][3 * a + 1] = 0.0;
+      B[2][3 * a + 2] = dN[a];
+    }
+    for (int i = 0; i < 9; ++i) fe[i] += w * (B[0][i] * Nf + B[1][i] * Qf + B[2][i] * Mf);
+    if (!ke) continue;
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < 9; ++j)
+        ke[9 * i + j] += w * (EA * B[0][i] * B[0][j] + GA * B[1][i] * B[1][j] +
+                              EI * B[2][i] * B[2][j]);
+    /* geometric part */
+    const double gx = -Nf * s - Qf * c, gy = Nf * c - Qf * s;
+    const double gt = -Nf * (1.0 + G1) - Qf * G2;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const double xa_tb = w * gx * dN[a] * N[b], ya_tb = w * gy * dN[a] * N[b];
+        ke[9 * (3 * a) + 3 * b + 2] += xa_tb;
+        ke[9 * (3 * b + 2) + 3 * a] += xa_tb;
+        ke[9 * (3 * a + 1) + 3 * b + 2] += ya_tb;
+        ke[9 * (3 * b + 2) + 3 * a + 1] += ya_tb;
+        ke[9 * (3 * a + 2) + 3 * b + 2] += w * gt * N[a] * N[b];
+      }
+  }
+  return W;
+}
+
+/* Cable from the tip r to the root c: l = |c - r|, e = (c - r) / l. The force
+ * on the tip is T e. ACTIVE: T prescribed, potential T l (a force of fixed
+ * magnitude aimed at a fixed point is conservative), load stiffness
+ * -d(T e)/dr = T/l (I - e e^T). PASSIVE: T = EA_c (l - L0) / L0 (0 if slack),
+ * potential EA_c (l - L0)^2 / (2 L0), stiffness EA_c/L0 e e^T + T/l (I - e e^T). */
+double ea__fe_cable(const ea_fe_model_t *m, ea_fe_cable_phase_t phase, double value,
+                    double x, double y, double *tension, double *length, double f[2],
+                    double kc[4]) {
+  const double dx = m->arm.x_c - x, dy = m->arm.y_c - y;
+  const double l = hypot(dx, dy);
+  double T = 0.0, kt = 0.0, V = 0.0;
+  if (phase == EA_FE_CABLE_ACTIVE) {
+    T = value;
+    V = T * l;
+  } else if (phase == EA_FE_CABLE_PASSIVE && l > value) {
+    kt = m->arm.EA_cable / value;
+    T = kt * (l - value);
+    V = 0.5 * kt * (l - value) * (l - value);
+  }
+  if (tension) *tension = T;
+  if (length) *length = l;
+  const double ex = (l > 0) ? dx / l : 0.0, ey = (l > 0) ? dy / l : 0.0;
+  if (f) {
+    f[0] = T * ex;
+    f[1] = T * ey;
+  }
+  if (kc) {
+    const double t = (l > 0) ? T / l : 0.0;
+    kc[0] = kt * ex * ex + t * (1.0 - ex * ex);
+    kc[1] = kc[2] = (kt - t) * ex * ey;
+    kc[3] = kt * ey * ey + t * (1.0 - ey * ey);
+  }
+  return V;
+}
