@@ -292,6 +292,243 @@ ea_status_t ea_statics_edge(ea_shooter_t *sh, double alpha,
 /* Finite element model (paper sec. 3): see the FE section below             */
 /* ------------------------------------------------------------------------ */
 /* EA_FE_SECTION_BEGIN (owned by model/fe_*.c) */
+
+/** Finite element model of the planar arm (paper sec. 3, docs/fe.md).
+ *
+ * Geometrically exact (Reissner / Simo-Vu-Quoc) planar beam with axial,
+ * shear and bending strains; 3-node quadratic elements, reduced 2-point Gauss
+ * integration of the stiffness, consistent mass (rho, I_zz), tip mass m_L and
+ * rotary inertia I_hand; clamped at the origin with prescribed shoulder angle
+ * theta0; cable from the tip to the root (x_c, y_c) in one of three phases.
+ *
+ * DOFs: node i (i = 0 .. 2 elements) carries (x_i, y_i, theta_i); "full"
+ * vectors have 3 * nodes entries in that order; node 0 is the clamp (x = y = 0,
+ * theta = theta0), the other nodes are free. Reference configuration:
+ * straight, stress-free, node i at arclength s_i = i L / (nodes - 1). */
+
+/** Phase of the cable element (paper sec. 3.1). */
+typedef enum ea_fe_cable_phase {
+  EA_FE_CABLE_NONE = 0, /**< no cable (free cantilever) */
+  EA_FE_CABLE_ACTIVE,   /**< prescribed tension T [N] directed at the cable root */
+  EA_FE_CABLE_PASSIVE   /**< elastic cable of rest (unstretched) length L0 [m]:
+                             T = EA_c (l - L0) / L0 for l > L0, else 0 (slack) */
+} ea_fe_cable_phase_t;
+
+/** Backend of the generalized symmetric eigenproblem (eq. 24). */
+typedef enum ea_fe_eig_backend {
+  EA_FE_EIG_DSBGVX = 0, /**< LAPACK banded dsbgvx, selected modes (default, fastest) */
+  EA_FE_EIG_DSYGV,      /**< LAPACK dense dsygv, all modes */
+  EA_FE_EIG_GSL,        /**< GSL gsl_eigen_gensymmv, all modes */
+  EA_FE_EIG_COUNT
+} ea_fe_eig_backend_t;
+
+/** Most modes an ::ea_fe_modes_info_t holds. */
+#define EA_FE_MAX_MODES 16
+/** Default number of elements, chosen by bench/bench_fe (docs/fe.md). */
+#define EA_FE_DEFAULT_ELEMENTS 8
+/** The paper's mesh (sec. 3.3). */
+#define EA_FE_PAPER_ELEMENTS 6
+
+/** Model settings (plain data; ea_fe_settings_default() fills them). */
+typedef struct ea_fe_settings {
+  int elements;        /**< number of 3-node elements, >= 1 (default EA_FE_DEFAULT_ELEMENTS) */
+  int modes;           /**< modes computed by ea_fe_modes(), 1..EA_FE_MAX_MODES (default 3) */
+  double newton_tol;   /**< static Newton: stop at eps <= tol, eps of eq. 23 (default 1e-6) */
+  int newton_max_iter; /**< static Newton iteration limit (default 50) */
+  ea_fe_eig_backend_t eig_backend; /**< eigen-solver (default EA_FE_EIG_DSBGVX) */
+} ea_fe_settings_t;
+
+/** Fill s with the defaults. */
+void ea_fe_settings_default(ea_fe_settings_t *s);
+/** Check s; err->msg names the bad field. */
+ea_status_t ea_fe_settings_validate(const ea_fe_settings_t *s, ea_error_t *err);
+
+/** The FE model workspace (opaque): all storage allocated in ea_fe_model_alloc. */
+typedef struct ea_fe_model ea_fe_model_t;
+
+/** Allocate a model for arm (copied; must satisfy ea_arm_validate and
+ *  I_zz >= 0; M may be singular) with settings s (copied; NULL = default). The tip mass starts at
+ *  arm->m_hand, the state is the straight beam at theta0 = 0, cable NONE. */
+ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s,
+                              ea_fe_model_t **out, ea_error_t *err);
+/** Free the model; NULL is a no-op. */
+void ea_fe_model_free(ea_fe_model_t *m);
+/** Set the tip mass m_L [kg] (hand + payload); I_hand stays arm->I_hand. */
+ea_status_t ea_fe_model_set_load(ea_fe_model_t *m, const ea_load_t *load);
+/** Number of nodes (2 elements + 1); full vectors have 3 * nodes entries. */
+int ea_fe_model_nodes(const ea_fe_model_t *m);
+/** Arm and settings the model was made with. */
+const ea_arm_t *ea_fe_model_arm(const ea_fe_model_t *m);
+const ea_fe_settings_t *ea_fe_model_settings(const ea_fe_model_t *m);
+
+/** Set the state to the straight, unstrained beam at shoulder angle theta0
+ *  [rad], at rest, with the cable in phase NONE. */
+ea_status_t ea_fe_set_straight(ea_fe_model_t *m, double theta0);
+/** Set the cable phase and its parameter: ACTIVE: tension T [N] (>= 0);
+ *  PASSIVE: rest length L0 [m] (> 0); NONE: value ignored. */
+ea_status_t ea_fe_set_cable(ea_fe_model_t *m, ea_fe_cable_phase_t phase, double value);
+/** Switch an ACTIVE cable to PASSIVE keeping its current tension: L0 is set
+ *  so that T(l) = current T at the current tip (paper sec. 3.3). No-op for
+ *  PASSIVE or NONE. */
+ea_status_t ea_fe_cable_make_passive(ea_fe_model_t *m);
+/** Current cable phase, its parameter (T or L0), tension [N] and length
+ *  l = |tip - root| [m] at the current state (any pointer may be NULL). */
+void ea_fe_cable_get(const ea_fe_model_t *m, ea_fe_cable_phase_t *phase, double *value,
+                     double *tension, double *length);
+/** Rest length of a cable of axial rigidity EA_c that has length l [m] at
+ *  tension T [N]: l / (1 + T / EA_c). */
+double ea_fe_cable_rest_length(double length, double tension, double EA_cable);
+
+/** Copy the state out: q, v full vectors (3 * nodes each; either may be NULL). */
+ea_status_t ea_fe_get_state(const ea_fe_model_t *m, double *q, double *v);
+/** Set the state: q full vector (its node-0 entries set theta0), v full
+ *  vector or NULL (= at rest). */
+ea_status_t ea_fe_set_state(ea_fe_model_t *m, const double *q, const double *v);
+/** Tip (x [m], y [m], theta [rad]) of the current state. */
+void ea_fe_tip(const ea_fe_model_t *m, double tip[3]);
+/** Total mechanical energy [J] of the current state: kinetic + strain +
+ *  gravity (datum y = 0) + cable (ACTIVE: T l, PASSIVE: elastic). */
+double ea_fe_energy(const ea_fe_model_t *m);
+
+/** Result of a static solve. */
+typedef struct ea_fe_static_info {
+  ea_status_t status; /**< EA_OK, EA_ERR_MAXITER, EA_ERR_SINGULAR, ... */
+  int iterations;     /**< Newton iterations */
+  double residual;    /**< eps of eq. 23: |P - F| / |F| (absolute if F = 0) */
+  double tip[3];      /**< tip (x [m], y [m], theta [rad]) at the solution */
+  double tension;     /**< [N] cable tension at the solution */
+  double cable_length;/**< [m] |tip - root| at the solution */
+  double cable_angle; /**< [rad] alpha = atan2(y_L - y_c, x_L - x_c) */
+  double theta0;      /**< [rad] shoulder angle */
+  double tip_shift;   /**< [m] |tip_FE - tip_ODE| (ea_fe_static_solve only, else 0) */
+  double time_s;      /**< [s] wall time */
+} ea_fe_static_info_t;
+
+/** Static equilibrium (eq. 21-23) in the active phase started from the ODE
+ *  solution ode (p = alpha, T, theta0, kappa0): the centreline is sampled at
+ *  the nodes with ea_shoot_shape(sh, ...), the cable is set ACTIVE with
+ *  T = ode->p[EA_P_TENSION], the tip mass is taken from sh's load, and
+ *  Newton-Raphson runs until eps <= settings.newton_tol.
+ * @param[in,out] m    model; on success holds the FE equilibrium
+ * @param[in]     sh   shooter of the same arm (only used to sample the shape)
+ * @param[in]     ode  converged statics solution
+ * @param[out]    info iterations, residual, tip; may be NULL */
+ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh,
+                               const ea_statics_solution_t *ode,
+                               ea_fe_static_info_t *info, ea_error_t *err);
+/** Newton-Raphson from the current state, in the current cable phase, with
+ *  theta0 held. The velocity is set to zero. */
+ea_status_t ea_fe_newton(ea_fe_model_t *m, ea_fe_static_info_t *info, ea_error_t *err);
+
+/** Result of ea_fe_modes(). */
+typedef struct ea_fe_modes_info {
+  ea_status_t status;   /**< EA_OK or backend failure */
+  int modes;            /**< number of modes filled */
+  double freq_hz[EA_FE_MAX_MODES]; /**< [Hz] sign(l) sqrt(|l|) / (2 pi), ascending */
+  double lambda[EA_FE_MAX_MODES];  /**< [rad^2/s^2] generalized eigenvalues omega^2 */
+  int stable;           /**< 1: passive stiffness positive definite (Cholesky) */
+  double time_assembly_s, time_eigen_s; /**< [s] wall times */
+  int backend_info;     /**< raw LAPACK info / GSL status */
+} ea_fe_modes_info_t;
+
+/** Natural frequencies and mode shapes (eq. 24) about the current state:
+ *  passive-phase stiffness K (an ACTIVE cable is treated as PASSIVE with the
+ *  rest length that keeps its current tension, without changing the model's
+ *  phase), consistent mass M, (K - omega^2 M) v = 0 on the free DOFs. Also
+ *  reports stability (K positive definite). The mode shapes are kept in m. */
+ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *err);
+/** Mode k (0-based) of the last ea_fe_modes() call as a full vector
+ *  (3 * nodes, clamp entries 0), scaled so max |x_i|, |y_i| = 1 with the tip
+ *  y component >= 0. */
+ea_status_t ea_fe_mode_shape(const ea_fe_model_t *m, int k, double *phi);
+/** Stability only: is the passive-phase stiffness at the current state
+ *  positive definite? stable = 1/0. */
+ea_status_t ea_fe_stability(ea_fe_model_t *m, int *stable, ea_error_t *err);
+
+/** A time history: value(t) and its rate d/dt at t. Return 0 on success,
+ *  nonzero to abort the simulation (EA_ERR_INTERRUPTED). */
+typedef int (*ea_fe_history_fn)(double t, double *value, double *rate, void *data);
+
+/** A sampled history: n >= 1 points (t[i] strictly increasing, value[i]);
+ *  ea_fe_samples_eval interpolates with a C1 cubic Hermite spline (slopes by
+ *  centred differences; zero slope at the ends) and holds the end values
+ *  outside [t[0], t[n-1]]. Pass ea_fe_samples_eval with a pointer to an
+ *  ea_fe_samples_t as its data. */
+typedef struct ea_fe_samples {
+  int n;
+  const double *t;     /**< [s] sample times */
+  const double *value; /**< samples (rad, N or m) */
+} ea_fe_samples_t;
+int ea_fe_samples_eval(double t, double *value, double *rate, void *data);
+
+/** What drives a transient: shoulder angle theta0(t) [rad] and the cable's
+ *  parameter in the model's current phase (ACTIVE: tension T(t) [N];
+ *  PASSIVE: rest length L0(t) [m], a moving reference length). A NULL
+ *  function holds the value of the initial state. */
+typedef struct ea_fe_drive {
+  ea_fe_history_fn theta0;
+  void *theta0_data;
+  ea_fe_history_fn cable;
+  void *cable_data;
+} ea_fe_drive_t;
+
+/** Time integrators. */
+typedef enum ea_fe_scheme {
+  EA_FE_SCHEME_ENERGY = 0, /**< implicit midpoint with the discrete gradient of the
+                                potential (Gonzalez / Simo-Tarnow): conserves the
+                                energy of the undriven, undamped system exactly,
+                                second order, no numerical dissipation */
+  EA_FE_SCHEME_GENALPHA,   /**< generalized-alpha (Chung-Hulbert), second order,
+                                spectral radius rho_inf at infinite frequency */
+  EA_FE_SCHEME_COUNT
+} ea_fe_scheme_t;
+
+/** Transient settings. */
+typedef struct ea_fe_sim_settings {
+  ea_fe_scheme_t scheme; /**< default EA_FE_SCHEME_ENERGY */
+  double dt;             /**< [s] time step (default 1e-3) */
+  double t_end;          /**< [s] end time (default 1) */
+  double t_motion_end;   /**< [s] when the drive stops; the residual vibration is
+                              measured on [t_motion_end, t_end]; < 0: not measured
+                              (default -1) */
+  double rho_inf;        /**< generalized-alpha spectral radius in [0, 1] (default 0.9) */
+  double rayleigh_mass;      /**< [1/s] C = a M + b K0 (default 0) */
+  double rayleigh_stiffness; /**< [s] b; K0 = passive stiffness at t = 0 (default 0) */
+  double tol;            /**< Newton: max |dq| of free DOFs [m, rad] (default 1e-11) */
+  int max_iter;          /**< Newton iterations per step (default 25) */
+  int output_every;      /**< write a tip row every this many steps (default 1) */
+} ea_fe_sim_settings_t;
+
+void ea_fe_sim_settings_default(ea_fe_sim_settings_t *s);
+ea_status_t ea_fe_sim_settings_validate(const ea_fe_sim_settings_t *s, ea_error_t *err);
+
+/** Result of a transient. */
+typedef struct ea_fe_sim_info {
+  ea_status_t status;
+  int steps;              /**< time steps taken */
+  int rows;               /**< tip rows written */
+  int newton_iterations;  /**< total */
+  int max_step_iterations;/**< worst step */
+  double energy_start, energy_end; /**< [J] ea_fe_energy at t = 0 and t_end */
+  double energy_drift_max;/**< [J] max_n |E_n - E_0| */
+  double kinetic_max;     /**< [J] max kinetic energy */
+  double residual_rms;    /**< [m] RMS of |tip_xy(t) - tip_xy_static| on [t_motion_end, t_end] */
+  double residual_peak;   /**< [m] peak of the same */
+  double tip_static[3];   /**< final static equilibrium tip (x, y, theta) */
+  double time_s;          /**< [s] wall time */
+} ea_fe_sim_info_t;
+
+/** Integrate the nonlinear FE model from the current state (q, v) over
+ *  [0, t_end] driven by drive (NULL = undriven).
+ * @param[in,out] m    model; ends in the state at t_end
+ * @param[out]    tip  if not NULL: rows of 4 doubles (t [s], x [m], y [m],
+ *                     theta [rad]), the first at t = 0, then every
+ *                     output_every steps; at most tip_rows rows are written
+ * @param[out]    info may be NULL */
+ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
+                           const ea_fe_sim_settings_t *s, double *tip, int tip_rows,
+                           ea_fe_sim_info_t *info, ea_error_t *err);
+
 /* EA_FE_SECTION_END */
 
 #ifdef __cplusplus
