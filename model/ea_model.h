@@ -336,6 +336,10 @@ typedef struct ea_fe_settings {
   double newton_tol;   /**< static Newton: stop at eps <= tol, eps of eq. 23 (default 1e-6) */
   int newton_max_iter; /**< static Newton iteration limit (default 50) */
   ea_fe_eig_backend_t eig_backend; /**< eigen-solver (default EA_FE_EIG_DSBGVX) */
+  int static_hold_tip; /**< ea_fe_static_solve: 0 = hold the ODE tension T and theta0
+                            (paper sec. 3.2; the tip moves by the extensibility
+                            effects); 1 = hold the ODE tip position (cable length
+                            and angle), solving for T and theta0 too (default 0) */
 } ea_fe_settings_t;
 
 /** Fill s with the defaults. */
@@ -408,7 +412,10 @@ typedef struct ea_fe_static_info {
  *  solution ode (p = alpha, T, theta0, kappa0): the centreline is sampled at
  *  the nodes with ea_shoot_shape(sh, ...), the cable is set ACTIVE with
  *  T = ode->p[EA_P_TENSION], the tip mass is taken from sh's load, and
- *  Newton-Raphson runs until eps <= settings.newton_tol.
+ *  Newton-Raphson runs until eps <= settings.newton_tol (or the Newton
+ *  correction is at rounding level, max |dq| <= 1e-13 L: the attainable eps
+ *  is ~1e-8, set by EA). With settings.static_hold_tip, T and theta0 are
+ *  unknowns too and the tip is held at the ODE tip (bordered Newton).
  * @param[in,out] m    model; on success holds the FE equilibrium
  * @param[in]     sh   shooter of the same arm (only used to sample the shape)
  * @param[in]     ode  converged statics solution

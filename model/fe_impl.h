@@ -44,6 +44,7 @@ struct ea_fe_model {
   double *fi;           /* full internal + cable force (f_int - f_cable) */
   double *r;            /* free residual */
   double *dq;           /* free increment */
+  double *rhs3;         /* 3 x nf right-hand sides (bordered Newton) */
   double *Gb;           /* general band LU (LDG x nf) */
   int *ipiv;            /* nf */
   double *Ab, *Bb;      /* free symmetric band copies for dsbgvx (LDS x nf) */
@@ -91,6 +92,10 @@ void ea__fe_band_gemv(const ea_fe_model_t *m, double s, const double *A, const d
 /** LU-factor the free block of the full symmetric band Kb (into m->Gb) and
  *  solve for m->dq = Kb_ff^-1 m->r. Returns EA_ERR_SINGULAR on failure. */
 ea_status_t ea__fe_solve_free(ea_fe_model_t *m, const double *Kb);
+/** LU-factor the free block of Kb into m->Gb. */
+ea_status_t ea__fe_factor_free(ea_fe_model_t *m, const double *Kb);
+/** Solve with the factors in m->Gb for nrhs columns of length nf in b. */
+ea_status_t ea__fe_solve_factored(ea_fe_model_t *m, double *b, int nrhs);
 /** Passive-phase parameter equivalent of the current cable (ACTIVE -> L0). */
 void ea__fe_passive_equiv(const ea_fe_model_t *m, const double *q,
                           ea_fe_cable_phase_t *phase, double *value);

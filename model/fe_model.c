@@ -19,6 +19,7 @@ void ea_fe_settings_default(ea_fe_settings_t *s) {
   s->newton_tol = 1e-6;
   s->newton_max_iter = 50;
   s->eig_backend = EA_FE_EIG_DSBGVX;
+  s->static_hold_tip = 0;
 }
 
 ea_status_t ea_fe_settings_validate(const ea_fe_settings_t *s, ea_error_t *err) {
@@ -89,7 +90,7 @@ void ea_fe_model_free(ea_fe_model_t *m) {
   double *dp[] = {m->q,  m->v,  m->fg, m->Mb,   m->Kb,  m->fi, m->r,  m->dq,
                   m->Gb, m->Ab, m->Bb, m->Ad,   m->Bd,  m->Z,  m->Qw, m->work,
                   m->evals, m->phi, m->q0, m->v0, m->a0, m->qm, m->fm, m->tmp,
-                  m->Cb, m->qs, m->vs, m->Kt};
+                  m->Cb, m->qs, m->vs, m->Kt, m->rhs3};
   for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) free(dp[i]);
   free(m->ipiv);
   free(m->iwork);
@@ -144,6 +145,7 @@ ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s,
   EA__ALLOC(m->fi, nd);
   EA__ALLOC(m->r, nf);
   EA__ALLOC(m->dq, nf);
+  EA__ALLOC(m->rhs3, 3 * nf);
   EA__ALLOC(m->Gb, EA__FE_LDG * nf);
   EA__ALLOC(m->ipiv, nf);
   EA__ALLOC(m->Ab, EA__FE_LDS * nf);
@@ -363,6 +365,27 @@ void ea__fe_band_gemv(const ea_fe_model_t *m, double s, const double *A, const d
       y[i] += a * x[j];
       if (i != j) y[j] += a * x[i];
     }
+}
+
+ea_status_t ea__fe_factor_free(ea_fe_model_t *m, const double *Kb) {
+  const int n = m->nf, kd = EA__FE_KD, ldg = EA__FE_LDG;
+  memset(m->Gb, 0, sizeof(double) * EA__FE_LDG * (size_t)n);
+  for (int j = 0; j < n; ++j)
+    for (int i = (j > kd ? j - kd : 0); i <= j; ++i) {
+      const double a = EA__SB(Kb, i + 3, j + 3);
+      m->Gb[(2 * kd + i - j) + (size_t)j * ldg] = a;
+      m->Gb[(2 * kd + j - i) + (size_t)i * ldg] = a;
+    }
+  int info = 0;
+  dgbtrf_(&n, &n, &kd, &kd, m->Gb, &ldg, m->ipiv, &info);
+  return info == 0 ? EA_OK : EA_ERR_SINGULAR;
+}
+
+ea_status_t ea__fe_solve_factored(ea_fe_model_t *m, double *b, int nrhs) {
+  const int n = m->nf, kd = EA__FE_KD, ldg = EA__FE_LDG;
+  int info = 0;
+  dgbtrs_("N", &n, &kd, &kd, &nrhs, m->Gb, &ldg, m->ipiv, b, &n, &info, 1);
+  return info == 0 ? EA_OK : EA_ERR_BACKEND;
 }
 
 ea_status_t ea__fe_solve_free(ea_fe_model_t *m, const double *Kb) {

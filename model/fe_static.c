@@ -8,35 +8,93 @@
  * scaled back (a guard for starts far from equilibrium; never active near it). */
 #define EA__FE_MAX_DTHETA 0.3
 
-ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
-                            double value, ea_fe_static_info_t *info, ea_error_t *err) {
+static ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
+                                          double value, int iters);
+
+/* Newton-Raphson on the free DOFs of q. With tip != NULL (ACTIVE phase only)
+ * the tension *value and theta0 = q[2] are unknowns as well and the tip is
+ * held at tip[0..1]: the bordered system [K b_T b_th0; C 0 0] is solved by
+ * block elimination with three right-hand sides on the band LU of K. */
+static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
+                                      double *value, const double *tip,
+                                      ea_fe_static_info_t *info, ea_error_t *err) {
   const double t0 = ea__fe_now();
+  const int nf = m->nf, tx = nf - 3, ty = nf - 2; /* free indices of the tip x, y */
   ea_status_t st = EA_ERR_MAXITER;
-  double eps = INFINITY;
+  double eps = INFINITY, gtip = 0.0;
   int it = 0;
   for (;; ++it) {
-    ea__fe_assemble(m, q, phase, value, m->fi, m->Kb);
+    ea__fe_assemble(m, q, phase, *value, m->fi, m->Kb);
     double r2 = 0.0;
-    for (int i = 0; i < m->nf; ++i) {
+    for (int i = 0; i < nf; ++i) {
       m->r[i] = m->fi[i + 3];
       r2 += m->r[i] * m->r[i];
     }
     eps = (m->fext_norm > 0.0) ? sqrt(r2) / m->fext_norm : sqrt(r2);
+    if (tip) gtip = fmax(fabs(q[tx + 3] - tip[0]), fabs(q[ty + 3] - tip[1]));
     if (!isfinite(eps)) {
       st = EA_ERR_NOCONV;
       break;
     }
-    if (eps <= m->set.newton_tol) {
+    if (eps <= m->set.newton_tol && gtip <= 1e-12 * m->arm.length) {
       st = EA_OK;
       break;
     }
     if (it >= m->set.newton_max_iter) break;
-    if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
+    if ((st = ea__fe_factor_free(m, m->Kb)) != EA_OK) break;
+    double *X = m->rhs3, dT = 0.0, dth = 0.0;
+    memcpy(X, m->r, sizeof(double) * (size_t)nf);
+    int nrhs = 1;
+    if (tip) {
+      double *b1 = X + nf, *b2 = X + 2 * nf;
+      memset(b1, 0, sizeof(double) * 2 * (size_t)nf);
+      const double dx = m->arm.x_c - q[tx + 3], dy = m->arm.y_c - q[ty + 3];
+      const double l = hypot(dx, dy);
+      b1[tx] = -dx / l; /* d r / d T = -e at the tip */
+      b1[ty] = -dy / l;
+      for (int i = 0; i < nf && i + 3 <= 2 + EA__FE_KD; ++i) /* d r / d theta0 = K(:, 2) */
+        b2[i] = m->Kb[(EA__FE_KD + 2 - (i + 3)) + (size_t)(i + 3) * EA__FE_LDS];
+      nrhs = 3;
+    }
+    if ((st = ea__fe_solve_factored(m, X, nrhs)) != EA_OK) break;
+    if (tip) {
+      /* tip rows of Delta = Xr - Xb1 dT - Xb2 dth must equal tip - target */
+      const double *Xr = X, *X1 = X + nf, *X2 = X + 2 * nf;
+      const double gx = Xr[tx] - (q[tx + 3] - tip[0]), gy = Xr[ty] - (q[ty + 3] - tip[1]);
+      const double a11 = X1[tx], a12 = X2[tx], a21 = X1[ty], a22 = X2[ty];
+      const double det = a11 * a22 - a12 * a21;
+      if (!(fabs(det) > 0.0)) {
+        st = EA_ERR_SINGULAR;
+        break;
+      }
+      dT = (gx * a22 - a12 * gy) / det;
+      dth = (a11 * gy - a21 * gx) / det;
+      for (int i = 0; i < nf; ++i) X[i] -= X1[i] * dT + X2[i] * dth;
+    }
     st = EA_ERR_MAXITER;
-    double dmax = 0.0;
-    for (int i = 2; i < m->nf; i += 3) dmax = fmax(dmax, fabs(m->dq[i]));
+    double dmax = fabs(dth), xmax = 0.0;
+    for (int i = 0; i < nf; ++i) {
+      if (i % 3 == 2) dmax = fmax(dmax, fabs(X[i]));
+      xmax = fmax(xmax, fabs(X[i]));
+    }
     const double sc = (dmax > EA__FE_MAX_DTHETA) ? EA__FE_MAX_DTHETA / dmax : 1.0;
-    for (int i = 0; i < m->nf; ++i) q[i + 3] -= sc * m->dq[i];
+    for (int i = 0; i < nf; ++i) q[i + 3] -= sc * X[i];
+    if (tip) {
+      *value -= sc * dT;
+      q[2] -= sc * dth;
+    }
+    /* rounding-level correction: as converged as EA allows */
+    if (xmax <= 1e-13 * m->arm.length && fabs(dT) <= 1e-12 * (1.0 + fabs(*value)) && !tip) {
+      ++it;
+      st = EA_OK;
+      ea__fe_assemble(m, q, phase, *value, m->fi, NULL);
+      r2 = 0.0;
+      for (int i = 0; i < nf; ++i) r2 += m->fi[i + 3] * m->fi[i + 3];
+      eps = (m->fext_norm > 0.0) ? sqrt(r2) / m->fext_norm : sqrt(r2);
+      break;
+    }
+    /* after a large step the positions carry spurious strains (x EA): relax */
+    if (dmax * sc > 1e-3) ea__fe_relax_positions(m, q, phase, *value, 1);
   }
   if (info) {
     memset(info, 0, sizeof *info);
@@ -45,7 +103,7 @@ ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t pha
     info->residual = eps;
     memcpy(info->tip, q + m->nd - 3, 3 * sizeof(double));
     double T = 0.0, l = 0.0;
-    ea__fe_cable(m, phase, value, q[m->nd - 3], q[m->nd - 2], &T, &l, NULL, NULL);
+    ea__fe_cable(m, phase, *value, q[m->nd - 3], q[m->nd - 2], &T, &l, NULL, NULL);
     info->tension = T;
     info->cable_length = l;
     info->cable_angle = atan2(q[m->nd - 2] - m->arm.y_c, q[m->nd - 3] - m->arm.x_c);
@@ -57,7 +115,39 @@ ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t pha
   if (st == EA_ERR_MAXITER)
     return ea_error_set(err, st, "fe Newton: eps = %g > %g after %d iterations", eps,
                         m->set.newton_tol, it);
-  if (st) return ea_error_set(err, st, "fe Newton: residual not finite at iteration %d", it);
+  if (st) return ea_error_set(err, st, "fe Newton: failed at iteration %d", it);
+  return EA_OK;
+}
+
+ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
+                            double value, ea_fe_static_info_t *info, ea_error_t *err) {
+  return ea__fe_newton_core(m, q, phase, &value, NULL, info, err);
+}
+
+/* Positions compatible with the rotations: with every theta held, the strains
+ * are linear in the positions, and with 2 Gauss points per element the 4 new
+ * position DOFs of an element can zero its 4 Gauss-point strains. Newton on
+ * the position rows alone (theta rows replaced by identity) therefore makes
+ * the ODE shape, whose quadratic interpolation carries strains ~h^2 kappa^2
+ * (times EA ~ 1e8 N), into a start with the right axial and shear forces;
+ * the full Newton then only corrects the moment balance. */
+static ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
+                                          double value, int iters) {
+  for (int it = 0; it < iters; ++it) {
+    ea__fe_assemble(m, q, phase, value, m->fi, m->Kb);
+    for (int i = 0; i < m->nf; ++i) m->r[i] = m->fi[i + 3];
+    for (int j = 5; j < m->nd; j += 3) { /* full index of each free theta */
+      for (int i = (j > EA__FE_KD ? j - EA__FE_KD : 0); i <= j; ++i)
+        m->Kb[(EA__FE_KD + i - j) + (size_t)j * EA__FE_LDS] = 0.0;
+      for (int k = j + 1; k <= j + EA__FE_KD && k < m->nd; ++k)
+        m->Kb[(EA__FE_KD + j - k) + (size_t)k * EA__FE_LDS] = 0.0;
+      m->Kb[EA__FE_KD + (size_t)j * EA__FE_LDS] = 1.0;
+      m->r[j - 3] = 0.0;
+    }
+    ea_status_t st = ea__fe_solve_free(m, m->Kb);
+    if (st) return st;
+    for (int i = 0; i < m->nf; ++i) q[i + 3] -= m->dq[i];
+  }
   return EA_OK;
 }
 
@@ -98,7 +188,12 @@ ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh,
   }
   m->qs[0] = m->qs[1] = 0.0;
   m->qs[2] = ode->p[EA_P_THETA0];
-  st = ea__fe_newton_q(m, m->qs, EA_FE_CABLE_ACTIVE, ode->p[EA_P_TENSION], info, err);
+  double T = ode->p[EA_P_TENSION];
+  st = ea__fe_relax_positions(m, m->qs, EA_FE_CABLE_ACTIVE, T, 2);
+  if (st) return ea_error_set(err, st, "fe static: singular position relaxation");
+  double target[2] = {x[n - 1], y[n - 1]};
+  st = ea__fe_newton_core(m, m->qs, EA_FE_CABLE_ACTIVE, &T,
+                          m->set.static_hold_tip ? target : NULL, info, err);
   if (info) {
     info->tip_shift = hypot(info->tip[0] - x[n - 1], info->tip[1] - y[n - 1]);
     info->time_s = ea__fe_now() - t0;
@@ -107,7 +202,7 @@ ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh,
   memcpy(m->q, m->qs, sizeof(double) * (size_t)m->nd);
   memset(m->v, 0, sizeof(double) * (size_t)m->nd);
   m->phase = EA_FE_CABLE_ACTIVE;
-  m->cable_value = ode->p[EA_P_TENSION];
+  m->cable_value = T;
   m->modes_valid = 0;
   return EA_OK;
 }
