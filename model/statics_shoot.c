@@ -40,40 +40,40 @@ void ea_shoot_settings_default(ea_shoot_settings_t *s) {
   s->atol = 1e-12;
 }
 
-/* Right-hand side; params is the shooter. dim 4 or 20. No allocation. */
-static int ea__rhs(double s, const double y[], double f[], void *params, int with_sens) {
+/* Right-hand side; params is the shooter. dim = 4 + 4 ncols, where the
+ * sensitivity columns are those of sh->cols (a subset of the parameters:
+ * columns of parameters a problem fixes are not integrated). Column-major
+ * within each state row: S[i * ncols + k] = d y_i / d p_{cols[k]}. */
+static int ea__rhs(double s, const double y[], double f[], void *params) {
   const ea_shooter_t *sh = params;
   const double th = y[0], ka = y[1];
   const double W = (sh->load.tip_mass + sh->arm.rho * (sh->arm.length - s)) * sh->g;
   const double c = cos(th), sn = sin(th);
-  const double alpha = sh->p[EA_P_ALPHA], T = sh->p[EA_P_TENSION];
-  const double d = th - alpha, sd = sin(d), cd = cos(d);
+  const double T = sh->p[EA_P_TENSION];
+  /* sin/cos(theta - alpha) from the angle-difference identities: one
+   * sin/cos pair per evaluation (cos/sin alpha are set per shot). */
+  const double sd = sn * sh->cos_alpha - c * sh->sin_alpha;
+  const double cd = c * sh->cos_alpha + sn * sh->sin_alpha;
   f[0] = ka;
   f[1] = W * c - T * sd;
   f[2] = c;
   f[3] = sn;
-  if (with_sens) {
+  const int nc = sh->ncols_active;
+  if (nc) {
     const double a10 = -W * sn - T * cd;
-    const double *S = y + 4; /* S[i*4 + j] = d y_i / d p_j */
+    const double *S = y + 4;
     double *F = f + 4;
-    for (int j = 0; j < EA_NP; ++j) {
-      const double dth = S[j], dka = S[4 + j];
-      F[j] = dka;
-      F[4 + j] = a10 * dth;
-      F[8 + j] = -sn * dth;
-      F[12 + j] = c * dth;
+    for (int k = 0; k < nc; ++k) {
+      const double dth = S[k], dka = S[nc + k];
+      F[k] = dka;
+      F[nc + k] = a10 * dth;
+      F[2 * nc + k] = -sn * dth;
+      F[3 * nc + k] = c * dth;
+      if (sh->cols_active[k] == EA_P_ALPHA) F[nc + k] += T * cd;
+      if (sh->cols_active[k] == EA_P_TENSION) F[nc + k] -= sd;
     }
-    F[4 + EA_P_ALPHA] += T * cd;
-    F[4 + EA_P_TENSION] -= sd;
   }
   return GSL_SUCCESS;
-}
-
-static int ea__rhs4(double s, const double y[], double f[], void *params) {
-  return ea__rhs(s, y, f, params, 0);
-}
-static int ea__rhs20(double s, const double y[], double f[], void *params) {
-  return ea__rhs(s, y, f, params, 1);
 }
 
 static const gsl_odeiv2_step_type *ea__step_type(ea_integrator_t it) {
@@ -116,18 +116,20 @@ ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s,
   sh->set = set;
   sh->g = arm->g;
   sh->load.tip_mass = arm->m_hand;
-  sh->sys4 = (gsl_odeiv2_system){ea__rhs4, NULL, 4, sh};
-  sh->sys20 = (gsl_odeiv2_system){ea__rhs20, NULL, 20, sh};
   const gsl_odeiv2_step_type *T = ea__step_type(set.integrator);
-  if (ea__is_fixed(set.integrator)) {
-    sh->step4 = gsl_odeiv2_step_alloc(T, 4);
-    sh->step20 = gsl_odeiv2_step_alloc(T, 20);
-    if (!sh->step4 || !sh->step20) goto nomem;
-  } else {
-    const double h0 = arm->length / 16.0;
-    sh->drv4 = gsl_odeiv2_driver_alloc_y_new(&sh->sys4, T, h0, set.atol, set.rtol);
-    sh->drv20 = gsl_odeiv2_driver_alloc_y_new(&sh->sys20, T, h0, set.atol, set.rtol);
-    if (!sh->drv4 || !sh->drv20) goto nomem;
+  sh->perm = gsl_permutation_alloc(4);
+  if (!sh->perm) goto nomem;
+  for (int nc = 0; nc <= EA_NP; ++nc) {
+    const size_t dim = (size_t)(4 + 4 * nc);
+    sh->sys[nc] = (gsl_odeiv2_system){ea__rhs, NULL, dim, sh};
+    if (ea__is_fixed(set.integrator)) {
+      sh->step[nc] = gsl_odeiv2_step_alloc(T, dim);
+      if (!sh->step[nc]) goto nomem;
+    } else {
+      sh->drv[nc] = gsl_odeiv2_driver_alloc_y_new(&sh->sys[nc], T, arm->length / 16.0, set.atol,
+                                                  set.rtol);
+      if (!sh->drv[nc]) goto nomem;
+    }
   }
   *out = sh;
   return ea_error_set(err, EA_OK, "ok");
@@ -138,34 +140,44 @@ nomem:
 
 void ea_shooter_free(ea_shooter_t *sh) {
   if (!sh) return;
-  if (sh->step4) gsl_odeiv2_step_free(sh->step4);
-  if (sh->step20) gsl_odeiv2_step_free(sh->step20);
-  if (sh->drv4) gsl_odeiv2_driver_free(sh->drv4);
-  if (sh->drv20) gsl_odeiv2_driver_free(sh->drv20);
+  for (int nc = 0; nc <= EA_NP; ++nc) {
+    if (sh->step[nc]) gsl_odeiv2_step_free(sh->step[nc]);
+    if (sh->drv[nc]) gsl_odeiv2_driver_free(sh->drv[nc]);
+  }
   if (sh->drv_shape) gsl_odeiv2_driver_free(sh->drv_shape);
+  if (sh->perm) gsl_permutation_free(sh->perm);
   free(sh);
 }
 
-void ea_shooter_set_load(ea_shooter_t *sh, const ea_load_t *load) { sh->load = *load; }
+void ea_shooter_set_load(ea_shooter_t *sh, const ea_load_t *load) {
+  sh->load = *load;
+  sh->cache_valid = 0;
+}
 const ea_arm_t *ea_shooter_arm(const ea_shooter_t *sh) { return &sh->arm; }
 const ea_load_t *ea_shooter_load(const ea_shooter_t *sh) { return &sh->load; }
-void ea__shooter_set_gscale(ea_shooter_t *sh, double scale) { sh->g = sh->arm.g * scale; }
+void ea__shooter_set_gscale(ea_shooter_t *sh, double scale) {
+  const double g = sh->arm.g * scale;
+  if (g != sh->g) sh->cache_valid = 0;
+  sh->g = g;
+}
 
-static void ea__initial(const double p[EA_NP], double *y, int dim) {
-  memset(y, 0, (size_t)dim * sizeof *y);
+static void ea__initial(const ea_shooter_t *sh, const double p[EA_NP], double *y) {
+  const int nc = sh->ncols_active;
+  memset(y, 0, (size_t)(4 + 4 * nc) * sizeof *y);
   y[0] = p[EA_P_THETA0];
   y[1] = p[EA_P_KAPPA0];
-  if (dim == 20) {
-    y[4 + 0 * 4 + EA_P_THETA0] = 1.0;
-    y[4 + 1 * 4 + EA_P_KAPPA0] = 1.0;
+  for (int k = 0; k < nc; ++k) {
+    if (sh->cols_active[k] == EA_P_THETA0) y[4 + k] = 1.0;
+    if (sh->cols_active[k] == EA_P_KAPPA0) y[4 + nc + k] = 1.0;
   }
 }
 
-static ea_status_t ea__integrate(ea_shooter_t *sh, double *y, int dim) {
+static ea_status_t ea__integrate(ea_shooter_t *sh, double *y) {
   const double L = sh->arm.length;
+  const int nc = sh->ncols_active, dim = 4 + 4 * nc;
   if (ea__is_fixed(sh->set.integrator)) {
-    gsl_odeiv2_step *st = dim == 20 ? sh->step20 : sh->step4;
-    gsl_odeiv2_system *sys = dim == 20 ? &sh->sys20 : &sh->sys4;
+    gsl_odeiv2_step *st = sh->step[nc];
+    gsl_odeiv2_system *sys = &sh->sys[nc];
     gsl_odeiv2_step_reset(st);
     const int n = sh->set.steps;
     const double h = L / n;
@@ -180,7 +192,7 @@ static ea_status_t ea__integrate(ea_shooter_t *sh, double *y, int dim) {
       d1 = t;
     }
   } else {
-    gsl_odeiv2_driver *d = dim == 20 ? sh->drv20 : sh->drv4;
+    gsl_odeiv2_driver *d = sh->drv[nc];
     gsl_odeiv2_driver_reset(d);
     double s = 0.0;
     if (gsl_odeiv2_driver_apply(d, &s, L, y) != GSL_SUCCESS) return EA_ERR_INTEGRATION;
@@ -190,20 +202,48 @@ static ea_status_t ea__integrate(ea_shooter_t *sh, double *y, int dim) {
   return EA_OK;
 }
 
-ea_status_t ea_shoot(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX],
-                     double *dxdp) {
+ea_status_t ea__shoot_cols(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX],
+                           double *dxdp, unsigned mask) {
   if (!sh || !p || !xL) return EA_ERR_ARG;
   for (int i = 0; i < EA_NP; ++i)
     if (!isfinite(p[i])) return EA_ERR_ARG;
+  if (!dxdp) mask = 0;
+  mask &= (1u << EA_NP) - 1u;
+  /* The last shot is remembered: solvers often ask again for the point they
+   * just accepted. */
+  if (sh->cache_valid && memcmp(p, sh->cache_p, sizeof sh->cache_p) == 0 &&
+      (mask & ~sh->cache_mask) == 0) {
+    memcpy(xL, sh->cache_x, sizeof sh->cache_x);
+    if (dxdp) memcpy(dxdp, sh->cache_S, sizeof sh->cache_S);
+    return EA_OK;
+  }
   memcpy(sh->p, p, sizeof sh->p);
-  const int dim = dxdp ? 20 : 4;
-  double y[20];
-  ea__initial(p, y, dim);
-  ea_status_t st = ea__integrate(sh, y, dim);
+  sh->cos_alpha = cos(p[EA_P_ALPHA]);
+  sh->sin_alpha = sin(p[EA_P_ALPHA]);
+  int nc = 0;
+  for (int j = 0; j < EA_NP; ++j)
+    if (mask & (1u << j)) sh->cols_active[nc++] = j;
+  sh->ncols_active = nc;
+  double y[4 + 4 * EA_NP];
+  ea__initial(sh, p, y);
+  sh->cache_valid = 0;
+  ea_status_t st = ea__integrate(sh, y);
   if (st) return st;
   memcpy(xL, y, EA_NX * sizeof *xL);
-  if (dxdp) memcpy(dxdp, y + 4, EA_NX * EA_NP * sizeof *dxdp);
+  memcpy(sh->cache_x, y, sizeof sh->cache_x);
+  memset(sh->cache_S, 0, sizeof sh->cache_S);
+  for (int i = 0; i < EA_NX; ++i)
+    for (int k = 0; k < nc; ++k) sh->cache_S[i * EA_NP + sh->cols_active[k]] = y[4 + i * nc + k];
+  if (dxdp) memcpy(dxdp, sh->cache_S, sizeof sh->cache_S);
+  memcpy(sh->cache_p, p, sizeof sh->cache_p);
+  sh->cache_mask = mask;
+  sh->cache_valid = 1;
   return EA_OK;
+}
+
+ea_status_t ea_shoot(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX],
+                     double *dxdp) {
+  return ea__shoot_cols(sh, p, xL, dxdp, (1u << EA_NP) - 1u);
 }
 
 ea_status_t ea_shoot_shape(ea_shooter_t *sh, const double p[EA_NP], int n, double *s,
@@ -212,13 +252,17 @@ ea_status_t ea_shoot_shape(ea_shooter_t *sh, const double p[EA_NP], int n, doubl
   for (int i = 0; i < EA_NP; ++i)
     if (!isfinite(p[i])) return EA_ERR_ARG;
   if (!sh->drv_shape) {
-    sh->drv_shape = gsl_odeiv2_driver_alloc_y_new(&sh->sys4, gsl_odeiv2_step_rk8pd,
+    sh->drv_shape = gsl_odeiv2_driver_alloc_y_new(&sh->sys[0], gsl_odeiv2_step_rk8pd,
                                                   sh->arm.length / 32.0, 1e-12, 1e-12);
     if (!sh->drv_shape) return EA_ERR_NOMEM;
   }
   memcpy(sh->p, p, sizeof sh->p);
+  sh->cos_alpha = cos(p[EA_P_ALPHA]);
+  sh->sin_alpha = sin(p[EA_P_ALPHA]);
+  sh->cache_valid = 0;
+  sh->ncols_active = 0;
   double st[4];
-  ea__initial(p, st, 4);
+  ea__initial(sh, p, st);
   gsl_odeiv2_driver_reset(sh->drv_shape);
   double sc = 0.0;
   for (int i = 0; i < n; ++i) {

@@ -16,7 +16,7 @@
 #include <string.h>
 
 void ea_statics_settings_default(ea_statics_settings_t *s) {
-  s->tol = 1e-11;
+  s->tol = 1e-10;
   s->max_iter = 30;
   s->max_cont_steps = 400;
   s->allow_negative_tension = 0;
@@ -82,12 +82,38 @@ static double ea__given_value(const ea_arm_t *arm, ea_given_t g, const double p[
   }
 }
 
+/* The parameter a given quantity fixes directly, or -1. */
+static int ea__direct_param(ea_given_t g) {
+  switch (g) {
+  case EA_GIVEN_ALPHA: return EA_P_ALPHA;
+  case EA_GIVEN_TENSION: return EA_P_TENSION;
+  case EA_GIVEN_THETA0: return EA_P_THETA0;
+  case EA_GIVEN_KAPPA0: return EA_P_KAPPA0;
+  default: return -1;
+  }
+}
+
+/* Put directly given parameters at their values (Newton's first step would). */
+static void ea__project(const ea_given_t given[2], const double v[2], double p[EA_NP]) {
+  for (int k = 0; k < 2; ++k) {
+    const int j = ea__direct_param(given[k]);
+    if (j >= 0) p[j] = v[k];
+  }
+}
+
 /* Residual with target values v[2] (continuation moves them). */
 static ea_status_t ea__residual(ea_shooter_t *sh, const ea_given_t given[2], const double v[2],
                                 const double p[EA_NP], double r[4], double *J,
                                 double xL_out[EA_NX]) {
   double xL[EA_NX], S[EA_NX * EA_NP];
-  ea_status_t st = ea_shoot(sh, p, xL, J ? S : NULL);
+  /* Parameters fixed directly by a given quantity need no sensitivity
+   * column: Newton keeps them at their values (see ea__project). */
+  unsigned mask = (1u << EA_NP) - 1u;
+  for (int k = 0; k < 2; ++k) {
+    const int j = ea__direct_param(given[k]);
+    if (j >= 0 && p[j] == v[k]) mask &= ~(1u << j);
+  }
+  ea_status_t st = ea__shoot_cols(sh, p, xL, J ? S : NULL, mask);
   if (st) return st;
   const ea_arm_t *arm = &sh->arm;
   const double ca = cos(p[EA_P_ALPHA]), sa = sin(p[EA_P_ALPHA]);
@@ -121,12 +147,16 @@ static double ea__norm(const double r[4]) {
 }
 
 /* Damped Newton from p (in/out). Returns EA_OK on convergence. */
+/* strict: refuse damped steps. A guess that needs damping is far from the
+ * solution, and an undamped Newton run from it is how solutions jump to
+ * another branch; callers then fall back to continuation. */
 static ea_status_t ea__newton(ea_shooter_t *sh, const ea_given_t given[2], const double v[2],
-                              double p[EA_NP], double tol, int max_iter, int *iters,
+                              double p[EA_NP], double tol, int max_iter, int strict, int *iters,
                               double *res_out) {
-  double r[4], J[16], dz[4], pt[EA_NP], rt[4];
-  gsl_permutation *perm = gsl_permutation_calloc(4);
-  if (!perm) return EA_ERR_NOMEM;
+  double r[4], J[16], Jt[16], dz[4], pt[EA_NP], rt[4];
+  gsl_permutation *perm = sh->perm;
+  double nr_prev = INFINITY;
+  ea__project(given, v, p);
   ea_status_t st = ea__residual(sh, given, v, p, r, J, NULL);
   double nr = st ? INFINITY : ea__norm(r);
   int it = 0;
@@ -156,32 +186,43 @@ static ea_status_t ea__newton(ea_shooter_t *sh, const ea_given_t given[2], const
     double lam = 1.0;
     const double amax = fmax(fabs(dz[EA_P_ALPHA]), fabs(dz[EA_P_THETA0]));
     if (amax > 0.5) lam = 0.5 / amax;
+    /* Backtracking; the full step is tried with the sensitivities, since it
+     * is accepted almost always and then needs no second integration. */
+    /* When quadratic convergence predicts the full step ends below tol, it
+     * is tried without them. */
+    const int last = isfinite(nr_prev) && nr < nr_prev && (nr / nr_prev) * nr < 0.1 * tol;
     int accepted = 0;
     for (int k = 0; k < 12; ++k) {
       for (int j = 0; j < EA_NP; ++j) pt[j] = p[j] - lam * dz[j];
-      if (ea__residual(sh, given, v, pt, rt, NULL, NULL) == EA_OK) {
+      if (ea__residual(sh, given, v, pt, rt, (k == 0 && !last) ? Jt : NULL, NULL) == EA_OK) {
         const double nt = ea__norm(rt);
         if (nt < (1.0 - 1e-4 * lam) * nr || nt <= tol) {
-          accepted = 1;
+          accepted = k + 1;
           break;
         }
       }
       lam *= 0.5;
     }
-    if (!accepted) {
+    if (!accepted || (strict && (accepted > 1 || amax > 0.5))) {
       out = EA_ERR_NOCONV;
       break;
     }
     memcpy(p, pt, sizeof pt);
-    st = ea__residual(sh, given, v, p, r, J, NULL);
-    if (st) {
+    memcpy(r, rt, sizeof rt);
+    nr_prev = nr;
+    if (ea__norm(r) <= tol) {
+      nr = ea__norm(r);
+      continue; /* converged: no Jacobian needed */
+    }
+    if (accepted == 1 && !last) {
+      memcpy(J, Jt, sizeof Jt);
+    } else if ((st = ea__residual(sh, given, v, p, r, J, NULL))) {
       out = st;
       break;
     }
     nr = ea__norm(r);
   }
 done:
-  gsl_permutation_free(perm);
   if (iters) *iters += it;
   if (res_out) *res_out = nr;
   return out;
@@ -221,7 +262,7 @@ static ea_status_t ea__continue(ea_shooter_t *sh, const ea_given_t given[2], ea_
     fn(sh, lt, ctx, v);
     ++*steps;
     int it = 0;
-    ea_status_t st = ea__newton(sh, given, v, pt, s->tol, 12, &it, res);
+    ea_status_t st = ea__newton(sh, given, v, pt, s->tol, 12, 1, &it, res);
     *iters += it;
     if (st == EA_OK) {
       memcpy(pprev, p, sizeof pprev);
@@ -313,7 +354,8 @@ ea_status_t ea_statics_solve(ea_shooter_t *sh, const ea_statics_problem_t *prob,
   st = EA_ERR_NOCONV;
   if (guess) {
     memcpy(p, guess, sizeof p);
-    st = ea__newton(sh, prob->given, prob->value, p, set.tol, set.max_iter, &iters, &res);
+    st = ea__newton(sh, prob->given, prob->value, p, set.tol, set.max_iter < 8 ? set.max_iter : 8,
+                    1, &iters, &res);
     if (st == EA_OK) sol->branch = EA_BRANCH_WARM;
   }
   if (st != EA_OK) {
@@ -336,7 +378,7 @@ ea_status_t ea_statics_solve(ea_shooter_t *sh, const ea_statics_problem_t *prob,
         }
         st = ea__continue(sh, prob->given, ea__lin_fn, &lc, p, &set, &iters, &steps, &res);
         if (st == EA_OK) /* polish at the exact values */
-          st = ea__newton(sh, prob->given, prob->value, p, set.tol, set.max_iter, &iters, &res);
+          st = ea__newton(sh, prob->given, prob->value, p, set.tol, set.max_iter, 0, &iters, &res);
       }
     }
     if (st == EA_OK) sol->branch = EA_BRANCH_EDGE;

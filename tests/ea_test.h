@@ -9,7 +9,7 @@
 
 static int ea_test_fails = 0, ea_test_count = 0;
 
-static void ea_test_rel(double got, double want, double relerr, const char *what) {
+static inline void ea_test_rel(double got, double want, double relerr, const char *what) {
   ++ea_test_count;
   const double d = (want == 0.0) ? fabs(got) : fabs(got - want) / fabs(want);
   const int ok = isfinite(got) && d <= relerr;
@@ -18,7 +18,7 @@ static void ea_test_rel(double got, double want, double relerr, const char *what
          got, want, d, relerr);
 }
 
-static void ea_test_abs(double got, double want, double abserr, const char *what) {
+static inline void ea_test_abs(double got, double want, double abserr, const char *what) {
   ++ea_test_count;
   const double d = fabs(got - want);
   const int ok = isfinite(got) && d <= abserr;
@@ -27,13 +27,13 @@ static void ea_test_abs(double got, double want, double abserr, const char *what
          got, want, d, abserr);
 }
 
-static void ea_test_true(int cond, const char *what) {
+static inline void ea_test_true(int cond, const char *what) {
   ++ea_test_count;
   if (!cond) ++ea_test_fails;
   printf("%s: %s\n", cond ? "PASS" : "FAIL", what);
 }
 
-static int ea_test_summary(const char *name) {
+static inline int ea_test_summary(const char *name) {
   printf("%s: %d checks, %d failed\n", name, ea_test_count, ea_test_fails);
   return ea_test_fails ? EXIT_FAILURE : EXIT_SUCCESS;
 }
