@@ -144,6 +144,83 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err);
 
 /* EA_PLAN_SECTION_BEGIN (Ipopt/NLopt planner: planner/plan_*.c) */
+
+/** Trajectory planner (docs/planner.md): a direct transcription of a task
+ *  (ea_task_t) solved by Ipopt. Knots k = 0..N-1 at t_k = t_f s_k; per knot
+ *  the actuator coordinates q = (L_c, alpha[, base]) and their rates (cubic
+ *  Hermite between knots, as in the trajectory file) and the statics
+ *  unknowns (T, theta0, kappa0) tied to q by the shooting residual
+ *  (kappa(L), x_L - x_c - L_c cos alpha, y_L - y_c - L_c sin alpha) = 0 with
+ *  the exact sensitivities of ea_shoot() in the Jacobian. */
+typedef struct ea_planner ea_planner_t;
+
+/** Where a solve starts from. */
+typedef enum ea_plan_start {
+  EA_PLAN_COLD = 0,  /**< statics continuation along the straight interpolation */
+  EA_PLAN_WARM,      /**< the planner's last converged solution, with multipliers */
+  EA_PLAN_FROM_TRAJ  /**< a previous plan (ea_traj_t) resampled onto the knots */
+} ea_plan_start_t;
+
+/** Most distinct active-limit names an info reports. */
+#define EA_PLAN_MAX_ACTIVE 16
+
+/** Result of a solve. */
+typedef struct ea_plan_info {
+  ea_status_t status;        /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
+  int ipopt_status;          /**< raw Ipopt ApplicationReturnStatus */
+  char ipopt_status_name[48];
+  int iterations;            /**< Ipopt iterations */
+  int n_var, n_con, nnz_jac; /**< problem size */
+  double objective;          /**< final objective value */
+  double duration_s;         /**< [s] t_f */
+  double min_tension_margin_N;   /**< [N] min_k T_k - tension_min */
+  double peak_shoulder_torque_Nm;/**< [N m] max_k |EI kappa0_k| */
+  double max_statics_residual;   /**< max-norm of the statics residual at the knots */
+  double max_violation;      /**< largest bound or constraint violation at the final point */
+  char worst[160];           /**< what it was: constraint name, knot, by how much */
+  int n_active;              /**< limits active (within 1e-6 relative) at some knot */
+  char active[EA_PLAN_MAX_ACTIVE][40];
+  int active_knots[EA_PLAN_MAX_ACTIVE]; /**< at how many knots / intervals */
+  int deriv_errors;          /**< errors found by Ipopt's derivative checker (-1 = not run) */
+  int evals_g, evals_jac;    /**< callback counts */
+  double time_total_s;       /**< [s] wall time of ea_planner_solve */
+  double time_guess_s;       /**< [s] initial guess (statics continuation) */
+  double time_statics_s;     /**< [s] shooting with sensitivities inside Ipopt's callbacks */
+  double time_ipopt_s;       /**< [s] Ipopt itself (linear algebra, line search), callbacks excluded */
+  double time_rest_s;        /**< [s] other callback work and post-processing */
+  double time_tune_s;        /**< [s] NLopt schedule tuning (0 when off) */
+  double schedule_warp;      /**< knot-time warp parameter used (0 = uniform) */
+  char message[512];         /**< human-readable outcome */
+} ea_plan_info_t;
+
+/** Build the transcription for a checked task (ea_task_check / ea_task_load;
+ *  the task is copied). Only what the task uses is built: base variables
+ *  only when the base moves, path rows only for line/polyline paths,
+ *  acceleration and speed rows only for finite limits. */
+ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error_t *err);
+/** Free; NULL is a no-op. */
+void ea_planner_free(ea_planner_t *pl);
+/** The planner's task. */
+const ea_task_t *ea_planner_task(const ea_planner_t *pl);
+/** Plan. prev is used with EA_PLAN_FROM_TRAJ only (may be NULL otherwise).
+ *  EA_PLAN_WARM without a previous converged solution falls back to cold.
+ *  Returns EA_OK only for a converged plan satisfying every limit; then
+ *  ea_planner_trajectory() gives it. On failure info->message says which
+ *  constraint, at which knot, by how much (EA_ERR_INFEASIBLE when Ipopt
+ *  proves local infeasibility or the path leaves the workspace). */
+ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                             ea_plan_info_t *info, ea_error_t *err);
+/** The last converged plan, one row per knot, every column filled
+ *  (tip from the statics tip and the base angle). tr is (re)allocated. */
+ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_error_t *err);
+/** Write the JSON summary (status, duration, iterations, times, margins,
+ *  active limits) atomically. */
+ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *info,
+                                  const char *path, ea_error_t *err);
+/** Figure of the last converged plan: tip path and beam shapes in the
+ *  workspace of the payload, and the time histories (.svg, .png, .pdf). */
+ea_status_t ea_plan_figure(ea_planner_t *pl, const char *path, ea_error_t *err);
+
 /* EA_PLAN_SECTION_END */
 
 /* EA_STREAM_SECTION_BEGIN (command streamer: planner/stream_*.c) */

@@ -18,6 +18,7 @@ static const ea__cmd_t ea__cmds[] = {
     {"torque-map", ea__cli_torque_map, "shoulder torque and tension over (L_c, alpha)"},
     {"path", ea__cli_path, "admissibility of a straight tip path (Fig. 4, eqs. 18-20)"},
     /* EA_CLI_TABLE_BEGIN (other subcommands add a line here) */
+    {"plan", ea__cli_plan, "plan an admissible trajectory for a task spec (YAML)"},
     /* EA_CLI_TABLE_END */
 };
 

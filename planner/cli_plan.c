@@ -1,0 +1,155 @@
+/* elasticarm plan: task spec -> trajectory file + JSON summary (+ figure). */
+#include "cli_impl.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void ea__plan_help(FILE *fp) {
+  fprintf(fp,
+          "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
+          "                       [--figure OUT.svg|png|pdf] [--knots N] [--tune-schedule]\n"
+          "                       [--derivative-test] [--print-level N] [--quiet]\n\n"
+          "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
+          "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
+          "to it (OUT.json). Defaults: the task's outputs, else TASKNAME.csv in the current\n"
+          "folder. Nothing is written for a failed plan but the summary.\n\n"
+          "  -o FILE            trajectory file ('-' = stdout)\n"
+          "  --summary FILE     JSON summary (default: OUT with .json)\n"
+          "  --json             print the JSON summary on stdout\n"
+          "  --figure FILE      tip path and beam shapes in the workspace, time histories\n"
+          "  --knots N          override the task's knot count\n"
+          "  --tune-schedule    tune the knot time distribution with NLopt (min_time)\n"
+          "  --derivative-test  run Ipopt's first-order derivative checker\n"
+          "  --print-level N    Ipopt output (0 = silent)\n"
+          "  --quiet            no progress line\n\n"
+          "exit: 0 plan written, 1 infeasible / not converged, 2 usage or input error\n");
+}
+
+static void ea__replace_ext(const char *in, const char *ext, char *out, size_t len) {
+  const char *dot = strrchr(in, '.'), *slash = strrchr(in, '/');
+  const size_t stem = (dot && (!slash || dot > slash)) ? (size_t)(dot - in) : strlen(in);
+  snprintf(out, len, "%.*s%s", (int)stem, in, ext);
+}
+
+int ea__cli_plan(int argc, char **argv) {
+  const char *cmd = "plan";
+  const char *task_path = NULL, *out = NULL, *summary = NULL, *figure = NULL;
+  int json = 0, quiet = 0, dtest = 0, tune = 0;
+  long knots = 0, plevel = -1;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+      ea__plan_help(stdout);
+      return EA_EXIT_OK;
+    } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+      if (!(out = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--summary")) {
+      if (!(summary = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--figure")) {
+      if (!(figure = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--json")) {
+      json = 1;
+    } else if (!strcmp(a, "--quiet")) {
+      quiet = 1;
+    } else if (!strcmp(a, "--derivative-test")) {
+      dtest = 1;
+    } else if (!strcmp(a, "--tune-schedule")) {
+      tune = 1;
+    } else if (!strcmp(a, "--knots")) {
+      const char *v = ea__cli_value(cmd, argc, argv, &i);
+      if (!v || ea__cli_int(cmd, a, v, 3, 4000, &knots)) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--print-level")) {
+      const char *v = ea__cli_value(cmd, argc, argv, &i);
+      if (!v || ea__cli_int(cmd, a, v, 0, 12, &plevel)) return EA_EXIT_USAGE;
+    } else if (a[0] == '-' && a[1]) {
+      return ea__cli_usage_error(cmd, "unknown option '%s' (see elasticarm plan --help)", a);
+    } else if (!task_path) {
+      task_path = a;
+    } else {
+      return ea__cli_usage_error(cmd, "more than one task file ('%s')", a);
+    }
+  }
+  if (!task_path) return ea__cli_usage_error(cmd, "no task file (see elasticarm plan --help)");
+
+  ea_task_t task;
+  ea_error_t err = {0};
+  ea_status_t st = ea_task_load(task_path, ea__cli_default_arm(), &task, &err);
+  if (st == EA_ERR_INFEASIBLE) {
+    fprintf(stderr, "elasticarm plan: infeasible task: %s\n", err.msg);
+    return EA_EXIT_FAIL;
+  }
+  if (st) return ea__cli_fail(cmd, st, &err);
+  if (knots) task.knots = (int)knots;
+  if (dtest) task.solver.derivative_test = 1;
+  if (tune) task.solver.tune_schedule = 1;
+  if (plevel >= 0) task.solver.print_level = (int)plevel;
+  if ((st = ea_task_check(&task, &err))) return ea__cli_fail(cmd, st, &err);
+
+  char out_buf[1024], sum_buf[1024], fig_buf[1024];
+  if (!out) out = ea_task_output_path(&task, task.out_trajectory, out_buf, sizeof out_buf);
+  if (!out) {
+    snprintf(out_buf, sizeof out_buf, "%.1000s.csv", task.name);
+    out = out_buf;
+  }
+  if (!summary)
+    summary = ea_task_output_path(&task, task.out_summary, sum_buf, sizeof sum_buf);
+  if (!summary && strcmp(out, "-")) {
+    ea__replace_ext(out, ".json", sum_buf, sizeof sum_buf);
+    summary = sum_buf;
+  }
+  if (!figure) figure = ea_task_output_path(&task, task.out_figure, fig_buf, sizeof fig_buf);
+
+  ea_planner_t *pl = NULL;
+  if ((st = ea_planner_alloc(&task, &pl, &err))) return ea__cli_fail(cmd, st, &err);
+  ea_plan_info_t info;
+  st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &err);
+  int rc = EA_EXIT_OK;
+  if (summary) {
+    ea_error_t e2;
+    if (ea_plan_summary_write(pl, &info, summary, &e2)) {
+      fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
+      rc = EA_EXIT_FAIL;
+    }
+  }
+  if (st) {
+    fprintf(stderr, "elasticarm plan: %s: %s\n",
+            st == EA_ERR_INFEASIBLE ? "infeasible" : "failed", info.message);
+    if (info.deriv_errors >= 0)
+      fprintf(stderr, "elasticarm plan: derivative checker: %d error(s)\n", info.deriv_errors);
+    ea_planner_free(pl);
+    return EA_EXIT_FAIL;
+  }
+  ea_traj_t tr;
+  memset(&tr, 0, sizeof tr);
+  if ((st = ea_planner_trajectory(pl, &tr, &err)) || (st = ea_traj_write(&tr, out, &err))) {
+    ea_traj_free(&tr);
+    ea_planner_free(pl);
+    return ea__cli_fail(cmd, st, &err);
+  }
+  ea_traj_free(&tr);
+  if (figure && (st = ea_plan_figure(pl, figure, &err))) {
+    fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
+    rc = EA_EXIT_FAIL;
+  }
+  if (json && summary) {
+    FILE *fp = fopen(summary, "r");
+    if (fp) {
+      char buf[4096];
+      size_t nr;
+      while ((nr = fread(buf, 1, sizeof buf, fp)) > 0) fwrite(buf, 1, nr, stdout);
+      fclose(fp);
+    }
+  } else if (!quiet && strcmp(out, "-")) {
+    printf("%s\n", info.message);
+    printf("wrote %s%s%s%s%s\n", out, summary ? ", " : "", summary ? summary : "",
+           figure ? ", " : "", figure ? figure : "");
+    printf("time: %.2f ms total (guess %.2f, statics Jacobians %.2f, Ipopt %.2f, rest %.2f); "
+           "%d variables, %d constraints\n",
+           1e3 * info.time_total_s, 1e3 * info.time_guess_s, 1e3 * info.time_statics_s,
+           1e3 * info.time_ipopt_s, 1e3 * info.time_rest_s, info.n_var, info.n_con);
+    if (info.deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info.deriv_errors);
+  }
+  ea_planner_free(pl);
+  return rc;
+}

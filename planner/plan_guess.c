@@ -1,0 +1,255 @@
+/* Layout of the knots (via knots, path segments, time schedule) and the
+ * initial guess: the straight interpolation of the tip between the points,
+ * each knot's statics solved by continuation from the previous knot
+ * (ea_statics_solve with a warm start), so Ipopt starts feasible or nearly
+ * so; or a previous plan resampled onto the knots (replanning). */
+#include "plan_impl.h"
+
+#include <math.h>
+#include <string.h>
+
+void ea__plan_schedule(ea_planner_t *pl, double w) {
+  const int N = pl->N;
+  for (int k = 0; k < N; ++k) {
+    const double u = (double)k / (N - 1);
+    pl->s[k] = u - w * sin(2.0 * M_PI * u) / (2.0 * M_PI);
+  }
+  pl->s[0] = 0.0;
+  pl->s[N - 1] = 1.0;
+}
+
+static const ea_task_point_t *ea__point(const ea_task_t *t, int j) {
+  if (j == 0) return &t->start;
+  if (j <= t->n_via) return &t->via[j - 1];
+  return &t->goal;
+}
+
+static void ea__unit(double v[3]) {
+  const double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (n > 0) v[0] /= n, v[1] /= n, v[2] /= n;
+}
+static void ea__cross(const double a[3], const double b[3], double c[3]) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Time estimate of a rest-to-rest smoothstep move of every coordinate. */
+static double ea__seg_time(const ea_planner_t *pl, const ea_task_point_t *a,
+                           const ea_task_point_t *b) {
+  const double dq[3] = {fabs(b->cable_length - a->cable_length),
+                        fabs(b->cable_angle - a->cable_angle),
+                        fabs(b->base_angle - a->base_angle)};
+  double T = 1e-3;
+  for (int c = 0; c < 3; ++c) {
+    if (isfinite(pl->vmax[c])) T = fmax(T, 1.5 * dq[c] / pl->vmax[c]);
+    if (isfinite(pl->amax[c])) T = fmax(T, sqrt(6.0 * dq[c] / pl->amax[c]));
+  }
+  const double sm = pl->task.limits.shoulder_speed_max;
+  if (isfinite(sm)) T = fmax(T, 1.5 * fabs(b->p[EA_P_THETA0] - a->p[EA_P_THETA0]) / sm);
+  return T;
+}
+
+void ea__plan_layout(ea_planner_t *pl) {
+  const ea_task_t *t = &pl->task;
+  const int np = t->n_via + 2, N = pl->N;
+  pl->n_seg = np - 1;
+  double Tseg[EA_TASK_MAX_VIA + 1], Tsum = 0.0;
+  for (int j = 0; j < pl->n_seg; ++j) {
+    Tseg[j] = ea__seg_time(pl, ea__point(t, j), ea__point(t, j + 1));
+    Tsum += Tseg[j];
+  }
+  pl->via_knot[0] = 0;
+  double acc = 0.0;
+  for (int j = 1; j < np - 1; ++j) {
+    acc += Tseg[j - 1];
+    int k = (int)lround(acc / Tsum * (N - 1));
+    if (k <= pl->via_knot[j - 1]) k = pl->via_knot[j - 1] + 1;
+    if (k > N - 1 - (np - 1 - j)) k = N - 1 - (np - 1 - j);
+    pl->via_knot[j] = k;
+  }
+  pl->via_knot[np - 1] = N - 1;
+  /* Segments in 3-D (base frame). */
+  pl->n_normals = pl->nq == 3 ? 2 : 1;
+  for (int j = 0; j < pl->n_seg; ++j) {
+    const ea_task_point_t *a = ea__point(t, j), *b = ea__point(t, j + 1);
+    double B[3];
+    ea__plan_tip3(pl, a->cable_length, a->cable_angle, a->base_angle, pl->segA[j], NULL);
+    ea__plan_tip3(pl, b->cable_length, b->cable_angle, b->base_angle, B, NULL);
+    double *D = pl->segD[j];
+    for (int i = 0; i < 3; ++i) D[i] = B[i] - pl->segA[j][i];
+    pl->segLen[j] = sqrt(D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
+    ea__unit(D);
+    if (pl->nq == 3) {
+      const double z[3] = {0, 0, 1}, xx[3] = {1, 0, 0};
+      ea__cross(D, fabs(D[2]) < 0.9 ? z : xx, pl->segN[j][0]);
+      ea__unit(pl->segN[j][0]);
+      ea__cross(D, pl->segN[j][0], pl->segN[j][1]);
+      ea__unit(pl->segN[j][1]);
+    } else {
+      const double m[3] = {-sin(pl->base_fixed), cos(pl->base_fixed), 0.0};
+      ea__cross(D, m, pl->segN[j][0]);
+      ea__unit(pl->segN[j][0]);
+    }
+  }
+  for (int k = 0; k < N; ++k) pl->seg_of_knot[k] = -1;
+  if (t->path != EA_TASK_PATH_FREE)
+    for (int j = 0; j < pl->n_seg; ++j)
+      if (pl->segLen[j] > 1e-9)
+        for (int k = pl->via_knot[j] + 1; k < pl->via_knot[j + 1]; ++k) pl->seg_of_knot[k] = j;
+}
+
+/* Tip (reach, height, base) at fraction sig of segment j. */
+static void ea__seg_point(const ea_planner_t *pl, int j, double sig, double prev_base,
+                          double *reach, double *height, double *base) {
+  const ea_task_t *t = &pl->task;
+  const ea_task_point_t *a = ea__point(t, j), *b = ea__point(t, j + 1);
+  if (pl->nq == 3 && t->path != EA_TASK_PATH_FREE) {
+    double P[3];
+    for (int i = 0; i < 3; ++i) P[i] = pl->segA[j][i] + sig * pl->segLen[j] * pl->segD[j][i];
+    *reach = hypot(P[0], P[1]);
+    *height = P[2];
+    double bb = *reach > 1e-12 ? atan2(P[1], P[0]) : prev_base;
+    while (bb - prev_base > M_PI) bb -= 2 * M_PI;
+    while (bb - prev_base < -M_PI) bb += 2 * M_PI;
+    *base = bb;
+  } else {
+    *reach = (1 - sig) * a->reach + sig * b->reach;
+    *height = (1 - sig) * a->height + sig * b->height;
+    *base = pl->nq == 3 ? (1 - sig) * a->base_angle + sig * b->base_angle : pl->base_fixed;
+  }
+}
+
+ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err) {
+  const ea_task_t *t = &pl->task;
+  const ea_arm_t *arm = &t->arm;
+  const ea_task_limits_t *l = &t->limits;
+  const int N = pl->N, nq = pl->nq;
+  (void)info;
+  ea_statics_settings_t set;
+  ea_statics_settings_default(&set);
+  set.allow_negative_tension = 1;
+  double pprev[EA_NP];
+  memcpy(pprev, t->start.p, sizeof pprev);
+  double prev_base = t->start.base_angle;
+  const int fixed_path = t->path != EA_TASK_PATH_FREE;
+  for (int j = 0; j < pl->n_seg; ++j) {
+    const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
+    for (int k = (j == 0 ? k0 : k0 + 1); k <= k1; ++k) {
+      const double u = (double)(k - k0) / (k1 - k0), sig = u * u * (3.0 - 2.0 * u);
+      double R, H, B;
+      ea__seg_point(pl, j, sig, prev_base, &R, &H, &B);
+      const ea_task_point_t *pin = k == k0 ? ea__point(t, j) : k == k1 ? ea__point(t, j + 1) : NULL;
+      double Lc = hypot(R - arm->x_c, H - arm->y_c), al = atan2(H - arm->y_c, R - arm->x_c);
+      if (pin) Lc = pin->cable_length, al = pin->cable_angle, B = pin->base_angle;
+      prev_base = B;
+      x[EA__IQ(pl, k, 0)] = Lc;
+      x[EA__IQ(pl, k, 1)] = al;
+      if (nq == 3) x[EA__IQ(pl, k, 2)] = B;
+      ea_statics_problem_t prob = ea_statics_problem_cable(Lc, al);
+      ea_statics_solution_t sol;
+      ea_error_t e2;
+      ea_status_t st = ea_statics_solve(pl->sh, &prob, &set, pprev, &sol, &e2);
+      if (st) st = ea_statics_solve(pl->sh, &prob, &set, NULL, &sol, &e2);
+      if (st)
+        return ea_error_set(err, EA_ERR_INFEASIBLE,
+                            "initial guess: no static equilibrium at knot %d (tip reach %.4g m, "
+                            "height %.4g m; cable length %.4g m, angle %.4g rad): the %s leaves "
+                            "the workspace for payload %.4g kg (%s)",
+                            k, R, H, Lc, al, fixed_path ? "path" : "straight interpolation",
+                            t->payload_kg, e2.msg);
+      if (fixed_path && !pin) {
+        const double T = sol.p[EA_P_TENSION], tau = fabs(arm->EI * sol.p[EA_P_KAPPA0]);
+        const char *what = NULL;
+        double by = 0.0;
+        if (T < l->tension_min) what = "tension >= tension_min", by = l->tension_min - T;
+        else if (T > l->tension_max) what = "tension <= tension_max", by = T - l->tension_max;
+        else if (tau > l->shoulder_torque_max)
+          what = "shoulder torque limit", by = tau - l->shoulder_torque_max;
+        else if (Lc < l->cable_length_min)
+          what = "cable_length_min", by = l->cable_length_min - Lc;
+        else if (Lc > l->cable_length_max)
+          what = "cable_length_max", by = Lc - l->cable_length_max;
+        else if (sol.p[EA_P_THETA0] < arm->act.shoulder_angle_min ||
+                 sol.p[EA_P_THETA0] > arm->act.shoulder_angle_max)
+          what = "shoulder angle range", by = fmax(arm->act.shoulder_angle_min - sol.p[2],
+                                                  sol.p[2] - arm->act.shoulder_angle_max);
+        if (what)
+          return ea_error_set(err, EA_ERR_INFEASIBLE,
+                              "the prescribed path leaves the workspace for payload %.4g kg: "
+                              "constraint '%s' violated at knot %d by %.4g (tip reach %.4g m, "
+                              "height %.4g m, tension %.4g N, shoulder torque %.4g N m)",
+                              t->payload_kg, what, k, by, R, H, T, tau);
+      }
+      memcpy(pprev, sol.p, sizeof pprev);
+      for (int i = 0; i < 3; ++i) x[EA__IP(pl, k, i)] = sol.p[1 + i];
+    }
+  }
+  /* Duration: the segment estimates, then stretched until the guess keeps
+   * the shoulder speed limit. */
+  double tf = pl->tf_fixed;
+  if (pl->has_tf) {
+    tf = 0.0;
+    for (int j = 0; j < pl->n_seg; ++j)
+      tf += ea__seg_time(pl, ea__point(t, j), ea__point(t, j + 1));
+    tf *= 1.2;
+    const double sm = l->shoulder_speed_max;
+    if (isfinite(sm))
+      for (int k = 0; k + 1 < N; ++k) {
+        const double h = tf * (pl->s[k + 1] - pl->s[k]);
+        const double d = fabs(x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]);
+        if (d / h > 0.9 * sm) tf *= d / h / (0.9 * sm);
+      }
+    x[EA__ITF(pl)] = tf;
+  }
+  /* Rates: centred differences, rest at the pinned knots. */
+  int jv = 0;
+  for (int k = 0; k < N; ++k) {
+    while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k) ++jv;
+    const int pinned = jv <= pl->n_seg && pl->via_knot[jv] == k;
+    for (int c = 0; c < nq; ++c) {
+      double v = 0.0;
+      if (!pinned) {
+        const double dt = tf * (pl->s[k + 1] - pl->s[k - 1]);
+        v = (x[EA__IQ(pl, k + 1, c)] - x[EA__IQ(pl, k - 1, c)]) / dt;
+        if (isfinite(pl->vmax[c])) v = fmax(-pl->vmax[c], fmin(pl->vmax[c], v));
+      }
+      x[EA__IV(pl, k, c)] = v;
+    }
+  }
+  return EA_OK;
+}
+
+/* Linear interpolation of column c of tr at time tt. */
+static double ea__traj_at(const ea_traj_t *tr, int c, double tt) {
+  int i = 0;
+  while (i + 2 < tr->n && EA_TRAJ_AT(tr, i + 1, EA_TRAJ_t) < tt) ++i;
+  const double t0 = EA_TRAJ_AT(tr, i, EA_TRAJ_t), t1 = EA_TRAJ_AT(tr, i + 1, EA_TRAJ_t);
+  double w = (tt - t0) / (t1 - t0);
+  w = fmax(0.0, fmin(1.0, w));
+  return (1 - w) * EA_TRAJ_AT(tr, i, c) + w * EA_TRAJ_AT(tr, i + 1, c);
+}
+
+ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x,
+                                ea_error_t *err) {
+  if (!tr || tr->n < 2 || !tr->data)
+    return ea_error_set(err, EA_ERR_ARG, "warm start: the previous plan has fewer than 2 rows");
+  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), tf_prev = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  if (!(tf_prev > 0.0)) return ea_error_set(err, EA_ERR_ARG, "warm start: zero-length plan");
+  const double tf = pl->has_tf ? tf_prev : pl->tf_fixed;
+  static const int qc[3] = {EA_TRAJ_cable_length, EA_TRAJ_cable_angle, EA_TRAJ_base_angle};
+  static const int vc[3] = {EA_TRAJ_cable_length_rate, EA_TRAJ_cable_angle_rate,
+                            EA_TRAJ_base_angle_rate};
+  for (int k = 0; k < pl->N; ++k) {
+    const double tt = t0 + pl->s[k] * tf_prev;
+    for (int c = 0; c < pl->nq; ++c) {
+      x[EA__IQ(pl, k, c)] = ea__traj_at(tr, qc[c], tt);
+      x[EA__IV(pl, k, c)] = ea__traj_at(tr, vc[c], tt) * tf_prev / tf;
+    }
+    x[EA__IP(pl, k, 0)] = ea__traj_at(tr, EA_TRAJ_tension, tt);
+    x[EA__IP(pl, k, 1)] = ea__traj_at(tr, EA_TRAJ_theta0, tt);
+    x[EA__IP(pl, k, 2)] = ea__traj_at(tr, EA_TRAJ_kappa0, tt);
+  }
+  if (pl->has_tf) x[EA__ITF(pl)] = tf;
+  return EA_OK;
+}

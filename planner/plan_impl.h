@@ -1,0 +1,115 @@
+/* Private: the planner's workspace (planner/plan_*.c). */
+#ifndef EA_PLAN_IMPL_H
+#define EA_PLAN_IMPL_H
+
+#include "ea_planner.h"
+
+#include <coin/IpStdCInterface.h>
+
+/** Kinds of constraint rows (and of the variable bounds, for reports). */
+typedef enum ea__row_kind {
+  EA__ROW_STATICS_KAPPA = 0, /* kappa(L) = 0 */
+  EA__ROW_STATICS_X,         /* x_L - x_c - L_c cos alpha = 0 */
+  EA__ROW_STATICS_Y,         /* y_L - y_c - L_c sin alpha = 0 */
+  EA__ROW_ACC_START,         /* acceleration at the start of an interval */
+  EA__ROW_ACC_END,           /* ... at its end */
+  EA__ROW_SPEED_MID,         /* rate at the middle of an interval */
+  EA__ROW_SHOULDER_SPEED,    /* (theta0_{k+1} - theta0_k) / h */
+  EA__ROW_PATH_NORMAL,       /* tip on the segment's line */
+  EA__ROW_PATH_PROGRESS,     /* tip between the segment's ends */
+  EA__ROW_KIND_COUNT
+} ea__row_kind_t;
+
+typedef struct ea__row {
+  unsigned char kind, coord; /* coord: actuator coordinate or normal index */
+  int knot;                  /* knot (or first knot of the interval) */
+} ea__row_t;
+
+/** An objective term (pluggable): value and gradient added with weight w. */
+typedef struct ea__plan_term {
+  const char *name;
+  double weight;
+  double (*value)(const struct ea_planner *pl, const double *x);
+  void (*grad)(const struct ea_planner *pl, const double *x, double w, double *g);
+} ea__plan_term_t;
+
+#define EA__MAX_TERMS 4
+
+struct ea_planner {
+  ea_task_t task;
+  ea_shooter_t *sh;
+  double tip_mass;
+  int N;        /* knots */
+  int nq;       /* actuator coordinates: 2 (L_c, alpha) or 3 (+ base) */
+  int nb;       /* variables per knot: 2 nq + 3 */
+  int has_tf;   /* 1: t_f is a variable (min_time) */
+  int n, m, nnz;
+  double tf_fixed;
+  double base_fixed; /* base angle when the base does not move */
+  double *s;         /* N knot time fractions, s_0 = 0, s_{N-1} = 1 */
+  double vmax[3], amax[3], aref[3]; /* per coordinate; INFINITY = no limit */
+  /* path */
+  int n_seg, n_normals;      /* segments; normals per path knot (1 planar, 2 in 3-D) */
+  int via_knot[EA_TASK_MAX_VIA + 2]; /* knot index of start, vias, goal */
+  double segA[EA_TASK_MAX_VIA + 1][3], segD[EA_TASK_MAX_VIA + 1][3],
+      segN[EA_TASK_MAX_VIA + 1][2][3], segLen[EA_TASK_MAX_VIA + 1];
+  int *seg_of_knot;          /* N: segment of each knot (-1: pinned or no path) */
+  /* Ipopt arrays */
+  double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
+  ea__row_t *rows;
+  int *irow, *jcol;
+  IpoptProblem ip;
+  /* objective */
+  int n_terms;
+  ea__plan_term_t terms[EA__MAX_TERMS];
+  /* statics cache at the current x */
+  double *xL;   /* N x 4 tip states */
+  double *S;    /* N x 16 sensitivities */
+  int cache_val, cache_sens;
+  /* last converged solution (warm start) */
+  int have_solution;
+  double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol;
+  /* bookkeeping during a solve */
+  ea_plan_info_t *info;
+  double t_statics, t_callbacks, t_start, max_time;
+  int iter;
+};
+
+/* Variable indices. */
+#define EA__IQ(pl, k, c) ((k) * (pl)->nb + (c))
+#define EA__IV(pl, k, c) ((k) * (pl)->nb + (pl)->nq + (c))
+#define EA__IP(pl, k, j) ((k) * (pl)->nb + 2 * (pl)->nq + (j)) /* j: 0 T, 1 theta0, 2 kappa0 */
+#define EA__ITF(pl) ((pl)->N * (pl)->nb)
+
+/** Wall clock [s]. */
+double ea__plan_now(void);
+/** t_f at x. */
+double ea__plan_tf(const ea_planner_t *pl, const double *x);
+/** Hermite accelerations at both ends of an interval of length h and their
+ *  gradients wrt (q0, q1, v0, v1, h). */
+void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],
+                          double ga[2][5]);
+/** Shoot every knot at x (sens: with sensitivities), caching. */
+ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens);
+/** Constraint values at x into g (m). */
+ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g);
+/** Jacobian: structure (values NULL) or values (irow/jcol NULL). Returns nnz. */
+int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values);
+/** Objective terms for the task. */
+void ea__plan_terms_setup(ea_planner_t *pl);
+/** Name of a row kind ("tension", ...). */
+const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *buf, size_t len);
+/** Initial guess (statics continuation along the straight interpolation). */
+ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err);
+/** Initial guess from a previous trajectory. */
+ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x,
+                                ea_error_t *err);
+/** Via knots, segments and the knot-to-segment map (at alloc). */
+void ea__plan_layout(ea_planner_t *pl);
+/** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
+void ea__plan_schedule(ea_planner_t *pl, double w);
+/** Tip in 3-D and its derivatives wrt (L_c, alpha, base). */
+void ea__plan_tip3(const ea_planner_t *pl, double Lc, double al, double b, double P[3],
+                   double dP[3][3]);
+
+#endif

@@ -1,0 +1,310 @@
+/* The transcription's functions: constraints, their exact sparse Jacobian
+ * and the pluggable objective terms (docs/planner.md). One row table
+ * (pl->rows) drives the values, the structure and the values of the
+ * Jacobian, so the three can never disagree. */
+#include "plan_impl.h"
+
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+double ea__plan_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+double ea__plan_tf(const ea_planner_t *pl, const double *x) {
+  return pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
+}
+
+void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],
+                          double ga[2][5]) {
+  const double dq = q1 - q0, ih = 1.0 / h, ih2 = ih * ih;
+  a[0] = 6.0 * dq * ih2 - (4.0 * v0 + 2.0 * v1) * ih;
+  a[1] = -6.0 * dq * ih2 + (2.0 * v0 + 4.0 * v1) * ih;
+  if (!ga) return;
+  ga[0][0] = -6.0 * ih2;
+  ga[0][1] = 6.0 * ih2;
+  ga[0][2] = -4.0 * ih;
+  ga[0][3] = -2.0 * ih;
+  ga[0][4] = -12.0 * dq * ih2 * ih + (4.0 * v0 + 2.0 * v1) * ih2;
+  ga[1][0] = 6.0 * ih2;
+  ga[1][1] = -6.0 * ih2;
+  ga[1][2] = 2.0 * ih;
+  ga[1][3] = 4.0 * ih;
+  ga[1][4] = 12.0 * dq * ih2 * ih - (2.0 * v0 + 4.0 * v1) * ih2;
+}
+
+void ea__plan_tip3(const ea_planner_t *pl, double Lc, double al, double b, double P[3],
+                   double dP[3][3]) {
+  const ea_arm_t *arm = &pl->task.arm;
+  const double ca = cos(al), sa = sin(al), cb = cos(b), sb = sin(b);
+  const double X = arm->x_c + Lc * ca, Y = arm->y_c + Lc * sa;
+  P[0] = X * cb;
+  P[1] = X * sb;
+  P[2] = Y;
+  if (!dP) return;
+  /* dP[i][j]: d P_i / d (L_c, alpha, base)_j */
+  dP[0][0] = ca * cb;
+  dP[0][1] = -Lc * sa * cb;
+  dP[0][2] = -X * sb;
+  dP[1][0] = ca * sb;
+  dP[1][1] = -Lc * sa * sb;
+  dP[1][2] = X * cb;
+  dP[2][0] = sa;
+  dP[2][1] = Lc * ca;
+  dP[2][2] = 0.0;
+}
+
+ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens) {
+  if (pl->cache_val && (!sens || pl->cache_sens)) return EA_OK;
+  const double t0 = ea__plan_now();
+  ea_status_t st = EA_OK;
+  for (int k = 0; k < pl->N && !st; ++k) {
+    const double p[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
+                             x[EA__IP(pl, k, 2)]};
+    st = ea_shoot(pl->sh, p, pl->xL + 4 * k, sens ? pl->S + 16 * k : NULL);
+  }
+  pl->t_statics += ea__plan_now() - t0;
+  if (st) return st;
+  pl->cache_val = 1;
+  pl->cache_sens = sens;
+  return EA_OK;
+}
+
+/* Interval data for rows of interval k, coordinate c. */
+static void ea__interval(const ea_planner_t *pl, const double *x, int k, int c, double *q0,
+                         double *q1, double *v0, double *v1, double *h, double *dhdtf) {
+  *q0 = x[EA__IQ(pl, k, c)];
+  *q1 = x[EA__IQ(pl, k + 1, c)];
+  *v0 = x[EA__IV(pl, k, c)];
+  *v1 = x[EA__IV(pl, k + 1, c)];
+  *dhdtf = pl->s[k + 1] - pl->s[k];
+  *h = ea__plan_tf(pl, x) * *dhdtf;
+}
+
+/* One row: value and (optionally) its entries (col, val); returns count. */
+static int ea__row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r,
+                        double *value, int *cols, double *vals) {
+  const ea_arm_t *arm = &pl->task.arm;
+  const int k = r->knot, c = r->coord;
+  int n = 0;
+#define EA__E(col, v)                                                                        \
+  do {                                                                                       \
+    if (cols) cols[n] = (col);                                                               \
+    if (vals) vals[n] = (v);                                                                 \
+    ++n;                                                                                     \
+  } while (0)
+  switch ((ea__row_kind_t)r->kind) {
+  case EA__ROW_STATICS_KAPPA:
+  case EA__ROW_STATICS_X:
+  case EA__ROW_STATICS_Y: {
+    const double *xL = pl->xL + 4 * k, *S = pl->S + 16 * k;
+    const double Lc = x[EA__IQ(pl, k, 0)], al = x[EA__IQ(pl, k, 1)];
+    const double ca = cos(al), sa = sin(al);
+    int xi;
+    double dLc, dal_extra;
+    if (r->kind == EA__ROW_STATICS_KAPPA) {
+      xi = EA_X_KAPPA;
+      if (value) *value = xL[EA_X_KAPPA];
+      dLc = 0.0;
+      dal_extra = 0.0;
+    } else if (r->kind == EA__ROW_STATICS_X) {
+      xi = EA_X_X;
+      if (value) *value = xL[EA_X_X] - arm->x_c - Lc * ca;
+      dLc = -ca;
+      dal_extra = Lc * sa;
+    } else {
+      xi = EA_X_Y;
+      if (value) *value = xL[EA_X_Y] - arm->y_c - Lc * sa;
+      dLc = -sa;
+      dal_extra = -Lc * ca;
+    }
+    if (r->kind != EA__ROW_STATICS_KAPPA) EA__E(EA__IQ(pl, k, 0), dLc);
+    const int nv = vals != NULL;
+    EA__E(EA__IQ(pl, k, 1), nv ? S[xi * 4 + EA_P_ALPHA] + dal_extra : 0.0);
+    EA__E(EA__IP(pl, k, 0), nv ? S[xi * 4 + EA_P_TENSION] : 0.0);
+    EA__E(EA__IP(pl, k, 1), nv ? S[xi * 4 + EA_P_THETA0] : 0.0);
+    EA__E(EA__IP(pl, k, 2), nv ? S[xi * 4 + EA_P_KAPPA0] : 0.0);
+    break;
+  }
+  case EA__ROW_ACC_START:
+  case EA__ROW_ACC_END: {
+    double q0, q1, v0, v1, h, ds, a[2], ga[2][5];
+    ea__interval(pl, x, k, c, &q0, &q1, &v0, &v1, &h, &ds);
+    ea__plan_hermite_acc(q0, q1, v0, v1, h, a, ga);
+    const int e = r->kind == EA__ROW_ACC_END;
+    if (value) *value = a[e];
+    EA__E(EA__IQ(pl, k, c), ga[e][0]);
+    EA__E(EA__IQ(pl, k + 1, c), ga[e][1]);
+    EA__E(EA__IV(pl, k, c), ga[e][2]);
+    EA__E(EA__IV(pl, k + 1, c), ga[e][3]);
+    if (pl->has_tf) EA__E(EA__ITF(pl), ga[e][4] * ds);
+    break;
+  }
+  case EA__ROW_SPEED_MID: {
+    double q0, q1, v0, v1, h, ds;
+    ea__interval(pl, x, k, c, &q0, &q1, &v0, &v1, &h, &ds);
+    if (value) *value = 1.5 * (q1 - q0) / h - 0.25 * (v0 + v1);
+    EA__E(EA__IQ(pl, k, c), -1.5 / h);
+    EA__E(EA__IQ(pl, k + 1, c), 1.5 / h);
+    EA__E(EA__IV(pl, k, c), -0.25);
+    EA__E(EA__IV(pl, k + 1, c), -0.25);
+    if (pl->has_tf) EA__E(EA__ITF(pl), -1.5 * (q1 - q0) / (h * h) * ds);
+    break;
+  }
+  case EA__ROW_SHOULDER_SPEED: {
+    const double ds = pl->s[k + 1] - pl->s[k], h = ea__plan_tf(pl, x) * ds;
+    const double d = x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)];
+    if (value) *value = d / h;
+    EA__E(EA__IP(pl, k, 1), -1.0 / h);
+    EA__E(EA__IP(pl, k + 1, 1), 1.0 / h);
+    if (pl->has_tf) EA__E(EA__ITF(pl), -d / (h * h) * ds);
+    break;
+  }
+  case EA__ROW_PATH_NORMAL:
+  case EA__ROW_PATH_PROGRESS: {
+    const int sg = pl->seg_of_knot[k];
+    const double b = pl->nq == 3 ? x[EA__IQ(pl, k, 2)] : pl->base_fixed;
+    double P[3], dP[3][3];
+    ea__plan_tip3(pl, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], b, P, dP);
+    const double *dir = r->kind == EA__ROW_PATH_NORMAL ? pl->segN[sg][c] : pl->segD[sg];
+    const double *A = pl->segA[sg];
+    if (value)
+      *value = dir[0] * (P[0] - A[0]) + dir[1] * (P[1] - A[1]) + dir[2] * (P[2] - A[2]);
+    for (int j = 0; j < pl->nq; ++j)
+      EA__E(EA__IQ(pl, k, j), dir[0] * dP[0][j] + dir[1] * dP[1][j] + dir[2] * dP[2][j]);
+    break;
+  }
+  default: break;
+  }
+#undef EA__E
+  return n;
+}
+
+ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g) {
+  ea_status_t st = ea__plan_shoot_all(pl, x, 0);
+  if (st) return st;
+  for (int i = 0; i < pl->m; ++i) ea__row_eval(pl, x, &pl->rows[i], &g[i], NULL, NULL);
+  return EA_OK;
+}
+
+int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values) {
+  int nz = 0;
+  int cols[8];
+  for (int i = 0; i < pl->m; ++i) {
+    const int c = ea__row_eval(pl, x, &pl->rows[i], NULL, jcol ? cols : NULL,
+                               values ? values + nz : NULL);
+    if (irow)
+      for (int j = 0; j < c; ++j) {
+        irow[nz + j] = i;
+        jcol[nz + j] = cols[j];
+      }
+    nz += c;
+  }
+  return nz;
+}
+
+const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *buf,
+                              size_t len) {
+  static const char *const coord[3] = {"cable length", "cable angle", "base"};
+  const char *cn = r->coord < 3 ? coord[r->coord] : "?";
+  (void)pl;
+  switch ((ea__row_kind_t)r->kind) {
+  case EA__ROW_STATICS_KAPPA: snprintf(buf, len, "statics residual kappa(L) = 0"); break;
+  case EA__ROW_STATICS_X: snprintf(buf, len, "statics residual tip x on the cable"); break;
+  case EA__ROW_STATICS_Y: snprintf(buf, len, "statics residual tip y on the cable"); break;
+  case EA__ROW_ACC_START:
+  case EA__ROW_ACC_END: snprintf(buf, len, "%s acceleration limit", cn); break;
+  case EA__ROW_SPEED_MID: snprintf(buf, len, "%s speed limit (mid-interval)", cn); break;
+  case EA__ROW_SHOULDER_SPEED: snprintf(buf, len, "shoulder speed limit"); break;
+  case EA__ROW_PATH_NORMAL: snprintf(buf, len, "tip on the path line"); break;
+  case EA__ROW_PATH_PROGRESS: snprintf(buf, len, "tip between the path segment's ends"); break;
+  default: snprintf(buf, len, "constraint"); break;
+  }
+  return buf;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Objective terms                                                          */
+/* ---------------------------------------------------------------------- */
+
+static double ea__term_time_value(const ea_planner_t *pl, const double *x) {
+  return ea__plan_tf(pl, x);
+}
+static void ea__term_time_grad(const ea_planner_t *pl, const double *x, double w, double *g) {
+  (void)x;
+  if (pl->has_tf) g[EA__ITF(pl)] += w;
+}
+
+/* Integral over the plan of sum_c (acc_c / aref_c)^2 (jerk = 0) or of
+ * sum_c (jerk_c / aref_c)^2 (jerk = 1); cubic Hermite: acceleration linear,
+ * jerk constant per interval, so both integrals are exact. */
+static double ea__acc_energy(const ea_planner_t *pl, const double *x, double w, double *g,
+                             int jerk) {
+  double f = 0.0;
+  for (int k = 0; k + 1 < pl->N; ++k)
+    for (int c = 0; c < pl->nq; ++c) {
+      double q0, q1, v0, v1, h, ds, a[2], ga[2][5];
+      ea__interval(pl, x, k, c, &q0, &q1, &v0, &v1, &h, &ds);
+      ea__plan_hermite_acc(q0, q1, v0, v1, h, a, g ? ga : NULL);
+      const double is = 1.0 / (pl->aref[c] * pl->aref[c]);
+      double fa0, fa1, fh;
+      if (!jerk) {
+        const double e = a[0] * a[0] + a[0] * a[1] + a[1] * a[1];
+        f += h / 3.0 * e * is;
+        fa0 = h / 3.0 * (2.0 * a[0] + a[1]) * is;
+        fa1 = h / 3.0 * (a[0] + 2.0 * a[1]) * is;
+        fh = e / 3.0 * is;
+      } else {
+        const double j = a[1] - a[0];
+        f += j * j / h * is;
+        fa0 = -2.0 * j / h * is;
+        fa1 = 2.0 * j / h * is;
+        fh = -j * j / (h * h) * is;
+      }
+      if (!g) continue;
+      const int idx[4] = {EA__IQ(pl, k, c), EA__IQ(pl, k + 1, c), EA__IV(pl, k, c),
+                          EA__IV(pl, k + 1, c)};
+      for (int i = 0; i < 4; ++i) g[idx[i]] += w * (fa0 * ga[0][i] + fa1 * ga[1][i]);
+      if (pl->has_tf) g[EA__ITF(pl)] += w * (fa0 * ga[0][4] + fa1 * ga[1][4] + fh) * ds;
+    }
+  return f;
+}
+
+static double ea__term_acc_value(const ea_planner_t *pl, const double *x) {
+  return ea__acc_energy(pl, x, 0.0, NULL, 0);
+}
+static void ea__term_acc_grad(const ea_planner_t *pl, const double *x, double w, double *g) {
+  ea__acc_energy(pl, x, w, g, 0);
+}
+static double ea__term_jerk_value(const ea_planner_t *pl, const double *x) {
+  return ea__acc_energy(pl, x, 0.0, NULL, 1);
+}
+static void ea__term_jerk_grad(const ea_planner_t *pl, const double *x, double w, double *g) {
+  ea__acc_energy(pl, x, w, g, 1);
+}
+
+void ea__plan_terms_setup(ea_planner_t *pl) {
+  const ea_task_t *t = &pl->task;
+  pl->n_terms = 0;
+  ea__plan_term_t *tm = pl->terms;
+  switch (t->objective) {
+  case EA_TASK_MIN_TIME:
+    tm[pl->n_terms++] =
+        (ea__plan_term_t){"time", 1.0, ea__term_time_value, ea__term_time_grad};
+    if (t->solver.regularization > 0.0)
+      tm[pl->n_terms++] = (ea__plan_term_t){"acceleration energy", t->solver.regularization,
+                                            ea__term_acc_value, ea__term_acc_grad};
+    break;
+  case EA_TASK_MIN_EFFORT:
+    tm[pl->n_terms++] =
+        (ea__plan_term_t){"acceleration energy", 1.0, ea__term_acc_value, ea__term_acc_grad};
+    break;
+  case EA_TASK_MIN_JERK:
+    tm[pl->n_terms++] =
+        (ea__plan_term_t){"jerk energy", 1.0, ea__term_jerk_value, ea__term_jerk_grad};
+    break;
+  }
+}

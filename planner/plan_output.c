@@ -1,0 +1,157 @@
+/* Output of a plan: the trajectory file (every column filled), the JSON
+ * summary and the figure (tip path, beam shapes in the workspace, time
+ * histories). */
+#include "plan_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* 3x3 solve by Cramer's rule (the statics block is well conditioned away
+ * from the fold, where the plan never goes). */
+static int ea__solve3(double A[3][3], const double b[3], double x[3]) {
+  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  if (!(fabs(det) > 1e-300)) return -1;
+  for (int c = 0; c < 3; ++c) {
+    double M[3][3];
+    memcpy(M, A, sizeof M);
+    for (int r = 0; r < 3; ++r) M[r][c] = b[r];
+    x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+            M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+           det;
+  }
+  return 0;
+}
+
+ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_error_t *err) {
+  if (!pl || !tr) return ea_error_set(err, EA_ERR_ARG, "ea_planner_trajectory: NULL argument");
+  if (!pl->have_solution)
+    return ea_error_set(err, EA_ERR_ARG, "ea_planner_trajectory: no converged plan");
+  const ea_task_t *t = &pl->task;
+  const double *x = pl->x_sol;
+  const int N = pl->N;
+  ea_status_t st = ea_traj_alloc(tr, N);
+  if (st) return ea_error_set(err, st, "out of memory");
+  tr->payload_kg = t->payload_kg;
+  tr->tip_mass_kg = pl->tip_mass;
+  snprintf(tr->arm_file, sizeof tr->arm_file, "%s", t->arm_file);
+  snprintf(tr->task, sizeof tr->task, "%s", t->file[0] ? t->file : t->name);
+  snprintf(tr->status, sizeof tr->status, "EA_OK");
+  const double tf = ea__plan_tf(pl, x);
+  static const int qc[3] = {EA_TRAJ_cable_length, EA_TRAJ_cable_angle, EA_TRAJ_base_angle};
+  static const int vc[3] = {EA_TRAJ_cable_length_rate, EA_TRAJ_cable_angle_rate,
+                            EA_TRAJ_base_angle_rate};
+  static const int ac[3] = {EA_TRAJ_cable_length_acc, EA_TRAJ_cable_angle_acc,
+                            EA_TRAJ_base_angle_acc};
+  for (int k = 0; k < N; ++k) {
+    EA_TRAJ_AT(tr, k, EA_TRAJ_t) = tf * pl->s[k];
+    for (int c = 0; c < 3; ++c) {
+      if (c >= pl->nq) {
+        EA_TRAJ_AT(tr, k, qc[c]) = pl->base_fixed;
+        continue;
+      }
+      EA_TRAJ_AT(tr, k, qc[c]) = x[EA__IQ(pl, k, c)];
+      EA_TRAJ_AT(tr, k, vc[c]) = x[EA__IV(pl, k, c)];
+      double acc = 0.0;
+      int na = 0;
+      for (int i = k - 1; i <= k; ++i) {
+        if (i < 0 || i + 1 >= N) continue;
+        double a[2];
+        const double h = tf * (pl->s[i + 1] - pl->s[i]);
+        ea__plan_hermite_acc(x[EA__IQ(pl, i, c)], x[EA__IQ(pl, i + 1, c)], x[EA__IV(pl, i, c)],
+                             x[EA__IV(pl, i + 1, c)], h, a, NULL);
+        acc += i == k ? a[0] : a[1];
+        ++na;
+      }
+      EA_TRAJ_AT(tr, k, ac[c]) = na ? acc / na : 0.0;
+    }
+    const double Lc = x[EA__IQ(pl, k, 0)], al = x[EA__IQ(pl, k, 1)];
+    const double p[EA_NP] = {al, x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)], x[EA__IP(pl, k, 2)]};
+    double xL[EA_NX], S[EA_NX * EA_NP];
+    if ((st = ea_shoot(pl->sh, p, xL, S)))
+      return ea_error_set(err, st, "trajectory: shooting failed at knot %d", k);
+    EA_TRAJ_AT(tr, k, EA_TRAJ_tension) = p[EA_P_TENSION];
+    EA_TRAJ_AT(tr, k, EA_TRAJ_theta0) = p[EA_P_THETA0];
+    EA_TRAJ_AT(tr, k, EA_TRAJ_kappa0) = p[EA_P_KAPPA0];
+    EA_TRAJ_AT(tr, k, EA_TRAJ_shoulder_torque) = t->arm.EI * p[EA_P_KAPPA0];
+    /* theta0 rate by implicit differentiation of the statics residual. */
+    const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
+    double A[3][3], rhs[3], dp[3];
+    const double dLc[3] = {0.0, -cos(al), -sin(al)};
+    const double dal[3] = {S[EA_X_KAPPA * 4 + EA_P_ALPHA],
+                           S[EA_X_X * 4 + EA_P_ALPHA] + Lc * sin(al),
+                           S[EA_X_Y * 4 + EA_P_ALPHA] - Lc * cos(al)};
+    for (int r = 0; r < 3; ++r) {
+      for (int j = 0; j < 3; ++j) A[r][j] = S[xi[r] * 4 + 1 + j];
+      rhs[r] = -(dLc[r] * x[EA__IV(pl, k, 0)] + dal[r] * x[EA__IV(pl, k, 1)]);
+    }
+    EA_TRAJ_AT(tr, k, EA_TRAJ_theta0_rate) = ea__solve3(A, rhs, dp) ? 0.0 : dp[1];
+    const double b = EA_TRAJ_AT(tr, k, EA_TRAJ_base_angle);
+    EA_TRAJ_AT(tr, k, EA_TRAJ_tip_x) = xL[EA_X_X] * cos(b);
+    EA_TRAJ_AT(tr, k, EA_TRAJ_tip_y) = xL[EA_X_X] * sin(b);
+    EA_TRAJ_AT(tr, k, EA_TRAJ_tip_z) = xL[EA_X_Y];
+  }
+  return ea_error_set(err, EA_OK, "ok");
+}
+
+ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *info,
+                                  const char *path, ea_error_t *err) {
+  if (!pl || !info || !path) return ea_error_set(err, EA_ERR_ARG, "summary: NULL argument");
+  const ea_task_t *t = &pl->task;
+  ea_afile_t f;
+  ea_status_t st = ea_afile_open(&f, path, err);
+  if (st) return st;
+  ea_json_t j;
+  ea_json_init(&j, f.fp, 1);
+  ea_json_obj_begin(&j, NULL);
+  ea_json_str(&j, "status", ea_status_name(info->status));
+  ea_json_str(&j, "message", info->message);
+  ea_json_str(&j, "task", t->file[0] ? t->file : t->name);
+  ea_json_str(&j, "arm_file", t->arm_file);
+  ea_json_str(&j, "objective", ea_task_objective_name(t->objective));
+  ea_json_str(&j, "path", ea_task_path_name(t->path));
+  ea_json_num(&j, "payload_kg", t->payload_kg);
+  ea_json_int(&j, "knots", pl->N);
+  ea_json_bool(&j, "base_moves", pl->nq == 3);
+  if (info->status == EA_OK)
+    ea_json_num(&j, "duration_s", info->duration_s);
+  else
+    ea_json_null(&j, "duration_s");
+  ea_json_int(&j, "iterations", info->iterations);
+  ea_json_str(&j, "ipopt_status", info->ipopt_status_name);
+  ea_json_num(&j, "objective_value", info->objective);
+  ea_json_num(&j, "solve_time_s", info->time_total_s);
+  ea_json_num(&j, "min_tension_margin_N", info->min_tension_margin_N);
+  ea_json_num(&j, "peak_shoulder_torque_Nm", info->peak_shoulder_torque_Nm);
+  ea_json_num(&j, "max_statics_residual", info->max_statics_residual);
+  ea_json_num(&j, "max_violation", info->max_violation);
+  if (info->status != EA_OK) ea_json_str(&j, "worst_constraint", info->worst);
+  ea_json_obj_begin(&j, "problem");
+  ea_json_int(&j, "variables", info->n_var);
+  ea_json_int(&j, "constraints", info->n_con);
+  ea_json_int(&j, "jacobian_nonzeros", info->nnz_jac);
+  ea_json_int(&j, "evals_g", info->evals_g);
+  ea_json_int(&j, "evals_jacobian", info->evals_jac);
+  ea_json_obj_end(&j);
+  ea_json_arr_begin(&j, "active_limits");
+  for (int i = 0; i < info->n_active; ++i) {
+    ea_json_obj_begin(&j, NULL);
+    ea_json_str(&j, "limit", info->active[i]);
+    ea_json_int(&j, "knots", info->active_knots[i]);
+    ea_json_obj_end(&j);
+  }
+  ea_json_arr_end(&j);
+  ea_json_obj_begin(&j, "phase_times_s");
+  ea_json_num(&j, "initial_guess", info->time_guess_s);
+  ea_json_num(&j, "statics_jacobians", info->time_statics_s);
+  ea_json_num(&j, "ipopt", info->time_ipopt_s);
+  ea_json_num(&j, "rest", info->time_rest_s);
+  ea_json_num(&j, "schedule_tuning", info->time_tune_s);
+  ea_json_obj_end(&j);
+  ea_json_obj_end(&j);
+  ea_json_end(&j);
+  return ea_afile_commit(&f, err);
+}

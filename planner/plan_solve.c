@@ -1,0 +1,577 @@
+/* The planner's setup and its Ipopt glue: bounds, rows, callbacks, solve,
+ * and the report of a failed plan (which constraint, which knot, by how
+ * much). Everything is allocated in ea_planner_alloc; the callbacks do not
+ * allocate. */
+#include "plan_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define EA__IPINF 1e19
+
+const ea_task_t *ea_planner_task(const ea_planner_t *pl) { return &pl->task; }
+
+void ea_planner_free(ea_planner_t *pl) {
+  if (!pl) return;
+  if (pl->ip) FreeIpoptProblem(pl->ip);
+  ea_shooter_free(pl->sh);
+  free(pl->s);
+  free(pl->seg_of_knot);
+  free(pl->x);
+  free(pl->xl);
+  free(pl->xu);
+  free(pl->gl);
+  free(pl->gu);
+  free(pl->g);
+  free(pl->mult_g);
+  free(pl->mult_xl);
+  free(pl->mult_xu);
+  free(pl->rows);
+  free(pl->irow);
+  free(pl->jcol);
+  free(pl->xL);
+  free(pl->S);
+  free(pl->x_sol);
+  free(pl->mult_g_sol);
+  free(pl->mult_xl_sol);
+  free(pl->mult_xu_sol);
+  free(pl);
+}
+
+/* ---------------------------------------------------------------------- */
+/* Ipopt callbacks                                                          */
+/* ---------------------------------------------------------------------- */
+
+static void ea__touch(ea_planner_t *pl, Bool new_x) {
+  if (new_x) pl->cache_val = pl->cache_sens = 0;
+}
+
+static Bool ea__cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  (void)n;
+  const double t0 = ea__plan_now();
+  ea__touch(pl, new_x);
+  double v = 0.0;
+  for (int i = 0; i < pl->n_terms; ++i) v += pl->terms[i].weight * pl->terms[i].value(pl, x);
+  *f = v;
+  pl->t_callbacks += ea__plan_now() - t0;
+  return isfinite(v);
+}
+
+static Bool ea__cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  const double t0 = ea__plan_now();
+  ea__touch(pl, new_x);
+  memset(g, 0, (size_t)n * sizeof *g);
+  for (int i = 0; i < pl->n_terms; ++i) pl->terms[i].grad(pl, x, pl->terms[i].weight, g);
+  pl->t_callbacks += ea__plan_now() - t0;
+  return TRUE;
+}
+
+static Bool ea__cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  (void)n;
+  (void)m;
+  const double t0 = ea__plan_now();
+  ea__touch(pl, new_x);
+  const ea_status_t st = ea__plan_eval_g(pl, x, g);
+  if (pl->info) pl->info->evals_g++;
+  pl->t_callbacks += ea__plan_now() - t0;
+  return st == EA_OK;
+}
+
+static Bool ea__cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow,
+                       Index *jCol, Number *values, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  (void)n;
+  (void)m;
+  (void)nele;
+  if (!values) {
+    memcpy(iRow, pl->irow, (size_t)pl->nnz * sizeof *iRow);
+    memcpy(jCol, pl->jcol, (size_t)pl->nnz * sizeof *jCol);
+    return TRUE;
+  }
+  const double t0 = ea__plan_now();
+  ea__touch(pl, new_x);
+  if (ea__plan_shoot_all(pl, x, 1)) return FALSE;
+  ea__plan_jac(pl, x, NULL, NULL, values);
+  if (pl->info) pl->info->evals_jac++;
+  pl->t_callbacks += ea__plan_now() - t0;
+  return TRUE;
+}
+
+static Bool ea__cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *lambda,
+                     Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
+                     UserDataPtr ud) {
+  (void)n, (void)x, (void)new_x, (void)of, (void)m, (void)lambda, (void)new_lambda;
+  (void)nele, (void)iRow, (void)jCol, (void)values, (void)ud;
+  return FALSE; /* limited-memory quasi-Newton */
+}
+
+static Bool ea__cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
+                        Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
+                        Index ls, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
+  (void)alpha_du, (void)alpha_pr, (void)ls;
+  pl->iter = iter;
+  return ea__plan_now() - pl->t_start < pl->max_time ? TRUE : FALSE;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Setup                                                                    */
+/* ---------------------------------------------------------------------- */
+
+static void ea__add_row(ea_planner_t *pl, int *i, ea__row_kind_t kind, int knot, int coord,
+                        double lo, double hi) {
+  if (pl->rows) {
+    pl->rows[*i] = (ea__row_t){(unsigned char)kind, (unsigned char)coord, knot};
+    pl->gl[*i] = lo;
+    pl->gu[*i] = hi;
+  }
+  ++*i;
+}
+
+static int ea__build_rows(ea_planner_t *pl) {
+  const int N = pl->N;
+  int i = 0;
+  for (int k = 0; k < N; ++k) {
+    ea__add_row(pl, &i, EA__ROW_STATICS_KAPPA, k, 0, 0.0, 0.0);
+    ea__add_row(pl, &i, EA__ROW_STATICS_X, k, 0, 0.0, 0.0);
+    ea__add_row(pl, &i, EA__ROW_STATICS_Y, k, 0, 0.0, 0.0);
+  }
+  for (int c = 0; c < pl->nq; ++c)
+    for (int k = 0; k + 1 < N; ++k) {
+      if (isfinite(pl->amax[c])) {
+        ea__add_row(pl, &i, EA__ROW_ACC_START, k, c, -pl->amax[c], pl->amax[c]);
+        ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, -pl->amax[c], pl->amax[c]);
+      }
+      if (isfinite(pl->vmax[c]))
+        ea__add_row(pl, &i, EA__ROW_SPEED_MID, k, c, -pl->vmax[c], pl->vmax[c]);
+    }
+  const double sm = pl->task.limits.shoulder_speed_max;
+  if (isfinite(sm))
+    for (int k = 0; k + 1 < N; ++k) ea__add_row(pl, &i, EA__ROW_SHOULDER_SPEED, k, 0, -sm, sm);
+  for (int k = 0; k < N; ++k) {
+    const int sg = pl->seg_of_knot[k];
+    if (sg < 0) continue;
+    for (int j = 0; j < pl->n_normals; ++j) ea__add_row(pl, &i, EA__ROW_PATH_NORMAL, k, j, 0, 0);
+    ea__add_row(pl, &i, EA__ROW_PATH_PROGRESS, k, 0, 0.0, pl->segLen[sg]);
+  }
+  return i;
+}
+
+static const ea_task_point_t *ea__pt(const ea_task_t *t, int j) {
+  return j == 0 ? &t->start : j <= t->n_via ? &t->via[j - 1] : &t->goal;
+}
+
+static void ea__bounds(ea_planner_t *pl) {
+  const ea_task_t *t = &pl->task;
+  const ea_task_limits_t *l = &t->limits;
+  const ea_actuators_t *a = &t->arm.act;
+  const double qlo[3] = {l->cable_length_min, -M_PI, a->base_angle_min};
+  const double qhi[3] = {l->cable_length_max, M_PI, a->base_angle_max};
+  for (int k = 0; k < pl->N; ++k) {
+    for (int c = 0; c < pl->nq; ++c) {
+      pl->xl[EA__IQ(pl, k, c)] = qlo[c];
+      pl->xu[EA__IQ(pl, k, c)] = qhi[c];
+      const double v = isfinite(pl->vmax[c]) ? pl->vmax[c] : EA__IPINF;
+      pl->xl[EA__IV(pl, k, c)] = -v;
+      pl->xu[EA__IV(pl, k, c)] = v;
+    }
+    pl->xl[EA__IP(pl, k, 0)] = l->tension_min;
+    pl->xu[EA__IP(pl, k, 0)] = l->tension_max;
+    pl->xl[EA__IP(pl, k, 1)] = a->shoulder_angle_min;
+    pl->xu[EA__IP(pl, k, 1)] = a->shoulder_angle_max;
+    const double km = l->shoulder_torque_max / t->arm.EI;
+    pl->xl[EA__IP(pl, k, 2)] = -km;
+    pl->xu[EA__IP(pl, k, 2)] = km;
+  }
+  /* Pins: the points at their knots; rest at start and goal. */
+  for (int j = 0; j < t->n_via + 2; ++j) {
+    const ea_task_point_t *p = ea__pt(t, j);
+    const int k = pl->via_knot[j];
+    const double q[3] = {p->cable_length, p->cable_angle, p->base_angle};
+    for (int c = 0; c < pl->nq; ++c) pl->xl[EA__IQ(pl, k, c)] = pl->xu[EA__IQ(pl, k, c)] = q[c];
+  }
+  for (int c = 0; c < pl->nq; ++c) {
+    pl->xl[EA__IV(pl, 0, c)] = pl->xu[EA__IV(pl, 0, c)] = 0.0;
+    pl->xl[EA__IV(pl, pl->N - 1, c)] = pl->xu[EA__IV(pl, pl->N - 1, c)] = 0.0;
+  }
+  if (pl->has_tf) {
+    pl->xl[EA__ITF(pl)] = 1e-3;
+    pl->xu[EA__ITF(pl)] = 1e5;
+  }
+}
+
+ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error_t *err) {
+  if (!task || !out) return ea_error_set(err, EA_ERR_ARG, "ea_planner_alloc: NULL argument");
+  *out = NULL;
+  ea_planner_t *pl = calloc(1, sizeof *pl);
+  if (!pl) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  pl->task = *task;
+  const ea_task_t *t = &pl->task;
+  const ea_task_limits_t *l = &t->limits;
+  ea_status_t st = ea_shooter_alloc(&t->arm, NULL, &pl->sh, err);
+  if (st) {
+    ea_planner_free(pl);
+    return st;
+  }
+  pl->tip_mass = ea_arm_tip_mass(&t->arm, t->payload_kg);
+  ea_load_t load = {pl->tip_mass};
+  ea_shooter_set_load(pl->sh, &load);
+  pl->N = t->knots;
+  pl->nq = t->base_moves ? 3 : 2;
+  pl->nb = 2 * pl->nq + 3;
+  pl->has_tf = t->objective == EA_TASK_MIN_TIME;
+  pl->tf_fixed = pl->has_tf ? NAN : t->duration_s;
+  pl->base_fixed = t->start.base_angle;
+  pl->vmax[0] = l->cable_speed_max;
+  pl->amax[0] = l->cable_accel_max;
+  pl->vmax[1] = l->cable_angle_speed_max;
+  pl->amax[1] = l->cable_angle_accel_max;
+  pl->vmax[2] = l->base_speed_max;
+  pl->amax[2] = l->base_accel_max;
+  pl->aref[0] = pl->amax[0];
+  pl->aref[1] = isfinite(pl->amax[1])
+                    ? pl->amax[1]
+                    : pl->amax[0] / fmax(t->start.cable_length, t->goal.cable_length);
+  pl->aref[2] = pl->amax[2];
+  const int N = pl->N;
+  pl->n = N * pl->nb + pl->has_tf;
+  pl->s = calloc((size_t)N, sizeof *pl->s);
+  pl->seg_of_knot = calloc((size_t)N, sizeof *pl->seg_of_knot);
+  if (!pl->s || !pl->seg_of_knot) goto nomem;
+  ea__plan_schedule(pl, 0.0);
+  ea__plan_layout(pl);
+  pl->m = ea__build_rows(pl);
+  const size_t n = (size_t)pl->n, m = (size_t)pl->m;
+  pl->rows = calloc(m, sizeof *pl->rows);
+  pl->gl = calloc(m, sizeof *pl->gl);
+  pl->gu = calloc(m, sizeof *pl->gu);
+  pl->g = calloc(m, sizeof *pl->g);
+  pl->mult_g = calloc(m, sizeof *pl->mult_g);
+  pl->mult_g_sol = calloc(m, sizeof *pl->mult_g);
+  pl->x = calloc(n, sizeof *pl->x);
+  pl->xl = calloc(n, sizeof *pl->x);
+  pl->xu = calloc(n, sizeof *pl->x);
+  pl->mult_xl = calloc(n, sizeof *pl->x);
+  pl->mult_xu = calloc(n, sizeof *pl->x);
+  pl->x_sol = calloc(n, sizeof *pl->x);
+  pl->mult_xl_sol = calloc(n, sizeof *pl->x);
+  pl->mult_xu_sol = calloc(n, sizeof *pl->x);
+  pl->xL = calloc((size_t)N * 4, sizeof *pl->xL);
+  pl->S = calloc((size_t)N * 16, sizeof *pl->S);
+  if (!pl->rows || !pl->gl || !pl->gu || !pl->g || !pl->mult_g || !pl->mult_g_sol || !pl->x ||
+      !pl->xl || !pl->xu || !pl->mult_xl || !pl->mult_xu || !pl->x_sol || !pl->mult_xl_sol ||
+      !pl->mult_xu_sol || !pl->xL || !pl->S)
+    goto nomem;
+  ea__build_rows(pl);
+  ea__bounds(pl);
+  ea__plan_terms_setup(pl);
+  pl->nnz = ea__plan_jac(pl, pl->x, NULL, NULL, NULL);
+  pl->irow = calloc((size_t)pl->nnz, sizeof *pl->irow);
+  pl->jcol = calloc((size_t)pl->nnz, sizeof *pl->jcol);
+  if (!pl->irow || !pl->jcol) goto nomem;
+  ea__plan_jac(pl, pl->x, pl->irow, pl->jcol, NULL);
+  pl->ip = CreateIpoptProblem(pl->n, pl->xl, pl->xu, pl->m, pl->gl, pl->gu, pl->nnz, 0, 0,
+                              ea__cb_f, ea__cb_g, ea__cb_grad_f, ea__cb_jac, ea__cb_h);
+  if (!pl->ip) {
+    ea_planner_free(pl);
+    return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
+  }
+  AddIpoptStrOption(pl->ip, "sb", "yes");
+  AddIpoptIntOption(pl->ip, "print_level", t->solver.print_level);
+  AddIpoptStrOption(pl->ip, "linear_solver", "mumps");
+  AddIpoptStrOption(pl->ip, "hessian_approximation", "limited-memory");
+  AddIpoptNumOption(pl->ip, "tol", t->solver.tol);
+  AddIpoptNumOption(pl->ip, "constr_viol_tol", t->solver.constr_tol);
+  AddIpoptIntOption(pl->ip, "max_iter", t->solver.max_iter);
+  AddIpoptStrOption(pl->ip, "mu_strategy", "adaptive");
+  SetIntermediateCallback(pl->ip, ea__cb_iter);
+  *out = pl;
+  return ea_error_set(err, EA_OK, "ok");
+nomem:
+  ea_planner_free(pl);
+  return ea_error_set(err, EA_ERR_NOMEM, "out of memory building the transcription");
+}
+
+/* ---------------------------------------------------------------------- */
+/* Reports                                                                  */
+/* ---------------------------------------------------------------------- */
+
+static const char *ea__var_name(const ea_planner_t *pl, int i, int upper, int *knot,
+                                double *scale) {
+  static const char *const qn[2][3] = {{"cable_length_min", "cable angle range", "base range"},
+                                       {"cable_length_max", "cable angle range", "base range"}};
+  static const char *const vn[3] = {"cable speed limit", "cable angle speed limit",
+                                    "base speed limit"};
+  *scale = 1.0;
+  if (pl->has_tf && i == EA__ITF(pl)) {
+    *knot = -1;
+    return "duration range";
+  }
+  *knot = i / pl->nb;
+  const int r = i % pl->nb;
+  if (r < pl->nq) return qn[upper][r];
+  if (r < 2 * pl->nq) return vn[r - pl->nq];
+  switch (r - 2 * pl->nq) {
+  case 0: return upper ? "tension <= tension_max" : "tension >= tension_min";
+  case 1: return "shoulder angle range";
+  default: *scale = pl->task.arm.EI; return "shoulder torque limit";
+  }
+}
+
+/* Largest violation of the bounds and rows at x (g filled). */
+static double ea__worst(ea_planner_t *pl, const double *x, const double *g, char *buf,
+                        size_t len) {
+  double worst = 0.0;
+  buf[0] = '\0';
+  for (int i = 0; i < pl->m; ++i) {
+    const double v = fmax(pl->gl[i] - g[i], g[i] - pl->gu[i]);
+    if (v > worst) {
+      worst = v;
+      char nm[80];
+      const ea__row_t *r = &pl->rows[i];
+      const int is_statics = r->kind <= EA__ROW_STATICS_Y;
+      snprintf(buf, len, "'%s' at %s %d violated by %.3g%s",
+               ea__plan_row_name(pl, r, nm, sizeof nm),
+               r->kind == EA__ROW_ACC_START || r->kind == EA__ROW_ACC_END ||
+                       r->kind == EA__ROW_SPEED_MID || r->kind == EA__ROW_SHOULDER_SPEED
+                   ? "interval"
+                   : "knot",
+               r->knot, v,
+               is_statics ? " (no static equilibrium there within the limits)" : "");
+    }
+  }
+  for (int i = 0; i < pl->n; ++i) {
+    const double lo = pl->xl[i] - x[i], hi = x[i] - pl->xu[i];
+    const double v = fmax(lo, hi);
+    if (v > worst) {
+      worst = v;
+      int k;
+      double sc;
+      const char *nm = ea__var_name(pl, i, hi > lo, &k, &sc);
+      snprintf(buf, len, "'%s' at knot %d violated by %.3g", nm, k, v * sc);
+    }
+  }
+  return worst;
+}
+
+static void ea__add_active(ea_plan_info_t *info, const char *name) {
+  for (int i = 0; i < info->n_active; ++i)
+    if (!strcmp(info->active[i], name)) {
+      info->active_knots[i]++;
+      return;
+    }
+  if (info->n_active >= EA_PLAN_MAX_ACTIVE) return;
+  snprintf(info->active[info->n_active], sizeof info->active[0], "%s", name);
+  info->active_knots[info->n_active++] = 1;
+}
+
+static int ea__near(double v, double b) { return fabs(v - b) <= 1e-5 * fmax(1.0, fabs(b)); }
+
+static void ea__stats(ea_planner_t *pl, const double *x, ea_plan_info_t *info) {
+  const ea_task_t *t = &pl->task;
+  info->duration_s = ea__plan_tf(pl, x);
+  info->min_tension_margin_N = INFINITY;
+  info->peak_shoulder_torque_Nm = 0.0;
+  for (int k = 0; k < pl->N; ++k) {
+    info->min_tension_margin_N =
+        fmin(info->min_tension_margin_N, x[EA__IP(pl, k, 0)] - t->limits.tension_min);
+    info->peak_shoulder_torque_Nm =
+        fmax(info->peak_shoulder_torque_Nm, fabs(t->arm.EI * x[EA__IP(pl, k, 2)]));
+  }
+  pl->cache_val = pl->cache_sens = 0;
+  ea__plan_eval_g(pl, x, pl->g);
+  info->max_statics_residual = 0.0;
+  for (int i = 0; i < 3 * pl->N; ++i)
+    info->max_statics_residual = fmax(info->max_statics_residual, fabs(pl->g[i]));
+  info->max_violation = ea__worst(pl, x, pl->g, info->worst, sizeof info->worst);
+  info->n_active = 0;
+  for (int i = 3 * pl->N; i < pl->m; ++i) {
+    if (pl->gl[i] == pl->gu[i]) continue;
+    const ea__row_t *r = &pl->rows[i];
+    if (r->kind == EA__ROW_PATH_PROGRESS) continue;
+    if (ea__near(pl->g[i], pl->gl[i]) || ea__near(pl->g[i], pl->gu[i])) {
+      char nm[80];
+      ea__add_active(info, ea__plan_row_name(pl, r, nm, sizeof nm));
+    }
+  }
+  for (int i = 0; i < pl->n; ++i) {
+    if (pl->xl[i] == pl->xu[i]) continue;
+    int lo = ea__near(x[i], pl->xl[i]), hi = ea__near(x[i], pl->xu[i]);
+    if (lo || hi) {
+      int k;
+      double sc;
+      ea__add_active(info, ea__var_name(pl, i, hi, &k, &sc));
+    }
+  }
+}
+
+static const char *ea__ipopt_name(int s) {
+  switch (s) {
+  case Solve_Succeeded: return "Solve_Succeeded";
+  case Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
+  case Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
+  case Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
+  case Diverging_Iterates: return "Diverging_Iterates";
+  case User_Requested_Stop: return "User_Requested_Stop (time limit)";
+  case Feasible_Point_Found: return "Feasible_Point_Found";
+  case Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
+  case Restoration_Failed: return "Restoration_Failed";
+  case Error_In_Step_Computation: return "Error_In_Step_Computation";
+  case Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
+  case Not_Enough_Degrees_Of_Freedom: return "Not_Enough_Degrees_Of_Freedom";
+  case Invalid_Problem_Definition: return "Invalid_Problem_Definition";
+  case Invalid_Option: return "Invalid_Option";
+  case Invalid_Number_Detected: return "Invalid_Number_Detected";
+  default: return "Ipopt_Internal_Error";
+  }
+}
+
+/* Count of derivative checker errors in Ipopt's output file (-1: unknown). */
+static int ea__deriv_errors(const char *path) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) return -1;
+  char line[512];
+  int n = -1;
+  while (fgets(line, sizeof line, fp)) {
+    int k;
+    if (strstr(line, "No errors detected by derivative checker")) n = 0;
+    if (sscanf(line, "Derivative checker detected %d error", &k) == 1) n = k;
+  }
+  fclose(fp);
+  return n;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Solve                                                                    */
+/* ---------------------------------------------------------------------- */
+
+ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                             ea_plan_info_t *info_out, ea_error_t *err) {
+  if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_solve: NULL planner");
+  ea_plan_info_t local, *info = info_out ? info_out : &local;
+  memset(info, 0, sizeof *info);
+  info->deriv_errors = -1;
+  info->n_var = pl->n;
+  info->n_con = pl->m;
+  info->nnz_jac = pl->nnz;
+  info->status = EA_ERR_NOCONV;
+  const double t0 = ea__plan_now();
+  pl->t_start = t0;
+  pl->max_time = pl->task.solver.max_time_s;
+  pl->t_statics = pl->t_callbacks = 0.0;
+  pl->iter = 0;
+  pl->info = info;
+  pl->cache_val = pl->cache_sens = 0;
+
+  ea_status_t st = EA_OK;
+  const int warm = start == EA_PLAN_WARM && pl->have_solution;
+  if (warm) {
+    memcpy(pl->x, pl->x_sol, (size_t)pl->n * sizeof *pl->x);
+    memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
+    memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
+    memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
+  } else if (start == EA_PLAN_FROM_TRAJ) {
+    st = ea__plan_guess_traj(pl, prev, pl->x, err);
+  } else {
+    st = ea__plan_guess(pl, pl->x, info, err);
+  }
+  info->time_guess_s = ea__plan_now() - t0;
+  if (st) {
+    info->status = st;
+    snprintf(info->message, sizeof info->message, "%s", err ? err->msg : ea_strerror(st));
+    info->time_total_s = ea__plan_now() - t0;
+    pl->info = NULL;
+    return st;
+  }
+  for (int i = 0; i < pl->n; ++i) pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
+  AddIpoptStrOption(pl->ip, "warm_start_init_point", warm ? "yes" : "no");
+  if (warm) {
+    AddIpoptNumOption(pl->ip, "mu_init", 1e-7);
+    AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-9);
+    AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-9);
+    AddIpoptNumOption(pl->ip, "warm_start_slack_bound_push", 1e-9);
+  } else {
+    AddIpoptNumOption(pl->ip, "mu_init", 0.1);
+  }
+  char tmpl[64] = "";
+  if (pl->task.solver.derivative_test) {
+    snprintf(tmpl, sizeof tmpl, "/tmp/ea_dercheck_XXXXXX");
+    const int fd = mkstemp(tmpl);
+    if (fd >= 0) {
+      close(fd);
+      OpenIpoptOutputFile(pl->ip, tmpl, 5);
+    } else {
+      tmpl[0] = '\0';
+    }
+    AddIpoptStrOption(pl->ip, "derivative_test", "first-order");
+    AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
+    AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);
+  }
+  double obj = 0.0;
+  const double ti = ea__plan_now();
+  const enum ApplicationReturnStatus rs = IpoptSolve(pl->ip, pl->x, pl->g, &obj, pl->mult_g,
+                                                      pl->mult_xl, pl->mult_xu, pl);
+  const double t_ipopt = ea__plan_now() - ti;
+  if (pl->task.solver.derivative_test) {
+    AddIpoptStrOption(pl->ip, "derivative_test", "none");
+    if (tmpl[0]) {
+      info->deriv_errors = ea__deriv_errors(tmpl);
+      remove(tmpl);
+    }
+  }
+  info->ipopt_status = (int)rs;
+  snprintf(info->ipopt_status_name, sizeof info->ipopt_status_name, "%s", ea__ipopt_name(rs));
+  info->iterations = pl->iter;
+  info->objective = obj;
+  const double tp = ea__plan_now();
+  ea__stats(pl, pl->x, info);
+  const double tol_viol = fmax(1e-6, 10 * pl->task.solver.constr_tol);
+  if ((rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level) &&
+      info->max_violation <= tol_viol) {
+    info->status = EA_OK;
+    memcpy(pl->x_sol, pl->x, (size_t)pl->n * sizeof *pl->x);
+    memcpy(pl->mult_g_sol, pl->mult_g, (size_t)pl->m * sizeof *pl->x);
+    memcpy(pl->mult_xl_sol, pl->mult_xl, (size_t)pl->n * sizeof *pl->x);
+    memcpy(pl->mult_xu_sol, pl->mult_xu, (size_t)pl->n * sizeof *pl->x);
+    pl->have_solution = 1;
+    snprintf(info->message, sizeof info->message,
+             "plan found: duration %.6g s, %d iterations, min tension margin %.4g N, peak "
+             "shoulder torque %.4g N m",
+             info->duration_s, info->iterations, info->min_tension_margin_N,
+             info->peak_shoulder_torque_Nm);
+  } else {
+    if (rs == Infeasible_Problem_Detected || rs == Restoration_Failed)
+      info->status = EA_ERR_INFEASIBLE;
+    else if (rs == Maximum_Iterations_Exceeded)
+      info->status = EA_ERR_MAXITER;
+    else if (rs == Invalid_Problem_Definition || rs == Invalid_Option ||
+             rs == Insufficient_Memory || rs < -100)
+      info->status = EA_ERR_BACKEND;
+    else
+      info->status = EA_ERR_NOCONV;
+    snprintf(info->message, sizeof info->message,
+             "%s (Ipopt: %s after %d iterations); worst constraint at the last iterate: %s",
+             info->status == EA_ERR_INFEASIBLE ? "the task is infeasible"
+                                               : "the planner did not converge",
+             info->ipopt_status_name, info->iterations,
+             info->worst[0] ? info->worst : "none violated");
+  }
+  pl->cache_val = pl->cache_sens = 0;
+  const double t1 = ea__plan_now();
+  info->time_total_s = t1 - t0;
+  info->time_statics_s = pl->t_statics;
+  info->time_ipopt_s = t_ipopt - pl->t_callbacks;
+  info->time_rest_s = info->time_total_s - info->time_guess_s - info->time_statics_s -
+                      info->time_ipopt_s;
+  (void)tp;
+  pl->info = NULL;
+  if (info->status) return ea_error_set(err, info->status, "%s", info->message);
+  return ea_error_set(err, EA_OK, "%s", info->message);
+}

@@ -1,0 +1,285 @@
+/* Task specs: YAML -> ea_task_t with file:line:column in every error
+ * (docs/task-format.md). The typed reader is problems/yaml_doc.c. */
+#include "ea_problems.h"
+#include "yaml_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static ea_status_t ea__load_point(ea__ydoc_t *d, yaml_node_t *n, const char *what,
+                                  ea_task_point_t *pt, ea_error_t *err) {
+  if (n->type != YAML_MAPPING_NODE)
+    return ea__yerr(d, n, err, EA_ERR_INPUT,
+                    "%s must be a mapping: {tip: [x, y]} or {tip: [x, y, z]} or "
+                    "{cable_length_m: .., cable_angle_rad: .., base_angle_rad: ..}",
+                    what);
+  static const char *const keys[] = {"tip", "base_angle_rad", "cable_length_m",
+                                     "cable_angle_rad", NULL};
+  ea_status_t st = ea__ymap_check_keys(d, n, keys, what, err);
+  if (st) return st;
+  yaml_node_t *tip = ea__ymap_get(d, n, "tip");
+  yaml_node_t *lc = ea__ymap_get(d, n, "cable_length_m");
+  yaml_node_t *al = ea__ymap_get(d, n, "cable_angle_rad");
+  double base = 0.0;
+  if ((st = ea__ymap_double(d, n, "base_angle_rad", 0, -4 * M_PI, 4 * M_PI, &base, err)))
+    return st;
+  if (tip && (lc || al))
+    return ea__yerr(d, n, err, EA_ERR_INPUT,
+                    "%s: give either 'tip' or the actuator coordinates (cable_length_m, "
+                    "cable_angle_rad), not both",
+                    what);
+  if (tip) {
+    double v[3];
+    int cnt = 0;
+    if ((st = ea__ymap_vec(d, n, "tip", 1, -3, v, &cnt, err))) return st;
+    if (cnt == 2) {
+      *pt = ea_task_point_planar(v[0], v[1], base);
+    } else if (cnt == 3) {
+      if (ea__ymap_get(d, n, "base_angle_rad"))
+        return ea__yerr(d, ea__ymap_get(d, n, "base_angle_rad"), err, EA_ERR_INPUT,
+                        "%s: key 'base_angle_rad' is not allowed with a 3-D tip [x, y, z] "
+                        "(the base angle is atan2(y, x))",
+                        what);
+      *pt = ea_task_point_3d(v[0], v[1], v[2]);
+    } else {
+      return ea__yerr(d, tip, err, EA_ERR_INPUT,
+                      "%s: key 'tip' must have 2 (planar x, y) or 3 (x, y, z) numbers", what);
+    }
+  } else {
+    double L = NAN, a = NAN;
+    if ((st = ea__ymap_double(d, n, "cable_length_m", 1, 1e-9, 100.0, &L, err))) return st;
+    if ((st = ea__ymap_double(d, n, "cable_angle_rad", 1, -2 * M_PI, 2 * M_PI, &a, err)))
+      return st;
+    *pt = ea_task_point_actuators(L, a, base);
+  }
+  ea__ynode_where(d, n, pt->where, sizeof pt->where);
+  return EA_OK;
+}
+
+static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits_t *l,
+                                   ea_error_t *err) {
+  static const char *const keys[] = {"tension_min_N",
+                                     "tension_max_N",
+                                     "cable_length_min_m",
+                                     "cable_length_max_m",
+                                     "cable_speed_max_m_per_s",
+                                     "cable_accel_max_m_per_s2",
+                                     "cable_angle_speed_max_rad_per_s",
+                                     "cable_angle_accel_max_rad_per_s2",
+                                     "shoulder_torque_max_Nm",
+                                     "shoulder_speed_max_rad_per_s",
+                                     "base_speed_max_rad_per_s",
+                                     "base_accel_max_rad_per_s2",
+                                     NULL};
+  double *dst[] = {&l->tension_min,           &l->tension_max,
+                   &l->cable_length_min,      &l->cable_length_max,
+                   &l->cable_speed_max,       &l->cable_accel_max,
+                   &l->cable_angle_speed_max, &l->cable_angle_accel_max,
+                   &l->shoulder_torque_max,   &l->shoulder_speed_max,
+                   &l->base_speed_max,        &l->base_accel_max};
+  ea_status_t st = ea__ymap_check_keys(d, n, keys, "limits", err);
+  if (st) return st;
+  for (int i = 0; keys[i]; ++i)
+    if ((st = ea__ymap_double(d, n, keys[i], 0, 1e-12, 1e12, dst[i], err))) return st;
+  return EA_OK;
+}
+
+static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver_t *s,
+                                   ea_error_t *err) {
+  static const char *const keys[] = {"max_iter",        "tol",         "constr_viol_tol",
+                                     "max_time_s",      "derivative_test", "print_level",
+                                     "tune_schedule",   "regularization", NULL};
+  ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
+  if (st) return st;
+  long v = s->max_iter;
+  if ((st = ea__ymap_int(d, n, "max_iter", 0, 1, 100000, &v, err))) return st;
+  s->max_iter = (int)v;
+  v = s->print_level;
+  if ((st = ea__ymap_int(d, n, "print_level", 0, 0, 12, &v, err))) return st;
+  s->print_level = (int)v;
+  if ((st = ea__ymap_double(d, n, "tol", 0, 1e-14, 1.0, &s->tol, err))) return st;
+  if ((st = ea__ymap_double(d, n, "constr_viol_tol", 0, 1e-14, 1.0, &s->constr_tol, err)))
+    return st;
+  if ((st = ea__ymap_double(d, n, "max_time_s", 0, 1e-3, 1e6, &s->max_time_s, err))) return st;
+  if ((st = ea__ymap_double(d, n, "regularization", 0, 0.0, 1e6, &s->regularization, err)))
+    return st;
+  if ((st = ea__ymap_bool(d, n, "derivative_test", 0, &s->derivative_test, err))) return st;
+  if ((st = ea__ymap_bool(d, n, "tune_schedule", 0, &s->tune_schedule, err))) return st;
+  return EA_OK;
+}
+
+static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_task_t *t,
+                                     ea_error_t *err) {
+  yaml_node_t *root, *n;
+  ea_status_t st = ea__ydoc_root_map(d, &root, err);
+  if (st) return st;
+  static const char *const top[] = {"name",   "arm_file",  "payload_kg", "payload_factor",
+                                    "start",  "goal",      "via",        "path",
+                                    "objective", "limits", "knots",      "solver",
+                                    "outputs", NULL};
+  if ((st = ea__ymap_check_keys(d, root, top, "the task file", err))) return st;
+
+  /* The arm first: limits default to its values. */
+  char arm_rel[512] = "";
+  if ((st = ea__ymap_string(d, root, "arm_file", 0, arm_rel, sizeof arm_rel, err))) return st;
+  ea_arm_t arm;
+  char arm_path[512] = "";
+  if (arm_rel[0]) {
+    const char *slash = strrchr(d->file, '/');
+    if (arm_rel[0] == '/' || !slash)
+      snprintf(arm_path, sizeof arm_path, "%s", arm_rel);
+    else
+      snprintf(arm_path, sizeof arm_path, "%.*s/%.*s", (int)(slash - d->file), d->file,
+               (int)(sizeof arm_path / 2), arm_rel);
+  } else if (default_arm) {
+    snprintf(arm_path, sizeof arm_path, "%s", default_arm);
+  }
+  if (arm_path[0]) {
+    ea_error_t e2;
+    if ((st = ea_arm_load(arm_path, &arm, &e2))) {
+      yaml_node_t *an = ea__ymap_get(d, root, "arm_file");
+      return ea__yerr(d, an ? an : root, err, st, "arm_file: %s", e2.msg);
+    }
+  } else {
+    ea_arm_default(&arm);
+  }
+  ea_task_init(t, &arm);
+  snprintf(t->arm_file, sizeof t->arm_file, "%s", arm_path);
+  snprintf(t->file, sizeof t->file, "%s", d->file);
+  ea__ynode_where(d, root, t->where_limits, sizeof t->where_limits);
+  ea__ynode_where(d, root, t->where_objective, sizeof t->where_objective);
+  const char *base = strrchr(d->file, '/');
+  snprintf(t->name, sizeof t->name, "%.100s", base ? base + 1 : d->file);
+  char *dot = strrchr(t->name, '.');
+  if (dot) *dot = '\0';
+  if ((st = ea__ymap_string(d, root, "name", 0, t->name, sizeof t->name, err))) return st;
+
+  /* Payload: kg or factor (eq. 17), not both. */
+  yaml_node_t *pk = ea__ymap_get(d, root, "payload_kg"),
+              *pf = ea__ymap_get(d, root, "payload_factor");
+  if (pk && pf)
+    return ea__yerr(d, pf, err, EA_ERR_INPUT,
+                    "give either 'payload_kg' or 'payload_factor', not both");
+  if (pk && (st = ea__ymap_double(d, root, "payload_kg", 1, 0.0, 1e3, &t->payload_kg, err)))
+    return st;
+  if (pf) {
+    if ((st = ea__ymap_double(d, root, "payload_factor", 1, 0.0, 100.0, &t->payload_factor,
+                              err)))
+      return st;
+    t->payload_kg = ea_arm_payload_from_factor(&t->arm, t->payload_factor);
+  }
+
+  if (!(n = ea__ymap_get(d, root, "start")))
+    return ea__yerr(d, root, err, EA_ERR_INPUT, "missing required key 'start'");
+  if ((st = ea__load_point(d, n, "start", &t->start, err))) return st;
+  if (!(n = ea__ymap_get(d, root, "goal")))
+    return ea__yerr(d, root, err, EA_ERR_INPUT, "missing required key 'goal'");
+  if ((st = ea__load_point(d, n, "goal", &t->goal, err))) return st;
+  if ((st = ea__ymap_seq(d, root, "via", 0, &n, err))) return st;
+  if (n) {
+    const int cnt = (int)(n->data.sequence.items.top - n->data.sequence.items.start);
+    if (cnt > EA_TASK_MAX_VIA)
+      return ea__yerr(d, n, err, EA_ERR_INPUT, "key 'via': %d points, at most %d", cnt,
+                      EA_TASK_MAX_VIA);
+    for (int i = 0; i < cnt; ++i) {
+      yaml_node_t *it = yaml_document_get_node(&d->doc, n->data.sequence.items.start[i]);
+      char what[32];
+      snprintf(what, sizeof what, "via[%d]", i);
+      if ((st = ea__load_point(d, it, what, &t->via[i], err))) return st;
+    }
+    t->n_via = cnt;
+  }
+
+  static const char *const paths[] = {"free", "line", "polyline", NULL};
+  int iv = (int)t->path;
+  if ((st = ea__ymap_enum(d, root, "path", 0, paths, &iv, err))) return st;
+  t->path = (ea_task_path_t)iv;
+  if (t->path == EA_TASK_PATH_LINE && t->n_via > 0)
+    return ea__yerr(d, ea__ymap_get(d, root, "path"), err, EA_ERR_INPUT,
+                    "key 'path': 'line' goes straight from start to goal; with via points use "
+                    "'polyline'");
+  if (t->path == EA_TASK_PATH_POLYLINE && t->n_via == 0)
+    return ea__yerr(d, ea__ymap_get(d, root, "path"), err, EA_ERR_INPUT,
+                    "key 'path': 'polyline' needs via points (or use 'line')");
+
+  static const char *const objs[] = {"min_time", "min_effort", "min_jerk", NULL};
+  n = ea__ymap_get(d, root, "objective");
+  if (n && n->type == YAML_SCALAR_NODE) {
+    iv = 0;
+    if ((st = ea__ymap_enum(d, root, "objective", 1, objs, &iv, err))) return st;
+    t->objective = (ea_task_objective_t)iv;
+  } else if (n) {
+    if (n->type != YAML_MAPPING_NODE)
+      return ea__yerr(d, n, err, EA_ERR_INPUT,
+                      "key 'objective' must be a name or a mapping {type: .., duration_s: ..}");
+    static const char *const okeys[] = {"type", "duration_s", NULL};
+    if ((st = ea__ymap_check_keys(d, n, okeys, "objective", err))) return st;
+    iv = 0;
+    if ((st = ea__ymap_enum(d, n, "type", 1, objs, &iv, err))) return st;
+    t->objective = (ea_task_objective_t)iv;
+    if ((st = ea__ymap_double(d, n, "duration_s", 0, 1e-6, 1e6, &t->duration_s, err)))
+      return st;
+    yaml_node_t *dn = ea__ymap_get(d, n, "duration_s");
+    if (dn && t->objective == EA_TASK_MIN_TIME)
+      return ea__yerr(d, dn, err, EA_ERR_INPUT,
+                      "key 'duration_s': contradicts 'type: min_time' (the duration is what "
+                      "is minimised)");
+    if (!dn && t->objective != EA_TASK_MIN_TIME)
+      return ea__yerr(d, n, err, EA_ERR_INPUT, "missing required key 'duration_s' for type %s",
+                      objs[iv]);
+  }
+  if (n) ea__ynode_where(d, n, t->where_objective, sizeof t->where_objective);
+
+  if ((st = ea__ymap_map(d, root, "limits", 0, &n, err))) return st;
+  if (n) {
+    if ((st = ea__load_limits(d, n, &t->limits, err))) return st;
+    ea__ynode_where(d, n, t->where_limits, sizeof t->where_limits);
+  }
+  long k = t->knots;
+  if ((st = ea__ymap_int(d, root, "knots", 0, 3, 4000, &k, err))) return st;
+  t->knots = (int)k;
+  if (t->n_via + 2 > t->knots)
+    return ea__yerr(d, ea__ymap_get(d, root, "knots"), err, EA_ERR_INPUT,
+                    "key 'knots': %d knots cannot hold %d via points", t->knots, t->n_via);
+  if ((st = ea__ymap_map(d, root, "solver", 0, &n, err))) return st;
+  if (n && (st = ea__load_solver(d, n, &t->solver, err))) return st;
+  if ((st = ea__ymap_map(d, root, "outputs", 0, &n, err))) return st;
+  if (n) {
+    static const char *const okeys[] = {"trajectory", "summary", "figure", NULL};
+    if ((st = ea__ymap_check_keys(d, n, okeys, "outputs", err))) return st;
+    if ((st = ea__ymap_string(d, n, "trajectory", 0, t->out_trajectory,
+                              sizeof t->out_trajectory, err)))
+      return st;
+    if ((st = ea__ymap_string(d, n, "summary", 0, t->out_summary, sizeof t->out_summary, err)))
+      return st;
+    if ((st = ea__ymap_string(d, n, "figure", 0, t->out_figure, sizeof t->out_figure, err)))
+      return st;
+    const char *fig = t->out_figure;
+    const char *ext = strrchr(fig, '.');
+    if (fig[0] && !(ext && (!strcmp(ext, ".svg") || !strcmp(ext, ".png") || !strcmp(ext, ".pdf"))))
+      return ea__yerr(d, ea__ymap_get(d, n, "figure"), err, EA_ERR_INPUT,
+                      "key 'figure': '%s' must end in .svg, .png or .pdf", fig);
+  }
+  return ea_task_check(t, err);
+}
+
+ea_status_t ea_task_load_string(const char *name, const char *text, size_t len,
+                                const char *default_arm, ea_task_t *task, ea_error_t *err) {
+  if (!text || !task) return ea_error_set(err, EA_ERR_ARG, "ea_task_load_string: NULL argument");
+  ea__ydoc_t d;
+  ea_status_t st = ea__ydoc_load(&d, name, text, len, err);
+  if (!st) st = ea__task_from_doc(&d, default_arm, task, err);
+  ea__ydoc_free(&d);
+  return st;
+}
+
+ea_status_t ea_task_load(const char *path, const char *default_arm, ea_task_t *task,
+                         ea_error_t *err) {
+  if (!path || !task) return ea_error_set(err, EA_ERR_ARG, "ea_task_load: NULL argument");
+  ea__ydoc_t d;
+  ea_status_t st = ea__ydoc_load(&d, path, NULL, 0, err);
+  if (!st) st = ea__task_from_doc(&d, default_arm, task, err);
+  ea__ydoc_free(&d);
+  return st;
+}
