@@ -423,6 +423,13 @@ typedef struct ea_fe_static_info {
 ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh,
                                const ea_statics_solution_t *ode,
                                ea_fe_static_info_t *info, ea_error_t *err);
+/** Make the positions consistent with the rotations: with every nodal theta
+ *  held, move the nodes so that the axial and shear strains balance the
+ *  loads (a linear solve). Use it after displacing a state by hand (e.g. a
+ *  static state plus a mode shape): a linear mode carries second-order axial
+ *  strains that, times EA, would start a transient with a violent axial
+ *  impulse. */
+ea_status_t ea_fe_relax_positions(ea_fe_model_t *m, ea_error_t *err);
 /** Newton-Raphson from the current state, in the current cable phase, with
  *  theta0 held. The velocity is set to zero. */
 ea_status_t ea_fe_newton(ea_fe_model_t *m, ea_fe_static_info_t *info, ea_error_t *err);

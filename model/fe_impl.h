@@ -102,6 +102,10 @@ void ea__fe_passive_equiv(const ea_fe_model_t *m, const double *q,
 /** Newton on the free DOFs of q (full, node 0 held) for the given phase. */
 ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
                             double value, ea_fe_static_info_t *info, ea_error_t *err);
+/** Positions relaxed to the rotations (theta held): iters Newton steps on
+ *  the position rows only. */
+ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
+                                   double value, int iters);
 /** Wall clock [s]. */
 double ea__fe_now(void);
 

@@ -8,8 +8,6 @@
  * scaled back (a guard for starts far from equilibrium; never active near it). */
 #define EA__FE_MAX_DTHETA 0.3
 
-static ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
-                                          double value, int iters);
 
 /* Newton-Raphson on the free DOFs of q. With tip != NULL (ACTIVE phase only)
  * the tension *value and theta0 = q[2] are unknowns as well and the tip is
@@ -131,8 +129,8 @@ ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t pha
  * the ODE shape, whose quadratic interpolation carries strains ~h^2 kappa^2
  * (times EA ~ 1e8 N), into a start with the right axial and shear forces;
  * the full Newton then only corrects the moment balance. */
-static ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
-                                          double value, int iters) {
+ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
+                                   double value, int iters) {
   for (int it = 0; it < iters; ++it) {
     ea__fe_assemble(m, q, phase, value, m->fi, m->Kb);
     for (int i = 0; i < m->nf; ++i) m->r[i] = m->fi[i + 3];
@@ -148,6 +146,16 @@ static ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cab
     if (st) return st;
     for (int i = 0; i < m->nf; ++i) q[i + 3] -= m->dq[i];
   }
+  return EA_OK;
+}
+
+ea_status_t ea_fe_relax_positions(ea_fe_model_t *m, ea_error_t *err) {
+  if (!m) return ea_error_set(err, EA_ERR_ARG, "fe relax: model is NULL");
+  memcpy(m->qs, m->q, sizeof(double) * (size_t)m->nd);
+  ea_status_t st = ea__fe_relax_positions(m, m->qs, m->phase, m->cable_value, 2);
+  if (st) return ea_error_set(err, st, "fe relax: singular position block");
+  memcpy(m->q, m->qs, sizeof(double) * (size_t)m->nd);
+  m->modes_valid = 0;
   return EA_OK;
 }
 

@@ -345,6 +345,138 @@ static void test_fig5(void) {
   ea_shooter_free(sh);
 }
 
+/* ---- (d) dynamics ---- */
+
+static void test_dynamics(void) {
+  printf("--- (d) transient: energy conservation and first frequency ---\n");
+  ea_arm_t a;
+  ea_arm_default(&a);
+  ea_shooter_t *sh = NULL;
+  ea_fe_model_t *m = NULL;
+  ea_fe_settings_t fs;
+  ea_fe_settings_default(&fs);
+  fs.static_hold_tip = 1;
+  ea_statics_solution_t sol;
+  ea_error_t e;
+  if (ea_shooter_alloc(&a, NULL, &sh, NULL) || ea_fe_model_alloc(&a, &fs, &m, NULL) ||
+      ode_solve(sh, 0.4, 0.0, &sol) || ea_fe_static_solve(m, sh, &sol, NULL, &e)) {
+    ea_test_true(0, "setup");
+    return;
+  }
+  ea_fe_cable_make_passive(m);
+  ea_fe_modes_info_t mi;
+  ea_fe_modes(m, &mi, NULL);
+  const int nd = 3 * ea_fe_model_nodes(m);
+  double *qs = calloc((size_t)nd, sizeof *qs), *phi = calloc((size_t)nd, sizeof *phi),
+         *q = calloc((size_t)nd, sizeof *q);
+  ea_fe_get_state(m, qs, NULL);
+  ea_fe_mode_shape(m, 0, phi);
+  /* release from the static state displaced 1 mm along mode 1 */
+  for (int i = 0; i < nd; ++i) q[i] = qs[i] + 1e-3 * phi[i];
+  ea_fe_set_state(m, q, NULL);
+  ea_fe_relax_positions(m, NULL);
+  ea_fe_get_state(m, q, NULL);
+  const double f1 = mi.freq_hz[0], T1 = 1.0 / f1;
+  ea_fe_sim_settings_t ss;
+  ea_fe_sim_settings_default(&ss);
+  ss.dt = T1 / 200.0;
+  ss.t_end = 1000 * ss.dt;
+  ea_fe_sim_info_t si;
+  const int cap = 1001;
+  double *tip = calloc(4 * (size_t)cap, sizeof *tip);
+  ea_status_t st = ea_fe_simulate(m, NULL, &ss, tip, cap, &si, &e);
+  printf("f1 = %.6f Hz, dt = %.3e s, %d steps, %d Newton it (max %d/step), %.1f ms\n", f1, ss.dt,
+         si.steps, si.newton_iterations, si.max_step_iterations, 1e3 * si.time_s);
+  ea_test_true(st == EA_OK && si.steps == 1000, "1000 steps integrated");
+  const double rel = si.energy_drift_max / si.kinetic_max;
+  printf("energy: E0 = %.12f J, max |E - E0| = %.3e J, max kinetic %.3e J, ratio %.2e\n",
+         si.energy_start, si.energy_drift_max, si.kinetic_max, rel);
+  ea_test_true(rel < 1e-6, "energy conserved to 1e-6 of the oscillation energy over 1000 steps");
+  /* period from upward zero crossings of the tip y about the static tip */
+  const double y0 = qs[nd - 2];
+  for (int k = 0; k < si.rows; k += 250) printf("  t %.4f x %.7f y %.7f\n", tip[4 * k], tip[4 * k + 1] - qs[nd - 3], tip[4 * k + 2] - y0);
+  double tc[64];
+  int nc = 0;
+  for (int k = 1; k < si.rows && nc < 64; ++k) {
+    const double a0 = tip[4 * (k - 1) + 2] - y0, a1 = tip[4 * k + 2] - y0;
+    if (a0 < 0.0 && a1 >= 0.0)
+      tc[nc++] = tip[4 * (k - 1)] + (tip[4 * k] - tip[4 * (k - 1)]) * a0 / (a0 - a1);
+  }
+  const double Tm = (nc >= 2) ? (tc[nc - 1] - tc[0]) / (nc - 1) : NAN;
+  printf("zero crossings %d: measured f = %.6f Hz vs eigen-solver %.6f Hz (%.3f %%)\n", nc, 1.0 / Tm,
+         f1, 100.0 * (1.0 / Tm / f1 - 1.0));
+  ea_test_rel(1.0 / Tm, f1, 5e-3, "oscillation frequency = first eigenfrequency (0.5 %)");
+  /* residual vibration measure: a damped release settles */
+  ea_fe_set_state(m, q, NULL);
+  ss.t_end = 3.0;
+  ss.dt = 2e-3;
+  ss.t_motion_end = 0.0;
+  ss.rayleigh_mass = 2.0;
+  st = ea_fe_simulate(m, NULL, &ss, NULL, 0, &si, &e);
+  printf("damped release (a = 2/s): residual rms %.3e m, peak %.3e m\n", si.residual_rms,
+         si.residual_peak);
+  ea_test_true(st == EA_OK && si.residual_peak > 0.9e-3 && si.residual_peak < 1.5e-3,
+               "residual peak ~ initial 1 mm amplitude");
+  ea_test_true(si.residual_rms < 0.5 * si.residual_peak, "residual rms below peak (decay)");
+  free(tip);
+  free(q);
+  free(qs);
+  free(phi);
+  ea_fe_model_free(m);
+  ea_shooter_free(sh);
+}
+
+/* ---- (e) bad arguments ---- */
+
+static void test_bad_args(void) {
+  printf("--- (e) bad arguments ---\n");
+  ea_arm_t a;
+  ea_arm_default(&a);
+  ea_fe_settings_t s;
+  ea_fe_settings_default(&s);
+  ea_fe_model_t *m = NULL;
+  ea_error_t e;
+  ea_test_true(ea_fe_model_alloc(NULL, NULL, &m, &e) != EA_OK && m == NULL, "alloc: NULL arm");
+  ea_test_true(ea_fe_model_alloc(&a, NULL, NULL, &e) == EA_ERR_ARG, "alloc: NULL out");
+  s.elements = 0;
+  ea_test_true(ea_fe_model_alloc(&a, &s, &m, &e) == EA_ERR_ARG, "alloc: 0 elements");
+  ea_fe_settings_default(&s);
+  s.modes = EA_FE_MAX_MODES + 1;
+  ea_test_true(ea_fe_model_alloc(&a, &s, &m, &e) == EA_ERR_ARG, "alloc: too many modes");
+  ea_fe_settings_default(&s);
+  s.newton_tol = -1.0;
+  ea_test_true(ea_fe_model_alloc(&a, &s, &m, &e) == EA_ERR_ARG, "alloc: negative tolerance");
+  ea_arm_t bad = a;
+  bad.EI = -1.0;
+  ea_test_true(ea_fe_model_alloc(&bad, NULL, &m, &e) == EA_ERR_INPUT, "alloc: EI < 0");
+  ea_fe_model_free(NULL);
+  ea_test_true(1, "free(NULL) is a no-op");
+  if (ea_fe_model_alloc(&a, NULL, &m, &e)) {
+    ea_test_true(0, "alloc");
+    return;
+  }
+  ea_test_true(ea_fe_set_cable(m, EA_FE_CABLE_PASSIVE, -0.1) == EA_ERR_ARG, "negative rest length");
+  ea_test_true(ea_fe_set_cable(m, EA_FE_CABLE_ACTIVE, NAN) == EA_ERR_ARG, "NaN tension");
+  ea_test_true(ea_fe_set_straight(m, INFINITY) == EA_ERR_ARG, "infinite theta0");
+  ea_test_true(ea_fe_static_solve(m, NULL, NULL, NULL, &e) == EA_ERR_ARG, "static: NULL shooter");
+  ea_test_true(ea_fe_mode_shape(m, 0, NULL) == EA_ERR_ARG, "mode shape: NULL");
+  double phi[3];
+  ea_test_true(ea_fe_mode_shape(m, 0, phi) == EA_ERR_ARG, "mode shape before ea_fe_modes");
+  ea_fe_sim_settings_t ss;
+  ea_fe_sim_settings_default(&ss);
+  ss.dt = 0.0;
+  ea_test_true(ea_fe_simulate(m, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_ARG, "simulate: dt = 0");
+  ea_fe_sim_settings_default(&ss);
+  ss.scheme = EA_FE_SCHEME_GENALPHA;
+  ea_test_true(ea_fe_simulate(m, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_NOTIMPL,
+               "simulate: generalized-alpha reported as not implemented");
+  ea_test_true(ea_fe_simulate(NULL, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_ARG, "simulate: NULL");
+  ea_fe_samples_t hs = {0, NULL, NULL};
+  double v, r;
+  ea_test_true(ea_fe_samples_eval(0.0, &v, &r, &hs) != 0, "samples: empty history");
+  ea_fe_model_free(m);
+}
+
 int main(void) {
   gsl_set_error_handler_off();
   test_cantilever();
@@ -352,5 +484,7 @@ int main(void) {
   test_static_linear();
   test_static();
   test_fig5();
+  test_dynamics();
+  test_bad_args();
   return ea_test_summary("test_fe");
 }
