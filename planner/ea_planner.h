@@ -224,6 +224,324 @@ ea_status_t ea_plan_figure(ea_planner_t *pl, const char *path, ea_error_t *err);
 /* EA_PLAN_SECTION_END */
 
 /* EA_STREAM_SECTION_BEGIN (command streamer: planner/stream_*.c) */
+
+/* Command streamer (docs/streaming.md) and its wire format (docs/protocol.md):
+ * trajectory -> actuator setpoints at the controller rate -> frames -> a
+ * transport (tcp, udp, serial, file) -> a controller (or controller-sim). */
+
+#include <signal.h>
+#include <stdint.h>
+
+/** Version of the wire format (docs/protocol.md). */
+#define EA_PROTO_VERSION 1
+/** Frame magic, bytes 'E' 'A' 'S' 'F' on the wire (0x46534145 read as LE u32). */
+#define EA_PROTO_MAGIC 0x46534145u
+/** Bytes of the fixed header (magic .. timestamp) and of the trailing CRC. */
+#define EA_PROTO_HEADER_BYTES 20
+#define EA_PROTO_CRC_BYTES 4
+/** Largest frame on the wire [bytes]. */
+#define EA_PROTO_FRAME_MAX 256
+
+/** One actuator setpoint in motor coordinates (what goes on the wire). */
+typedef struct ea_setpoint {
+  double spool_pos[2];     /**< [rad] spool motor positions (both spools; equal) */
+  double spool_vel[2];     /**< [rad/s] */
+  double spool_acc[2];     /**< [rad/s^2] */
+  double shoulder_pos;     /**< [rad] shoulder motor = theta0 */
+  double shoulder_vel;     /**< [rad/s] */
+  double shoulder_acc;     /**< [rad/s^2] */
+  double base_pos;         /**< [rad] base motor */
+  double base_vel;         /**< [rad/s] */
+  double base_acc;         /**< [rad/s^2] */
+  double shoulder_torque;  /**< [N m] feed-forward EI kappa0 */
+  double tension;          /**< [N] cable tension feed-forward */
+} ea_setpoint_t;
+
+/** Number of doubles of an ::ea_setpoint_t on the wire. */
+#define EA_SETPOINT_DOUBLES 14
+
+/** The same point in the trajectory's (joint) coordinates. */
+typedef struct ea_joint_state {
+  double cable_length, cable_length_rate, cable_length_acc; /**< [m], [m/s], [m/s^2] */
+  double theta0, theta0_rate, theta0_acc;                   /**< [rad], [rad/s], [rad/s^2] */
+  double base_angle, base_angle_rate, base_angle_acc;       /**< [rad], [rad/s], [rad/s^2] */
+  double tension;                                           /**< [N] */
+  double kappa0;                                            /**< [1/m] */
+} ea_joint_state_t;
+
+/** Joint state -> motor setpoint: spool = (L_c - zero_length) / radius *
+ *  gear_ratio (both spools), shoulder = theta0, base = base angle, torque
+ *  feed-forward EI kappa0, tension feed-forward T. */
+void ea_stream_map(const ea_arm_t *arm, const ea_joint_state_t *q, ea_setpoint_t *sp);
+/** Inverse of ea_stream_map (spool 0 is used for the cable length). */
+void ea_stream_unmap(const ea_arm_t *arm, const ea_setpoint_t *sp, ea_joint_state_t *q);
+
+/** Check one setpoint against every limit of the arm file (ranges, speeds,
+ *  accelerations, tension, shoulder torque; both spools must agree). tol is a
+ *  relative slack (e.g. 1e-9). On failure err->msg names the quantity, its
+ *  value and the bound; returns EA_ERR_INADMISSIBLE. */
+ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp, double tol,
+                                   ea_error_t *err);
+
+/** Evaluate a trajectory at time t [s] (clamped to its span): quintic
+ *  Hermite of value, rate and acceleration for cable length and base angle;
+ *  theta0 quintic with accelerations from centred differences of its rates;
+ *  tension and kappa0 cubic Hermite with centred-difference slopes. */
+ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t *q);
+
+/** Resample tr at rate_hz: n = ceil(duration * rate) + 1 setpoints at
+ *  t_k = t_0 + min(k / rate, duration), mapped to motor coordinates and
+ *  checked against the arm's limits (tol relative slack). *out is malloc'd
+ *  (caller frees); on a limit violation err->msg names the sample and time. */
+ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                               double tol, ea_setpoint_t **out, int *n, ea_error_t *err);
+
+/** Controlled stop from sp (position, velocity, acceleration of each axis):
+ *  every axis follows v(s) = v0 h00(s) + T a0 h10(s) (cubic Hermite in
+ *  s = t / T to v = a = 0), all axes with one common duration T, the
+ *  shortest multiple of 1/rate_hz that keeps every |acceleration| within
+ *  margin * limit. Feed-forwards are held. Writes at most max setpoints
+ *  (the last at rest) to out; returns their number (>= 1), or -1 if max is
+ *  too small. */
+int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rate_hz,
+                        double margin, ea_setpoint_t *out, int max);
+
+/* ---- Frames ------------------------------------------------------------ */
+
+/** Frame types (docs/protocol.md). */
+typedef enum ea_frame_type {
+  EA_FRAME_HELLO = 0x01,     /**< streamer -> controller: session start */
+  EA_FRAME_SETPOINT = 0x02,  /**< streamer -> controller: one setpoint */
+  EA_FRAME_HEARTBEAT = 0x03, /**< either way: keep-alive, no payload */
+  EA_FRAME_END = 0x04,       /**< streamer -> controller: session end */
+  EA_FRAME_ACK = 0x81,       /**< controller -> streamer: acknowledgement */
+  EA_FRAME_NACK = 0x82       /**< controller -> streamer: rejection */
+} ea_frame_type_t;
+
+/** Setpoint flags. */
+enum { EA_SP_FLAG_LAST = 1u, EA_SP_FLAG_STOP = 2u };
+
+/** Controller states reported in ACK/NACK. */
+typedef enum ea_ctrl_state {
+  EA_CTRL_IDLE = 0,     /**< no session */
+  EA_CTRL_READY = 1,    /**< session open, holding position */
+  EA_CTRL_RUNNING = 2,  /**< executing setpoints */
+  EA_CTRL_STOPPING = 3, /**< executing a controlled stop */
+  EA_CTRL_DONE = 4,     /**< session ended, at rest */
+  EA_CTRL_FAULT = 5     /**< stopped after a fault; needs a new session */
+} ea_ctrl_state_t;
+
+/** NACK reasons (also in ACK: 0). */
+typedef enum ea_nack_reason {
+  EA_NACK_NONE = 0,
+  EA_NACK_CRC = 1,        /**< bad CRC or malformed frame */
+  EA_NACK_SEQUENCE = 2,   /**< duplicate or out-of-order sequence number */
+  EA_NACK_LIMIT = 3,      /**< setpoint beyond the arm's limits */
+  EA_NACK_CONTINUITY = 4, /**< jump from the previous setpoint */
+  EA_NACK_OVERFLOW = 5,   /**< controller buffer full */
+  EA_NACK_STATE = 6,      /**< frame not allowed in this state */
+  EA_NACK_VERSION = 7     /**< unsupported protocol version */
+} ea_nack_reason_t;
+
+/** END reasons. */
+typedef enum ea_end_reason {
+  EA_END_COMPLETE = 0,    /**< every setpoint sent */
+  EA_END_STOPPED = 1,     /**< controlled stop after NACK, timeout or interrupt */
+  EA_END_REFUSED = 2      /**< handshake refused by the streamer */
+} ea_end_reason_t;
+
+/** Decoded frame (all types share one flat struct; fields per type in
+ *  docs/protocol.md). */
+typedef struct ea_frame {
+  uint8_t version;      /**< EA_PROTO_VERSION */
+  uint8_t type;         /**< ::ea_frame_type_t */
+  uint32_t seq;         /**< sequence number (streamer: HELLO 0, then +1 per frame) */
+  uint64_t time_us;     /**< [us] setpoint time since the session start (sender clock) */
+  /* SETPOINT, HELLO (the trajectory's start) */
+  uint32_t flags;       /**< SETPOINT: EA_SP_FLAG_*; END: ::ea_end_reason_t */
+  ea_setpoint_t sp;
+  /* HELLO */
+  uint32_t rate_hz;     /**< setpoint rate */
+  uint32_t count;       /**< HELLO: setpoints planned; END: setpoints sent */
+  uint32_t heartbeat_ms;/**< HELLO: heartbeat period */
+  /* ACK / NACK */
+  uint32_t ack_seq;     /**< highest sequence number accepted */
+  uint32_t accepted;    /**< setpoints accepted so far */
+  uint32_t rejected;    /**< frames rejected so far */
+  uint16_t buffer_level;/**< setpoints buffered, not yet executed */
+  uint16_t buffer_capacity;
+  uint8_t state;        /**< ::ea_ctrl_state_t */
+  uint8_t reason;       /**< ::ea_nack_reason_t */
+  double actual[4];     /**< controller's positions: spool 0, spool 1, shoulder, base [rad] */
+} ea_frame_t;
+
+/** CRC-32 (IEEE 802.3 / zlib: reflected 0xEDB88320, init and xorout
+ *  0xFFFFFFFF); crc = 0 to start, pass the previous value to continue. */
+uint32_t ea_crc32(uint32_t crc, const void *buf, size_t len);
+
+/** Encode f into buf (cap bytes, >= EA_PROTO_FRAME_MAX is always enough);
+ *  returns the frame's length or 0 if f->type is unknown or cap too small. */
+size_t ea_frame_encode(const ea_frame_t *f, uint8_t *buf, size_t cap);
+
+/** Decode exactly one frame of len bytes. EA_ERR_PROTOCOL with err->msg if
+ *  the magic, version, type, length or CRC is wrong, or a value is not finite. */
+ea_status_t ea_frame_decode(const uint8_t *buf, size_t len, ea_frame_t *f, ea_error_t *err);
+
+/** Incremental parser of a byte stream (TCP, serial): feed bytes, take
+ *  frames. A bad frame is skipped by resynchronising on the next magic and
+ *  counted. No allocation. */
+typedef struct ea_frame_parser {
+  uint8_t buf[2 * EA_PROTO_FRAME_MAX];
+  size_t len;
+  uint64_t bad_frames;  /**< frames dropped (CRC, length, version, type, values) */
+  uint64_t skipped_bytes; /**< bytes discarded while resynchronising */
+} ea_frame_parser_t;
+
+void ea_frame_parser_init(ea_frame_parser_t *p);
+/** Append up to len bytes; returns how many were taken (less when full:
+ *  call ea_frame_parser_next and feed the rest). */
+size_t ea_frame_parser_feed(ea_frame_parser_t *p, const uint8_t *data, size_t len);
+/** Next complete frame: 1 = f filled, 0 = need more bytes, -1 = a bad frame
+ *  was dropped (call again). */
+int ea_frame_parser_next(ea_frame_parser_t *p, ea_frame_t *f);
+
+/* ---- Streamer ---------------------------------------------------------- */
+
+/** Streamer settings (ea_stream_settings_default fills them). */
+typedef struct ea_stream_settings {
+  double rate_hz;         /**< setpoint rate (default 1000) */
+  double limit_tol;       /**< relative slack of the limits check (default 1e-9) */
+  double stop_margin;     /**< stop ramp uses at most this fraction of the accel limits (0.9) */
+  double ack_timeout_s;   /**< outstanding frames without an ACK this long -> stop (0.1) */
+  double handshake_timeout_s; /**< wait for the HELLO answer (1.0) */
+  double end_timeout_s;   /**< wait for the END answer (1.0) */
+  double heartbeat_s;     /**< heartbeat period when no setpoint is due (0.1) */
+  double start_tol_cable; /**< [m] handshake tolerance on L_c (1e-3) */
+  double start_tol_angle; /**< [rad] handshake tolerance on theta0 and base (0.01) */
+  int realtime;           /**< 1: pace at rate_hz (default); 0: as fast as possible */
+  int wait_acks;          /**< 1: handshake and ACKs (default); 0: dry run (file:) */
+  const volatile sig_atomic_t *stop_request; /**< nonzero -> controlled stop (SIGINT) */
+} ea_stream_settings_t;
+
+void ea_stream_settings_default(ea_stream_settings_t *s);
+ea_status_t ea_stream_settings_validate(const ea_stream_settings_t *s, ea_error_t *err);
+
+/** Why the stream ended. */
+typedef enum ea_stream_end {
+  EA_STREAM_COMPLETE = 0,    /**< every setpoint sent and acknowledged */
+  EA_STREAM_REFUSED,         /**< handshake: controller not at the trajectory's start */
+  EA_STREAM_STOP_NACK,       /**< controller rejected a frame: controlled stop */
+  EA_STREAM_STOP_ACK_TIMEOUT,/**< acknowledgements stopped: controlled stop */
+  EA_STREAM_STOP_INTERRUPT,  /**< stop requested (SIGINT): controlled stop */
+  EA_STREAM_DISCONNECTED,    /**< link lost: the controller's watchdog must stop */
+  EA_STREAM_ERROR            /**< could not start (connect, handshake timeout) */
+} ea_stream_end_t;
+
+const char *ea_stream_end_name(ea_stream_end_t e);
+
+/** Summary of a stream. */
+typedef struct ea_stream_info {
+  ea_status_t status;      /**< EA_OK only for EA_STREAM_COMPLETE */
+  ea_stream_end_t end;
+  int setpoints;           /**< setpoints of the resampled trajectory */
+  int frames_sent;         /**< setpoint frames written (stop ramp included) */
+  int stop_frames;         /**< of which stop ramp */
+  int frames_acked;        /**< setpoints the controller reported accepted */
+  int frames_late;         /**< sent more than half a period after their deadline */
+  int nacks;               /**< NACK frames received */
+  int acks;                /**< ACK frames received */
+  int ctrl_rejected;       /**< frames the controller reported rejected */
+  int ctrl_state;          /**< last reported ::ea_ctrl_state_t (-1 none) */
+  int nack_reason;         /**< reason of the first NACK */
+  int buffer_min, buffer_max; /**< controller buffer level seen in ACKs */
+  int ack_bad_frames;      /**< malformed frames received from the controller */
+  double jitter_p50_us, jitter_p99_us, jitter_max_us; /**< |send time - deadline| */
+  double ack_latency_max_ms; /**< longest wait for an outstanding frame's ACK */
+  double duration_s;       /**< wall time of the setpoint phase */
+} ea_stream_info_t;
+
+/** Stream setpoints sp[0..n-1] to the transport named by url
+ *  ("tcp://HOST:PORT", "udp://HOST:PORT", "serial:DEVICE[@BAUD]",
+ *  "file:PATH", "file:-" = stdout): handshake, paced sending, ACKs, and on
+ *  NACK / ACK timeout / stop request a controlled stop. Never prints.
+ * @param[out] info summary (always filled)
+ * @return EA_OK if complete; EA_ERR_INADMISSIBLE refused handshake;
+ *         EA_ERR_PROTOCOL NACK; EA_ERR_NET link; EA_ERR_INTERRUPTED stop request */
+ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, const char *url,
+                          const ea_stream_settings_t *s, ea_stream_info_t *info,
+                          ea_error_t *err);
+
+/* ---- Controller simulator ---------------------------------------------- */
+
+/** Faults the simulator injects. */
+typedef enum ea_ctrl_fault {
+  EA_FAULT_NONE = 0,
+  EA_FAULT_DROP_AFTER,   /**< close the link after N accepted setpoints */
+  EA_FAULT_DELAY_ACK,    /**< delay every ACK by N ms */
+  EA_FAULT_WITHHOLD_ACK, /**< answer HELLO, never acknowledge setpoints */
+  EA_FAULT_CORRUPT_EVERY /**< flip a byte of every N-th received frame */
+} ea_ctrl_fault_t;
+
+/** Simulator settings (ea_ctrl_settings_default fills them). */
+typedef struct ea_ctrl_settings {
+  int udp;               /**< 0: TCP (default), 1: UDP */
+  int max_frames;        /**< stop after this many setpoints (0 = no limit) */
+  double timeout_s;      /**< give up when no session/frame for this long (10) */
+  double watchdog_s;     /**< RUNNING without a frame this long -> own stop (0.1) */
+  int buffer_capacity;   /**< simulated setpoint buffer (256) */
+  double limit_tol;      /**< relative slack of the limits check (1e-6) */
+  double continuity_tol; /**< relative slack of the continuity check (0.05) */
+  ea_ctrl_fault_t fault;
+  long fault_arg;        /**< N or ms of the fault */
+  int has_initial;       /**< 1: report initial[] at HELLO; 0: adopt the HELLO's start */
+  double initial[3];     /**< L_c [m], theta0 [rad], base [rad] */
+  const volatile sig_atomic_t *stop_request; /**< nonzero -> end */
+} ea_ctrl_settings_t;
+
+void ea_ctrl_settings_default(ea_ctrl_settings_t *s);
+
+/** One logged setpoint. */
+typedef struct ea_ctrl_log_row {
+  uint32_t seq;          /**< sequence number (0 for the simulator's own stop) */
+  double time_s;         /**< [s] setpoint time from the frame (own stop: extrapolated) */
+  double recv_s;         /**< [s] receive time since the first setpoint */
+  int source;            /**< 0 received, 1 stop ramp received, 2 own stop (watchdog, drop) */
+  ea_setpoint_t sp;
+} ea_ctrl_log_row_t;
+
+/** Simulator summary. */
+typedef struct ea_ctrl_info {
+  ea_status_t status;
+  int sessions;          /**< HELLOs answered */
+  int accepted;          /**< setpoints accepted */
+  int rejected;          /**< frames rejected (all reasons) */
+  int rejected_crc, rejected_seq, rejected_limit, rejected_continuity;
+  int gaps;              /**< setpoints missing between accepted sequence numbers */
+  int own_stop_frames;   /**< setpoints of the simulator's own stop */
+  int end_received;      /**< 1 if END arrived */
+  uint32_t end_reason;   /**< its reason */
+  int final_state;       /**< ::ea_ctrl_state_t at exit */
+  int max_buffer;        /**< highest buffer level */
+} ea_ctrl_info_t;
+
+typedef struct ea_ctrl ea_ctrl_t;
+
+/** Bind and listen on "HOST:PORT" (PORT 0 = ephemeral; see ea_ctrl_port).
+ *  HOST must be a numeric address; loopback unless the caller chose otherwise. */
+ea_status_t ea_ctrl_open(const ea_arm_t *arm, const char *listen, const ea_ctrl_settings_t *s,
+                         ea_ctrl_t **out, ea_error_t *err);
+/** Bound port. */
+int ea_ctrl_port(const ea_ctrl_t *c);
+/** Serve one session: accept, handshake, check and log setpoints, answer,
+ *  until END, the link drops, max_frames, a timeout or a stop request.
+ *  Never prints. */
+ea_status_t ea_ctrl_run(ea_ctrl_t *c, ea_ctrl_info_t *info, ea_error_t *err);
+/** The log: rows in receive order (own stop rows last). Owned by c. */
+const ea_ctrl_log_row_t *ea_ctrl_log(const ea_ctrl_t *c, int *n);
+/** Write the log as CSV, atomically. */
+ea_status_t ea_ctrl_log_write(const ea_ctrl_t *c, const char *path, ea_error_t *err);
+void ea_ctrl_free(ea_ctrl_t *c);
+
 /* EA_STREAM_SECTION_END */
 
 #ifdef __cplusplus

@@ -1,0 +1,77 @@
+/* Private: command streamer internals shared by planner/stream_*.c, the
+ * stream tests and the fuzz target. */
+#ifndef EA_STREAM_IMPL_H
+#define EA_STREAM_IMPL_H
+
+#include "ea_planner.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* ---- Time (CLOCK_MONOTONIC) -------------------------------------------- */
+
+/** Monotonic time [ns]. */
+int64_t ea__mono_ns(void);
+/** Sleep until the absolute monotonic time t_ns (clock_nanosleep
+ *  TIMER_ABSTIME; restarts on EINTR unless *stop becomes nonzero). */
+void ea__sleep_until_ns(int64_t t_ns, const volatile sig_atomic_t *stop);
+/** q-quantile (0..1) of v[0..n-1]; sorts v in place. NAN if n == 0. */
+double ea__quantile(double *v, int n, double q);
+
+/* ---- Transports ---------------------------------------------------------- */
+
+typedef enum ea__tr_kind { EA__TR_TCP = 0, EA__TR_UDP, EA__TR_SERIAL, EA__TR_FILE } ea__tr_kind_t;
+
+typedef struct ea__transport {
+  ea__tr_kind_t kind;
+  int fd;            /**< socket / tty; -1 for file */
+  ea_afile_t file;   /**< file: transport (atomic), "-" = stdout */
+  int is_open;
+} ea__transport_t;
+
+/** Split "HOST:PORT" ("[v6]:PORT" too); port in [0, 65535]. */
+ea_status_t ea__split_hostport(const char *s, char *host, size_t hcap, int *port,
+                               ea_error_t *err);
+/** Baud rate constant of termios for bits/s; 0 if unsupported. */
+unsigned ea__baud_constant(long bps);
+/** Put a tty fd in raw 8N1 mode at bps. */
+ea_status_t ea__serial_setup(int fd, long bps, ea_error_t *err);
+/** Open the transport named by url (see ea_stream_run). */
+ea_status_t ea__transport_open(ea__transport_t *t, const char *url, ea_error_t *err);
+/** Write all len bytes (one datagram for UDP). EA_ERR_NET on a lost link. */
+ea_status_t ea__transport_send(ea__transport_t *t, const uint8_t *buf, size_t len,
+                               ea_error_t *err);
+/** Read what is available, waiting at most timeout_ms (0 = poll). Returns
+ *  bytes read (0 = none), -1 if the link is closed or failed. File: 0. */
+long ea__transport_recv(ea__transport_t *t, uint8_t *buf, size_t cap, int timeout_ms);
+/** Close; file transport: commit = 1 renames the file into place. */
+ea_status_t ea__transport_close(ea__transport_t *t, int commit, ea_error_t *err);
+
+/* ---- Little-endian helpers ---------------------------------------------- */
+
+void ea__put_u16(uint8_t *p, uint16_t v);
+void ea__put_u32(uint8_t *p, uint32_t v);
+void ea__put_u64(uint8_t *p, uint64_t v);
+void ea__put_f64(uint8_t *p, double v);
+uint16_t ea__get_u16(const uint8_t *p);
+uint32_t ea__get_u32(const uint8_t *p);
+uint64_t ea__get_u64(const uint8_t *p);
+double ea__get_f64(const uint8_t *p);
+
+/** Payload length of a frame type; -1 if the type is unknown. */
+int ea__frame_payload_len(uint8_t type);
+
+/* ---- Controller simulator on an already open fd (tests: pty master) ---- */
+
+/** Like ea_ctrl_open, but serve the byte stream fd (a serial line, a pty
+ *  master); c takes ownership of fd. */
+ea_status_t ea__ctrl_open_fd(const ea_arm_t *arm, int fd, const ea_ctrl_settings_t *s,
+                             ea_ctrl_t **out, ea_error_t *err);
+
+/* ---- Setpoint helpers ---------------------------------------------------- */
+
+/** Pack / unpack the 14 doubles of a setpoint in wire order. */
+void ea__setpoint_to_array(const ea_setpoint_t *sp, double v[EA_SETPOINT_DOUBLES]);
+void ea__setpoint_from_array(const double v[EA_SETPOINT_DOUBLES], ea_setpoint_t *sp);
+
+#endif

@@ -1,0 +1,315 @@
+/* Command streamer: actuator mapping, resampling at the controller rate
+ * (quintic Hermite), the limits check, and the controlled-stop ramp. */
+#include "stream_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- Mapping --------------------------------------------------------------- */
+
+void ea_stream_map(const ea_arm_t *arm, const ea_joint_state_t *q, ea_setpoint_t *sp) {
+  const ea_actuators_t *a = &arm->act;
+  const double k = a->spool_gear_ratio / a->spool_radius; /* [rad/m] motor per cable */
+  memset(sp, 0, sizeof *sp);
+  for (int i = 0; i < 2; ++i) {
+    sp->spool_pos[i] = (q->cable_length - a->spool_zero_length) * k;
+    sp->spool_vel[i] = q->cable_length_rate * k;
+    sp->spool_acc[i] = q->cable_length_acc * k;
+  }
+  sp->shoulder_pos = q->theta0;
+  sp->shoulder_vel = q->theta0_rate;
+  sp->shoulder_acc = q->theta0_acc;
+  sp->base_pos = q->base_angle;
+  sp->base_vel = q->base_angle_rate;
+  sp->base_acc = q->base_angle_acc;
+  sp->shoulder_torque = arm->EI * q->kappa0;
+  sp->tension = q->tension;
+}
+
+void ea_stream_unmap(const ea_arm_t *arm, const ea_setpoint_t *sp, ea_joint_state_t *q) {
+  const ea_actuators_t *a = &arm->act;
+  const double k = a->spool_radius / a->spool_gear_ratio; /* [m/rad] */
+  q->cable_length = a->spool_zero_length + sp->spool_pos[0] * k;
+  q->cable_length_rate = sp->spool_vel[0] * k;
+  q->cable_length_acc = sp->spool_acc[0] * k;
+  q->theta0 = sp->shoulder_pos;
+  q->theta0_rate = sp->shoulder_vel;
+  q->theta0_acc = sp->shoulder_acc;
+  q->base_angle = sp->base_pos;
+  q->base_angle_rate = sp->base_vel;
+  q->base_angle_acc = sp->base_acc;
+  q->tension = sp->tension;
+  q->kappa0 = sp->shoulder_torque / arm->EI;
+}
+
+/* ---- Limits ---------------------------------------------------------------- */
+
+static int ea__range_ok(double v, double lo, double hi, double tol) {
+  const double slack = tol * fmax(1.0, fmax(fabs(lo), fabs(hi)));
+  return isfinite(v) && v >= lo - slack && v <= hi + slack;
+}
+
+static int ea__abs_ok(double v, double max, double tol) {
+  return isfinite(v) && fabs(v) <= max * (1.0 + tol) + tol * 1e-12;
+}
+
+ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp, double tol,
+                                   ea_error_t *err) {
+  const ea_actuators_t *a = &arm->act;
+  const double agree = fmax(tol, 1e-12);
+  if (fabs(sp->spool_pos[0] - sp->spool_pos[1]) > agree * fmax(1.0, fabs(sp->spool_pos[0])) ||
+      fabs(sp->spool_vel[0] - sp->spool_vel[1]) > agree * fmax(1.0, fabs(sp->spool_vel[0])) ||
+      fabs(sp->spool_acc[0] - sp->spool_acc[1]) > agree * fmax(1.0, fabs(sp->spool_acc[0])))
+    return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                        "spools disagree: %.9g vs %.9g rad (both spools move together)",
+                        sp->spool_pos[0], sp->spool_pos[1]);
+  ea_joint_state_t q;
+  ea_stream_unmap(arm, sp, &q);
+#define EA__RANGE(v, lo, hi, what, unit)                                                  \
+  if (!ea__range_ok(v, lo, hi, tol))                                                      \
+    return ea_error_set(err, EA_ERR_INADMISSIBLE, "%s %.9g %s outside [%.9g, %.9g]", what, \
+                        v, unit, lo, hi);
+#define EA__ABS(v, max, what, unit)                                                          \
+  if (!ea__abs_ok(v, max, tol))                                                              \
+    return ea_error_set(err, EA_ERR_INADMISSIBLE, "|%s| %.9g %s above the limit %.9g", what, \
+                        fabs(v), unit, max);
+  EA__RANGE(q.cable_length, a->cable_length_min, a->cable_length_max, "cable length", "m")
+  EA__ABS(q.cable_length_rate, a->cable_speed_max, "cable speed", "m/s")
+  EA__ABS(q.cable_length_acc, a->cable_accel_max, "cable acceleration", "m/s^2")
+  EA__RANGE(q.theta0, a->shoulder_angle_min, a->shoulder_angle_max, "shoulder angle", "rad")
+  EA__ABS(q.theta0_rate, a->shoulder_speed_max, "shoulder speed", "rad/s")
+  EA__ABS(q.theta0_acc, a->shoulder_accel_max, "shoulder acceleration", "rad/s^2")
+  EA__RANGE(q.base_angle, a->base_angle_min, a->base_angle_max, "base angle", "rad")
+  EA__ABS(q.base_angle_rate, a->base_speed_max, "base speed", "rad/s")
+  EA__ABS(q.base_angle_acc, a->base_accel_max, "base acceleration", "rad/s^2")
+  EA__RANGE(q.tension, a->tension_min, a->tension_max, "tension", "N")
+  EA__ABS(sp->shoulder_torque, a->shoulder_torque_max, "shoulder torque", "N m")
+#undef EA__RANGE
+#undef EA__ABS
+  return EA_OK;
+}
+
+/* ---- Interpolation ----------------------------------------------------------- */
+
+/* Quintic Hermite on [0, h]: value, rate and acceleration at both ends. */
+static void ea__quintic(double h, double s, double p0, double v0, double a0, double p1,
+                        double v1, double a1, double *p, double *v, double *a) {
+  const double d = p1 - p0, hv0 = h * v0, hv1 = h * v1, h2a0 = h * h * a0, h2a1 = h * h * a1;
+  const double c0 = p0, c1 = hv0, c2 = 0.5 * h2a0;
+  const double c3 = 10 * d - 6 * hv0 - 4 * hv1 - 1.5 * h2a0 + 0.5 * h2a1;
+  const double c4 = -15 * d + 8 * hv0 + 7 * hv1 + 1.5 * h2a0 - h2a1;
+  const double c5 = 6 * d - 3 * hv0 - 3 * hv1 - 0.5 * h2a0 + 0.5 * h2a1;
+  *p = c0 + s * (c1 + s * (c2 + s * (c3 + s * (c4 + s * c5))));
+  *v = (c1 + s * (2 * c2 + s * (3 * c3 + s * (4 * c4 + s * 5 * c5)))) / h;
+  *a = (2 * c2 + s * (6 * c3 + s * (12 * c4 + s * 20 * c5))) / (h * h);
+}
+
+/* Cubic Hermite on [0, h]: value and slope at both ends. */
+static double ea__cubic(double h, double s, double p0, double m0, double p1, double m1) {
+  const double s2 = s * s, s3 = s2 * s;
+  return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * m0 + (-2 * s3 + 3 * s2) * p1 +
+         (s3 - s2) * h * m1;
+}
+
+/* Derivative estimate of column c at sample i: weighted centred difference
+ * (one-sided at the ends). */
+static double ea__fd(const ea_traj_t *tr, int i, int c) {
+  const int n = tr->n;
+  if (n < 2) return 0.0;
+  if (n == 2)
+    return (EA_TRAJ_AT(tr, 1, c) - EA_TRAJ_AT(tr, 0, c)) /
+           (EA_TRAJ_AT(tr, 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t));
+  if (i == 0 || i == n - 1) {
+    /* Second-order one-sided difference (derivative at x0 of the parabola
+     * through the three end samples). */
+    const int a = i == 0 ? 0 : n - 1, b = i == 0 ? 1 : n - 2, d = i == 0 ? 2 : n - 3;
+    const double x0 = EA_TRAJ_AT(tr, a, EA_TRAJ_t), x1 = EA_TRAJ_AT(tr, b, EA_TRAJ_t),
+                 x2 = EA_TRAJ_AT(tr, d, EA_TRAJ_t);
+    const double f0 = EA_TRAJ_AT(tr, a, c), f1 = EA_TRAJ_AT(tr, b, c), f2 = EA_TRAJ_AT(tr, d, c);
+    return f0 * (2 * x0 - x1 - x2) / ((x0 - x1) * (x0 - x2)) +
+           f1 * (x0 - x2) / ((x1 - x0) * (x1 - x2)) + f2 * (x0 - x1) / ((x2 - x0) * (x2 - x1));
+  }
+  const double h0 = EA_TRAJ_AT(tr, i, EA_TRAJ_t) - EA_TRAJ_AT(tr, i - 1, EA_TRAJ_t);
+  const double h1 = EA_TRAJ_AT(tr, i + 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, i, EA_TRAJ_t);
+  const double d0 = (EA_TRAJ_AT(tr, i, c) - EA_TRAJ_AT(tr, i - 1, c)) / h0;
+  const double d1 = (EA_TRAJ_AT(tr, i + 1, c) - EA_TRAJ_AT(tr, i, c)) / h1;
+  return (d0 * h1 + d1 * h0) / (h0 + h1);
+}
+
+/* Monotone slope (Fritsch-Butland) of column c at sample i: no overshoot of
+ * the samples, so feed-forwards stay within the range of the plan's values. */
+static double ea__fd_monotone(const ea_traj_t *tr, int i, int c) {
+  const int n = tr->n;
+  if (n < 2) return 0.0;
+  if (i == 0 || i == n - 1) return ea__fd(tr, i, c); /* end secant */
+  const double h0 = EA_TRAJ_AT(tr, i, EA_TRAJ_t) - EA_TRAJ_AT(tr, i - 1, EA_TRAJ_t);
+  const double h1 = EA_TRAJ_AT(tr, i + 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, i, EA_TRAJ_t);
+  const double d0 = (EA_TRAJ_AT(tr, i, c) - EA_TRAJ_AT(tr, i - 1, c)) / h0;
+  const double d1 = (EA_TRAJ_AT(tr, i + 1, c) - EA_TRAJ_AT(tr, i, c)) / h1;
+  if (d0 * d1 <= 0.0) return 0.0;
+  return 3.0 * (h0 + h1) / ((2 * h1 + h0) / d0 + (h1 + 2 * h0) / d1);
+}
+
+ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t *q) {
+  if (!tr || !q || tr->n < 1 || !tr->data || !isfinite(t)) return EA_ERR_ARG;
+  memset(q, 0, sizeof *q);
+  const int n = tr->n;
+  if (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t) || t >= EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t)) {
+    const int i = (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t)) ? 0 : n - 1;
+    /* Outside the span: hold the end values with their rates (a plan starts
+     * and ends at rest; these are the plan's own numbers). */
+    q->cable_length = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length);
+    q->cable_length_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_rate);
+    q->cable_length_acc = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_acc);
+    q->theta0 = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0);
+    q->theta0_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0_rate);
+    q->theta0_acc = ea__fd(tr, i, EA_TRAJ_theta0_rate);
+    q->base_angle = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle);
+    q->base_angle_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle_rate);
+    q->base_angle_acc = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle_acc);
+    q->tension = EA_TRAJ_AT(tr, i, EA_TRAJ_tension);
+    q->kappa0 = EA_TRAJ_AT(tr, i, EA_TRAJ_kappa0);
+    return EA_OK;
+  }
+  int lo = 0, hi = n - 1; /* t in [t_lo, t_hi) */
+  while (hi - lo > 1) {
+    const int mid = lo + (hi - lo) / 2;
+    if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
+  const double s = (t - t0) / h;
+#define EA__Q(col, rate, acc, P, V, A)                                                      \
+  ea__quintic(h, s, EA_TRAJ_AT(tr, lo, col), EA_TRAJ_AT(tr, lo, rate), EA_TRAJ_AT(tr, lo, acc), \
+              EA_TRAJ_AT(tr, hi, col), EA_TRAJ_AT(tr, hi, rate), EA_TRAJ_AT(tr, hi, acc), P, V, \
+              A)
+  EA__Q(EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, EA_TRAJ_cable_length_acc,
+        &q->cable_length, &q->cable_length_rate, &q->cable_length_acc);
+  EA__Q(EA_TRAJ_base_angle, EA_TRAJ_base_angle_rate, EA_TRAJ_base_angle_acc, &q->base_angle,
+        &q->base_angle_rate, &q->base_angle_acc);
+#undef EA__Q
+  ea__quintic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_theta0), EA_TRAJ_AT(tr, lo, EA_TRAJ_theta0_rate),
+              ea__fd(tr, lo, EA_TRAJ_theta0_rate), EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0),
+              EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0_rate), ea__fd(tr, hi, EA_TRAJ_theta0_rate),
+              &q->theta0, &q->theta0_rate, &q->theta0_acc);
+  q->tension = ea__cubic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_tension),
+                         ea__fd_monotone(tr, lo, EA_TRAJ_tension),
+                         EA_TRAJ_AT(tr, hi, EA_TRAJ_tension),
+                         ea__fd_monotone(tr, hi, EA_TRAJ_tension));
+  q->kappa0 = ea__cubic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_kappa0),
+                        ea__fd_monotone(tr, lo, EA_TRAJ_kappa0),
+                        EA_TRAJ_AT(tr, hi, EA_TRAJ_kappa0),
+                        ea__fd_monotone(tr, hi, EA_TRAJ_kappa0));
+  return EA_OK;
+}
+
+ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                               double tol, ea_setpoint_t **out, int *n, ea_error_t *err) {
+  if (!tr || !arm || !out || !n)
+    return ea_error_set(err, EA_ERR_ARG, "stream resample: NULL argument");
+  *out = NULL;
+  *n = 0;
+  if (!(rate_hz > 0) || rate_hz > 1e6 || !isfinite(rate_hz))
+    return ea_error_set(err, EA_ERR_ARG, "rate %g Hz outside (0, 1e6]", rate_hz);
+  if (tr->n < 1 || !tr->data)
+    return ea_error_set(err, EA_ERR_INPUT, "trajectory has no samples");
+  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  const double dur = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  const double nf = ceil(dur * rate_hz - 1e-9) + 1.0;
+  if (!(nf >= 1) || nf > 5e7)
+    return ea_error_set(err, EA_ERR_INPUT, "trajectory of %g s at %g Hz: too many setpoints",
+                        dur, rate_hz);
+  const int m = (int)nf;
+  ea_setpoint_t *sp = malloc((size_t)m * sizeof *sp);
+  if (!sp) return ea_error_set(err, EA_ERR_NOMEM, "stream resample: %d setpoints", m);
+  for (int k = 0; k < m; ++k) {
+    const double t = t0 + fmin(k / rate_hz, dur);
+    ea_joint_state_t q;
+    ea_stream_traj_eval(tr, t, &q);
+    ea_stream_map(arm, &q, &sp[k]);
+    ea_error_t e = {0};
+    if (ea_stream_check_limits(arm, &sp[k], tol, &e) != EA_OK) {
+      free(sp);
+      return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                          "setpoint %d at t = %.6f s (resampled at %g Hz): %s; nothing sent", k,
+                          t, rate_hz, e.msg);
+    }
+  }
+  *out = sp;
+  *n = m;
+  return EA_OK;
+}
+
+/* ---- Controlled stop ---------------------------------------------------------- */
+
+typedef struct {
+  double p0, v0, a0, amax;
+} ea__axis_t;
+
+/* Peak |acceleration| of the stop profile of one axis over duration T. */
+static double ea__stop_peak_acc(const ea__axis_t *x, double T) {
+  double peak = 0.0;
+  for (int i = 0; i <= 64; ++i) {
+    const double s = i / 64.0;
+    const double acc = x->v0 * (6 * s * s - 6 * s) / T + x->a0 * (3 * s * s - 4 * s + 1);
+    peak = fmax(peak, fabs(acc));
+  }
+  return peak;
+}
+
+static void ea__stop_eval(const ea__axis_t *x, double T, double s, double *p, double *v,
+                          double *a) {
+  const double s2 = s * s, s3 = s2 * s, s4 = s3 * s;
+  *p = x->p0 + T * (x->v0 * (0.5 * s4 - s3 + s) + T * x->a0 * (0.25 * s4 - 2.0 / 3.0 * s3 +
+                                                                 0.5 * s2));
+  *v = x->v0 * (2 * s3 - 3 * s2 + 1) + T * x->a0 * (s3 - 2 * s2 + s);
+  *a = x->v0 * (6 * s2 - 6 * s) / T + x->a0 * (3 * s2 - 4 * s + 1);
+}
+
+int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rate_hz,
+                        double margin, ea_setpoint_t *out, int max) {
+  const ea_actuators_t *ac = &arm->act;
+  const double ks = ac->spool_gear_ratio / ac->spool_radius;
+  ea__axis_t ax[3] = {
+      {sp->spool_pos[0], sp->spool_vel[0], sp->spool_acc[0], ac->cable_accel_max * ks},
+      {sp->shoulder_pos, sp->shoulder_vel, sp->shoulder_acc, ac->shoulder_accel_max},
+      {sp->base_pos, sp->base_vel, sp->base_acc, ac->base_accel_max}};
+  const double dt = 1.0 / rate_hz;
+  /* Lower bound on T from the velocity term (peak |h00'| = 1.5), then step
+   * up one period at a time until every axis is within its budget. */
+  double T0 = dt;
+  for (int i = 0; i < 3; ++i)
+    if (ax[i].amax > 0) T0 = fmax(T0, 1.5 * fabs(ax[i].v0) / (margin * ax[i].amax + fabs(ax[i].a0)));
+  long k = (long)ceil(T0 * rate_hz - 1e-9);
+  if (k < 1) k = 1;
+  for (;; ++k) {
+    int ok = 1;
+    for (int i = 0; i < 3 && ok; ++i) {
+      const double budget = fmax(margin * ax[i].amax, fabs(ax[i].a0)) * (1 + 1e-12) + 1e-12;
+      ok = ea__stop_peak_acc(&ax[i], k * dt) <= budget;
+    }
+    if (ok || k > max) break;
+  }
+  if (k > max) return -1;
+  const double T = k * dt;
+  for (long j = 1; j <= k; ++j) {
+    const double s = (double)j / (double)k;
+    ea_setpoint_t *o = &out[j - 1];
+    *o = *sp;
+    double p, v, a;
+    ea__stop_eval(&ax[0], T, s, &p, &v, &a);
+    o->spool_pos[0] = o->spool_pos[1] = p;
+    o->spool_vel[0] = o->spool_vel[1] = (j == k) ? 0.0 : v;
+    o->spool_acc[0] = o->spool_acc[1] = (j == k) ? 0.0 : a;
+    ea__stop_eval(&ax[1], T, s, &o->shoulder_pos, &v, &a);
+    o->shoulder_vel = (j == k) ? 0.0 : v;
+    o->shoulder_acc = (j == k) ? 0.0 : a;
+    ea__stop_eval(&ax[2], T, s, &o->base_pos, &v, &a);
+    o->base_vel = (j == k) ? 0.0 : v;
+    o->base_acc = (j == k) ? 0.0 : a;
+  }
+  return (int)k;
+}

@@ -1,0 +1,436 @@
+/* Command streamer: handshake, real-time pacing on CLOCK_MONOTONIC with
+ * absolute deadlines, ACK bookkeeping, controlled stop, summary
+ * (docs/streaming.md). Never prints. */
+#include "stream_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void ea_stream_settings_default(ea_stream_settings_t *s) {
+  memset(s, 0, sizeof *s);
+  s->rate_hz = 1000.0;
+  s->limit_tol = 1e-9;
+  s->stop_margin = 0.9;
+  s->ack_timeout_s = 0.1;
+  s->handshake_timeout_s = 1.0;
+  s->end_timeout_s = 1.0;
+  s->heartbeat_s = 0.1;
+  s->start_tol_cable = 1e-3;
+  s->start_tol_angle = 0.01;
+  s->realtime = 1;
+  s->wait_acks = 1;
+  s->stop_request = NULL;
+}
+
+ea_status_t ea_stream_settings_validate(const ea_stream_settings_t *s, ea_error_t *err) {
+#define EA__CHK(cond, ...) \
+  if (!(cond)) return ea_error_set(err, EA_ERR_ARG, __VA_ARGS__);
+  EA__CHK(isfinite(s->rate_hz) && s->rate_hz >= 1 && s->rate_hz <= 100000,
+          "rate_hz %g outside [1, 100000]", s->rate_hz)
+  EA__CHK(s->limit_tol >= 0 && s->limit_tol < 0.1, "limit_tol %g outside [0, 0.1)", s->limit_tol)
+  EA__CHK(s->stop_margin > 0 && s->stop_margin <= 1, "stop_margin %g outside (0, 1]",
+          s->stop_margin)
+  EA__CHK(s->ack_timeout_s > 0 && s->ack_timeout_s <= 60, "ack_timeout_s %g outside (0, 60]",
+          s->ack_timeout_s)
+  EA__CHK(s->handshake_timeout_s > 0 && s->handshake_timeout_s <= 600,
+          "handshake_timeout_s %g outside (0, 600]", s->handshake_timeout_s)
+  EA__CHK(s->end_timeout_s > 0 && s->end_timeout_s <= 600, "end_timeout_s %g outside (0, 600]",
+          s->end_timeout_s)
+  EA__CHK(s->heartbeat_s > 0 && s->heartbeat_s <= 60, "heartbeat_s %g outside (0, 60]",
+          s->heartbeat_s)
+  EA__CHK(s->start_tol_cable >= 0 && s->start_tol_angle >= 0, "negative start tolerance")
+#undef EA__CHK
+  return EA_OK;
+}
+
+const char *ea_stream_end_name(ea_stream_end_t e) {
+  static const char *const names[] = {"complete",    "refused",      "stop-nack",
+                                      "stop-ack-timeout", "stop-interrupt", "disconnected",
+                                      "error"};
+  return (e >= 0 && e <= EA_STREAM_ERROR) ? names[e] : "?";
+}
+
+/* ---- Session state --------------------------------------------------------- */
+
+typedef struct {
+  const ea_arm_t *arm;
+  const ea_stream_settings_t *s;
+  ea_stream_info_t *info;
+  ea__transport_t tr;
+  ea_frame_parser_t parser;
+  int acks_on;          /* handshake and ACKs in use */
+  uint32_t seq;         /* last sequence number sent */
+  uint32_t acked_seq;   /* highest sequence number acknowledged */
+  int64_t *send_ns;     /* send time of each sequence number */
+  int send_cap;
+  int link_lost;
+  int nacked;
+  int have_ack;         /* an ACK (any) was received */
+  ea_frame_t last_ack;
+  uint8_t buf[EA_PROTO_FRAME_MAX];
+} ea__sess_t;
+
+static ea_status_t ea__send(ea__sess_t *x, ea_frame_t *f, ea_error_t *err) {
+  if (f->type != EA_FRAME_HEARTBEAT) f->seq = ++x->seq;
+  else f->seq = x->seq;
+  f->version = EA_PROTO_VERSION;
+  const size_t len = ea_frame_encode(f, x->buf, sizeof x->buf);
+  if (!len) return ea_error_set(err, EA_ERR_ARG, "cannot encode frame type %d", f->type);
+  if (f->type != EA_FRAME_HEARTBEAT && (int)f->seq < x->send_cap)
+    x->send_ns[f->seq] = ea__mono_ns();
+  ea_status_t st = ea__transport_send(&x->tr, x->buf, len, err);
+  if (st == EA_ERR_NET) x->link_lost = 1;
+  return st;
+}
+
+static void ea__handle(ea__sess_t *x, const ea_frame_t *f) {
+  ea_stream_info_t *in = x->info;
+  if (f->type != EA_FRAME_ACK && f->type != EA_FRAME_NACK) {
+    if (f->type != EA_FRAME_HEARTBEAT) ++in->ack_bad_frames;
+    return;
+  }
+  const int64_t now = ea__mono_ns();
+  if (f->type == EA_FRAME_ACK) ++in->acks;
+  if (f->type == EA_FRAME_NACK) {
+    if (!in->nacks) in->nack_reason = f->reason;
+    ++in->nacks;
+    x->nacked = 1;
+  }
+  x->have_ack = 1;
+  x->last_ack = *f;
+  in->ctrl_state = f->state;
+  in->ctrl_rejected = (int)f->rejected;
+  in->frames_acked = (int)f->accepted;
+  if (in->acks + in->nacks == 1) in->buffer_min = in->buffer_max = f->buffer_level;
+  if (f->buffer_level < in->buffer_min) in->buffer_min = f->buffer_level;
+  if (f->buffer_level > in->buffer_max) in->buffer_max = f->buffer_level;
+  if (f->ack_seq > x->acked_seq && f->ack_seq <= x->seq) {
+    for (uint32_t q = x->acked_seq + 1; q <= f->ack_seq; ++q)
+      if ((int)q < x->send_cap && x->send_ns[q]) {
+        const double ms = (now - x->send_ns[q]) * 1e-6;
+        if (ms > in->ack_latency_max_ms) in->ack_latency_max_ms = ms;
+      }
+    x->acked_seq = f->ack_seq;
+  }
+}
+
+/* Read and handle what the controller sent, waiting at most timeout_ms. */
+static void ea__poll_in(ea__sess_t *x, int timeout_ms) {
+  if (!x->acks_on || x->link_lost) return;
+  uint8_t rb[1024];
+  for (int round = 0; round < 64; ++round) {
+    const long k = ea__transport_recv(&x->tr, rb, sizeof rb, round ? 0 : timeout_ms);
+    if (k < 0) {
+      x->link_lost = 1;
+      return;
+    }
+    if (k == 0) return;
+    size_t off = 0;
+    while (off < (size_t)k) {
+      off += ea_frame_parser_feed(&x->parser, rb + off, (size_t)k - off);
+      ea_frame_t f;
+      int r;
+      while ((r = ea_frame_parser_next(&x->parser, &f)) != 0)
+        if (r > 0) ea__handle(x, &f);
+    }
+    x->info->ack_bad_frames = (int)x->parser.bad_frames;
+  }
+}
+
+/* Oldest frame sent but not acknowledged has waited longer than the timeout? */
+static int ea__ack_overdue(const ea__sess_t *x, int64_t now) {
+  if (!x->acks_on || x->acked_seq >= x->seq) return 0;
+  const uint32_t q = x->acked_seq + 1;
+  if ((int)q >= x->send_cap || !x->send_ns[q]) return 0;
+  return (now - x->send_ns[q]) * 1e-9 > x->s->ack_timeout_s;
+}
+
+static void ea__summarise(ea_stream_info_t *in, double *jit, int nj, double period_us) {
+  in->frames_late = 0;
+  for (int i = 0; i < nj; ++i) in->frames_late += jit[i] > 0.5 * period_us;
+  in->jitter_p50_us = ea__quantile(jit, nj, 0.5);
+  in->jitter_p99_us = ea__quantile(jit, nj, 0.99);
+  in->jitter_max_us = nj ? jit[nj - 1] : NAN;
+}
+
+ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, const char *url,
+                          const ea_stream_settings_t *s_in, ea_stream_info_t *info,
+                          ea_error_t *err) {
+  ea_stream_info_t dummy;
+  if (!info) info = &dummy;
+  memset(info, 0, sizeof *info);
+  info->ctrl_state = -1;
+  info->end = EA_STREAM_ERROR;
+  info->jitter_p50_us = info->jitter_p99_us = info->jitter_max_us = NAN;
+  ea_stream_settings_t sdef;
+  if (!s_in) ea_stream_settings_default(&sdef);
+  const ea_stream_settings_t *s = s_in ? s_in : &sdef;
+  ea_status_t st;
+  if (!arm || !sp || n < 1 || !url)
+    return info->status = ea_error_set(err, EA_ERR_ARG, "stream: no setpoints or no destination");
+  if ((st = ea_stream_settings_validate(s, err))) return info->status = st;
+  info->setpoints = n;
+
+  /* Everything is checked before anything is sent. */
+  for (int k = 0; k < n; ++k) {
+    ea_error_t e = {0};
+    if (ea_stream_check_limits(arm, &sp[k], s->limit_tol, &e))
+      return info->status = ea_error_set(err, EA_ERR_INADMISSIBLE,
+                                         "setpoint %d: %s; nothing sent", k, e.msg);
+  }
+
+  ea__sess_t x;
+  memset(&x, 0, sizeof x);
+  x.arm = arm;
+  x.s = s;
+  x.info = info;
+  ea_frame_parser_init(&x.parser);
+  /* A stop within the arm file's limits takes about 1.5 v_max / a_max (under
+   * a second for data/elasticarm.yaml); 20 s of setpoints is ample. */
+  const int ramp_cap = (int)ceil(20.0 * s->rate_hz) + 16;
+  x.send_cap = n + ramp_cap + 8;
+  x.send_ns = calloc((size_t)x.send_cap, sizeof *x.send_ns);
+  double *jit = malloc((size_t)(n + ramp_cap) * sizeof *jit);
+  ea_setpoint_t *ramp = malloc((size_t)ramp_cap * sizeof *ramp);
+  if (!x.send_ns || !jit || !ramp) {
+    free(x.send_ns);
+    free(jit);
+    free(ramp);
+    return info->status = ea_error_set(err, EA_ERR_NOMEM, "stream: out of memory");
+  }
+  int nj = 0;
+  if ((st = ea__transport_open(&x.tr, url, err))) goto out;
+  x.acks_on = s->wait_acks && x.tr.kind != EA__TR_FILE;
+
+  const double period_s = 1.0 / s->rate_hz;
+  const int64_t period_ns = (int64_t)llround(1e9 * period_s);
+  const int hb_ms = (int)fmax(1.0, s->heartbeat_s * 1e3);
+
+  /* ---- Handshake ---------------------------------------------------------- */
+  {
+    ea_frame_t h;
+    memset(&h, 0, sizeof h);
+    h.type = EA_FRAME_HELLO;
+    h.rate_hz = (uint32_t)llround(s->rate_hz);
+    h.count = (uint32_t)n;
+    h.heartbeat_ms = (uint32_t)hb_ms;
+    h.sp = sp[0];
+    x.seq = (uint32_t)-1; /* HELLO is sequence number 0 */
+    if ((st = ea__send(&x, &h, err))) goto out;
+    if (x.acks_on) {
+      const int64_t t_end = ea__mono_ns() + (int64_t)(s->handshake_timeout_s * 1e9);
+      int64_t t_resend = ea__mono_ns() + (int64_t)hb_ms * 1000000;
+      while (!x.have_ack && !x.link_lost && ea__mono_ns() < t_end &&
+             !(s->stop_request && *s->stop_request)) {
+        ea__poll_in(&x, 5);
+        if (x.tr.kind == EA__TR_UDP && !x.have_ack && ea__mono_ns() > t_resend) {
+          ea_frame_t hb = h; /* datagrams may be lost: repeat the HELLO itself */
+          const size_t len = ea_frame_encode(&hb, x.buf, sizeof x.buf);
+          if (ea__transport_send(&x.tr, x.buf, len, NULL)) x.link_lost = 1;
+          t_resend += (int64_t)hb_ms * 1000000;
+        }
+      }
+      if (s->stop_request && *s->stop_request) {
+        info->end = EA_STREAM_STOP_INTERRUPT;
+        st = ea_error_set(err, EA_ERR_INTERRUPTED, "interrupted during the handshake");
+        goto out;
+      }
+      if (!x.have_ack) {
+        st = ea_error_set(err, EA_ERR_NET, "%s: no answer to HELLO within %g s%s", url,
+                          s->handshake_timeout_s, x.link_lost ? " (link closed)" : "");
+        goto out;
+      }
+      if (x.last_ack.type == EA_FRAME_NACK || x.last_ack.ack_seq != 0 ||
+          x.last_ack.state != EA_CTRL_READY) {
+        info->end = EA_STREAM_REFUSED;
+        st = ea_error_set(err, EA_ERR_PROTOCOL,
+                          "controller answered HELLO with %s (state %u, reason %u)",
+                          x.last_ack.type == EA_FRAME_NACK ? "NACK" : "ACK", x.last_ack.state,
+                          x.last_ack.reason);
+        goto out_end_refused;
+      }
+      /* The controller's reported position must be the trajectory's start. */
+      ea_setpoint_t act = sp[0];
+      act.spool_pos[0] = x.last_ack.actual[0];
+      act.spool_pos[1] = x.last_ack.actual[1];
+      act.shoulder_pos = x.last_ack.actual[2];
+      act.base_pos = x.last_ack.actual[3];
+      ea_joint_state_t qa, qs;
+      ea_stream_unmap(arm, &act, &qa);
+      ea_stream_unmap(arm, &sp[0], &qs);
+      const double L1 = arm->act.spool_zero_length +
+                        x.last_ack.actual[1] * arm->act.spool_radius / arm->act.spool_gear_ratio;
+      const double dL = fmax(fabs(qa.cable_length - qs.cable_length), fabs(L1 - qs.cable_length));
+      const double dth = fabs(qa.theta0 - qs.theta0), db = fabs(qa.base_angle - qs.base_angle);
+      if (dL > s->start_tol_cable || dth > s->start_tol_angle || db > s->start_tol_angle) {
+        info->end = EA_STREAM_REFUSED;
+        st = ea_error_set(err, EA_ERR_INADMISSIBLE,
+                          "refused: controller is not at the trajectory's start: cable length "
+                          "%.6g m (start %.6g, tol %g), theta0 %.6g rad (start %.6g), base %.6g "
+                          "rad (start %.6g, tol %g); nothing sent",
+                          qa.cable_length, qs.cable_length, s->start_tol_cable, qa.theta0,
+                          qs.theta0, qa.base_angle, qs.base_angle, s->start_tol_angle);
+        goto out_end_refused;
+      }
+    }
+  }
+
+  /* ---- Setpoints, paced on absolute deadlines -------------------------------- */
+  const int64_t t0 = ea__mono_ns() + 1000000; /* first deadline 1 ms from now */
+  long k = 0;            /* index of the next frame in the schedule */
+  int last_sent = -1;    /* index into sp of the last setpoint sent */
+  info->end = EA_STREAM_COMPLETE;
+  for (; k < n; ++k) {
+    const int64_t deadline = t0 + k * period_ns;
+    if (s->realtime) ea__sleep_until_ns(deadline, s->stop_request);
+    if (s->stop_request && *s->stop_request) {
+      info->end = EA_STREAM_STOP_INTERRUPT;
+      break;
+    }
+    ea_frame_t f;
+    memset(&f, 0, sizeof f);
+    f.type = EA_FRAME_SETPOINT;
+    f.time_us = (uint64_t)llround(k * period_s * 1e6);
+    f.flags = (k == n - 1) ? EA_SP_FLAG_LAST : 0;
+    f.sp = sp[k];
+    const int64_t now = ea__mono_ns();
+    if (s->realtime) jit[nj++] = fabs((double)(now - deadline)) * 1e-3;
+    if (ea__send(&x, &f, NULL)) {
+      info->end = EA_STREAM_DISCONNECTED;
+      break;
+    }
+    ++info->frames_sent;
+    last_sent = (int)k;
+    ea__poll_in(&x, 0);
+    if (x.link_lost) {
+      info->end = EA_STREAM_DISCONNECTED;
+      break;
+    }
+    if (x.nacked) {
+      info->end = EA_STREAM_STOP_NACK;
+      break;
+    }
+    if (ea__ack_overdue(&x, ea__mono_ns())) {
+      info->end = EA_STREAM_STOP_ACK_TIMEOUT;
+      break;
+    }
+  }
+  k = last_sent + 1; /* the ramp's first frame takes the slot after the last one sent */
+
+  /* ---- Controlled stop: ramp down from the last setpoint sent ----------------- */
+  if (info->end != EA_STREAM_COMPLETE && info->end != EA_STREAM_DISCONNECTED && last_sent >= 0) {
+    const int m = ea_stream_stop_ramp(arm, &sp[last_sent], s->rate_hz, s->stop_margin, ramp,
+                                      ramp_cap);
+    for (int j = 0; j < m; ++j, ++k) {
+      ea_error_t e = {0};
+      if (ea_stream_check_limits(arm, &ramp[j], s->limit_tol, &e)) break; /* never beyond */
+      const int64_t deadline = t0 + k * period_ns;
+      if (s->realtime) ea__sleep_until_ns(deadline, NULL);
+      ea_frame_t f;
+      memset(&f, 0, sizeof f);
+      f.type = EA_FRAME_SETPOINT;
+      f.time_us = (uint64_t)llround(k * period_s * 1e6);
+      f.flags = EA_SP_FLAG_STOP | (j == m - 1 ? EA_SP_FLAG_LAST : 0);
+      f.sp = ramp[j];
+      const int64_t now = ea__mono_ns();
+      if (s->realtime) jit[nj++] = fabs((double)(now - deadline)) * 1e-3;
+      if (ea__send(&x, &f, NULL)) break;
+      ++info->frames_sent;
+      ++info->stop_frames;
+      ea__poll_in(&x, 0);
+      if (x.link_lost) break;
+    }
+  }
+  info->duration_s = (ea__mono_ns() - t0) * 1e-9;
+
+  /* ---- END, then wait for its acknowledgement --------------------------------- */
+  if (!x.link_lost) {
+    ea_frame_t f;
+    memset(&f, 0, sizeof f);
+    f.type = EA_FRAME_END;
+    f.time_us = (uint64_t)llround(k * period_s * 1e6);
+    f.flags = info->end == EA_STREAM_COMPLETE ? EA_END_COMPLETE : EA_END_STOPPED;
+    f.count = (uint32_t)info->frames_sent;
+    if (ea__send(&x, &f, NULL) == EA_OK && x.acks_on) {
+      const uint32_t end_seq = x.seq;
+      const int64_t t_end = ea__mono_ns() + (int64_t)(s->end_timeout_s * 1e9);
+      int64_t t_hb = ea__mono_ns() + (int64_t)hb_ms * 1000000;
+      while (x.acked_seq < end_seq && !x.link_lost && ea__mono_ns() < t_end) {
+        ea__poll_in(&x, 2);
+        if (ea__mono_ns() > t_hb) {
+          ea_frame_t hb;
+          memset(&hb, 0, sizeof hb);
+          hb.type = EA_FRAME_HEARTBEAT;
+          ea__send(&x, &hb, NULL);
+          t_hb += (int64_t)hb_ms * 1000000;
+        }
+      }
+      if (x.acked_seq < end_seq && info->end == EA_STREAM_COMPLETE)
+        info->end = x.link_lost ? EA_STREAM_DISCONNECTED : EA_STREAM_STOP_ACK_TIMEOUT;
+    }
+  } else if (info->end == EA_STREAM_COMPLETE) {
+    info->end = EA_STREAM_DISCONNECTED;
+  }
+
+  switch (info->end) {
+  case EA_STREAM_COMPLETE:
+    if (x.acks_on && info->frames_acked != info->frames_sent)
+      st = ea_error_set(err, EA_ERR_PROTOCOL, "controller accepted %d of %d setpoints",
+                        info->frames_acked, info->frames_sent);
+    else
+      st = EA_OK;
+    break;
+  case EA_STREAM_STOP_NACK:
+    st = ea_error_set(err, EA_ERR_PROTOCOL,
+                      "controller rejected a frame (NACK reason %d) after %d setpoints: "
+                      "controlled stop in %d frames", info->nack_reason,
+                      info->frames_sent - info->stop_frames, info->stop_frames);
+    break;
+  case EA_STREAM_STOP_ACK_TIMEOUT:
+    st = ea_error_set(err, EA_ERR_NET,
+                      "no acknowledgement for %g s after %d setpoints: controlled stop in %d "
+                      "frames", s->ack_timeout_s, info->frames_sent - info->stop_frames,
+                      info->stop_frames);
+    break;
+  case EA_STREAM_STOP_INTERRUPT:
+    st = ea_error_set(err, EA_ERR_INTERRUPTED,
+                      "interrupted after %d setpoints: controlled stop in %d frames",
+                      info->frames_sent - info->stop_frames, info->stop_frames);
+    break;
+  case EA_STREAM_DISCONNECTED:
+    st = ea_error_set(err, EA_ERR_NET,
+                      "link lost after %d setpoints: the controller's watchdog must stop the "
+                      "arm", info->frames_sent);
+    break;
+  default:
+    st = ea_error_set(err, EA_ERR_NET, "stream failed");
+    break;
+  }
+  goto out;
+
+out_end_refused:
+  if (!x.link_lost) {
+    ea_frame_t f;
+    memset(&f, 0, sizeof f);
+    f.type = EA_FRAME_END;
+    f.flags = EA_END_REFUSED;
+    ea__send(&x, &f, NULL);
+  }
+out:
+  if (x.tr.is_open) {
+    ea_error_t e2 = {0};
+    ea_status_t cst = ea__transport_close(&x.tr, 1, &e2);
+    if (cst && st == EA_OK) {
+      st = cst;
+      if (err) *err = e2;
+    }
+  }
+  if (nj) ea__summarise(info, jit, nj, period_s * 1e6);
+  free(x.send_ns);
+  free(jit);
+  free(ramp);
+  info->status = st;
+  if (st && err && err->status != st) ea_error_set(err, st, "%s", ea_strerror(st));
+  return st;
+}
