@@ -14,9 +14,9 @@ int ea__cli_workspace(int argc, char **argv);
 int ea__cli_torque_map(int argc, char **argv);
 int ea__cli_path(int argc, char **argv);
 /* EA_CLI_DECL_BEGIN (other subcommands add their prototypes here) */
-int ea__cli_plan(int argc, char **argv);
 int ea__cli_stream(int argc, char **argv);
 int ea__cli_controller_sim(int argc, char **argv);
+int ea__cli_plan(int argc, char **argv);
 /* EA_CLI_DECL_END */
 
 /** Exit codes. */

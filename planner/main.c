@@ -18,9 +18,9 @@ static const ea__cmd_t ea__cmds[] = {
     {"torque-map", ea__cli_torque_map, "shoulder torque and tension over (L_c, alpha)"},
     {"path", ea__cli_path, "admissibility of a straight tip path (Fig. 4, eqs. 18-20)"},
     /* EA_CLI_TABLE_BEGIN (other subcommands add a line here) */
-    {"plan", ea__cli_plan, "plan an admissible trajectory for a task spec (YAML)"},
     {"stream", ea__cli_stream, "send a trajectory to the arm's controller in real time"},
     {"controller-sim", ea__cli_controller_sim, "simulated controller for the streamer's protocol"},
+    {"plan", ea__cli_plan, "plan an admissible trajectory for a task spec (YAML)"},
     /* EA_CLI_TABLE_END */
 };
 
