@@ -246,7 +246,7 @@ typedef void (*ea__homotopy_fn)(ea_shooter_t *sh, double lam, void *ctx, double 
 
 static ea_status_t ea__continue(ea_shooter_t *sh, const ea_given_t given[2], ea__homotopy_fn fn,
                                 void *ctx, double p[EA_NP], const ea_statics_settings_t *s,
-                                int *iters, int *steps, double *res) {
+                                int stop_negative_tension, int *iters, int *steps, double *res) {
   double lam = 0.0, dl = 0.25, pprev[EA_NP], lprev = -1.0;
   double v[2];
   memcpy(pprev, p, sizeof pprev);
@@ -270,6 +270,9 @@ static ea_status_t ea__continue(ea_shooter_t *sh, const ea_given_t given[2], ea_
       lprev = lam;
       lam = lt;
       if (it <= 4) dl *= 1.6;
+      /* Continuation from the T = 0 edge that makes T negative has left the
+       * workspace: the target is outside it, no need to go on. */
+      if (stop_negative_tension && p[EA_P_TENSION] < -1e-9) return EA_ERR_INADMISSIBLE;
     } else {
       dl *= 0.4;
     }
@@ -364,7 +367,7 @@ ea_status_t ea_statics_solve(ea_shooter_t *sh, const ea_statics_problem_t *prob,
     const ea_given_t eg[2] = {EA_GIVEN_TENSION, EA_GIVEN_ALPHA};
     struct ea__grav_ctx gc = {{0.0, a0}};
     ea__straight_start(&sh->arm, a0, p);
-    st = ea__continue(sh, eg, ea__grav_fn, &gc, p, &set, &iters, &steps, &res);
+    st = ea__continue(sh, eg, ea__grav_fn, &gc, p, &set, 0, &iters, &steps, &res);
     ea__shooter_set_gscale(sh, 1.0);
     /* 2. From the edge to the requested values of the given quantities. */
     if (st == EA_OK) {
@@ -376,7 +379,8 @@ ea_status_t ea_statics_solve(ea_shooter_t *sh, const ea_statics_problem_t *prob,
           lc.v0[k] = ea__given_value(&sh->arm, prob->given[k], p, xL, NULL, NULL);
           lc.v1[k] = prob->value[k];
         }
-        st = ea__continue(sh, prob->given, ea__lin_fn, &lc, p, &set, &iters, &steps, &res);
+        st = ea__continue(sh, prob->given, ea__lin_fn, &lc, p, &set, !set.allow_negative_tension,
+                         &iters, &steps, &res);
         if (st == EA_OK) /* polish at the exact values */
           st = ea__newton(sh, prob->given, prob->value, p, set.tol, set.max_iter, 0, &iters, &res);
       }
@@ -390,6 +394,12 @@ ea_status_t ea_statics_solve(ea_shooter_t *sh, const ea_statics_problem_t *prob,
     memcpy(sol->p, p, sizeof sol->p);
     sol->residual = res;
     sol->branch = EA_BRANCH_NONE;
+    if (st == EA_ERR_INADMISSIBLE)
+      return ea_error_set(err, st,
+                          "no admissible configuration: continuing from the T = 0 outer edge "
+                          "toward the request makes the tension negative (T = %.4g N), so it "
+                          "lies outside the workspace for this load",
+                          p[EA_P_TENSION]);
     return ea_error_set(err, sol->status,
                         "statics did not converge (%s; residual %.3g after %d iterations, %d "
                         "continuation steps)",

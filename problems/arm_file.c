@@ -94,6 +94,24 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
   if ((st = ea__read_fields(d, base, "actuators.base", fba, sizeof fba / sizeof *fba, arm, err)))
     return st;
   /* Cross-field consistency, reported at the mapping that holds the pair. */
+  struct {
+    yaml_node_t *map;
+    const char *ctx, *lo_key, *hi_key;
+    double lo, hi;
+  } pairs[] = {
+      {spool, "actuators.spool", "cable_length_min_m", "cable_length_max_m",
+       arm->act.cable_length_min, arm->act.cable_length_max},
+      {ten, "actuators.tension", "min_N", "max_N", arm->act.tension_min, arm->act.tension_max},
+      {sho, "actuators.shoulder", "angle_min_rad", "angle_max_rad", arm->act.shoulder_angle_min,
+       arm->act.shoulder_angle_max},
+      {base, "actuators.base", "angle_min_rad", "angle_max_rad", arm->act.base_angle_min,
+       arm->act.base_angle_max},
+  };
+  for (size_t i = 0; i < sizeof pairs / sizeof *pairs; ++i)
+    if (!(pairs[i].lo < pairs[i].hi))
+      return ea__yerr(d, ea__ymap_get(d, pairs[i].map, pairs[i].hi_key), err, EA_ERR_INPUT,
+                      "%s: %s = %g must be below %s = %g (contradictory limits)", pairs[i].ctx,
+                      pairs[i].lo_key, pairs[i].lo, pairs[i].hi_key, pairs[i].hi);
   ea_error_t e2;
   if ((st = ea_arm_validate(arm, &e2)))
     return ea__yerr(d, act, err, st, "inconsistent arm data: %s", e2.msg);

@@ -1,0 +1,129 @@
+/* Arm files: the shipped file holds the paper's Tables 1 and 2; every kind
+ * of bad input gives a clear error naming file:line:column and the key. */
+#include "ea_problems.h"
+#include "ea_test.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static char *slurp(const char *path, size_t *len) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *b = malloc((size_t)n + 1);
+  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
+    free(b);
+    b = NULL;
+  }
+  if (b) b[n] = '\0';
+  fclose(f);
+  *len = (size_t)n;
+  return b;
+}
+
+/* Replace the first occurrence of from by to in text (new string). */
+static char *subst(const char *text, const char *from, const char *to) {
+  const char *p = strstr(text, from);
+  if (!p) return NULL;
+  size_t n = strlen(text) - strlen(from) + strlen(to);
+  char *o = malloc(n + 1);
+  size_t a = (size_t)(p - text);
+  memcpy(o, text, a);
+  memcpy(o + a, to, strlen(to));
+  strcpy(o + a + strlen(to), p + strlen(from));
+  return o;
+}
+
+static void expect_error(const char *good, const char *from, const char *to, const char *want1,
+                         const char *want2, const char *what) {
+  char *bad = subst(good, from, to);
+  if (!bad) {
+    ea_test_true(0, what);
+    printf("  (test setup: '%s' not found)\n", from);
+    return;
+  }
+  ea_arm_t arm;
+  ea_error_t err = {0};
+  ea_status_t st = ea_arm_load_string("arm.yaml", bad, strlen(bad), &arm, &err);
+  const int ok = st != EA_OK && strstr(err.msg, "arm.yaml:") && strstr(err.msg, want1) &&
+                 (!want2 || strstr(err.msg, want2));
+  ea_test_true(ok, what);
+  printf("  -> %s\n", err.msg);
+  free(bad);
+}
+
+int main(void) {
+  const char *src = getenv("EA_SOURCE_DIR");
+  char path[1024];
+  snprintf(path, sizeof path, "%s/data/elasticarm.yaml", src ? src : ".");
+  size_t len = 0;
+  char *good = slurp(path, &len);
+  ea_test_true(good != NULL, "data/elasticarm.yaml readable");
+  if (!good) return ea_test_summary("test_arm_file");
+
+  ea_arm_t arm;
+  ea_error_t err = {0};
+  ea_test_true(ea_arm_load(path, &arm, &err) == EA_OK, "data/elasticarm.yaml loads");
+  /* Paper, Table 1 and Table 2 */
+  ea_test_rel(arm.rho, 0.501, 0, "Table 1 rho");
+  ea_test_rel(arm.m_hand, 0.230, 0, "Table 1 m_h");
+  ea_test_rel(arm.length, 0.914, 0, "Table 1 L");
+  ea_test_rel(arm.EI, 0.705, 0, "Table 1 EI");
+  ea_test_rel(arm.x_c, 0.098, 0, "Table 1 x_c");
+  ea_test_rel(arm.y_c, -0.006, 0, "Table 1 y_c");
+  ea_test_rel(arm.EA, 1.28e8, 0, "Table 2 EA");
+  ea_test_rel(arm.GA_s, 3.28e6, 0, "Table 2 beta GA");
+  ea_test_rel(arm.EA_cable, 1.02e5, 0, "Table 2 EA_c");
+  ea_test_rel(arm.I_zz, 2.68e-8, 0, "Table 2 I_zz");
+  ea_test_rel(arm.I_hand, 4.00e-4, 0, "Table 2 I_L");
+  ea_test_rel(arm.g, 9.81, 0, "g");
+
+  expect_error(good, "  EI_Nm2: 0.705              # Table 1: flexural rigidity\n", "",
+               "missing required key 'EI_Nm2'", NULL, "missing key");
+  expect_error(good, "EI_Nm2: 0.705", "EI_Nm2: -0.705", "EI_Nm2", "below", "negative stiffness");
+  expect_error(good, "rho_kg_per_m: 0.501", "rho_kg_per_m: nan", "rho_kg_per_m", "not finite",
+               "NaN value");
+  expect_error(good, "rho_kg_per_m: 0.501", "rho_kg_per_m: .nan", "rho_kg_per_m",
+               "not a number", "YAML .nan value");
+  expect_error(good, "length_m: 0.914", "length_m: [1, 2]", "length_m", "must be a number",
+               "wrong type (sequence for a number)");
+  expect_error(good, "length_m: 0.914", "length_m: long", "length_m", "not a number",
+               "wrong type (word for a number)");
+  expect_error(good, "  length_m: 0.914", "  lenght_m: 0.914", "unknown key 'lenght_m'", NULL,
+               "misspelt key");
+  expect_error(good, "hand:\n", "hand: [\n", "syntax error", NULL, "YAML syntax error");
+  expect_error(good, "  max_N: 60.0", "  max_N: 0.01", "actuators.tension", "min_N = 0.05 must be below max_N = 0.01",
+               "contradictory limits (tension max below min)");
+  expect_error(good, "    radius_m: 0.015", "    radius_m: 0.015\n    radius_m: 0.02",
+               "duplicate key 'radius_m'", NULL, "duplicate key");
+  {
+    const char *seq = "- 1\n- 2\n";
+    ea_status_t st = ea_arm_load_string("arm.yaml", seq, strlen(seq), &arm, &err);
+    ea_test_true(st != EA_OK && strstr(err.msg, "arm.yaml:1:1: the top level must be a mapping"),
+                 "top level not a mapping");
+    printf("  -> %s\n", err.msg);
+  }
+
+  /* The position points at the offending value. */
+  char *bad = subst(good, "EI_Nm2: 0.705", "EI_Nm2: -1");
+  ea_arm_load_string("arm.yaml", bad, strlen(bad), &arm, &err);
+  int line = 0;
+  const char *q = bad;
+  for (const char *s = bad; *s && s < strstr(bad, "EI_Nm2: -1"); ++s)
+    if (*s == '\n') ++line, q = s + 1;
+  char want[64];
+  snprintf(want, sizeof want, "arm.yaml:%d:%d:", line + 1,
+           (int)(strstr(bad, "-1") - q) + 1);
+  ea_test_true(strstr(err.msg, want) != NULL, "error position is the value's line:column");
+  printf("  want %s in: %s\n", want, err.msg);
+  free(bad);
+
+  ea_test_true(ea_arm_load("/nonexistent/arm.yaml", &arm, &err) == EA_ERR_IO &&
+                   strstr(err.msg, "/nonexistent/arm.yaml"),
+               "missing file: EA_ERR_IO naming the file");
+  free(good);
+  return ea_test_summary("test_arm_file");
+}
