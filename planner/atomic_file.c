@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err) {
@@ -23,6 +24,12 @@ ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err) {
     f->tmp[0] = '\0';
     return ea_error_set(err, EA_ERR_IO, "%s: cannot create a temporary file: %s", path,
                         strerror(errno));
+  }
+  /* mkstemp makes 0600; give the file the mode a plain fopen would. */
+  const mode_t mask = umask(0);
+  umask(mask);
+  if (fchmod(fd, 0666 & ~mask) != 0) {
+    /* not fatal: the file stays private */
   }
   f->fp = fdopen(fd, "w");
   if (!f->fp) {
