@@ -8,6 +8,23 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+ea_status_t ea_mkdir_parents(const char *path, ea_error_t *err) {
+  char buf[1024];
+  if (!path || strlen(path) >= sizeof buf) return ea_error_set(err, EA_ERR_ARG, "path too long");
+  snprintf(buf, sizeof buf, "%s", path);
+  for (char *p = buf + 1; *p; ++p) {
+    if (*p != '/') continue;
+    *p = '\0';
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+      ea_status_t st = ea_error_set(err, EA_ERR_IO, "%s: cannot create directory %s: %s", path,
+                                    buf, strerror(errno));
+      return st;
+    }
+    *p = '/';
+  }
+  return EA_OK;
+}
+
 ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err) {
   memset(f, 0, sizeof *f);
   if (!path || !*path) return ea_error_set(err, EA_ERR_ARG, "empty output path");
@@ -18,6 +35,8 @@ ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err) {
     f->fp = stdout;
     return EA_OK;
   }
+  ea_status_t st = ea_mkdir_parents(path, err);
+  if (st) return st;
   snprintf(f->tmp, sizeof f->tmp, "%s.tmpXXXXXX", path);
   int fd = mkstemp(f->tmp);
   if (fd < 0) {

@@ -25,6 +25,8 @@ typedef struct ea_afile {
   char tmp[1040];    /**< temporary path */
 } ea_afile_t;
 
+/** Create the missing parent directories of path (like mkdir -p dirname). */
+ea_status_t ea_mkdir_parents(const char *path, ea_error_t *err);
 /** Open a temporary file next to path ("-" means stdout, written directly). */
 ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err);
 /** Flush, fsync and rename onto the target. Closes f. */

@@ -34,6 +34,8 @@ ea_status_t ea_plot_open(ea_plot_t **pp, const char *out_path, int width, int he
     term = "pdfcairo enhanced font 'Sans,10'";
   else
     return ea_error_set(err, EA_ERR_ARG, "%s: figure must end in .svg, .png or .pdf", out_path);
+  ea_status_t st = ea_mkdir_parents(out_path, err);
+  if (st) return st;
   ea_plot_t *p = calloc(1, sizeof *p);
   if (!p) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
   p->script = open_memstream(&p->buf, &p->len);
