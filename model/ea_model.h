@@ -325,7 +325,7 @@ typedef enum ea_fe_eig_backend {
 /** Most modes an ::ea_fe_modes_info_t holds. */
 #define EA_FE_MAX_MODES 16
 /** Default number of elements, chosen by bench/bench_fe (docs/fe.md). */
-#define EA_FE_DEFAULT_ELEMENTS 8
+#define EA_FE_DEFAULT_ELEMENTS 12
 /** The paper's mesh (sec. 3.3). */
 #define EA_FE_PAPER_ELEMENTS 6
 
@@ -413,8 +413,8 @@ typedef struct ea_fe_static_info {
  *  the nodes with ea_shoot_shape(sh, ...), the cable is set ACTIVE with
  *  T = ode->p[EA_P_TENSION], the tip mass is taken from sh's load, and
  *  Newton-Raphson runs until eps <= settings.newton_tol (or the Newton
- *  correction is at rounding level, max |dq| <= 1e-13 L: the attainable eps
- *  is ~1e-8, set by EA). With settings.static_hold_tip, T and theta0 are
+ *  residual stagnates with a correction below 1e-10 L: the attainable eps
+ *  is ~1e-8 to 1e-6 (finer meshes: higher), set by EA / h). With settings.static_hold_tip, T and theta0 are
  *  unknowns too and the tip is held at the ODE tip (bordered Newton).
  * @param[in,out] m    model; on success holds the FE equilibrium
  * @param[in]     sh   shooter of the same arm (only used to sample the shape)
@@ -508,7 +508,8 @@ typedef struct ea_fe_sim_settings {
   double rho_inf;        /**< generalized-alpha spectral radius in [0, 1] (default 0.9) */
   double rayleigh_mass;      /**< [1/s] C = a M + b K0 (default 0) */
   double rayleigh_stiffness; /**< [s] b; K0 = passive stiffness at t = 0 (default 0) */
-  double tol;            /**< Newton: max |dq| of free DOFs [m, rad] (default 1e-11) */
+  double tol;            /**< Newton: max |dq| of free DOFs [m, rad] (default 1e-11);
+                              corrections that stagnate below 1e3 tol (rounding) stop too */
   int max_iter;          /**< Newton iterations per step (default 25) */
   int output_every;      /**< write a tip row every this many steps (default 1) */
 } ea_fe_sim_settings_t;

@@ -23,9 +23,13 @@ double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[
   for (int g = 0; g < qd->n; ++g) {
     const double *N = qd->N[g], *dN = qd->dN[g], w = qd->w[g];
     double xp = 0, yp = 0, th = 0, thp = 0;
+    /* positions relative to the element's first node (sum dN = 0): keeps the
+     * rounding of x', y' at eps h instead of eps |x|, which EA multiplies */
+    for (int a = 1; a < 3; ++a) {
+      xp += dN[a] * (u[3 * a] - u[0]);
+      yp += dN[a] * (u[3 * a + 1] - u[1]);
+    }
     for (int a = 0; a < 3; ++a) {
-      xp += dN[a] * u[3 * a];
-      yp += dN[a] * u[3 * a + 1];
       th += N[a] * u[3 * a + 2];
       thp += dN[a] * u[3 * a + 2];
     }

@@ -19,7 +19,7 @@ static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_p
   const double t0 = ea__fe_now();
   const int nf = m->nf, tx = nf - 3, ty = nf - 2; /* free indices of the tip x, y */
   ea_status_t st = EA_ERR_MAXITER;
-  double eps = INFINITY, gtip = 0.0;
+  double eps = INFINITY, gtip = 0.0, eps_prev = INFINITY;
   int it = 0;
   for (;; ++it) {
     ea__fe_assemble(m, q, phase, *value, m->fi, m->Kb);
@@ -82,13 +82,20 @@ static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_p
       q[2] -= sc * dth;
     }
     /* rounding-level correction: as converged as EA allows */
-    if (xmax <= 1e-13 * m->arm.length && fabs(dT) <= 1e-12 * (1.0 + fabs(*value)) && !tip) {
+    /* stagnation at rounding level: eps no longer falls 10x per step and the
+     * correction is below 1e-10 L */
+    const int stagnant = it > 0 && eps > 0.1 * eps_prev;
+    eps_prev = eps;
+    if (stagnant && xmax <= 1e-10 * m->arm.length && fabs(sc * dth) <= 1e-10 &&
+        fabs(sc * dT) <= 1e-10 * (1.0 + fabs(*value))) {
       ++it;
       st = EA_OK;
       ea__fe_assemble(m, q, phase, *value, m->fi, NULL);
       r2 = 0.0;
       for (int i = 0; i < nf; ++i) r2 += m->fi[i + 3] * m->fi[i + 3];
       eps = (m->fext_norm > 0.0) ? sqrt(r2) / m->fext_norm : sqrt(r2);
+      if (tip) gtip = fmax(fabs(q[tx + 3] - tip[0]), fabs(q[ty + 3] - tip[1]));
+      if (gtip > 1e-12 * m->arm.length) st = EA_ERR_MAXITER;
       break;
     }
     /* after a large step the positions carry spurious strains (x EA): relax */

@@ -180,6 +180,7 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
     v1[0] = v1[1] = 0.0;
     v1[2] = th1r;
     int it = 0, conv = 0;
+    double dprev = INFINITY;
     for (; it < s->max_iter; ++it) {
       for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
       for (int i = 0; i < nd; ++i) qm[i] = 0.5 * (q0[i] + q1[i]);
@@ -223,11 +224,13 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
         st = EA_ERR_NOCONV;
         break;
       }
-      if (dmax <= s->tol) {
+      /* converged, or stagnating at rounding level (EA / h amplifies rounding) */
+      if (dmax <= s->tol || (dmax <= 1e3 * s->tol && dmax > 0.5 * dprev)) {
         conv = 1;
         ++it;
         break;
       }
+      dprev = dmax;
     }
     for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
     info->newton_iterations += it;
