@@ -127,9 +127,12 @@ int main(void) {
                "path beyond the edge: exit 1, reasons given");
 
   /* Atomic output: an unwritable CSV leaves nothing behind. */
-  snprintf(args, sizeof args, "torque-map --arm %s --csv /nonexistent-dir/x.csv", arm_path);
+  /* a directory that cannot exist: its parent is a regular file */
+  FILE *blocker = fopen("test_cli_blocker", "w");
+  if (blocker) fclose(blocker);
+  snprintf(args, sizeof args, "torque-map --arm %s --csv test_cli_blocker/x.csv", arm_path);
   rc = run(args);
-  ea_test_true(rc != 0 && strstr(out, "/nonexistent-dir/x.csv"), "unwritable output: error names it");
+  ea_test_true(rc != 0 && strstr(out, "test_cli_blocker/x.csv"), "unwritable output: error names it");
   const char *csv = "test_cli_tm.csv";
   remove(csv);
   snprintf(args, sizeof args,
