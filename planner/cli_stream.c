@@ -5,10 +5,15 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 static volatile sig_atomic_t ea__cli_stop = 0;
 
@@ -17,6 +22,25 @@ static void ea__cli_on_sigint(int sig) {
   ea__cli_stop = 1;
   signal(SIGINT, SIG_DFL); /* a second Ctrl-C ends the process at once */
   signal(SIGTERM, SIG_DFL);
+}
+
+/* Real-time hygiene of the sending thread: 1 ns timer slack (the default
+ * 50 us is added to every clock_nanosleep wake-up); with --rt also
+ * SCHED_FIFO and locked memory, if the system allows it. */
+static void ea__cli_realtime(int rt) {
+#if defined(__linux__) && defined(PR_SET_TIMERSLACK)
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+#endif
+  if (!rt) return;
+  struct sched_param sp;
+  memset(&sp, 0, sizeof sp);
+  sp.sched_priority = 50;
+  if (sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
+    fprintf(stderr, "elasticarm stream: --rt: SCHED_FIFO not permitted (%s); continuing\n",
+            strerror(errno));
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+    fprintf(stderr, "elasticarm stream: --rt: mlockall failed (%s); continuing\n",
+            strerror(errno));
 }
 
 static void ea__cli_install_stop(void) {
@@ -46,7 +70,8 @@ static const char *ea__stream_help =
     "  --realtime            pace file: output too\n"
     "  --ack-timeout-ms T    controlled stop when a frame waits T ms for its ACK (100)\n"
     "  --start-tol-m X       handshake tolerance on the cable length (0.001)\n"
-    "  --start-tol-rad X     handshake tolerance on theta0 and base (0.01)\n\n"
+    "  --start-tol-rad X     handshake tolerance on theta0 and base (0.01)\n"
+    "  --rt                  SCHED_FIFO priority 50 and locked memory (if permitted)\n\n"
     "On NACK, ACK timeout or SIGINT: a controlled stop within the limits, then END.\n"
     "Exit: 0 complete, 1 stopped / refused / link lost, 2 usage or input error.\n";
 
@@ -54,7 +79,7 @@ int ea__cli_stream(int argc, char **argv) {
   const char *cmd = "stream", *traj_path = NULL, *to = NULL, *arm_file = NULL;
   ea_stream_settings_t s;
   ea_stream_settings_default(&s);
-  int json = 0, realtime = -1;
+  int json = 0, realtime = -1, rt = 0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v;
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -87,6 +112,8 @@ int ea__cli_stream(int argc, char **argv) {
       realtime = 0;
     } else if (!strcmp(a, "--realtime")) {
       realtime = 1;
+    } else if (!strcmp(a, "--rt")) {
+      rt = 1;
     } else if (a[0] == '-' && a[1]) {
       return ea__cli_usage_error(cmd, "unknown option '%s'", a);
     } else if (!traj_path) {
@@ -120,6 +147,7 @@ int ea__cli_stream(int argc, char **argv) {
     return EA_EXIT_FAIL;
   }
   ea__cli_install_stop();
+  ea__cli_realtime(rt);
   s.stop_request = &ea__cli_stop;
   ea_stream_info_t info;
   st = ea_stream_run(&arm, sp, n, to, &s, &info, &err);
