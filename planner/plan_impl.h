@@ -17,6 +17,8 @@ typedef enum ea__row_kind {
   EA__ROW_SHOULDER_SPEED,    /* (theta0_{k+1} - theta0_k) / h */
   EA__ROW_PATH_NORMAL,       /* tip on the segment's line */
   EA__ROW_PATH_PROGRESS,     /* tip between the segment's ends */
+  EA__ROW_OBJ_ACC,           /* objective piece: acceleration energy of an interval */
+  EA__ROW_OBJ_JERK,          /* objective piece: jerk energy of an interval */
   EA__ROW_KIND_COUNT
 } ea__row_kind_t;
 
@@ -62,6 +64,17 @@ struct ea_planner {
   /* objective */
   int n_terms;
   ea__plan_term_t terms[EA__MAX_TERMS];
+  /* exact Hessian (plan_hess.c) */
+  int hess_exact;
+  int n_orows;          /* objective pieces (rows of kind EA__ROW_OBJ_*) */
+  ea__row_t *orows;
+  double *oweight;      /* weight of each piece */
+  int nnz_h;
+  int *hirow, *hjcol;   /* lower triangle, sorted */
+  int *hpos_start;      /* (m + n_orows + 1): offsets into hpos, per row */
+  int *hpos;            /* value position of each local pair of a row */
+  int *hpos_stat;       /* N x 15: statics block (L_c, alpha, T, theta0, kappa0) */
+  double *xx;           /* n scratch */
   /* statics cache at the current x */
   double *xL;   /* N x 4 tip states */
   double *S;    /* N x 16 sensitivities */
@@ -95,6 +108,15 @@ ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens);
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g);
 /** Jacobian: structure (values NULL) or values (irow/jcol NULL). Returns nnz. */
 int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values);
+/** One row (constraint or objective piece): value and entries (col, val);
+ *  returns the entry count (<= 8). Statics rows read the cached sensitivities. */
+int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r,
+                      double *value, int *cols, double *vals);
+/** Hessian setup (structure, positions) and values (lower triangle). */
+ea_status_t ea__plan_hess_setup(ea_planner_t *pl);
+ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double obj_factor,
+                                 const double *lambda, double *values);
+void ea__plan_hess_free(ea_planner_t *pl);
 /** Objective terms for the task. */
 void ea__plan_terms_setup(ea_planner_t *pl);
 /** Name of a row kind ("tension", ...). */

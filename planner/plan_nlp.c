@@ -85,8 +85,8 @@ static void ea__interval(const ea_planner_t *pl, const double *x, int k, int c, 
 }
 
 /* One row: value and (optionally) its entries (col, val); returns count. */
-static int ea__row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r,
-                        double *value, int *cols, double *vals) {
+int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r,
+                      double *value, int *cols, double *vals) {
   const ea_arm_t *arm = &pl->task.arm;
   const int k = r->knot, c = r->coord;
   int n = 0;
@@ -177,6 +177,33 @@ static int ea__row_eval(const ea_planner_t *pl, const double *x, const ea__row_t
       EA__E(EA__IQ(pl, k, j), dir[0] * dP[0][j] + dir[1] * dP[1][j] + dir[2] * dP[2][j]);
     break;
   }
+  case EA__ROW_OBJ_ACC:
+  case EA__ROW_OBJ_JERK: {
+    double q0, q1, v0, v1, h, ds, a[2], ga[2][5];
+    ea__interval(pl, x, k, c, &q0, &q1, &v0, &v1, &h, &ds);
+    ea__plan_hermite_acc(q0, q1, v0, v1, h, a, ga);
+    const double is = 1.0 / (pl->aref[c] * pl->aref[c]);
+    double fa0, fa1, fh;
+    if (r->kind == EA__ROW_OBJ_ACC) {
+      const double e = a[0] * a[0] + a[0] * a[1] + a[1] * a[1];
+      if (value) *value = h / 3.0 * e * is;
+      fa0 = h / 3.0 * (2.0 * a[0] + a[1]) * is;
+      fa1 = h / 3.0 * (a[0] + 2.0 * a[1]) * is;
+      fh = e / 3.0 * is;
+    } else {
+      const double j = a[1] - a[0];
+      if (value) *value = j * j / h * is;
+      fa0 = -2.0 * j / h * is;
+      fa1 = 2.0 * j / h * is;
+      fh = -j * j / (h * h) * is;
+    }
+    EA__E(EA__IQ(pl, k, c), fa0 * ga[0][0] + fa1 * ga[1][0]);
+    EA__E(EA__IQ(pl, k + 1, c), fa0 * ga[0][1] + fa1 * ga[1][1]);
+    EA__E(EA__IV(pl, k, c), fa0 * ga[0][2] + fa1 * ga[1][2]);
+    EA__E(EA__IV(pl, k + 1, c), fa0 * ga[0][3] + fa1 * ga[1][3]);
+    if (pl->has_tf) EA__E(EA__ITF(pl), (fa0 * ga[0][4] + fa1 * ga[1][4] + fh) * ds);
+    break;
+  }
   default: break;
   }
 #undef EA__E
@@ -186,7 +213,7 @@ static int ea__row_eval(const ea_planner_t *pl, const double *x, const ea__row_t
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g) {
   ea_status_t st = ea__plan_shoot_all(pl, x, 0);
   if (st) return st;
-  for (int i = 0; i < pl->m; ++i) ea__row_eval(pl, x, &pl->rows[i], &g[i], NULL, NULL);
+  for (int i = 0; i < pl->m; ++i) ea__plan_row_eval(pl, x, &pl->rows[i], &g[i], NULL, NULL);
   return EA_OK;
 }
 
@@ -194,7 +221,7 @@ int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double
   int nz = 0;
   int cols[8];
   for (int i = 0; i < pl->m; ++i) {
-    const int c = ea__row_eval(pl, x, &pl->rows[i], NULL, jcol ? cols : NULL,
+    const int c = ea__plan_row_eval(pl, x, &pl->rows[i], NULL, jcol ? cols : NULL,
                                values ? values + nz : NULL);
     if (irow)
       for (int j = 0; j < c; ++j) {

@@ -1,0 +1,228 @@
+/* The Lagrangian Hessian (lower triangle) for Ipopt's exact-Hessian mode.
+ *
+ * Statics rows: the second derivatives of the shooting map come from
+ * forward differences of its exact first-order sensitivities (4 extra
+ * shots with sensitivities per knot), plus the closed-form curvature of
+ * -L_c (cos alpha, sin alpha). Every other row, and the objective pieces,
+ * are small local functions (<= 5 variables) with exact gradients; their
+ * Hessians are central differences of those gradients, exact for the rows
+ * that are linear or quadratic in their variables. docs/planner.md compares
+ * this with the limited-memory quasi-Newton option. */
+#include "plan_impl.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int ea__cmp64(const void *a, const void *b) {
+  const int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+  return x < y ? -1 : x > y;
+}
+
+static int64_t ea__key(const ea_planner_t *pl, int i, int j) {
+  if (i < j) {
+    const int t = i;
+    i = j;
+    j = t;
+  }
+  return (int64_t)i * pl->n + j;
+}
+
+static int ea__pos(const int64_t *keys, int n, int64_t k) {
+  int lo = 0, hi = n - 1;
+  while (lo <= hi) {
+    const int mid = (lo + hi) / 2;
+    if (keys[mid] < k)
+      lo = mid + 1;
+    else if (keys[mid] > k)
+      hi = mid - 1;
+    else
+      return mid;
+  }
+  return -1;
+}
+
+static void ea__stat_vars(const ea_planner_t *pl, int k, int v[5]) {
+  v[0] = EA__IQ(pl, k, 0);
+  v[1] = EA__IQ(pl, k, 1);
+  v[2] = EA__IP(pl, k, 0);
+  v[3] = EA__IP(pl, k, 1);
+  v[4] = EA__IP(pl, k, 2);
+}
+
+static const ea__row_t *ea__hrow(const ea_planner_t *pl, int r) {
+  return r < pl->m ? &pl->rows[r] : &pl->orows[r - pl->m];
+}
+
+void ea__plan_hess_free(ea_planner_t *pl) {
+  free(pl->orows);
+  free(pl->oweight);
+  free(pl->hirow);
+  free(pl->hjcol);
+  free(pl->hpos_start);
+  free(pl->hpos);
+  free(pl->hpos_stat);
+  free(pl->xx);
+  pl->orows = NULL;
+  pl->oweight = NULL;
+  pl->hirow = pl->hjcol = pl->hpos_start = pl->hpos = pl->hpos_stat = NULL;
+  pl->xx = NULL;
+}
+
+ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
+  const ea_task_t *t = &pl->task;
+  const int N = pl->N;
+  /* Objective pieces. */
+  int kind = -1;
+  double w = 0.0;
+  if (t->objective == EA_TASK_MIN_TIME && t->solver.regularization > 0.0)
+    kind = EA__ROW_OBJ_ACC, w = t->solver.regularization;
+  else if (t->objective == EA_TASK_MIN_EFFORT)
+    kind = EA__ROW_OBJ_ACC, w = 1.0;
+  else if (t->objective == EA_TASK_MIN_JERK)
+    kind = EA__ROW_OBJ_JERK, w = 1.0;
+  pl->n_orows = kind < 0 ? 0 : (N - 1) * pl->nq;
+  pl->orows = calloc((size_t)pl->n_orows + 1, sizeof *pl->orows);
+  pl->oweight = calloc((size_t)pl->n_orows + 1, sizeof *pl->oweight);
+  pl->xx = calloc((size_t)pl->n, sizeof *pl->xx);
+  if (!pl->orows || !pl->oweight || !pl->xx) return EA_ERR_NOMEM;
+  int i = 0;
+  if (kind >= 0)
+    for (int k = 0; k + 1 < N; ++k)
+      for (int c = 0; c < pl->nq; ++c) {
+        pl->orows[i] = (ea__row_t){(unsigned char)kind, (unsigned char)c, k};
+        pl->oweight[i++] = w;
+      }
+  /* Pairs. */
+  const int nr = pl->m + pl->n_orows;
+  const size_t cap = (size_t)15 * N + (size_t)15 * nr + 1;
+  int64_t *keys = malloc(cap * sizeof *keys);
+  pl->hpos_start = calloc((size_t)nr + 1, sizeof *pl->hpos_start);
+  pl->hpos_stat = calloc((size_t)N * 15, sizeof *pl->hpos_stat);
+  if (!keys || !pl->hpos_start || !pl->hpos_stat) {
+    free(keys);
+    return EA_ERR_NOMEM;
+  }
+  size_t nk = 0;
+  for (int k = 0; k < N; ++k) {
+    int v[5];
+    ea__stat_vars(pl, k, v);
+    for (int a = 0; a < 5; ++a)
+      for (int b = 0; b <= a; ++b) keys[nk++] = ea__key(pl, v[a], v[b]);
+  }
+  int cols[8];
+  size_t npos = 0;
+  for (int r = 0; r < nr; ++r) {
+    const ea__row_t *row = ea__hrow(pl, r);
+    if (row->kind <= EA__ROW_STATICS_Y) continue;
+    const int nc = ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
+    for (int a = 0; a < nc; ++a)
+      for (int b = 0; b <= a; ++b) keys[nk++] = ea__key(pl, cols[a], cols[b]);
+    npos += (size_t)nc * (nc + 1) / 2;
+  }
+  qsort(keys, nk, sizeof *keys, ea__cmp64);
+  size_t u = 0;
+  for (size_t q = 0; q < nk; ++q)
+    if (u == 0 || keys[q] != keys[u - 1]) keys[u++] = keys[q];
+  pl->nnz_h = (int)u;
+  pl->hirow = calloc(u + 1, sizeof *pl->hirow);
+  pl->hjcol = calloc(u + 1, sizeof *pl->hjcol);
+  pl->hpos = calloc(npos + 1, sizeof *pl->hpos);
+  if (!pl->hirow || !pl->hjcol || !pl->hpos) {
+    free(keys);
+    return EA_ERR_NOMEM;
+  }
+  for (size_t q = 0; q < u; ++q) {
+    pl->hirow[q] = (int)(keys[q] / pl->n);
+    pl->hjcol[q] = (int)(keys[q] % pl->n);
+  }
+  for (int k = 0; k < N; ++k) {
+    int v[5], e = 0;
+    ea__stat_vars(pl, k, v);
+    for (int a = 0; a < 5; ++a)
+      for (int b = 0; b <= a; ++b)
+        pl->hpos_stat[15 * k + e++] = ea__pos(keys, pl->nnz_h, ea__key(pl, v[a], v[b]));
+  }
+  int p = 0;
+  for (int r = 0; r < nr; ++r) {
+    pl->hpos_start[r] = p;
+    const ea__row_t *row = ea__hrow(pl, r);
+    if (row->kind <= EA__ROW_STATICS_Y) continue;
+    const int nc = ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
+    for (int a = 0; a < nc; ++a)
+      for (int b = 0; b <= a; ++b)
+        pl->hpos[p++] = ea__pos(keys, pl->nnz_h, ea__key(pl, cols[a], cols[b]));
+  }
+  pl->hpos_start[nr] = p;
+  free(keys);
+  return EA_OK;
+}
+
+ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma,
+                                 const double *lambda, double *values) {
+  memset(values, 0, (size_t)pl->nnz_h * sizeof *values);
+  ea_status_t st = ea__plan_shoot_all(pl, x, 1);
+  if (st) return st;
+  const ea_arm_t *arm = &pl->task.arm;
+  /* Statics blocks. */
+  const double t0 = ea__plan_now();
+  for (int k = 0; k < pl->N; ++k) {
+    const double lk = lambda[3 * k], lx = lambda[3 * k + 1], ly = lambda[3 * k + 2];
+    if (lk == 0.0 && lx == 0.0 && ly == 0.0) continue;
+    const double Lc = x[EA__IQ(pl, k, 0)], al = x[EA__IQ(pl, k, 1)];
+    const double p0[EA_NP] = {al, x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)], x[EA__IP(pl, k, 2)]};
+    const double *S0 = pl->S + 16 * k;
+    double H[5][5] = {{0}};
+    double D[EA_NP][EA_NX * EA_NP]; /* D[j] = d S / d p_j (forward differences) */
+    for (int j = 0; j < EA_NP; ++j) {
+      double p[EA_NP], xL[EA_NX], S[EA_NX * EA_NP];
+      memcpy(p, p0, sizeof p);
+      const double d = 1e-7 * fmax(1.0, fabs(p0[j]));
+      p[j] += d;
+      if ((st = ea_shoot(pl->sh, p, xL, S))) return st;
+      for (int e = 0; e < EA_NX * EA_NP; ++e) D[j][e] = (S[e] - S0[e]) / d;
+    }
+    const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
+    const double lam[3] = {lk, lx, ly};
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < EA_NP; ++a)
+        for (int b = 0; b < EA_NP; ++b)
+          H[1 + a][1 + b] += lam[r] * 0.5 * (D[a][xi[r] * EA_NP + b] + D[b][xi[r] * EA_NP + a]);
+    /* -L_c cos(alpha), -L_c sin(alpha) */
+    H[1][1] += lx * Lc * cos(al) + ly * Lc * sin(al);
+    H[1][0] += lx * sin(al) - ly * cos(al);
+    H[0][1] = H[1][0];
+    int e = 0;
+    for (int a = 0; a < 5; ++a)
+      for (int b = 0; b <= a; ++b) values[pl->hpos_stat[15 * k + e++]] += H[a][b];
+  }
+  pl->t_statics += ea__plan_now() - t0;
+  (void)arm;
+  /* Local rows and objective pieces. */
+  memcpy(pl->xx, x, (size_t)pl->n * sizeof *x);
+  const int nr = pl->m + pl->n_orows;
+  int cols[8];
+  double gp[8], gm[8], Hl[8][8];
+  for (int r = 0; r < nr; ++r) {
+    const ea__row_t *row = ea__hrow(pl, r);
+    if (row->kind <= EA__ROW_STATICS_Y) continue;
+    const double w = r < pl->m ? lambda[r] : sigma * pl->oweight[r - pl->m];
+    if (w == 0.0) continue;
+    const int nc = ea__plan_row_eval(pl, x, row, NULL, cols, NULL);
+    for (int a = 0; a < nc; ++a) {
+      const int v = cols[a];
+      const double d = 1e-6 * fmax(1.0, fabs(x[v]));
+      pl->xx[v] = x[v] + d;
+      ea__plan_row_eval(pl, pl->xx, row, NULL, NULL, gp);
+      pl->xx[v] = x[v] - d;
+      ea__plan_row_eval(pl, pl->xx, row, NULL, NULL, gm);
+      pl->xx[v] = x[v];
+      for (int b = 0; b < nc; ++b) Hl[a][b] = (gp[b] - gm[b]) / (2.0 * d);
+    }
+    int p = pl->hpos_start[r];
+    for (int a = 0; a < nc; ++a)
+      for (int b = 0; b <= a; ++b) values[pl->hpos[p++]] += w * 0.5 * (Hl[a][b] + Hl[b][a]);
+  }
+  return EA_OK;
+}
