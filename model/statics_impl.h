@@ -15,6 +15,7 @@ struct ea_shooter {
   ea_shoot_settings_t set;
   ea_load_t load;
   double g;         /* gravity in use (continuation scales it) */
+  double inv_EI;    /* 1 / EI */
   double p[EA_NP];  /* arguments of the current integration */
   double cos_alpha, sin_alpha; /* of p[EA_P_ALPHA] */
   /* Index nc = number of sensitivity columns integrated (dim 4 + 4 nc). */

@@ -2,7 +2,8 @@
  *
  * State y = (theta, kappa, x, y) over s in [0, L]:
  *   theta' = kappa
- *   kappa' = W(s) cos(theta) - T sin(theta - alpha),  W(s) = (m_L + rho (L - s)) g
+ *   kappa' = [W(s) cos(theta) - T sin(theta - alpha)] / EI,  W(s) = (m_L + rho (L - s)) g
+ * (eq. 10 solved for theta''; the paper's eq. 11 prints it without the 1/EI)
  *   x'     = cos(theta),   y' = sin(theta)
  * with y(0) = (theta0, kappa0, 0, 0). The sensitivities S = dy/dp for
  * p = (alpha, T, theta0, kappa0) obey S' = A(s) S + B(s), S(0) = [0 0 1 0; 0 0 0 1;
@@ -54,13 +55,14 @@ static int ea__rhs(double s, const double y[], double f[], void *params) {
    * sin/cos pair per evaluation (cos/sin alpha are set per shot). */
   const double sd = sn * sh->cos_alpha - c * sh->sin_alpha;
   const double cd = c * sh->cos_alpha + sn * sh->sin_alpha;
+  const double iEI = sh->inv_EI;
   f[0] = ka;
-  f[1] = W * c - T * sd;
+  f[1] = (W * c - T * sd) * iEI; /* eq. 10 divided by EI (eq. 11 prints it with EI = 1) */
   f[2] = c;
   f[3] = sn;
   const int nc = sh->ncols_active;
   if (nc) {
-    const double a10 = -W * sn - T * cd;
+    const double a10 = (-W * sn - T * cd) * iEI;
     const double *S = y + 4;
     double *F = f + 4;
     for (int k = 0; k < nc; ++k) {
@@ -69,8 +71,8 @@ static int ea__rhs(double s, const double y[], double f[], void *params) {
       F[nc + k] = a10 * dth;
       F[2 * nc + k] = -sn * dth;
       F[3 * nc + k] = c * dth;
-      if (sh->cols_active[k] == EA_P_ALPHA) F[nc + k] += T * cd;
-      if (sh->cols_active[k] == EA_P_TENSION) F[nc + k] -= sd;
+      if (sh->cols_active[k] == EA_P_ALPHA) F[nc + k] += T * cd * iEI;
+      if (sh->cols_active[k] == EA_P_TENSION) F[nc + k] -= sd * iEI;
     }
   }
   return GSL_SUCCESS;
@@ -115,6 +117,7 @@ ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s,
   sh->arm = *arm;
   sh->set = set;
   sh->g = arm->g;
+  sh->inv_EI = 1.0 / arm->EI;
   sh->load.tip_mass = arm->m_hand;
   const gsl_odeiv2_step_type *T = ea__step_type(set.integrator);
   sh->perm = gsl_permutation_alloc(4);

@@ -11,14 +11,17 @@
 #include <gsl/gsl_sf_ellint.h>
 #include <string.h>
 
-static ea_arm_t unit_arm(double rho, double tip_mass, double L) {
+/* An arm whose EI, L and g are not 1, so that a lost factor shows. */
+#define T_EI 2.5
+#define T_G 9.81
+static ea_arm_t test_arm(double rho, double tip_mass, double L) {
   ea_arm_t a;
   ea_arm_default(&a);
   a.rho = rho;
   a.m_hand = tip_mass;
   a.length = L;
-  a.EI = 1.0;
-  a.g = 1.0;
+  a.EI = T_EI;
+  a.g = T_G;
   return a;
 }
 
@@ -68,7 +71,8 @@ static void test_bisshopp_drucker(void) {
   const double as[] = {0.5, 1.0, 2.0, 3.5, 5.0, 7.5, 10.0};
   for (size_t i = 0; i < sizeof as / sizeof *as; ++i) {
     const double a = as[i];
-    ea_arm_t arm = unit_arm(0.0, a, 1.0); /* P = m g = a, a = P L^2 / EI */
+    const double L = 1.3; /* a = P L^2 / EI with P = m g */
+    ea_arm_t arm = test_arm(0.0, a * T_EI / (L * L * T_G), L);
     ea_shooter_t *sh = NULL;
     ea_shooter_alloc(&arm, NULL, &sh, NULL);
     ea_statics_problem_t pr = ea_statics_problem_tension_theta0(0.0, 0.0);
@@ -81,21 +85,22 @@ static void test_bisshopp_drucker(void) {
     if (st) printf("  %s\n", e.msg);
     bisshopp_drucker(a, &dv, &xh);
     snprintf(what, sizeof what, "BD a=%.1f vertical deflection / L", a);
-    ea_test_abs(-sol.tip[EA_X_Y], dv, 1e-9, what);
+    ea_test_abs(-sol.tip[EA_X_Y] / L, dv, 1e-9, what);
     snprintf(what, sizeof what, "BD a=%.1f horizontal tip / L", a);
-    ea_test_abs(sol.tip[EA_X_X], xh, 1e-9, what);
+    ea_test_abs(sol.tip[EA_X_X] / L, xh, 1e-9, what);
     ea_shooter_free(sh);
   }
 }
 
 /* ---- Greenhill's standing heavy column ---- */
+#define GH_RHO 0.7
 
 struct gh_ctx {
   int fails;
 };
 static double gh_sens(double L, void *vp) {
   struct gh_ctx *c = vp;
-  ea_arm_t arm = unit_arm(1.0, 0.0, L);
+  ea_arm_t arm = test_arm(GH_RHO, 0.0, L);
   ea_shooter_t *sh = NULL;
   if (ea_shooter_alloc(&arm, NULL, &sh, NULL)) {
     ++c->fails;
@@ -109,12 +114,13 @@ static double gh_sens(double L, void *vp) {
 }
 
 static void test_greenhill(void) {
-  const double Lcr = cbrt(7.83734743894); /* EI = rho = g = 1 */
+  const double Lcr = cbrt(7.83734743894 * T_EI / (GH_RHO * T_G));
   struct gh_ctx c = {0};
   gsl_function F = {gh_sens, &c};
-  ea_test_true(gh_sens(1.5, &c) * gh_sens(2.5, &c) < 0, "Greenhill: sensitivity changes sign");
+  const double lo = 0.75 * Lcr, hi = 1.25 * Lcr;
+  ea_test_true(gh_sens(lo, &c) * gh_sens(hi, &c) < 0, "Greenhill: sensitivity changes sign");
   gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-  gsl_root_fsolver_set(s, &F, 1.5, 2.5);
+  gsl_root_fsolver_set(s, &F, lo, hi);
   double L = 0;
   for (int i = 0; i < 100; ++i) {
     gsl_root_fsolver_iterate(s);
