@@ -10,6 +10,7 @@
 /* ------------------------------------------------------------------------ */
 
 typedef struct {
+  int no_stability;
   const char *arm_file;
   ea__cli_payload_t payload;
   int json;
@@ -32,6 +33,8 @@ static int ea__common_opt(const char *cmd, int argc, char **argv, int *i, ea__co
     if (ea__cli_double(cmd, a, v, 0.0, 1e3, &c->payload.value)) return -1;
   } else if (!strcmp(a, "--json")) {
     c->json = 1;
+  } else if (!strcmp(a, "--no-stability")) {
+    c->no_stability = 1;
   } else if (!strcmp(a, "--figure")) {
     if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
     c->figure = v;
@@ -49,6 +52,7 @@ static const char *ea__common_help =
     "  --payload-factor G    payload m_p = G (m_h + rho L) (eq. 17)\n"
     "  --payload-kg M        payload mass [kg]\n"
     "  --json                JSON on stdout\n"
+    "  --no-stability        skip the FE stability check (statics, path)\n"
     "  --figure OUT          draw a figure (.svg, .png or .pdf)\n";
 
 static int ea__make_shooter(const char *cmd, const ea_arm_t *arm, double tip_mass,
@@ -169,6 +173,16 @@ int ea__cli_statics(int argc, char **argv) {
   ea_error_t err = {0};
   ea_status_t st = ea_statics_solve(sh, &prob, NULL, NULL, &sol, &err);
   const int solved = st == EA_OK;
+  int stable = -1;
+  if (solved && !c.no_stability) {
+    ea_fe_model_t *fe = NULL;
+    ea_fe_static_info_t fi;
+    if (ea_fe_model_alloc(&arm, NULL, &fe, NULL) == EA_OK &&
+        ea_fe_model_set_load(fe, ea_shooter_load(sh)) == EA_OK &&
+        ea_fe_static_solve(fe, sh, &sol, &fi, NULL) == EA_OK)
+      ea_fe_stability(fe, &stable, NULL);
+    ea_fe_model_free(fe);
+  }
   double *sx = NULL, *sy = NULL;
   if (solved && shape > 0) {
     sx = malloc((size_t)shape * sizeof *sx);
@@ -197,6 +211,10 @@ int ea__cli_statics(int argc, char **argv) {
                               : sol.branch == EA_BRANCH_WARM ? "warm start"
                                                              : "none");
     ea_json_num(&j, "winding_rad", sol.winding);
+    if (stable >= 0)
+      ea_json_bool(&j, "stable", stable);
+    else
+      ea_json_null(&j, "stable");
     if (solved && shape > 0) {
       ea_json_arr_begin(&j, "shape_m");
       for (long k = 0; k < shape; ++k) ea_json_vec(&j, NULL, (double[]){sx[k], sy[k]}, 2);
@@ -213,6 +231,7 @@ int ea__cli_statics(int argc, char **argv) {
            sol.cable_length, sol.p[EA_P_ALPHA] / EA__DEG, sol.p[EA_P_TENSION],
            sol.p[EA_P_THETA0] / EA__DEG, sol.p[EA_P_KAPPA0], sol.shoulder_torque,
            sol.tip[EA_X_X], sol.tip[EA_X_Y]);
+    printf("stable (FE)       %s\n", stable < 0 ? "not checked" : stable ? "yes" : "NO");
     for (long k = 0; k < shape; ++k) printf("shape %ld  %.9f %.9f\n", k, sx[k], sy[k]);
   }
   if (solved && c.figure) {
@@ -652,7 +671,18 @@ int ea__cli_path(int argc, char **argv) {
     ea_shooter_free(sh);
     return EA_EXIT_FAIL;
   }
-  ea_status_t st = ea_path_check_line(sh, p0, p1, (int)steps, &arm.act, pts);
+  ea_fe_model_t *fem = NULL;
+  if (!c.no_stability) {
+    ea_error_t ferr = {0};
+    ea_status_t fst = ea_fe_model_alloc(&arm, NULL, &fem, &ferr);
+    if (fst) {
+      free(pts);
+      ea_shooter_free(sh);
+      return ea__cli_fail(cmd, fst, &ferr);
+    }
+  }
+  ea_status_t st = ea_path_check_line_fe(sh, fem, p0, p1, (int)steps, &arm.act, pts);
+  ea_fe_model_free(fem);
   int nbad = 0;
   for (int k = 0; k < n; ++k) nbad += !pts[k].admissible;
   if (c.csv) {
@@ -691,6 +721,10 @@ int ea__cli_path(int argc, char **argv) {
       ea_json_num(&j, "kappa0_per_m", pts[k].kappa0);
       ea_json_num(&j, "shoulder_torque_Nm", pts[k].shoulder_torque);
       ea_json_num(&j, "residual", pts[k].residual);
+      if (pts[k].stable >= 0)
+        ea_json_bool(&j, "stable", pts[k].stable);
+      else
+        ea_json_null(&j, "stable");
       ea_json_bool(&j, "admissible", pts[k].admissible);
       ea_json_str(&j, "reason", pts[k].reason);
       ea_json_obj_end(&j);
@@ -701,12 +735,13 @@ int ea__cli_path(int argc, char **argv) {
   } else if (!c.csv || strcmp(c.csv, "-")) {
     printf("Straight path (%.4g, %.4g) -> (%.4g, %.4g) m, tip mass %.4g kg, %ld steps\n", p0[0],
            p0[1], p1[0], p1[1], ea_shooter_load(sh)->tip_mass, steps);
-    printf("%6s %10s %10s %10s %10s %11s %s\n", "beta", "L_c [m]", "alpha[deg]", "T [N]",
-           "th0 [deg]", "torque[Nm]", "admissible");
+    printf("%6s %10s %10s %10s %10s %11s %7s %s\n", "beta", "L_c [m]", "alpha[deg]", "T [N]",
+           "th0 [deg]", "torque[Nm]", "stable", "admissible");
     for (int k = 0; k < n; ++k)
-      printf("%6.3f %10.5f %10.3f %10.4f %10.3f %11.5f %s%s\n", (double)k / (double)steps,
+      printf("%6.3f %10.5f %10.3f %10.4f %10.3f %11.5f %7s %s%s\n", (double)k / (double)steps,
              pts[k].cable_length, pts[k].alpha / EA__DEG, pts[k].tension,
-             pts[k].theta0 / EA__DEG, pts[k].shoulder_torque, pts[k].admissible ? "yes" : "NO: ",
+             pts[k].theta0 / EA__DEG, pts[k].shoulder_torque,
+             pts[k].stable < 0 ? "-" : pts[k].stable ? "yes" : "NO", pts[k].admissible ? "yes" : "NO: ",
              pts[k].reason);
     printf("path %s\n", st == EA_OK ? "ADMISSIBLE" : "NOT admissible");
   }

@@ -41,6 +41,7 @@ typedef struct ea_config_point {
   double residual;        /**< statics residual */
   int iterations;         /**< Newton iterations */
   ea_status_t status;     /**< EA_OK or why there is no valid configuration */
+  int stable;             /**< FE passive stiffness positive definite: 1, 0, or -1 not checked */
   int admissible;         /**< 1 if every limit holds (path, torque map) */
   char reason[96];        /**< why not admissible ("" if admissible) */
 } ea_config_point_t;
@@ -70,6 +71,14 @@ ea_status_t ea_torque_map(ea_shooter_t *sh, const double *cable_length, int n_le
  *  reason. tension_min overrides lim->tension_min when > 0. */
 void ea_config_check_limits(ea_config_point_t *pt, const ea_actuators_t *lim, double tension_min);
 
+/** Stability of a solved configuration (paper sec. 3): FE static solve in the
+ *  active phase from the statics, then is the passive-phase stiffness
+ *  positive definite? Sets pt->stable; an unstable configuration becomes
+ *  inadmissible with the reason. fe must be made for the same arm and load
+ *  as sh. Returns the FE status (pt->stable = -1 if the FE failed). */
+ea_status_t ea_config_check_stability(ea_shooter_t *sh, ea_fe_model_t *fe,
+                                      ea_config_point_t *pt);
+
 /** Straight tip path from tip0 to tip1 (eqs. 18-20) at steps + 1 points
  *  beta = 0, 1/steps, ..., 1; each solved (warm start along the path, cold
  *  start where that fails) and checked against the limits. out has
@@ -77,6 +86,11 @@ void ea_config_check_limits(ea_config_point_t *pt, const ea_actuators_t *lim, do
  *  EA_ERR_INADMISSIBLE otherwise. */
 ea_status_t ea_path_check_line(ea_shooter_t *sh, const double tip0[2], const double tip1[2],
                                int steps, const ea_actuators_t *lim, ea_config_point_t *out);
+/** As ea_path_check_line, and with fe != NULL every solved step is also
+ *  checked for stability (ea_config_check_stability). */
+ea_status_t ea_path_check_line_fe(ea_shooter_t *sh, ea_fe_model_t *fe, const double tip0[2],
+                                  const double tip1[2], int steps, const ea_actuators_t *lim,
+                                  ea_config_point_t *out);
 /* EA_STATICS_PROBLEMS_SECTION_END */
 
 /* EA_TASK_SECTION_BEGIN (task specs: problems/task_*.c) */
@@ -148,7 +162,7 @@ typedef struct ea_task_solver {
   double tol;           /**< Ipopt tol (default 1e-8) */
   double constr_tol;    /**< Ipopt constr_viol_tol (default 1e-10) */
   double max_time_s;    /**< wall-clock limit (default 60) */
-  int derivative_test;  /**< run Ipopt's first-order derivative checker */
+  int derivative_test;  /**< run Ipopt's derivative checker: 1 first-order, 2 second-order */
   int print_level;      /**< Ipopt print level (default 0 = silent) */
   int tune_schedule;    /**< NLopt: tune the knot time distribution (min_time only) */
   double regularization;/**< weight of the acceleration-energy term added to min_time
@@ -222,6 +236,189 @@ const char *ea_task_output_path(const ea_task_t *task, const char *rel, char *bu
 /* EA_TASK_SECTION_END */
 
 /* EA_STUDY_SECTION_BEGIN (studies: problems/study_*.c) */
+
+/** Batch studies (docs/studies.md): a full-factorial grid of payload and arm
+ *  parameters, and per case only the metrics asked for (workspace, torque
+ *  and tension ranges, FE natural frequencies, path admissibility, and the
+ *  minimum-time duration of a task through a callback the planner
+ *  registers). Results are one tidy CSV row per case and metric:
+ *  case_id, the parameter columns, metric, value, unit, status, message.
+ *  Cases are computed independently (a fresh shooter / FE model per case,
+ *  no warm start across cases), so the CSV is byte-identical whatever the
+ *  thread count, the sharding, or how often the study was interrupted. */
+
+#include <signal.h>
+
+/** Parameters a grid may sweep, in CSV column order (payload first). */
+typedef enum ea_study_param {
+  EA_STUDY_PAYLOAD_FACTOR = 0, /**< [-] gamma (eq. 17), of the case's arm */
+  EA_STUDY_PAYLOAD_KG,         /**< [kg] m_p */
+  EA_STUDY_EI,                 /**< [N m^2] flexural rigidity */
+  EA_STUDY_RHO,                /**< [kg/m] beam mass per unit length */
+  EA_STUDY_LENGTH,             /**< [m] beam length L */
+  EA_STUDY_HAND_MASS,          /**< [kg] hand mass m_h */
+  EA_STUDY_CABLE_ROOT_X,       /**< [m] cable root x_c */
+  EA_STUDY_CABLE_ROOT_Y,       /**< [m] cable root y_c */
+  EA_STUDY_NPARAM
+} ea_study_param_t;
+
+/** Spec key and CSV column of a parameter ("payload_factor", "EI_Nm2", ...). */
+const char *ea_study_param_name(ea_study_param_t p);
+
+/** Metrics (bit flags of ea_study_t.metrics). */
+enum {
+  EA_STUDY_M_WORKSPACE = 1u,   /**< outer/inner edge: max_reach, area, outer_x_max, ... */
+  EA_STUDY_M_TORQUE = 2u,      /**< torque map: shoulder torque and tension ranges */
+  EA_STUDY_M_FREQUENCIES = 4u, /**< FE natural frequencies at given configurations */
+  EA_STUDY_M_PATH = 8u,        /**< admissibility of a straight tip path */
+  EA_STUDY_M_MIN_TIME = 16u    /**< minimum-time duration of a task (planner callback) */
+};
+
+/** Most frequency configurations of a study. */
+#define EA_STUDY_MAX_CONFIGS 16
+
+/** One axis of the grid: values owned (malloc'd). */
+typedef struct ea_study_axis {
+  ea_study_param_t param;
+  int n;          /**< number of values (>= 1) */
+  double *values; /**< owned; freed by ea_study_free */
+} ea_study_axis_t;
+
+/** A study spec. Built by ea_study_load() or ea_study_init() +
+ *  ea_study_set_axis() + fields + ea_study_check(). Owns the axis values
+ *  and the torque-map grids: release with ea_study_free(). */
+typedef struct ea_study {
+  char name[128];
+  char file[512];       /**< spec file ("" when built in C) */
+  char arm_file[512];   /**< arm file used ("" = built-in defaults) */
+  ea_arm_t arm;         /**< base arm; grid parameters override it per case */
+  int n_axes;           /**< axes in CSV column order (ea_study_param_t order) */
+  ea_study_axis_t axis[EA_STUDY_NPARAM];
+  long n_cases;         /**< product of the axis sizes (set by ea_study_check) */
+  unsigned metrics;     /**< EA_STUDY_M_* flags */
+  struct {
+    double alpha_min, alpha_max; /**< [rad] cable angle sweep of the edges (-60, 10 deg) */
+    int points;                  /**< edge points (default 71) */
+    double inner_cable_length;   /**< [m] inner edge (<= 0: the arm's cable_length_min) */
+  } workspace;
+  struct {
+    int n_len, n_alpha;          /**< grid sizes */
+    double *cable_length;        /**< [m] owned */
+    double *alpha;               /**< [rad] owned */
+  } torque;
+  struct {
+    int modes;                   /**< modes per configuration (default 3) */
+    int elements;                /**< FE elements (default EA_FE_DEFAULT_ELEMENTS) */
+    int n_config;
+    double cable_length[EA_STUDY_MAX_CONFIGS]; /**< [m] */
+    double alpha[EA_STUDY_MAX_CONFIGS];        /**< [rad] */
+  } freq;
+  struct {
+    double start[2], goal[2];    /**< [m] tip (x, y) */
+    int steps;                   /**< points - 1 (default 20) */
+  } path;
+  struct {
+    char task_file[512];         /**< task spec (resolved against the spec's folder) */
+  } min_time;
+  char out_csv[512];             /**< outputs resolved against the spec's folder ("" = none) */
+  char out_summary[512];
+  char out_figures[512];         /**< figure path prefix */
+} ea_study_t;
+
+/** Initialise: base arm (copied; NULL = ea_arm_default), no axes, no
+ *  metrics, default metric settings. */
+void ea_study_init(ea_study_t *s, const ea_arm_t *arm);
+/** Release owned arrays; the struct may be reused after ea_study_init. */
+void ea_study_free(ea_study_t *s);
+/** Set (or replace) the values of one axis (copied). */
+ea_status_t ea_study_set_axis(ea_study_t *s, ea_study_param_t p, const double *values, int n,
+                              ea_error_t *err);
+/** Validate and count the cases (ea_study_t.n_cases). Every case's arm is
+ *  checked with ea_arm_validate. */
+ea_status_t ea_study_check(ea_study_t *s, ea_error_t *err);
+/** Load and check a study spec (docs/studies.md). Errors say
+ *  file:line:column and the key. default_arm: arm file used when the spec
+ *  names none (NULL = built-in defaults). */
+ea_status_t ea_study_load(const char *path, const char *default_arm, ea_study_t *s,
+                          ea_error_t *err);
+/** Same from len bytes of text named name (relative paths against cwd). */
+ea_status_t ea_study_load_string(const char *name, const char *text, size_t len,
+                                 const char *default_arm, ea_study_t *s, ea_error_t *err);
+
+/** Parameter values of case_id (0-based; the first axis varies slowest):
+ *  values[n_axes]. */
+void ea_study_case_values(const ea_study_t *s, long case_id, double *values);
+/** The arm and payload of a case: grid values applied to the base arm;
+ *  payload from payload_kg or the factor of the case's arm (eq. 17).
+ *  *payload_factor is NAN when the payload is given in kg. */
+ea_status_t ea_study_case_arm(const ea_study_t *s, long case_id, ea_arm_t *arm,
+                              double *payload_kg, double *payload_factor, ea_error_t *err);
+
+/** Minimum-time duration of the study's task for one case: registered by
+ *  the planner (problems/ does not link Ipopt). Returns EA_OK and
+ *  *duration_s, or a status and a message in msg. Called from worker
+ *  threads; the callee serialises what is not thread-safe. */
+typedef ea_status_t (*ea_study_min_time_fn)(void *data, const ea_study_t *s, const ea_arm_t *arm,
+                                            double payload_kg, double payload_factor,
+                                            double *duration_s, char *msg, size_t msg_len);
+
+/** Progress callback (from worker threads, serialised): a case finished. */
+typedef void (*ea_study_progress_fn)(void *data, long case_id, long done, long todo,
+                                     int failed_rows);
+
+/** Run settings. */
+typedef struct ea_study_settings {
+  int threads;           /**< worker threads (0 = all online cores) */
+  int shard_k, shard_n;  /**< run the cases with case_id % shard_n == shard_k - 1
+                              (1 <= shard_k <= shard_n; 1/1 = all) */
+  const char *checkpoint;/**< journal path for resume (NULL = none) */
+  int fsync;             /**< fsync the journal after every case (default 1) */
+  long stop_after;       /**< test hook: stop after this many newly computed cases (0 = off) */
+  const volatile sig_atomic_t *stop_request; /**< nonzero: finish running cases, stop */
+  ea_study_min_time_fn min_time; /**< NULL: min_time rows report EA_ERR_NOTIMPL */
+  void *min_time_data;
+  ea_study_progress_fn progress;
+  void *progress_data;
+} ea_study_settings_t;
+
+void ea_study_settings_default(ea_study_settings_t *set);
+
+/** Outcome of a run. */
+typedef struct ea_study_info {
+  ea_status_t status;   /**< EA_OK: every case of the shard has its rows (some may
+                             record failures); EA_ERR_INTERRUPTED: stopped, resume
+                             later; other: could not run (I/O, bad settings) */
+  long cases_total;     /**< cases of the grid */
+  long cases_shard;     /**< cases of this shard */
+  long cases_skipped;   /**< found finished in the checkpoint (not recomputed) */
+  long cases_computed;  /**< computed in this run */
+  long cases_failed;    /**< cases with at least one non-ok row */
+  long rows_failed;     /**< non-ok rows */
+  long journal_dropped_bytes; /**< torn / corrupt tail removed from the journal */
+  int threads;          /**< threads used */
+  double time_s;        /**< [s] wall time */
+} ea_study_info_t;
+
+/** Run (one shard of) a checked study. On EA_OK, *csv (malloc'd, caller
+ *  frees; *csv_len bytes) holds the header and the shard's rows in case
+ *  order. With a checkpoint journal every finished case is appended (one
+ *  write + fsync, CRC-32 per case); a rerun with the same study skips the
+ *  cases found there, drops a torn tail, and refuses a journal of another
+ *  study (EA_ERR_INPUT). A failed case is recorded in its rows. */
+ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set, char **csv,
+                         size_t *csv_len, ea_study_info_t *info, ea_error_t *err);
+
+/** CSV header line (with newline) of a study into buf; returns its length. */
+size_t ea_study_csv_header(const ea_study_t *s, char *buf, size_t len);
+
+/** Merge shard CSVs (texts[i] of lens[i] bytes, names[i] for messages)
+ *  into the single-run CSV: same header required, rows ordered by case_id,
+ *  each case from exactly one shard; case ids must be 0..n-1 without gaps
+ *  (n = expect_cases when > 0). *out malloc'd. */
+ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
+                           const char *const *names, int n, long expect_cases, char **out,
+                           size_t *out_len, ea_error_t *err);
+
 /* EA_STUDY_SECTION_END */
 
 #ifdef __cplusplus

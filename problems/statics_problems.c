@@ -7,6 +7,7 @@
 #include <string.h>
 
 static void ea__fill_point(ea_config_point_t *pt, const ea_statics_solution_t *sol) {
+  pt->stable = -1;
   pt->cable_length = sol->cable_length;
   pt->alpha = sol->p[EA_P_ALPHA];
   pt->x = sol->tip[EA_X_X];
@@ -25,6 +26,7 @@ static void ea__fail_point(ea_config_point_t *pt, ea_status_t st, const char *wh
   pt->cable_length = pt->alpha = pt->x = pt->y = NAN;
   pt->tension = pt->theta0 = pt->kappa0 = pt->shoulder_torque = pt->residual = NAN;
   pt->status = st;
+  pt->stable = -1;
   pt->admissible = 0;
   snprintf(pt->reason, sizeof pt->reason, "%s", why);
 }
@@ -191,8 +193,41 @@ ea_status_t ea_torque_map(ea_shooter_t *sh, const double *cable_length, int n_le
   return EA_OK;
 }
 
+ea_status_t ea_config_check_stability(ea_shooter_t *sh, ea_fe_model_t *fe,
+                                      ea_config_point_t *pt) {
+  if (!sh || !fe || !pt) return EA_ERR_ARG;
+  pt->stable = -1;
+  if (pt->status != EA_OK && pt->status != EA_ERR_INADMISSIBLE) return EA_OK;
+  ea_statics_solution_t sol;
+  memset(&sol, 0, sizeof sol);
+  sol.p[EA_P_ALPHA] = pt->alpha;
+  sol.p[EA_P_TENSION] = pt->tension;
+  sol.p[EA_P_THETA0] = pt->theta0;
+  sol.p[EA_P_KAPPA0] = pt->kappa0;
+  sol.cable_length = pt->cable_length;
+  sol.status = EA_OK;
+  ea_status_t st = ea_fe_model_set_load(fe, ea_shooter_load(sh));
+  if (!st) st = ea_fe_static_solve(fe, sh, &sol, NULL, NULL);
+  int stable = 0;
+  if (!st) st = ea_fe_stability(fe, &stable, NULL);
+  if (st) return st;
+  pt->stable = stable;
+  if (!stable) {
+    pt->admissible = 0;
+    snprintf(pt->reason, sizeof pt->reason,
+             "unstable: the FE passive stiffness is not positive definite");
+  }
+  return EA_OK;
+}
+
 ea_status_t ea_path_check_line(ea_shooter_t *sh, const double tip0[2], const double tip1[2],
                                int steps, const ea_actuators_t *lim, ea_config_point_t *out) {
+  return ea_path_check_line_fe(sh, NULL, tip0, tip1, steps, lim, out);
+}
+
+ea_status_t ea_path_check_line_fe(ea_shooter_t *sh, ea_fe_model_t *fe, const double tip0[2],
+                                  const double tip1[2], int steps, const ea_actuators_t *lim,
+                                  ea_config_point_t *out) {
   if (!sh || !tip0 || !tip1 || !out || steps < 1) return EA_ERR_ARG;
   const ea_arm_t *arm = ea_shooter_arm(sh);
   const ea_actuators_t *L = lim ? lim : &arm->act;
@@ -225,6 +260,7 @@ ea_status_t ea_path_check_line(ea_shooter_t *sh, const double tip0[2], const dou
     }
     ea__fill_point(pt, &sol);
     ea_config_check_limits(pt, L, 0.0);
+    if (fe && pt->admissible) ea_config_check_stability(sh, fe, pt);
     if (!pt->admissible) all = EA_ERR_INADMISSIBLE;
     memcpy(guess, sol.p, sizeof guess);
     have = 1;
