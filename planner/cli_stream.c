@@ -71,6 +71,9 @@ static const char *ea__stream_help =
     "  --ack-timeout-ms T    controlled stop when a frame waits T ms for its ACK (100)\n"
     "  --start-tol-m X       handshake tolerance on the cable length (0.001)\n"
     "  --start-tol-rad X     handshake tolerance on theta0 and base (0.01)\n"
+    "  --time-scale S|auto   play the plan S >= 1 times slower (rates / S, accelerations\n"
+    "                        / S^2); auto = the least S that meets the speed and\n"
+    "                        acceleration limits between the plan's samples (default 1)\n"
     "  --rt                  SCHED_FIFO priority 50 and locked memory (if permitted)\n\n"
     "On NACK, ACK timeout or SIGINT: a controlled stop within the limits, then END.\n"
     "Exit: 0 complete, 1 stopped / refused / link lost, 2 usage or input error.\n";
@@ -79,7 +82,8 @@ int ea__cli_stream(int argc, char **argv) {
   const char *cmd = "stream", *traj_path = NULL, *to = NULL, *arm_file = NULL;
   ea_stream_settings_t s;
   ea_stream_settings_default(&s);
-  int json = 0, realtime = -1, rt = 0;
+  int json = 0, realtime = -1, rt = 0, time_scale_auto = 0;
+  double time_scale = 1.0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v;
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -112,6 +116,12 @@ int ea__cli_stream(int argc, char **argv) {
       realtime = 0;
     } else if (!strcmp(a, "--realtime")) {
       realtime = 1;
+    } else if (!strcmp(a, "--time-scale")) {
+      if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!strcmp(v, "auto"))
+        time_scale_auto = 1;
+      else if (ea__cli_double(cmd, a, v, 1, 1000, &time_scale))
+        return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--rt")) {
       rt = 1;
     } else if (a[0] == '-' && a[1]) {
@@ -140,12 +150,31 @@ int ea__cli_stream(int argc, char **argv) {
   if (st) return ea__cli_fail(cmd, st, &err);
   ea_setpoint_t *sp = NULL;
   int n = 0;
-  st = ea_stream_resample(&tr, &arm, s.rate_hz, s.limit_tol, &sp, &n, &err);
-  ea_traj_free(&tr);
-  if (st) {
+  if (time_scale_auto) {
+    st = ea_stream_min_time_scale(&tr, &arm, s.rate_hz, s.limit_tol, &time_scale, &err);
+    if (st) {
+      ea_traj_free(&tr);
+      fprintf(stderr, "elasticarm %s: refused: %s\n", cmd, err.msg);
+      return EA_EXIT_FAIL;
+    }
+    if (time_scale > 1.0)
+      fprintf(stderr, "elasticarm %s: --time-scale auto: playing the plan %.6g times slower\n",
+              cmd, time_scale);
+  }
+  st = ea_stream_resample_scaled(&tr, &arm, s.rate_hz, time_scale, s.limit_tol, &sp, &n, &err);
+  if (st == EA_ERR_INADMISSIBLE) {
+    double need = 0;
+    ea_error_t e2 = {0};
     fprintf(stderr, "elasticarm %s: refused: %s\n", cmd, err.msg);
+    if (ea_stream_min_time_scale(&tr, &arm, s.rate_hz, s.limit_tol, &need, &e2) == EA_OK)
+      fprintf(stderr, "elasticarm %s: (the plan meets its limits at its samples; the "
+              "interpolant between them needs --time-scale %.6g, or --time-scale auto)\n",
+              cmd, need * 1.000001);
+    ea_traj_free(&tr);
     return EA_EXIT_FAIL;
   }
+  ea_traj_free(&tr);
+  if (st) return ea__cli_fail(cmd, st, &err);
   ea__cli_install_stop();
   ea__cli_realtime(rt);
   s.stop_request = &ea__cli_stop;

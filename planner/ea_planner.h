@@ -298,6 +298,22 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
 ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
                                double tol, ea_setpoint_t **out, int *n, ea_error_t *err);
 
+/** Same, with the trajectory played time_scale (>= 1) times slower: t_plan =
+ *  t / time_scale, rates / time_scale, accelerations / time_scale^2 (a
+ *  uniform time scaling keeps the path; the feed-forwards, quasi-static, are
+ *  unchanged). time_scale = 1 is ea_stream_resample. */
+ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                                      double time_scale, double tol, ea_setpoint_t **out,
+                                      int *n, ea_error_t *err);
+
+/** Smallest time scale s >= 1 for which ea_stream_resample_scaled(tr, arm,
+ *  rate_hz, s, tol) passes the limits check: the interpolant between the
+ *  plan's samples can exceed a speed or acceleration limit the plan meets
+ *  only at its samples (e.g. at bang-bang switches). EA_ERR_INADMISSIBLE if
+ *  a limit no time scaling changes fails (range, tension, torque). */
+ea_status_t ea_stream_min_time_scale(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                                     double tol, double *scale, ea_error_t *err);
+
 /** Controlled stop from sp (position, velocity, acceleration of each axis):
  *  every axis follows v(s) = v0 h00(s) + T a0 h10(s) (cubic Hermite in
  *  s = t / T to v = a = 0), all axes with one common duration T, the
@@ -412,7 +428,7 @@ int ea_frame_parser_next(ea_frame_parser_t *p, ea_frame_t *f);
 /** Streamer settings (ea_stream_settings_default fills them). */
 typedef struct ea_stream_settings {
   double rate_hz;         /**< setpoint rate (default 1000) */
-  double limit_tol;       /**< relative slack of the limits check (default 1e-9) */
+  double limit_tol;       /**< relative slack of the limits check (default 1e-6) */
   double stop_margin;     /**< stop ramp uses at most this fraction of the accel limits (0.9) */
   double ack_timeout_s;   /**< outstanding frames without an ACK this long -> stop (0.1) */
   double handshake_timeout_s; /**< wait for the HELLO answer (1.0) */

@@ -206,18 +206,21 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
   return EA_OK;
 }
 
-ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
-                               double tol, ea_setpoint_t **out, int *n, ea_error_t *err) {
+ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                                      double time_scale, double tol, ea_setpoint_t **out,
+                                      int *n, ea_error_t *err) {
   if (!tr || !arm || !out || !n)
     return ea_error_set(err, EA_ERR_ARG, "stream resample: NULL argument");
   *out = NULL;
   *n = 0;
   if (!(rate_hz > 0) || rate_hz > 1e6 || !isfinite(rate_hz))
     return ea_error_set(err, EA_ERR_ARG, "rate %g Hz outside (0, 1e6]", rate_hz);
+  if (!(time_scale >= 1.0) || time_scale > 1e3 || !isfinite(time_scale))
+    return ea_error_set(err, EA_ERR_ARG, "time scale %g outside [1, 1000]", time_scale);
   if (tr->n < 1 || !tr->data)
     return ea_error_set(err, EA_ERR_INPUT, "trajectory has no samples");
   const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  const double dur = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  const double dur = (EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0) * time_scale;
   const double nf = ceil(dur * rate_hz - 1e-9) + 1.0;
   if (!(nf >= 1) || nf > 5e7)
     return ea_error_set(err, EA_ERR_INPUT, "trajectory of %g s at %g Hz: too many setpoints",
@@ -225,22 +228,76 @@ ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double 
   const int m = (int)nf;
   ea_setpoint_t *sp = malloc((size_t)m * sizeof *sp);
   if (!sp) return ea_error_set(err, EA_ERR_NOMEM, "stream resample: %d setpoints", m);
+  const double is = 1.0 / time_scale, is2 = is * is;
   for (int k = 0; k < m; ++k) {
-    const double t = t0 + fmin(k / rate_hz, dur);
+    const double t = fmin(k / rate_hz, dur); /* streamed time */
     ea_joint_state_t q;
-    ea_stream_traj_eval(tr, t, &q);
+    ea_stream_traj_eval(tr, t0 + t * is, &q);
+    q.cable_length_rate *= is;
+    q.theta0_rate *= is;
+    q.base_angle_rate *= is;
+    q.cable_length_acc *= is2;
+    q.theta0_acc *= is2;
+    q.base_angle_acc *= is2;
     ea_stream_map(arm, &q, &sp[k]);
     ea_error_t e = {0};
     if (ea_stream_check_limits(arm, &sp[k], tol, &e) != EA_OK) {
       free(sp);
       return ea_error_set(err, EA_ERR_INADMISSIBLE,
-                          "setpoint %d at t = %.6f s (resampled at %g Hz): %s; nothing sent", k,
-                          t, rate_hz, e.msg);
+                          "setpoint %d at t = %.6f s (resampled at %g Hz%s): %s; nothing sent",
+                          k, t, rate_hz, time_scale != 1.0 ? ", time-scaled" : "", e.msg);
     }
   }
   *out = sp;
   *n = m;
   return EA_OK;
+}
+
+ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                               double tol, ea_setpoint_t **out, int *n, ea_error_t *err) {
+  return ea_stream_resample_scaled(tr, arm, rate_hz, 1.0, tol, out, n, err);
+}
+
+ea_status_t ea_stream_min_time_scale(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                                     double tol, double *scale, ea_error_t *err) {
+  if (!tr || !arm || !scale || tr->n < 1 || !tr->data || !(rate_hz > 0))
+    return ea_error_set(err, EA_ERR_ARG, "min time scale: bad argument");
+  *scale = 1.0;
+  /* Worst speed and acceleration ratios on a grid 4x finer than the rate. */
+  const ea_actuators_t *a = &arm->act;
+  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), dur = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  const long m = (long)ceil(dur * rate_hz * 4) + 1;
+  double rv = 0, ra = 0;
+  for (long k = 0; k < m && m < 200000000L; ++k) {
+    ea_joint_state_t q;
+    ea_stream_traj_eval(tr, t0 + fmin(k / (4 * rate_hz), dur), &q);
+    rv = fmax(rv, fmax(fabs(q.cable_length_rate) / a->cable_speed_max,
+                       fmax(fabs(q.theta0_rate) / a->shoulder_speed_max,
+                            fabs(q.base_angle_rate) / a->base_speed_max)));
+    ra = fmax(ra, fmax(fabs(q.cable_length_acc) / a->cable_accel_max,
+                       fmax(fabs(q.theta0_acc) / a->shoulder_accel_max,
+                            fabs(q.base_angle_acc) / a->base_accel_max)));
+  }
+  double s = fmax(1.0, fmax(rv, sqrt(ra)));
+  /* Confirm on the actual grid; grow by 0.1 % while the check still fails on
+   * speed or acceleration (the streamed grid differs from the fine grid). */
+  for (int it = 0; it < 50; ++it) {
+    ea_setpoint_t *sp = NULL;
+    int n = 0;
+    ea_error_t e = {0};
+    const ea_status_t st = ea_stream_resample_scaled(tr, arm, rate_hz, s, tol, &sp, &n, &e);
+    free(sp);
+    if (st == EA_OK) {
+      *scale = s;
+      return EA_OK;
+    }
+    if (st != EA_ERR_INADMISSIBLE || !(strstr(e.msg, "speed") || strstr(e.msg, "acceleration"))) {
+      if (err) *err = e;
+      return st;
+    }
+    s *= 1.001;
+  }
+  return ea_error_set(err, EA_ERR_INADMISSIBLE, "no time scale up to %g meets the limits", s);
 }
 
 /* ---- Controlled stop ---------------------------------------------------------- */

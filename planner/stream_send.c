@@ -10,7 +10,7 @@
 void ea_stream_settings_default(ea_stream_settings_t *s) {
   memset(s, 0, sizeof *s);
   s->rate_hz = 1000.0;
-  s->limit_tol = 1e-9;
+  s->limit_tol = 1e-6;
   s->stop_margin = 0.9;
   s->ack_timeout_s = 0.1;
   s->handshake_timeout_s = 1.0;

@@ -244,6 +244,24 @@ static void test_resample(void) {
   ea_test_true(st == EA_ERR_INADMISSIBLE && strstr(err.msg, "|cable") && strstr(err.msg, "t = "),
                "too fast a move is refused naming the cable limit and the time");
   printf("  (%s)\n", err.msg);
+  /* Uniform time scaling: the least scale that meets the limits, and only it. */
+  double scale = 0;
+  st = ea_stream_min_time_scale(&tr, &arm, 1000.0, 1e-9, &scale, &err);
+  /* Closed form: septic smoothstep peak |s''| = 7.5132 / T^2 (at u = 0.2113...), peak |s'| =
+   * 35/16 / T: acceleration 0.3 * 7.5132 / 0.36 = 6.26 m/s^2 -> scale sqrt(6.26) = 2.50;
+   * speed 0.3 * 2.1875 / 0.6 = 1.094 m/s -> 4.375 (binding). */
+  printf("min time scale for the fast move: %.6f (closed form 4.375 from the cable speed)\n", scale);
+  ea_test_true(st == EA_OK && scale >= 4.375 * (1 - 1e-6) && scale <= 4.375 * 1.003,
+               "min time scale = closed form from the speed limit (within 0.3 %)");
+  ea_setpoint_t *sp2 = NULL;
+  int n2 = 0;
+  st = ea_stream_resample_scaled(&tr, &arm, 1000.0, scale, 1e-9, &sp2, &n2, &err);
+  ea_test_true(st == EA_OK && n2 == (int)ceil(0.6 * scale * 1000 - 1e-9) + 1,
+               "time-scaled resample passes the limits check, duration scaled");
+  free(sp2);
+  st = ea_stream_resample_scaled(&tr, &arm, 1000.0, scale * 0.99, 1e-9, &sp2, &n2, &err);
+  ea_test_true(st == EA_ERR_INADMISSIBLE, "1 % less time scaling is refused");
+  free(sp2);
   ea_traj_free(&tr);
 }
 
