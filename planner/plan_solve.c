@@ -564,7 +564,9 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
     } else {
       tmpl[0] = '\0';
     }
-    AddIpoptStrOption(pl->ip, "derivative_test", "first-order");
+    AddIpoptStrOption(pl->ip, "derivative_test",
+                      pl->task.solver.derivative_test == 2 && pl->hess_exact ? "second-order"
+                                                                             : "first-order");
     AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
     AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);
   }

@@ -1,0 +1,116 @@
+/* Robustness sweep: random start/goal pairs (planar and 3-D) and payloads.
+ * Pairs the task check accepts must plan (status EA_OK, every knot in
+ * statics, T >= T_min); pairs outside the workspace must be reported as
+ * infeasible, never planned. Run as a `slow` test with 200 pairs;
+ * test_plan.c includes it for a short unit sweep. */
+#include "ea_planner.h"
+#include "ea_test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* Deterministic generator (xorshift64*), independent of libc's rand(). */
+static double ea_sweep_rand(unsigned long long *s) {
+  *s ^= *s >> 12;
+  *s ^= *s << 25;
+  *s ^= *s >> 27;
+  return (double)((*s * 2685821657736338717ULL) >> 11) / 9007199254740992.0;
+}
+
+/* Returns the number of failures. */
+static int ea_sweep_run(int n, unsigned long long seed, int knots) {
+  int planned = 0, infeasible = 0, failures = 0, outside_reported = 0;
+  double tmax = 0.0;
+  for (int i = 0; i < n; ++i) {
+    ea_task_t t;
+    ea_task_init(&t, NULL);
+    t.knots = knots;
+    const double gamma = 0.5 * ea_sweep_rand(&seed);
+    t.payload_factor = gamma;
+    t.payload_kg = ea_arm_payload_from_factor(&t.arm, gamma);
+    const int three_d = i % 2;
+    for (int e = 0; e < 2; ++e) {
+      const double Lc = 0.26 + 0.5 * ea_sweep_rand(&seed);
+      const double al = -1.1 + 1.3 * ea_sweep_rand(&seed);
+      const double b = three_d ? -1.4 + 2.8 * ea_sweep_rand(&seed) : 0.0;
+      ea_task_point_t p = ea_task_point_actuators(Lc, al, b);
+      if (e == 0)
+        t.start = p;
+      else
+        t.goal = p;
+    }
+    /* Every 10th: a goal beyond the outer edge on purpose. */
+    const int on_purpose = i % 10 == 9;
+    if (on_purpose) {
+      t.start = ea_task_point_actuators(0.3, -0.6, t.start.given[2]);
+      t.goal = ea_task_point_actuators(0.95, -0.1, t.goal.given[2]);
+    }
+    ea_error_t e = {0};
+    ea_status_t st = ea_task_check(&t, &e);
+    char what[700];
+    if (st) {
+      const int ok = st == EA_ERR_INFEASIBLE;
+      ++infeasible;
+      if (on_purpose && ok && strstr(e.msg, "goal")) ++outside_reported;
+      if (!ok) {
+        ++failures;
+        snprintf(what, sizeof what, "sweep %d: check failed with %s: %s", i, ea_status_name(st),
+                 e.msg);
+        ea_test_true(0, what);
+      }
+      continue;
+    }
+    if (on_purpose) {
+      ++failures;
+      ea_test_true(0, "sweep: a goal beyond the outer edge was accepted");
+      continue;
+    }
+    ea_planner_t *pl = NULL;
+    ea_plan_info_t info;
+    st = ea_planner_alloc(&t, &pl, &e);
+    if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+    int ok = st == EA_OK;
+    if (ok) {
+      ea_traj_t tr;
+      memset(&tr, 0, sizeof tr);
+      ok = ea_planner_trajectory(pl, &tr, &e) == EA_OK;
+      for (int k = 0; ok && k < tr.n; ++k)
+        ok = EA_TRAJ_AT(&tr, k, EA_TRAJ_tension) >= t.limits.tension_min - 1e-9;
+      ok = ok && info.max_statics_residual <= 1e-9;
+      ea_traj_free(&tr);
+      tmax = fmax(tmax, info.time_total_s);
+      ++planned;
+    }
+    if (!ok) {
+      ++failures;
+      snprintf(what, sizeof what,
+               "sweep %d (gamma %.3f, %s, start L_c %.3f alpha %.3f base %.3f, goal L_c %.3f "
+               "alpha %.3f base %.3f): %s",
+               i, gamma, three_d ? "3-D" : "planar", t.start.given[0], t.start.given[1],
+               t.start.given[2], t.goal.given[0], t.goal.given[1], t.goal.given[2],
+               st ? e.msg : "limits violated");
+      ea_test_true(0, what);
+    }
+    ea_planner_free(pl);
+  }
+  char what[256];
+  snprintf(what, sizeof what,
+           "sweep of %d: %d planned, %d reported infeasible (%d beyond the edge on purpose), %d "
+           "failures; slowest plan %.3f s",
+           n, planned, infeasible, outside_reported, failures, tmax);
+  ea_test_true(failures == 0, what);
+  ea_test_true(planned >= n / 3, "sweep: at least a third of the pairs are feasible and planned");
+  ea_test_true(outside_reported == n / 10, "sweep: every goal beyond the edge reported");
+  return failures;
+}
+
+#ifndef EA_SWEEP_NO_MAIN
+int main(int argc, char **argv) {
+  const int n = argc > 1 ? atoi(argv[1]) : 200;
+  ea_sweep_run(n > 0 ? n : 200, 0x9E3779B97F4A7C15ULL, 50);
+  return ea_test_summary("test_plan_sweep");
+}
+#endif

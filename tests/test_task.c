@@ -1,0 +1,142 @@
+/* Task loader: good files load, and every bad input is rejected with
+ * file:line:column and the key in the message (docs/task-format.md). */
+#include "ea_problems.h"
+#include "ea_test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define OKTASK "start: {tip: [0.3, -0.2]}\ngoal: {tip: [0.6, -0.2]}\n"
+
+typedef struct {
+  const char *name;
+  const char *yaml;
+  ea_status_t status;    /* expected */
+  const char *where;     /* "bad.yaml:L:C" expected in the message */
+  const char *key;       /* another substring expected (key / reason) */
+} ea_case_t;
+
+static const ea_case_t cases[] = {
+    {"unknown top-level key", OKTASK "speed: 3\n", EA_ERR_INPUT, "bad.yaml:3:1", "'speed'"},
+    {"unknown key in limits", OKTASK "limits:\n  tension_min: 1\n", EA_ERR_INPUT, "bad.yaml:4:3",
+     "'tension_min'"},
+    {"wrong type: tip not a list", "start: {tip: 0.3}\ngoal: {tip: [0.6, -0.2]}\n",
+     EA_ERR_INPUT, "bad.yaml:1:14", "'tip'"},
+    {"wrong type: tip element text", "start: {tip: [0.3, abc]}\ngoal: {tip: [0.6, -0.2]}\n",
+     EA_ERR_INPUT, "bad.yaml:1:20", "'abc' is not a number"},
+    {"NaN coordinate", "start:\n  tip: [nan, -0.2]\ngoal: {tip: [0.6, -0.2]}\n", EA_ERR_INPUT,
+     "bad.yaml:2:9", "not finite"},
+    {".nan coordinate", "start:\n  tip: [0.3, .nan]\ngoal: {tip: [0.6, -0.2]}\n",
+     EA_ERR_INPUT, "bad.yaml:2:14", "'tip'"},
+    {"NaN limit", OKTASK "limits:\n  cable_speed_max_m_per_s: NaN\n", EA_ERR_INPUT,
+     "bad.yaml:4:28", "cable_speed_max_m_per_s"},
+    {"tip with 4 numbers", "start: {tip: [0.3, -0.2, 0, 1]}\ngoal: {tip: [0.6, -0.2]}\n",
+     EA_ERR_INPUT, "bad.yaml:1:14", "'tip'"},
+    {"missing goal", "start: {tip: [0.3, -0.2]}\n", EA_ERR_INPUT, "bad.yaml:1:1", "'goal'"},
+    {"tip and actuators both",
+     "start: {tip: [0.3, -0.2], cable_length_m: 0.3}\ngoal: {tip: [0.6, -0.2]}\n",
+     EA_ERR_INPUT, "bad.yaml:1:8", "not both"},
+    {"3-D tip with base angle",
+     "start: {tip: [0.3, 0.1, -0.2], base_angle_rad: 0.1}\ngoal: {tip: [0.6, -0.2]}\n",
+     EA_ERR_INPUT, "bad.yaml:1:48", "base_angle_rad"},
+    {"goal outside the workspace (payload)",
+     "payload_factor: 0.5\nstart: {tip: [0.3, -0.2]}\ngoal:\n  tip: [0.78, -0.2]\n",
+     EA_ERR_INFEASIBLE, "bad.yaml:4:3", "goal: outside the workspace"},
+    {"start inside the shortest cable", "start: {tip: [0.2, -0.1]}\ngoal: {tip: [0.6, -0.2]}\n",
+     EA_ERR_INFEASIBLE, "bad.yaml:1:8", "cable length"},
+    {"contradictory tension limits", OKTASK "limits:\n  tension_min_N: 5\n  tension_max_N: 2\n",
+     EA_ERR_INPUT, "bad.yaml:4:3", "tension_min_N = 5 >= tension_max_N = 2"},
+    {"limit above the arm's", OKTASK "limits:\n  cable_speed_max_m_per_s: 9\n", EA_ERR_INPUT,
+     "bad.yaml:4:3", "exceeds the arm's limit"},
+    {"cable length below the arm's shortest", OKTASK "limits:\n  cable_length_min_m: 0.1\n",
+     EA_ERR_INPUT, "bad.yaml:4:3", "cable_length_min_m"},
+    {"min_time with a duration", OKTASK "objective: {type: min_time, duration_s: 2}\n",
+     EA_ERR_INPUT, "bad.yaml:3:41", "duration_s"},
+    {"min_effort without a duration", OKTASK "objective: {type: min_effort}\n", EA_ERR_INPUT,
+     "bad.yaml:3:12", "duration_s"},
+    {"unknown objective", OKTASK "objective: fastest\n", EA_ERR_INPUT, "bad.yaml:3:12",
+     "'objective'"},
+    {"unknown path", OKTASK "path: curvy\n", EA_ERR_INPUT, "bad.yaml:3:7", "'path'"},
+    {"polyline without vias", OKTASK "path: polyline\n", EA_ERR_INPUT, "bad.yaml:3:7",
+     "'path'"},
+    {"knots out of range", OKTASK "knots: 2\n", EA_ERR_INPUT, "bad.yaml:3:8", "'knots'"},
+    {"knots not an integer", OKTASK "knots: 10.5\n", EA_ERR_INPUT, "bad.yaml:3:8", "'knots'"},
+    {"both payload keys", OKTASK "payload_kg: 0.1\npayload_factor: 0.1\n", EA_ERR_INPUT,
+     "bad.yaml:4:17", "payload"},
+    {"negative payload", OKTASK "payload_kg: -0.1\n", EA_ERR_INPUT, "bad.yaml:3:13",
+     "'payload_kg'"},
+    {"duplicate key", OKTASK "knots: 10\nknots: 20\n", EA_ERR_INPUT, "bad.yaml:4:1",
+     "duplicate key 'knots'"},
+    {"figure extension", OKTASK "outputs: {figure: plan.gif}\n", EA_ERR_INPUT,
+     "bad.yaml:3:19", "'figure'"},
+    {"solver bool", OKTASK "solver: {derivative_test: maybe}\n", EA_ERR_INPUT,
+     "bad.yaml:3:27", "'derivative_test'"},
+    {"YAML syntax error", OKTASK "limits: [1, 2\n", EA_ERR_PARSE, "bad.yaml:4:1", "YAML"},
+    {"top level not a mapping", "- 1\n- 2\n", EA_ERR_INPUT, "bad.yaml:1:1", "mapping"},
+    {"missing arm file", "arm_file: /nonexistent/arm.yaml\n" OKTASK, EA_ERR_IO, "bad.yaml:1:11",
+     "arm_file"},
+};
+
+int main(void) {
+  char buf[1024];
+  for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+    const ea_case_t *c = &cases[i];
+    ea_task_t t;
+    ea_error_t e = {0};
+    ea_status_t st = ea_task_load_string("bad.yaml", c->yaml, strlen(c->yaml), NULL, &t, &e);
+    const int ok = st == c->status && strstr(e.msg, c->where) && strstr(e.msg, c->key);
+    snprintf(buf, sizeof buf, "%s -> %s: %s", c->name, ea_status_name(st), e.msg);
+    ea_test_true(ok, buf);
+  }
+
+  /* The examples load (or are rejected as designed). */
+  const char *src = getenv("EA_SOURCE_DIR");
+  if (!src) src = ".";
+  static const struct {
+    const char *file;
+    ea_status_t st;
+  } ex[] = {{"paper-line.yaml", EA_OK},
+            {"pick-place-3d.yaml", EA_OK},
+            {"polyline-effort.yaml", EA_OK},
+            {"infeasible-line.yaml", EA_OK}, /* feasible ends; the planner rejects it */
+            {"infeasible-goal.yaml", EA_ERR_INFEASIBLE}};
+  for (size_t i = 0; i < sizeof ex / sizeof *ex; ++i) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/problems/examples/%s", src, ex[i].file);
+    ea_task_t t;
+    ea_error_t e = {0};
+    ea_status_t st = ea_task_load(path, NULL, &t, &e);
+    snprintf(buf, sizeof buf, "example %s -> %s (%s)", ex[i].file, ea_status_name(st), e.msg);
+    ea_test_true(st == ex[i].st, buf);
+    if (!strcmp(ex[i].file, "paper-line.yaml") && st == EA_OK) {
+      /* eq. 18-20 at beta = 0 and 1; payload factor 0 (eq. 17) */
+      ea_test_abs(t.payload_kg, 0.0, 0.0, "paper-line payload 0 kg");
+      ea_test_rel(t.start.cable_length, hypot(0.3 - 0.098, -0.2 + 0.006), 1e-15, "L_c(0) eq. 19");
+      ea_test_rel(t.goal.cable_angle, atan2(-0.2 + 0.006, 0.6 - 0.098), 1e-15, "alpha(1) eq. 20");
+      ea_test_true(t.path == EA_TASK_PATH_LINE && t.knots == 100 && !t.base_moves,
+                   "paper-line: line, 100 knots, planar");
+    }
+    if (!strcmp(ex[i].file, "pick-place-3d.yaml") && st == EA_OK) {
+      ea_test_rel(t.goal.base_angle, atan2(0.55, 0.0), 1e-15, "3-D goal base angle atan2(y, x)");
+      ea_test_rel(t.goal.reach, 0.55, 1e-15, "3-D goal reach hypot(x, y)");
+      ea_test_true(t.base_moves, "pick-place: the base moves");
+    }
+    if (!strcmp(ex[i].file, "infeasible-goal.yaml"))
+      ea_test_true(strstr(e.msg, "infeasible-goal.yaml:9:3: goal: outside the workspace") != NULL,
+                   "infeasible goal names file:line:col and 'goal'");
+  }
+
+  /* Programmatic tasks go through the same checks. */
+  ea_task_t t;
+  ea_task_init(&t, NULL);
+  t.start = ea_task_point_planar(0.3, -0.2, 0.0);
+  t.goal = ea_task_point_actuators(0.45, -0.3, 0.5);
+  ea_error_t e = {0};
+  ea_test_true(ea_task_check(&t, &e) == EA_OK && t.base_moves, "C task with actuator goal");
+  t.limits.base_speed_max = NAN;
+  ea_test_true(ea_task_check(&t, &e) == EA_ERR_INPUT && strstr(e.msg, "base_speed_max"),
+               "C task: NaN limit rejected");
+  return ea_test_summary("test_task");
+}
