@@ -321,6 +321,10 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   AddIpoptNumOption(pl->ip, "acceptable_obj_change_tol", 1e-8);
   AddIpoptIntOption(pl->ip, "max_iter", t->solver.max_iter);
   AddIpoptStrOption(pl->ip, "mu_strategy", "adaptive");
+  /* Ipopt relaxes bounds in its scaled space; the acceleration rows are
+   * scaled down by ~1/h^2, so the default 1e-8 became ~1e-6 of a limit. A
+   * plan must hold its limits: no relaxation. */
+  AddIpoptNumOption(pl->ip, "bound_relax_factor", 0.0);
   SetIntermediateCallback(pl->ip, ea__cb_iter);
   *out = pl;
   return ea_error_set(err, EA_OK, "ok");

@@ -1,0 +1,134 @@
+/* bench_plan: the paper's line (eq. 18), minimum time, cold and warm
+ * started; per-phase times (initial guess, statics shots with
+ * sensitivities inside the callbacks, Ipopt itself, rest); exact Hessian vs
+ * limited-memory; what features cost (path rows, base variables); scaling
+ * from 25 to 400 knots. Medians over repetitions.
+ * usage: bench_plan [REPEATS] (default 5) */
+#include "ea_planner.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int cmpd(const void *a, const void *b) {
+  const double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y;
+}
+static double median(double *v, int n) {
+  qsort(v, (size_t)n, sizeof *v, cmpd);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+typedef struct {
+  double total, guess, statics, ipopt, rest, iters, dur;
+  int ok, nvar, ncon;
+} row_t;
+
+/* Median of R solves (warm: each after one cold solve). */
+static row_t run(const ea_task_t *t, int R, int warm) {
+  double tot[64], gu[64], st[64], ip[64], re[64], it[64];
+  row_t r;
+  memset(&r, 0, sizeof r);
+  r.ok = 1;
+  if (R > 64) R = 64;
+  ea_planner_t *pl = NULL;
+  ea_error_t e;
+  if (ea_planner_alloc(t, &pl, &e)) {
+    fprintf(stderr, "bench_plan: %s\n", e.msg);
+    r.ok = 0;
+    return r;
+  }
+  ea_plan_info_t info;
+  if (warm && ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e)) r.ok = 0;
+  for (int i = 0; i < R; ++i) {
+    if (ea_planner_solve(pl, warm ? EA_PLAN_WARM : EA_PLAN_COLD, NULL, &info, &e)) r.ok = 0;
+    tot[i] = info.time_total_s;
+    gu[i] = info.time_guess_s;
+    st[i] = info.time_statics_s;
+    ip[i] = info.time_ipopt_s;
+    re[i] = info.time_rest_s;
+    it[i] = info.iterations;
+    r.dur = info.duration_s;
+  }
+  r.nvar = info.n_var;
+  r.ncon = info.n_con;
+  r.total = median(tot, R);
+  r.guess = median(gu, R);
+  r.statics = median(st, R);
+  r.ipopt = median(ip, R);
+  r.rest = median(re, R);
+  r.iters = median(it, R);
+  ea_planner_free(pl);
+  return r;
+}
+
+static void print_row(const char *name, const row_t *r) {
+  printf("%-34s %5d %5d %6.0f %9.2f %8.2f %8.2f %8.2f %7.2f %9.5f %s\n", name, r->nvar, r->ncon,
+         r->iters, 1e3 * r->total, 1e3 * r->guess, 1e3 * r->statics, 1e3 * r->ipopt,
+         1e3 * r->rest, r->dur, r->ok ? "" : "FAILED");
+}
+
+static void header(const char *title) {
+  printf("\n%s\n%-34s %5s %5s %6s %9s %8s %8s %8s %7s %9s\n", title, "case", "vars", "cons",
+         "iters", "total ms", "guess", "statics", "ipopt", "rest", "t_f [s]");
+}
+
+int main(int argc, char **argv) {
+  const int R = argc > 1 ? atoi(argv[1]) : 5;
+  ea_task_t line;
+  ea_task_init(&line, NULL);
+  line.start = ea_task_point_planar(0.3, -0.2, 0.0); /* eq. 18, beta = 0 */
+  line.goal = ea_task_point_planar(0.6, -0.2, 0.0);  /* beta = 1 */
+  line.path = EA_TASK_PATH_LINE;
+  line.knots = 100;
+  ea_error_t e;
+  if (ea_task_check(&line, &e)) {
+    fprintf(stderr, "bench_plan: %s\n", e.msg);
+    return 1;
+  }
+  printf("bench_plan: paper line (eq. 18), payload factor 0, minimum time; medians of %d\n", R);
+  printf("statics = shots with sensitivities in Ipopt's callbacks (Jacobian, Hessian), "
+         "ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
+         "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
+  header("paper line, 100 knots");
+  row_t r = run(&line, R, 0);
+  print_row("cold, exact Hessian", &r);
+  r = run(&line, R, 1);
+  print_row("warm (previous solution)", &r);
+  ea_task_t lm = line;
+  lm.solver.hessian_exact = 0;
+  r = run(&lm, R, 0);
+  print_row("cold, limited-memory Hessian", &r);
+  r = run(&lm, R, 1);
+  print_row("warm, limited-memory Hessian", &r);
+
+  header("what features cost (100 knots, cold)");
+  ea_task_t fr = line;
+  fr.path = EA_TASK_PATH_FREE;
+  r = run(&fr, R, 0);
+  print_row("free path (no path rows)", &r);
+  r = run(&line, R, 0);
+  print_row("line path (2 rows per knot)", &r);
+  ea_task_t b3 = line;
+  b3.goal = ea_task_point_planar(0.6, -0.2, 0.3);
+  b3.path = EA_TASK_PATH_FREE;
+  ea_task_check(&b3, &e);
+  r = run(&b3, R, 0);
+  print_row("free + base turns 0.3 rad (3 coords)", &r);
+  ea_task_t sh = line;
+  sh.limits.shoulder_speed_max = 0.3;
+  r = run(&sh, R, 0);
+  print_row("line, shoulder speed 0.3 rad/s active", &r);
+
+  header("scaling with the knot count (line, cold)");
+  const int ks[] = {25, 50, 100, 200, 400};
+  for (size_t i = 0; i < sizeof ks / sizeof *ks; ++i) {
+    ea_task_t t = line;
+    t.knots = ks[i];
+    char name[64];
+    snprintf(name, sizeof name, "%d knots", ks[i]);
+    r = run(&t, ks[i] >= 200 ? (R < 3 ? R : 3) : R, 0);
+    print_row(name, &r);
+  }
+  return 0;
+}
