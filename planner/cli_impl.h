@@ -17,6 +17,8 @@ int ea__cli_path(int argc, char **argv);
 int ea__cli_stream(int argc, char **argv);
 int ea__cli_controller_sim(int argc, char **argv);
 int ea__cli_plan(int argc, char **argv);
+int ea__cli_frequencies(int argc, char **argv);
+int ea__cli_simulate(int argc, char **argv);
 /* EA_CLI_DECL_END */
 
 /** Exit codes. */

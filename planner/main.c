@@ -21,6 +21,8 @@ static const ea__cmd_t ea__cmds[] = {
     {"stream", ea__cli_stream, "send a trajectory to the arm's controller in real time"},
     {"controller-sim", ea__cli_controller_sim, "simulated controller for the streamer's protocol"},
     {"plan", ea__cli_plan, "plan an admissible trajectory for a task spec (YAML)"},
+    {"frequencies", ea__cli_frequencies, "FE natural frequencies at a configuration, or the Fig. 5 sweep"},
+    {"simulate", ea__cli_simulate, "FE transient of a trajectory: tip history, residual vibration"},
     /* EA_CLI_TABLE_END */
 };
 
