@@ -19,6 +19,7 @@ int ea__cli_controller_sim(int argc, char **argv);
 int ea__cli_plan(int argc, char **argv);
 int ea__cli_frequencies(int argc, char **argv);
 int ea__cli_simulate(int argc, char **argv);
+int ea__cli_study(int argc, char **argv);
 /* EA_CLI_DECL_END */
 
 /** Exit codes. */

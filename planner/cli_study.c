@@ -1,0 +1,589 @@
+/* elasticarm study: batch studies of payload and design parameters
+ * (docs/studies.md): a spec or the 'payload' shorthand -> tidy CSV + JSON
+ * summary + figures; threads, shards, checkpoint/resume; 'study merge'. */
+#include "cli_impl.h"
+#include "study_plan_impl.h"
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static volatile sig_atomic_t ea__study_stop = 0;
+
+static void ea__study_on_signal(int sig) {
+  (void)sig;
+  ea__study_stop = 1;
+  signal(SIGINT, SIG_DFL); /* a second Ctrl-C ends the process at once */
+}
+
+static void ea__study_help(FILE *fp) {
+  fprintf(fp,
+          "usage: elasticarm study SPEC.yaml [options]\n"
+          "       elasticarm study payload (--payload-factors LIST | --payload-kg LIST)\n"
+          "                        [--metrics workspace,torque_map,path,frequencies,min_time]\n"
+          "                        [metric options] [options]\n"
+          "       elasticarm study merge OUT.csv SHARD.csv... [--summary OUT.json] [--cases N]\n\n"
+          "Batch study (docs/studies.md): for every case of the grid (full factorial,\n"
+          "first parameter slowest) only the metrics asked for; one tidy CSV row per case\n"
+          "and metric (case_id, parameters, metric, value, unit, status, message), a JSON\n"
+          "summary and figures. A failed case is recorded with its reason; the others run.\n\n"
+          "options:\n"
+          "  -o, --output FILE    CSV (default: the spec's outputs.csv, else NAME.csv;\n"
+          "                       with --shard: NAME.shardK-of-N.csv)\n"
+          "  --summary FILE       JSON summary (default: OUTPUT with .json)\n"
+          "  --figures PREFIX     figures PREFIX-workspace.svg, PREFIX-METRIC.svg\n"
+          "  --figure-format F    svg (default), png or pdf\n"
+          "  --threads N          worker threads (default: all cores); results identical\n"
+          "  --shard K/N          only cases with case_id %% N == K-1 (1 <= K <= N)\n"
+          "  --checkpoint FILE    resume journal (default: OUTPUT.journal); rerunning the\n"
+          "                       same command after an interruption skips finished cases\n"
+          "  --no-checkpoint      no journal (an interruption loses the run)\n"
+          "  --restart            discard an existing journal first\n"
+          "  --no-fsync           do not fsync the journal per case (faster, not\n"
+          "                       power-loss safe)\n"
+          "  --arm FILE           arm file when the spec names none\n"
+          "  --quiet              no progress or summary table\n\n"
+          "payload shorthand:\n"
+          "  --payload-factors L  list a,b,c or range start:step:stop (eq. 17)\n"
+          "  --payload-kg L       payload masses [kg]\n"
+          "  --metrics LIST       default workspace\n"
+          "  --alpha-min-deg A, --alpha-max-deg A, --points N   workspace edges\n"
+          "  --config L:A[,L:A]   frequencies at cable length L [m], angle A [deg]\n"
+          "  --modes N            frequencies per configuration (default 3)\n"
+          "  --path X0,Y0,X1,Y1   straight tip path for 'path'\n"
+          "  --task FILE          task for 'min_time'\n\n"
+          "merge: combines shard CSVs into exactly the single-run CSV (byte for byte);\n"
+          "  --cases N checks that all N cases are present.\n\n"
+          "exit: 0 study complete (failed cases are in the CSV), 1 interrupted or could\n"
+          "not run, 2 usage or input error\n");
+}
+
+static int ea__read_file(const char *path, char **text, size_t *len) {
+  FILE *fp = fopen(path, "rb");
+  *text = NULL;
+  *len = 0;
+  if (!fp) return -1;
+  size_t cap = 1 << 16, n = 0;
+  char *b = malloc(cap);
+  while (b) {
+    size_t r = fread(b + n, 1, cap - n, fp);
+    n += r;
+    if (n < cap) break;
+    char *nb = realloc(b, cap * 2);
+    if (!nb) {
+      free(b);
+      b = NULL;
+      break;
+    }
+    b = nb;
+    cap *= 2;
+  }
+  const int bad = ferror(fp) || !b;
+  fclose(fp);
+  if (bad) {
+    free(b);
+    return -1;
+  }
+  *text = b;
+  *len = n;
+  return 0;
+}
+
+static int ea__write_text(const char *cmd, const char *path, const char *text, size_t len) {
+  ea_afile_t f;
+  ea_error_t err = {0};
+  if (ea_afile_open(&f, path, &err)) return ea__cli_fail(cmd, err.status, &err);
+  if (fwrite(text, 1, len, f.fp) != len) {
+    ea_afile_abort(&f);
+    fprintf(stderr, "elasticarm %s: error: cannot write %s\n", cmd, path);
+    return EA_EXIT_FAIL;
+  }
+  if (ea_afile_commit(&f, &err)) return ea__cli_fail(cmd, err.status, &err);
+  return 0;
+}
+
+static void ea__replace_ext2(const char *in, const char *ext, char *out, size_t len) {
+  const char *dot = strrchr(in, '.'), *slash = strrchr(in, '/');
+  const size_t stem = (dot && (!slash || dot > slash)) ? (size_t)(dot - in) : strlen(in);
+  snprintf(out, len, "%.*s%s", (int)stem, in, ext);
+}
+
+/* ---- merge ------------------------------------------------------------------- */
+
+static int ea__study_merge_cli(int argc, char **argv) {
+  const char *cmd = "study merge";
+  const char *out = NULL, *summary = NULL;
+  long cases = 0;
+  const char **inputs = calloc((size_t)argc + 1, sizeof *inputs);
+  int n = 0, rc = 0;
+  if (!inputs) return EA_EXIT_FAIL;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+      ea__study_help(stdout);
+      free(inputs);
+      return EA_EXIT_OK;
+    } else if (!strcmp(a, "--summary")) {
+      if (!(summary = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+    } else if (!strcmp(a, "--cases")) {
+      const char *v = ea__cli_value(cmd, argc, argv, &i);
+      if (!v || ea__cli_int(cmd, a, v, 1, 100000000L, &cases)) goto usage;
+    } else if (a[0] == '-' && a[1]) {
+      ea__cli_usage_error(cmd, "unknown option '%s'", a);
+      goto usage;
+    } else if (!out) {
+      out = a;
+    } else {
+      inputs[n++] = a;
+    }
+  }
+  if (!out || n < 1) {
+    ea__cli_usage_error(cmd, "give OUT.csv and at least one shard CSV");
+    goto usage;
+  }
+  char **texts = calloc((size_t)n, sizeof *texts);
+  size_t *lens = calloc((size_t)n, sizeof *lens);
+  if (!texts || !lens) {
+    free(texts);
+    free(lens);
+    free(inputs);
+    return EA_EXIT_FAIL;
+  }
+  for (int i = 0; i < n && !rc; ++i)
+    if (ea__read_file(inputs[i], &texts[i], &lens[i])) {
+      fprintf(stderr, "elasticarm %s: error: cannot read %s: %s\n", cmd, inputs[i],
+              strerror(errno));
+      rc = EA_EXIT_USAGE;
+    }
+  char *merged = NULL;
+  size_t mlen = 0;
+  ea_error_t err = {0};
+  if (!rc) {
+    ea_status_t st = ea_study_merge((const char *const *)texts, lens, inputs, n, cases, &merged,
+                                    &mlen, &err);
+    if (st) rc = ea__cli_fail(cmd, st, &err);
+  }
+  if (!rc) rc = ea__write_text(cmd, out, merged, mlen);
+  if (!rc) {
+    char sbuf[1100];
+    if (!summary && strcmp(out, "-")) {
+      ea__replace_ext2(out, ".json", sbuf, sizeof sbuf);
+      summary = sbuf;
+    }
+    ea__study_table_t t;
+    if (summary) {
+      ea_status_t st = ea__study_table_parse(merged, mlen, out, &t, &err);
+      if (!st) {
+        ea__study_run_facts_t f = {.csv = out, .merged_inputs = n};
+        st = ea__study_summary_write(&t, &f, summary, &err);
+        ea__study_table_free(&t);
+      }
+      if (st) rc = ea__cli_fail(cmd, st, &err);
+    }
+    if (!rc) printf("merged %d shard(s) into %s%s%s\n", n, out, summary ? ", " : "",
+                    summary ? summary : "");
+  }
+  free(merged);
+  for (int i = 0; i < n; ++i) free(texts[i]);
+  free(texts);
+  free(lens);
+  free(inputs);
+  return rc;
+usage:
+  free(inputs);
+  return EA_EXIT_USAGE;
+}
+
+/* ---- run ---------------------------------------------------------------------- */
+
+static void ea__progress(void *data, long case_id, long done, long todo, int failed_rows) {
+  (void)case_id;
+  (void)failed_rows;
+  const int *tty = data;
+  if (*tty) fprintf(stderr, "\relasticarm study: %ld / %ld cases", done, todo);
+}
+
+typedef struct {
+  double *gam, *kg;
+  int ng, nkg;
+  unsigned metrics;
+  double amin, amax;
+  long points, modes;
+  int n_config;
+  double cfg_L[EA_STUDY_MAX_CONFIGS], cfg_a[EA_STUDY_MAX_CONFIGS];
+  double path[4];
+  int has_path;
+  const char *task;
+} ea__shorthand_t;
+
+static int ea__parse_metrics(const char *cmd, const char *v, unsigned *m) {
+  static const char *const names[] = {"workspace", "torque_map", "frequencies", "path",
+                                      "min_time"};
+  *m = 0;
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", v);
+  for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int k = 0;
+    while (k < 5 && strcmp(names[k], tok)) ++k;
+    if (k == 5)
+      return ea__cli_usage_error(cmd, "--metrics: unknown metric '%s' (workspace, torque_map, "
+                                      "frequencies, path, min_time)", tok);
+    *m |= 1u << k;
+  }
+  return 0;
+}
+
+int ea__cli_study(int argc, char **argv) {
+  const char *cmd = "study";
+  if (argc >= 2 && !strcmp(argv[1], "merge")) return ea__study_merge_cli(argc - 1, argv + 1);
+  const char *spec = NULL, *out = NULL, *summary = NULL, *figures = NULL, *fmt = "svg";
+  const char *ckpt = NULL, *arm_file = NULL;
+  int no_ckpt = 0, restart = 0, quiet = 0, shorthand = 0, no_fsync = 0;
+  long threads = 0, stop_after = 0;
+  int shard_k = 1, shard_n = 1;
+  ea__shorthand_t sh;
+  memset(&sh, 0, sizeof sh);
+  sh.amin = -60;
+  sh.amax = 10;
+  sh.points = 71;
+  sh.modes = 3;
+  int rc = EA_EXIT_USAGE;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i], *v = NULL;
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+      ea__study_help(stdout);
+      rc = EA_EXIT_OK;
+      goto done;
+    }
+    if (!strcmp(a, "--quiet")) {
+      quiet = 1;
+      continue;
+    }
+    if (!strcmp(a, "--no-checkpoint")) {
+      no_ckpt = 1;
+      continue;
+    }
+    if (!strcmp(a, "--restart")) {
+      restart = 1;
+      continue;
+    }
+    if (!strcmp(a, "--no-fsync")) {
+      no_fsync = 1;
+      continue;
+    }
+    if (a[0] != '-' || !a[1]) {
+      if (spec) {
+        ea__cli_usage_error(cmd, "more than one spec ('%s' and '%s')", spec, a);
+        goto done;
+      }
+      spec = a;
+      shorthand = !strcmp(a, "payload");
+      continue;
+    }
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto done;
+    int bad = 0;
+    if (!strcmp(a, "-o") || !strcmp(a, "--output"))
+      out = v;
+    else if (!strcmp(a, "--summary"))
+      summary = v;
+    else if (!strcmp(a, "--figures"))
+      figures = v;
+    else if (!strcmp(a, "--figure-format")) {
+      fmt = v;
+      if (strcmp(v, "svg") && strcmp(v, "png") && strcmp(v, "pdf"))
+        bad = ea__cli_usage_error(cmd, "--figure-format: '%s' is not svg, png or pdf", v);
+    } else if (!strcmp(a, "--threads"))
+      bad = ea__cli_int(cmd, a, v, 1, 1024, &threads);
+    else if (!strcmp(a, "--stop-after"))
+      bad = ea__cli_int(cmd, a, v, 1, 100000000L, &stop_after);
+    else if (!strcmp(a, "--shard")) {
+      char tail;
+      if (sscanf(v, "%d/%d%c", &shard_k, &shard_n, &tail) != 2 || shard_n < 1 || shard_k < 1 ||
+          shard_k > shard_n)
+        bad = ea__cli_usage_error(cmd, "--shard: '%s' is not K/N with 1 <= K <= N", v);
+    } else if (!strcmp(a, "--checkpoint"))
+      ckpt = v;
+    else if (!strcmp(a, "--arm"))
+      arm_file = v;
+    else if (!strcmp(a, "--payload-factors")) {
+      free(sh.gam);
+      bad = ea__cli_list(cmd, a, v, &sh.gam, &sh.ng);
+    } else if (!strcmp(a, "--payload-kg")) {
+      free(sh.kg);
+      bad = ea__cli_list(cmd, a, v, &sh.kg, &sh.nkg);
+    } else if (!strcmp(a, "--metrics"))
+      bad = ea__parse_metrics(cmd, v, &sh.metrics);
+    else if (!strcmp(a, "--alpha-min-deg"))
+      bad = ea__cli_double(cmd, a, v, -180, 180, &sh.amin);
+    else if (!strcmp(a, "--alpha-max-deg"))
+      bad = ea__cli_double(cmd, a, v, -180, 180, &sh.amax);
+    else if (!strcmp(a, "--points"))
+      bad = ea__cli_int(cmd, a, v, 2, 100000, &sh.points);
+    else if (!strcmp(a, "--modes"))
+      bad = ea__cli_int(cmd, a, v, 1, EA_FE_MAX_MODES, &sh.modes);
+    else if (!strcmp(a, "--config")) {
+      char buf[512];
+      snprintf(buf, sizeof buf, "%s", v);
+      sh.n_config = 0;
+      for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok && !bad;
+           tok = strtok_r(NULL, ",", &save)) {
+        double L, A;
+        char tail;
+        if (sh.n_config >= EA_STUDY_MAX_CONFIGS || sscanf(tok, "%lf:%lf%c", &L, &A, &tail) != 2 ||
+            !(L > 0) || !isfinite(A))
+          bad = ea__cli_usage_error(cmd, "--config: '%s' is not L:A[,L:A...] (at most %d)", v,
+                                    EA_STUDY_MAX_CONFIGS);
+        else {
+          sh.cfg_L[sh.n_config] = L;
+          sh.cfg_a[sh.n_config++] = A;
+        }
+      }
+    } else if (!strcmp(a, "--path")) {
+      char tail;
+      if (sscanf(v, "%lf,%lf,%lf,%lf%c", &sh.path[0], &sh.path[1], &sh.path[2], &sh.path[3],
+                 &tail) != 4)
+        bad = ea__cli_usage_error(cmd, "--path: '%s' is not X0,Y0,X1,Y1", v);
+      sh.has_path = 1;
+    } else if (!strcmp(a, "--task"))
+      sh.task = v;
+    else
+      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
+    if (bad) goto done;
+  }
+  if (!spec) {
+    ea__cli_usage_error(cmd, "no study spec (SPEC.yaml, 'payload' or 'merge')");
+    goto done;
+  }
+  if (!shorthand && (sh.gam || sh.kg || sh.metrics || sh.n_config || sh.has_path || sh.task)) {
+    ea__cli_usage_error(cmd, "--payload-factors, --metrics, --config, --path, --task belong to "
+                             "'elasticarm study payload'");
+    goto done;
+  }
+
+  ea_study_t s;
+  ea_error_t err = {0};
+  ea_status_t st;
+  if (shorthand) {
+    ea_arm_t arm;
+    if ((rc = ea__cli_load_arm(cmd, arm_file, &arm))) goto done;
+    rc = EA_EXIT_USAGE;
+    ea_study_init(&s, &arm);
+    snprintf(s.name, sizeof s.name, "payload");
+    snprintf(s.arm_file, sizeof s.arm_file, "%s", arm_file ? arm_file : ea__cli_default_arm());
+    if (!!sh.gam == !!sh.kg) {
+      ea__cli_usage_error(cmd, "study payload: give --payload-factors or --payload-kg");
+      goto done;
+    }
+    if (sh.gam)
+      st = ea_study_set_axis(&s, EA_STUDY_PAYLOAD_FACTOR, sh.gam, sh.ng, &err);
+    else
+      st = ea_study_set_axis(&s, EA_STUDY_PAYLOAD_KG, sh.kg, sh.nkg, &err);
+    s.metrics = sh.metrics ? sh.metrics : EA_STUDY_M_WORKSPACE;
+    s.workspace.alpha_min = sh.amin * EA__DEG;
+    s.workspace.alpha_max = sh.amax * EA__DEG;
+    s.workspace.points = (int)sh.points;
+    s.freq.modes = (int)sh.modes;
+    s.freq.n_config = sh.n_config;
+    for (int k = 0; k < sh.n_config; ++k) {
+      s.freq.cable_length[k] = sh.cfg_L[k];
+      s.freq.alpha[k] = sh.cfg_a[k] * EA__DEG;
+    }
+    if (sh.has_path) {
+      s.path.start[0] = sh.path[0];
+      s.path.start[1] = sh.path[1];
+      s.path.goal[0] = sh.path[2];
+      s.path.goal[1] = sh.path[3];
+    } else if (s.metrics & EA_STUDY_M_PATH) {
+      /* the paper's line, eq. 18 */
+      s.path.start[0] = 0.3;
+      s.path.start[1] = -0.2;
+      s.path.goal[0] = 0.6;
+      s.path.goal[1] = -0.2;
+    }
+    if (sh.task) snprintf(s.min_time.task_file, sizeof s.min_time.task_file, "%s", sh.task);
+    if (!st && (s.metrics & EA_STUDY_M_TORQUE)) {
+      s.torque.n_len = 13;
+      s.torque.n_alpha = 8;
+      s.torque.cable_length = malloc(13 * sizeof(double));
+      s.torque.alpha = malloc(8 * sizeof(double));
+      if (!s.torque.cable_length || !s.torque.alpha) st = EA_ERR_NOMEM;
+      for (int k = 0; !st && k < 13; ++k) s.torque.cable_length[k] = arm.act.cable_length_min + 0.05 * k;
+      for (int k = 0; !st && k < 8; ++k) s.torque.alpha[k] = (-60.0 + 10.0 * k) * EA__DEG;
+    }
+    if (!st) st = ea_study_check(&s, &err);
+    if (st) {
+      rc = ea__cli_fail(cmd, st, &err);
+      ea_study_free(&s);
+      goto done;
+    }
+  } else {
+    st = ea_study_load(spec, arm_file ? arm_file : ea__cli_default_arm(), &s, &err);
+    if (st) {
+      rc = ea__cli_fail(cmd, st, &err);
+      goto done;
+    }
+  }
+
+  /* outputs */
+  char out_buf[1100], sum_buf[1100], ck_buf[1200];
+  if (!out) {
+    if (s.out_csv[0] && shard_n == 1) {
+      out = s.out_csv;
+    } else {
+      char stem[600];
+      if (s.out_csv[0])
+        ea__replace_ext2(s.out_csv, "", stem, sizeof stem);
+      else
+        snprintf(stem, sizeof stem, "%.500s", s.name);
+      if (shard_n > 1)
+        snprintf(out_buf, sizeof out_buf, "%.600s.shard%d-of-%d.csv", stem, shard_k, shard_n);
+      else
+        snprintf(out_buf, sizeof out_buf, "%.600s.csv", stem);
+      out = out_buf;
+    }
+  }
+  const int to_stdout = !strcmp(out, "-");
+  if (!summary && s.out_summary[0] && shard_n == 1) summary = s.out_summary;
+  if (!summary && !to_stdout) {
+    ea__replace_ext2(out, ".json", sum_buf, sizeof sum_buf);
+    summary = sum_buf;
+  }
+  if (!figures && s.out_figures[0] && shard_n == 1) figures = s.out_figures;
+  if (!ckpt && !no_ckpt && !to_stdout) {
+    snprintf(ck_buf, sizeof ck_buf, "%s.journal", out);
+    ckpt = ck_buf;
+  }
+  if (no_ckpt) ckpt = NULL;
+  if (ckpt) {
+    ea_error_t me = {0};
+    if (ea_mkdir_parents(ckpt, &me)) {
+      rc = ea__cli_fail(cmd, me.status, &me);
+      ea_study_free(&s);
+      goto done;
+    }
+    if (restart) unlink(ckpt);
+  }
+
+  ea__study_plan_t *plan = NULL;
+  if (s.metrics & EA_STUDY_M_MIN_TIME) {
+    if ((st = ea__study_plan_alloc(&s, ea__cli_default_arm(), &plan, &err))) {
+      rc = ea__cli_fail(cmd, st, &err);
+      ea_study_free(&s);
+      goto done;
+    }
+  }
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  set.threads = (int)threads;
+  set.shard_k = shard_k;
+  set.shard_n = shard_n;
+  set.checkpoint = ckpt;
+  set.fsync = !no_fsync;
+  set.stop_after = stop_after;
+  set.stop_request = &ea__study_stop;
+  set.min_time = plan ? ea__study_min_time : NULL;
+  set.min_time_data = plan;
+  int tty = !quiet && isatty(STDERR_FILENO);
+  set.progress = ea__progress;
+  set.progress_data = &tty;
+  struct sigaction sa, old;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = ea__study_on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &old);
+  sigaction(SIGTERM, &sa, NULL);
+
+  char *csv = NULL;
+  size_t csv_len = 0;
+  ea_study_info_t info;
+  st = ea_study_run(&s, &set, &csv, &csv_len, &info, &err);
+  sigaction(SIGINT, &old, NULL);
+  signal(SIGTERM, SIG_DFL);
+  if (tty) fputc('\n', stderr);
+  ea__study_plan_free(plan);
+  if (st == EA_ERR_INTERRUPTED) {
+    fprintf(stderr, "elasticarm study: interrupted: %s\n", err.msg);
+    if (ckpt) fprintf(stderr, "elasticarm study: checkpoint %s\n", ckpt);
+    rc = EA_EXIT_FAIL;
+    ea_study_free(&s);
+    goto done;
+  }
+  if (st) {
+    rc = ea__cli_fail(cmd, st, &err);
+    ea_study_free(&s);
+    goto done;
+  }
+  rc = ea__write_text(cmd, out, csv, csv_len);
+  ea__study_table_t t;
+  memset(&t, 0, sizeof t);
+  if (!rc && (summary || figures)) {
+    if ((st = ea__study_table_parse(csv, csv_len, out, &t, &err))) rc = ea__cli_fail(cmd, st, &err);
+  }
+  if (!rc && summary) {
+    ea__study_run_facts_t f = {.name = s.name,
+                               .spec = shorthand ? NULL : spec,
+                               .csv = out,
+                               .info = &info,
+                               .shard_k = shard_k,
+                               .shard_n = shard_n};
+    if ((st = ea__study_summary_write(&t, &f, summary, &err))) rc = ea__cli_fail(cmd, st, &err);
+  }
+  int nfig = 0;
+  if (!rc && figures) {
+    if ((st = ea__study_figures(&s, &t, figures, fmt, &nfig, &err))) {
+      fprintf(stderr, "elasticarm study: figure: %s\n", err.msg);
+      rc = EA_EXIT_FAIL;
+    }
+  }
+  if (!rc && ckpt) unlink(ckpt); /* the outputs are committed: the journal has served */
+  if (!quiet && !to_stdout) {
+    printf("study %s: %ld case(s)%s, %ld computed, %ld from the checkpoint, %ld with failures "
+           "(%ld rows), %d thread(s), %.3f s\n",
+           s.name, info.cases_shard,
+           shard_n > 1 ? " in this shard" : "", info.cases_computed, info.cases_skipped,
+           info.cases_failed, info.rows_failed, info.threads, info.time_s);
+    if (info.journal_dropped_bytes)
+      printf("checkpoint: dropped a torn tail of %ld bytes\n", info.journal_dropped_bytes);
+    if (!rc) {
+      printf("%-30s %-6s %6s %6s %14s %14s\n", "metric", "unit", "ok", "failed", "min", "max");
+      char seen[64][64];
+      int ns = 0;
+      for (long i = 0; i < t.n_rows && ns < 64; ++i) {
+        int k = 0;
+        while (k < ns && strcmp(seen[k], t.rows[i].metric)) ++k;
+        if (k < ns) continue;
+        snprintf(seen[ns++], 64, "%s", t.rows[i].metric);
+        long ok = 0, bad = 0;
+        double lo = NAN, hi = NAN;
+        for (long q = 0; q < t.n_rows; ++q) {
+          if (strcmp(t.rows[q].metric, t.rows[i].metric)) continue;
+          if (!t.rows[q].ok) {
+            ++bad;
+            continue;
+          }
+          ++ok;
+          const double v = t.rows[q].value;
+          if (isfinite(v)) {
+            lo = isfinite(lo) ? fmin(lo, v) : v;
+            hi = isfinite(hi) ? fmax(hi, v) : v;
+          }
+        }
+        printf("%-30s %-6s %6ld %6ld %14.6g %14.6g\n", t.rows[i].metric, t.rows[i].unit, ok,
+               bad, lo, hi);
+      }
+      printf("wrote %s%s%s", out, summary ? ", " : "", summary ? summary : "");
+      if (nfig) printf(", %d figure(s) %s-*.%s", nfig, figures, fmt);
+      printf("\n");
+    }
+  }
+  ea__study_table_free(&t);
+  free(csv);
+  ea_study_free(&s);
+done:
+  free(sh.gam);
+  free(sh.kg);
+  return rc;
+}

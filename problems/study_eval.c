@@ -1,0 +1,280 @@
+/* One case of a study: its arm and payload, then only the metrics asked
+ * for, each as tidy CSV rows (case_id, parameters, metric, value, unit,
+ * status, message). Everything is allocated per case (shooter, FE model)
+ * and solved cold, so a case's rows never depend on which thread ran it or
+ * what ran before. */
+#include "study_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define EA__DEG (M_PI / 180.0)
+
+typedef struct {
+  ea__sbuf_t *b;
+  char prefix[512]; /* "case_id,v1,v2," */
+  int failed;
+} ea__rows_t;
+
+static void ea__row(ea__rows_t *r, const char *metric, double value, const char *unit,
+                    ea_status_t st, const char *msg) {
+  ea__sbuf_printf(r->b, "%s%s,", r->prefix, metric);
+  if (isfinite(value)) ea__sbuf_printf(r->b, "%.12g", value);
+  ea__sbuf_printf(r->b, ",%s,%s,\"", unit, st == EA_OK ? "ok" : ea_status_name(st));
+  for (const char *c = msg ? msg : ""; *c; ++c) {
+    if (*c == '"')
+      ea__sbuf_put(r->b, "\"\"", 2);
+    else if (*c == '\n' || *c == '\r')
+      ea__sbuf_put(r->b, " ", 1);
+    else
+      ea__sbuf_put(r->b, c, 1);
+  }
+  ea__sbuf_put(r->b, "\"\n", 2);
+  if (st != EA_OK) ++r->failed;
+}
+
+static void ea__eval_workspace(const ea_study_t *s, ea_shooter_t *sh, ea__rows_t *r) {
+  const int n = s->workspace.points;
+  double *alpha = malloc((size_t)n * sizeof *alpha);
+  ea_config_point_t *outer = calloc((size_t)n, sizeof *outer);
+  ea_config_point_t *inner = calloc((size_t)n, sizeof *inner);
+  if (!alpha || !outer || !inner) {
+    const char *names[] = {"max_reach", "area", "outer_x_max", "outer_y_min"};
+    for (int i = 0; i < 4; ++i) ea__row(r, names[i], NAN, "-", EA_ERR_NOMEM, "out of memory");
+    goto out;
+  }
+  for (int k = 0; k < n; ++k)
+    alpha[k] = s->workspace.alpha_min + (s->workspace.alpha_max - s->workspace.alpha_min) * k /
+                                            (n - 1);
+  ea_workspace_outer(sh, alpha, n, outer);
+  ea_workspace_inner(sh, s->workspace.inner_cable_length, alpha, n, inner);
+  int bad_out = 0, bad_in = 0, first_bad = -1;
+  double reach = NAN, xmax = NAN, ymin = NAN;
+  for (int k = 0; k < n; ++k) {
+    if (outer[k].status != EA_OK) {
+      if (first_bad < 0) first_bad = k;
+      ++bad_out;
+      continue;
+    }
+    const double d = hypot(outer[k].x, outer[k].y);
+    reach = isfinite(reach) ? fmax(reach, d) : d;
+    xmax = isfinite(xmax) ? fmax(xmax, outer[k].x) : outer[k].x;
+    ymin = isfinite(ymin) ? fmin(ymin, outer[k].y) : outer[k].y;
+  }
+  for (int k = 0; k < n; ++k) bad_in += inner[k].status != EA_OK;
+  char msg[256] = "";
+  ea_status_t st = EA_OK;
+  if (bad_out) {
+    st = EA_ERR_NOCONV;
+    snprintf(msg, sizeof msg, "%d of %d outer edge points without a T = 0 solution (first at "
+                              "alpha = %.4g deg)",
+             bad_out, n, alpha[first_bad] / EA__DEG);
+  }
+  ea__row(r, "max_reach", reach, "m", st, msg);
+  double area = NAN;
+  ea_status_t sa = st;
+  char amsg[256];
+  snprintf(amsg, sizeof amsg, "%s", msg);
+  if (!bad_out && bad_in) {
+    sa = EA_ERR_NOCONV;
+    snprintf(amsg, sizeof amsg, "%d of %d inner edge points (L_c = %.4g m) without a solution",
+             bad_in, n, inner[0].cable_length);
+  }
+  if (sa == EA_OK) area = ea_workspace_area(outer, inner, n);
+  ea__row(r, "area", area, "m^2", sa, amsg);
+  ea__row(r, "outer_x_max", xmax, "m", st, msg);
+  ea__row(r, "outer_y_min", ymin, "m", st, msg);
+out:
+  free(alpha);
+  free(outer);
+  free(inner);
+}
+
+static void ea__eval_torque(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t *arm,
+                            ea__rows_t *r) {
+  const int nl = s->torque.n_len, na = s->torque.n_alpha;
+  ea_config_point_t *cells = calloc((size_t)nl * na, sizeof *cells);
+  static const char *names[] = {"torque_min", "torque_max", "tension_min", "tension_max"};
+  static const char *units[] = {"N m", "N m", "N", "N"};
+  if (!cells) {
+    for (int i = 0; i < 4; ++i) ea__row(r, names[i], NAN, units[i], EA_ERR_NOMEM, "out of memory");
+    return;
+  }
+  ea_status_t st = ea_torque_map(sh, s->torque.cable_length, nl, s->torque.alpha, na, &arm->act,
+                                 cells);
+  double v[4] = {NAN, NAN, NAN, NAN};
+  long inside = 0, adm = 0, nosol = 0;
+  for (long c = 0; c < (long)nl * na; ++c) {
+    const ea_config_point_t *p = &cells[c];
+    if (p->status == EA_ERR_INADMISSIBLE) continue; /* beyond the T = 0 edge */
+    if (p->status != EA_OK) {
+      ++nosol;
+      continue;
+    }
+    ++inside;
+    adm += p->admissible;
+    const double q[4] = {p->shoulder_torque, p->shoulder_torque, p->tension, p->tension};
+    for (int i = 0; i < 4; ++i)
+      v[i] = !isfinite(v[i]) ? q[i] : (i % 2 ? fmax(v[i], q[i]) : fmin(v[i], q[i]));
+  }
+  char msg[256] = "";
+  ea_status_t rs = st;
+  if (!st && !inside) {
+    rs = EA_ERR_INADMISSIBLE;
+    snprintf(msg, sizeof msg, "no cell of the %d x %d grid is inside the workspace", nl, na);
+  } else if (!st && nosol) {
+    rs = EA_ERR_NOCONV;
+    snprintf(msg, sizeof msg, "%ld of %ld cells without a statics solution", nosol,
+             (long)nl * na);
+  } else if (st) {
+    snprintf(msg, sizeof msg, "torque map failed: %s", ea_strerror(st));
+  }
+  for (int i = 0; i < 4; ++i) ea__row(r, names[i], v[i], units[i], rs, msg);
+  ea__row(r, "torque_map_cells_inside", (double)inside, "-", st, st ? msg : "");
+  ea__row(r, "torque_map_cells_admissible", (double)adm, "-", st, st ? msg : "");
+  free(cells);
+}
+
+static void ea__eval_freq(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t *arm,
+                          double tip_mass, ea__rows_t *r) {
+  ea_fe_settings_t fs;
+  ea_fe_settings_default(&fs);
+  fs.modes = s->freq.modes;
+  fs.elements = s->freq.elements;
+  ea_fe_model_t *m = NULL;
+  ea_error_t e = {0};
+  ea_status_t mst = ea_fe_model_alloc(arm, &fs, &m, &e);
+  if (!mst) {
+    ea_load_t ld = {tip_mass};
+    mst = ea_fe_model_set_load(m, &ld);
+  }
+  for (int c = 0; c < s->freq.n_config; ++c) {
+    char msg[700] = "", metric[64];
+    ea_status_t st = mst;
+    ea_fe_modes_info_t mi;
+    memset(&mi, 0, sizeof mi);
+    const double L = s->freq.cable_length[c], a = s->freq.alpha[c];
+    if (st) {
+      snprintf(msg, sizeof msg, "FE model: %s", e.msg);
+    } else {
+      ea_statics_problem_t pr = ea_statics_problem_cable(L, a);
+      ea_statics_solution_t sol;
+      ea_error_t se = {0};
+      st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, &se);
+      if (st) {
+        snprintf(msg, sizeof msg,
+                 "configuration %d (L_c = %.4g m, alpha = %.4g deg) has no admissible statics "
+                 "solution: %s",
+                 c + 1, L, a / EA__DEG, se.msg[0] ? se.msg : ea_strerror(st));
+      } else if ((st = ea_fe_static_solve(m, sh, &sol, NULL, &se))) {
+        snprintf(msg, sizeof msg, "configuration %d: FE statics: %s", c + 1,
+                 se.msg[0] ? se.msg : ea_strerror(st));
+      } else if ((st = ea_fe_modes(m, &mi, &se))) {
+        snprintf(msg, sizeof msg, "configuration %d: FE modes: %s", c + 1,
+                 se.msg[0] ? se.msg : ea_strerror(st));
+      } else if (mi.modes < s->freq.modes) {
+        st = EA_ERR_BACKEND;
+        snprintf(msg, sizeof msg, "configuration %d: only %d modes found", c + 1, mi.modes);
+      }
+    }
+    for (int k = 0; k < s->freq.modes; ++k) {
+      snprintf(metric, sizeof metric, "frequency_c%d_mode%d", c + 1, k + 1);
+      ea__row(r, metric, st ? NAN : mi.freq_hz[k], "Hz", st, msg);
+    }
+  }
+  ea_fe_model_free(m);
+}
+
+static void ea__eval_path(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t *arm,
+                          ea__rows_t *r) {
+  const int n = s->path.steps + 1;
+  ea_config_point_t *pts = calloc((size_t)n, sizeof *pts);
+  if (!pts) {
+    ea__row(r, "path_admissible", NAN, "-", EA_ERR_NOMEM, "out of memory");
+    return;
+  }
+  ea_status_t st = ea_path_check_line(sh, s->path.start, s->path.goal, s->path.steps, &arm->act,
+                                      pts);
+  double tmin = NAN, tq = NAN;
+  int bad = -1, nbad = 0;
+  for (int k = 0; k < n; ++k) {
+    if (!pts[k].admissible) {
+      if (bad < 0) bad = k;
+      ++nbad;
+    }
+    if (pts[k].status == EA_OK || pts[k].status == EA_ERR_INADMISSIBLE) {
+      if (isfinite(pts[k].tension)) tmin = isfinite(tmin) ? fmin(tmin, pts[k].tension) : pts[k].tension;
+      if (isfinite(pts[k].shoulder_torque))
+        tq = isfinite(tq) ? fmax(tq, fabs(pts[k].shoulder_torque)) : fabs(pts[k].shoulder_torque);
+    }
+  }
+  char msg[300] = "";
+  if (st == EA_ERR_ARG) {
+    ea__row(r, "path_admissible", NAN, "-", st, "bad path");
+  } else {
+    if (bad >= 0)
+      snprintf(msg, sizeof msg, "%d of %d points inadmissible; first at beta = %.4g: %s", nbad,
+               n, (double)bad / s->path.steps, pts[bad].reason);
+    ea__row(r, "path_admissible", bad < 0 ? 1.0 : 0.0, "-", EA_OK, msg);
+  }
+  ea__row(r, "path_tension_min", tmin, "N", isfinite(tmin) ? EA_OK : EA_ERR_NOCONV,
+          isfinite(tmin) ? "" : "no point of the path solved");
+  ea__row(r, "path_torque_max_abs", tq, "N m", isfinite(tq) ? EA_OK : EA_ERR_NOCONV,
+          isfinite(tq) ? "" : "no point of the path solved");
+  free(pts);
+}
+
+int ea__study_case_eval(const ea_study_t *s, long case_id, const ea_study_settings_t *set,
+                        ea__sbuf_t *b) {
+  ea__rows_t r;
+  memset(&r, 0, sizeof r);
+  r.b = b;
+  double v[EA_STUDY_NPARAM];
+  ea_study_case_values(s, case_id, v);
+  size_t used = (size_t)snprintf(r.prefix, sizeof r.prefix, "%ld,", case_id);
+  for (int i = 0; i < s->n_axes && used < sizeof r.prefix; ++i)
+    used += (size_t)snprintf(r.prefix + used, sizeof r.prefix - used, "%.10g,", v[i]);
+
+  ea_arm_t arm;
+  double kg, gamma;
+  ea_error_t e = {0};
+  ea_status_t st = ea_study_case_arm(s, case_id, &arm, &kg, &gamma, &e);
+  ea_shooter_t *sh = NULL;
+  if (!st) st = ea_shooter_alloc(&arm, NULL, &sh, &e);
+  if (st) {
+    ea__row(&r, "case", NAN, "-", st, e.msg);
+    return b->oom ? -1 : r.failed;
+  }
+  const double tip_mass = ea_arm_tip_mass(&arm, kg);
+  ea_load_t load = {tip_mass};
+  ea_shooter_set_load(sh, &load);
+  if (s->metrics & EA_STUDY_M_WORKSPACE) ea__eval_workspace(s, sh, &r);
+  if (s->metrics & EA_STUDY_M_TORQUE) ea__eval_torque(s, sh, &arm, &r);
+  if (s->metrics & EA_STUDY_M_FREQUENCIES) ea__eval_freq(s, sh, &arm, tip_mass, &r);
+  if (s->metrics & EA_STUDY_M_PATH) ea__eval_path(s, sh, &arm, &r);
+  if (s->metrics & EA_STUDY_M_MIN_TIME) {
+    double dur = NAN;
+    char msg[512] = "";
+    ea_status_t ms = EA_ERR_NOTIMPL;
+    if (set && set->min_time)
+      ms = set->min_time(set->min_time_data, s, &arm, kg, gamma, &dur, msg, sizeof msg);
+    else
+      snprintf(msg, sizeof msg, "min_time needs the planner (run through 'elasticarm study')");
+    ea__row(&r, "min_time_duration", ms ? NAN : dur, "s", ms, msg);
+  }
+  ea_shooter_free(sh);
+  return b->oom ? -1 : r.failed;
+}
+
+long ea__study_row_case(const char *row, size_t len) {
+  long v = 0;
+  size_t i = 0;
+  if (!len || row[0] < '0' || row[0] > '9') return -1;
+  for (; i < len && row[i] >= '0' && row[i] <= '9'; ++i) {
+    if (v > 100000000L) return -1;
+    v = v * 10 + (row[i] - '0');
+  }
+  return (i < len && row[i] == ',') ? v : -1;
+}

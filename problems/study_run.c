@@ -1,0 +1,493 @@
+/* Running a study: worker threads over the shard's cases, a checkpoint
+ * journal for resume, rows assembled in case order; merging shard CSVs.
+ *
+ * Journal (docs/studies.md): a header line naming the study's key (CRC-32
+ * of its canonical description), then one block per finished case: the
+ * case's CSV rows followed by "#case ID BYTES CRC32\n" over those rows.
+ * Each block is written with one write() and fsync'd, so after a crash
+ * (kill -9, power loss) the file holds complete blocks and at most one
+ * torn tail, which a resume detects (length or CRC) and truncates. */
+#include "study_impl.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#define EA__JOURNAL_MAGIC "#elasticarm-study-journal 1"
+
+void ea_study_settings_default(ea_study_settings_t *set) {
+  memset(set, 0, sizeof *set);
+  set->threads = 0;
+  set->shard_k = 1;
+  set->shard_n = 1;
+  set->fsync = 1;
+}
+
+typedef struct {
+  const ea_study_t *s;
+  const ea_study_settings_t *set;
+  long n_shard;     /* cases of the shard: case = shard_k - 1 + j * shard_n */
+  long *todo;       /* local indices j still to compute */
+  long n_todo, next, started;
+  char **rows;      /* rows[j] (malloc'd) once case j is done */
+  size_t *rows_len;
+  int fd;           /* journal or -1 */
+  pthread_mutex_t mu;
+  int stop;
+  ea_status_t fail;
+  char failmsg[400];
+  long computed, done_total;
+} ea__run_t;
+
+static long ea__case_of(const ea__run_t *r, long j) {
+  return (long)(r->set->shard_k - 1) + j * r->set->shard_n;
+}
+
+static int ea__write_all(int fd, const char *p, size_t n) {
+  while (n) {
+    ssize_t w = write(fd, p, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      return -1;
+    }
+    p += w;
+    n -= (size_t)w;
+  }
+  return 0;
+}
+
+static void *ea__worker(void *arg) {
+  ea__run_t *r = arg;
+  for (;;) {
+    pthread_mutex_lock(&r->mu);
+    const int halt = r->stop || r->fail || r->next >= r->n_todo ||
+                     (r->set->stop_request && *r->set->stop_request) ||
+                     (r->set->stop_after > 0 && r->started >= r->set->stop_after);
+    if (halt && r->next < r->n_todo) r->stop = 1;
+    const long j = halt ? -1 : r->todo[r->next++];
+    if (!halt) ++r->started;
+    pthread_mutex_unlock(&r->mu);
+    if (j < 0) break;
+    const long c = ea__case_of(r, j);
+    ea__sbuf_t b = {0};
+    const int failed = ea__study_case_eval(r->s, c, r->set, &b);
+    const size_t rows_len = b.len;
+    char trailer[96];
+    if (failed >= 0 && !b.oom) {
+      snprintf(trailer, sizeof trailer, "#case %ld %zu %08x\n", c, rows_len,
+               (unsigned)ea__study_crc32(0, b.s, rows_len));
+      ea__sbuf_put(&b, trailer, strlen(trailer));
+    }
+    pthread_mutex_lock(&r->mu);
+    if (failed < 0 || b.oom) {
+      if (!r->fail) {
+        r->fail = EA_ERR_NOMEM;
+        snprintf(r->failmsg, sizeof r->failmsg, "case %ld: out of memory", c);
+      }
+    } else {
+      if (r->fd >= 0 && (ea__write_all(r->fd, b.s, b.len) || (r->set->fsync && fsync(r->fd)))) {
+        if (!r->fail) {
+          r->fail = EA_ERR_IO;
+          snprintf(r->failmsg, sizeof r->failmsg, "checkpoint journal %s: %s",
+                   r->set->checkpoint, strerror(errno));
+        }
+      } else {
+        b.s[rows_len] = '\0'; /* keep the rows, drop the trailer */
+        r->rows[j] = b.s;
+        r->rows_len[j] = rows_len;
+        b.s = NULL;
+        ++r->computed;
+        ++r->done_total;
+        if (r->set->progress)
+          r->set->progress(r->set->progress_data, c, r->done_total, r->n_shard, failed);
+      }
+    }
+    pthread_mutex_unlock(&r->mu);
+    ea__sbuf_free(&b);
+  }
+  return NULL;
+}
+
+/* Open (or create) the journal, keep the valid blocks of this study's
+ * cases, truncate a torn tail. */
+static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study_info_t *info,
+                                    ea_error_t *err) {
+  const char *path = r->set->checkpoint;
+  int fd = open(path, O_RDWR | O_CREAT | O_APPEND, 0644);
+  if (fd < 0)
+    return ea_error_set(err, EA_ERR_IO, "checkpoint %s: cannot open: %s", path, strerror(errno));
+  struct stat stt;
+  if (fstat(fd, &stt) != 0) {
+    close(fd);
+    return ea_error_set(err, EA_ERR_IO, "checkpoint %s: %s", path, strerror(errno));
+  }
+  size_t size = (size_t)stt.st_size;
+  char *text = malloc(size + 1);
+  if (!text) {
+    close(fd);
+    return ea_error_set(err, EA_ERR_NOMEM, "checkpoint %s: out of memory", path);
+  }
+  size_t got = 0;
+  while (got < size) {
+    ssize_t n = pread(fd, text + got, size - got, (off_t)got);
+    if (n <= 0) {
+      if (n < 0 && errno == EINTR) continue;
+      break;
+    }
+    got += (size_t)n;
+  }
+  size = got;
+  text[size] = '\0';
+  const size_t klen = strlen(key_line);
+  size_t good = 0;
+  if (size == 0 || (size < klen && !memcmp(text, key_line, size))) {
+    /* new journal (or a torn header) */
+    if (ftruncate(fd, 0) || ea__write_all(fd, key_line, klen) || (r->set->fsync && fsync(fd))) {
+      free(text);
+      close(fd);
+      return ea_error_set(err, EA_ERR_IO, "checkpoint %s: cannot write: %s", path,
+                          strerror(errno));
+    }
+    free(text);
+    r->fd = fd;
+    return EA_OK;
+  }
+  if (size < klen || memcmp(text, key_line, klen)) {
+    const int ours = !strncmp(text, EA__JOURNAL_MAGIC, strlen(EA__JOURNAL_MAGIC));
+    free(text);
+    close(fd);
+    return ea_error_set(err, EA_ERR_INPUT,
+                        ours ? "checkpoint %s belongs to another study (different grid, arm or "
+                               "metric settings); remove it or pass --restart"
+                             : "checkpoint %s is not a study journal; remove it or choose "
+                               "another --checkpoint",
+                        path);
+  }
+  good = klen;
+  size_t block = klen, pos = klen;
+  while (pos < size) {
+    char *nl = memchr(text + pos, '\n', size - pos);
+    if (!nl) break; /* torn last line */
+    const size_t line_end = (size_t)(nl - text) + 1;
+    if (text[pos] == '#') {
+      long id;
+      size_t bytes;
+      unsigned crc;
+      char tail;
+      *nl = '\0';
+      const int ok = sscanf(text + pos, "#case %ld %zu %8x%c", &id, &bytes, &crc, &tail) == 3;
+      *nl = '\n';
+      if (!ok || bytes != pos - block ||
+          ea__study_crc32(0, text + block, bytes) != (uint32_t)crc || id < 0 ||
+          id >= r->s->n_cases)
+        break;
+      /* every row of the block must belong to the case */
+      int rows_ok = bytes > 0;
+      for (size_t q = block; rows_ok && q < pos;) {
+        const char *e = memchr(text + q, '\n', pos - q);
+        if (!e || ea__study_row_case(text + q, (size_t)(e - text) - q) != id) rows_ok = 0;
+        q = e ? (size_t)(e - text) + 1 : pos;
+      }
+      if (!rows_ok) break;
+      const long k1 = r->set->shard_k - 1, nn = r->set->shard_n;
+      if (id % nn == k1) {
+        const long j = id / nn;
+        if (j < r->n_shard && !r->rows[j]) {
+          char *copy = malloc(bytes + 1);
+          if (!copy) {
+            free(text);
+            close(fd);
+            return ea_error_set(err, EA_ERR_NOMEM, "checkpoint: out of memory");
+          }
+          memcpy(copy, text + block, bytes);
+          copy[bytes] = '\0';
+          r->rows[j] = copy;
+          r->rows_len[j] = bytes;
+          ++info->cases_skipped;
+        }
+      }
+      block = line_end;
+      good = line_end;
+    }
+    pos = line_end;
+  }
+  free(text);
+  if (good < size) {
+    if (ftruncate(fd, (off_t)good) || (r->set->fsync && fsync(fd))) {
+      close(fd);
+      return ea_error_set(err, EA_ERR_IO, "checkpoint %s: cannot truncate the torn tail: %s",
+                          path, strerror(errno));
+    }
+    info->journal_dropped_bytes = (long)(size - good);
+  }
+  r->fd = fd;
+  return EA_OK;
+}
+
+static double ea__now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in, char **csv,
+                         size_t *csv_len, ea_study_info_t *info, ea_error_t *err) {
+  ea_study_info_t dummy;
+  if (!info) info = &dummy;
+  memset(info, 0, sizeof *info);
+  if (csv) *csv = NULL;
+  if (csv_len) *csv_len = 0;
+  ea_study_settings_t set;
+  if (set_in)
+    set = *set_in;
+  else
+    ea_study_settings_default(&set);
+  if (!s || !csv || s->n_cases < 1 || s->n_axes < 0)
+    return info->status = ea_error_set(err, EA_ERR_ARG,
+                                       "study run: NULL argument or unchecked study "
+                                       "(call ea_study_check)");
+  if (set.shard_n < 1 || set.shard_k < 1 || set.shard_k > set.shard_n)
+    return info->status = ea_error_set(err, EA_ERR_ARG, "shard %d/%d: need 1 <= K <= N",
+                                       set.shard_k, set.shard_n);
+  const double t0 = ea__now();
+  ea__run_t r;
+  memset(&r, 0, sizeof r);
+  r.s = s;
+  r.set = &set;
+  r.fd = -1;
+  const long k1 = set.shard_k - 1;
+  r.n_shard = s->n_cases > k1 ? (s->n_cases - k1 + set.shard_n - 1) / set.shard_n : 0;
+  info->cases_total = s->n_cases;
+  info->cases_shard = r.n_shard;
+  ea_status_t st = EA_OK;
+  ea__sbuf_t head = {0}, desc = {0};
+  char hdr[4096];
+  const size_t hlen = ea_study_csv_header(s, hdr, sizeof hdr);
+  if (!hlen || hlen >= sizeof hdr) {
+    st = ea_error_set(err, EA_ERR_NOMEM, "study run: header");
+    goto out;
+  }
+  r.rows = calloc((size_t)r.n_shard + 1, sizeof *r.rows);
+  r.rows_len = calloc((size_t)r.n_shard + 1, sizeof *r.rows_len);
+  r.todo = malloc(((size_t)r.n_shard + 1) * sizeof *r.todo);
+  if (!r.rows || !r.rows_len || !r.todo) {
+    st = ea_error_set(err, EA_ERR_NOMEM, "study run: out of memory");
+    goto out;
+  }
+  if (set.checkpoint && set.checkpoint[0]) {
+    ea__study_describe(s, &desc);
+    ea__sbuf_put(&desc, hdr, hlen);
+    if (desc.oom) {
+      st = ea_error_set(err, EA_ERR_NOMEM, "study run: out of memory");
+      goto out;
+    }
+    char key_line[128];
+    snprintf(key_line, sizeof key_line, EA__JOURNAL_MAGIC " key=%08x cases=%ld\n",
+             (unsigned)ea__study_crc32(0, desc.s, desc.len), s->n_cases);
+    if ((st = ea__journal_open(&r, key_line, info, err))) goto out;
+  }
+  for (long j = 0; j < r.n_shard; ++j)
+    if (!r.rows[j]) r.todo[r.n_todo++] = j;
+  r.done_total = r.n_shard - r.n_todo;
+  int nt = set.threads;
+  if (nt <= 0) {
+    const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    nt = cores > 0 ? (int)(cores > 256 ? 256 : cores) : 1;
+  }
+  if (nt > 1024) nt = 1024;
+  if ((long)nt > r.n_todo) nt = r.n_todo > 0 ? (int)r.n_todo : 1;
+  info->threads = nt;
+  pthread_mutex_init(&r.mu, NULL);
+  if (nt == 1) {
+    ea__worker(&r);
+  } else {
+    pthread_t *tid = malloc((size_t)nt * sizeof *tid);
+    int started = 0;
+    if (tid)
+      for (; started < nt; ++started)
+        if (pthread_create(&tid[started], NULL, ea__worker, &r)) break;
+    if (started == 0) ea__worker(&r); /* no threads: run here */
+    for (int i = 0; i < started; ++i) pthread_join(tid[i], NULL);
+    info->threads = started ? started : 1;
+    free(tid);
+  }
+  pthread_mutex_destroy(&r.mu);
+  info->cases_computed = r.computed;
+  if (r.fail) {
+    st = ea_error_set(err, r.fail, "%s", r.failmsg);
+    goto out;
+  }
+  for (long j = 0; j < r.n_shard; ++j)
+    if (!r.rows[j]) {
+      st = ea_error_set(err, EA_ERR_INTERRUPTED,
+                        "study stopped after %ld new case(s); %ld of %ld case(s) of the shard "
+                        "done%s",
+                        r.computed, r.done_total, r.n_shard,
+                        set.checkpoint ? "; rerun to resume from the checkpoint" : "");
+      goto out;
+    }
+  ea__sbuf_put(&head, hdr, hlen);
+  for (long j = 0; j < r.n_shard; ++j) {
+    ea__sbuf_put(&head, r.rows[j], r.rows_len[j]);
+    /* failed rows: the status field (n_axes + 4, 0-based) is not "ok";
+       the fields before the message hold no commas or quotes */
+    int bad_case = 0;
+    for (const char *p = r.rows[j]; p && *p;) {
+      const char *e = strchr(p, '\n');
+      if (!e) break;
+      const char *f = p;
+      for (int k = 0; k < s->n_axes + 4 && f < e; ++k) {
+        const char *c = memchr(f, ',', (size_t)(e - f));
+        f = c ? c + 1 : e;
+      }
+      if (strncmp(f, "ok,", 3)) {
+        ++info->rows_failed;
+        bad_case = 1;
+      }
+      p = e + 1;
+    }
+    info->cases_failed += bad_case;
+  }
+  if (head.oom) {
+    st = ea_error_set(err, EA_ERR_NOMEM, "study run: out of memory");
+    goto out;
+  }
+  *csv = head.s;
+  if (csv_len) *csv_len = head.len;
+  head.s = NULL;
+out:
+  if (r.fd >= 0) close(r.fd);
+  if (r.rows)
+    for (long j = 0; j < r.n_shard; ++j) free(r.rows[j]);
+  free(r.rows);
+  free(r.rows_len);
+  free(r.todo);
+  ea__sbuf_free(&head);
+  ea__sbuf_free(&desc);
+  info->time_s = ea__now() - t0;
+  info->status = st;
+  return st;
+}
+
+/* ---- merge ----------------------------------------------------------------- */
+
+typedef struct {
+  long id;
+  int src;
+  size_t start, len;
+} ea__group_t;
+
+static int ea__group_cmp(const void *a, const void *b) {
+  const ea__group_t *x = a, *y = b;
+  return (x->id > y->id) - (x->id < y->id);
+}
+
+ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
+                           const char *const *names, int n, long expect_cases, char **out,
+                           size_t *out_len, ea_error_t *err) {
+  if (!texts || !lens || !out || n < 1)
+    return ea_error_set(err, EA_ERR_ARG, "merge: no inputs");
+  *out = NULL;
+  if (out_len) *out_len = 0;
+  ea__group_t *g = NULL;
+  size_t ng = 0, cap = 0;
+  size_t hlen = 0;
+  ea_status_t st = EA_OK;
+  ea__sbuf_t o = {0};
+  for (int i = 0; i < n; ++i) {
+    const char *t = texts[i], *nm = names && names[i] ? names[i] : "input";
+    const size_t len = lens[i];
+    const char *e = len ? memchr(t, '\n', len) : NULL;
+    if (!e || strncmp(t, "case_id,", 8)) {
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:1:1: not a study CSV (no 'case_id,...' header)",
+                        nm);
+      goto out;
+    }
+    const size_t h = (size_t)(e - t) + 1;
+    if (i == 0) {
+      hlen = h;
+    } else if (h != hlen || memcmp(t, texts[0], h)) {
+      st = ea_error_set(err, EA_ERR_INPUT,
+                        "%s:1:1: header differs from %s's (shards of different studies?)", nm,
+                        names && names[0] ? names[0] : "the first input");
+      goto out;
+    }
+    if (t[len - 1] != '\n') {
+      long line = 1;
+      for (size_t q = 0; q < len; ++q) line += t[q] == '\n';
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld: the last row is truncated (no newline)", nm,
+                        line);
+      goto out;
+    }
+    long line = 1, prev = -1;
+    for (size_t q = h; q < len;) {
+      ++line;
+      const char *le = memchr(t + q, '\n', len - q);
+      const size_t ll = (size_t)(le - t) - q;
+      const long id = ea__study_row_case(t + q, ll);
+      if (id < 0) {
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: row without a case_id", nm, line);
+        goto out;
+      }
+      if (id == prev) {
+        g[ng - 1].len += ll + 1;
+      } else {
+        if (id < prev) {
+          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: case %ld after case %ld (rows out of "
+                                               "order)", nm, line, id, prev);
+          goto out;
+        }
+        if (ng == cap) {
+          cap = cap ? 2 * cap : 1024;
+          ea__group_t *ng2 = realloc(g, cap * sizeof *g);
+          if (!ng2) {
+            st = ea_error_set(err, EA_ERR_NOMEM, "merge: out of memory");
+            goto out;
+          }
+          g = ng2;
+        }
+        g[ng++] = (ea__group_t){id, i, q, ll + 1};
+        prev = id;
+      }
+      q += ll + 1;
+    }
+  }
+  qsort(g, ng, sizeof *g, ea__group_cmp);
+  for (size_t k = 0; k < ng; ++k) {
+    if (k > 0 && g[k].id == g[k - 1].id) {
+      st = ea_error_set(err, EA_ERR_INPUT, "case %ld is in %s and in %s", g[k].id,
+                        names ? names[g[k - 1].src] : "two inputs",
+                        names ? names[g[k].src] : "another");
+      goto out;
+    }
+    if (g[k].id != (long)k) {
+      st = ea_error_set(err, EA_ERR_INPUT, "case %ld is missing (no shard has it)", (long)k);
+      goto out;
+    }
+  }
+  if (expect_cases > 0 && (long)ng != expect_cases) {
+    st = ea_error_set(err, EA_ERR_INPUT, "the shards hold %zu cases, expected %ld (cases %zu.. "
+                                         "missing)",
+                      ng, expect_cases, ng);
+    goto out;
+  }
+  ea__sbuf_put(&o, texts[0], hlen);
+  for (size_t k = 0; k < ng; ++k) ea__sbuf_put(&o, texts[g[k].src] + g[k].start, g[k].len);
+  if (o.oom) {
+    st = ea_error_set(err, EA_ERR_NOMEM, "merge: out of memory");
+    goto out;
+  }
+  *out = o.s;
+  if (out_len) *out_len = o.len;
+  o.s = NULL;
+out:
+  free(g);
+  ea__sbuf_free(&o);
+  return st;
+}
