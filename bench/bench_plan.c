@@ -92,9 +92,15 @@ int main(int argc, char **argv) {
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
   header("paper line, 100 knots");
   row_t r = run(&line, R, 0);
-  print_row("cold, exact Hessian", &r);
+  print_row("cold, partial Hessian (default)", &r);
   r = run(&line, R, 1);
   print_row("warm (previous solution)", &r);
+  ea_task_t ex = line;
+  ex.solver.hessian_exact = 1;
+  r = run(&ex, R, 0);
+  print_row("cold, exact Hessian", &r);
+  r = run(&ex, R, 1);
+  print_row("warm, exact Hessian", &r);
   ea_task_t lm = line;
   lm.solver.hessian_exact = 0;
   r = run(&lm, R, 0);

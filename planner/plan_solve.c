@@ -492,6 +492,8 @@ static void ea__polish(ea_planner_t *pl, double *x) {
   set.allow_negative_tension = 1;
   set.max_cont_steps = 0;
   for (int k = 0; k < pl->N; ++k) {
+    const double *gk = pl->g + 3 * k; /* Ipopt's constraint values at x */
+    if (fmax(fabs(gk[0]), fmax(fabs(gk[1]), fabs(gk[2]))) <= 1e-11) continue;
     const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
                                  x[EA__IP(pl, k, 2)]};
     ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
@@ -569,7 +571,7 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
       tmpl[0] = '\0';
     }
     AddIpoptStrOption(pl->ip, "derivative_test",
-                      pl->task.solver.derivative_test == 2 && pl->hess_exact ? "second-order"
+                      pl->task.solver.derivative_test == 2 && pl->hess_exact == 1 ? "second-order"
                                                                              : "first-order");
     AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
     AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);

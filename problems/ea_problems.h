@@ -167,9 +167,10 @@ typedef struct ea_task_solver {
   int tune_schedule;    /**< NLopt: tune the knot time distribution (min_time only) */
   double regularization;/**< weight of the acceleration-energy term added to min_time
                              (default 1e-4; 0 = pure minimum time) */
-  int hessian_exact;    /**< 1: exact Lagrangian Hessian (second-order statics by central
-                             differences of the exact sensitivities; default); 0: Ipopt's
-                             limited-memory quasi-Newton */
+  int hessian_exact;    /**< Hessian of the Lagrangian: 2 "partial" (default): exact for
+                             every row but without the statics curvature; 1 "exact":
+                             with it (second-order statics by differences of the exact
+                             sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
 } ea_task_solver_t;
 
 /** A task spec. Plain data, no owned memory. */

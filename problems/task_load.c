@@ -106,7 +106,7 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
     return st;
   if ((st = ea__ymap_bool(d, n, "derivative_test", 0, &s->derivative_test, err))) return st;
   if ((st = ea__ymap_bool(d, n, "tune_schedule", 0, &s->tune_schedule, err))) return st;
-  static const char *const hess[] = {"limited-memory", "exact", NULL};
+  static const char *const hess[] = {"limited-memory", "exact", "partial", NULL};
   int h = s->hessian_exact;
   if ((st = ea__ymap_enum(d, n, "hessian", 0, hess, &h, err))) return st;
   s->hessian_exact = h;
