@@ -382,6 +382,54 @@ static void test_resume(void) {
   ea_study_free(&s);
 }
 
+/* ---- the planner metric ------------------------------------------------------------ */
+
+static void test_min_time(void) {
+  char text[1400];
+  snprintf(text, sizeof text,
+           "grid: {payload_factor: [0, 0.25, 3]}\n"
+           "metrics: {min_time: {task: %s/problems/examples/paper-line.yaml}}\n",
+           g_src);
+  ea_study_t s;
+  ea_error_t e = {0};
+  if (ea_study_load_string("mt.yaml", text, strlen(text), NULL, &s, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  ea__study_plan_t *plan = NULL;
+  if (ea__study_plan_alloc(&s, NULL, &plan, &e)) {
+    ea_test_true(0, e.msg);
+    ea_study_free(&s);
+    return;
+  }
+  char *c[2] = {0};
+  for (int t = 0; t < 2; ++t) {
+    ea_study_settings_t set;
+    ea_study_settings_default(&set);
+    set.threads = t + 1;
+    set.min_time = ea__study_min_time;
+    set.min_time_data = plan;
+    ea_study_run(&s, &set, &c[t], NULL, NULL, &e);
+  }
+  ea__study_plan_free(plan);
+  ea_test_true(c[0] && c[1] && !strcmp(c[0], c[1]), "min_time: 1 and 2 threads byte-identical");
+  if (c[0]) {
+    char st0[32] = "", st2[32] = "";
+    const double d0 = metric(c[0], 0, "min_time_duration", st0);
+    const double d1 = metric(c[0], 1, "min_time_duration", NULL);
+    metric(c[0], 2, "min_time_duration", st2);
+    printf("  min-time durations: gamma 0: %.6f s, gamma 0.25: %.6f s; gamma 3: %s\n", d0, d1,
+           st2);
+    ea_test_true(!strcmp(st0, "ok") && d0 > 0.5 && d0 < 10 && d1 > 0.5 && d1 < 10,
+                 "min_time: paper line planned for gamma 0 and 0.25");
+    ea_test_true(strcmp(st2, "ok") != 0,
+                 "min_time: payload factor 3 (line outside the workspace) recorded as failed");
+  }
+  free(c[0]);
+  free(c[1]);
+  ea_study_free(&s);
+}
+
 /* ---- spec errors ------------------------------------------------------------------ */
 
 static void test_spec_errors(void) {
@@ -440,6 +488,7 @@ int main(void) {
   test_threads_shards();
   test_failed_case();
   test_resume();
+  test_min_time();
   test_spec_errors();
   rmdir(g_tmp);
   return ea_test_summary("test_study");
