@@ -128,6 +128,7 @@ ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *
   ea_json_num(&j, "peak_shoulder_torque_Nm", info->peak_shoulder_torque_Nm);
   ea_json_num(&j, "max_statics_residual", info->max_statics_residual);
   ea_json_num(&j, "max_violation", info->max_violation);
+  ea_json_num(&j, "schedule_warp", info->schedule_warp);
   if (info->status != EA_OK) ea_json_str(&j, "worst_constraint", info->worst);
   ea_json_obj_begin(&j, "problem");
   ea_json_int(&j, "variables", info->n_var);

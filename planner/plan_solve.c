@@ -512,9 +512,33 @@ static void ea__polish(ea_planner_t *pl, double *x) {
 /* Solve                                                                    */
 /* ---------------------------------------------------------------------- */
 
+ea_status_t ea__plan_tune(ea_planner_t *pl, double *w_best, ea_error_t *err);
+ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                                ea_plan_info_t *info_out, ea_error_t *err);
+
 ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                              ea_plan_info_t *info_out, ea_error_t *err) {
   if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_solve: NULL planner");
+  if (!pl->task.solver.tune_schedule || !pl->has_tf)
+    return ea__plan_solve_once(pl, start, prev, info_out, err);
+  /* NLopt over the knot time distribution, then the final plan. */
+  const double t0 = ea__plan_now();
+  ea_status_t st = ea__plan_solve_once(pl, start, prev, info_out, err);
+  if (st) return st;
+  double w = 0.0;
+  st = ea__plan_tune(pl, &w, err);
+  const double tt = ea__plan_now() - t0;
+  if (st) return st;
+  ea__plan_schedule(pl, w);
+  ea_plan_info_t local, *info = info_out ? info_out : &local;
+  st = ea__plan_solve_once(pl, EA_PLAN_WARM, NULL, info, err);
+  info->time_tune_s = tt;
+  info->schedule_warp = w;
+  return st;
+}
+
+ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                                ea_plan_info_t *info_out, ea_error_t *err) {
   ea_plan_info_t local, *info = info_out ? info_out : &local;
   memset(info, 0, sizeof *info);
   info->deriv_errors = -1;
