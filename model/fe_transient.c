@@ -197,8 +197,14 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       }
       if (dMd > 1e-300) {
         const double V1 = ea__fe_potential(m, q1, phase, cm);
-        const double c = (V1 - V0 - fd) / dMd;
-        for (int i = 0; i < nd; ++i) m->fm[i] += c * Mdq[i];
+        const double dV = V1 - V0 - fd;
+        /* Below the rounding level of V (2e-14 of it, ~90 ulp) the difference is noise; dividing
+         * it by a tiny dq' M dq (an arm nearly at rest) would swamp Newton:
+         * the midpoint gradient is then exact to rounding already. */
+        if (fabs(dV) > 2e-14 * (fabs(V0) + fabs(V1))) {
+          const double c = dV / dMd;
+          for (int i = 0; i < nd; ++i) m->fm[i] += c * Mdq[i];
+        }
       }
       /* residual: M (v1 - v0)/h + C vm + dV */
       for (int i = 0; i < nd; ++i) {
