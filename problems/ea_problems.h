@@ -373,7 +373,10 @@ typedef struct ea_study_settings {
   int shard_k, shard_n;  /**< run the cases with case_id % shard_n == shard_k - 1
                               (1 <= shard_k <= shard_n; 1/1 = all) */
   const char *checkpoint;/**< journal path for resume (NULL = none) */
-  int fsync;             /**< fsync the journal after every case (default 1) */
+  int fsync;             /**< fsync the journal (default 1): power-loss safe up to the
+                              last fsync; a killed process loses nothing written */
+  double fsync_interval_s; /**< [s] at most one fsync per interval (group commit; default
+                              0.2; 0 = after every case); always at the end */
   long stop_after;       /**< test hook: stop after this many newly computed cases (0 = off) */
   const volatile sig_atomic_t *stop_request; /**< nonzero: finish running cases, stop */
   ea_study_min_time_fn min_time; /**< NULL: min_time rows report EA_ERR_NOTIMPL */

@@ -27,6 +27,7 @@ void ea_study_settings_default(ea_study_settings_t *set) {
   set->shard_k = 1;
   set->shard_n = 1;
   set->fsync = 1;
+  set->fsync_interval_s = 0.2;
 }
 
 typedef struct {
@@ -43,7 +44,11 @@ typedef struct {
   ea_status_t fail;
   char failmsg[400];
   long computed, done_total;
+  double last_sync;  /* time of the last journal fsync */
+  int dirty;         /* journal written since the last fsync */
 } ea__run_t;
+
+static double ea__now(void);
 
 static long ea__case_of(const ea__run_t *r, long j) {
   return (long)(r->set->shard_k - 1) + j * r->set->shard_n;
@@ -91,7 +96,20 @@ static void *ea__worker(void *arg) {
         snprintf(r->failmsg, sizeof r->failmsg, "case %ld: out of memory", c);
       }
     } else {
-      if (r->fd >= 0 && (ea__write_all(r->fd, b.s, b.len) || (r->set->fsync && fsync(r->fd)))) {
+      int io = 0;
+      if (r->fd >= 0) {
+        io = ea__write_all(r->fd, b.s, b.len);
+        r->dirty = 1;
+        if (!io && r->set->fsync) {
+          const double t = ea__now();
+          if (t - r->last_sync >= r->set->fsync_interval_s) {
+            io = fsync(r->fd);
+            r->last_sync = t;
+            r->dirty = 0;
+          }
+        }
+      }
+      if (io) {
         if (!r->fail) {
           r->fail = EA_ERR_IO;
           snprintf(r->failmsg, sizeof r->failmsg, "checkpoint journal %s: %s",
@@ -291,6 +309,7 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
     snprintf(key_line, sizeof key_line, EA__JOURNAL_MAGIC " key=%08x cases=%ld\n",
              (unsigned)ea__study_crc32(0, desc.s, desc.len), s->n_cases);
     if ((st = ea__journal_open(&r, key_line, info, err))) goto out;
+    r.last_sync = ea__now();
   }
   for (long j = 0; j < r.n_shard; ++j)
     if (!r.rows[j]) r.todo[r.n_todo++] = j;
@@ -319,6 +338,11 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
   }
   pthread_mutex_destroy(&r.mu);
   info->cases_computed = r.computed;
+  if (r.fd >= 0 && r.dirty && set.fsync && fsync(r.fd) && !r.fail) {
+    r.fail = EA_ERR_IO;
+    snprintf(r.failmsg, sizeof r.failmsg, "checkpoint journal %s: fsync: %s", set.checkpoint,
+             strerror(errno));
+  }
   if (r.fail) {
     st = ea_error_set(err, r.fail, "%s", r.failmsg);
     goto out;
@@ -459,13 +483,14 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
     }
   }
   qsort(g, ng, sizeof *g, ea__group_cmp);
-  for (size_t k = 0; k < ng; ++k) {
-    if (k > 0 && g[k].id == g[k - 1].id) {
+  for (size_t k = 1; k < ng; ++k)
+    if (g[k].id == g[k - 1].id) {
       st = ea_error_set(err, EA_ERR_INPUT, "case %ld is in %s and in %s", g[k].id,
                         names ? names[g[k - 1].src] : "two inputs",
                         names ? names[g[k].src] : "another");
       goto out;
     }
+  for (size_t k = 0; k < ng; ++k) {
     if (g[k].id != (long)k) {
       st = ea_error_set(err, EA_ERR_INPUT, "case %ld is missing (no shard has it)", (long)k);
       goto out;
