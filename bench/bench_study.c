@@ -51,8 +51,8 @@ static const char *k_freq = "name: freq1000\n"
                             "      - {cable_length_m: 0.55, cable_angle_deg: -40}\n";
 
 /* Median wall time [s] of reps runs; *failed = failed cases of the last. */
-static double time_study(const ea_study_t *s, int threads, const char *ckpt, int reps,
-                         char **keep, long *failed) {
+static double time_study(const ea_study_t *s, int threads, const char *ckpt, int reps, char **keep,
+                         long *failed) {
   double *t = malloc((size_t)reps * sizeof *t);
   for (int r = 0; r < reps; ++r) {
     ea_study_settings_t set;

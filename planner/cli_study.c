@@ -162,8 +162,8 @@ static int ea__study_merge_cli(int argc, char **argv) {
   size_t mlen = 0;
   ea_error_t err = {0};
   if (!rc) {
-    ea_status_t st = ea_study_merge((const char *const *)texts, lens, inputs, n, cases, &merged,
-                                    &mlen, &err);
+    ea_status_t st =
+        ea_study_merge((const char *const *)texts, lens, inputs, n, cases, &merged, &mlen, &err);
     if (st) rc = ea__cli_fail(cmd, st, &err);
   }
   if (!rc) rc = ea__write_text(cmd, out, merged, mlen);
@@ -183,11 +183,13 @@ static int ea__study_merge_cli(int argc, char **argv) {
       }
       if (st) rc = ea__cli_fail(cmd, st, &err);
     }
-    if (!rc) printf("merged %d shard(s) into %s%s%s\n", n, out, summary ? ", " : "",
-                    summary ? summary : "");
+    if (!rc)
+      printf("merged %d shard(s) into %s%s%s\n", n, out, summary ? ", " : "",
+             summary ? summary : "");
   }
   free(merged);
-  for (int i = 0; i < n; ++i) free(texts[i]);
+  for (int i = 0; i < n; ++i)
+    free(texts[i]);
   free(texts);
   free(lens);
   free(inputs);
@@ -220,17 +222,19 @@ typedef struct {
 } ea__shorthand_t;
 
 static int ea__parse_metrics(const char *cmd, const char *v, unsigned *m) {
-  static const char *const names[] = {"workspace", "torque_map", "frequencies", "path",
-                                      "min_time"};
+  static const char *const names[] = {"workspace", "torque_map", "frequencies", "path", "min_time"};
   *m = 0;
   char buf[256];
   snprintf(buf, sizeof buf, "%s", v);
   for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
     int k = 0;
-    while (k < 5 && strcmp(names[k], tok)) ++k;
+    while (k < 5 && strcmp(names[k], tok))
+      ++k;
     if (k == 5)
-      return ea__cli_usage_error(cmd, "--metrics: unknown metric '%s' (workspace, torque_map, "
-                                      "frequencies, path, min_time)", tok);
+      return ea__cli_usage_error(cmd,
+                                 "--metrics: unknown metric '%s' (workspace, torque_map, "
+                                 "frequencies, path, min_time)",
+                                 tok);
     *m |= 1u << k;
   }
   return 0;
@@ -410,8 +414,10 @@ int ea__cli_study(int argc, char **argv) {
       s.torque.cable_length = malloc(13 * sizeof(double));
       s.torque.alpha = malloc(8 * sizeof(double));
       if (!s.torque.cable_length || !s.torque.alpha) st = EA_ERR_NOMEM;
-      for (int k = 0; !st && k < 13; ++k) s.torque.cable_length[k] = arm.act.cable_length_min + 0.05 * k;
-      for (int k = 0; !st && k < 8; ++k) s.torque.alpha[k] = (-60.0 + 10.0 * k) * EA__DEG;
+      for (int k = 0; !st && k < 13; ++k)
+        s.torque.cable_length[k] = arm.act.cable_length_min + 0.05 * k;
+      for (int k = 0; !st && k < 8; ++k)
+        s.torque.alpha[k] = (-60.0 + 10.0 * k) * EA__DEG;
     }
     if (!st) st = ea_study_check(&s, &err);
     if (st) {
@@ -542,9 +548,8 @@ int ea__cli_study(int argc, char **argv) {
   if (!quiet && !to_stdout) {
     printf("study %s: %ld case(s)%s, %ld computed, %ld from the checkpoint, %ld with failures "
            "(%ld rows), %d thread(s), %.3f s\n",
-           s.name, info.cases_shard,
-           shard_n > 1 ? " in this shard" : "", info.cases_computed, info.cases_skipped,
-           info.cases_failed, info.rows_failed, info.threads, info.time_s);
+           s.name, info.cases_shard, shard_n > 1 ? " in this shard" : "", info.cases_computed,
+           info.cases_skipped, info.cases_failed, info.rows_failed, info.threads, info.time_s);
     if (info.journal_dropped_bytes)
       printf("checkpoint: dropped a torn tail of %ld bytes\n", info.journal_dropped_bytes);
     if (!rc) {
@@ -553,7 +558,8 @@ int ea__cli_study(int argc, char **argv) {
       int ns = 0;
       for (long i = 0; i < t.n_rows && ns < 64; ++i) {
         int k = 0;
-        while (k < ns && strcmp(seen[k], t.rows[i].metric)) ++k;
+        while (k < ns && strcmp(seen[k], t.rows[i].metric))
+          ++k;
         if (k < ns) continue;
         snprintf(seen[ns++], 64, "%s", t.rows[i].metric);
         long ok = 0, bad = 0;
@@ -571,8 +577,8 @@ int ea__cli_study(int argc, char **argv) {
             hi = isfinite(hi) ? fmax(hi, v) : v;
           }
         }
-        printf("%-30s %-6s %6ld %6ld %14.6g %14.6g\n", t.rows[i].metric, t.rows[i].unit, ok,
-               bad, lo, hi);
+        printf("%-30s %-6s %6ld %6ld %14.6g %14.6g\n", t.rows[i].metric, t.rows[i].unit, ok, bad,
+               lo, hi);
       }
       printf("wrote %s%s%s", out, summary ? ", " : "", summary ? summary : "");
       if (nfig) printf(", %d figure(s) %s-*.%s", nfig, figures, fmt);

@@ -26,14 +26,17 @@ ea_status_t ea__study_table_parse(const char *text, size_t len, const char *name
   if (!e || strncmp(text, "case_id,", 8))
     return ea_error_set(err, EA_ERR_INPUT, "%s:1:1: not a study CSV", name);
   int fields = 1;
-  for (const char *c = text; c < e; ++c) fields += *c == ',';
+  for (const char *c = text; c < e; ++c)
+    fields += *c == ',';
   t->n_params = fields - 6;
   if (t->n_params < 0 || t->n_params > EA_STUDY_NPARAM)
     return ea_error_set(err, EA_ERR_INPUT, "%s:1:1: unexpected header", name);
   const char *p = text + 8;
-  for (int i = 0; i < t->n_params; ++i) p += ea__field(p, e, t->params[i], sizeof t->params[i]);
+  for (int i = 0; i < t->n_params; ++i)
+    p += ea__field(p, e, t->params[i], sizeof t->params[i]);
   long nl = 0;
-  for (const char *c = e + 1; c < end; ++c) nl += *c == '\n';
+  for (const char *c = e + 1; c < end; ++c)
+    nl += *c == '\n';
   t->rows = calloc((size_t)nl + 1, sizeof *t->rows);
   if (!t->rows) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
   long line = 1;
@@ -78,7 +81,8 @@ static int ea__metric_names(const ea__study_table_t *t, char (*names)[64], int m
   int n = 0;
   for (long i = 0; i < t->n_rows; ++i) {
     int k = 0;
-    while (k < n && strcmp(names[k], t->rows[i].metric)) ++k;
+    while (k < n && strcmp(names[k], t->rows[i].metric))
+      ++k;
     if (k == n && n < max) snprintf(names[n++], 64, "%s", t->rows[i].metric);
     if (i > 0 && t->rows[i].case_id != t->rows[0].case_id) break; /* first case has them all */
   }
@@ -126,7 +130,8 @@ ea_status_t ea__study_summary_write(const ea__study_table_t *t, const ea__study_
     int nv = 0, more = 0;
     for (long i = 0; i < t->n_rows; ++i) {
       int k = 0;
-      while (k < nv && vals[k] != t->rows[i].param[p]) ++k;
+      while (k < nv && vals[k] != t->rows[i].param[p])
+        ++k;
       if (k == nv) {
         if (nv < 64)
           vals[nv++] = t->rows[i].param[p];
@@ -210,8 +215,9 @@ static void ea__case_label(const ea_study_t *s, long c, char *buf, size_t len) {
   for (int i = 0; i < s->n_axes && used < len; ++i) {
     if (s->axis[i].n < 2 && s->n_axes > 1) continue;
     int w = snprintf(buf + used, len - used, "%s%s = %g", used ? ", " : "",
-                     s->axis[i].param == EA_STUDY_PAYLOAD_FACTOR ? "{/Symbol g}"
-                                                                   : ea_study_param_name(s->axis[i].param),
+                     s->axis[i].param == EA_STUDY_PAYLOAD_FACTOR
+                         ? "{/Symbol g}"
+                         : ea_study_param_name(s->axis[i].param),
                      v[i]);
     if (w < 0) break;
     used += (size_t)w;
@@ -232,9 +238,11 @@ static ea_status_t ea__fig_workspace(const ea_study_t *s, const char *path, ea_e
   long pick[8];
   int np = 0;
   if (s->n_cases <= 8)
-    for (long c = 0; c < s->n_cases; ++c) pick[np++] = c;
+    for (long c = 0; c < s->n_cases; ++c)
+      pick[np++] = c;
   else
-    for (int k = 0; k < 8; ++k) pick[np++] = (long)((double)k * (s->n_cases - 1) / 7.0 + 0.5);
+    for (int k = 0; k < 8; ++k)
+      pick[np++] = (long)((double)k * (s->n_cases - 1) / 7.0 + 0.5);
   double *alpha = malloc((size_t)n * sizeof *alpha);
   ea_config_point_t *outer = calloc((size_t)n, sizeof *outer);
   ea_config_point_t *inner = calloc((size_t)n, sizeof *inner);
@@ -245,8 +253,8 @@ static ea_status_t ea__fig_workspace(const ea_study_t *s, const char *path, ea_e
     goto out;
   }
   for (int k = 0; k < n; ++k)
-    alpha[k] = s->workspace.alpha_min +
-               (s->workspace.alpha_max - s->workspace.alpha_min) * k / (n - 1);
+    alpha[k] =
+        s->workspace.alpha_min + (s->workspace.alpha_max - s->workspace.alpha_min) * k / (n - 1);
   if ((st = ea_plot_open(&pl, path, 850, 650, err))) goto out;
   char plot[8192];
   int used = snprintf(plot, sizeof plot, "plot ");
@@ -273,15 +281,16 @@ static ea_status_t ea__fig_workspace(const ea_study_t *s, const char *path, ea_e
     ea_plot_data_end(pl);
     ea__case_label(s, pick[q], label, sizeof label);
     if (used < (int)sizeof plot - 300)
-      used += snprintf(plot + used, sizeof plot - (size_t)used,
-                       "%s$ws%d w l lw 2 lc %d t '%s'", q ? ", " : "", q, q + 1, label);
+      used += snprintf(plot + used, sizeof plot - (size_t)used, "%s$ws%d w l lw 2 lc %d t '%s'",
+                       q ? ", " : "", q, q + 1, label);
   }
   ea_plot_data_begin(pl, "root");
   ea_plot_data_row(pl, 2, (double[]){s->arm.x_c, s->arm.y_c});
   ea_plot_data_end(pl);
-  ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
-                  "set key outside right\n"
-                  "set title 'Workspace: outer edge (T = 0) and inner edge, %.0f to %.0f deg'",
+  ea_plot_cmd(pl,
+              "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
+              "set key outside right\n"
+              "set title 'Workspace: outer edge (T = 0) and inner edge, %.0f to %.0f deg'",
               s->workspace.alpha_min / EA__DEG, s->workspace.alpha_max / EA__DEG);
   ea_plot_cmd(pl, "%s, $root w p pt 7 ps 1.5 lc rgb '#c0392b' t 'cable root'", plot);
   st = ea_plot_close(pl, err);
@@ -303,8 +312,8 @@ static void ea__escape(const char *in, char *out, size_t len) {
 
 /* One figure per metric: x = the first parameter with more than one value,
  * one curve per combination of the other parameters (at most 12). */
-static ea_status_t ea__fig_metric(const ea__study_table_t *t, const char *metric,
-                                  const char *path, ea_error_t *err) {
+static ea_status_t ea__fig_metric(const ea__study_table_t *t, const char *metric, const char *path,
+                                  ea_error_t *err) {
   int xp = -1;
   for (int p = 0; p < t->n_params && xp < 0; ++p)
     for (long i = 1; i < t->n_rows; ++i)
@@ -356,8 +365,8 @@ static ea_status_t ea__fig_metric(const ea__study_table_t *t, const char *metric
     size_t lu = 0;
     for (int p = 0; p < t->n_params; ++p)
       if (p != xp && lu < sizeof label) {
-        int w = snprintf(label + lu, sizeof label - lu, "%s%s = %g", lu ? ", " : "",
-                         t->params[p], key[g][p]);
+        int w = snprintf(label + lu, sizeof label - lu, "%s%s = %g", lu ? ", " : "", t->params[p],
+                         key[g][p]);
         if (w > 0) lu += (size_t)w;
       }
     ea__escape(label[0] ? label : metric, esc, sizeof esc);
@@ -368,16 +377,16 @@ static ea_status_t ea__fig_metric(const ea__study_table_t *t, const char *metric
   char xl[80], ml[160];
   ea__escape(t->params[xp], xl, sizeof xl);
   ea__escape(metric, ml, sizeof ml);
-  ea_plot_cmd(pl, "set grid\nset xlabel '%s'\nset ylabel '%s [%s]'\nset title '%s against %s'\n"
-                  "set key outside right",
+  ea_plot_cmd(pl,
+              "set grid\nset xlabel '%s'\nset ylabel '%s [%s]'\nset title '%s against %s'\n"
+              "set key outside right",
               xl, ml, unit, ml, xl);
   ea_plot_cmd(pl, "%s", plot);
   return ea_plot_close(pl, err);
 }
 
-ea_status_t ea__study_figures(const ea_study_t *s, const ea__study_table_t *t,
-                              const char *prefix, const char *ext, int *n_written,
-                              ea_error_t *err) {
+ea_status_t ea__study_figures(const ea_study_t *s, const ea__study_table_t *t, const char *prefix,
+                              const char *ext, int *n_written, ea_error_t *err) {
   *n_written = 0;
   char path[1100];
   ea_status_t st;

@@ -29,9 +29,9 @@ typedef struct ea__study_row {
   long case_id;
   double param[EA_STUDY_NPARAM]; /**< values of the parameter columns */
   char metric[64];
-  double value;                  /**< NAN when empty */
+  double value; /**< NAN when empty */
   char unit[16];
-  int ok;                        /**< status "ok" */
+  int ok; /**< status "ok" */
   char status[32];
 } ea__study_row_t;
 
@@ -39,7 +39,7 @@ typedef struct ea__study_table {
   int n_params;
   char params[EA_STUDY_NPARAM][32]; /**< parameter column names */
   long n_rows;
-  ea__study_row_t *rows;            /**< owned */
+  ea__study_row_t *rows; /**< owned */
 } ea__study_table_t;
 
 /** Parse a study CSV (as written by ea_study_run / ea_study_merge). */
@@ -52,7 +52,7 @@ typedef struct ea__study_run_facts {
   const char *name, *spec, *csv;
   const ea_study_info_t *info; /**< NULL for a merge */
   int shard_k, shard_n;
-  int merged_inputs;           /**< > 0 for a merge */
+  int merged_inputs; /**< > 0 for a merge */
 } ea__study_run_facts_t;
 
 /** JSON summary (per metric: unit, rows, ok, failed, min, max; failed
@@ -65,8 +65,7 @@ ea_status_t ea__study_summary_write(const ea__study_table_t *t, const ea__study_
  *  PREFIX-METRIC.EXT for every scalar metric against the swept parameter
  *  (one curve per combination of the other parameters). *n_written counts
  *  the figures. */
-ea_status_t ea__study_figures(const ea_study_t *s, const ea__study_table_t *t,
-                              const char *prefix, const char *ext, int *n_written,
-                              ea_error_t *err);
+ea_status_t ea__study_figures(const ea_study_t *s, const ea__study_table_t *t, const char *prefix,
+                              const char *ext, int *n_written, ea_error_t *err);
 
 #endif

@@ -42,12 +42,13 @@ static void ea__eval_workspace(const ea_study_t *s, ea_shooter_t *sh, ea__rows_t
   ea_config_point_t *inner = calloc((size_t)n, sizeof *inner);
   if (!alpha || !outer || !inner) {
     const char *names[] = {"max_reach", "area", "outer_x_max", "outer_y_min"};
-    for (int i = 0; i < 4; ++i) ea__row(r, names[i], NAN, "-", EA_ERR_NOMEM, "out of memory");
+    for (int i = 0; i < 4; ++i)
+      ea__row(r, names[i], NAN, "-", EA_ERR_NOMEM, "out of memory");
     goto out;
   }
   for (int k = 0; k < n; ++k)
-    alpha[k] = s->workspace.alpha_min + (s->workspace.alpha_max - s->workspace.alpha_min) * k /
-                                            (n - 1);
+    alpha[k] =
+        s->workspace.alpha_min + (s->workspace.alpha_max - s->workspace.alpha_min) * k / (n - 1);
   ea_workspace_outer(sh, alpha, n, outer);
   ea_workspace_inner(sh, s->workspace.inner_cable_length, alpha, n, inner);
   int bad_out = 0, bad_in = 0, first_bad = -1;
@@ -63,13 +64,15 @@ static void ea__eval_workspace(const ea_study_t *s, ea_shooter_t *sh, ea__rows_t
     xmax = isfinite(xmax) ? fmax(xmax, outer[k].x) : outer[k].x;
     ymin = isfinite(ymin) ? fmin(ymin, outer[k].y) : outer[k].y;
   }
-  for (int k = 0; k < n; ++k) bad_in += inner[k].status != EA_OK;
+  for (int k = 0; k < n; ++k)
+    bad_in += inner[k].status != EA_OK;
   char msg[256] = "";
   ea_status_t st = EA_OK;
   if (bad_out) {
     st = EA_ERR_NOCONV;
-    snprintf(msg, sizeof msg, "%d of %d outer edge points without a T = 0 solution (first at "
-                              "alpha = %.4g deg)",
+    snprintf(msg, sizeof msg,
+             "%d of %d outer edge points without a T = 0 solution (first at "
+             "alpha = %.4g deg)",
              bad_out, n, alpha[first_bad] / EA__DEG);
   }
   ea__row(r, "max_reach", reach, "m", st, msg);
@@ -99,11 +102,12 @@ static void ea__eval_torque(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_
   static const char *names[] = {"torque_min", "torque_max", "tension_min", "tension_max"};
   static const char *units[] = {"N m", "N m", "N", "N"};
   if (!cells) {
-    for (int i = 0; i < 4; ++i) ea__row(r, names[i], NAN, units[i], EA_ERR_NOMEM, "out of memory");
+    for (int i = 0; i < 4; ++i)
+      ea__row(r, names[i], NAN, units[i], EA_ERR_NOMEM, "out of memory");
     return;
   }
-  ea_status_t st = ea_torque_map(sh, s->torque.cable_length, nl, s->torque.alpha, na, &arm->act,
-                                 cells);
+  ea_status_t st =
+      ea_torque_map(sh, s->torque.cable_length, nl, s->torque.alpha, na, &arm->act, cells);
   double v[4] = {NAN, NAN, NAN, NAN};
   long inside = 0, adm = 0, nosol = 0;
   for (long c = 0; c < (long)nl * na; ++c) {
@@ -126,12 +130,12 @@ static void ea__eval_torque(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_
     snprintf(msg, sizeof msg, "no cell of the %d x %d grid is inside the workspace", nl, na);
   } else if (!st && nosol) {
     rs = EA_ERR_NOCONV;
-    snprintf(msg, sizeof msg, "%ld of %ld cells without a statics solution", nosol,
-             (long)nl * na);
+    snprintf(msg, sizeof msg, "%ld of %ld cells without a statics solution", nosol, (long)nl * na);
   } else if (st) {
     snprintf(msg, sizeof msg, "torque map failed: %s", ea_strerror(st));
   }
-  for (int i = 0; i < 4; ++i) ea__row(r, names[i], v[i], units[i], rs, msg);
+  for (int i = 0; i < 4; ++i)
+    ea__row(r, names[i], v[i], units[i], rs, msg);
   ea__row(r, "torque_map_cells_inside", (double)inside, "-", st, st ? msg : "");
   ea__row(r, "torque_map_cells_admissible", (double)adm, "-", st, st ? msg : "");
   free(cells);
@@ -195,8 +199,8 @@ static void ea__eval_path(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t 
     ea__row(r, "path_admissible", NAN, "-", EA_ERR_NOMEM, "out of memory");
     return;
   }
-  ea_status_t st = ea_path_check_line(sh, s->path.start, s->path.goal, s->path.steps, &arm->act,
-                                      pts);
+  ea_status_t st =
+      ea_path_check_line(sh, s->path.start, s->path.goal, s->path.steps, &arm->act, pts);
   double tmin = NAN, tq = NAN;
   int bad = -1, nbad = 0;
   for (int k = 0; k < n; ++k) {
@@ -205,7 +209,8 @@ static void ea__eval_path(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t 
       ++nbad;
     }
     if (pts[k].status == EA_OK || pts[k].status == EA_ERR_INADMISSIBLE) {
-      if (isfinite(pts[k].tension)) tmin = isfinite(tmin) ? fmin(tmin, pts[k].tension) : pts[k].tension;
+      if (isfinite(pts[k].tension))
+        tmin = isfinite(tmin) ? fmin(tmin, pts[k].tension) : pts[k].tension;
       if (isfinite(pts[k].shoulder_torque))
         tq = isfinite(tq) ? fmax(tq, fabs(pts[k].shoulder_torque)) : fabs(pts[k].shoulder_torque);
     }
@@ -215,8 +220,8 @@ static void ea__eval_path(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t 
     ea__row(r, "path_admissible", NAN, "-", st, "bad path");
   } else {
     if (bad >= 0)
-      snprintf(msg, sizeof msg, "%d of %d points inadmissible; first at beta = %.4g: %s", nbad,
-               n, (double)bad / s->path.steps, pts[bad].reason);
+      snprintf(msg, sizeof msg, "%d of %d points inadmissible; first at beta = %.4g: %s", nbad, n,
+               (double)bad / s->path.steps, pts[bad].reason);
     ea__row(r, "path_admissible", bad < 0 ? 1.0 : 0.0, "-", EA_OK, msg);
   }
   ea__row(r, "path_tension_min", tmin, "N", isfinite(tmin) ? EA_OK : EA_ERR_NOCONV,

@@ -33,19 +33,19 @@ void ea_study_settings_default(ea_study_settings_t *set) {
 typedef struct {
   const ea_study_t *s;
   const ea_study_settings_t *set;
-  long n_shard;     /* cases of the shard: case = shard_k - 1 + j * shard_n */
-  long *todo;       /* local indices j still to compute */
+  long n_shard; /* cases of the shard: case = shard_k - 1 + j * shard_n */
+  long *todo;   /* local indices j still to compute */
   long n_todo, next, started;
-  char **rows;      /* rows[j] (malloc'd) once case j is done */
+  char **rows; /* rows[j] (malloc'd) once case j is done */
   size_t *rows_len;
-  int fd;           /* journal or -1 */
+  int fd; /* journal or -1 */
   pthread_mutex_t mu;
   int stop;
   ea_status_t fail;
   char failmsg[400];
   long computed, done_total;
-  double last_sync;  /* time of the last journal fsync */
-  int dirty;         /* journal written since the last fsync */
+  double last_sync; /* time of the last journal fsync */
+  int dirty;        /* journal written since the last fsync */
 } ea__run_t;
 
 static double ea__now(void);
@@ -112,8 +112,8 @@ static void *ea__worker(void *arg) {
       if (io) {
         if (!r->fail) {
           r->fail = EA_ERR_IO;
-          snprintf(r->failmsg, sizeof r->failmsg, "checkpoint journal %s: %s",
-                   r->set->checkpoint, strerror(errno));
+          snprintf(r->failmsg, sizeof r->failmsg, "checkpoint journal %s: %s", r->set->checkpoint,
+                   strerror(errno));
         }
       } else {
         b.s[rows_len] = '\0'; /* keep the rows, drop the trailer */
@@ -169,8 +169,7 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
     if (ftruncate(fd, 0) || ea__write_all(fd, key_line, klen) || (r->set->fsync && fsync(fd))) {
       free(text);
       close(fd);
-      return ea_error_set(err, EA_ERR_IO, "checkpoint %s: cannot write: %s", path,
-                          strerror(errno));
+      return ea_error_set(err, EA_ERR_IO, "checkpoint %s: cannot write: %s", path, strerror(errno));
     }
     free(text);
     r->fd = fd;
@@ -201,9 +200,8 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
       *nl = '\0';
       const int ok = sscanf(text + pos, "#case %ld %zu %8x%c", &id, &bytes, &crc, &tail) == 3;
       *nl = '\n';
-      if (!ok || bytes != pos - block ||
-          ea__study_crc32(0, text + block, bytes) != (uint32_t)crc || id < 0 ||
-          id >= r->s->n_cases)
+      if (!ok || bytes != pos - block || ea__study_crc32(0, text + block, bytes) != (uint32_t)crc ||
+          id < 0 || id >= r->s->n_cases)
         break;
       /* every row of the block must belong to the case */
       int rows_ok = bytes > 0;
@@ -239,8 +237,8 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
   if (good < size) {
     if (ftruncate(fd, (off_t)good) || (r->set->fsync && fsync(fd))) {
       close(fd);
-      return ea_error_set(err, EA_ERR_IO, "checkpoint %s: cannot truncate the torn tail: %s",
-                          path, strerror(errno));
+      return ea_error_set(err, EA_ERR_IO, "checkpoint %s: cannot truncate the torn tail: %s", path,
+                          strerror(errno));
     }
     info->journal_dropped_bytes = (long)(size - good);
   }
@@ -332,7 +330,8 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
       for (; started < nt; ++started)
         if (pthread_create(&tid[started], NULL, ea__worker, &r)) break;
     if (started == 0) ea__worker(&r); /* no threads: run here */
-    for (int i = 0; i < started; ++i) pthread_join(tid[i], NULL);
+    for (int i = 0; i < started; ++i)
+      pthread_join(tid[i], NULL);
     info->threads = started ? started : 1;
     free(tid);
   }
@@ -388,7 +387,8 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
 out:
   if (r.fd >= 0) close(r.fd);
   if (r.rows)
-    for (long j = 0; j < r.n_shard; ++j) free(r.rows[j]);
+    for (long j = 0; j < r.n_shard; ++j)
+      free(r.rows[j]);
   free(r.rows);
   free(r.rows_len);
   free(r.todo);
@@ -412,11 +412,9 @@ static int ea__group_cmp(const void *a, const void *b) {
   return (x->id > y->id) - (x->id < y->id);
 }
 
-ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
-                           const char *const *names, int n, long expect_cases, char **out,
-                           size_t *out_len, ea_error_t *err) {
-  if (!texts || !lens || !out || n < 1)
-    return ea_error_set(err, EA_ERR_ARG, "merge: no inputs");
+ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const char *const *names,
+                           int n, long expect_cases, char **out, size_t *out_len, ea_error_t *err) {
+  if (!texts || !lens || !out || n < 1) return ea_error_set(err, EA_ERR_ARG, "merge: no inputs");
   *out = NULL;
   if (out_len) *out_len = 0;
   ea__group_t *g = NULL;
@@ -429,8 +427,7 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
     const size_t len = lens[i];
     const char *e = len ? memchr(t, '\n', len) : NULL;
     if (!e || strncmp(t, "case_id,", 8)) {
-      st = ea_error_set(err, EA_ERR_INPUT, "%s:1:1: not a study CSV (no 'case_id,...' header)",
-                        nm);
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:1:1: not a study CSV (no 'case_id,...' header)", nm);
       goto out;
     }
     const size_t h = (size_t)(e - t) + 1;
@@ -444,7 +441,8 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
     }
     if (t[len - 1] != '\n') {
       long line = 1;
-      for (size_t q = 0; q < len; ++q) line += t[q] == '\n';
+      for (size_t q = 0; q < len; ++q)
+        line += t[q] == '\n';
       st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld: the last row is truncated (no newline)", nm,
                         line);
       goto out;
@@ -463,8 +461,10 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
         g[ng - 1].len += ll + 1;
       } else {
         if (id < prev) {
-          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: case %ld after case %ld (rows out of "
-                                               "order)", nm, line, id, prev);
+          st = ea_error_set(err, EA_ERR_INPUT,
+                            "%s:%ld:1: case %ld after case %ld (rows out of "
+                            "order)",
+                            nm, line, id, prev);
           goto out;
         }
         if (ng == cap) {
@@ -497,13 +497,15 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
     }
   }
   if (expect_cases > 0 && (long)ng != expect_cases) {
-    st = ea_error_set(err, EA_ERR_INPUT, "the shards hold %zu cases, expected %ld (cases %zu.. "
-                                         "missing)",
+    st = ea_error_set(err, EA_ERR_INPUT,
+                      "the shards hold %zu cases, expected %ld (cases %zu.. "
+                      "missing)",
                       ng, expect_cases, ng);
     goto out;
   }
   ea__sbuf_put(&o, texts[0], hlen);
-  for (size_t k = 0; k < ng; ++k) ea__sbuf_put(&o, texts[g[k].src] + g[k].start, g[k].len);
+  for (size_t k = 0; k < ng; ++k)
+    ea__sbuf_put(&o, texts[g[k].src] + g[k].start, g[k].len);
   if (o.oom) {
     st = ea_error_set(err, EA_ERR_NOMEM, "merge: out of memory");
     goto out;

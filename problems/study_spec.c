@@ -22,7 +22,8 @@ void ea__sbuf_put(ea__sbuf_t *b, const char *text, size_t len) {
   if (b->oom) return;
   if (b->len + len + 1 > b->cap) {
     size_t cap = b->cap ? b->cap : 256;
-    while (cap < b->len + len + 1) cap *= 2;
+    while (cap < b->len + len + 1)
+      cap *= 2;
     char *s = realloc(b->s, cap);
     if (!s) {
       b->oom = 1;
@@ -70,7 +71,8 @@ static pthread_once_t ea__crc_once = PTHREAD_ONCE_INIT;
 static void ea__crc_init(void) {
   for (uint32_t i = 0; i < 256; ++i) {
     uint32_t c = i;
-    for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+    for (int k = 0; k < 8; ++k)
+      c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
     ea__crc_table[i] = c;
   }
 }
@@ -80,13 +82,14 @@ uint32_t ea__study_crc32(uint32_t crc, const void *buf, size_t len) {
   const uint32_t *table = ea__crc_table;
   const unsigned char *p = buf;
   crc = ~crc;
-  for (size_t i = 0; i < len; ++i) crc = table[(crc ^ p[i]) & 0xFFu] ^ (crc >> 8);
+  for (size_t i = 0; i < len; ++i)
+    crc = table[(crc ^ p[i]) & 0xFFu] ^ (crc >> 8);
   return ~crc;
 }
 
 static const char *const ea__param_names[EA_STUDY_NPARAM + 1] = {
-    "payload_factor", "payload_kg",     "EI_Nm2",         "rho_kg_per_m", "length_m",
-    "hand_mass_kg",   "cable_root_x_m", "cable_root_y_m", NULL};
+    "payload_factor", "payload_kg",     "EI_Nm2", "rho_kg_per_m", "length_m", "hand_mass_kg",
+    "cable_root_x_m", "cable_root_y_m", NULL};
 
 const char *ea_study_param_name(ea_study_param_t p) {
   return (p >= 0 && p < EA_STUDY_NPARAM) ? ea__param_names[p] : "unknown";
@@ -163,23 +166,40 @@ void ea_study_case_values(const ea_study_t *s, long case_id, double *values) {
   }
 }
 
-ea_status_t ea_study_case_arm(const ea_study_t *s, long case_id, ea_arm_t *arm,
-                              double *payload_kg, double *payload_factor, ea_error_t *err) {
+ea_status_t ea_study_case_arm(const ea_study_t *s, long case_id, ea_arm_t *arm, double *payload_kg,
+                              double *payload_factor, ea_error_t *err) {
   double v[EA_STUDY_NPARAM];
   ea_study_case_values(s, case_id, v);
   *arm = s->arm;
   double gamma = 0.0, kg = NAN;
   for (int i = 0; i < s->n_axes; ++i) {
     switch (s->axis[i].param) {
-    case EA_STUDY_PAYLOAD_FACTOR: gamma = v[i]; break;
-    case EA_STUDY_PAYLOAD_KG: kg = v[i]; break;
-    case EA_STUDY_EI: arm->EI = v[i]; break;
-    case EA_STUDY_RHO: arm->rho = v[i]; break;
-    case EA_STUDY_LENGTH: arm->length = v[i]; break;
-    case EA_STUDY_HAND_MASS: arm->m_hand = v[i]; break;
-    case EA_STUDY_CABLE_ROOT_X: arm->x_c = v[i]; break;
-    case EA_STUDY_CABLE_ROOT_Y: arm->y_c = v[i]; break;
-    default: break;
+    case EA_STUDY_PAYLOAD_FACTOR:
+      gamma = v[i];
+      break;
+    case EA_STUDY_PAYLOAD_KG:
+      kg = v[i];
+      break;
+    case EA_STUDY_EI:
+      arm->EI = v[i];
+      break;
+    case EA_STUDY_RHO:
+      arm->rho = v[i];
+      break;
+    case EA_STUDY_LENGTH:
+      arm->length = v[i];
+      break;
+    case EA_STUDY_HAND_MASS:
+      arm->m_hand = v[i];
+      break;
+    case EA_STUDY_CABLE_ROOT_X:
+      arm->x_c = v[i];
+      break;
+    case EA_STUDY_CABLE_ROOT_Y:
+      arm->y_c = v[i];
+      break;
+    default:
+      break;
     }
   }
   if (isfinite(kg)) {
@@ -218,11 +238,13 @@ ea_status_t ea_study_check(ea_study_t *s, ea_error_t *err) {
     n *= s->axis[i].n;
   }
   if (has_g && has_kg)
-    return ea_error_set(err, EA_ERR_INPUT,
-                        "%s: grid: give payload_factor or payload_kg, not both", f);
+    return ea_error_set(err, EA_ERR_INPUT, "%s: grid: give payload_factor or payload_kg, not both",
+                        f);
   if (!s->metrics)
-    return ea_error_set(err, EA_ERR_INPUT, "%s: no metrics asked for (workspace, torque_map, "
-                                           "frequencies, path, min_time)", f);
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "%s: no metrics asked for (workspace, torque_map, "
+                        "frequencies, path, min_time)",
+                        f);
   if (s->metrics & EA_STUDY_M_WORKSPACE) {
     if (!(s->workspace.alpha_min < s->workspace.alpha_max) || s->workspace.points < 2)
       return ea_error_set(err, EA_ERR_INPUT,
@@ -237,8 +259,7 @@ ea_status_t ea_study_check(ea_study_t *s, ea_error_t *err) {
       return ea_error_set(err, EA_ERR_INPUT, "%s: frequencies: modes must be in [1, %d]", f,
                           EA_FE_MAX_MODES);
     if (s->freq.elements < 1 || s->freq.elements > 1000)
-      return ea_error_set(err, EA_ERR_INPUT, "%s: frequencies: elements must be in [1, 1000]",
-                          f);
+      return ea_error_set(err, EA_ERR_INPUT, "%s: frequencies: elements must be in [1, 1000]", f);
   }
   if ((s->metrics & EA_STUDY_M_PATH) && s->path.steps < 1)
     return ea_error_set(err, EA_ERR_INPUT, "%s: path: steps must be >= 1", f);
@@ -279,7 +300,8 @@ size_t ea_study_csv_header(const ea_study_t *s, char *buf, size_t len) {
 
 static void ea__describe_vec(ea__sbuf_t *b, const char *name, const double *v, int n) {
   ea__sbuf_printf(b, "%s", name);
-  for (int i = 0; i < n; ++i) ea__sbuf_printf(b, " %.17g", v[i]);
+  for (int i = 0; i < n; ++i)
+    ea__sbuf_printf(b, " %.17g", v[i]);
   ea__sbuf_printf(b, "\n");
 }
 
@@ -291,22 +313,21 @@ void ea__study_describe(const ea_study_t *s, ea__sbuf_t *b) {
                    (double[]){a->rho, a->m_hand, a->length, a->EI, a->x_c, a->y_c, a->g, a->EA,
                               a->GA_s, a->EA_cable, a->I_zz, a->I_hand},
                    12);
-  ea__describe_vec(
-      b, "actuators",
-      (double[]){l->spool_radius, l->spool_gear_ratio, l->spool_zero_length,
-                 l->cable_length_min, l->cable_length_max, l->cable_speed_max,
-                 l->cable_accel_max, l->tension_max, l->tension_min, l->shoulder_torque_max,
-                 l->shoulder_speed_max, l->shoulder_angle_min, l->shoulder_angle_max,
-                 l->shoulder_accel_max, l->base_speed_max, l->base_accel_max, l->base_angle_min,
-                 l->base_angle_max},
-      18);
+  ea__describe_vec(b, "actuators",
+                   (double[]){l->spool_radius, l->spool_gear_ratio, l->spool_zero_length,
+                              l->cable_length_min, l->cable_length_max, l->cable_speed_max,
+                              l->cable_accel_max, l->tension_max, l->tension_min,
+                              l->shoulder_torque_max, l->shoulder_speed_max, l->shoulder_angle_min,
+                              l->shoulder_angle_max, l->shoulder_accel_max, l->base_speed_max,
+                              l->base_accel_max, l->base_angle_min, l->base_angle_max},
+                   18);
   for (int i = 0; i < s->n_axes; ++i)
     ea__describe_vec(b, ea_study_param_name(s->axis[i].param), s->axis[i].values, s->axis[i].n);
   ea__sbuf_printf(b, "metrics %u\n", s->metrics);
   if (s->metrics & EA_STUDY_M_WORKSPACE)
     ea__describe_vec(b, "workspace",
-                     (double[]){s->workspace.alpha_min, s->workspace.alpha_max,
-                                s->workspace.points, s->workspace.inner_cable_length},
+                     (double[]){s->workspace.alpha_min, s->workspace.alpha_max, s->workspace.points,
+                                s->workspace.inner_cable_length},
                      4);
   if (s->metrics & EA_STUDY_M_TORQUE) {
     ea__describe_vec(b, "torque_L", s->torque.cable_length, s->torque.n_len);
@@ -392,7 +413,8 @@ static ea_status_t ea__grid_values(ea__ydoc_t *d, yaml_node_t *n, const char *ke
       }
     }
   }
-  for (int i = 0; i < m; ++i) v[i] *= scale;
+  for (int i = 0; i < m; ++i)
+    v[i] *= scale;
   *out = v;
   *count = m;
   return EA_OK;
@@ -407,8 +429,7 @@ static ea_status_t ea__metric_node(ea__ydoc_t *d, yaml_node_t *n, const char *ke
     return EA_OK;
   }
   const char *t = ea__ynode_text(n);
-  if (t && (!t[0] || !strcmp(t, "~") || !strcmp(t, "null") || !strcmp(t, "{}")))
-    return EA_OK;
+  if (t && (!t[0] || !strcmp(t, "~") || !strcmp(t, "null") || !strcmp(t, "{}"))) return EA_OK;
   return ea__yerr(d, n, err, EA_ERR_INPUT,
                   "key '%s' must be a mapping of its settings (or empty for the defaults)", key);
 }
@@ -429,8 +450,8 @@ static void ea__resolve(const char *base_file, const char *rel, char *out, size_
 
 static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *s, int from_file,
                                     ea_error_t *err) {
-  static const char *const keys[] = {"workspace", "torque_map", "frequencies", "path",
-                                     "min_time", NULL};
+  static const char *const keys[] = {"workspace", "torque_map", "frequencies",
+                                     "path",      "min_time",   NULL};
   ea_status_t st = ea__ymap_check_keys(d, mm, keys, "metrics", err);
   if (st) return st;
   yaml_node_t *n, *m;
@@ -476,7 +497,8 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
       s->torque.n_len = 13;
       if (!(s->torque.cable_length = malloc(13 * sizeof(double))))
         return ea__yerr(d, n, err, EA_ERR_NOMEM, "out of memory");
-      for (int i = 0; i < 13; ++i) s->torque.cable_length[i] = lo + 0.05 * i;
+      for (int i = 0; i < 13; ++i)
+        s->torque.cable_length[i] = lo + 0.05 * i;
     }
     if (an) {
       if ((st = ea__grid_values(d, an, "cable_angles_deg", -180, 180, EA__DEG, &s->torque.alpha,
@@ -486,7 +508,8 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
       s->torque.n_alpha = 8;
       if (!(s->torque.alpha = malloc(8 * sizeof(double))))
         return ea__yerr(d, n, err, EA_ERR_NOMEM, "out of memory");
-      for (int i = 0; i < 8; ++i) s->torque.alpha[i] = (-60.0 + 10.0 * i) * EA__DEG;
+      for (int i = 0; i < 8; ++i)
+        s->torque.alpha[i] = (-60.0 + 10.0 * i) * EA__DEG;
     }
   }
   if ((n = ea__ymap_get(d, mm, "frequencies"))) {
@@ -507,7 +530,8 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
     const int nc = (int)(cs->data.sequence.items.top - cs->data.sequence.items.start);
     if (nc < 1 || nc > EA_STUDY_MAX_CONFIGS)
       return ea__yerr(d, cs, err, EA_ERR_INPUT,
-                      "key 'configurations' must list 1 to %d configurations", EA_STUDY_MAX_CONFIGS);
+                      "key 'configurations' must list 1 to %d configurations",
+                      EA_STUDY_MAX_CONFIGS);
     for (int i = 0; i < nc; ++i) {
       yaml_node_t *c = yaml_document_get_node(&d->doc, cs->data.sequence.items.start[i]);
       if (c->type != YAML_MAPPING_NODE)
@@ -566,8 +590,7 @@ static ea_status_t ea__study_parse(ea__ydoc_t *d, const char *default_arm, ea_st
     ea__resolve(from_file ? s->file : NULL, rel, s->arm_file, sizeof s->arm_file);
     ea_error_t e = {0};
     if ((st = ea_arm_load(s->arm_file, &s->arm, &e)))
-      return ea__yerr(d, ea__ymap_get(d, root, "arm_file"), err, st, "key 'arm_file': %s",
-                      e.msg);
+      return ea__yerr(d, ea__ymap_get(d, root, "arm_file"), err, st, "key 'arm_file': %s", e.msg);
   } else if (default_arm) {
     snprintf(s->arm_file, sizeof s->arm_file, "%s", default_arm);
     if ((st = ea_arm_load(default_arm, &s->arm, err))) return st;
@@ -582,8 +605,7 @@ static ea_status_t ea__study_parse(ea__ydoc_t *d, const char *default_arm, ea_st
     if (!n) continue;
     double *v;
     int m;
-    if ((st = ea__grid_values(d, n, ea__param_names[p], lo[p], hi[p], 1.0, &v, &m, err)))
-      return st;
+    if ((st = ea__grid_values(d, n, ea__param_names[p], lo[p], hi[p], 1.0, &v, &m, err))) return st;
     st = ea_study_set_axis(s, (ea_study_param_t)p, v, m, err);
     free(v);
     if (st) return st;

@@ -107,7 +107,8 @@ static void test_fig3(void) {
            area[c]);
   }
   int dec = 1;
-  for (int c = 1; c < 4; ++c) dec &= reach[c] < reach[c - 1] && area[c] < area[c - 1];
+  for (int c = 1; c < 4; ++c)
+    dec &= reach[c] < reach[c - 1] && area[c] < area[c - 1];
   ea_test_true(dec, "fig3: reach and area decrease strictly as the payload grows");
   /* Independently of the study code: at every cable angle the outer edge
    * point of gamma = 0.5 lies inside (closer to the cable root than) that
@@ -132,7 +133,8 @@ static void test_fig3(void) {
     if (!(d[1] < d[0])) inward = 0;
   }
   ea_shooter_free(sh);
-  ea_test_true(inward, "fig3: outer edge of gamma 0.5 inside gamma 0 at every angle (separate solves)");
+  ea_test_true(inward,
+               "fig3: outer edge of gamma 0.5 inside gamma 0 at every angle (separate solves)");
   free(csv);
   ea_study_free(&s);
 }
@@ -154,8 +156,7 @@ static void test_threads_shards(void) {
   ea_test_true(!strcmp(c1, c2), "CSV with 2 threads byte-identical to 1 thread");
   ea_test_true(!strcmp(c1, c3), "CSV with 3 threads byte-identical to 1 thread");
   /* order: case ids ascending, first parameter slowest */
-  ea_test_true(!strncmp(c1, "case_id,payload_factor,EI_Nm2,metric,value,unit,status,message\n",
-                        62),
+  ea_test_true(!strncmp(c1, "case_id,payload_factor,EI_Nm2,metric,value,unit,status,message\n", 62),
                "header: case_id, parameters (payload first), metric, value, unit, status, message");
   ea_test_abs(metric(c1, 3, "area", NULL), metric(c1, 3, "area", NULL), 0, "case 3 has an area");
 
@@ -179,8 +180,8 @@ static void test_threads_shards(void) {
     ea_error_t e = {0};
     ea_status_t st = ea_study_merge(texts, lens, names, n, 12, &m, &ml, &e);
     char what[96];
-    snprintf(what, sizeof what, "%d shards: %ld cases in all, merged = single run byte for byte",
-             n, total);
+    snprintf(what, sizeof what, "%d shards: %ld cases in all, merged = single run byte for byte", n,
+             total);
     ea_test_true(st == EA_OK && total == 12 && m && !strcmp(m, c1), what);
     if (st) printf("  %s\n", e.msg);
     free(m);
@@ -193,7 +194,8 @@ static void test_threads_shards(void) {
     st = ea_study_merge(dup, dl, names, 2, 0, &m, &ml, &e);
     printf("  duplicate shard: %s\n", e.msg);
     ea_test_true(st == EA_ERR_INPUT && strstr(e.msg, "is in"), "merge: duplicated case named");
-    for (int k = 0; k < n; ++k) free(sh[k]);
+    for (int k = 0; k < n; ++k)
+      free(sh[k]);
   }
   const char *bad[2] = {c1, "case_id,payload_kg,metric,value,unit,status,message\n"};
   size_t bl[2] = {strlen(bad[0]), strlen(bad[1])};
@@ -257,7 +259,8 @@ static long journal_cases(const char *path) {
   if (!fp) return 0;
   char line[4096];
   long n = 0;
-  while (fgets(line, sizeof line, fp)) n += !strncmp(line, "#case ", 6);
+  while (fgets(line, sizeof line, fp))
+    n += !strncmp(line, "#case ", 6);
   fclose(fp);
   return n;
 }
@@ -307,8 +310,8 @@ static void test_resume(void) {
   c = run(&s, 2, 1, 1, ck, 0, &info, &st);
   printf("  torn tail: dropped %ld bytes, recomputed %ld\n", info.journal_dropped_bytes,
          info.cases_computed);
-  ea_test_true(c && !strcmp(c, ref) && info.journal_dropped_bytes > 0 &&
-                   info.cases_computed == 1 && info.cases_skipped == 11,
+  ea_test_true(c && !strcmp(c, ref) && info.journal_dropped_bytes > 0 && info.cases_computed == 1 &&
+                   info.cases_skipped == 11,
                "torn journal tail dropped, that case recomputed, CSV identical");
   free(c);
   /* a corrupted byte inside a block: CRC catches it, the rest is recomputed */
@@ -418,8 +421,7 @@ static void test_min_time(void) {
     const double d0 = metric(c[0], 0, "min_time_duration", st0);
     const double d1 = metric(c[0], 1, "min_time_duration", NULL);
     metric(c[0], 2, "min_time_duration", st2);
-    printf("  min-time durations: gamma 0: %.6f s, gamma 0.25: %.6f s; gamma 3: %s\n", d0, d1,
-           st2);
+    printf("  min-time durations: gamma 0: %.6f s, gamma 0.25: %.6f s; gamma 3: %s\n", d0, d1, st2);
     ea_test_true(!strcmp(st0, "ok") && d0 > 0.5 && d0 < 10 && d1 > 0.5 && d1 < 10,
                  "min_time: paper line planned for gamma 0 and 0.25");
     ea_test_true(strcmp(st2, "ok") != 0,
