@@ -149,5 +149,42 @@ int main(void) {
   if (f) fclose(f);
   ea_test_true(rc == 0 && lines == 7, "torque map CSV: header + 6 cells");
   ea_test_true(outside == 2, "torque map marks the 0.9 m cells outside the workspace");
+  /* Golden file with a float-tolerant comparison: the paper's path against
+   * data/reference/paper_line_path.csv, generated independently with scipy by
+   * tests/gen/gen_paper_line.py. */
+  {
+    char ref_path[1100];
+    snprintf(ref_path, sizeof ref_path, "%s/data/reference/paper_line_path.csv", src);
+    FILE *rf = fopen(ref_path, "r");
+    snprintf(args, sizeof args, "path --arm %s --no-stability --csv test_cli_path.csv", arm_path);
+    rc = run(args);
+    FILE *of = fopen("test_cli_path.csv", "r");
+    ea_test_true(rf && of && rc == 0, "golden: reference and output readable");
+    char rl[1024], ol[2048];
+    double worst = 0;
+    int rows = 0;
+    if (rf && of && fgets(rl, sizeof rl, rf) && fgets(ol, sizeof ol, of)) {
+      /* output columns: beta,cable_length_m,cable_angle_rad,tip_x_m,tip_y_m,tension_N,
+       * theta0_rad,kappa0_per_m,shoulder_torque_Nm,... ; reference: beta,cable_length_m,
+       * cable_angle_rad,tension_N,theta0_rad,kappa0_per_m,shoulder_torque_Nm */
+      while (fgets(rl, sizeof rl, rf) && fgets(ol, sizeof ol, of)) {
+        double r[7], o[9];
+        if (sscanf(rl, "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &r[0], &r[1], &r[2], &r[3], &r[4], &r[5],
+                   &r[6]) != 7 ||
+            sscanf(ol, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &o[0], &o[1], &o[2], &o[3], &o[4],
+                   &o[5], &o[6], &o[7], &o[8]) != 9)
+          break;
+        const double pairs[6][2] = {{r[1], o[1]}, {r[2], o[2]}, {r[3], o[5]},
+                                    {r[4], o[6]}, {r[5], o[7]}, {r[6], o[8]}};
+        for (int q = 0; q < 6; ++q)
+          worst = fmax(worst, fabs(pairs[q][0] - pairs[q][1]) / fmax(1.0, fabs(pairs[q][0])));
+        ++rows;
+      }
+    }
+    if (rf) fclose(rf);
+    if (of) fclose(of);
+    ea_test_true(rows == 7, "golden: 7 path steps compared");
+    ea_test_abs(worst, 0.0, 1e-8, "golden: path vs independent scipy solution (worst rel.)");
+  }
   return ea_test_summary("test_cli");
 }
