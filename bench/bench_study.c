@@ -5,6 +5,7 @@
  * Usage: bench_study [repeats-of-the-1000-case-study (default 3)] */
 #include "ea_planner.h"
 
+#include <gsl/gsl_errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -119,6 +120,7 @@ static const char *loadavg(void) {
 }
 
 int main(int argc, char **argv) {
+  gsl_set_error_handler_off(); /* every GSL return is checked */
   const int reps_big = argc > 1 ? atoi(argv[1]) : 3;
   ea_study_t fig3, freq;
   ea_error_t e = {0};
