@@ -226,7 +226,7 @@ static void ea__case_label(const ea_study_t *s, long c, char *buf, size_t len) {
   char tmp[256];
   size_t o = 0;
   for (size_t i = 0; buf[i] && o + 3 < sizeof tmp; ++i) {
-    if (buf[i] == '_') tmp[o++] = '\\', tmp[o++] = '\\';
+    if (buf[i] == '_') tmp[o++] = '\\';
     tmp[o++] = buf[i];
   }
   tmp[o] = '\0';
@@ -304,7 +304,7 @@ out:
 static void ea__escape(const char *in, char *out, size_t len) {
   size_t o = 0;
   for (size_t i = 0; in[i] && o + 3 < len; ++i) {
-    if (in[i] == '_') out[o++] = '\\', out[o++] = '\\';
+    if (in[i] == '_') out[o++] = '\\'; /* '\_': a literal _ in enhanced text */
     out[o++] = in[i];
   }
   out[o] = '\0';
