@@ -31,20 +31,24 @@ static void ea__fail_point(ea_config_point_t *pt, ea_status_t st, const char *wh
   snprintf(pt->reason, sizeof pt->reason, "%s", why);
 }
 
-ea_status_t ea_workspace_outer(ea_shooter_t *sh, const double *alpha, int n,
-                               ea_config_point_t *out) {
+/* Solve (given g = v, alpha = alpha[i]) along the angles, each warm-started
+ * from its neighbour (cold where that fails). */
+static ea_status_t ea__alpha_sweep(ea_shooter_t *sh, ea_given_t g, double v, const double *alpha,
+                                   int n, ea_config_point_t *out) {
   if (!sh || !alpha || !out || n < 1) return EA_ERR_ARG;
   ea_status_t all = EA_OK;
   double guess[EA_NP];
   int have = 0;
   for (int i = 0; i < n; ++i) {
+    ea_statics_problem_t pr = {{g, EA_GIVEN_ALPHA}, {v, alpha[i]}};
     ea_statics_solution_t sol;
     if (have) guess[EA_P_ALPHA] = alpha[i];
-    ea_status_t st = ea_statics_edge(sh, alpha[i], NULL, have ? guess : NULL, &sol, NULL);
-    if (st && have) st = ea_statics_edge(sh, alpha[i], NULL, NULL, &sol, NULL);
+    ea_status_t st = ea_statics_solve(sh, &pr, NULL, have ? guess : NULL, &sol, NULL);
+    if (st && have) st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL);
     if (st) {
-      ea__fail_point(&out[i], st, "no T = 0 solution");
+      ea__fail_point(&out[i], st, st == EA_ERR_INADMISSIBLE ? "T < 0" : "no solution");
       out[i].alpha = alpha[i];
+      if (g == EA_GIVEN_CABLE_LENGTH) out[i].cable_length = v;
       all = st;
       have = 0;
       continue;
@@ -58,34 +62,16 @@ ea_status_t ea_workspace_outer(ea_shooter_t *sh, const double *alpha, int n,
   return all;
 }
 
+ea_status_t ea_workspace_outer(ea_shooter_t *sh, const double *alpha, int n,
+                               ea_config_point_t *out) {
+  return ea__alpha_sweep(sh, EA_GIVEN_TENSION, 0.0, alpha, n, out);
+}
+
 ea_status_t ea_workspace_inner(ea_shooter_t *sh, double cable_length, const double *alpha, int n,
                                ea_config_point_t *out) {
-  if (!sh || !alpha || !out || n < 1) return EA_ERR_ARG;
+  if (!sh) return EA_ERR_ARG;
   if (!(cable_length > 0)) cable_length = ea_shooter_arm(sh)->act.cable_length_min;
-  ea_status_t all = EA_OK;
-  double guess[EA_NP];
-  int have = 0;
-  for (int i = 0; i < n; ++i) {
-    ea_statics_problem_t pr = ea_statics_problem_cable(cable_length, alpha[i]);
-    ea_statics_solution_t sol;
-    if (have) guess[EA_P_ALPHA] = alpha[i];
-    ea_status_t st = ea_statics_solve(sh, &pr, NULL, have ? guess : NULL, &sol, NULL);
-    if (st && have) st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL);
-    if (st) {
-      ea__fail_point(&out[i], st, st == EA_ERR_INADMISSIBLE ? "T < 0" : "no solution");
-      out[i].alpha = alpha[i];
-      out[i].cable_length = cable_length;
-      all = st;
-      have = 0;
-      continue;
-    }
-    ea__fill_point(&out[i], &sol);
-    out[i].admissible = 1;
-    out[i].reason[0] = '\0';
-    memcpy(guess, sol.p, sizeof guess);
-    have = 1;
-  }
-  return all;
+  return ea__alpha_sweep(sh, EA_GIVEN_CABLE_LENGTH, cable_length, alpha, n, out);
 }
 
 double ea_workspace_area(const ea_config_point_t *outer, const ea_config_point_t *inner, int n) {
