@@ -192,13 +192,20 @@ typedef struct ea_plan_info {
   double time_rest_s;        /**< [s] other callback work and post-processing */
   double time_tune_s;        /**< [s] NLopt schedule tuning (0 when off) */
   double schedule_warp;      /**< knot-time warp parameter used (0 = uniform) */
+  double time_freq_model_s;  /**< [s] building the FE frequency model (ea_planner_alloc;
+                                  0 when the task needs none) */
+  double min_first_frequency_hz; /**< [Hz] min over the knots of the model's f1 (NAN: no model) */
+  double max_modal_deflection_m; /**< [m] max over the interval ends of |s_c acc_c| / omega1^2,
+                                      s = (1, L_c) (NAN: no model) */
   char message[512];         /**< human-readable outcome */
 } ea_plan_info_t;
 
 /** Build the transcription for a checked task (ea_task_check / ea_task_load;
  *  the task is copied). Only what the task uses is built: base variables
  *  only when the base moves, path rows only for line/polyline paths,
- *  acceleration and speed rows only for finite limits. */
+ *  acceleration and speed rows only for finite limits, the FE frequency
+ *  model only for min_vibration, min_first_frequency_Hz or
+ *  max_modal_deflection_m. */
 ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error_t *err);
 /** Free; NULL is a no-op. */
 void ea_planner_free(ea_planner_t *pl);
@@ -222,6 +229,31 @@ ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *
 /** Figure of the last converged plan: tip path and beam shapes in the
  *  workspace of the payload, and the time histories (.svg, .png, .pdf). */
 ea_status_t ea_plan_figure(ea_planner_t *pl, const char *path, ea_error_t *err);
+
+/** The planner's model of the first natural frequency f1(L_c, alpha): FE
+ *  frequencies (ea_fe_static_solve holding the tip + ea_fe_modes, passive
+ *  cable, the task's tip mass) on a grid over the task's region of the
+ *  (L_c, alpha) plane, interpolated by a GSL bicubic spline (docs/planner.md). */
+typedef struct ea_plan_freq_model_info {
+  int built;                    /**< 1 if the task needed (and got) the model */
+  int n_cable_length, n_cable_angle; /**< grid points */
+  double cable_length_range[2]; /**< [m] grid box (also bounds L_c in the plan) */
+  double cable_angle_range[2];  /**< [rad] grid box (also bounds alpha in the plan) */
+  int n_extrapolated;           /**< grid points without a valid FE state (outside the
+                                     workspace or not converged), filled by extrapolation */
+  double f1_min_hz, f1_max_hz;  /**< [Hz] over the valid grid points */
+  double f_ref_hz;              /**< [Hz] f1 at the start (scale of the vibration term) */
+  double time_s;                /**< [s] wall time to build it */
+} ea_plan_freq_model_info_t;
+
+/** The frequency model's info (built = 0 when the task needs none). */
+ea_status_t ea_planner_freq_model(const ea_planner_t *pl, ea_plan_freq_model_info_t *info);
+/** f1 [Hz] of the model at (L_c [m], alpha [rad]) (clamped to the grid box)
+ *  and its gradient [Hz/m, Hz/rad] (grad may be NULL). EA_ERR_ARG when the
+ *  planner has no frequency model. */
+ea_status_t ea_planner_first_frequency(const ea_planner_t *pl, double cable_length,
+                                       double cable_angle, double *f1_hz, double grad[2],
+                                       ea_error_t *err);
 
 /* EA_PLAN_SECTION_END */
 

@@ -84,7 +84,10 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
     kind = EA__ROW_OBJ_ACC, w = 1.0;
   else if (t->objective == EA_TASK_MIN_JERK)
     kind = EA__ROW_OBJ_JERK, w = 1.0;
-  pl->n_orows = kind < 0 ? 0 : (N - 1) * pl->nq;
+  else if (t->objective == EA_TASK_MIN_VIBRATION)
+    kind = EA__ROW_OBJ_VIB, w = 1.0;
+  const int per_coord = kind != EA__ROW_OBJ_VIB; /* the vibration piece spans all coordinates */
+  pl->n_orows = kind < 0 ? 0 : (N - 1) * (per_coord ? pl->nq : 1);
   pl->orows = calloc((size_t)pl->n_orows + 1, sizeof *pl->orows);
   pl->oweight = calloc((size_t)pl->n_orows + 1, sizeof *pl->oweight);
   pl->xx = calloc((size_t)pl->n, sizeof *pl->xx);
@@ -92,13 +95,20 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
   int i = 0;
   if (kind >= 0)
     for (int k = 0; k + 1 < N; ++k)
-      for (int c = 0; c < pl->nq; ++c) {
+      for (int c = 0; c < (per_coord ? pl->nq : 1); ++c) {
         pl->orows[i] = (ea__row_t){(unsigned char)kind, (unsigned char)c, k};
         pl->oweight[i++] = w;
       }
   /* Pairs. */
   const int nr = pl->m + pl->n_orows;
-  const size_t cap = (size_t)15 * N + (size_t)15 * nr + 1;
+  int cols[EA__ROW_MAX];
+  size_t cap = (size_t)15 * N + 1;
+  for (int r = 0; r < nr; ++r) {
+    const ea__row_t *row = ea__hrow(pl, r);
+    if (row->kind <= EA__ROW_STATICS_Y) continue;
+    const size_t nc = (size_t)ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
+    cap += nc * (nc + 1) / 2;
+  }
   int64_t *keys = malloc(cap * sizeof *keys);
   pl->hpos_start = calloc((size_t)nr + 1, sizeof *pl->hpos_start);
   pl->hpos_stat = calloc((size_t)N * 15, sizeof *pl->hpos_stat);
@@ -113,7 +123,6 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
     for (int a = 0; a < 5; ++a)
       for (int b = 0; b <= a; ++b) keys[nk++] = ea__key(pl, v[a], v[b]);
   }
-  int cols[8];
   size_t npos = 0;
   for (int r = 0; r < nr; ++r) {
     const ea__row_t *row = ea__hrow(pl, r);
@@ -204,8 +213,8 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
   /* Local rows and objective pieces. */
   memcpy(pl->xx, x, (size_t)pl->n * sizeof *x);
   const int nr = pl->m + pl->n_orows;
-  int cols[8];
-  double gp[8], gm[8], Hl[8][8];
+  int cols[EA__ROW_MAX];
+  double gp[EA__ROW_MAX], gm[EA__ROW_MAX], Hl[EA__ROW_MAX][EA__ROW_MAX];
   for (int r = 0; r < nr; ++r) {
     const ea__row_t *row = ea__hrow(pl, r);
     if (row->kind <= EA__ROW_STATICS_Y) continue;

@@ -5,6 +5,8 @@
 #include "ea_planner.h"
 
 #include <coin/IpStdCInterface.h>
+#include <gsl/gsl_interp2d.h>
+#include <gsl/gsl_spline2d.h>
 
 /** Kinds of constraint rows (and of the variable bounds, for reports). */
 typedef enum ea__row_kind {
@@ -19,6 +21,11 @@ typedef enum ea__row_kind {
   EA__ROW_PATH_PROGRESS,     /* tip between the segment's ends */
   EA__ROW_OBJ_ACC,           /* objective piece: acceleration energy of an interval */
   EA__ROW_OBJ_JERK,          /* objective piece: jerk energy of an interval */
+  EA__ROW_FREQ_MIN,          /* f1(L_c, alpha) >= min at a knot */
+  EA__ROW_DEFL_START,        /* modal deflection s_c acc / omega1^2 at the start of an interval */
+  EA__ROW_DEFL_END,          /* ... at its end */
+  EA__ROW_OBJ_VIB,           /* objective piece: vibration integral of an interval (all coords) */
+  EA__ROW_ACC_CONT,          /* acceleration continuous at an interior knot */
   EA__ROW_KIND_COUNT
 } ea__row_kind_t;
 
@@ -36,6 +43,17 @@ typedef struct ea__plan_term {
 } ea__plan_term_t;
 
 #define EA__MAX_TERMS 4
+/** Most entries of one row or objective piece (ea__plan_row_eval). */
+#define EA__ROW_MAX 16
+
+/** FE first-frequency model f1(L_c, alpha) (plan_vib.c). */
+typedef struct ea__freq_model {
+  int nL, na;
+  double *Lg, *ag, *f;          /* grid (nL, na) and f1 [Hz] (na x nL, x fastest) */
+  gsl_spline2d *sp;
+  gsl_interp_accel *xa, *ya;
+  ea_plan_freq_model_info_t info;
+} ea__freq_model_t;
 
 struct ea_planner {
   ea_task_t task;
@@ -61,6 +79,9 @@ struct ea_planner {
   ea__row_t *rows;
   int *irow, *jcol;
   IpoptProblem ip;
+  /* frequency model (NULL when the task needs none) */
+  ea__freq_model_t *fm;
+  int zero_end_acc;  /* 1: acceleration 0 at start and goal (min_vibration) */
   /* objective */
   int n_terms;
   ea__plan_term_t terms[EA__MAX_TERMS];
@@ -109,7 +130,7 @@ ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g);
 /** Jacobian: structure (values NULL) or values (irow/jcol NULL). Returns nnz. */
 int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values);
 /** One row (constraint or objective piece): value and entries (col, val);
- *  returns the entry count (<= 8). Statics rows read the cached sensitivities. */
+ *  returns the entry count (<= EA__ROW_MAX). Statics rows read the cached sensitivities. */
 int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r,
                       double *value, int *cols, double *vals);
 /** Hessian setup (structure, positions) and values (lower triangle). */
@@ -130,6 +151,17 @@ ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x
 void ea__plan_layout(ea_planner_t *pl);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
 void ea__plan_schedule(ea_planner_t *pl, double w);
+/** Build the frequency model when the task needs it (pl->fm; NULL otherwise). */
+ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err);
+void ea__plan_freq_free(ea__freq_model_t *fm);
+/** f1 [Hz] at (L_c, alpha), clamped to the box, and its gradient (may be NULL). */
+double ea__plan_freq(const ea_planner_t *pl, double Lc, double al, double grad[2]);
+/** Rows and objective pieces of the vibration kinds (EA__ROW_FREQ_MIN,
+ *  EA__ROW_DEFL_*, EA__ROW_OBJ_VIB); same contract as ea__plan_row_eval. */
+int ea__plan_vib_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
+                     int *cols, double *vals);
+/** Vibration figures of a plan x into info (min f1, max modal deflection). */
+void ea__plan_vib_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info);
 /** Tip in 3-D and its derivatives wrt (L_c, alpha, base). */
 void ea__plan_tip3(const ea_planner_t *pl, double Lc, double al, double b, double P[3],
                    double dP[3][3]);

@@ -143,6 +143,22 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
     if (pl->has_tf) EA__E(EA__ITF(pl), ga[e][4] * ds);
     break;
   }
+  case EA__ROW_ACC_CONT: { /* a_end(interval k-1) - a_start(interval k) at knot k */
+    double q0, q1, q2, v0, v1, v2, h0, h1, ds0, ds1, a0[2], a1[2], g0[2][5], g1[2][5];
+    ea__interval(pl, x, k - 1, c, &q0, &q1, &v0, &v1, &h0, &ds0);
+    ea__interval(pl, x, k, c, &q1, &q2, &v1, &v2, &h1, &ds1);
+    ea__plan_hermite_acc(q0, q1, v0, v1, h0, a0, g0);
+    ea__plan_hermite_acc(q1, q2, v1, v2, h1, a1, g1);
+    if (value) *value = a0[1] - a1[0];
+    EA__E(EA__IQ(pl, k - 1, c), g0[1][0]);
+    EA__E(EA__IQ(pl, k, c), g0[1][1] - g1[0][0]);
+    EA__E(EA__IQ(pl, k + 1, c), -g1[0][1]);
+    EA__E(EA__IV(pl, k - 1, c), g0[1][2]);
+    EA__E(EA__IV(pl, k, c), g0[1][3] - g1[0][2]);
+    EA__E(EA__IV(pl, k + 1, c), -g1[0][3]);
+    if (pl->has_tf) EA__E(EA__ITF(pl), g0[1][4] * ds0 - g1[0][4] * ds1);
+    break;
+  }
   case EA__ROW_SPEED_MID: {
     double q0, q1, v0, v1, h, ds;
     ea__interval(pl, x, k, c, &q0, &q1, &v0, &v1, &h, &ds);
@@ -204,6 +220,10 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
     if (pl->has_tf) EA__E(EA__ITF(pl), (fa0 * ga[0][4] + fa1 * ga[1][4] + fh) * ds);
     break;
   }
+  case EA__ROW_FREQ_MIN:
+  case EA__ROW_DEFL_START:
+  case EA__ROW_DEFL_END:
+  case EA__ROW_OBJ_VIB: return ea__plan_vib_row(pl, x, r, value, cols, vals);
   default: break;
   }
 #undef EA__E
@@ -219,7 +239,7 @@ ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g) {
 
 int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values) {
   int nz = 0;
-  int cols[8];
+  int cols[EA__ROW_MAX];
   for (int i = 0; i < pl->m; ++i) {
     const int c = ea__plan_row_eval(pl, x, &pl->rows[i], NULL, jcol ? cols : NULL,
                                values ? values + nz : NULL);
@@ -246,8 +266,12 @@ const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *
   case EA__ROW_ACC_END: snprintf(buf, len, "%s acceleration limit", cn); break;
   case EA__ROW_SPEED_MID: snprintf(buf, len, "%s speed limit (mid-interval)", cn); break;
   case EA__ROW_SHOULDER_SPEED: snprintf(buf, len, "shoulder speed limit"); break;
+  case EA__ROW_ACC_CONT: snprintf(buf, len, "%s acceleration continuity", cn); break;
   case EA__ROW_PATH_NORMAL: snprintf(buf, len, "tip on the path line"); break;
   case EA__ROW_PATH_PROGRESS: snprintf(buf, len, "tip between the path segment's ends"); break;
+  case EA__ROW_FREQ_MIN: snprintf(buf, len, "first natural frequency limit"); break;
+  case EA__ROW_DEFL_START:
+  case EA__ROW_DEFL_END: snprintf(buf, len, "%s modal deflection limit", cn); break;
   default: snprintf(buf, len, "constraint"); break;
   }
   return buf;
@@ -313,6 +337,27 @@ static void ea__term_jerk_grad(const ea_planner_t *pl, const double *x, double w
   ea__acc_energy(pl, x, w, g, 1);
 }
 
+/* Sum of the vibration pieces (one per interval, plan_vib.c). */
+static double ea__term_vib_value(const ea_planner_t *pl, const double *x) {
+  double f = 0.0;
+  for (int k = 0; k + 1 < pl->N; ++k) {
+    const ea__row_t r = {EA__ROW_OBJ_VIB, 0, k};
+    double v;
+    ea__plan_vib_row(pl, x, &r, &v, NULL, NULL);
+    f += v;
+  }
+  return f;
+}
+static void ea__term_vib_grad(const ea_planner_t *pl, const double *x, double w, double *g) {
+  int cols[EA__ROW_MAX];
+  double vals[EA__ROW_MAX];
+  for (int k = 0; k + 1 < pl->N; ++k) {
+    const ea__row_t r = {EA__ROW_OBJ_VIB, 0, k};
+    const int n = ea__plan_vib_row(pl, x, &r, NULL, cols, vals);
+    for (int i = 0; i < n; ++i) g[cols[i]] += w * vals[i];
+  }
+}
+
 void ea__plan_terms_setup(ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   pl->n_terms = 0;
@@ -332,6 +377,13 @@ void ea__plan_terms_setup(ea_planner_t *pl) {
   case EA_TASK_MIN_JERK:
     tm[pl->n_terms++] =
         (ea__plan_term_t){"jerk energy", 1.0, ea__term_jerk_value, ea__term_jerk_grad};
+    break;
+  case EA_TASK_MIN_VIBRATION:
+    tm[pl->n_terms++] =
+        (ea__plan_term_t){"vibration", 1.0, ea__term_vib_value, ea__term_vib_grad};
+    if (pl->has_tf)
+      tm[pl->n_terms++] =
+          (ea__plan_term_t){"time", t->time_weight, ea__term_time_value, ea__term_time_grad};
     break;
   }
 }

@@ -129,6 +129,18 @@ ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *
   ea_json_num(&j, "max_statics_residual", info->max_statics_residual);
   ea_json_num(&j, "max_violation", info->max_violation);
   ea_json_num(&j, "schedule_warp", info->schedule_warp);
+  if (pl->fm) {
+    const ea_plan_freq_model_info_t *fi = &pl->fm->info;
+    ea_json_obj_begin(&j, "vibration");
+    ea_json_num(&j, "min_first_frequency_Hz", info->min_first_frequency_hz);
+    ea_json_num(&j, "max_modal_deflection_m", info->max_modal_deflection_m);
+    ea_json_num(&j, "f_ref_Hz", fi->f_ref_hz);
+    ea_json_int(&j, "grid_cable_length", fi->n_cable_length);
+    ea_json_int(&j, "grid_cable_angle", fi->n_cable_angle);
+    ea_json_int(&j, "grid_extrapolated", fi->n_extrapolated);
+    ea_json_num(&j, "model_time_s", fi->time_s);
+    ea_json_obj_end(&j);
+  }
   if (info->status != EA_OK) ea_json_str(&j, "worst_constraint", info->worst);
   ea_json_obj_begin(&j, "problem");
   ea_json_int(&j, "variables", info->n_var);

@@ -18,6 +18,7 @@ void ea_planner_free(ea_planner_t *pl) {
   if (!pl) return;
   if (pl->ip) FreeIpoptProblem(pl->ip);
   ea__plan_hess_free(pl);
+  ea__plan_freq_free(pl->fm);
   ea_shooter_free(pl->sh);
   free(pl->s);
   free(pl->seg_of_knot);
@@ -156,13 +157,20 @@ static int ea__build_rows(ea_planner_t *pl) {
   }
   for (int c = 0; c < pl->nq; ++c)
     for (int k = 0; k + 1 < N; ++k) {
-      if (isfinite(pl->amax[c])) {
-        ea__add_row(pl, &i, EA__ROW_ACC_START, k, c, -pl->amax[c], pl->amax[c]);
-        ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, -pl->amax[c], pl->amax[c]);
-      }
+      /* min_vibration: no acceleration step at the start and the goal (rest) */
+      const int z0 = pl->zero_end_acc && k == 0, z1 = pl->zero_end_acc && k + 2 == N;
+      if (isfinite(pl->amax[c]) || z0)
+        ea__add_row(pl, &i, EA__ROW_ACC_START, k, c, z0 ? 0.0 : -pl->amax[c],
+                    z0 ? 0.0 : pl->amax[c]);
+      if (isfinite(pl->amax[c]) || z1)
+        ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, z1 ? 0.0 : -pl->amax[c],
+                    z1 ? 0.0 : pl->amax[c]);
       if (isfinite(pl->vmax[c]))
         ea__add_row(pl, &i, EA__ROW_SPEED_MID, k, c, -pl->vmax[c], pl->vmax[c]);
     }
+  if (pl->task.limits.continuous_acceleration)
+    for (int c = 0; c < pl->nq; ++c)
+      for (int k = 1; k + 1 < N; ++k) ea__add_row(pl, &i, EA__ROW_ACC_CONT, k, c, 0.0, 0.0);
   const double sm = pl->task.limits.shoulder_speed_max;
   if (isfinite(sm))
     for (int k = 0; k + 1 < N; ++k) ea__add_row(pl, &i, EA__ROW_SHOULDER_SPEED, k, 0, -sm, sm);
@@ -172,6 +180,16 @@ static int ea__build_rows(ea_planner_t *pl) {
     for (int j = 0; j < pl->n_normals; ++j) ea__add_row(pl, &i, EA__ROW_PATH_NORMAL, k, j, 0, 0);
     ea__add_row(pl, &i, EA__ROW_PATH_PROGRESS, k, 0, 0.0, pl->segLen[sg]);
   }
+  const double fmin = pl->task.limits.min_first_frequency_hz;
+  if (pl->fm && fmin > 0.0)
+    for (int k = 0; k < N; ++k) ea__add_row(pl, &i, EA__ROW_FREQ_MIN, k, 0, fmin, EA__IPINF);
+  const double dmax = pl->task.limits.max_modal_deflection_m;
+  if (pl->fm && isfinite(dmax))
+    for (int c = 0; c < 2; ++c)
+      for (int k = 0; k + 1 < N; ++k) {
+        ea__add_row(pl, &i, EA__ROW_DEFL_START, k, c, -dmax, dmax);
+        ea__add_row(pl, &i, EA__ROW_DEFL_END, k, c, -dmax, dmax);
+      }
   return i;
 }
 
@@ -200,6 +218,13 @@ static void ea__bounds(ea_planner_t *pl) {
     const double km = l->shoulder_torque_max / t->arm.EI;
     pl->xl[EA__IP(pl, k, 2)] = -km;
     pl->xu[EA__IP(pl, k, 2)] = km;
+    if (pl->fm) { /* stay on the frequency model's grid */
+      const ea_plan_freq_model_info_t *fi = &pl->fm->info;
+      pl->xl[EA__IQ(pl, k, 0)] = fmax(pl->xl[EA__IQ(pl, k, 0)], fi->cable_length_range[0]);
+      pl->xu[EA__IQ(pl, k, 0)] = fmin(pl->xu[EA__IQ(pl, k, 0)], fi->cable_length_range[1]);
+      pl->xl[EA__IQ(pl, k, 1)] = fmax(pl->xl[EA__IQ(pl, k, 1)], fi->cable_angle_range[0]);
+      pl->xu[EA__IQ(pl, k, 1)] = fmin(pl->xu[EA__IQ(pl, k, 1)], fi->cable_angle_range[1]);
+    }
   }
   /* Pins: the points at their knots; rest at start and goal. */
   for (int j = 0; j < t->n_via + 2; ++j) {
@@ -246,15 +271,20 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   pl->N = t->knots;
   pl->nq = t->base_moves ? 3 : 2;
   pl->nb = 2 * pl->nq + 3;
-  pl->has_tf = t->objective == EA_TASK_MIN_TIME;
+  pl->has_tf = t->objective == EA_TASK_MIN_TIME ||
+               (t->objective == EA_TASK_MIN_VIBRATION && isnan(t->duration_s));
   pl->tf_fixed = pl->has_tf ? NAN : t->duration_s;
+  pl->zero_end_acc = t->objective == EA_TASK_MIN_VIBRATION;
   pl->base_fixed = t->start.base_angle;
-  pl->vmax[0] = l->cable_speed_max;
-  pl->amax[0] = l->cable_accel_max;
-  pl->vmax[1] = l->cable_angle_speed_max;
-  pl->amax[1] = l->cable_angle_accel_max;
-  pl->vmax[2] = l->base_speed_max;
-  pl->amax[2] = l->base_accel_max;
+  /* Planned 1 + margin tighter: the streamer's quintic resampling overshoots
+   * the cubic's knot values slightly (docs/planner.md). */
+  const double rm = 1.0 + (l->resample_margin >= 0.0 ? l->resample_margin : 0.0);
+  pl->vmax[0] = l->cable_speed_max / rm;
+  pl->amax[0] = l->cable_accel_max / rm;
+  pl->vmax[1] = l->cable_angle_speed_max / rm;
+  pl->amax[1] = l->cable_angle_accel_max / rm;
+  pl->vmax[2] = l->base_speed_max / rm;
+  pl->amax[2] = l->base_accel_max / rm;
   pl->aref[0] = pl->amax[0];
   pl->aref[1] = isfinite(pl->amax[1])
                     ? pl->amax[1]
@@ -267,6 +297,10 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   if (!pl->s || !pl->seg_of_knot) goto nomem;
   ea__plan_schedule(pl, 0.0);
   ea__plan_layout(pl);
+  if ((st = ea__plan_freq_build(pl, err))) {
+    ea_planner_free(pl);
+    return st;
+  }
   pl->m = ea__build_rows(pl);
   const size_t n = (size_t)pl->n, m = (size_t)pl->m;
   pl->rows = calloc(m, sizeof *pl->rows);
@@ -542,6 +576,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   ea_plan_info_t local, *info = info_out ? info_out : &local;
   memset(info, 0, sizeof *info);
   info->deriv_errors = -1;
+  info->min_first_frequency_hz = info->max_modal_deflection_m = NAN;
+  info->time_freq_model_s = pl->fm ? pl->fm->info.time_s : 0.0;
   info->n_var = pl->n;
   info->n_con = pl->m;
   info->nnz_jac = pl->nnz;
@@ -620,6 +656,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
   if (solved) ea__polish(pl, pl->x);
   ea__stats(pl, pl->x, info);
+  ea__plan_vib_stats(pl, pl->x, info);
+  info->time_freq_model_s = pl->fm ? pl->fm->info.time_s : 0.0;
   const double tol_viol = 1e-6;
   if (solved && info->max_violation <= tol_viol && info->max_statics_residual <= 1e-9) {
     info->status = EA_OK;

@@ -136,7 +136,11 @@ typedef enum ea_task_path {
 typedef enum ea_task_objective {
   EA_TASK_MIN_TIME = 0, /**< minimum duration */
   EA_TASK_MIN_EFFORT,   /**< fixed duration, min integral of squared scaled accelerations */
-  EA_TASK_MIN_JERK      /**< fixed duration, min integral of squared scaled jerks */
+  EA_TASK_MIN_JERK,     /**< fixed duration, min integral of squared scaled jerks */
+  EA_TASK_MIN_VIBRATION /**< min integral of the squared quasi-static modal deflection
+                             (acceleration / omega1(q)^2, FE frequency model), zero
+                             acceleration at start and goal; duration fixed
+                             (duration_s) or free with a time weight (time_weight) */
 } ea_task_objective_t;
 
 /** Limits of a plan; defaults from the arm file (ea_actuators_t). INFINITY
@@ -154,6 +158,18 @@ typedef struct ea_task_limits {
   double shoulder_speed_max;    /**< [rad/s] |dtheta0/dt| (INFINITY = off) */
   double base_speed_max;        /**< [rad/s] */
   double base_accel_max;        /**< [rad/s^2] */
+  double min_first_frequency_hz;/**< [Hz] first natural frequency (FE, passive cable) >= this
+                                     at every knot (0 = off, default) */
+  double max_modal_deflection_m;/**< [m] quasi-static modal deflection |s_c acc_c| / omega1^2
+                                     <= this at both ends of every interval, s = (1, L_c)
+                                     for (L_c, alpha) (INFINITY = off, default) */
+  double resample_margin;       /**< [-] speed and acceleration limits are planned
+                                     1 + margin times tighter, so that the streamer's
+                                     quintic resampling stays within them (default 0.005) */
+  int continuous_acceleration;  /**< 1 (default): the acceleration is continuous at the
+                                     knots (the plan is a C2 cubic spline, which the
+                                     streamer's quintic reproduces exactly); 0: the
+                                     cubic Hermite's acceleration may jump at the knots */
 } ea_task_limits_t;
 
 /** Solver options of a task. */
@@ -186,7 +202,10 @@ typedef struct ea_task {
   ea_task_point_t via[EA_TASK_MAX_VIA];
   ea_task_path_t path;
   ea_task_objective_t objective;
-  double duration_s;         /**< [s] fixed duration (min_effort, min_jerk); NAN for min_time */
+  double duration_s;         /**< [s] fixed duration (min_effort, min_jerk, min_vibration);
+                                  NAN for min_time and a free-time min_vibration */
+  double time_weight;        /**< [1/s] min_vibration with free duration: weight of t_f
+                                  added to the vibration integral (NAN otherwise) */
   ea_task_limits_t limits;
   int knots;                 /**< time knots including start and goal (default 100) */
   ea_task_solver_t solver;

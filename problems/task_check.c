@@ -6,11 +6,12 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const ea__obj_names[] = {"min_time", "min_effort", "min_jerk"};
+static const char *const ea__obj_names[] = {"min_time", "min_effort", "min_jerk",
+                                            "min_vibration"};
 static const char *const ea__path_names[] = {"free", "line", "polyline"};
 
 const char *ea_task_objective_name(ea_task_objective_t o) {
-  return ((int)o >= 0 && o <= EA_TASK_MIN_JERK) ? ea__obj_names[o] : "unknown";
+  return ((int)o >= 0 && o <= EA_TASK_MIN_VIBRATION) ? ea__obj_names[o] : "unknown";
 }
 const char *ea_task_path_name(ea_task_path_t p) {
   return ((int)p >= 0 && p <= EA_TASK_PATH_POLYLINE) ? ea__path_names[p] : "unknown";
@@ -41,6 +42,11 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->limits.shoulder_speed_max = a->shoulder_speed_max;
   t->limits.base_speed_max = a->base_speed_max;
   t->limits.base_accel_max = a->base_accel_max;
+  t->limits.min_first_frequency_hz = 0.0;
+  t->limits.max_modal_deflection_m = INFINITY;
+  t->limits.resample_margin = 0.005;
+  t->limits.continuous_acceleration = 1;
+  t->time_weight = NAN;
   t->knots = 100;
   t->solver.max_iter = 500;
   t->solver.tol = 1e-8;
@@ -131,6 +137,18 @@ static ea_status_t ea__check_limits(const ea_task_t *t, ea_error_t *err) {
     return ea_error_set(err, EA_ERR_INPUT,
                         "%slimits.cable_length_min_m = %g is below the arm's shortest cable %g",
                         pre, l->cable_length_min, a->cable_length_min);
+  if (!(l->min_first_frequency_hz >= 0.0) || !isfinite(l->min_first_frequency_hz))
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "%slimits.min_first_frequency_Hz = %g: must be a finite number >= 0 "
+                        "(0 = off)",
+                        pre, l->min_first_frequency_hz);
+  if (!(l->max_modal_deflection_m > 0.0))
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "%slimits.max_modal_deflection_m = %g: must be > 0 (INFINITY = off)",
+                        pre, l->max_modal_deflection_m);
+  if (!(l->resample_margin >= 0.0 && l->resample_margin <= 0.5))
+    return ea_error_set(err, EA_ERR_INPUT, "%slimits.resample_margin = %g: must be in [0, 0.5]",
+                        pre, l->resample_margin);
   return EA_OK;
 }
 
@@ -237,13 +255,29 @@ ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
     return ea_error_set(err, EA_ERR_INPUT, "%d via points need more than %d knots", t->n_via,
                         t->knots);
   ea__pre(t->where_objective, pre, sizeof pre);
-  if ((int)t->objective < 0 || t->objective > EA_TASK_MIN_JERK)
+  if ((int)t->objective < 0 || t->objective > EA_TASK_MIN_VIBRATION)
     return ea_error_set(err, EA_ERR_INPUT, "%sunknown objective", pre);
-  if (t->objective == EA_TASK_MIN_TIME && !isnan(t->duration_s))
+  if (t->objective != EA_TASK_MIN_VIBRATION && !isnan(t->time_weight))
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "%stime_weight = %g is only for min_vibration with a free duration", pre,
+                        t->time_weight);
+  if (t->objective == EA_TASK_MIN_VIBRATION && isnan(t->duration_s)) {
+    if (!(t->time_weight > 0.0 && isfinite(t->time_weight)))
+      return ea_error_set(err, EA_ERR_INPUT,
+                          "%smin_vibration needs either duration_s (fixed time) or a finite "
+                          "time_weight > 0 (free time; got %g)",
+                          pre, t->time_weight);
+  } else if (t->objective == EA_TASK_MIN_VIBRATION && !isnan(t->time_weight)) {
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "%scontradictory objective: min_vibration with both duration_s = %g "
+                        "and time_weight = %g",
+                        pre, t->duration_s, t->time_weight);
+  } else if (t->objective == EA_TASK_MIN_TIME && !isnan(t->duration_s))
     return ea_error_set(err, EA_ERR_INPUT,
                         "%scontradictory objective: min_time with a fixed duration_s = %g", pre,
                         t->duration_s);
-  if (t->objective != EA_TASK_MIN_TIME && !(t->duration_s > 0.0 && isfinite(t->duration_s)))
+  if (t->objective != EA_TASK_MIN_TIME && isnan(t->time_weight) &&
+      !(t->duration_s > 0.0 && isfinite(t->duration_s)))
     return ea_error_set(err, EA_ERR_INPUT,
                         "%sobjective %s needs a finite duration_s > 0 (got %g)", pre,
                         ea_task_objective_name(t->objective), t->duration_s);

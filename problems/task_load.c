@@ -71,6 +71,10 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
                                      "shoulder_speed_max_rad_per_s",
                                      "base_speed_max_rad_per_s",
                                      "base_accel_max_rad_per_s2",
+                                     "min_first_frequency_Hz",
+                                     "max_modal_deflection_m",
+                                     "resample_margin",
+                                     "continuous_acceleration",
                                      NULL};
   double *dst[] = {&l->tension_min,           &l->tension_max,
                    &l->cable_length_min,      &l->cable_length_max,
@@ -80,8 +84,18 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
                    &l->base_speed_max,        &l->base_accel_max};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "limits", err);
   if (st) return st;
-  for (int i = 0; keys[i]; ++i)
+  for (int i = 0; i < (int)(sizeof dst / sizeof *dst); ++i)
     if ((st = ea__ymap_double(d, n, keys[i], 0, 1e-12, 1e12, dst[i], err))) return st;
+  if ((st = ea__ymap_double(d, n, "min_first_frequency_Hz", 0, 0.0, 1e4,
+                            &l->min_first_frequency_hz, err)))
+    return st;
+  if ((st = ea__ymap_double(d, n, "max_modal_deflection_m", 0, 1e-12, 1e3,
+                            &l->max_modal_deflection_m, err)))
+    return st;
+  if ((st = ea__ymap_double(d, n, "resample_margin", 0, 0.0, 0.5, &l->resample_margin, err)))
+    return st;
+  if ((st = ea__ymap_bool(d, n, "continuous_acceleration", 0, &l->continuous_acceleration, err)))
+    return st;
   return EA_OK;
 }
 
@@ -207,7 +221,8 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     return ea__yerr(d, ea__ymap_get(d, root, "path"), err, EA_ERR_INPUT,
                     "key 'path': 'polyline' needs via points (or use 'line')");
 
-  static const char *const objs[] = {"min_time", "min_effort", "min_jerk", NULL};
+  static const char *const objs[] = {"min_time", "min_effort", "min_jerk", "min_vibration",
+                                     NULL};
   n = ea__ymap_get(d, root, "objective");
   if (n && n->type == YAML_SCALAR_NODE) {
     iv = 0;
@@ -217,19 +232,29 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     if (n->type != YAML_MAPPING_NODE)
       return ea__yerr(d, n, err, EA_ERR_INPUT,
                       "key 'objective' must be a name or a mapping {type: .., duration_s: ..}");
-    static const char *const okeys[] = {"type", "duration_s", NULL};
+    static const char *const okeys[] = {"type", "duration_s", "time_weight", NULL};
     if ((st = ea__ymap_check_keys(d, n, okeys, "objective", err))) return st;
     iv = 0;
     if ((st = ea__ymap_enum(d, n, "type", 1, objs, &iv, err))) return st;
     t->objective = (ea_task_objective_t)iv;
     if ((st = ea__ymap_double(d, n, "duration_s", 0, 1e-6, 1e6, &t->duration_s, err)))
       return st;
+    if ((st = ea__ymap_double(d, n, "time_weight", 0, 1e-12, 1e12, &t->time_weight, err)))
+      return st;
     yaml_node_t *dn = ea__ymap_get(d, n, "duration_s");
+    yaml_node_t *tw = ea__ymap_get(d, n, "time_weight");
+    if (tw && t->objective != EA_TASK_MIN_VIBRATION)
+      return ea__yerr(d, tw, err, EA_ERR_INPUT,
+                      "key 'time_weight': only for type min_vibration (free duration)");
+    if (tw && dn)
+      return ea__yerr(d, tw, err, EA_ERR_INPUT,
+                      "key 'time_weight': contradicts 'duration_s' (give one: fixed or free "
+                      "duration)");
     if (dn && t->objective == EA_TASK_MIN_TIME)
       return ea__yerr(d, dn, err, EA_ERR_INPUT,
                       "key 'duration_s': contradicts 'type: min_time' (the duration is what "
                       "is minimised)");
-    if (!dn && t->objective != EA_TASK_MIN_TIME)
+    if (!dn && !tw && t->objective != EA_TASK_MIN_TIME)
       return ea__yerr(d, n, err, EA_ERR_INPUT, "missing required key 'duration_s' for type %s",
                       objs[iv]);
   }
