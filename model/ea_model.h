@@ -493,7 +493,12 @@ typedef enum ea_fe_scheme {
                                 energy of the undriven, undamped system exactly,
                                 second order, no numerical dissipation */
   EA_FE_SCHEME_GENALPHA,   /**< generalized-alpha (Chung-Hulbert), second order,
-                                spectral radius rho_inf at infinite frequency */
+                                spectral radius rho_inf at infinite frequency:
+                                M a_{n+1-am} + C v_{n+1-af} + f(q_{n+1-af}, t_{n+1-af}) = 0
+                                with Newmark updates, am = (2 rho_inf - 1)/(rho_inf + 1),
+                                af = rho_inf/(rho_inf + 1), gamma = 1/2 - am + af,
+                                beta = (1 - am + af)^2/4; consistent initial acceleration
+                                (needs a nonsingular mass matrix, i.e. I_zz > 0) */
   EA_FE_SCHEME_COUNT
 } ea_fe_scheme_t;
 
@@ -505,7 +510,8 @@ typedef struct ea_fe_sim_settings {
   double t_motion_end;   /**< [s] when the drive stops; the residual vibration is
                               measured on [t_motion_end, t_end]; < 0: not measured
                               (default -1) */
-  double rho_inf;        /**< generalized-alpha spectral radius in [0, 1] (default 0.9) */
+  double rho_inf;        /**< generalized-alpha spectral radius in [0, 1] (default 0.9;
+                              1 = no numerical dissipation) */
   double rayleigh_mass;      /**< [1/s] C = a M + b K0 (default 0) */
   double rayleigh_stiffness; /**< [s] b; K0 = passive stiffness at t = 0 (default 0) */
   double tol;            /**< Newton: max |dq| of free DOFs [m, rad] (default 1e-11);

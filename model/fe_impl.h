@@ -59,6 +59,8 @@ struct ea_fe_model {
   double *phi;          /* full-length mode shapes, settings.modes x nd */
   /* transient work (full vectors) */
   double *q0, *v0, *a0, *qm, *fm, *tmp, *Cb, *qs, *vs;
+  double *acc, *acc0;   /* generalized-alpha accelerations a_{n+1}, a_n */
+  double *qprev;        /* generalized-alpha q_{n-1} (predictor) */
   gsl_eigen_gensymmv_workspace *gws;   /* GSL backend */
   gsl_matrix *gA, *gB, *gevec;
   gsl_vector *geval;

@@ -90,7 +90,7 @@ void ea_fe_model_free(ea_fe_model_t *m) {
   double *dp[] = {m->q,  m->v,  m->fg, m->Mb,   m->Kb,  m->fi, m->r,  m->dq,
                   m->Gb, m->Ab, m->Bb, m->Ad,   m->Bd,  m->Z,  m->Qw, m->work,
                   m->evals, m->phi, m->q0, m->v0, m->a0, m->qm, m->fm, m->tmp,
-                  m->Cb, m->qs, m->vs, m->Kt, m->rhs3};
+                  m->Cb, m->qs, m->vs, m->Kt, m->rhs3, m->acc, m->acc0, m->qprev};
   for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) free(dp[i]);
   free(m->ipiv);
   free(m->iwork);
@@ -165,6 +165,9 @@ ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s,
   EA__ALLOC(m->tmp, nd);
   EA__ALLOC(m->qs, nd);
   EA__ALLOC(m->vs, nd);
+  EA__ALLOC(m->acc, nd);
+  EA__ALLOC(m->acc0, nd);
+  EA__ALLOC(m->qprev, nd);
   if (set.eig_backend != EA_FE_EIG_DSBGVX) {
     EA__ALLOC(m->Ad, nf * nf);
     EA__ALLOC(m->Bd, nf * nf);

@@ -9,7 +9,11 @@
  * energy 1/2 v'Mv + V is conserved to the Newton tolerance, for any step and
  * any nonlinearity; second order; no numerical dissipation. The mass matrix
  * of the planar beam is constant. Newton uses 2M/h^2 + C/h + K(q_m)/2 (the
- * rank-one part of the correction term is left out: it is O(dq)). */
+ * rank-one part of the correction term is left out: it is O(dq)).
+ *
+ * Generalized-alpha (Chung and Hulbert 1993): see ea__fe_step_galpha; numerical
+ * dissipation of the high modes set by rho_inf, second order, no exact energy
+ * statement for the nonlinear model. */
 #include "fe_impl.h"
 
 #include <math.h>
@@ -33,8 +37,6 @@ ea_status_t ea_fe_sim_settings_validate(const ea_fe_sim_settings_t *s, ea_error_
   if (!s) return ea_error_set(err, EA_ERR_ARG, "sim settings are NULL");
   if ((int)s->scheme < 0 || s->scheme >= EA_FE_SCHEME_COUNT)
     return ea_error_set(err, EA_ERR_ARG, "sim scheme = %d: unknown", (int)s->scheme);
-  if (s->scheme != EA_FE_SCHEME_ENERGY)
-    return ea_error_set(err, EA_ERR_NOTIMPL, "sim scheme generalized-alpha: not implemented");
   if (!isfinite(s->dt) || !(s->dt > 0.0))
     return ea_error_set(err, EA_ERR_ARG, "sim dt = %g: must be > 0", s->dt);
   if (!isfinite(s->t_end) || !(s->t_end >= 0.0) || s->t_end / s->dt > 1e9)
@@ -106,6 +108,218 @@ static double ea__fe_kinetic(const ea_fe_model_t *m, const double *v) {
   return T;
 }
 
+
+/* Clamp angular acceleration [rad/s^2] at t: centred difference of the drive's
+ * rate over +-h/2 (second order; the drives give value and rate only). */
+static int ea__fe_drive_acc(const ea_fe_drive_t *d, double t, double h, double th0_hold,
+                            double cab_hold, double *acc) {
+  double v, rp, rm, c;
+  *acc = 0.0;
+  if (!d || !d->theta0) return 0;
+  if (ea__fe_drive_at(d, t + 0.5 * h, th0_hold, cab_hold, &v, &rp, &c) ||
+      ea__fe_drive_at(d, t - 0.5 * h, th0_hold, cab_hold, &v, &rm, &c))
+    return 1;
+  *acc = (rp - rm) / h;
+  return 0;
+}
+
+/* Converged, or stagnating at rounding level (EA / h amplifies rounding). */
+static int ea__fe_newton_done(const ea_fe_sim_settings_t *s, double dmax, double dprev) {
+  return dmax <= s->tol || (dmax <= 1e3 * s->tol && dmax > 0.5 * dprev);
+}
+
+/* Apply the Newton correction m->dq to the free rows of q; max |dq| in *dmax.
+ * Returns 0 if the correction is not finite. */
+static int ea__fe_apply_dq(ea_fe_model_t *m, double *q, double *dmax) {
+  int finite = 1;
+  *dmax = 0.0;
+  for (int i = 0; i < m->nf; ++i) {
+    q[i + 3] -= m->dq[i];
+    *dmax = fmax(*dmax, fabs(m->dq[i]));
+    finite = finite && isfinite(m->dq[i]);
+  }
+  return finite;
+}
+
+/* One step of the energy-consistent midpoint scheme from (m->q0, m->v0) to
+ * (m->q, m->v); clamp angle/rate th1, th1r at t1, cable value cm at the
+ * midpoint; V0 = potential at q0. *iters: Newton iterations. */
+static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings_t *s,
+                                      int damped, ea_fe_cable_phase_t phase, double cm, double th1,
+                                      double th1r, int *iters) {
+  const int nd = m->nd, nf = m->nf;
+  const double h = s->dt;
+  double *q0 = m->q0, *v0 = m->v0, *q1 = m->q, *v1 = m->v, *qm = m->qm;
+  const double V0 = ea__fe_potential(m, q0, phase, cm);
+  ea_status_t st = EA_OK;
+  /* predictor */
+  for (int i = 3; i < nd; ++i) q1[i] = q0[i] + h * v0[i];
+  q1[0] = q1[1] = 0.0;
+  q1[2] = th1;
+  v1[0] = v1[1] = 0.0;
+  v1[2] = th1r;
+  int it = 0, conv = 0;
+  double dprev = INFINITY;
+  for (; it < s->max_iter; ++it) {
+    for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
+    for (int i = 0; i < nd; ++i) qm[i] = 0.5 * (q0[i] + q1[i]);
+    ea__fe_assemble(m, qm, phase, cm, m->fm, m->Kb);
+    /* discrete gradient correction */
+    double *dq = m->tmp, *Mdq = m->a0;
+    for (int i = 0; i < nd; ++i) dq[i] = q1[i] - q0[i];
+    memset(Mdq, 0, sizeof(double) * (size_t)nd);
+    ea__fe_band_gemv(m, 1.0, m->Mb, dq, Mdq);
+    double dMd = 0.0, fd = 0.0;
+    for (int i = 0; i < nd; ++i) {
+      dMd += dq[i] * Mdq[i];
+      fd += m->fm[i] * dq[i];
+    }
+    if (dMd > 1e-300) {
+      const double V1 = ea__fe_potential(m, q1, phase, cm);
+      const double dV = V1 - V0 - fd;
+      /* Below the rounding level of V (2e-14 of it, ~90 ulp) the difference is noise; dividing
+       * it by a tiny dq' M dq (an arm nearly at rest) would swamp Newton:
+       * the midpoint gradient is then exact to rounding already. */
+      if (fabs(dV) > 2e-14 * (fabs(V0) + fabs(V1))) {
+        const double c = dV / dMd;
+        for (int i = 0; i < nd; ++i) m->fm[i] += c * Mdq[i];
+      }
+    }
+    /* residual: M (v1 - v0)/h + C vm + dV */
+    for (int i = 0; i < nd; ++i) {
+      m->qs[i] = (v1[i] - v0[i]) / h; /* acceleration-like */
+      m->vs[i] = 0.5 * (v0[i] + v1[i]);
+    }
+    ea__fe_band_gemv(m, 1.0, m->Mb, m->qs, m->fm);
+    if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, m->vs, m->fm);
+    for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
+    /* Jacobian 2M/h^2 + C/h + K/2 */
+    const size_t nb = EA__FE_LDS * (size_t)nd;
+    for (size_t i = 0; i < nb; ++i)
+      m->Kb[i] = 0.5 * m->Kb[i] + 2.0 / (h * h) * m->Mb[i] + (damped ? m->Cb[i] / h : 0.0);
+    if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
+    double dmax;
+    if (!ea__fe_apply_dq(m, q1, &dmax)) {
+      st = EA_ERR_NOCONV;
+      break;
+    }
+    if (ea__fe_newton_done(s, dmax, dprev)) {
+      conv = 1;
+      ++it;
+      break;
+    }
+    dprev = dmax;
+  }
+  for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
+  *iters = it;
+  if (!st && !conv) st = EA_ERR_NOCONV;
+  return st;
+}
+
+/* Generalized-alpha parameters (Chung and Hulbert 1993) for rho_inf. */
+typedef struct ea__fe_galpha {
+  double am, af, gamma, beta;
+} ea__fe_galpha_t;
+
+static ea__fe_galpha_t ea__fe_galpha(double rho_inf) {
+  ea__fe_galpha_t g;
+  g.am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+  g.af = rho_inf / (rho_inf + 1.0);
+  g.gamma = 0.5 - g.am + g.af;
+  g.beta = 0.25 * (1.0 - g.am + g.af) * (1.0 - g.am + g.af);
+  return g;
+}
+
+/* One generalized-alpha step from (m->q0, m->v0, m->acc0) to (m->q, m->v,
+ * m->acc): Newmark updates
+ *   q1 = q0 + h v0 + h^2 ((1/2 - beta) a0 + beta a1),  v1 = v0 + h ((1 - gamma) a0 + gamma a1)
+ * and, on the free rows,
+ *   M a_{1-am} + C v_{1-af} + f(q_{1-af}; cable value at t_{n+1-af}) = 0,
+ *   x_{1-a} = (1 - a) x1 + a x0.
+ * Unknown: the free rows of q1; Newton matrix
+ *   (1-am)/(beta h^2) M + (1-af) gamma/(beta h) C + (1-af) K(q_{1-af}).
+ * Clamp: angle, rate and acceleration th1, th1r, th1a at t1 (prescribed).
+ * first: no previous step (m->qprev not set). */
+static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings_t *s,
+                                      const ea__fe_galpha_t *g, int damped,
+                                      ea_fe_cable_phase_t phase, double caf, double th1,
+                                      double th1r, double th1a, int first, int *iters) {
+  const int nd = m->nd, nf = m->nf;
+  const double h = s->dt, am = g->am, af = g->af, ga = g->gamma, be = g->beta;
+  double *q0 = m->q0, *v0 = m->v0, *a0 = m->acc0, *q1 = m->q, *v1 = m->v, *a1 = m->acc;
+  double *qf = m->qm, *vf = m->vs, *amv = m->qs;
+  ea_status_t st = EA_OK;
+  /* predictor: linear extrapolation of the last two positions (first step: q0 + h v0). Not
+   * q0 + h v0 (+ h^2/2 a0): in the stiff modes (rotary inertia I_zz h ~ 1e-9 against
+   * shear GA / h, omega h >> 1) a start slightly off equilibrium gives accelerations
+   * ~ omega^2 x and, for rho_inf < 1, velocities h v ~ (omega h)^2 x while the
+   * positions stay ~ x: extrapolating with v or a throws Newton out of its basin. */
+  for (int i = 3; i < nd; ++i) q1[i] = first ? q0[i] + h * v0[i] : 2.0 * q0[i] - m->qprev[i];
+  q1[0] = q1[1] = 0.0;
+  q1[2] = th1;
+  v1[0] = v1[1] = 0.0;
+  v1[2] = th1r;
+  a1[0] = a1[1] = 0.0;
+  a1[2] = th1a;
+  const double ca = (1.0 - am) / (be * h * h), cv = (1.0 - af) * ga / (be * h),
+               ck = 1.0 - af;
+  int it = 0, conv = 0;
+  double dprev = INFINITY;
+  for (; it < s->max_iter; ++it) {
+    for (int i = 3; i < nd; ++i) {
+      a1[i] = (q1[i] - q0[i] - h * v0[i]) / (be * h * h) - (0.5 / be - 1.0) * a0[i];
+      v1[i] = v0[i] + h * ((1.0 - ga) * a0[i] + ga * a1[i]);
+    }
+    for (int i = 0; i < nd; ++i) {
+      qf[i] = (1.0 - af) * q1[i] + af * q0[i];
+      vf[i] = (1.0 - af) * v1[i] + af * v0[i];
+      amv[i] = (1.0 - am) * a1[i] + am * a0[i];
+    }
+    ea__fe_assemble(m, qf, phase, caf, m->fm, m->Kb);
+    ea__fe_band_gemv(m, 1.0, m->Mb, amv, m->fm);
+    if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, vf, m->fm);
+    for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
+    const size_t nb = EA__FE_LDS * (size_t)nd;
+    for (size_t i = 0; i < nb; ++i)
+      m->Kb[i] = ck * m->Kb[i] + ca * m->Mb[i] + (damped ? cv * m->Cb[i] : 0.0);
+    if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
+    double dmax;
+    if (!ea__fe_apply_dq(m, q1, &dmax)) {
+      st = EA_ERR_NOCONV;
+      break;
+    }
+    if (ea__fe_newton_done(s, dmax, dprev)) {
+      conv = 1;
+      ++it;
+      break;
+    }
+    dprev = dmax;
+  }
+  for (int i = 3; i < nd; ++i) {
+    a1[i] = (q1[i] - q0[i] - h * v0[i]) / (be * h * h) - (0.5 / be - 1.0) * a0[i];
+    v1[i] = v0[i] + h * ((1.0 - ga) * a0[i] + ga * a1[i]);
+  }
+  *iters = it;
+  if (!st && !conv) st = EA_ERR_NOCONV;
+  return st;
+}
+
+/* Consistent initial acceleration: M a = -(f(q) + C v) on the free rows, the
+ * clamp acceleration a[2] = th0a given (its inertia coupling moved right). */
+static ea_status_t ea__fe_initial_acc(ea_fe_model_t *m, int damped, double th0a, double *a) {
+  const int nd = m->nd, nf = m->nf;
+  ea__fe_assemble(m, m->q, m->phase, m->cable_value, m->fm, NULL);
+  memset(a, 0, sizeof(double) * (size_t)nd);
+  a[2] = th0a;
+  ea__fe_band_gemv(m, 1.0, m->Mb, a, m->fm);
+  if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, m->v, m->fm);
+  for (int i = 0; i < nf; ++i) m->r[i] = -m->fm[i + 3];
+  ea_status_t st = ea__fe_solve_free(m, m->Mb);
+  if (st) return st;
+  for (int i = 0; i < nf; ++i) a[i + 3] = m->dq[i];
+  return EA_OK;
+}
+
 ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
                            const ea_fe_sim_settings_t *s, double *tip, int tip_rows,
                            ea_fe_sim_info_t *info, ea_error_t *err) {
@@ -117,11 +331,13 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   if (st) return info->status = st;
   if (tip && tip_rows < 0) return info->status = ea_error_set(err, EA_ERR_ARG, "tip_rows < 0");
   const double wall0 = ea__fe_now();
-  const int nd = m->nd, nf = m->nf;
+  const int nd = m->nd;
   const double h = s->dt;
   const int nsteps = (int)ceil(s->t_end / h - 1e-9);
   const ea_fe_cable_phase_t phase = m->phase;
   const double th0_hold = m->q[2], cab_hold = m->cable_value;
+  const int galpha = s->scheme == EA_FE_SCHEME_GENALPHA;
+  const ea__fe_galpha_t g = ea__fe_galpha(s->rho_inf);
   double th0, th0r, cab;
   if (ea__fe_drive_at(drive, 0.0, th0_hold, cab_hold, &th0, &th0r, &cab))
     return info->status = ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
@@ -140,6 +356,16 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
     ea__fe_band_axpy(m, s->rayleigh_mass, m->Mb, m->Cb);
     ea__fe_band_axpy(m, s->rayleigh_stiffness, m->Kt, m->Cb);
   }
+  if (galpha) {
+    double th0a;
+    if (ea__fe_drive_acc(drive, 0.0, h, th0_hold, cab_hold, &th0a))
+      return info->status =
+                 ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
+    if ((st = ea__fe_initial_acc(m, damped, th0a, m->acc)) != EA_OK)
+      return info->status = ea_error_set(
+                 err, st, "simulate: generalized-alpha initial acceleration: singular mass "
+                          "matrix (I_zz = 0 with I_hand = 0?)");
+  }
   const double E0 = ea_fe_energy(m);
   info->energy_start = E0;
   int rows = 0;
@@ -153,101 +379,45 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   double sum2 = 0.0, peak = 0.0;
   int nres = 0;
   for (int n = 0; n < nsteps; ++n) {
-    const double t0 = n * h, t1 = (n + 1) * h, tm = 0.5 * (t0 + t1);
-    double th1, th1r, cm, dum1, dum2;
-    if (ea__fe_drive_at(drive, t1, th0_hold, cab_hold, &th1, &th1r, &dum1) ||
-        ea__fe_drive_at(drive, tm, th0_hold, cab_hold, &dum1, &dum2, &cm)) {
+    const double t0 = n * h, t1 = (n + 1) * h;
+    /* cable value where the scheme evaluates the forces: the midpoint, or t_{n+1-af} */
+    const double tc = galpha ? t0 + (1.0 - g.af) * h : 0.5 * (t0 + t1);
+    double th1, th1r, th1a = 0.0, cm, cab1, dum;
+    if (ea__fe_drive_at(drive, t1, th0_hold, cab_hold, &th1, &th1r, &cab1) ||
+        ea__fe_drive_at(drive, tc, th0_hold, cab_hold, &dum, &dum, &cm) ||
+        (galpha && ea__fe_drive_acc(drive, t1, h, th0_hold, cab_hold, &th1a))) {
       st = ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = %g", t1);
       break;
     }
-    if (phase == EA_FE_CABLE_NONE) cm = 0.0;
+    if (phase == EA_FE_CABLE_NONE) cm = cab1 = 0.0;
     if (phase == EA_FE_CABLE_PASSIVE && !(cm > 0.0)) {
-      st = ea_error_set(err, EA_ERR_INPUT, "simulate: rest length %g <= 0 at t = %g", cm, tm);
+      st = ea_error_set(err, EA_ERR_INPUT, "simulate: rest length %g <= 0 at t = %g", cm, tc);
       break;
     }
     if (phase == EA_FE_CABLE_ACTIVE && !(cm >= 0.0)) {
-      st = ea_error_set(err, EA_ERR_INPUT, "simulate: tension %g < 0 at t = %g", cm, tm);
+      st = ea_error_set(err, EA_ERR_INPUT, "simulate: tension %g < 0 at t = %g", cm, tc);
       break;
     }
-    double *q0 = m->q0, *v0 = m->v0, *q1 = m->q, *v1 = m->v, *qm = m->qm;
-    memcpy(q0, m->q, sizeof(double) * (size_t)nd);
-    memcpy(v0, m->v, sizeof(double) * (size_t)nd);
-    const double V0 = ea__fe_potential(m, q0, phase, cm);
-    /* predictor */
-    for (int i = 3; i < nd; ++i) q1[i] = q0[i] + h * v0[i];
-    q1[0] = q1[1] = 0.0;
-    q1[2] = th1;
-    v1[0] = v1[1] = 0.0;
-    v1[2] = th1r;
-    int it = 0, conv = 0;
-    double dprev = INFINITY;
-    for (; it < s->max_iter; ++it) {
-      for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
-      for (int i = 0; i < nd; ++i) qm[i] = 0.5 * (q0[i] + q1[i]);
-      ea__fe_assemble(m, qm, phase, cm, m->fm, m->Kb);
-      /* discrete gradient correction */
-      double *dq = m->tmp, *Mdq = m->a0;
-      for (int i = 0; i < nd; ++i) dq[i] = q1[i] - q0[i];
-      memset(Mdq, 0, sizeof(double) * (size_t)nd);
-      ea__fe_band_gemv(m, 1.0, m->Mb, dq, Mdq);
-      double dMd = 0.0, fd = 0.0;
-      for (int i = 0; i < nd; ++i) {
-        dMd += dq[i] * Mdq[i];
-        fd += m->fm[i] * dq[i];
-      }
-      if (dMd > 1e-300) {
-        const double V1 = ea__fe_potential(m, q1, phase, cm);
-        const double dV = V1 - V0 - fd;
-        /* Below the rounding level of V (2e-14 of it, ~90 ulp) the difference is noise; dividing
-         * it by a tiny dq' M dq (an arm nearly at rest) would swamp Newton:
-         * the midpoint gradient is then exact to rounding already. */
-        if (fabs(dV) > 2e-14 * (fabs(V0) + fabs(V1))) {
-          const double c = dV / dMd;
-          for (int i = 0; i < nd; ++i) m->fm[i] += c * Mdq[i];
-        }
-      }
-      /* residual: M (v1 - v0)/h + C vm + dV */
-      for (int i = 0; i < nd; ++i) {
-        m->qs[i] = (v1[i] - v0[i]) / h; /* acceleration-like */
-        m->vs[i] = 0.5 * (v0[i] + v1[i]);
-      }
-      ea__fe_band_gemv(m, 1.0, m->Mb, m->qs, m->fm);
-      if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, m->vs, m->fm);
-      for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
-      /* Jacobian 2M/h^2 + C/h + K/2 */
-      const size_t nb = EA__FE_LDS * (size_t)nd;
-      for (size_t i = 0; i < nb; ++i)
-        m->Kb[i] = 0.5 * m->Kb[i] + 2.0 / (h * h) * m->Mb[i] + (damped ? m->Cb[i] / h : 0.0);
-      if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
-      double dmax = 0.0;
-      int finite = 1;
-      for (int i = 0; i < nf; ++i) {
-        q1[i + 3] -= m->dq[i];
-        dmax = fmax(dmax, fabs(m->dq[i]));
-        finite = finite && isfinite(m->dq[i]);
-      }
-      if (!finite) {
-        st = EA_ERR_NOCONV;
-        break;
-      }
-      /* converged, or stagnating at rounding level (EA / h amplifies rounding) */
-      if (dmax <= s->tol || (dmax <= 1e3 * s->tol && dmax > 0.5 * dprev)) {
-        conv = 1;
-        ++it;
-        break;
-      }
-      dprev = dmax;
+    memcpy(m->q0, m->q, sizeof(double) * (size_t)nd);
+    memcpy(m->v0, m->v, sizeof(double) * (size_t)nd);
+    int it = 0;
+    if (galpha) {
+      memcpy(m->acc0, m->acc, sizeof(double) * (size_t)nd);
+      st = ea__fe_step_galpha(m, s, &g, damped, phase, cm, th1, th1r, th1a, n == 0, &it);
+      memcpy(m->qprev, m->q0, sizeof(double) * (size_t)nd);
+    } else {
+      st = ea__fe_step_energy(m, s, damped, phase, cm, th1, th1r, &it);
     }
-    for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
     info->newton_iterations += it;
     if (it > info->max_step_iterations) info->max_step_iterations = it;
-    if (st || !conv) {
-      if (!st) st = EA_ERR_NOCONV;
+    if (st) {
       ea_error_set(err, st, "simulate: step %d (t = %g) did not converge in %d iterations", n + 1,
                    t1, it);
       break;
     }
-    if (phase != EA_FE_CABLE_NONE) m->cable_value = cm;
+    /* the energy scheme keeps the midpoint value (its forces' value); generalized-alpha the
+     * value at t1, where its state is */
+    if (phase != EA_FE_CABLE_NONE) m->cable_value = galpha ? cab1 : cm;
     info->steps = n + 1;
     const double E = ea_fe_energy(m), K = ea__fe_kinetic(m, m->v);
     if (!isfinite(E)) {

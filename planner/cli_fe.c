@@ -633,7 +633,10 @@ static void ea__sim_help(void) {
       "  --rayleigh A,B            Rayleigh damping C = A M + B K0 ([1/s], [s]); default none.\n"
       "                            K0 is the stiffness at t = 0: B > 0 is only meaningful for\n"
       "                            small motions (it damps rigid rotations too)\n"
-      "  --scheme energy|genalpha  time integrator (default energy: energy-conserving midpoint)\n"
+      "  --scheme energy|genalpha  time integrator (default energy: energy-conserving midpoint;\n"
+      "                            genalpha: generalized-alpha, Chung-Hulbert)\n"
+      "  --rho-inf R               genalpha spectral radius at infinite frequency, [0, 1]\n"
+      "                            (default 0.9; 1 = no numerical dissipation)\n"
       "  --cable passive|active    cable phase during the motion (default passive)\n"
       "  --drive plan|fe           theta0(t) and T(t): the trajectory's columns (default), or\n"
       "                            re-solved by FE statics holding the planned tip at every\n"
@@ -644,7 +647,7 @@ static void ea__sim_help(void) {
       "                            planned_tip_x_m, planned_tip_y_m ('-' = stdout)\n"
       "  --json                    JSON summary on stdout\n"
       "  --figure OUT              planned vs simulated tip path, tip error vs time\n\n"
-      "exit: 0 ok, 1 start outside the workspace / FE not converged / not implemented,\n"
+      "exit: 0 ok, 1 start outside the workspace / FE not converged,\n"
       "      2 usage or input error (missing or malformed trajectory)\n",
       EA_FE_DEFAULT_ELEMENTS);
 }
@@ -781,7 +784,8 @@ typedef struct {
   int json, active, drive_fe, damping; /* damping: 0 none, 1 ratio, 2 rayleigh */
   ea_fe_scheme_t scheme;
   long elements;
-  double dt, settle, zeta, rayleigh[2];
+  double dt, settle, zeta, rayleigh[2], rho_inf;
+  int rho_given;
 } ea__sim_opts_t;
 
 static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t *o) {
@@ -790,6 +794,7 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
   o->dt = 1e-3;
   o->settle = 1.0;
   o->scheme = EA_FE_SCHEME_ENERGY;
+  o->rho_inf = 0.9;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v;
     int bad = 0;
@@ -831,6 +836,9 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
         o->scheme = EA_FE_SCHEME_GENALPHA;
       else
         bad = ea__cli_usage_error(cmd, "--scheme: '%s' is not 'energy' or 'genalpha'", v);
+    } else if (!strcmp(a, "--rho-inf")) {
+      o->rho_given = 1;
+      bad = ea__cli_double(cmd, a, v, 0.0, 1.0, &o->rho_inf);
     } else if (!strcmp(a, "--cable")) {
       if (!strcmp(v, "passive") || !strcmp(v, "active"))
         o->active = !strcmp(v, "active");
@@ -859,6 +867,8 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
     if (bad) return EA_EXIT_USAGE;
   }
   if (!o->traj_path) return ea__cli_usage_error(cmd, "give a trajectory file");
+  if (o->rho_given && o->scheme != EA_FE_SCHEME_GENALPHA)
+    return ea__cli_usage_error(cmd, "--rho-inf needs --scheme genalpha");
   if (o->json && o->out && !strcmp(o->out, "-"))
     return ea__cli_usage_error(cmd, "--json and -o - both want stdout");
   return ea__fe_check_figure(cmd, o->figure);
@@ -1064,6 +1074,7 @@ int ea__cli_simulate(int argc, char **argv) {
   ea_fe_sim_settings_t ss;
   ea_fe_sim_settings_default(&ss);
   ss.scheme = o.scheme;
+  ss.rho_inf = o.rho_inf;
   ss.dt = o.dt;
   ss.t_end = t_end;
   ss.t_motion_end = o.settle > 0 ? duration : -1.0;
@@ -1149,6 +1160,7 @@ int ea__cli_simulate(int argc, char **argv) {
     ea_json_int(&j, "elements", o.elements);
     ea_json_num(&j, "dt_s", o.dt);
     ea_json_str(&j, "scheme", o.scheme == EA_FE_SCHEME_ENERGY ? "energy" : "genalpha");
+    if (o.scheme == EA_FE_SCHEME_GENALPHA) ea_json_num(&j, "rho_inf", o.rho_inf);
     ea_json_str(&j, "cable", o.active ? "active" : "passive");
     ea_json_str(&j, "drive", o.drive_fe ? "fe" : "plan");
     ea_json_num(&j, "rayleigh_mass_per_s", ss.rayleigh_mass);
@@ -1181,8 +1193,11 @@ int ea__cli_simulate(int argc, char **argv) {
   } else if (!o.out || strcmp(o.out, "-")) {
     printf("trajectory   %s (%s, %d samples, %.4g s), tip mass %.4g kg\n", o.traj_path,
            simple ? "simple CSV" : "format 1", n, duration, tip_mass);
+    char scheme[64];
+    if (o.scheme == EA_FE_SCHEME_ENERGY) snprintf(scheme, sizeof scheme, "energy");
+    else snprintf(scheme, sizeof scheme, "genalpha (rho_inf %.3g)", o.rho_inf);
     printf("FE           %ld elements, dt %.3g s, %s scheme, %s cable, drive from the %s\n",
-           o.elements, o.dt, o.scheme == EA_FE_SCHEME_ENERGY ? "energy" : "genalpha",
+           o.elements, o.dt, scheme,
            o.active ? "active" : "passive", o.drive_fe ? "FE statics" : "trajectory");
     if (o.damping)
       printf("damping      Rayleigh a = %.4g 1/s, b = %.4g s%s\n", ss.rayleigh_mass,

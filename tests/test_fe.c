@@ -7,6 +7,7 @@
 #include "ea_test.h"
 #include "fe_impl.h"
 
+#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
 #include <string.h>
@@ -427,6 +428,249 @@ static void test_dynamics(void) {
   ea_shooter_free(sh);
 }
 
+/* ---- (f) generalized-alpha ---- */
+
+/* Spectral radius and principal-root modulus of generalized-alpha (Chung and
+ * Hulbert 1993) for the undamped linear oscillator x'' + w^2 x = 0 at
+ * Omega = w h: the 3 x 3 amplification matrix of (x, h v, h^2 a) written from
+ * the scheme's equations (independently of model/fe_transient.c), eigenvalues
+ * by GSL's nonsymmetric solver. *principal: largest modulus of a complex pair. */
+static double galpha_radius(double rho_inf, double Om, double *principal) {
+  const double am = (2 * rho_inf - 1) / (rho_inf + 1), af = rho_inf / (rho_inf + 1);
+  const double ga = 0.5 - am + af, be = 0.25 * (1 - am + af) * (1 - am + af);
+  const double W = Om * Om, D = (1 - am) + W * be * (1 - af);
+  double A[9];
+  for (int c = 0; c < 3; ++c) {
+    double X0 = c == 0, V0 = c == 1, A0 = c == 2;
+    const double A1 = (-am * A0 - W * X0 - W * (1 - af) * (V0 + (0.5 - be) * A0)) / D;
+    A[0 * 3 + c] = X0 + V0 + (0.5 - be) * A0 + be * A1;
+    A[1 * 3 + c] = V0 + (1 - ga) * A0 + ga * A1;
+    A[2 * 3 + c] = A1;
+  }
+  gsl_matrix_view Av = gsl_matrix_view_array(A, 3, 3);
+  gsl_vector_complex *ev = gsl_vector_complex_alloc(3);
+  gsl_eigen_nonsymm_workspace *w = gsl_eigen_nonsymm_alloc(3);
+  gsl_eigen_nonsymm(&Av.matrix, ev, w);
+  double r = 0, p = 0;
+  for (size_t i = 0; i < 3; ++i) {
+    gsl_complex z = gsl_vector_complex_get(ev, i);
+    const double mod = hypot(GSL_REAL(z), GSL_IMAG(z));
+    r = fmax(r, mod);
+    if (fabs(GSL_IMAG(z)) > 1e-12) p = fmax(p, mod);
+  }
+  gsl_eigen_nonsymm_free(w);
+  gsl_vector_complex_free(ev);
+  if (principal) *principal = p;
+  return r;
+}
+
+/* Modulus of the dominant root pair of a sampled signal y[n0..n1] by linear
+ * prediction (y_{n+1} = a y_n + b y_{n-1}, least squares; |lambda|^2 = -b). */
+static double lp_modulus(const double *tip, int n0, int n1) {
+  double s11 = 0, s12 = 0, s22 = 0, r1 = 0, r2 = 0;
+  for (int n = n0 + 1; n < n1; ++n) {
+    const double y1 = tip[4 * n + 2], y0 = tip[4 * (n - 1) + 2], yp = tip[4 * (n + 1) + 2];
+    s11 += y1 * y1;
+    s12 += y1 * y0;
+    s22 += y0 * y0;
+    r1 += yp * y1;
+    r2 += yp * y0;
+  }
+  const double det = s11 * s22 - s12 * s12;
+  const double b = (s11 * r2 - s12 * r1) / det;
+  return sqrt(-b);
+}
+
+/* A straight cantilever without gravity or cable (the default arm: hand mass,
+ * I_zz > 0) and its modes. */
+static ea_fe_model_t *free_arm(ea_fe_modes_info_t *mi) {
+  ea_arm_t a;
+  ea_arm_default(&a);
+  a.g = 0.0;
+  ea_fe_model_t *m = NULL;
+  if (ea_fe_model_alloc(&a, NULL, &m, NULL)) return NULL;
+  ea_fe_set_straight(m, 0.0);
+  if (ea_fe_modes(m, mi, NULL)) {
+    ea_fe_model_free(m);
+    return NULL;
+  }
+  return m;
+}
+
+/* Straight state with velocity amp * omega_k * phi_k (tip amplitude ~ amp). */
+static void release_velocity(ea_fe_model_t *m, ea_fe_modes_info_t *mi, int k, double amp) {
+  if (m->modes_valid <= k) {
+    ea_fe_set_straight(m, 0.0);
+    ea_fe_modes(m, mi, NULL);
+  }
+  const int nd = m->nd;
+  double *phi = calloc((size_t)nd, sizeof *phi);
+  ea_fe_mode_shape(m, k, phi); /* before ea_fe_set_straight invalidates the modes */
+  ea_fe_set_straight(m, 0.0);
+  double *q = calloc((size_t)nd, sizeof *q);
+  ea_fe_get_state(m, q, NULL);
+  for (int i = 0; i < nd; ++i) phi[i] *= amp * sqrt(mi->lambda[k]);
+  ea_fe_set_state(m, q, phi);
+  free(q);
+  free(phi);
+}
+
+static void test_genalpha(void) {
+  printf("--- (f) generalized-alpha: order, dissipation, spectral radius ---\n");
+  ea_fe_modes_info_t mi;
+  ea_fe_model_t *m = free_arm(&mi);
+  if (!m) {
+    ea_test_true(0, "free arm setup");
+    return;
+  }
+  /* published limits of the closed form: rho(0) = 1, rho(inf) = rho_inf */
+  ea_test_rel(galpha_radius(0.8, 1e8, NULL), 0.8, 1e-6, "closed form: rho(Omega -> inf) = rho_inf");
+  ea_test_rel(galpha_radius(0.8, 1e-4, NULL), 1.0, 1e-9, "closed form: rho(Omega -> 0) = 1");
+  ea_error_t e;
+  const int cap = 20001;
+  double *tip = calloc(4 * (size_t)cap, sizeof *tip);
+
+  /* 1. order in dt: large free oscillation (tip velocity release of 0.15 m
+   * amplitude along mode 1 of the 0.914 m arm: geometrically nonlinear) over
+   * one linear period, against the energy scheme at dt = T1 / 6400 */
+  const double T1 = 1.0 / mi.freq_hz[0], amp = 0.15;
+  ea_fe_sim_settings_t ss;
+  ea_fe_sim_settings_default(&ss);
+  ss.t_end = T1;
+  ss.dt = T1 / 6400;
+  release_velocity(m, &mi, 0, amp);
+  ea_status_t st = ea_fe_simulate(m, NULL, &ss, NULL, 0, NULL, &e);
+  double ref[3];
+  ea_fe_tip(m, ref);
+  ea_test_true(st == EA_OK, "energy-scheme reference (dt = T1/6400)");
+  printf("f1 = %.5f Hz; reference tip at t = T1: (%.9f, %.9f) m\n", mi.freq_hz[0], ref[0],
+         ref[1]);
+  const double rhos[2] = {0.9, 0.5};
+  for (int r = 0; r < 2; ++r) {
+    double errs[4];
+    const int div[4] = {25, 50, 100, 200};
+    printf("rho_inf %.1f: dt = T1/N, tip error at t = T1, observed order\n", rhos[r]);
+    for (int i = 0; i < 4; ++i) {
+      ss.scheme = EA_FE_SCHEME_GENALPHA;
+      ss.rho_inf = rhos[r];
+      ss.dt = T1 / div[i];
+      ea_fe_sim_info_t si;
+      release_velocity(m, &mi, 0, amp);
+      st = ea_fe_simulate(m, NULL, &ss, NULL, 0, &si, &e);
+      double t1[3];
+      ea_fe_tip(m, t1);
+      errs[i] = hypot(t1[0] - ref[0], t1[1] - ref[1]);
+      printf("  N %4d: err %.3e m (%d Newton it, max %d/step)%s", div[i], errs[i],
+             si.newton_iterations, si.max_step_iterations, st ? " FAILED" : "");
+      if (i > 0) printf("  p = %.3f", log2(errs[i - 1] / errs[i]));
+      printf("\n");
+    }
+    char w[160];
+    const double p = log2(errs[2] / errs[3]);
+    snprintf(w, sizeof w, "generalized-alpha rho_inf %.1f: observed order %.3f in [1.8, 2.3]",
+             rhos[r], p);
+    ea_test_true(p > 1.8 && p < 2.3, w);
+  }
+  ss.scheme = EA_FE_SCHEME_ENERGY;
+
+  /* 2. spectral radius: small release (tip 10 um) along mode k with dt = Omega / omega_k;
+   * decay per step from the tip signal vs the closed form */
+  printf("mode, Omega = omega dt, rho_inf: measured |lambda| vs closed form, decrement -ln|lambda|\n");
+  struct {
+    int k;
+    double Om, rho;
+  } cases[] = {{0, 0.5, 0.5}, {0, 1.0, 0.5}, {0, 2.0, 0.5}, {0, 1.0, 0.8},
+               {1, 1.0, 0.8}, {1, 3.0, 0.8}, {2, 1.5, 0.0}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    const int k = cases[c].k;
+    ss.scheme = EA_FE_SCHEME_GENALPHA;
+    ss.rho_inf = cases[c].rho;
+    ss.dt = cases[c].Om / sqrt(mi.lambda[k]);
+    const int nst = 200;
+    ss.t_end = nst * ss.dt;
+    release_velocity(m, &mi, k, 1e-5);
+    st = ea_fe_simulate(m, NULL, &ss, tip, cap, NULL, &e);
+    const double meas = lp_modulus(tip, 30, nst);
+    double princ;
+    galpha_radius(cases[c].rho, cases[c].Om, &princ);
+    const double dm = -log(meas), dw = -log(princ);
+    printf("  mode %d, Omega %.2f, rho_inf %.1f: |lambda| %.6f vs %.6f; decrement %.5f vs %.5f "
+           "(%.2f %%)\n", k + 1, cases[c].Om, cases[c].rho, meas, princ, dm, dw,
+           100 * (dm / dw - 1));
+    char w[160];
+    snprintf(w, sizeof w, "mode %d, Omega %.1f, rho_inf %.1f: numerical decrement per step vs "
+             "closed form", k + 1, cases[c].Om, cases[c].rho);
+    ea_test_true(st == EA_OK, "spectral-radius run integrated");
+    ea_test_rel(dm, dw, 0.03, w);
+  }
+  /* 3. low mode (Omega = 0.05): essentially undamped */
+  ss.rho_inf = 0.5;
+  ss.dt = 0.05 / sqrt(mi.lambda[0]);
+  ss.t_end = 1000 * ss.dt;
+  release_velocity(m, &mi, 0, 1e-5);
+  st = ea_fe_simulate(m, NULL, &ss, tip, cap, NULL, &e);
+  {
+    const double meas = lp_modulus(tip, 30, 1000);
+    double princ;
+    galpha_radius(0.5, 0.05, &princ);
+    const double per_period = 1.0 - pow(meas, 2 * M_PI / 0.05);
+    printf("  mode 1, Omega 0.05, rho_inf 0.5: |lambda| = 1 - %.3e (closed form 1 - %.3e); "
+           "amplitude loss per period %.2e\n", 1 - meas, 1 - princ, per_period);
+    ea_test_true(st == EA_OK && per_period < 1e-4,
+                 "low mode (Omega = 0.05, rho_inf = 0.5): amplitude loss per period < 1e-4");
+  }
+  ea_fe_model_free(m);
+
+  /* 4. rho_inf = 1: no numerical dissipation (passive cable, 1 mm release along mode 1,
+   * 1000 steps of T1/200, as in (d)) */
+  {
+    ea_arm_t a;
+    ea_arm_default(&a);
+    ea_shooter_t *sh = NULL;
+    ea_fe_settings_t fs;
+    ea_fe_settings_default(&fs);
+    fs.static_hold_tip = 1;
+    ea_statics_solution_t sol;
+    m = NULL;
+    if (ea_shooter_alloc(&a, NULL, &sh, NULL) || ea_fe_model_alloc(&a, &fs, &m, NULL) ||
+        ode_solve(sh, 0.4, 0.0, &sol) || ea_fe_static_solve(m, sh, &sol, NULL, &e)) {
+      ea_test_true(0, "setup");
+    } else {
+      ea_fe_cable_make_passive(m);
+      ea_fe_modes(m, &mi, NULL);
+      const int nd = m->nd;
+      double *q = calloc((size_t)nd, sizeof *q), *phi = calloc((size_t)nd, sizeof *phi);
+      ea_fe_get_state(m, q, NULL);
+      ea_fe_mode_shape(m, 0, phi);
+      for (int i = 0; i < nd; ++i) q[i] += 1e-3 * phi[i];
+      for (int pass = 0; pass < 2; ++pass) {
+        ea_fe_set_state(m, q, NULL);
+        ea_fe_relax_positions(m, NULL);
+        ea_fe_sim_settings_default(&ss);
+        ss.scheme = EA_FE_SCHEME_GENALPHA;
+        ss.rho_inf = pass ? 0.5 : 1.0;
+        ss.dt = 1.0 / mi.freq_hz[0] / 200.0;
+        ss.t_end = 1000 * ss.dt;
+        ea_fe_sim_info_t si;
+        st = ea_fe_simulate(m, NULL, &ss, NULL, 0, &si, &e);
+        const double rel = si.energy_drift_max / si.kinetic_max;
+        printf("rho_inf %.1f: %d steps, %d Newton it (max %d), max |E - E0| / max kinetic = %.2e, "
+               "E_end - E0 = %.3e J\n", ss.rho_inf, si.steps, si.newton_iterations,
+               si.max_step_iterations, rel, si.energy_end - si.energy_start);
+        if (!pass) {
+          ea_test_true(st == EA_OK && si.steps == 1000, "rho_inf = 1: 1000 steps");
+          ea_test_true(rel < 1e-4, "rho_inf = 1: energy drift < 1e-4 of the oscillation energy");
+        }
+      }
+      free(q);
+      free(phi);
+    }
+    ea_fe_model_free(m);
+    ea_shooter_free(sh);
+  }
+  free(tip);
+}
+
 /* ---- (e) bad arguments ---- */
 
 static void test_bad_args(void) {
@@ -469,8 +713,9 @@ static void test_bad_args(void) {
   ea_test_true(ea_fe_simulate(m, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_ARG, "simulate: dt = 0");
   ea_fe_sim_settings_default(&ss);
   ss.scheme = EA_FE_SCHEME_GENALPHA;
-  ea_test_true(ea_fe_simulate(m, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_NOTIMPL,
-               "simulate: generalized-alpha reported as not implemented");
+  ss.rho_inf = 1.5;
+  ea_test_true(ea_fe_simulate(m, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_ARG,
+               "simulate: generalized-alpha rho_inf = 1.5 rejected");
   ea_test_true(ea_fe_simulate(NULL, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_ARG, "simulate: NULL");
   ea_fe_samples_t hs = {0, NULL, NULL};
   double v, r;
@@ -486,6 +731,7 @@ int main(void) {
   test_static();
   test_fig5();
   test_dynamics();
+  test_genalpha();
   test_bad_args();
   return ea_test_summary("test_fe");
 }
