@@ -20,6 +20,7 @@ int ea__cli_plan(int argc, char **argv);
 int ea__cli_frequencies(int argc, char **argv);
 int ea__cli_simulate(int argc, char **argv);
 int ea__cli_study(int argc, char **argv);
+int ea__cli_figure(int argc, char **argv);
 /* EA_CLI_DECL_END */
 
 /** Exit codes. */

@@ -145,6 +145,14 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
  *  errors say file:line:column. */
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err);
 
+/** Figure of a trajectory: tip path and beam shapes (from its alpha, T,
+ *  theta0, kappa0 columns, shot with sh, which carries the arm and load) in
+ *  the workspace, actuator coordinates, tension and torque, and rates over
+ *  time. title may be NULL. (.svg, .png, .pdf) */
+ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, double cable_length_min,
+                           double tension_min, const char *title, const char *path,
+                           ea_error_t *err);
+
 /* EA_PLAN_SECTION_BEGIN (Ipopt/NLopt planner: planner/plan_*.c) */
 
 /** Trajectory planner (docs/planner.md): a direct transcription of a task

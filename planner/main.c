@@ -24,6 +24,7 @@ static const ea__cmd_t ea__cmds[] = {
     {"frequencies", ea__cli_frequencies, "FE natural frequencies at a configuration, or the Fig. 5 sweep"},
     {"simulate", ea__cli_simulate, "FE transient of a trajectory: tip history, residual vibration"},
     {"study", ea__cli_study, "batch studies of payload and design: grid, threads, shards, resume"},
+    {"figure", ea__cli_figure, "draw a trajectory file (plan) to SVG/PNG/PDF"},
     /* EA_CLI_TABLE_END */
 };
 

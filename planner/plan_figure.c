@@ -1,10 +1,7 @@
-/* Figure of a plan (through the project's gnuplot module, figure.c):
- * (a) the tip path and a few beam shapes in the workspace of the payload
- * (outer edge T = 0, eq. 16; inner edge L_c = L_c,min), (b) actuator
- * coordinates, (c) tension and shoulder torque, (d) rates, over time. */
+/* Figure of a plan: its trajectory drawn by ea_traj_figure (traj_figure.c)
+ * with the task's limits and a title naming the task. */
 #include "plan_impl.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -15,90 +12,11 @@ ea_status_t ea_plan_figure(ea_planner_t *pl, const char *path, ea_error_t *err) 
   ea_status_t st = ea_planner_trajectory(pl, &tr, err);
   if (st) return st;
   const ea_task_t *t = &pl->task;
-  const ea_arm_t *arm = &t->arm;
-  ea_plot_t *p = NULL;
-  if ((st = ea_plot_open(&p, path, 1200, 900, err))) {
-    ea_traj_free(&tr);
-    return st;
-  }
-  /* Workspace edges for this payload. */
-  ea_plot_data_begin(p, "edge");
-  ea_statics_solution_t sol;
-  const double *guess = NULL;
-  double prev[EA_NP];
-  for (double a = -60.0; a <= 10.0 + 1e-9; a += 2.0) {
-    if (ea_statics_edge(pl->sh, a * M_PI / 180.0, NULL, guess, &sol, NULL) == EA_OK) {
-      const double row[2] = {sol.tip[EA_X_X], sol.tip[EA_X_Y]};
-      ea_plot_data_row(p, 2, row);
-      memcpy(prev, sol.p, sizeof prev);
-      guess = prev;
-    }
-  }
-  ea_plot_data_end(p);
-  ea_plot_data_begin(p, "inner");
-  for (double a = -60.0; a <= 10.0 + 1e-9; a += 2.0) {
-    const double r = t->limits.cable_length_min, aa = a * M_PI / 180.0;
-    const double row[2] = {arm->x_c + r * cos(aa), arm->y_c + r * sin(aa)};
-    ea_plot_data_row(p, 2, row);
-  }
-  ea_plot_data_end(p);
-  /* Tip path in the arm's plane and beam shapes at 6 knots. */
-  ea_plot_data_begin(p, "tip");
-  for (int k = 0; k < tr.n; ++k) {
-    const double row[2] = {hypot(EA_TRAJ_AT(&tr, k, EA_TRAJ_tip_x), EA_TRAJ_AT(&tr, k, EA_TRAJ_tip_y)),
-                           EA_TRAJ_AT(&tr, k, EA_TRAJ_tip_z)};
-    ea_plot_data_row(p, 2, row);
-  }
-  ea_plot_data_end(p);
-  ea_plot_data_begin(p, "beams");
-  double xs[41], ys[41];
-  for (int i = 0; i < 6; ++i) {
-    const int k = (int)lround(i * (tr.n - 1) / 5.0);
-    const double pp[EA_NP] = {EA_TRAJ_AT(&tr, k, EA_TRAJ_cable_angle),
-                              EA_TRAJ_AT(&tr, k, EA_TRAJ_tension),
-                              EA_TRAJ_AT(&tr, k, EA_TRAJ_theta0),
-                              EA_TRAJ_AT(&tr, k, EA_TRAJ_kappa0)};
-    if (ea_shoot_shape(pl->sh, pp, 41, NULL, NULL, NULL, xs, ys) != EA_OK) continue;
-    for (int j = 0; j < 41; ++j) {
-      const double row[2] = {xs[j], ys[j]};
-      ea_plot_data_row(p, 2, row);
-    }
-    const double cab[2][2] = {{xs[40], ys[40]}, {arm->x_c, arm->y_c}};
-    const double brk[2] = {NAN, NAN};
-    ea_plot_data_row(p, 2, brk);
-    ea_plot_data_row(p, 2, cab[0]);
-    ea_plot_data_row(p, 2, cab[1]);
-    ea_plot_data_row(p, 2, brk);
-  }
-  ea_plot_data_end(p);
-  ea_plot_data_begin(p, "hist");
-  for (int k = 0; k < tr.n; ++k) ea_plot_data_row(p, EA_TRAJ_NCOL, &EA_TRAJ_AT(&tr, k, 0));
-  ea_plot_data_end(p);
-  ea_plot_cmd(p, "set multiplot layout 2,2 title \"plan: %s  (payload %.3g kg, %s, "
-                 "duration %.4g s)\" noenhanced",
-              t->name, t->payload_kg, ea_task_objective_name(t->objective),
-              EA_TRAJ_AT(&tr, tr.n - 1, EA_TRAJ_t));
-  ea_plot_cmd(p, "set size ratio -1\nset xlabel 'reach x_L [m]'\nset ylabel 'height y_L [m]'");
-  ea_plot_cmd(p, "set key bottom left");
-  ea_plot_cmd(p, "plot $edge w l lw 2 lc rgb '#888888' t 'outer edge (T = 0)', "
-                 "$inner w l dt 2 lc rgb '#888888' t 'inner edge (L_c min)', "
-                 "$beams w l lc rgb '#1f77b4' t 'beam and cable', "
-                 "$tip w lp pt 7 ps 0.3 lc rgb '#d62728' t 'tip path', "
-                 "'+' using (%.17g):(%.17g) every ::0::0 w p pt 5 ps 1.2 lc rgb 'black' "
-                 "t 'cable root'",
-              arm->x_c, arm->y_c);
-  ea_plot_cmd(p, "set size noratio\nset xlabel 't [s]'\nset key top right");
-  ea_plot_cmd(p, "set ylabel 'L_c [m], alpha, base [rad]'");
-  ea_plot_cmd(p, "plot $hist u 1:2 w l lw 2 t 'L_c', '' u 1:3 w l lw 2 t 'alpha', "
-                 "'' u 1:4 w l lw 2 t 'base'");
-  ea_plot_cmd(p, "set ylabel 'T [N], EI kappa_0 [N m]'");
-  ea_plot_cmd(p, "plot $hist u 1:11 w l lw 2 t 'tension T', '' u 1:15 w l lw 2 t 'shoulder "
-                 "torque', %.17g w l dt 2 lc rgb 'black' t 'T_{min}'",
-              t->limits.tension_min);
-  ea_plot_cmd(p, "set ylabel 'rates [m/s, rad/s]'");
-  ea_plot_cmd(p, "plot $hist u 1:5 w l lw 2 t 'dL_c/dt', '' u 1:6 w l lw 2 t 'dalpha/dt', "
-                 "'' u 1:7 w l lw 2 t 'dbase/dt', '' u 1:13 w l lw 2 t 'dtheta_0/dt'");
-  ea_plot_cmd(p, "unset multiplot");
+  char title[256];
+  snprintf(title, sizeof title, "plan: %s  (payload %.3g kg, %s)", t->name, t->payload_kg,
+           ea_task_objective_name(t->objective));
+  st = ea_traj_figure(&tr, pl->sh, t->limits.cable_length_min, t->limits.tension_min, title, path,
+                      err);
   ea_traj_free(&tr);
-  return ea_plot_close(p, err);
+  return st;
 }

@@ -1,7 +1,7 @@
 /* The CLI as a user runs it: exit codes, messages for bad input, JSON keys,
  * figures, atomic outputs. Values are checked against an independent
  * re-solve through the library with a different problem statement. */
-#include "ea_problems.h"
+#include "ea_planner.h"
 #include "ea_test.h"
 
 #include <stdio.h>
@@ -149,6 +149,51 @@ int main(void) {
   if (f) fclose(f);
   ea_test_true(rc == 0 && lines == 7, "torque map CSV: header + 6 cells");
   ea_test_true(outside == 2, "torque map marks the 0.9 m cells outside the workspace");
+  /* figure: a trajectory file written through the library (statics at three
+   * cable lengths), drawn by the CLI; a malformed one is refused with its
+   * position. */
+  {
+    ea_arm_t arm;
+    ea_arm_load(arm_path, &arm, NULL);
+    ea_shooter_t *sh = NULL;
+    ea_shooter_alloc(&arm, NULL, &sh, NULL);
+    ea_traj_t tr = {0};
+    ea_traj_alloc(&tr, 3);
+    tr.tip_mass_kg = arm.m_hand;
+    for (int k = 0; k < 3; ++k) {
+      ea_statics_problem_t pr = ea_statics_problem_cable(0.3 + 0.1 * k, -0.4);
+      ea_statics_solution_t sol;
+      ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL);
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_t) = 0.5 * k;
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_cable_length) = sol.cable_length;
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_cable_angle) = sol.p[EA_P_ALPHA];
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_tension) = sol.p[EA_P_TENSION];
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_theta0) = sol.p[EA_P_THETA0];
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_kappa0) = sol.p[EA_P_KAPPA0];
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_tip_x) = sol.tip[EA_X_X];
+      EA_TRAJ_AT(&tr, k, EA_TRAJ_tip_z) = sol.tip[EA_X_Y];
+    }
+    ea_traj_write(&tr, "test_cli_traj.csv", NULL);
+    ea_traj_free(&tr);
+    ea_shooter_free(sh);
+    remove("test_cli_traj.png");
+    snprintf(args, sizeof args, "figure test_cli_traj.csv -o test_cli_traj.png --arm %s",
+             arm_path);
+    rc = run(args);
+    struct stat fs;
+    ea_test_true(rc == 0 && stat("test_cli_traj.png", &fs) == 0 && fs.st_size > 1000,
+                 "figure draws a trajectory file");
+    FILE *bad = fopen("test_cli_bad.csv", "w");
+    if (bad) {
+      fputs("# elasticarm-trajectory 1\nt_s,cable_length_m\n", bad);
+      fclose(bad);
+    }
+    rc = run("figure test_cli_bad.csv -o test_cli_bad.png");
+    ea_test_true(rc == 2 && strstr(out, "test_cli_bad.csv:2:") && stat("test_cli_bad.png", &fs) != 0,
+                 "figure refuses a malformed trajectory with file:line, writes nothing");
+    printf("  -> %.200s\n", out);
+  }
+
   /* Golden file with a float-tolerant comparison: the paper's path against
    * data/reference/paper_line_path.csv, generated independently with scipy by
    * tests/gen/gen_paper_line.py. */
