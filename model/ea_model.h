@@ -455,6 +455,18 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
  *  (3 * nodes, clamp entries 0), scaled so max |x_i|, |y_i| = 1 with the tip
  *  y component >= 0. */
 ea_status_t ea_fe_mode_shape(const ea_fe_model_t *m, int k, double *phi);
+/** Strain-rate damping coefficient b [s] (ea_fe_sim_settings_t.rayleigh_stiffness)
+ *  that gives mode k (0-based) of the last ea_fe_modes() call the damping ratio
+ *  zeta: b = 2 zeta omega_k (phi' M phi) / (phi' K_mat phi), K_mat = int B^T D B
+ *  at the current state (phi' K_mat phi < phi' K phi when the cable and the
+ *  geometric stiffness carry part of the mode's stiffness). The damping matrix
+ *  b K_mat is not proportional, so this is the first-order (modal) ratio.
+ * @param[out] b            coefficient [s]
+ * @param[out] zeta_modes   if not NULL: the resulting ratios of all computed modes
+ *                          (ea_fe_modes_info_t.modes entries)
+ * @return EA_ERR_ARG without valid modes, k out of range, zeta < 0 or an unstable mode */
+ea_status_t ea_fe_strain_damping(ea_fe_model_t *m, int k, double zeta, double *b,
+                                 double *zeta_modes);
 /** Stability only: is the passive-phase stiffness at the current state
  *  positive definite? stable = 1/0. */
 ea_status_t ea_fe_stability(ea_fe_model_t *m, int *stable, ea_error_t *err);
@@ -512,8 +524,17 @@ typedef struct ea_fe_sim_settings {
                               (default -1) */
   double rho_inf;        /**< generalized-alpha spectral radius in [0, 1] (default 0.9;
                               1 = no numerical dissipation) */
-  double rayleigh_mass;      /**< [1/s] C = a M + b K0 (default 0) */
-  double rayleigh_stiffness; /**< [s] b; K0 = passive stiffness at t = 0 (default 0) */
+  double rayleigh_mass;      /**< [1/s] a: mass-proportional damping force a M v
+                                  (drags rigid motion too; default 0) */
+  double rayleigh_stiffness; /**< [s] b: strain-rate (Kelvin-Voigt) damping: the sectional
+                                  forces gain b (EA dGamma1/dt, GA dGamma2/dt, EI dK/dt),
+                                  i.e. the force b int B^T D B v at the current
+                                  configuration. About an unstressed state and for small
+                                  motions this is b K_material (the former Rayleigh
+                                  b K0 without its geometric and cable parts); unlike
+                                  b K0 it is zero for rigid motions of any size.
+                                  ea_fe_strain_damping() sets b from a modal damping
+                                  ratio (default 0) */
   double tol;            /**< Newton: max |dq| of free DOFs [m, rad] (default 1e-11);
                               corrections that stagnate below 1e3 tol (rounding) stop too */
   int max_iter;          /**< Newton iterations per step (default 25) */
@@ -532,6 +553,9 @@ typedef struct ea_fe_sim_info {
   int max_step_iterations;/**< worst step */
   double energy_start, energy_end; /**< [J] ea_fe_energy at t = 0 and t_end */
   double energy_drift_max;/**< [J] max_n |E_n - E_0| */
+  double damping_work;    /**< [J] work done by the damping forces, sum over the steps
+                               of (q_{n+1} - q_n) . f_damp at the scheme's evaluation
+                               point (energy scheme, undriven: E_n + W_n = E_0) */
   double kinetic_max;     /**< [J] max kinetic energy */
   double residual_rms;    /**< [m] RMS of |tip_xy(t) - tip_xy_static| on [t_motion_end, t_end] */
   double residual_peak;   /**< [m] peak of the same */

@@ -163,6 +163,7 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
   for (int j = 0; j < k; ++j) {
     const double lam = (mu[j] > 0.0) ? 1.0 / mu[j] - sigma : INFINITY;
     info->lambda[j] = lam;
+    m->mode_lambda[j] = lam;
     info->freq_hz[j] = (lam >= 0 ? 1.0 : -1.0) * sqrt(fabs(lam)) / (2.0 * M_PI);
     /* full-length, normalized mode shape */
     double *phi = m->phi + (size_t)j * m->nd;
@@ -185,5 +186,38 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
 ea_status_t ea_fe_mode_shape(const ea_fe_model_t *m, int k, double *phi) {
   if (!m || !phi || k < 0 || k >= m->modes_valid) return EA_ERR_ARG;
   memcpy(phi, m->phi + (size_t)k * m->nd, sizeof(double) * (size_t)m->nd);
+  return EA_OK;
+}
+
+ea_status_t ea_fe_strain_damping(ea_fe_model_t *m, int k, double zeta, double *b,
+                                 double *zeta_modes) {
+  if (!m || !b || k < 0 || k >= m->modes_valid || !(zeta >= 0.0) || !isfinite(zeta) ||
+      !(m->mode_lambda[k] > 0.0))
+    return EA_ERR_ARG;
+  const int nd = m->nd;
+  const size_t nb = EA__FE_LDS * (size_t)nd;
+  double ratio[EA_FE_MAX_MODES]; /* phi' K_mat phi / (omega phi' M phi) */
+  memset(m->Kt, 0, sizeof(double) * nb);
+  memset(m->tmp, 0, sizeof(double) * (size_t)nd);
+  ea__fe_assemble_rate(m, m->q, m->v, 1.0, m->tmp, m->Kt); /* K_mat in m->Kt */
+  for (int j = 0; j < m->modes_valid; ++j) {
+    const double *phi = m->phi + (size_t)j * nd;
+    double *Mp = m->qs, *Kp = m->vs, pm = 0.0, pk = 0.0;
+    memset(Mp, 0, sizeof(double) * (size_t)nd);
+    memset(Kp, 0, sizeof(double) * (size_t)nd);
+    ea__fe_band_gemv(m, 1.0, m->Mb, phi, Mp);
+    ea__fe_band_gemv(m, 1.0, m->Kt, phi, Kp);
+    for (int i = 0; i < nd; ++i) {
+      pm += phi[i] * Mp[i];
+      pk += phi[i] * Kp[i];
+    }
+    const double lam = m->mode_lambda[j];
+    ratio[j] = (lam > 0.0 && pm > 0.0) ? pk / (sqrt(lam) * pm) : NAN;
+  }
+  if (!(ratio[k] > 0.0)) return EA_ERR_ARG;
+  /* zeta_j = b phi_j' K_mat phi_j / (2 omega_j phi_j' M phi_j) */
+  *b = 2.0 * zeta / ratio[k];
+  if (zeta_modes)
+    for (int j = 0; j < m->modes_valid; ++j) zeta_modes[j] = 0.5 * *b * ratio[j];
   return EA_OK;
 }

@@ -105,3 +105,56 @@ double ea__fe_cable(const ea_fe_model_t *m, ea_fe_cable_phase_t phase, double va
   }
   return V;
 }
+
+/* Kelvin-Voigt (strain-rate) damping of the beam, per unit coefficient b:
+ * sectional forces b (EA dGamma1/dt, GA dGamma2/dt, EI dK/dt). The strain
+ * rates are B(u) ud (B = d strain / d u, as in the internal force), so the
+ * damping force is fd = int B^T D B ud ds and its velocity derivative the
+ * symmetric ce = int B^T D B ds (the material stiffness at u). The rates are
+ * objective: a rigid motion (ud_x = -w y, ud_y = w x, ud_th = w, plus a
+ * translation) gives B ud = 0 exactly, so rigid rotations are not damped.
+ * The configuration derivative of fd (order b * strain rate, next to the
+ * geometric stiffness) is not returned: see docs/fe.md. */
+void ea__fe_beam_rate(const ea_fe_model_t *m, const double u[9], const double ud[9], double fd[9],
+                      double *ce) {
+  const double EA = m->arm.EA, GA = m->arm.GA_s, EI = m->arm.EI;
+  const ea__fe_quad_t *qd = &m->quad_k;
+  memset(fd, 0, 9 * sizeof(double));
+  if (ce) memset(ce, 0, 81 * sizeof(double));
+  for (int g = 0; g < qd->n; ++g) {
+    const double *N = qd->N[g], *dN = qd->dN[g], w = qd->w[g];
+    double xp = 0, yp = 0, th = 0;
+    for (int a = 1; a < 3; ++a) {
+      xp += dN[a] * (u[3 * a] - u[0]);
+      yp += dN[a] * (u[3 * a + 1] - u[1]);
+    }
+    for (int a = 0; a < 3; ++a) th += N[a] * u[3 * a + 2];
+    const double c = cos(th), s = sin(th);
+    const double G1 = xp * c + yp * s - 1.0, G2 = -xp * s + yp * c;
+    double B[3][9];
+    for (int a = 0; a < 3; ++a) {
+      B[0][3 * a] = c * dN[a];
+      B[0][3 * a + 1] = s * dN[a];
+      B[0][3 * a + 2] = G2 * N[a];
+      B[1][3 * a] = -s * dN[a];
+      B[1][3 * a + 1] = c * dN[a];
+      B[1][3 * a + 2] = -(1.0 + G1) * N[a];
+      B[2][3 * a] = 0.0;
+      B[2][3 * a + 1] = 0.0;
+      B[2][3 * a + 2] = dN[a];
+    }
+    double e1 = 0, e2 = 0, e3 = 0; /* strain rates */
+    for (int i = 0; i < 9; ++i) {
+      e1 += B[0][i] * ud[i];
+      e2 += B[1][i] * ud[i];
+      e3 += B[2][i] * ud[i];
+    }
+    const double n1 = w * EA * e1, n2 = w * GA * e2, n3 = w * EI * e3;
+    for (int i = 0; i < 9; ++i) fd[i] += B[0][i] * n1 + B[1][i] * n2 + B[2][i] * n3;
+    if (!ce) continue;
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < 9; ++j)
+        ce[9 * i + j] += w * (EA * B[0][i] * B[0][j] + GA * B[1][i] * B[1][j] +
+                              EI * B[2][i] * B[2][j]);
+  }
+}

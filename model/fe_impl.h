@@ -56,6 +56,7 @@ struct ea_fe_model {
   int *iwork, *ifail;   /* 5 nf, nf */
   double *evals;        /* nf */
   int modes_valid;      /* modes stored in Z */
+  double mode_lambda[EA_FE_MAX_MODES]; /* omega^2 of the stored modes */
   double *phi;          /* full-length mode shapes, settings.modes x nd */
   /* transient work (full vectors) */
   double *q0, *v0, *a0, *qm, *fm, *tmp, *Cb, *qs, *vs;
@@ -71,6 +72,10 @@ struct ea_fe_model {
  *  strain energy (returned) of element with nodal values u (9). */
 double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[9],
                            double *ke);
+/** Kelvin-Voigt damping per unit coefficient: fd = int B^T D B ud (9) and
+ *  ce = int B^T D B (9 x 9 row-major, may be NULL) at nodal values u, rates ud. */
+void ea__fe_beam_rate(const ea_fe_model_t *m, const double u[9], const double ud[9], double fd[9],
+                      double *ce);
 /** Cable: tension, length, force on the tip (fx, fy) and 2x2 stiffness
  *  kc (row-major, may be NULL) for phase/value; returns the potential. */
 double ea__fe_cable(const ea_fe_model_t *m, ea_fe_cable_phase_t phase, double value,
@@ -83,6 +88,11 @@ double ea__fe_cable(const ea_fe_model_t *m, ea_fe_cable_phase_t phase, double va
  *  potential energy (strain + gravity + cable). */
 double ea__fe_assemble(ea_fe_model_t *m, const double *q, ea_fe_cable_phase_t phase,
                        double value, double *fi, double *Kb);
+/** Add the strain-rate damping force b int B^T D B v (full) to fd and, if Cb
+ *  is not NULL, its velocity derivative b int B^T D B to the full band Cb.
+ *  No-op for b <= 0. */
+void ea__fe_assemble_rate(ea_fe_model_t *m, const double *q, const double *v, double b, double *fd,
+                          double *Cb);
 /** Potential energy only. */
 double ea__fe_potential(const ea_fe_model_t *m, const double *q, ea_fe_cable_phase_t phase,
                         double value);

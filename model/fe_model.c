@@ -407,3 +407,17 @@ ea_status_t ea__fe_solve_free(ea_fe_model_t *m, const double *Kb) {
   dgbtrs_("N", &n, &kd, &kd, &one, m->Gb, &ldg, m->ipiv, m->dq, &n, &info, 1);
   return info == 0 ? EA_OK : EA_ERR_BACKEND;
 }
+
+void ea__fe_assemble_rate(ea_fe_model_t *m, const double *q, const double *v, double b, double *fd,
+                          double *Cb) {
+  double fe[9], ce[81];
+  if (!(b > 0.0)) return;
+  for (int e = 0; e < m->ne; ++e) {
+    const int o = 6 * e;
+    ea__fe_beam_rate(m, q + o, v + o, fe, Cb ? ce : NULL);
+    for (int i = 0; i < 9; ++i) fd[o + i] += b * fe[i];
+    if (Cb)
+      for (int i = 0; i < 9; ++i)
+        for (int j = i; j < 9; ++j) EA__SB(Cb, o + i, o + j) += b * ce[9 * i + j];
+  }
+}

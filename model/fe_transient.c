@@ -145,8 +145,8 @@ static int ea__fe_apply_dq(ea_fe_model_t *m, double *q, double *dmax) {
  * (m->q, m->v); clamp angle/rate th1, th1r at t1, cable value cm at the
  * midpoint; V0 = potential at q0. *iters: Newton iterations. */
 static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings_t *s,
-                                      int damped, ea_fe_cable_phase_t phase, double cm, double th1,
-                                      double th1r, int *iters) {
+                                      int damped, double bkv, ea_fe_cable_phase_t phase, double cm,
+                                      double th1, double th1r, int *iters) {
   const int nd = m->nd, nf = m->nf;
   const double h = s->dt;
   double *q0 = m->q0, *v0 = m->v0, *q1 = m->q, *v1 = m->v, *qm = m->qm;
@@ -192,11 +192,16 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
     }
     ea__fe_band_gemv(m, 1.0, m->Mb, m->qs, m->fm);
     if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, m->vs, m->fm);
+    const size_t nb = EA__FE_LDS * (size_t)nd;
+    if (bkv > 0.0) { /* strain-rate damping at (q_m, v_m); d v_m / d q1 = 1/h */
+      memset(m->Kt, 0, sizeof(double) * nb);
+      ea__fe_assemble_rate(m, qm, m->vs, bkv, m->fm, m->Kt);
+    }
     for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
     /* Jacobian 2M/h^2 + C/h + K/2 */
-    const size_t nb = EA__FE_LDS * (size_t)nd;
     for (size_t i = 0; i < nb; ++i)
-      m->Kb[i] = 0.5 * m->Kb[i] + 2.0 / (h * h) * m->Mb[i] + (damped ? m->Cb[i] / h : 0.0);
+      m->Kb[i] = 0.5 * m->Kb[i] + 2.0 / (h * h) * m->Mb[i] + (damped ? m->Cb[i] / h : 0.0) +
+                 (bkv > 0.0 ? m->Kt[i] / h : 0.0);
     if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
     double dmax;
     if (!ea__fe_apply_dq(m, q1, &dmax)) {
@@ -241,7 +246,7 @@ static ea__fe_galpha_t ea__fe_galpha(double rho_inf) {
  * Clamp: angle, rate and acceleration th1, th1r, th1a at t1 (prescribed).
  * first: no previous step (m->qprev not set). */
 static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings_t *s,
-                                      const ea__fe_galpha_t *g, int damped,
+                                      const ea__fe_galpha_t *g, int damped, double bkv,
                                       ea_fe_cable_phase_t phase, double caf, double th1,
                                       double th1r, double th1a, int first, int *iters) {
   const int nd = m->nd, nf = m->nf;
@@ -278,10 +283,15 @@ static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings
     ea__fe_assemble(m, qf, phase, caf, m->fm, m->Kb);
     ea__fe_band_gemv(m, 1.0, m->Mb, amv, m->fm);
     if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, vf, m->fm);
-    for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
     const size_t nb = EA__FE_LDS * (size_t)nd;
+    if (bkv > 0.0) { /* strain-rate damping at (q_{1-af}, v_{1-af}) */
+      memset(m->Kt, 0, sizeof(double) * nb);
+      ea__fe_assemble_rate(m, qf, vf, bkv, m->fm, m->Kt);
+    }
+    for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
     for (size_t i = 0; i < nb; ++i)
-      m->Kb[i] = ck * m->Kb[i] + ca * m->Mb[i] + (damped ? cv * m->Cb[i] : 0.0);
+      m->Kb[i] = ck * m->Kb[i] + ca * m->Mb[i] + (damped ? cv * m->Cb[i] : 0.0) +
+                 (bkv > 0.0 ? cv * m->Kt[i] : 0.0);
     if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
     double dmax;
     if (!ea__fe_apply_dq(m, q1, &dmax)) {
@@ -306,13 +316,15 @@ static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings
 
 /* Consistent initial acceleration: M a = -(f(q) + C v) on the free rows, the
  * clamp acceleration a[2] = th0a given (its inertia coupling moved right). */
-static ea_status_t ea__fe_initial_acc(ea_fe_model_t *m, int damped, double th0a, double *a) {
+static ea_status_t ea__fe_initial_acc(ea_fe_model_t *m, int damped, double bkv, double th0a,
+                                      double *a) {
   const int nd = m->nd, nf = m->nf;
   ea__fe_assemble(m, m->q, m->phase, m->cable_value, m->fm, NULL);
   memset(a, 0, sizeof(double) * (size_t)nd);
   a[2] = th0a;
   ea__fe_band_gemv(m, 1.0, m->Mb, a, m->fm);
   if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, m->v, m->fm);
+  ea__fe_assemble_rate(m, m->q, m->v, bkv, m->fm, NULL);
   for (int i = 0; i < nf; ++i) m->r[i] = -m->fm[i + 3];
   ea_status_t st = ea__fe_solve_free(m, m->Mb);
   if (st) return st;
@@ -345,23 +357,18 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   m->v[0] = m->v[1] = 0.0;
   m->v[2] = th0r;
   if (phase != EA_FE_CABLE_NONE) m->cable_value = cab;
-  /* Rayleigh damping C = a M + b K0 (passive stiffness at t = 0) */
-  const int damped = s->rayleigh_mass > 0.0 || s->rayleigh_stiffness > 0.0;
+  /* damping: mass-proportional a M (constant, in m->Cb) and strain-rate (Kelvin-Voigt)
+   * b int B^T D B v at the current configuration */
+  const int damped = s->rayleigh_mass > 0.0;
+  const double bkv = s->rayleigh_stiffness;
   memset(m->Cb, 0, sizeof(double) * EA__FE_LDS * (size_t)nd);
-  if (damped) {
-    ea_fe_cable_phase_t pp;
-    double pv;
-    ea__fe_passive_equiv(m, m->q, &pp, &pv);
-    ea__fe_assemble(m, m->q, pp, pv, m->fi, m->Kt);
-    ea__fe_band_axpy(m, s->rayleigh_mass, m->Mb, m->Cb);
-    ea__fe_band_axpy(m, s->rayleigh_stiffness, m->Kt, m->Cb);
-  }
+  if (damped) ea__fe_band_axpy(m, s->rayleigh_mass, m->Mb, m->Cb);
   if (galpha) {
     double th0a;
     if (ea__fe_drive_acc(drive, 0.0, h, th0_hold, cab_hold, &th0a))
       return info->status =
                  ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
-    if ((st = ea__fe_initial_acc(m, damped, th0a, m->acc)) != EA_OK)
+    if ((st = ea__fe_initial_acc(m, damped, bkv, th0a, m->acc)) != EA_OK)
       return info->status = ea_error_set(
                  err, st, "simulate: generalized-alpha initial acceleration: singular mass "
                           "matrix (I_zz = 0 with I_hand = 0?)");
@@ -403,10 +410,10 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
     int it = 0;
     if (galpha) {
       memcpy(m->acc0, m->acc, sizeof(double) * (size_t)nd);
-      st = ea__fe_step_galpha(m, s, &g, damped, phase, cm, th1, th1r, th1a, n == 0, &it);
+      st = ea__fe_step_galpha(m, s, &g, damped, bkv, phase, cm, th1, th1r, th1a, n == 0, &it);
       memcpy(m->qprev, m->q0, sizeof(double) * (size_t)nd);
     } else {
-      st = ea__fe_step_energy(m, s, damped, phase, cm, th1, th1r, &it);
+      st = ea__fe_step_energy(m, s, damped, bkv, phase, cm, th1, th1r, &it);
     }
     info->newton_iterations += it;
     if (it > info->max_step_iterations) info->max_step_iterations = it;
@@ -419,6 +426,20 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
      * value at t1, where its state is */
     if (phase != EA_FE_CABLE_NONE) m->cable_value = galpha ? cab1 : cm;
     info->steps = n + 1;
+    if (damped || bkv > 0.0) {
+      /* work of the damping forces over the step: (q1 - q0) . f_d(q_e, v_e) at the scheme's
+       * evaluation point (midpoint, or n+1-af) */
+      const double w1 = galpha ? 1.0 - g.af : 0.5;
+      double *qe = m->qm, *ve = m->vs, *fd = m->tmp;
+      for (int i = 0; i < nd; ++i) {
+        qe[i] = w1 * m->q[i] + (1.0 - w1) * m->q0[i];
+        ve[i] = w1 * m->v[i] + (1.0 - w1) * m->v0[i];
+      }
+      memset(fd, 0, sizeof(double) * (size_t)nd);
+      if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, ve, fd);
+      ea__fe_assemble_rate(m, qe, ve, bkv, fd, NULL);
+      for (int i = 0; i < nd; ++i) info->damping_work += (m->q[i] - m->q0[i]) * fd[i];
+    }
     const double E = ea_fe_energy(m), K = ea__fe_kinetic(m, m->v);
     if (!isfinite(E)) {
       st = ea_error_set(err, EA_ERR_NOCONV, "simulate: state not finite at t = %g", t1);

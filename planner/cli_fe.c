@@ -628,11 +628,12 @@ static void ea__sim_help(void) {
       "  --elements N              FE elements (default %d)\n"
       "  --dt S                    time step [s] (default 1e-3)\n"
       "  --settle S                simulated time after the motion [s] (default 1)\n"
-      "  --damping-ratio Z         damping ratio Z at the first mode at the start, mass-\n"
-      "                            proportional: C = 2 Z omega_1 M (Z omega_1/omega_k above)\n"
-      "  --rayleigh A,B            Rayleigh damping C = A M + B K0 ([1/s], [s]); default none.\n"
-      "                            K0 is the stiffness at t = 0: B > 0 is only meaningful for\n"
-      "                            small motions (it damps rigid rotations too)\n"
+      "  --damping-ratio Z         damping ratio Z at the first mode at the start, by strain-\n"
+      "                            rate (Kelvin-Voigt) damping of the beam: zero for rigid\n"
+      "                            motion; higher modes get more (reported)\n"
+      "  --rayleigh A,B            mass damping A M v [1/s] plus strain-rate damping B [s]:\n"
+      "                            sectional forces += B (EA, GA, EI) x strain rates; default\n"
+      "                            none. A also brakes rigid rotations of the arm\n"
       "  --scheme energy|genalpha  time integrator (default energy: energy-conserving midpoint;\n"
       "                            genalpha: generalized-alpha, Chung-Hulbert)\n"
       "  --rho-inf R               genalpha spectral radius at infinite frequency, [0, 1]\n"
@@ -1078,7 +1079,8 @@ int ea__cli_simulate(int argc, char **argv) {
   ss.dt = o.dt;
   ss.t_end = t_end;
   ss.t_motion_end = o.settle > 0 ? duration : -1.0;
-  double f12[2] = {NAN, NAN};
+  double f12[2] = {NAN, NAN}, zeta_modes[EA_FE_MAX_MODES];
+  int nzeta = 0;
   if (o.damping == 2) {
     ss.rayleigh_mass = o.rayleigh[0];
     ss.rayleigh_stiffness = o.rayleigh[1];
@@ -1090,15 +1092,21 @@ int ea__cli_simulate(int argc, char **argv) {
       rc = EA_EXIT_FAIL;
       goto done;
     }
-    /* mass-proportional only: C = 2 Z omega_1 M gives ratio Z at mode 1 and
-     * Z omega_1 / omega_k above. The library's stiffness-proportional part
-     * uses K0 frozen at t = 0 (axial EA / h ~ 1e9 N/m along the initial
-     * tangents) on absolute velocities: under large rotations it drags the
-     * arm with forces of order b EA / h |v| (see docs/cli-fe.md). */
+    /* strain-rate (Kelvin-Voigt) damping only, b from ratio Z at mode 1 of the start
+     * state (ea_fe_strain_damping). Not mass-proportional: a M v acts on absolute
+     * velocities and so brakes the commanded rigid rotation of the whole arm (a drag
+     * that shows up as tracking error), which no physical mechanism of the arm does;
+     * the strain rates are zero for rigid motion. The higher modes get the ratios
+     * that material damping gives them (rising with frequency), reported. */
     f12[0] = mi.freq_hz[0];
     f12[1] = mi.freq_hz[1];
-    ss.rayleigh_mass = 2.0 * o.zeta * sqrt(mi.lambda[0]);
-    ss.rayleigh_stiffness = 0.0;
+    if ((st = ea_fe_strain_damping(m, 0, o.zeta, &ss.rayleigh_stiffness, zeta_modes)) != EA_OK) {
+      fprintf(stderr, "elasticarm %s: error: --damping-ratio: %s\n", cmd, ea_strerror(st));
+      rc = EA_EXIT_FAIL;
+      goto done;
+    }
+    nzeta = mi.modes < 3 ? mi.modes : 3;
+    ss.rayleigh_mass = 0.0;
   }
 
   /* 5. transient */
@@ -1164,10 +1172,11 @@ int ea__cli_simulate(int argc, char **argv) {
     ea_json_str(&j, "cable", o.active ? "active" : "passive");
     ea_json_str(&j, "drive", o.drive_fe ? "fe" : "plan");
     ea_json_num(&j, "rayleigh_mass_per_s", ss.rayleigh_mass);
-    ea_json_num(&j, "rayleigh_stiffness_s", ss.rayleigh_stiffness);
+    ea_json_num(&j, "rayleigh_stiffness_s", ss.rayleigh_stiffness); /* strain-rate b */
     if (o.damping == 1) {
       ea_json_num(&j, "damping_ratio", o.zeta);
       ea_json_vec(&j, "start_frequencies_Hz", f12, 2);
+      ea_json_vec(&j, "modal_damping_ratios", zeta_modes, nzeta);
     }
     ea_json_num(&j, "motion_duration_s", duration);
     ea_json_num(&j, "settle_s", o.settle);
@@ -1200,8 +1209,11 @@ int ea__cli_simulate(int argc, char **argv) {
            o.elements, o.dt, scheme,
            o.active ? "active" : "passive", o.drive_fe ? "FE statics" : "trajectory");
     if (o.damping)
-      printf("damping      Rayleigh a = %.4g 1/s, b = %.4g s%s\n", ss.rayleigh_mass,
+      printf("damping      mass a = %.4g 1/s, strain-rate b = %.4g s%s\n", ss.rayleigh_mass,
              ss.rayleigh_stiffness, o.damping == 1 ? " (ratio at mode 1)" : "");
+    if (nzeta > 0)
+      printf("             modal damping ratios at the start: %.4f %.4f %.4f\n", zeta_modes[0],
+             nzeta > 1 ? zeta_modes[1] : NAN, nzeta > 2 ? zeta_modes[2] : NAN);
     printf("simulated    %.4g s in %d steps, %d Newton iterations (max %d per step), wall "
            "%.3f s (%.1fx real time)\n",
            sim_time, si.steps, si.newton_iterations, si.max_step_iterations, wall,

@@ -321,6 +321,15 @@ int main(void) {
   rc = run(args);
   ea_test_true(rc == 0 && json_num("residual_vibration_rms_m") < fast_rms,
                "fast move with --damping-ratio 0.1: less residual vibration");
+  /* strain-rate damping: ratio 0.1 at mode 1, more above, no mass part */
+  ea_test_rel(json_list("modal_damping_ratios", 0), 0.1, 1e-9, "modal damping ratio 1 = 0.1");
+  ea_test_true(json_list("modal_damping_ratios", 1) > 0.1 && json_num("rayleigh_mass_per_s") == 0,
+               "--damping-ratio: strain-rate only, mode 2 damped more");
+  printf("  --damping-ratio 0.1: b = %.4g s, ratios %.4f %.4f %.4f, residual rms %.4g m, "
+         "tracking %.4g m\n", json_num("rayleigh_stiffness_s"),
+         json_list("modal_damping_ratios", 0), json_list("modal_damping_ratios", 1),
+         json_list("modal_damping_ratios", 2), json_num("residual_vibration_rms_m"),
+         json_num("max_tracking_error_m"));
   /* the simple CSV form gives the same result as the trajectory file */
   {
     FILE *f = fopen("test_cli_fe_simple.csv", "w");
