@@ -316,7 +316,8 @@ typedef enum ea_fe_cable_phase {
 
 /** Backend of the generalized symmetric eigenproblem (eq. 24). */
 typedef enum ea_fe_eig_backend {
-  EA_FE_EIG_DSBGVX = 0, /**< LAPACK banded dsbgvx, selected modes (default, fastest) */
+  EA_FE_EIG_DSBGVX = 0, /**< LAPACK banded dsbgvx, selected eigenvalues only, then band
+                             inverse iteration per mode shape (default, fastest) */
   EA_FE_EIG_DSYGV,      /**< LAPACK dense dsygv, all modes */
   EA_FE_EIG_GSL,        /**< GSL gsl_eigen_gensymmv, all modes */
   EA_FE_EIG_COUNT
