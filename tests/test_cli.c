@@ -3,33 +3,13 @@
  * re-solve through the library with a different problem statement. */
 #include "ea_planner.h"
 #include "ea_test.h"
+#include "ea_test_cli.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
-
-static char out[1 << 16];
-static const char *bin;
-
-static int run(const char *args) {
-  char cmd[2048];
-  snprintf(cmd, sizeof cmd, "%s %s 2>&1", bin, args);
-  FILE *p = popen(cmd, "r");
-  if (!p) return -1;
-  size_t n = fread(out, 1, sizeof out - 1, p);
-  out[n] = '\0';
-  int rc = pclose(p);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-static double json_num(const char *key) {
-  char k[128];
-  snprintf(k, sizeof k, "\"%s\": ", key);
-  const char *p = strstr(out, k);
-  return p ? strtod(p + strlen(k), NULL) : NAN;
-}
 
 static void expect_usage(const char *args, const char *want, const char *what) {
   int rc = run(args);

@@ -7,50 +7,13 @@
  * a fast move (vibration). */
 #include "ea_planner.h"
 #include "ea_test.h"
+#include "ea_test_cli.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
-
-static char out[1 << 18];
-static const char *bin;
-
-static int run(const char *args) {
-  char cmd[4096];
-  snprintf(cmd, sizeof cmd, "%s %s 2>&1", bin, args);
-  FILE *p = popen(cmd, "r");
-  if (!p) return -1;
-  size_t n = fread(out, 1, sizeof out - 1, p);
-  out[n] = '\0';
-  int rc = pclose(p);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-static double json_num(const char *key) {
-  char k[128];
-  snprintf(k, sizeof k, "\"%s\": ", key);
-  const char *p = strstr(out, k);
-  return p ? strtod(p + strlen(k), NULL) : NAN;
-}
-
-/* The i-th number of the JSON list "key": [a,b,c]. */
-static double json_list(const char *key, int i) {
-  char k[128];
-  snprintf(k, sizeof k, "\"%s\": [", key);
-  const char *p = strstr(out, k);
-  if (!p) return NAN;
-  p += strlen(k);
-  for (int j = 0; j < i; ++j) {
-    p = strchr(p, ',');
-    if (!p) return NAN;
-    ++p;
-  }
-  char *end;
-  double v = strtod(p, &end);
-  return end == p ? NAN : v;
-}
 
 static int exists(const char *path) {
   struct stat st;
