@@ -9,21 +9,7 @@
 #include <string.h>
 #include <time.h>
 
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b) {
-  const double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-  qsort(v, (size_t)n, sizeof *v, cmp);
-  return (n % 2) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+#include "bench_util.h"
 
 /* FE equilibrium at (Lc, alpha) on a model; returns 0 on success. */
 static int fe_at(ea_fe_model_t *m, ea_shooter_t *sh, double Lc, double alpha, const double *guess,
@@ -102,14 +88,14 @@ int main(void) {
       static double ta[R], te[R], tt[R];
       for (int r = 0; r < R; ++r) {
         ea_fe_modes_info_t mi;
-        const double t0 = now();
+        const double t0 = ea_bench_now();
         ea_fe_modes(m, &mi, NULL);
-        tt[r] = now() - t0;
+        tt[r] = ea_bench_now() - t0;
         ta[r] = mi.time_assembly_s;
         te[r] = mi.time_eigen_s;
       }
-      printf("| %s | %d | %.1f | %.1f | %.1f |\n", bn[b], tm[i], 1e6 * median(ta, R),
-             1e6 * median(te, R), 1e6 * median(tt, R));
+      printf("| %s | %d | %.1f | %.1f | %.1f |\n", bn[b], tm[i], 1e6 * ea_bench_median(ta, R),
+             1e6 * ea_bench_median(te, R), 1e6 * ea_bench_median(tt, R));
       ea_fe_model_free(m);
     }
 
@@ -118,7 +104,7 @@ int main(void) {
   ea_fe_model_t *m = model(&a, EA_FE_DEFAULT_ELEMENTS, EA_FE_EIG_DSBGVX);
   double ts[5], f_first[3] = {0}, f_last[3] = {0};
   for (int rep = 0; rep < 5; ++rep) {
-    const double t0 = now();
+    const double t0 = ea_bench_now();
     double guess[EA_NP];
     int have = 0;
     for (int k = 0; k < 100; ++k) {
@@ -133,9 +119,9 @@ int main(void) {
       if (k == 0) memcpy(f_first, mi.freq_hz, sizeof f_first);
       if (k == 99) memcpy(f_last, mi.freq_hz, sizeof f_last);
     }
-    ts[rep] = now() - t0;
+    ts[rep] = ea_bench_now() - t0;
   }
-  printf("time per sweep (median of 5): %.1f ms\n", 1e3 * median(ts, 5));
+  printf("time per sweep (median of 5): %.1f ms\n", 1e3 * ea_bench_median(ts, 5));
   printf("f1 %.4f -> %.4f Hz (+%.1f %% as the cable shortens), f2 %.4f -> %.4f (+%.1f %%), "
          "f3 %.4f -> %.4f (+%.1f %% as it lengthens)\n",
          f_last[0], f_first[0], 100 * (f_first[0] / f_last[0] - 1), f_first[1], f_last[1],

@@ -18,20 +18,11 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_util.h"
+
 #define NA 10
 #define NL 40
 #define NC (NA * NL)
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp_d(const void *a, const void *b) {
-  const double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
 
 typedef struct {
   double Lc, alpha;
@@ -147,11 +138,11 @@ int main(int argc, char **argv) {
     int fails = 0, iters = 0;
     for (int r = 0; r < reps; ++r) {
       fails = 0;
-      const double t0 = now();
+      const double t0 = ea_bench_now();
       iters = sweep(sh, &set, sol, &fails);
-      times[r] = (now() - t0) / NC;
+      times[r] = (ea_bench_now() - t0) / NC;
     }
-    qsort(times, (size_t)reps, sizeof *times, cmp_d);
+    qsort(times, (size_t)reps, sizeof *times, ea_bench_cmp);
     double etip = 0, eT = 0, eth = 0;
     for (int k = 0; k < NC; ++k) {
       double xr[EA_NX];
@@ -186,11 +177,11 @@ int main(int argc, char **argv) {
   }
   ea_config_point_t *cells = malloc(2500 * sizeof *cells);
   for (int r = 0; r < reps; ++r) {
-    const double t0 = now();
+    const double t0 = ea_bench_now();
     ea_torque_map(sh, Ls, 50, As, 50, &arm.act, cells);
-    times[r] = now() - t0;
+    times[r] = ea_bench_now() - t0;
   }
-  qsort(times, (size_t)reps, sizeof *times, cmp_d);
+  qsort(times, (size_t)reps, sizeof *times, ea_bench_cmp);
   int inside = 0;
   for (int k = 0; k < 2500; ++k) inside += cells[k].status == EA_OK;
   printf("\n50 x 50 torque map (default settings, cold edge per angle): median %.1f ms, %d cells "

@@ -10,29 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+#include "bench_util.h"
 #include <unistd.h>
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double cpu_now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b) {
-  const double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-  qsort(v, (size_t)n, sizeof *v, cmp);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static const char *k_fig3 = "name: fig3\n"
                             "grid: {payload_factor: [0, 0.1, 0.25, 0.5]}\n"
@@ -64,12 +44,12 @@ static double time_study(const ea_study_t *s, int threads, const char *ckpt, int
     char *csv = NULL;
     ea_study_info_t info;
     ea_error_t e = {0};
-    const double t0 = now();
+    const double t0 = ea_bench_now();
     if (ea_study_run(s, &set, &csv, NULL, &info, &e)) {
       fprintf(stderr, "bench_study: %s\n", e.msg);
       exit(1);
     }
-    t[r] = now() - t0;
+    t[r] = ea_bench_now() - t0;
     if (failed) *failed = info.cases_failed;
     if (keep && r == reps - 1)
       *keep = csv;
@@ -77,7 +57,7 @@ static double time_study(const ea_study_t *s, int threads, const char *ckpt, int
       free(csv);
   }
   if (ckpt) unlink(ckpt);
-  const double m = median(t, reps);
+  const double m = ea_bench_median(t, reps);
   free(t);
   return m;
 }
@@ -92,17 +72,17 @@ static int pair_times(const ea_study_t *s, int reps, double *m1, double *m2, lon
   for (int r = 0; r < reps; ++r) {
     char *a = NULL, *b = NULL;
     t1[r] = time_study(s, 1, NULL, 1, &a, failed);
-    const double c0 = cpu_now();
+    const double c0 = ea_bench_cpu_now();
     t2[r] = time_study(s, 2, NULL, 1, &b, NULL);
-    cpu += cpu_now() - c0;
+    cpu += ea_bench_cpu_now() - c0;
     wall += t2[r];
     same &= a && b && !strcmp(a, b);
     free(a);
     free(b);
   }
   *cores2 = cpu / wall;
-  *m1 = median(t1, reps);
-  *m2 = median(t2, reps);
+  *m1 = ea_bench_median(t1, reps);
+  *m2 = ea_bench_median(t2, reps);
   free(t1);
   free(t2);
   return same;
@@ -160,8 +140,8 @@ int main(int argc, char **argv) {
     tn[r] = time_study(&freq, 2, NULL, 1, NULL, NULL);
     tc[r] = time_study(&freq, 2, ckpt, 1, NULL, NULL);
   }
-  const double gc = median(tc, reps_big);
-  const double gn = median(tn, reps_big);
+  const double gc = ea_bench_median(tc, reps_big);
+  const double gn = ea_bench_median(tn, reps_big);
   free(tc);
   free(tn);
   printf("| 1000 cases + checkpoint (fsync every 0.2 s) | %ld | 2 | %.3f s | %.2f ms | journal "
