@@ -101,6 +101,33 @@ static void ea__csv_point(FILE *fp, const ea_config_point_t *p) {
           p->shoulder_torque, p->residual, ea_status_name(p->status), p->admissible, p->reason);
 }
 
+/* Leading columns of row k of a points CSV. */
+typedef void (*ea__csv_prefix_fn)(FILE *fp, int k, const void *ctx);
+
+/* Write n points as a CSV to path (atomically; "-" = stdout): a header of
+ * prefix_header (may be "") and the point columns, then one row per point.
+ * point(k, ctx) gives row k's point. Returns 0 or the exit code. */
+static int ea__write_points_csv(const char *cmd, const char *path, const char *prefix_header,
+                                int n, const ea_config_point_t *(*point)(int k, const void *ctx),
+                                ea__csv_prefix_fn prefix, const void *ctx) {
+  ea_afile_t f;
+  ea_error_t err = {0};
+  if (ea_afile_open(&f, path, &err)) return ea__cli_fail(cmd, err.status, &err);
+  fprintf(f.fp, "%s%s\n", prefix_header, ea__csv_point_header);
+  for (int k = 0; k < n; ++k) {
+    if (prefix) prefix(f.fp, k, ctx);
+    ea__csv_point(f.fp, point(k, ctx));
+    fputc('\n', f.fp);
+  }
+  if (ea_afile_commit(&f, &err)) return ea__cli_fail(cmd, err.status, &err);
+  return 0;
+}
+
+/* Points stored contiguously. */
+static const ea_config_point_t *ea__point_array(int k, const void *ctx) {
+  return (const ea_config_point_t *)ctx + k;
+}
+
 static int ea__help_requested(int argc, char **argv) {
   for (int i = 1; i < argc; ++i)
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
@@ -270,6 +297,22 @@ int ea__cli_statics(int argc, char **argv) {
 /* workspace                                                                 */
 /* ------------------------------------------------------------------------ */
 
+/* Workspace CSV rows: for each payload, the outer then the inner edge. */
+struct ea__ws_csv {
+  const double *gam;
+  const ea_config_point_t *outer, *inner;
+  int n;
+};
+static const ea_config_point_t *ea__ws_point(int k, const void *vctx) {
+  const struct ea__ws_csv *c = vctx;
+  const int g = k / (2 * c->n), e = (k / c->n) % 2, i = k % c->n;
+  return (e ? c->inner : c->outer) + (size_t)g * c->n + i;
+}
+static void ea__ws_prefix(FILE *fp, int k, const void *vctx) {
+  const struct ea__ws_csv *c = vctx;
+  fprintf(fp, "%.6g,%s,", c->gam[k / (2 * c->n)], (k / c->n) % 2 ? "inner" : "outer");
+}
+
 int ea__cli_workspace(int argc, char **argv) {
   const char *cmd = "workspace";
   if (ea__help_requested(argc, argv)) {
@@ -353,24 +396,10 @@ int ea__cli_workspace(int argc, char **argv) {
     ea_workspace_inner(sh, inner, alpha, n, inn + (size_t)g * n);
   }
   if (c.csv) {
-    ea_afile_t f;
-    ea_error_t err = {0};
-    if (ea_afile_open(&f, c.csv, &err)) {
-      rc = ea__cli_fail(cmd, err.status, &err);
+    struct ea__ws_csv ctx = {gam, outer, inn, n};
+    if ((rc = ea__write_points_csv(cmd, c.csv, "payload_factor,edge,", 2 * n * ng,
+                                   ea__ws_point, ea__ws_prefix, &ctx)))
       goto out;
-    }
-    fprintf(f.fp, "payload_factor,edge,%s\n", ea__csv_point_header);
-    for (int g = 0; g < ng; ++g)
-      for (int e = 0; e < 2; ++e)
-        for (int k = 0; k < n; ++k) {
-          fprintf(f.fp, "%.6g,%s,", gam[g], e ? "inner" : "outer");
-          ea__csv_point(f.fp, (e ? inn : outer) + (size_t)g * n + k);
-          fputc('\n', f.fp);
-        }
-    if (ea_afile_commit(&f, &err)) {
-      rc = ea__cli_fail(cmd, err.status, &err);
-      goto out;
-    }
   }
   if (c.json) {
     ea_json_t j;
@@ -553,20 +582,7 @@ int ea__cli_torque_map(int argc, char **argv) {
       Tmax = fmax(Tmax, cells[k].tension);
     }
   const char *csv = c.csv ? c.csv : (c.json ? NULL : "-");
-  if (csv) {
-    ea_afile_t f;
-    ea_error_t err = {0};
-    if (ea_afile_open(&f, csv, &err)) {
-      rc = ea__cli_fail(cmd, err.status, &err);
-    } else {
-      fprintf(f.fp, "%s\n", ea__csv_point_header);
-      for (size_t k = 0; k < (size_t)nL * nA; ++k) {
-        ea__csv_point(f.fp, &cells[k]);
-        fputc('\n', f.fp);
-      }
-      if (ea_afile_commit(&f, &err)) rc = ea__cli_fail(cmd, err.status, &err);
-    }
-  }
+  if (csv) rc = ea__write_points_csv(cmd, csv, "", nL * nA, ea__point_array, NULL, cells);
   if (c.json && !rc) {
     ea_json_t j;
     ea_json_init(&j, stdout, 1);
@@ -629,6 +645,18 @@ usage:
 /* path                                                                      */
 /* ------------------------------------------------------------------------ */
 
+/* Path CSV rows start with beta = k / steps. */
+struct ea__path_csv {
+  const ea_config_point_t *pts;
+  long steps;
+};
+static const ea_config_point_t *ea__path_point(int k, const void *vctx) {
+  return ((const struct ea__path_csv *)vctx)->pts + k;
+}
+static void ea__beta_prefix(FILE *fp, int k, const void *vctx) {
+  fprintf(fp, "%.9g,", (double)k / (double)((const struct ea__path_csv *)vctx)->steps);
+}
+
 int ea__cli_path(int argc, char **argv) {
   const char *cmd = "path";
   if (ea__help_requested(argc, argv)) {
@@ -686,19 +714,8 @@ int ea__cli_path(int argc, char **argv) {
   int nbad = 0;
   for (int k = 0; k < n; ++k) nbad += !pts[k].admissible;
   if (c.csv) {
-    ea_afile_t f;
-    ea_error_t err = {0};
-    if (ea_afile_open(&f, c.csv, &err)) {
-      rc = ea__cli_fail(cmd, err.status, &err);
-    } else {
-      fprintf(f.fp, "beta,%s\n", ea__csv_point_header);
-      for (int k = 0; k < n; ++k) {
-        fprintf(f.fp, "%.9g,", (double)k / (double)steps);
-        ea__csv_point(f.fp, &pts[k]);
-        fputc('\n', f.fp);
-      }
-      if (ea_afile_commit(&f, &err)) rc = ea__cli_fail(cmd, err.status, &err);
-    }
+    struct ea__path_csv ctx = {pts, steps};
+    rc = ea__write_points_csv(cmd, c.csv, "beta,", n, ea__path_point, ea__beta_prefix, &ctx);
   }
   if (c.json) {
     ea_json_t j;
