@@ -190,7 +190,8 @@ static ea_status_t ea__newton(ea_shooter_t *sh, const ea_given_t given[2], const
      * is accepted almost always and then needs no second integration. */
     /* When quadratic convergence predicts the full step ends below tol, it
      * is tried without them. */
-    const int last = isfinite(nr_prev) && nr < nr_prev && (nr / nr_prev) * nr < 0.1 * tol;
+    const int last = (isfinite(nr_prev) && nr < nr_prev && (nr / nr_prev) * nr < 0.1 * tol) ||
+                     nr * nr < 1e-2 * tol;
     int accepted = 0;
     for (int k = 0; k < 12; ++k) {
       for (int j = 0; j < EA_NP; ++j) pt[j] = p[j] - lam * dz[j];
