@@ -120,6 +120,98 @@ static void ea__seg_point(const ea_planner_t *pl, int j, double sig, double prev
   }
 }
 
+/* Actuator coordinates (L_c, alpha, base) at fraction sig of segment j. */
+static void ea__seg_q(const ea_planner_t *pl, int j, double sig, double *prev_base,
+                      double q[3]) {
+  const ea_arm_t *arm = &pl->task.arm;
+  double R, H, B;
+  ea__seg_point(pl, j, sig, *prev_base, &R, &H, &B);
+  q[0] = hypot(R - arm->x_c, H - arm->y_c);
+  q[1] = atan2(H - arm->y_c, R - arm->x_c);
+  q[2] = B;
+  *prev_base = B;
+}
+
+/* Time-optimal timing of segment j along the guess's path q(sig), rest to
+ * rest, under the speed and acceleration limits of the actuator coordinates
+ * (phase-plane reachability on a grid of sig: b = sig_dot^2, constant
+ * sig_ddot per cell, forward and backward passes). Fills the knot fractions
+ * sig_k and normalised rates dsig/dt at the segment's time fractions u_k
+ * (u in [0, 1] of the returned duration). Returns the duration (0 when
+ * no limit is finite: the caller keeps its smoothstep). */
+#define EA__TOPP_M 400
+static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, double *sig,
+                       double *sigdot) {
+  const int M = EA__TOPP_M, nq = pl->nq;
+  double q[EA__TOPP_M + 1][3], b[EA__TOPP_M + 1], bf[EA__TOPP_M + 1], t[EA__TOPP_M + 1];
+  double pb = pl->nq == 3 ? ea__point(&pl->task, j)->base_angle : pl->base_fixed;
+  const double ds = 1.0 / M;
+  int any = 0;
+  for (int c = 0; c < nq; ++c) any |= isfinite(pl->vmax[c]) || isfinite(pl->amax[c]);
+  if (!any) return 0.0;
+  for (int i = 0; i <= M; ++i) ea__seg_q(pl, j, i * ds, &pb, q[i]);
+  /* first and second derivatives wrt sig on the grid */
+  double d1[EA__TOPP_M + 1][3], d2[EA__TOPP_M + 1][3], cap[EA__TOPP_M + 1];
+  for (int i = 0; i <= M; ++i) {
+    const int a = i > 0 ? i - 1 : 0, z = i < M ? i + 1 : M, m = i == 0 ? 1 : i == M ? M - 1 : i;
+    cap[i] = 1e30;
+    for (int c = 0; c < nq; ++c) {
+      d1[i][c] = (q[z][c] - q[a][c]) / ((z - a) * ds);
+      d2[i][c] = (q[m + 1][c] - 2.0 * q[m][c] + q[m - 1][c]) / (ds * ds);
+      const double v = pl->vmax[c], A = pl->amax[c];
+      if (isfinite(v) && fabs(d1[i][c]) > 0.0) cap[i] = fmin(cap[i], v * v / (d1[i][c] * d1[i][c]));
+      if (isfinite(A) && fabs(d1[i][c]) < 1e-9 && fabs(d2[i][c]) > 0.0)
+        cap[i] = fmin(cap[i], A / fabs(d2[i][c]));
+    }
+  }
+  /* admissible sig_ddot at (i, b): [lo, hi] */
+#define EA__ACC_RANGE(i, bb, lo, hi)                                                          \
+  do {                                                                                       \
+    lo = -1e30, hi = 1e30;                                                                   \
+    for (int c = 0; c < nq; ++c) {                                                           \
+      const double A = pl->amax[c], g1 = d1[i][c];                                           \
+      if (!isfinite(A) || fabs(g1) < 1e-9) continue;                                         \
+      double r0 = (-A - d2[i][c] * (bb)) / g1, r1 = (A - d2[i][c] * (bb)) / g1;             \
+      if (r0 > r1) { const double tt = r0; r0 = r1; r1 = tt; }                               \
+      lo = fmax(lo, r0), hi = fmin(hi, r1);                                                  \
+    }                                                                                        \
+  } while (0)
+  bf[0] = 0.0;
+  for (int i = 0; i < M; ++i) {
+    double lo, hi;
+    EA__ACC_RANGE(i, bf[i], lo, hi);
+    const double nb = hi < lo ? bf[i] : bf[i] + 2.0 * ds * fmax(hi, 0.0);
+    bf[i + 1] = fmin(cap[i + 1], fmax(0.0, nb));
+  }
+  b[M] = 0.0;
+  for (int i = M - 1; i >= 0; --i) {
+    double lo, hi;
+    EA__ACC_RANGE(i + 1, b[i + 1], lo, hi);
+    const double nb = hi < lo ? b[i + 1] : b[i + 1] - 2.0 * ds * fmin(lo, 0.0);
+    b[i] = fmin(bf[i], fmax(0.0, nb));
+  }
+#undef EA__ACC_RANGE
+  if (!(b[M / 2] > 0.0) || b[M / 2] >= 1e29) return 0.0;
+  t[0] = 0.0;
+  for (int i = 0; i < M; ++i) {
+    const double den = sqrt(b[i]) + sqrt(b[i + 1]);
+    if (!(den > 0.0)) return 0.0;
+    t[i + 1] = t[i] + 2.0 * ds / den;
+  }
+  const double T = t[M];
+  int i = 0;
+  for (int k = 0; k < nk; ++k) {
+    const double tau = u[k] * T;
+    while (i + 1 < M && t[i + 1] < tau) ++i;
+    const double dt = t[i + 1] - t[i], w0 = sqrt(b[i]), w1 = sqrt(b[i + 1]);
+    const double acc = (w1 - w0) / dt, e = fmax(0.0, fmin(dt, tau - t[i]));
+    sig[k] = fmin(1.0, i * ds + w0 * e + 0.5 * acc * e * e);
+    sigdot[k] = w0 + acc * e;
+  }
+  sig[0] = 0.0, sig[nk - 1] = 1.0, sigdot[0] = sigdot[nk - 1] = 0.0;
+  return T;
+}
+
 ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err) {
   const ea_task_t *t = &pl->task;
   const ea_arm_t *arm = &t->arm;
@@ -129,14 +221,44 @@ ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea
   ea_statics_settings_t set;
   ea_statics_settings_default(&set);
   set.allow_negative_tension = 1;
-  double pprev[EA_NP];
-  memcpy(pprev, t->start.p, sizeof pprev);
-  double prev_base = t->start.base_angle;
+  double pprev[EA_NP], prev_base;
   const int fixed_path = t->path != EA_TASK_PATH_FREE;
+  /* Minimum time: each segment timed time-optimally along the guess's path
+   * (ea__topp), t_f the largest of the segments' durations over their knot
+   * spans. Otherwise, when a segment cannot be timed, or when the timed
+   * guess breaks the shoulder speed limit (ea__topp does not see theta0):
+   * a smoothstep in time with the old duration estimate. */
+  double *sigk = pl->gscr, *sdn = pl->gscr + N, tf_topp = 0.0;
+  int topp = t->objective == EA_TASK_MIN_TIME && pl->has_tf;
+retry:
+  memcpy(pprev, t->start.p, sizeof pprev);
+  prev_base = t->start.base_angle;
+  tf_topp = 0.0;
+  for (int j = 0; j < pl->n_seg && topp; ++j) {
+    const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1], nk = k1 - k0 + 1;
+    double *u = pl->gscr + 2 * N; /* nk time fractions of the segment */
+    for (int k = k0; k <= k1; ++k) u[k - k0] = (pl->s[k] - pl->s[k0]) / (pl->s[k1] - pl->s[k0]);
+    const double Tj = ea__topp(pl, j, nk, u, sigk + k0, sdn + k0);
+    if (!(Tj > 0.0)) {
+      topp = 0;
+      break;
+    }
+    for (int k = k0; k <= k1; ++k) sdn[k] *= Tj; /* d sig / d u */
+    tf_topp = fmax(tf_topp, Tj / (pl->s[k1] - pl->s[k0]));
+  }
+  if (!topp)
+    for (int j = 0; j < pl->n_seg; ++j) {
+      const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
+      for (int k = k0; k <= k1; ++k) {
+        const double uu = (double)(k - k0) / (k1 - k0);
+        sigk[k] = uu * uu * (3.0 - 2.0 * uu);
+        sdn[k] = -1.0; /* centred differences below */
+      }
+    }
   for (int j = 0; j < pl->n_seg; ++j) {
     const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
     for (int k = (j == 0 ? k0 : k0 + 1); k <= k1; ++k) {
-      const double u = (double)(k - k0) / (k1 - k0), sig = u * u * (3.0 - 2.0 * u);
+      const double sig = sigk[k];
       double R, H, B;
       ea__seg_point(pl, j, sig, prev_base, &R, &H, &B);
       const ea_task_point_t *pin = k == k0 ? ea__point(t, j) : k == k1 ? ea__point(t, j + 1) : NULL;
@@ -193,23 +315,42 @@ ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea
     for (int j = 0; j < pl->n_seg; ++j)
       tf += ea__seg_time(pl, ea__point(t, j), ea__point(t, j + 1));
     tf *= 1.2;
-    const double sm = l->shoulder_speed_max;
+    if (topp) tf = 1.01 * tf_topp; /* 1 % inside the limits */
+    const double sm = l->shoulder_speed_max, tf0 = tf;
     if (isfinite(sm))
       for (int k = 0; k + 1 < N; ++k) {
         const double h = tf * (pl->s[k + 1] - pl->s[k]);
         const double d = fabs(x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]);
         if (d / h > 0.9 * sm) tf *= d / h / (0.9 * sm);
       }
+    if (topp && tf > 1.05 * tf0) {
+      topp = 0;
+      goto retry;
+    }
     x[EA__ITF(pl)] = tf;
   }
-  /* Rates: centred differences, rest at the pinned knots. */
+  /* Rates: along the timed path (dq/dsig dsig/dt), else centred
+   * differences; rest at the pinned knots. */
   int jv = 0;
   for (int k = 0; k < N; ++k) {
     while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k) ++jv;
     const int pinned = jv <= pl->n_seg && pl->via_knot[jv] == k;
+    double dqds[3] = {0.0, 0.0, 0.0}, sdot = 0.0;
+    if (!pinned && sdn[k] >= 0.0) {
+      const int j = jv - 1, k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
+      const double e = 1e-6, sa = fmax(0.0, sigk[k] - e), sb = fmin(1.0, sigk[k] + e);
+      double qa[3], qb[3], pb = nq == 3 ? x[EA__IQ(pl, k, 2)] : pl->base_fixed;
+      ea__seg_q(pl, j, sa, &pb, qa);
+      ea__seg_q(pl, j, sb, &pb, qb);
+      for (int c = 0; c < nq; ++c) dqds[c] = (qb[c] - qa[c]) / (sb - sa);
+      sdot = sdn[k] / (tf * (pl->s[k1] - pl->s[k0]));
+    }
     for (int c = 0; c < nq; ++c) {
       double v = 0.0;
-      if (!pinned) {
+      if (!pinned && sdn[k] >= 0.0) {
+        v = dqds[c] * sdot;
+        if (isfinite(pl->vmax[c])) v = fmax(-pl->vmax[c], fmin(pl->vmax[c], v));
+      } else if (!pinned) {
         const double dt = tf * (pl->s[k + 1] - pl->s[k - 1]);
         v = (x[EA__IQ(pl, k + 1, c)] - x[EA__IQ(pl, k - 1, c)]) / dt;
         if (isfinite(pl->vmax[c])) v = fmax(-pl->vmax[c], fmin(pl->vmax[c], v));
@@ -217,6 +358,32 @@ ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea
       x[EA__IV(pl, k, c)] = v;
     }
   }
+  /* Minimum time: the rates of the C2 cubic spline through the knots (rest
+   * at the pinned knots), so the acceleration continuity rows hold at the
+   * start and the rates agree with the positions. */
+  if (topp)
+    for (int j = 0; j < pl->n_seg; ++j) {
+      const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
+      double *cp = pl->gscr + 3 * N, *dp = pl->gscr + 4 * N;
+      for (int c = 0; c < nq; ++c) {
+        /* C2 cubic spline slopes, clamped to rest at k0 and k1 (Thomas). */
+        for (int k = k0 + 1; k < k1; ++k) {
+          const double h0 = tf * (pl->s[k] - pl->s[k - 1]), h1 = tf * (pl->s[k + 1] - pl->s[k]);
+          const double a = 1.0 / h0, b = 2.0 * (1.0 / h0 + 1.0 / h1), cc = 1.0 / h1;
+          const double r = 3.0 * ((x[EA__IQ(pl, k, c)] - x[EA__IQ(pl, k - 1, c)]) / (h0 * h0) +
+                                  (x[EA__IQ(pl, k + 1, c)] - x[EA__IQ(pl, k, c)]) / (h1 * h1));
+          const double den = b - (k > k0 + 1 ? a * cp[k - 1] : 0.0);
+          cp[k] = cc / den;
+          dp[k] = (r - (k > k0 + 1 ? a * dp[k - 1] : 0.0)) / den;
+        }
+        double vn = 0.0;
+        for (int k = k1 - 1; k > k0; --k) {
+          vn = dp[k] - cp[k] * vn;
+          const double vm = isfinite(pl->vmax[c]) ? pl->vmax[c] : INFINITY;
+          x[EA__IV(pl, k, c)] = fmax(-vm, fmin(vm, vn));
+        }
+      }
+    }
   return EA_OK;
 }
 

@@ -96,9 +96,17 @@ struct ea_planner {
   int *hpos;            /* value position of each local pair of a row */
   int *hpos_stat;       /* N x 15: statics block (L_c, alpha, T, theta0, kappa0) */
   double *xx;           /* n scratch */
-  /* statics cache at the current x */
+  double *kkt_r;        /* n scratch: KKT check of a warm start */
+  double *jval;         /* nnz scratch: Jacobian values (KKT check) */
+  double *gscr;         /* 5 N scratch of the initial guess */
+  /* statics cache, per knot, keyed on the knot's shooting parameters
+   * p = (alpha, T, theta0, kappa0): Ipopt evaluates g, its Jacobian and
+   * the Hessian at the same x, and a knot is shot (always with
+   * sensitivities) only when its p changed. */
   double *xL;   /* N x 4 tip states */
   double *S;    /* N x 16 sensitivities */
+  double *pkey; /* N x 4 p of the cached shot */
+  unsigned char *kvalid; /* N: 1 = xL, S hold the shot at pkey */
   int cache_val, cache_sens;
   /* last converged solution (warm start) */
   int have_solution;
@@ -123,7 +131,8 @@ double ea__plan_tf(const ea_planner_t *pl, const double *x);
  *  gradients wrt (q0, q1, v0, v1, h). */
 void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],
                           double ga[2][5]);
-/** Shoot every knot at x (sens: with sensitivities), caching. */
+/** Shoot every knot at x with sensitivities (sens is kept for the callers'
+ *  intent; a knot whose p is unchanged is not shot again). */
 ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens);
 /** Constraint values at x into g (m). */
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g);
