@@ -1,14 +1,27 @@
 /* bench_plan: the paper's line (eq. 18), minimum time, cold and warm
  * started; per-phase times (initial guess, statics shots with
  * sensitivities inside the callbacks, Ipopt itself, rest); exact Hessian vs
- * limited-memory; what features cost (path rows, base variables); scaling
- * from 25 to 400 knots. Medians over repetitions.
+ * limited-memory; replanning from a previous plan (same task, goal moved);
+ * what features cost (path rows, base variables); scaling from 25 to 400
+ * knots. Medians over repetitions; the load average is printed before and
+ * after (the machine is shared).
  * usage: bench_plan [REPEATS] (default 5) */
 #include "ea_planner.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* getloadavg() is BSD/glibc, not C11 */
+static void print_load(const char *when) {
+  FILE *fp = fopen("/proc/loadavg", "r");
+  char buf[128] = "?";
+  if (fp) {
+    if (!fgets(buf, sizeof buf, fp)) snprintf(buf, sizeof buf, "?\n");
+    fclose(fp);
+  }
+  printf("load average %s: %s", when, buf);
+}
 
 static int cmpd(const void *a, const void *b) {
   const double x = *(const double *)a, y = *(const double *)b;
@@ -62,6 +75,53 @@ static row_t run(const ea_task_t *t, int R, int warm) {
   return r;
 }
 
+/* Median of R plans of task t started from the trajectory of a plan of
+ * task prev (EA_PLAN_FROM_TRAJ, a new planner each time as for a new task). */
+static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
+  double tot[64], gu[64], st[64], ip[64], re[64], it[64];
+  row_t r;
+  memset(&r, 0, sizeof r);
+  r.ok = 1;
+  if (R > 64) R = 64;
+  ea_planner_t *p0 = NULL;
+  ea_error_t e;
+  ea_plan_info_t info;
+  ea_traj_t tr;
+  memset(&tr, 0, sizeof tr);
+  if (ea_planner_alloc(prev, &p0, &e) || ea_planner_solve(p0, EA_PLAN_COLD, NULL, &info, &e) ||
+      ea_planner_trajectory(p0, &tr, &e)) {
+    fprintf(stderr, "bench_plan: %s\n", e.msg);
+    ea_planner_free(p0);
+    ea_traj_free(&tr);
+    r.ok = 0;
+    return r;
+  }
+  ea_planner_free(p0);
+  for (int i = 0; i < R; ++i) {
+    ea_planner_t *pl = NULL;
+    if (ea_planner_alloc(t, &pl, &e) || ea_planner_solve(pl, EA_PLAN_FROM_TRAJ, &tr, &info, &e))
+      r.ok = 0;
+    tot[i] = info.time_total_s;
+    gu[i] = info.time_guess_s;
+    st[i] = info.time_statics_s;
+    ip[i] = info.time_ipopt_s;
+    re[i] = info.time_rest_s;
+    it[i] = info.iterations;
+    r.dur = info.duration_s;
+    r.nvar = info.n_var;
+    r.ncon = info.n_con;
+    ea_planner_free(pl);
+  }
+  ea_traj_free(&tr);
+  r.total = median(tot, R);
+  r.guess = median(gu, R);
+  r.statics = median(st, R);
+  r.ipopt = median(ip, R);
+  r.rest = median(re, R);
+  r.iters = median(it, R);
+  return r;
+}
+
 static void print_row(const char *name, const row_t *r) {
   printf("%-34s %5d %5d %6.0f %9.2f %8.2f %8.2f %8.2f %7.2f %9.5f %s\n", name, r->nvar, r->ncon,
          r->iters, 1e3 * r->total, 1e3 * r->guess, 1e3 * r->statics, 1e3 * r->ipopt,
@@ -87,6 +147,7 @@ int main(int argc, char **argv) {
     return 1;
   }
   printf("bench_plan: paper line (eq. 18), payload factor 0, minimum time; medians of %d\n", R);
+  print_load("before");
   printf("statics = shots with sensitivities in Ipopt's callbacks (Jacobian, Hessian), "
          "ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
@@ -107,6 +168,18 @@ int main(int argc, char **argv) {
   print_row("cold, limited-memory Hessian", &r);
   r = run(&lm, R, 1);
   print_row("warm, limited-memory Hessian", &r);
+
+  header("replanning from a previous plan (EA_PLAN_FROM_TRAJ, 100 knots)");
+  r = run_traj(&line, &line, R);
+  print_row("same task", &r);
+  ea_task_t moved = line;
+  moved.goal = ea_task_point_planar(0.605, -0.2, 0.0);
+  if (ea_task_check(&moved, &e)) {
+    fprintf(stderr, "bench_plan: %s\n", e.msg);
+    return 1;
+  }
+  r = run_traj(&line, &moved, R);
+  print_row("goal moved 5 mm", &r);
 
   header("what features cost (100 knots, cold)");
   ea_task_t fr = line;
@@ -135,6 +208,9 @@ int main(int argc, char **argv) {
     snprintf(name, sizeof name, "%d knots", ks[i]);
     r = run(&t, ks[i] >= 200 ? (R < 3 ? R : 3) : R, 0);
     print_row(name, &r);
+    printf("%-34s %5s %5s %6s %9.2f  (per iteration)\n", "", "", "", "",
+           r.iters > 0 ? 1e3 * r.total / r.iters : 0.0);
   }
+  print_load("after");
   return 0;
 }

@@ -354,11 +354,9 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   AddIpoptStrOption(pl->ip, "sb", "yes");
   AddIpoptIntOption(pl->ip, "print_level", t->solver.print_level);
   AddIpoptStrOption(pl->ip, "linear_solver", "mumps");
-  /* MUMPS on this chain-structured KKT system (docs/planner.md, measured
-   * with bench_plan): SCOTCH's ordering gives fewer, larger fronts (numeric
-   * factorization 1.6 ms instead of 2.5 ms at 100 knots), and the
-   * max-transversal permutation only costs analysis time here. */
-  AddIpoptIntOption(pl->ip, "mumps_pivot_order", 3);
+  /* The max-transversal permutation only costs MUMPS analysis time on these
+   * KKT systems (8 -> 2 ms at 100 knots); the ordering is chosen per solve
+   * (ea__plan_solve_once). */
   AddIpoptIntOption(pl->ip, "mumps_permuting_scaling", 0);
   AddIpoptStrOption(pl->ip, "hessian_approximation",
                     pl->hess_exact ? "exact" : "limited-memory");
@@ -666,6 +664,12 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   }
   for (int i = 0; i < pl->n; ++i) pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
   AddIpoptStrOption(pl->ip, "warm_start_init_point", warm ? "yes" : "no");
+  /* MUMPS ordering (docs/planner.md, bench_plan): SCOTCH gives fewer,
+   * larger fronts (numeric factorization 1.6 instead of 2.5 ms at 100
+   * knots) for an analysis of ~15 ms instead of AMD's ~2 ms, once per
+   * solve: it pays off over a cold solve's ~17 iterations (and a start from
+   * a previous plan's ~16), not over the few of a warm start. */
+  AddIpoptIntOption(pl->ip, "mumps_pivot_order", warm ? 0 : 3);
   if (warm) {
     AddIpoptNumOption(pl->ip, "mu_init", 1e-7);
     AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-9);
