@@ -329,6 +329,7 @@ retry:
     }
     x[EA__ITF(pl)] = tf;
   }
+  pl->guess_timed = topp;
   /* Rates: along the timed path (dq/dsig dsig/dt), else centred
    * differences; rest at the pinned knots. */
   int jv = 0;

@@ -97,7 +97,9 @@ struct ea_planner {
   int *hpos_stat;       /* N x 15: statics block (L_c, alpha, T, theta0, kappa0) */
   double *xx;           /* n scratch */
   double *kkt_r;        /* n scratch: KKT check of a warm start */
+  double *x0;           /* n: start point kept for a retry with another barrier strategy */
   double *jval;         /* nnz scratch: Jacobian values (KKT check) */
+  int guess_timed;      /* 1: the last cold guess was timed along its path (ea__topp) */
   double *gscr;         /* 5 N scratch of the initial guess */
   /* statics cache, per knot, keyed on the knot's shooting parameters
    * p = (alpha, T, theta0, kappa0): Ipopt evaluates g, its Jacobian and
