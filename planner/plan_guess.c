@@ -141,7 +141,7 @@ static void ea__seg_q(const ea_planner_t *pl, int j, double sig, double *prev_ba
  * no limit is finite: the caller keeps its smoothstep). */
 #define EA__TOPP_M 400
 static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, double *sig,
-                       double *sigdot) {
+                       double *sigdot, const double *th_sig, const double *th, double th_vmax) {
   const int M = EA__TOPP_M, nq = pl->nq;
   double q[EA__TOPP_M + 1][3], b[EA__TOPP_M + 1], bf[EA__TOPP_M + 1], t[EA__TOPP_M + 1];
   double pb = pl->nq == 3 ? ea__point(&pl->task, j)->base_angle : pl->base_fixed;
@@ -150,11 +150,22 @@ static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, d
   for (int c = 0; c < nq; ++c) any |= isfinite(pl->vmax[c]) || isfinite(pl->amax[c]);
   if (!any) return 0.0;
   for (int i = 0; i <= M; ++i) ea__seg_q(pl, j, i * ds, &pb, q[i]);
+  /* theta0 (when given at the segment's knots, th_sig increasing from 0 to
+   * 1): its slope between knots caps the speed by th_vmax */
+  double thcap[EA__TOPP_M + 1];
+  for (int i = 0, kk = 0; i <= M; ++i) {
+    thcap[i] = 1e30;
+    if (!th) continue;
+    while (kk + 2 < nk && th_sig[kk + 1] < i * ds) ++kk;
+    const double dsg = th_sig[kk + 1] - th_sig[kk];
+    const double slope = dsg > 0.0 ? (th[kk + 1] - th[kk]) / dsg : 0.0;
+    if (fabs(slope) > 0.0) thcap[i] = th_vmax * th_vmax / (slope * slope);
+  }
   /* first and second derivatives wrt sig on the grid */
   double d1[EA__TOPP_M + 1][3], d2[EA__TOPP_M + 1][3], cap[EA__TOPP_M + 1];
   for (int i = 0; i <= M; ++i) {
     const int a = i > 0 ? i - 1 : 0, z = i < M ? i + 1 : M, m = i == 0 ? 1 : i == M ? M - 1 : i;
-    cap[i] = 1e30;
+    cap[i] = thcap[i];
     for (int c = 0; c < nq; ++c) {
       d1[i][c] = (q[z][c] - q[a][c]) / ((z - a) * ds);
       d2[i][c] = (q[m + 1][c] - 2.0 * q[m][c] + q[m - 1][c]) / (ds * ds);
@@ -229,7 +240,8 @@ ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea
    * guess breaks the shoulder speed limit (ea__topp does not see theta0):
    * a smoothstep in time with the old duration estimate. */
   double *sigk = pl->gscr, *sdn = pl->gscr + N, tf_topp = 0.0;
-  int topp = t->objective == EA_TASK_MIN_TIME && pl->has_tf;
+  int topp = t->objective == EA_TASK_MIN_TIME && pl->has_tf, with_theta0 = 0;
+  double *th_sig = pl->gscr + 3 * N, *th = pl->gscr + 4 * N; /* theta0 at the knots */
 retry:
   memcpy(pprev, t->start.p, sizeof pprev);
   prev_base = t->start.base_angle;
@@ -238,7 +250,8 @@ retry:
     const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1], nk = k1 - k0 + 1;
     double *u = pl->gscr + 2 * N; /* nk time fractions of the segment */
     for (int k = k0; k <= k1; ++k) u[k - k0] = (pl->s[k] - pl->s[k0]) / (pl->s[k1] - pl->s[k0]);
-    const double Tj = ea__topp(pl, j, nk, u, sigk + k0, sdn + k0);
+    const double Tj = ea__topp(pl, j, nk, u, sigk + k0, sdn + k0, th_sig + k0,
+                               with_theta0 ? th + k0 : NULL, 0.9 * l->shoulder_speed_max);
     if (!(Tj > 0.0)) {
       topp = 0;
       break;
@@ -324,7 +337,15 @@ retry:
         if (d / h > 0.9 * sm) tf *= d / h / (0.9 * sm);
       }
     if (topp && tf > 1.05 * tf0) {
-      topp = 0;
+      /* the timed guess breaks the shoulder speed limit: time it again with
+       * theta0 of these knots (linear in sig between them) under 90 % of the
+       * limit; if that is not enough either, the smoothstep */
+      if (!with_theta0) {
+        for (int k = 0; k < N; ++k) th_sig[k] = sigk[k], th[k] = x[EA__IP(pl, k, 1)];
+        with_theta0 = 1;
+      } else {
+        topp = 0;
+      }
       goto retry;
     }
     x[EA__ITF(pl)] = tf;
