@@ -78,10 +78,11 @@ int main(void) {
   printf("| backend | elements | assembly+stability [us] | eigen [us] | total [us] |\n");
   printf("|---|---|---|---|---|\n");
   const char *bn[EA_FE_EIG_COUNT] = {"LAPACK dsbgvx (band)", "LAPACK dsygv (dense)",
-                                      "GSL gensymmv (dense)"};
-  const int tm[] = {EA_FE_PAPER_ELEMENTS, 8, EA_FE_DEFAULT_ELEMENTS};
+                                      "GSL gensymmv (dense)", "Lanczos (band Cholesky of K)"};
+  const int tm[] = {EA_FE_PAPER_ELEMENTS, 8, EA_FE_DEFAULT_ELEMENTS, 24};
+  const int ntm = (int)(sizeof tm / sizeof tm[0]);
   for (int b = 0; b < EA_FE_EIG_COUNT; ++b)
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < ntm; ++i) {
       ea_fe_model_t *m = model(&a, tm[i], (ea_fe_eig_backend_t)b);
       if (fe_at(m, sh, 0.4, 0.0, NULL, &sol)) return 1;
       enum { R = 301 };
@@ -99,34 +100,40 @@ int main(void) {
       ea_fe_model_free(m);
     }
 
-  /* 3. Fig. 5 sweep: 100 cable lengths, ODE statics + FE Newton + modes */
+  /* 3. Fig. 5 sweep: 100 cable lengths, ODE statics + FE Newton + modes, per band backend */
   printf("\n## Fig. 5 sweep: 100 cable lengths 0.254..0.635 m, alpha = 0 (default mesh)\n");
-  ea_fe_model_t *m = model(&a, EA_FE_DEFAULT_ELEMENTS, EA_FE_EIG_DSBGVX);
-  double ts[5], f_first[3] = {0}, f_last[3] = {0};
-  for (int rep = 0; rep < 5; ++rep) {
-    const double t0 = ea_bench_now();
-    double guess[EA_NP];
-    int have = 0;
-    for (int k = 0; k < 100; ++k) {
-      const double Lc = 0.254 + (0.635 - 0.254) * k / 99.0;
-      ea_fe_modes_info_t mi;
-      if (fe_at(m, sh, Lc, 0.0, have ? guess : NULL, &sol) || ea_fe_modes(m, &mi, NULL)) {
-        fprintf(stderr, "sweep failed at Lc = %g\n", Lc);
-        return 1;
+  const ea_fe_eig_backend_t sweep_be[2] = {EA_FE_EIG_DSBGVX, EA_FE_EIG_LANCZOS};
+  ea_fe_model_t *m = NULL;
+  for (int b = 0; b < 2; ++b) {
+    ea_fe_model_free(m);
+    m = model(&a, EA_FE_DEFAULT_ELEMENTS, sweep_be[b]);
+    double ts[5], f_first[3] = {0}, f_last[3] = {0};
+    for (int rep = 0; rep < 5; ++rep) {
+      const double t0 = ea_bench_now();
+      double guess[EA_NP];
+      int have = 0;
+      for (int k = 0; k < 100; ++k) {
+        const double Lc = 0.254 + (0.635 - 0.254) * k / 99.0;
+        ea_fe_modes_info_t mi;
+        if (fe_at(m, sh, Lc, 0.0, have ? guess : NULL, &sol) || ea_fe_modes(m, &mi, NULL)) {
+          fprintf(stderr, "sweep failed at Lc = %g\n", Lc);
+          return 1;
+        }
+        memcpy(guess, sol.p, sizeof guess);
+        have = 1;
+        if (k == 0) memcpy(f_first, mi.freq_hz, sizeof f_first);
+        if (k == 99) memcpy(f_last, mi.freq_hz, sizeof f_last);
       }
-      memcpy(guess, sol.p, sizeof guess);
-      have = 1;
-      if (k == 0) memcpy(f_first, mi.freq_hz, sizeof f_first);
-      if (k == 99) memcpy(f_last, mi.freq_hz, sizeof f_last);
+      ts[rep] = ea_bench_now() - t0;
     }
-    ts[rep] = ea_bench_now() - t0;
+    printf("%s: time per sweep (median of 5): %.1f ms\n", bn[sweep_be[b]],
+           1e3 * ea_bench_median(ts, 5));
+    printf("f1 %.4f -> %.4f Hz (+%.1f %% as the cable shortens), f2 %.4f -> %.4f (+%.1f %%), "
+           "f3 %.4f -> %.4f (+%.1f %% as it lengthens)\n",
+           f_last[0], f_first[0], 100 * (f_first[0] / f_last[0] - 1), f_first[1], f_last[1],
+           100 * (f_last[1] / f_first[1] - 1), f_first[2], f_last[2],
+           100 * (f_last[2] / f_first[2] - 1));
   }
-  printf("time per sweep (median of 5): %.1f ms\n", 1e3 * ea_bench_median(ts, 5));
-  printf("f1 %.4f -> %.4f Hz (+%.1f %% as the cable shortens), f2 %.4f -> %.4f (+%.1f %%), "
-         "f3 %.4f -> %.4f (+%.1f %% as it lengthens)\n",
-         f_last[0], f_first[0], 100 * (f_first[0] / f_last[0] - 1), f_first[1], f_last[1],
-         100 * (f_last[1] / f_first[1] - 1), f_first[2], f_last[2],
-         100 * (f_last[2] / f_first[2] - 1));
 
   /* 4. transient: shoulder move of 0.2 rad in 3 s (smooth), hold 2 s, passive cable */
   printf("\n## Transient: 5 s (3 s shoulder move of 0.2 rad + 2 s hold), passive cable, Lc = 0.4 m\n");

@@ -317,9 +317,14 @@ typedef enum ea_fe_cable_phase {
 /** Backend of the generalized symmetric eigenproblem (eq. 24). */
 typedef enum ea_fe_eig_backend {
   EA_FE_EIG_DSBGVX = 0, /**< LAPACK banded dsbgvx, selected eigenvalues only, then band
-                             inverse iteration per mode shape (default, fastest) */
+                             inverse iteration per mode shape */
   EA_FE_EIG_DSYGV,      /**< LAPACK dense dsygv, all modes */
   EA_FE_EIG_GSL,        /**< GSL gsl_eigen_gensymmv, all modes */
+  EA_FE_EIG_LANCZOS,    /**< Lanczos with full reorthogonalisation on U^-T M U^-1, U the
+                             band Cholesky factor of K (+ sigma M) from the stability check:
+                             the wanted modes are the largest eigenvalues of the inverted
+                             pencil (default, fastest; falls back to dsbgvx if it does not
+                             converge, see ea_fe_modes_info_t.fallback) */
   EA_FE_EIG_COUNT
 } ea_fe_eig_backend_t;
 
@@ -336,7 +341,7 @@ typedef struct ea_fe_settings {
   int modes;           /**< modes computed by ea_fe_modes(), 1..EA_FE_MAX_MODES (default 3) */
   double newton_tol;   /**< static Newton: stop at eps <= tol, eps of eq. 23 (default 1e-6) */
   int newton_max_iter; /**< static Newton iteration limit (default 50) */
-  ea_fe_eig_backend_t eig_backend; /**< eigen-solver (default EA_FE_EIG_DSBGVX) */
+  ea_fe_eig_backend_t eig_backend; /**< eigen-solver (default EA_FE_EIG_LANCZOS) */
   int static_hold_tip; /**< ea_fe_static_solve: 0 = hold the ODE tension T and theta0
                             (paper sec. 3.2; the tip moves by the extensibility
                             effects); 1 = hold the ODE tip position (cable length
@@ -444,6 +449,8 @@ typedef struct ea_fe_modes_info {
   int stable;           /**< 1: passive stiffness positive definite (Cholesky) */
   double time_assembly_s, time_eigen_s; /**< [s] wall times */
   int backend_info;     /**< raw LAPACK info / GSL status */
+  int iterations;       /**< Lanczos steps (Krylov dimension); 0 for the other backends */
+  int fallback;         /**< 1: Lanczos did not converge and dsbgvx gave the modes */
 } ea_fe_modes_info_t;
 
 /** Natural frequencies and mode shapes (eq. 24) about the current state:

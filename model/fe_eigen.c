@@ -108,6 +108,169 @@ static ea_status_t ea__fe_inverse_iteration(ea_fe_model_t *m, double lam, int j)
   return EA_OK;
 }
 
+/* ---- Lanczos on the inverted pencil ----
+ * With U the upper band Cholesky factor of K + sigma M (m->Gb, from the
+ * stability check), the wanted modes are the largest eigenvalues mu of the
+ * symmetric C = U^-T M U^-1 (y = U v). Band helpers on free-size (nf) vectors. */
+
+/* x := U^-1 x (back substitution, U upper band in LAPACK storage). */
+static void ea__fe_band_usolve(int n, const double *U, double *x) {
+  const int kd = EA__FE_KD, ld = EA__FE_LDS;
+  for (int j = n - 1; j >= 0; --j) {
+    const double *col = U + (size_t)j * ld + kd - j; /* col[i] = U(i, j) */
+    const double xj = (x[j] /= col[j]);
+    for (int i = (j > kd ? j - kd : 0); i < j; ++i) x[i] -= col[i] * xj;
+  }
+}
+
+/* x := U^-T x (forward substitution). */
+static void ea__fe_band_utsolve(int n, const double *U, double *x) {
+  const int kd = EA__FE_KD, ld = EA__FE_LDS;
+  for (int j = 0; j < n; ++j) {
+    const double *col = U + (size_t)j * ld + kd - j;
+    double s = x[j];
+    for (int i = (j > kd ? j - kd : 0); i < j; ++i) s -= col[i] * x[i];
+    x[j] = s / col[j];
+  }
+}
+
+/* y := A x for a free symmetric upper band A. */
+static void ea__fe_band_symv(int n, const double *A, const double *x, double *y) {
+  const int kd = EA__FE_KD, ld = EA__FE_LDS;
+  for (int j = 0; j < n; ++j) {
+    const double *col = A + (size_t)j * ld + kd - j;
+    const double xj = x[j];
+    double t = col[j] * xj;
+    for (int i = (j > kd ? j - kd : 0); i < j; ++i) {
+      y[i] += col[i] * xj;
+      t += col[i] * x[i];
+    }
+    y[j] = t;
+  }
+}
+
+static double ea__fe_dot(int n, const double *a, const double *b) {
+  double s = 0.0;
+  for (int i = 0; i < n; ++i) s += a[i] * b[i];
+  return s;
+}
+
+/* w := w - Q h, h = Q' w over the first cols columns of Q, twice (CGS2: the
+ * second pass removes what rounding left of the first). Returns h_last of the
+ * first pass plus the second (the correction to alpha when the last column is
+ * the current Lanczos vector). */
+static double ea__fe_reorth(int n, const double *Q, int cols, double *w, double *h) {
+  double hl = 0.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int p = 0; p < cols; ++p) h[p] = ea__fe_dot(n, Q + (size_t)p * n, w);
+    for (int p = 0; p < cols; ++p) {
+      const double *qp = Q + (size_t)p * n, hp = h[p];
+      for (int i = 0; i < n; ++i) w[i] -= hp * qp[i];
+    }
+    if (cols > 0) hl += h[cols - 1];
+  }
+  return hl;
+}
+
+/* The k largest mu of C by Lanczos with full reorthogonalisation (Krylov
+ * basis in m->Qw, nf x nf, so at most nf steps: then the space is all of R^nf
+ * and the Ritz pairs are exact). Converged when every wanted Ritz pair
+ * (theta_i, y_i) has the residual |C y_i - theta_i y_i| = beta_j |s_ji| below
+ * max(1e-10 gap_i, 1e-13 theta_max), gap_i the distance to the nearest other
+ * Ritz value (the error of y_i is ~ residual / gap, that of theta_i residual^2
+ * / gap). Writes mu[0..k) descending and the mode vectors v_i = U^-1 y_i as
+ * columns of m->Z. Work: m->lz, m->qs, m->vs, m->iwork, m->ifail. */
+static ea_status_t ea__fe_lanczos(ea_fe_model_t *m, int k, double *mu, int *steps, int *linfo) {
+  const int n = m->nf;
+  const double *U = m->Gb, *M = m->Bb;
+  double *Q = m->Qw, *lz = m->lz;
+  double *al = lz, *be = lz + n, *d = lz + 2 * n, *e = lz + 3 * n, *th = lz + 4 * n,
+         *h = lz + 5 * n, *wk = lz + 6 * n /* 5 n */, *S = lz + 11 * n /* (k + 1) n */;
+  double *w = m->qs, *u = m->vs; /* nd >= nf */
+  const int want = k + 1 < n ? k + 1 : k; /* one more Ritz value for the gap of mode k */
+  *steps = 0;
+  *linfo = 0;
+  /* start: y0 = U^-T M x = C (U x), x a smooth deterministic vector: one step of the
+   * operator already damps the high modes */
+  for (int i = 0; i < n; ++i) u[i] = 1.0 + 0.5 * sin(0.37 * i + 0.3);
+  ea__fe_band_symv(n, M, u, w);
+  ea__fe_band_utsolve(n, U, w);
+  double nw = sqrt(ea__fe_dot(n, w, w));
+  if (!(nw > 0.0) || !isfinite(nw)) return EA_ERR_NOCONV;
+  for (int i = 0; i < n; ++i) Q[i] = w[i] / nw;
+  int nr = 0, conv = 0;
+  for (int j = 0; j < n; ++j) {
+    const double *qj = Q + (size_t)j * n;
+    memcpy(u, qj, sizeof(double) * (size_t)n);
+    ea__fe_band_usolve(n, U, u);
+    ea__fe_band_symv(n, M, u, w);
+    ea__fe_band_utsolve(n, U, w); /* w = C q_j */
+    double a = ea__fe_dot(n, qj, w);
+    for (int i = 0; i < n; ++i) w[i] -= a * qj[i];
+    if (j > 0)
+      for (int i = 0, p = j - 1; i < n; ++i) w[i] -= be[p] * Q[i + (size_t)p * n];
+    a += ea__fe_reorth(n, Q, j + 1, w, h);
+    al[j] = a;
+    double b = sqrt(ea__fe_dot(n, w, w));
+    const int ms = j + 1;
+    *steps = ms;
+    /* Ritz values and the last components of their vectors; dstevx costs about as much as
+     * two Lanczos steps, so check from 2k + 2 steps on (the paper's arm needs 10 for k = 3)
+     * and then every other step */
+    if ((ms >= 2 * k + 2 && (ms - 2 * k) % 2 == 0) || ms == n) {
+      const int wm = want < ms ? want : ms, il = ms - wm + 1, iu = ms;
+      const double vl = 0.0, vu = 0.0, abstol = 2.0 * DBL_MIN;
+      memcpy(d, al, sizeof(double) * (size_t)ms);
+      memcpy(e, be, sizeof(double) * (size_t)(ms > 1 ? ms - 1 : 1));
+      dstevx_("V", "I", &ms, d, e, &vl, &vu, &il, &iu, &abstol, &nr, th, S, &ms, wk, m->iwork,
+              m->ifail, linfo, 1, 1);
+      if (*linfo != 0 || nr != wm) return EA_ERR_BACKEND;
+      /* th ascending: the wanted are th[nr - 1], th[nr - 2], ... th[nr - k] */
+      const double tmax = fabs(th[nr - 1]);
+      conv = 1;
+      for (int i = nr - k; i < nr && conv; ++i) {
+        double gap = INFINITY;
+        if (i > 0) gap = fmin(gap, th[i] - th[i - 1]);
+        if (i < nr - 1) gap = fmin(gap, th[i + 1] - th[i]);
+        const double res = b * fabs(S[(size_t)(ms - 1) + (size_t)i * ms]);
+        if (!(res <= fmax(1e-10 * gap, 1e-13 * tmax))) conv = 0;
+      }
+      if (ms == n) conv = 1; /* the whole space: exact */
+    }
+    if (conv) break;
+    if (j + 1 >= n) return EA_ERR_NOCONV;
+    double *qn = Q + (size_t)(j + 1) * n;
+    if (!(b > 1e-14 * fabs(a)) || !isfinite(b)) {
+      /* invariant subspace found: continue with a new direction orthogonal to it */
+      for (int i = 0; i < n; ++i) w[i] = sin(2.1 * i + 1.7 * j + 0.5);
+      ea__fe_reorth(n, Q, j + 1, w, h);
+      b = sqrt(ea__fe_dot(n, w, w));
+      if (!(b > 0.0) || !isfinite(b)) return EA_ERR_NOCONV;
+      for (int i = 0; i < n; ++i) qn[i] = w[i] / b;
+      be[j] = 0.0;
+    } else {
+      for (int i = 0; i < n; ++i) qn[i] = w[i] / b;
+      be[j] = b;
+    }
+  }
+  if (!conv) return EA_ERR_NOCONV;
+  /* Ritz vectors y = Q s, mode vectors v = U^-1 y (the K-normalised modes) */
+  const int ms = *steps;
+  for (int c = 0; c < k; ++c) {
+    const int i = nr - 1 - c;
+    const double *s = S + (size_t)i * ms;
+    double *z = m->Z + (size_t)c * n;
+    memset(z, 0, sizeof(double) * (size_t)n);
+    for (int p = 0; p < ms; ++p) {
+      const double *qp = Q + (size_t)p * n, sp = s[p];
+      for (int r = 0; r < n; ++r) z[r] += sp * qp[r];
+    }
+    ea__fe_band_usolve(n, U, z);
+    mu[c] = th[i];
+  }
+  return EA_OK;
+}
+
 /* The low modes are computed from the inverted pencil
  *   M v = mu (K + sigma M) v,   lambda = omega^2 = 1/mu - sigma,
  * taking the k largest mu. K + sigma M is factored by Cholesky (its errors are
@@ -148,7 +311,19 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
   int info_l = 0, found = 0;
   ea_status_t st = EA_OK;
   double *mu = m->evals; /* mu of mode j (ascending lambda) at mu[j] after the switch */
-  switch (m->set.eig_backend) {
+  ea_fe_eig_backend_t backend = m->set.eig_backend;
+  if (backend == EA_FE_EIG_LANCZOS) {
+    /* U of K + sigma M is in m->Gb from ea__fe_posdef; A and B are left intact */
+    st = ea__fe_lanczos(m, k, mu, &info->iterations, &info_l);
+    if (st) { /* not converged (or dstevx failed): the band LAPACK solver instead */
+      info->fallback = 1;
+      backend = EA_FE_EIG_DSBGVX;
+      st = EA_OK;
+    }
+  }
+  switch (backend) {
+  case EA_FE_EIG_LANCZOS:
+    break;
   case EA_FE_EIG_DSBGVX: {
     /* eigenvalues only (JOBZ = 'N': no n x n reduction matrix Q, no back-transformation,
      * which took ~95 % of the time), the k largest mu; vectors below by band inverse
@@ -213,7 +388,7 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
   info->status = st;
   if (st)
     return ea_error_set(err, st, "fe modes: eigen-solver failed (backend %d, info %d)",
-                        (int)m->set.eig_backend, info_l);
+                        (int)backend, info_l);
   info->modes = k;
   for (int j = 0; j < k; ++j) {
     const double lam = (mu[j] > 0.0) ? 1.0 / mu[j] - sigma : INFINITY;

@@ -55,6 +55,7 @@ struct ea_fe_model {
   int lwork;
   int *iwork, *ifail;   /* 5 nf, nf */
   double *evals;        /* nf */
+  double *lz;           /* Lanczos work: (EA_FE_MAX_MODES + 12) nf (T, Ritz vectors, dstevx) */
   int modes_valid;      /* modes stored in Z */
   double mode_lambda[EA_FE_MAX_MODES]; /* omega^2 of the stored modes */
   double *phi;          /* full-length mode shapes, settings.modes x nd */
@@ -135,6 +136,10 @@ void dsbgvx_(const char *jobz, const char *range, const char *uplo, const int *n
              const int *il, const int *iu, const double *abstol, int *m, double *w, double *z,
              const int *ldz, double *work, int *iwork, int *ifail, int *info, size_t ljobz,
              size_t lrange, size_t luplo);
+void dstevx_(const char *jobz, const char *range, const int *n, double *d, double *e,
+             const double *vl, const double *vu, const int *il, const int *iu,
+             const double *abstol, int *m, double *w, double *z, const int *ldz, double *work,
+             int *iwork, int *ifail, int *info, size_t ljobz, size_t lrange);
 void dsygv_(const int *itype, const char *jobz, const char *uplo, const int *n, double *a,
             const int *lda, double *b, const int *ldb, double *w, double *work,
             const int *lwork, int *info, size_t ljobz, size_t luplo);

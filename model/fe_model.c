@@ -18,7 +18,7 @@ void ea_fe_settings_default(ea_fe_settings_t *s) {
   s->modes = 3;
   s->newton_tol = 1e-6;
   s->newton_max_iter = 50;
-  s->eig_backend = EA_FE_EIG_DSBGVX;
+  s->eig_backend = EA_FE_EIG_LANCZOS;
   s->static_hold_tip = 0;
 }
 
@@ -90,7 +90,7 @@ void ea_fe_model_free(ea_fe_model_t *m) {
   double *dp[] = {m->q,  m->v,  m->fg, m->Mb,   m->Kb,  m->fi, m->r,  m->dq,
                   m->Gb, m->Ab, m->Bb, m->Ad,   m->Bd,  m->Z,  m->Qw, m->work,
                   m->evals, m->phi, m->q0, m->v0, m->a0, m->qm, m->fm, m->tmp,
-                  m->Cb, m->qs, m->vs, m->Kt, m->rhs3, m->acc, m->acc0, m->qprev};
+                  m->Cb, m->qs, m->vs, m->Kt, m->rhs3, m->acc, m->acc0, m->qprev, m->lz};
   for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) free(dp[i]);
   free(m->ipiv);
   free(m->iwork);
@@ -156,6 +156,7 @@ ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s,
   EA__ALLOC(m->iwork, 5 * nf);
   EA__ALLOC(m->ifail, nf);
   EA__ALLOC(m->evals, nf);
+  EA__ALLOC(m->lz, (EA_FE_MAX_MODES + 12) * nf);
   EA__ALLOC(m->phi, (size_t)EA_FE_MAX_MODES * nd);
   EA__ALLOC(m->q0, nd);
   EA__ALLOC(m->v0, nd);
@@ -168,7 +169,7 @@ ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s,
   EA__ALLOC(m->acc, nd);
   EA__ALLOC(m->acc0, nd);
   EA__ALLOC(m->qprev, nd);
-  if (set.eig_backend != EA_FE_EIG_DSBGVX) {
+  if (set.eig_backend == EA_FE_EIG_DSYGV || set.eig_backend == EA_FE_EIG_GSL) {
     EA__ALLOC(m->Ad, nf * nf);
     EA__ALLOC(m->Bd, nf * nf);
   }
