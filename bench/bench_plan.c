@@ -5,7 +5,9 @@
  * what features cost (path rows, base variables); scaling from 25 to 400
  * knots. Medians over repetitions; the load average is printed before and
  * after (the machine is shared).
- * usage: bench_plan [REPEATS] (default 5) */
+ * usage: bench_plan [REPEATS] [replan] (default 5; "replan": only the
+ * replanning rows) */
+#include "bench_util.h"
 #include "ea_planner.h"
 
 #include <stdio.h>
@@ -122,6 +124,50 @@ static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
   return r;
 }
 
+/* Median of R replans: a planner solves prev cold (not timed), is updated
+ * to task t (ea_planner_update, timed apart: *upd) and solves it warm
+ * (EA_PLAN_WARM from the previous plan and multipliers). */
+static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double *upd) {
+  double tot[64], gu[64], st[64], ip[64], re[64], it[64], up[64];
+  row_t r;
+  memset(&r, 0, sizeof r);
+  r.ok = 1;
+  if (R > 64) R = 64;
+  ea_error_t e;
+  ea_plan_info_t info;
+  for (int i = 0; i < R; ++i) {
+    ea_planner_t *pl = NULL;
+    if (ea_planner_alloc(prev, &pl, &e) || ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e)) {
+      fprintf(stderr, "bench_plan: %s\n", e.msg);
+      r.ok = 0;
+      ea_planner_free(pl);
+      return r;
+    }
+    const double t0 = ea_bench_now();
+    if (ea_planner_update(pl, t, &e)) r.ok = 0;
+    up[i] = ea_bench_now() - t0;
+    if (ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e)) r.ok = 0;
+    tot[i] = info.time_total_s;
+    gu[i] = info.time_guess_s;
+    st[i] = info.time_statics_s;
+    ip[i] = info.time_ipopt_s;
+    re[i] = info.time_rest_s;
+    it[i] = info.iterations;
+    r.dur = info.duration_s;
+    r.nvar = info.n_var;
+    r.ncon = info.n_con;
+    ea_planner_free(pl);
+  }
+  r.total = median(tot, R);
+  r.guess = median(gu, R);
+  r.statics = median(st, R);
+  r.ipopt = median(ip, R);
+  r.rest = median(re, R);
+  r.iters = median(it, R);
+  *upd = median(up, R);
+  return r;
+}
+
 static void print_row(const char *name, const row_t *r) {
   printf("%-34s %5d %5d %6.0f %9.2f %8.2f %8.2f %8.2f %7.2f %9.5f %s\n", name, r->nvar, r->ncon,
          r->iters, 1e3 * r->total, 1e3 * r->guess, 1e3 * r->statics, 1e3 * r->ipopt,
@@ -135,6 +181,7 @@ static void header(const char *title) {
 
 int main(int argc, char **argv) {
   const int R = argc > 1 ? atoi(argv[1]) : 5;
+  const int only_replan = argc > 2 && !strcmp(argv[2], "replan");
   ea_task_t line;
   ea_task_init(&line, NULL);
   line.start = ea_task_point_planar(0.3, -0.2, 0.0); /* eq. 18, beta = 0 */
@@ -151,8 +198,10 @@ int main(int argc, char **argv) {
   printf("statics = shots with sensitivities in Ipopt's callbacks (Jacobian, Hessian), "
          "ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
+  row_t r;
+  if (!only_replan) {
   header("paper line, 100 knots");
-  row_t r = run(&line, R, 0);
+  r = run(&line, R, 0);
   print_row("cold, partial Hessian (default)", &r);
   r = run(&line, R, 1);
   print_row("warm (previous solution)", &r);
@@ -180,7 +229,42 @@ int main(int argc, char **argv) {
   }
   r = run_traj(&line, &moved, R);
   print_row("goal moved 5 mm", &r);
+  }
 
+  header("replanning a live planner (ea_planner_update + EA_PLAN_WARM, 100 knots) vs cold");
+  {
+    ea_task_t ch[5];
+    const char *nm[5] = {"goal moved 1 mm", "goal moved 5 mm", "goal moved 20 mm",
+                         "start moved 5 mm", "payload +5 % (factor 0.2 -> 0.21)"};
+    ea_task_t base[5];
+    for (int i = 0; i < 5; ++i) base[i] = ch[i] = line;
+    ch[0].goal = ea_task_point_planar(0.601, -0.2, 0.0);
+    ch[1].goal = ea_task_point_planar(0.605, -0.2, 0.0);
+    ch[2].goal = ea_task_point_planar(0.620, -0.2, 0.0);
+    ch[3].start = ea_task_point_planar(0.305, -0.2, 0.0);
+    base[4].payload_kg = ea_arm_payload_from_factor(&line.arm, 0.2);
+    ch[4].payload_kg = 1.05 * base[4].payload_kg;
+    for (int i = 0; i < 5; ++i) {
+      if (ea_task_check(&base[i], &e) || ea_task_check(&ch[i], &e)) {
+        fprintf(stderr, "bench_plan: %s\n", e.msg);
+        return 1;
+      }
+      double upd = 0.0;
+      char name[80];
+      r = run(&ch[i], R, 0);
+      snprintf(name, sizeof name, "%s: cold", nm[i]);
+      print_row(name, &r);
+      r = run_update(&base[i], &ch[i], R, &upd);
+      snprintf(name, sizeof name, "%s: replan", nm[i]);
+      print_row(name, &r);
+      printf("%-34s (ea_planner_update %.3f ms)\n", "", 1e3 * upd);
+    }
+  }
+
+  if (only_replan) {
+    print_load("after");
+    return 0;
+  }
   header("what features cost (100 knots, cold)");
   ea_task_t fr = line;
   fr.path = EA_TASK_PATH_FREE;

@@ -167,7 +167,8 @@ typedef struct ea_planner ea_planner_t;
 /** Where a solve starts from. */
 typedef enum ea_plan_start {
   EA_PLAN_COLD = 0,  /**< statics continuation along the straight interpolation */
-  EA_PLAN_WARM,      /**< the planner's last converged solution, with multipliers */
+  EA_PLAN_WARM,      /**< the planner's last converged solution, with multipliers
+                          (after ea_planner_update: shifted along the change) */
   EA_PLAN_FROM_TRAJ  /**< a previous plan (ea_traj_t) resampled onto the knots */
 } ea_plan_start_t;
 
@@ -227,8 +228,35 @@ const ea_task_t *ea_planner_task(const ea_planner_t *pl);
  *  proves local infeasibility or the path leaves the workspace). */
 ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                              ea_plan_info_t *info, ea_error_t *err);
+/** Replanning: change what a live planner solves without rebuilding it.
+ *  task (checked by ea_task_check; copied) may differ from the planner's in
+ *  its points (start, goal, vias), payload, limit values, duration, objective
+ *  weights and solver settings, but not in anything that shapes the
+ *  transcription: knot count, number of vias, path kind, objective, base
+ *  motion, free/fixed duration, acceleration continuity, Hessian mode,
+ *  which speed/acceleration limits are finite, the arm, nor a task with a
+ *  frequency model; then EA_ERR_ARG says what differs (build a new planner).
+ *  The next ea_planner_solve(EA_PLAN_WARM) starts from the previous plan and
+ *  its multipliers, shifted along the change (docs/planner.md: points
+ *  moved, statics re-solved at every knot, min_time re-timed), and falls
+ *  back to a cold solve if that does not converge; info->iterations counts
+ *  both. Without a previous plan the next solve is cold. */
+ea_status_t ea_planner_update(ea_planner_t *pl, const ea_task_t *task, ea_error_t *err);
+/** ea_planner_update with the planner's task and another goal (resolved and
+ *  checked: EA_ERR_INFEASIBLE when it is outside the workspace). */
+ea_status_t ea_planner_update_goal(ea_planner_t *pl, const ea_task_point_t *goal,
+                                   ea_error_t *err);
+/** ... another start point. */
+ea_status_t ea_planner_update_start(ea_planner_t *pl, const ea_task_point_t *start,
+                                    ea_error_t *err);
+/** ... another payload [kg] (every point re-checked against its workspace). */
+ea_status_t ea_planner_update_payload(ea_planner_t *pl, double payload_kg, ea_error_t *err);
+/** ... other limit values (the same limits finite). */
+ea_status_t ea_planner_update_limits(ea_planner_t *pl, const ea_task_limits_t *limits,
+                                     ea_error_t *err);
 /** The last converged plan, one row per knot, every column filled
- *  (tip from the statics tip and the base angle). tr is (re)allocated. */
+ *  (tip from the statics tip and the base angle). tr is (re)allocated.
+ *  EA_ERR_ARG when no plan converged since the last ea_planner_update. */
 ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_error_t *err);
 /** Write the JSON summary (status, duration, iterations, times, margins,
  *  active limits) atomically. */

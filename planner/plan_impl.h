@@ -112,6 +112,8 @@ struct ea_planner {
   int cache_val, cache_sens;
   /* last converged solution (warm start) */
   int have_solution;
+  int updated;          /* the task changed since x_sol (ea_planner_update) */
+  ea_task_t task_sol;   /* the task x_sol solves */
   double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol;
   /* bookkeeping during a solve */
   ea_plan_info_t *info;
@@ -160,6 +162,15 @@ ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x
                                 ea_error_t *err);
 /** Via knots, segments and the knot-to-segment map (at alloc). */
 void ea__plan_layout(ea_planner_t *pl);
+/** Path segments (ends, directions, normals) and the knot-to-segment map
+ *  for the task's points at the planner's via knots (part of the layout;
+ *  again at ea_planner_update, which keeps the via knots). */
+void ea__plan_segments(ea_planner_t *pl);
+/** Shift the previous solution x (of task prev) along a change of the task
+ *  (ea_planner_update): points moved -> each coordinate moved by the blend
+ *  of its segment's end shifts, min_time re-timed within the limits, every
+ *  knot's statics re-solved (payload). */
+ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
 void ea__plan_schedule(ea_planner_t *pl, double w);
 /** Build the frequency model when the task needs it (pl->fm; NULL otherwise). */

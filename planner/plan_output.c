@@ -30,6 +30,10 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
   if (!pl || !tr) return ea_error_set(err, EA_ERR_ARG, "ea_planner_trajectory: NULL argument");
   if (!pl->have_solution)
     return ea_error_set(err, EA_ERR_ARG, "ea_planner_trajectory: no converged plan");
+  if (pl->updated)
+    return ea_error_set(err, EA_ERR_ARG,
+                        "ea_planner_trajectory: the task changed (ea_planner_update) since the "
+                        "last converged plan: no plan of the new task yet");
   const ea_task_t *t = &pl->task;
   const double *x = pl->x_sol;
   const int N = pl->N;

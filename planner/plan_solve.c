@@ -249,30 +249,15 @@ static void ea__bounds(ea_planner_t *pl) {
   }
 }
 
-ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error_t *err) {
-  if (!task || !out) return ea_error_set(err, EA_ERR_ARG, "ea_planner_alloc: NULL argument");
-  *out = NULL;
-  ea_planner_t *pl = calloc(1, sizeof *pl);
-  if (!pl) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
-  pl->task = *task;
+/* What the planner takes from the task besides the structure: tip mass
+ * (the shooter's load), knot and variable counts, the fixed duration and
+ * base angle, the speed and acceleration limits (at alloc and at every
+ * ea_planner_update). */
+static void ea__derive(ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
-  if (t->knots < 3 || t->knots > 4000 || t->n_via < 0 || t->n_via > EA_TASK_MAX_VIA ||
-      t->n_via + 2 > t->knots || !(t->start.cable_length > 0)) {
-    const int kn = t->knots;
-    free(pl);
-    return ea_error_set(err, EA_ERR_ARG,
-                        "ea_planner_alloc: the task is not checked (ea_task_check) or has a "
-                        "bad knot count %d",
-                        kn);
-  }
   const ea_task_limits_t *l = &t->limits;
-  ea_status_t st = ea_shooter_alloc(&t->arm, NULL, &pl->sh, err);
-  if (st) {
-    ea_planner_free(pl);
-    return st;
-  }
   pl->tip_mass = ea_arm_tip_mass(&t->arm, t->payload_kg);
-  ea_load_t load = {pl->tip_mass};
+  const ea_load_t load = {pl->tip_mass};
   ea_shooter_set_load(pl->sh, &load);
   pl->N = t->knots;
   pl->nq = t->base_moves ? 3 : 2;
@@ -296,6 +281,67 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
                     ? pl->amax[1]
                     : pl->amax[0] / fmax(t->start.cable_length, t->goal.cable_length);
   pl->aref[2] = pl->amax[2];
+}
+
+/* The Ipopt problem with the planner's bounds and options. Ipopt's C
+ * interface copies the bounds at creation, so an update of the task
+ * (ea_planner_update) creates it again; every IpoptSolve sets up its
+ * algorithm objects (and the MUMPS analysis) anew anyway. */
+static ea_status_t ea__ipopt_create(ea_planner_t *pl) {
+  const ea_task_t *t = &pl->task;
+  if (pl->ip) FreeIpoptProblem(pl->ip);
+  pl->ip = CreateIpoptProblem(pl->n, pl->xl, pl->xu, pl->m, pl->gl, pl->gu, pl->nnz,
+                              pl->hess_exact ? pl->nnz_h : 0, 0,
+                              ea__cb_f, ea__cb_g, ea__cb_grad_f, ea__cb_jac, ea__cb_h);
+  if (!pl->ip) return EA_ERR_BACKEND;
+  AddIpoptStrOption(pl->ip, "sb", "yes");
+  AddIpoptIntOption(pl->ip, "print_level", t->solver.print_level);
+  AddIpoptStrOption(pl->ip, "linear_solver", "mumps");
+  /* The max-transversal permutation only costs MUMPS analysis time on these
+   * KKT systems (8 -> 2 ms at 100 knots); the ordering is chosen per solve
+   * (ea__plan_solve_once). */
+  AddIpoptIntOption(pl->ip, "mumps_permuting_scaling", 0);
+  AddIpoptStrOption(pl->ip, "hessian_approximation",
+                    pl->hess_exact ? "exact" : "limited-memory");
+  AddIpoptNumOption(pl->ip, "tol", t->solver.tol);
+  AddIpoptNumOption(pl->ip, "constr_viol_tol", t->solver.constr_tol);
+  /* L-BFGS stalls at a dual infeasibility of ~1e-5 on these problems: accept
+   * a plan whose objective no longer moves, primal feasibility kept strict. */
+  AddIpoptNumOption(pl->ip, "acceptable_tol", fmax(1e-4, t->solver.tol));
+  AddIpoptIntOption(pl->ip, "acceptable_iter", 8);
+  AddIpoptNumOption(pl->ip, "acceptable_constr_viol_tol", fmax(1e-9, t->solver.constr_tol));
+  AddIpoptNumOption(pl->ip, "acceptable_obj_change_tol", 1e-8);
+  AddIpoptIntOption(pl->ip, "max_iter", t->solver.max_iter);
+  /* Ipopt relaxes bounds in its scaled space; the acceleration rows are
+   * scaled down by ~1/h^2, so the default 1e-8 became ~1e-6 of a limit. A
+   * plan must hold its limits: no relaxation. */
+  AddIpoptNumOption(pl->ip, "bound_relax_factor", 0.0);
+  SetIntermediateCallback(pl->ip, ea__cb_iter);
+  return EA_OK;
+}
+
+ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error_t *err) {
+  if (!task || !out) return ea_error_set(err, EA_ERR_ARG, "ea_planner_alloc: NULL argument");
+  *out = NULL;
+  ea_planner_t *pl = calloc(1, sizeof *pl);
+  if (!pl) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  pl->task = *task;
+  const ea_task_t *t = &pl->task;
+  if (t->knots < 3 || t->knots > 4000 || t->n_via < 0 || t->n_via > EA_TASK_MAX_VIA ||
+      t->n_via + 2 > t->knots || !(t->start.cable_length > 0)) {
+    const int kn = t->knots;
+    free(pl);
+    return ea_error_set(err, EA_ERR_ARG,
+                        "ea_planner_alloc: the task is not checked (ea_task_check) or has a "
+                        "bad knot count %d",
+                        kn);
+  }
+  ea_status_t st = ea_shooter_alloc(&t->arm, NULL, &pl->sh, err);
+  if (st) {
+    ea_planner_free(pl);
+    return st;
+  }
+  ea__derive(pl);
   const int N = pl->N;
   pl->n = N * pl->nb + pl->has_tf;
   pl->s = calloc((size_t)N, sizeof *pl->s);
@@ -346,41 +392,129 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   if (!pl->kkt_r || !pl->jval || !pl->x0) goto nomem;
   pl->hess_exact = t->solver.hessian_exact;
   if (pl->hess_exact && ea__plan_hess_setup(pl)) goto nomem;
-  pl->ip = CreateIpoptProblem(pl->n, pl->xl, pl->xu, pl->m, pl->gl, pl->gu, pl->nnz,
-                              pl->hess_exact ? pl->nnz_h : 0, 0,
-                              ea__cb_f, ea__cb_g, ea__cb_grad_f, ea__cb_jac, ea__cb_h);
-  if (!pl->ip) {
+  if (ea__ipopt_create(pl)) {
     ea_planner_free(pl);
     return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
   }
-  AddIpoptStrOption(pl->ip, "sb", "yes");
-  AddIpoptIntOption(pl->ip, "print_level", t->solver.print_level);
-  AddIpoptStrOption(pl->ip, "linear_solver", "mumps");
-  /* The max-transversal permutation only costs MUMPS analysis time on these
-   * KKT systems (8 -> 2 ms at 100 knots); the ordering is chosen per solve
-   * (ea__plan_solve_once). */
-  AddIpoptIntOption(pl->ip, "mumps_permuting_scaling", 0);
-  AddIpoptStrOption(pl->ip, "hessian_approximation",
-                    pl->hess_exact ? "exact" : "limited-memory");
-  AddIpoptNumOption(pl->ip, "tol", t->solver.tol);
-  AddIpoptNumOption(pl->ip, "constr_viol_tol", t->solver.constr_tol);
-  /* L-BFGS stalls at a dual infeasibility of ~1e-5 on these problems: accept
-   * a plan whose objective no longer moves, primal feasibility kept strict. */
-  AddIpoptNumOption(pl->ip, "acceptable_tol", fmax(1e-4, t->solver.tol));
-  AddIpoptIntOption(pl->ip, "acceptable_iter", 8);
-  AddIpoptNumOption(pl->ip, "acceptable_constr_viol_tol", fmax(1e-9, t->solver.constr_tol));
-  AddIpoptNumOption(pl->ip, "acceptable_obj_change_tol", 1e-8);
-  AddIpoptIntOption(pl->ip, "max_iter", t->solver.max_iter);
-  /* Ipopt relaxes bounds in its scaled space; the acceleration rows are
-   * scaled down by ~1/h^2, so the default 1e-8 became ~1e-6 of a limit. A
-   * plan must hold its limits: no relaxation. */
-  AddIpoptNumOption(pl->ip, "bound_relax_factor", 0.0);
-  SetIntermediateCallback(pl->ip, ea__cb_iter);
   *out = pl;
   return ea_error_set(err, EA_OK, "ok");
 nomem:
   ea_planner_free(pl);
   return ea_error_set(err, EA_ERR_NOMEM, "out of memory building the transcription");
+}
+
+/* ---------------------------------------------------------------------- */
+/* Updates of a live planner (replanning)                                   */
+/* ---------------------------------------------------------------------- */
+
+/* Why task t cannot be solved by pl's transcription (NULL: it can). */
+static const char *ea__struct_differs(const ea_planner_t *pl, const ea_task_t *t) {
+  const ea_task_t *o = &pl->task;
+  const ea_task_limits_t *a = &o->limits, *b = &t->limits;
+  const double la[7] = {a->cable_speed_max,     a->cable_accel_max, a->cable_angle_speed_max,
+                        a->cable_angle_accel_max, a->base_speed_max,  a->base_accel_max,
+                        a->shoulder_speed_max};
+  const double lb[7] = {b->cable_speed_max,     b->cable_accel_max, b->cable_angle_speed_max,
+                        b->cable_angle_accel_max, b->base_speed_max,  b->base_accel_max,
+                        b->shoulder_speed_max};
+  if (!(t->start.cable_length > 0) || !(t->goal.cable_length > 0))
+    return "task is not checked (ea_task_check)";
+  if (t->knots != o->knots) return "knot count";
+  if (t->n_via != o->n_via) return "number of via points";
+  if (t->path != o->path) return "path kind";
+  if (t->objective != o->objective) return "objective";
+  if (t->base_moves != o->base_moves) return "base motion (base variables)";
+  if (isnan(t->duration_s) != isnan(o->duration_s)) return "free/fixed duration";
+  if (t->limits.continuous_acceleration != o->limits.continuous_acceleration)
+    return "acceleration continuity";
+  if (t->solver.hessian_exact != o->solver.hessian_exact) return "Hessian mode";
+  if ((t->solver.regularization > 0.0) != (o->solver.regularization > 0.0))
+    return "regularization term";
+  for (int i = 0; i < 7; ++i)
+    if (isfinite(la[i]) != isfinite(lb[i])) return "set of finite speed/acceleration limits";
+  if (memcmp(&t->arm, &o->arm, sizeof t->arm)) return "arm";
+  if (pl->fm) return "task with a frequency model (built for the old task's region)";
+  return NULL;
+}
+
+ea_status_t ea_planner_update(ea_planner_t *pl, const ea_task_t *task, ea_error_t *err) {
+  if (!pl || !task) return ea_error_set(err, EA_ERR_ARG, "ea_planner_update: NULL argument");
+  const char *why = ea__struct_differs(pl, task);
+  if (why)
+    return ea_error_set(err, EA_ERR_ARG,
+                        "ea_planner_update: %s differs from the planner's; the transcription "
+                        "would change: build a new planner (ea_planner_alloc)",
+                        why);
+  /* A segment that becomes (or stops being) a point changes the path rows. */
+  unsigned char deg[EA_TASK_MAX_VIA + 1];
+  for (int j = 0; j < pl->n_seg; ++j) deg[j] = pl->segLen[j] > 1e-9;
+  const double tip_mass = pl->tip_mass;
+  const ea_task_t old = pl->task;
+  pl->task = *task;
+  ea__derive(pl);
+  ea__plan_segments(pl);
+  for (int j = 0; j < pl->n_seg; ++j)
+    if (deg[j] != (pl->segLen[j] > 1e-9) && pl->task.path != EA_TASK_PATH_FREE) {
+      pl->task = old;
+      ea__derive(pl);
+      ea__plan_segments(pl);
+      return ea_error_set(err, EA_ERR_ARG,
+                          "ea_planner_update: path segment %d %s a point: the path rows would "
+                          "change; build a new planner",
+                          j, deg[j] ? "becomes" : "stops being");
+    }
+  ea__build_rows(pl);
+  ea__bounds(pl);
+  ea__plan_terms_setup(pl);
+  if (pl->hess_exact)
+    for (int i = 0; i < pl->n_orows; ++i)
+      if (pl->task.objective == EA_TASK_MIN_TIME) pl->oweight[i] = pl->task.solver.regularization;
+  if (pl->tip_mass != tip_mass) memset(pl->kvalid, 0, (size_t)pl->N);
+  pl->cache_val = pl->cache_sens = 0;
+  if (ea__ipopt_create(pl)) return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
+  if (pl->have_solution) pl->updated = 1;
+  return ea_error_set(err, EA_OK, "ok");
+}
+
+/* Copy of the planner's task with one change, checked, then the update. */
+static ea_status_t ea__update_checked(ea_planner_t *pl, ea_task_t *t, ea_error_t *err) {
+  const ea_status_t st = ea_task_check(t, err);
+  if (st) return st;
+  return ea_planner_update(pl, t, err);
+}
+
+ea_status_t ea_planner_update_goal(ea_planner_t *pl, const ea_task_point_t *goal,
+                                   ea_error_t *err) {
+  if (!pl || !goal) return ea_error_set(err, EA_ERR_ARG, "ea_planner_update_goal: NULL argument");
+  ea_task_t t = pl->task;
+  t.goal = *goal;
+  return ea__update_checked(pl, &t, err);
+}
+
+ea_status_t ea_planner_update_start(ea_planner_t *pl, const ea_task_point_t *start,
+                                    ea_error_t *err) {
+  if (!pl || !start)
+    return ea_error_set(err, EA_ERR_ARG, "ea_planner_update_start: NULL argument");
+  ea_task_t t = pl->task;
+  t.start = *start;
+  return ea__update_checked(pl, &t, err);
+}
+
+ea_status_t ea_planner_update_payload(ea_planner_t *pl, double payload_kg, ea_error_t *err) {
+  if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_update_payload: NULL planner");
+  ea_task_t t = pl->task;
+  t.payload_kg = payload_kg;
+  t.payload_factor = NAN;
+  return ea__update_checked(pl, &t, err);
+}
+
+ea_status_t ea_planner_update_limits(ea_planner_t *pl, const ea_task_limits_t *limits,
+                                     ea_error_t *err) {
+  if (!pl || !limits)
+    return ea_error_set(err, EA_ERR_ARG, "ea_planner_update_limits: NULL argument");
+  ea_task_t t = pl->task;
+  t.limits = *limits;
+  return ea__update_checked(pl, &t, err);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -645,11 +779,19 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
 
   ea_status_t st = EA_OK;
   const int warm = start == EA_PLAN_WARM && pl->have_solution;
+  const int replan = warm && pl->updated;
   if (warm) {
     memcpy(pl->x, pl->x_sol, (size_t)pl->n * sizeof *pl->x);
     memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
     memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
     memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
+    /* the task changed (ea_planner_update): shift the solution along */
+    /* A prescribed path: the cold guess (statics along the straight
+     * interpolation) proves infeasibility when the new path leaves the
+     * workspace; the shifted plan alone would not (its knots can step over
+     * the inadmissible part of the line). */
+    if (replan && pl->task.path != EA_TASK_PATH_FREE) st = ea__plan_guess(pl, pl->x0, info, err);
+    if (replan && !st) st = ea__plan_predict(pl, &pl->task_sol, pl->x);
   } else if (start == EA_PLAN_FROM_TRAJ) {
     st = ea__plan_guess_traj(pl, prev, pl->x, err);
   } else {
@@ -671,7 +813,19 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
    * solve: it pays off over a cold solve's ~17 iterations (and a start from
    * a previous plan's ~16), not over the few of a warm start. */
   AddIpoptIntOption(pl->ip, "mumps_pivot_order", warm ? 0 : 3);
-  if (warm) {
+  if (replan) {
+    /* After ea_planner_update (docs/planner.md, bench_plan): the shifted
+     * point is near, not at, the new optimum; mu_init 1e-6 with pushes 1e-5
+     * took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an
+     * unchanged task: 7; 1e-5 / 1e-5: 5-6 but 10 for a moved start; the
+     * monotone strategy: 11-19). SCOTCH: 5-16 iterations pay for its
+     * analysis as in a cold solve. */
+    AddIpoptIntOption(pl->ip, "mumps_pivot_order", 3);
+    AddIpoptNumOption(pl->ip, "mu_init", 1e-6);
+    AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-5);
+    AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-5);
+    AddIpoptNumOption(pl->ip, "warm_start_slack_bound_push", 1e-5);
+  } else if (warm) {
     AddIpoptNumOption(pl->ip, "mu_init", 1e-7);
     AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-9);
     AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-9);
@@ -753,6 +907,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     memcpy(pl->mult_xl_sol, pl->mult_xl, (size_t)pl->n * sizeof *pl->x);
     memcpy(pl->mult_xu_sol, pl->mult_xu, (size_t)pl->n * sizeof *pl->x);
     pl->have_solution = 1;
+    pl->updated = 0;
+    pl->task_sol = pl->task;
     snprintf(info->message, sizeof info->message,
              "plan found: duration %.6g s, %d iterations, min tension margin %.4g N, peak "
              "shoulder torque %.4g N m",
@@ -784,6 +940,16 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
                       info->time_ipopt_s;
   (void)tp;
   pl->info = NULL;
+  if (replan && info->status) {
+    /* the shifted plan led nowhere: solve the changed task cold (its guess
+     * also proves a prescribed path infeasible); both solves are counted */
+    const int it = info->iterations;
+    const double tw = info->time_total_s;
+    st = ea__plan_solve_once(pl, EA_PLAN_COLD, NULL, info, err);
+    info->iterations += it;
+    info->time_total_s += tw;
+    return st;
+  }
   if (info->status) return ea_error_set(err, info->status, "%s", info->message);
   return ea_error_set(err, EA_OK, "%s", info->message);
 }

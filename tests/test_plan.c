@@ -401,11 +401,97 @@ static void test_infeasible(void) {
   ea_test_true(st == EA_ERR_INFEASIBLE && strstr(e.msg, "start"), "tension floor: start named");
 }
 
+/* Replanning (ea_planner_update + EA_PLAN_WARM): the plan of a changed task
+ * from a live planner must be the plan a cold solve of that task finds
+ * (duration, statics re-solved independently, limits from the file), in
+ * fewer iterations; a change that makes the task infeasible must be
+ * reported, never answered with the old plan. */
+static void test_replan(void) {
+  ea_task_t t, moved, bad;
+  ea_task_init(&t, NULL);
+  t.start = ea_task_point_planar(0.3, -0.2, 0.0);
+  t.goal = ea_task_point_planar(0.6, -0.2, 0.0);
+  t.path = EA_TASK_PATH_LINE;
+  t.knots = 100;
+  ea_error_t e = {0};
+  ea_status_t st = ea_task_check(&t, &e);
+  ea_test_true(st == EA_OK, "replan: paper line checks");
+  if (st) return;
+  ea_planner_t *pl = NULL, *pc = NULL;
+  ea_traj_t tr, trc;
+  memset(&tr, 0, sizeof tr);
+  memset(&trc, 0, sizeof trc);
+  ea_plan_info_t info, w, c;
+  char what[700];
+  st = plan(&t, &pl, &tr, &info, &e);
+  ea_test_true(st == EA_OK, "replan: first plan");
+  if (st) goto done;
+  /* goal moved 5 mm along the line: warm replan vs a cold plan */
+  const ea_task_point_t g5 = ea_task_point_planar(0.605, -0.2, 0.0);
+  st = ea_planner_update_goal(pl, &g5, &e);
+  ea_test_true(st == EA_OK, "replan: goal moved 5 mm accepted");
+  ea_test_true(ea_planner_trajectory(pl, &tr, NULL) != EA_OK,
+               "replan: no trajectory between an update and its solve");
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_WARM, NULL, &w, &e);
+  snprintf(what, sizeof what, "replan: goal +5 mm converges (%s)", e.msg);
+  ea_test_true(st == EA_OK, what);
+  if (!st) st = ea_planner_trajectory(pl, &tr, &e);
+  moved = t;
+  moved.goal = g5;
+  if (!st) st = ea_task_check(&moved, &e);
+  if (!st) st = plan(&moved, &pc, &trc, &c, &e);
+  ea_test_true(st == EA_OK, "replan: cold plan of the moved task");
+  if (!st) {
+    printf("replan goal +5 mm: warm %d iterations %.1f ms, cold %d iterations %.1f ms\n",
+           w.iterations, 1e3 * w.time_total_s, c.iterations, 1e3 * c.time_total_s);
+    ea_test_rel(w.duration_s, c.duration_s, 1e-6, "replan: same duration as the cold plan");
+    snprintf(what, sizeof what, "replan: fewer iterations than cold (%d < %d)", w.iterations,
+             c.iterations);
+    ea_test_true(w.iterations < c.iterations, what);
+    check_statics(&moved, &tr, "replan goal +5 mm");
+    check_limits(&moved, &tr, "replan goal +5 mm");
+    double dg = fabs(EA_TRAJ_AT(&tr, tr.n - 1, EA_TRAJ_tip_x) - 0.605);
+    ea_test_abs(dg, 0.0, 1e-9, "replan: the plan ends at the moved goal [m]");
+  }
+  /* a structural change is refused, the planner keeps its task */
+  ea_task_t k50 = moved;
+  k50.knots = 50;
+  st = ea_planner_update(pl, &k50, &e);
+  ea_test_true(st == EA_ERR_ARG && strstr(e.msg, "knot"), "replan: knot count change refused");
+  ea_test_true(ea_planner_task(pl)->knots == 100, "replan: refused update leaves the task");
+  /* a goal outside the workspace is refused by the check */
+  const ea_task_point_t gout = ea_task_point_planar(2.0, -0.2, 0.0);
+  st = ea_planner_update_goal(pl, &gout, &e);
+  ea_test_true(st == EA_ERR_INFEASIBLE, "replan: goal outside the workspace refused");
+  /* a large change whose line leaves the workspace (both ends inside):
+   * reported infeasible with the constraint, never the old plan */
+  bad = t;
+  bad.start = ea_task_point_planar(0.34, 0.08, 0.0);
+  bad.goal = ea_task_point_planar(0.34, -0.30, 0.0);
+  st = ea_task_check(&bad, &e);
+  ea_test_true(st == EA_OK, "replan: infeasible line's ends inside the workspace");
+  if (!st) st = ea_planner_update(pl, &bad, &e);
+  ea_test_true(st == EA_OK, "replan: infeasible line accepted as an update");
+  if (!st) {
+    st = ea_planner_solve(pl, EA_PLAN_WARM, NULL, &w, &e);
+    snprintf(what, sizeof what, "replan: infeasible line reported infeasible: %s", e.msg);
+    ea_test_true(st == EA_ERR_INFEASIBLE && strstr(e.msg, "knot"), what);
+    ea_test_true(ea_planner_trajectory(pl, &tr, NULL) != EA_OK,
+                 "replan: no trajectory after an infeasible replan");
+  }
+done:
+  ea_traj_free(&tr);
+  ea_traj_free(&trc);
+  ea_planner_free(pl);
+  ea_planner_free(pc);
+}
+
 int main(int argc, char **argv) {
   test_paper_line();
   test_topp();
   test_derivatives();
   test_infeasible();
+  test_replan();
   ea_sweep_run(argc > 1 ? atoi(argv[1]) : 10, 0x2545F4914F6CDD1DULL, 30);
   return ea_test_summary("test_plan");
 }
