@@ -2,6 +2,7 @@
  * trajectory). The FE model itself lives in model/fe_*.c (docs/fe.md); this
  * file only wires statics -> FE and writes tables, JSON, CSV and figures. */
 #include "cli_impl.h"
+#include "sim_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -949,7 +950,8 @@ int ea__cli_simulate(int argc, char **argv) {
 
   ea_shooter_t *sh = NULL;
   ea_fe_model_t *m = NULL, *mh = NULL;
-  double *samp = NULL, *tip = NULL, *qstart = NULL;
+  double *tip = NULL, *qstart = NULL;
+  ea__sim_drive_t drv = {0};
   ea_afile_t af = {0};
   const int rows_cap = (int)ceil(t_end / o.dt - 1e-9) + 2;
   if ((rc = ea__fe_make(cmd, &arm, tip_mass, o.elements, 3, EA__FE_HOLD_TENSION, &sh, &m)))
@@ -981,13 +983,11 @@ int ea__cli_simulate(int argc, char **argv) {
             cmd, ode.p[EA_P_TENSION], ode.p[EA_P_THETA0], g0[1], g0[2]);
 
   /* 2. drive samples: theta0(t) and the cable parameter (L0 or T) */
-  samp = malloc(sizeof(double) * 3 * (size_t)n);
   tip = malloc(sizeof(double) * 4 * (size_t)rows_cap);
-  if (!samp || !tip) {
+  if (!tip || ea__sim_drive_alloc(&drv, n, o.active, &err)) {
     rc = ea__cli_usage_error(cmd, "out of memory");
     goto done;
   }
-  double *ts = samp, *th = samp + n, *cab = samp + 2 * n;
   if (o.drive_fe) {
     if ((rc = ea__fe_model_make(cmd, &arm, tip_mass, o.elements, 3, EA__FE_HOLD_TIP, &mh)))
       goto done;
@@ -996,7 +996,7 @@ int ea__cli_simulate(int argc, char **argv) {
     double guess[EA_NP];
     memcpy(guess, ode.p, sizeof guess);
     for (int i = 0; i < n; ++i) {
-      ts[i] = EA_TRAJ_AT(&tr, i, EA_TRAJ_t) - t_first;
+      const double ti = EA_TRAJ_AT(&tr, i, EA_TRAJ_t) - t_first;
       double T = EA_TRAJ_AT(&tr, i, EA_TRAJ_tension), theta0 = EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0);
       const double L = EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length);
       if (o.drive_fe) {
@@ -1010,7 +1010,7 @@ int ea__cli_simulate(int argc, char **argv) {
         }
         if (pt.status) {
           fprintf(stderr, "elasticarm %s: error: --drive fe: sample %d (t = %g s): %s\n", cmd,
-                  i + 1, ts[i] + t_first, pt.err.msg);
+                  i + 1, ti + t_first, pt.err.msg);
           rc = EA_EXIT_FAIL;
           goto done;
         }
@@ -1024,15 +1024,14 @@ int ea__cli_simulate(int argc, char **argv) {
           }
         }
       }
-      th[i] = theta0;
-      cab[i] = o.active ? T : ea_fe_cable_rest_length(L, T, arm.EA_cable);
-      if (!(T >= 0)) {
-        fprintf(stderr, "elasticarm %s: error: %s: sample %d (t = %g s): tension %g N < 0\n",
-                cmd, o.traj_path, i + 1, ts[i] + t_first, T);
+      if (ea__sim_drive_set(&drv, &arm, i, ti, L, T, theta0, &err)) {
+        fprintf(stderr, "elasticarm %s: error: %s: sample %d (t = %g s): %s\n", cmd,
+                o.traj_path, i + 1, ti + t_first, err.msg);
         rc = EA_EXIT_FAIL;
         goto done;
       }
     }
+    ea__sim_drive_finish(&drv);
   }
 
   /* 3. FE static equilibrium under the drive values at t = 0 */
@@ -1044,21 +1043,7 @@ int ea__cli_simulate(int argc, char **argv) {
     goto done;
   }
   {
-    const int nd = 3 * ea_fe_model_nodes(m);
-    double *q = malloc(sizeof(double) * (size_t)nd);
-    if (!q) {
-      rc = ea__cli_usage_error(cmd, "out of memory");
-      goto done;
-    }
-    if (qstart)
-      memcpy(q, qstart, sizeof(double) * (size_t)nd);
-    else
-      ea_fe_get_state(m, q, NULL);
-    q[2] = th[0];
-    st = ea_fe_set_state(m, q, NULL);
-    free(q);
-    if (!st) st = ea_fe_set_cable(m, o.active ? EA_FE_CABLE_ACTIVE : EA_FE_CABLE_PASSIVE, cab[0]);
-    if (!st) st = ea_fe_newton(m, &fsi, &err);
+    st = ea__sim_drive_start(m, &drv, qstart, &fsi, &err);
     if (st) {
       fprintf(stderr, "elasticarm %s: error: FE equilibrium under the start drive: %s\n", cmd,
               err.msg[0] ? err.msg : ea_strerror(st));
@@ -1110,10 +1095,8 @@ int ea__cli_simulate(int argc, char **argv) {
   }
 
   /* 5. transient */
-  ea_fe_samples_t s_th = {n, ts, th}, s_cab = {n, ts, cab};
-  ea_fe_drive_t drive = {ea_fe_samples_eval, &s_th, ea_fe_samples_eval, &s_cab};
   ea_fe_sim_info_t si;
-  st = ea_fe_simulate(m, &drive, &ss, tip, rows_cap, &si, &err);
+  st = ea_fe_simulate(m, &drv.drive, &ss, tip, rows_cap, &si, &err);
   const double wall = ea__fe_wall() - t_wall0;
   if (st) {
     fprintf(stderr, "elasticarm %s: error: %s\n", cmd, err.msg[0] ? err.msg : ea_strerror(st));
@@ -1264,7 +1247,7 @@ int ea__cli_simulate(int argc, char **argv) {
 done:
   ea_afile_abort(&af);
   free(qstart);
-  free(samp);
+  ea__sim_drive_free(&drv);
   free(tip);
   ea_fe_model_free(mh);
   ea_fe_model_free(m);

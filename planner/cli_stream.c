@@ -1,5 +1,6 @@
 /* CLI: stream (trajectory -> controller) and controller-sim (docs/streaming.md). */
 #include "cli_impl.h"
+#include "sim_impl.h"
 #include "stream_impl.h"
 
 #include <errno.h>
@@ -249,7 +250,157 @@ static const char *ea__ctrl_help =
     "                        (default: the trajectory's start, as if homed there)\n"
     "  --fault F             drop-after=N | delay-ack-ms=D | withhold-ack | corrupt-every=N\n"
     "  --json                summary as JSON on stdout\n"
-    "Exit: 0 clean session, 1 faults / rejected frames / link lost, 2 usage error.\n";
+    "  --simulate TIP.csv    after the session, run the FE transient (docs/fe.md) driven by\n"
+    "                        the setpoints accepted (the log, stop ramps included: what the\n"
+    "                        arm did): shoulder angle theta0(t), passive cable with moving\n"
+    "                        rest length L_c / (1 + T / EA_c); write t_s, tip_x_m, tip_y_m,\n"
+    "                        tip_theta_rad atomically; residual vibration in the summary\n"
+    "  --elements N          FE elements of --simulate (default %d)\n"
+    "  --payload-kg M        payload at the tip for --simulate (default 0)\n"
+    "  --settle S            simulated time after the last setpoint [s] (default 1)\n"
+    "Exit: 0 clean session, 1 faults / rejected frames / link lost / simulation failed,\n"
+    "2 usage error.\n";
+
+/* ---- controller-sim --simulate: FE transient of what the controller accepted ---- */
+
+/* err->msg := prefix + err->msg (the message may not be a snprintf argument of itself). */
+static ea_status_t ea__err_prefix(ea_error_t *err, ea_status_t st, const char *prefix) {
+  char old[sizeof err->msg];
+  /* a callee that returned st without setting err leaves an older message behind */
+  snprintf(old, sizeof old, "%s", (err->status == st && err->msg[0]) ? err->msg : ea_strerror(st));
+  return ea_error_set(err, st, "%s%s", prefix, old);
+}
+
+typedef struct {
+  int ran;                  /* 1: simulated (ok or not) */
+  ea_status_t status;
+  ea_error_t err;
+  int samples, skipped;     /* log rows used; rows whose time did not increase */
+  double t_first, duration; /* [s] setpoint time of the first row, span of the rows */
+  double settle;
+  int rows;                 /* tip rows written */
+  ea_fe_sim_info_t si;
+  double start_static_tip[2];
+  double wall_s;
+} ea__ctrl_sim_t;
+
+/* Drive the FE transient with the logged setpoints: start at the static state of
+ * the first row's actuator positions (ODE statics for the cable length and theta0,
+ * FE static solve, then the equilibrium under the drive at t = 0, exactly as
+ * `simulate` starts), theta0(t) and L0(t) = L_c(t) / (1 + T(t) / EA_c) from the
+ * rows (the tension is the setpoint's feed-forward), hold the last row for the
+ * settling time. Never prints. */
+static ea_status_t ea__ctrl_simulate(const ea_arm_t *arm, const ea_ctrl_t *c, double tip_mass,
+                                     long elements, double settle, const char *path,
+                                     ea__ctrl_sim_t *r) {
+  memset(r, 0, sizeof *r);
+  r->ran = 1;
+  r->settle = settle;
+  ea_error_t *err = &r->err;
+  int nlog = 0;
+  const ea_ctrl_log_row_t *log = ea_ctrl_log(c, &nlog);
+  if (nlog < 1)
+    return r->status = ea_error_set(err, EA_ERR_INPUT, "--simulate: no setpoint was accepted");
+  ea__sim_drive_t drv = {0};
+  ea_shooter_t *sh = NULL;
+  ea_fe_model_t *m = NULL;
+  double *tip = NULL;
+  ea_afile_t af = {0};
+  ea_status_t st = ea__sim_drive_alloc(&drv, nlog, 0, err);
+  /* 1. drive samples from the log rows, in receive order (own stop last) */
+  r->t_first = log[0].time_s;
+  int n = 0;
+  for (int i = 0; i < nlog && !st; ++i) {
+    const double t = log[i].time_s - r->t_first;
+    if (n && !(t > drv.t[n - 1])) {
+      ++r->skipped;
+      continue;
+    }
+    ea_joint_state_t q;
+    ea_stream_unmap(arm, &log[i].sp, &q);
+    st = ea__sim_drive_set(&drv, arm, n, t, q.cable_length, q.tension, q.theta0, err);
+    if (st) {
+      char pre[96];
+      snprintf(pre, sizeof pre, "--simulate: log row %d (seq %u): ", i + 1, (unsigned)log[i].seq);
+      ea__err_prefix(err, st, pre);
+    }
+    ++n;
+  }
+  if (!st) {
+    drv.n = n;
+    ea__sim_drive_finish(&drv);
+    r->samples = n;
+    r->duration = drv.t[n - 1];
+  }
+  const double t_end = r->duration + settle;
+  const double dt = 1e-3;
+  const int rows_cap = (int)ceil(t_end / dt - 1e-9) + 2;
+  if (!st && !(t_end > 0))
+    st = ea_error_set(err, EA_ERR_INPUT, "--simulate: one setpoint and --settle 0: nothing to do");
+  ea_fe_settings_t fs;
+  ea_fe_settings_default(&fs);
+  fs.elements = (int)elements;
+  ea_load_t load = {tip_mass};
+  if (!st) st = ea_shooter_alloc(arm, NULL, &sh, err);
+  if (!st) ea_shooter_set_load(sh, &load);
+  if (!st) st = ea_fe_model_alloc(arm, &fs, &m, err);
+  if (!st) st = ea_fe_model_set_load(m, &load);
+  if (!st && !(tip = malloc(sizeof(double) * 4 * (size_t)rows_cap)))
+    st = ea_error_set(err, EA_ERR_NOMEM, "--simulate: %d tip rows", rows_cap);
+  const double t_wall0 = (double)ea__mono_ns() * 1e-9;
+  /* 2. start: statics at the first row's cable length and shoulder angle */
+  if (!st) {
+    ea_joint_state_t q0;
+    ea_stream_unmap(arm, &log[0].sp, &q0);
+    ea_statics_problem_t pr = {{EA_GIVEN_CABLE_LENGTH, EA_GIVEN_THETA0},
+                               {q0.cable_length, q0.theta0}};
+    ea_statics_solution_t ode;
+    st = ea_statics_solve(sh, &pr, NULL, NULL, &ode, err);
+    if (st) {
+      char pre[160];
+      snprintf(pre, sizeof pre, "--simulate: the first setpoint (L_c = %g m, theta0 = %g rad) "
+               "has no static solution: ", q0.cable_length, q0.theta0);
+      ea__err_prefix(err, st, pre);
+    }
+    ea_fe_static_info_t fsi;
+    if (!st && (st = ea_fe_static_solve(m, sh, &ode, &fsi, err)))
+      ea__err_prefix(err, st, "--simulate: FE static solve at the start: ");
+    if (!st && (st = ea__sim_drive_start(m, &drv, NULL, &fsi, err)))
+      ea__err_prefix(err, st, "--simulate: FE equilibrium under the start drive: ");
+    if (!st) {
+      double t3[3];
+      ea_fe_tip(m, t3);
+      r->start_static_tip[0] = t3[0];
+      r->start_static_tip[1] = t3[1];
+    }
+  }
+  /* 3. transient, residual vibration after the last setpoint */
+  if (!st) {
+    ea_fe_sim_settings_t ss;
+    ea_fe_sim_settings_default(&ss);
+    ss.dt = dt;
+    ss.t_end = t_end;
+    ss.t_motion_end = settle > 0 ? r->duration : -1.0;
+    st = ea_fe_simulate(m, &drv.drive, &ss, tip, rows_cap, &r->si, err);
+    if (st) ea__err_prefix(err, st, "--simulate: FE transient: ");
+  }
+  r->wall_s = (double)ea__mono_ns() * 1e-9 - t_wall0;
+  /* 4. tip history, atomically */
+  if (!st && !(st = ea_afile_open(&af, path, err))) {
+    fprintf(af.fp, "t_s,tip_x_m,tip_y_m,tip_theta_rad\n");
+    for (int k = 0; k < r->si.rows; ++k)
+      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g\n", tip[4 * k] + r->t_first, tip[4 * k + 1],
+              tip[4 * k + 2], tip[4 * k + 3]);
+    st = ea_afile_commit(&af, err);
+    if (!st) r->rows = r->si.rows;
+  }
+  ea_afile_abort(&af);
+  free(tip);
+  ea_fe_model_free(m);
+  ea_shooter_free(sh);
+  ea__sim_drive_free(&drv);
+  return r->status = st;
+}
 
 static int ea__parse_fault(const char *cmd, const char *v, ea_ctrl_settings_t *s) {
   long n;
@@ -276,14 +427,16 @@ static int ea__parse_fault(const char *cmd, const char *v, ea_ctrl_settings_t *s
 
 int ea__cli_controller_sim(int argc, char **argv) {
   const char *cmd = "controller-sim", *listen_at = "127.0.0.1:0", *arm_file = NULL;
-  const char *log_path = NULL, *port_file = NULL;
+  const char *log_path = NULL, *port_file = NULL, *sim_path = NULL;
   ea_ctrl_settings_t s;
   ea_ctrl_settings_default(&s);
   int json = 0;
+  long sim_elements = EA_FE_DEFAULT_ELEMENTS;
+  double sim_payload = 0.0, sim_settle = 1.0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v;
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-      fputs(ea__ctrl_help, stdout);
+      printf(ea__ctrl_help, EA_FE_DEFAULT_ELEMENTS);
       return EA_EXIT_OK;
     } else if (!strcmp(a, "--listen")) {
       if (!(listen_at = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
@@ -327,10 +480,25 @@ int ea__cli_controller_sim(int argc, char **argv) {
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--json")) {
       json = 1;
+    } else if (!strcmp(a, "--simulate")) {
+      if (!(sim_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--elements")) {
+      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_int(cmd, a, v, 1, 512, &sim_elements))
+        return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--payload-kg")) {
+      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
+          ea__cli_double(cmd, a, v, 0.0, 1e3, &sim_payload))
+        return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--settle")) {
+      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
+          ea__cli_double(cmd, a, v, 0.0, 1e3, &sim_settle))
+        return EA_EXIT_USAGE;
     } else {
       return ea__cli_usage_error(cmd, "unknown argument '%s'", a);
     }
   }
+  if (sim_path && json && !strcmp(sim_path, "-"))
+    return ea__cli_usage_error(cmd, "--json and --simulate - both want stdout");
   ea_arm_t arm;
   int rc = ea__cli_load_arm(cmd, arm_file, &arm);
   if (rc) return rc;
@@ -384,6 +552,11 @@ int ea__cli_controller_sim(int argc, char **argv) {
   }
   int logged = 0;
   ea_ctrl_log(c, &logged);
+  ea__ctrl_sim_t sim;
+  memset(&sim, 0, sizeof sim);
+  if (sim_path)
+    ea__ctrl_simulate(&arm, c, ea_arm_tip_mass(&arm, sim_payload), sim_elements, sim_settle,
+                      sim_path, &sim);
   if (json) {
     ea_json_t j;
     ea_json_init(&j, stdout, 1);
@@ -404,6 +577,26 @@ int ea__cli_controller_sim(int argc, char **argv) {
     ea_json_int(&j, "final_state", info.final_state);
     ea_json_int(&j, "max_buffer", info.max_buffer);
     ea_json_int(&j, "logged", logged);
+    if (sim.ran) {
+      const int have = sim.status == EA_OK, res = have && sim.settle > 0;
+      ea_json_str(&j, "sim_status", ea_status_name(sim.status));
+      ea_json_str(&j, "sim_message", sim.status ? sim.err.msg : "");
+      ea_json_str(&j, "sim_tip_file", sim_path);
+      ea_json_int(&j, "sim_samples", sim.samples);
+      ea_json_int(&j, "sim_skipped", sim.skipped);
+      ea_json_int(&j, "sim_elements", (int)sim_elements);
+      ea_json_num(&j, "sim_payload_kg", sim_payload);
+      ea_json_num(&j, "sim_t_first_s", sim.t_first);
+      ea_json_num(&j, "sim_motion_duration_s", sim.duration);
+      ea_json_num(&j, "sim_settle_s", sim.settle);
+      ea_json_int(&j, "sim_tip_rows", sim.rows);
+      ea_json_int(&j, "sim_steps", sim.si.steps);
+      ea_json_num(&j, "sim_wall_time_s", sim.wall_s);
+      ea_json_vec(&j, "sim_start_static_tip_m", sim.start_static_tip, have ? 2 : 0);
+      ea_json_num(&j, "residual_vibration_rms_m", res ? sim.si.residual_rms : NAN);
+      ea_json_num(&j, "residual_vibration_peak_m", res ? sim.si.residual_peak : NAN);
+      ea_json_vec(&j, "sim_final_static_tip_m", sim.si.tip_static, res ? 2 : 0);
+    }
     ea_json_obj_end(&j);
     ea_json_end(&j);
   } else {
@@ -413,8 +606,20 @@ int ea__cli_controller_sim(int argc, char **argv) {
            info.rejected_crc, info.rejected_seq, info.rejected_limit, info.rejected_continuity,
            info.gaps, info.own_stop_frames, info.end_received ? "received" : "not received",
            logged);
+    if (sim.ran && sim.status == EA_OK) {
+      printf("  FE transient of the %d accepted setpoints (%.4g s + %.4g s settling, %ld "
+             "elements): %d tip rows -> %s, wall %.3f s\n",
+             sim.samples, sim.duration, sim.settle, sim_elements, sim.rows, sim_path, sim.wall_s);
+      if (sim.settle > 0)
+        printf("  residual vibration after the last setpoint: rms %.4f mm, peak %.4f mm about "
+               "the final equilibrium tip (%.6f, %.6f) m\n",
+               1e3 * sim.si.residual_rms, 1e3 * sim.si.residual_peak, sim.si.tip_static[0],
+               sim.si.tip_static[1]);
+    }
   }
+  if (sim.ran && sim.status)
+    fprintf(stderr, "elasticarm %s: %s\n", cmd, sim.err.msg[0] ? sim.err.msg : ea_strerror(sim.status));
   ea_ctrl_free(c);
   if (rc_log) return rc_log;
-  return st ? EA_EXIT_FAIL : EA_EXIT_OK;
+  return (st || (sim.ran && sim.status)) ? EA_EXIT_FAIL : EA_EXIT_OK;
 }

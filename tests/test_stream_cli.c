@@ -1,12 +1,16 @@
 /* The stream and controller-sim subcommands as processes: a clean session
  * with a log, SIGINT to the streamer mid-stream (controlled stop, exit 1,
- * the simulator's log ends at rest), a dry run to a file, and a too-fast
- * trajectory refused before anything is sent. Loopback only, bounded. */
+ * the simulator's log ends at rest), a dry run to a file, a too-fast
+ * trajectory refused before anything is sent, and controller-sim --simulate
+ * (FE transient of the accepted setpoints) for a complete and a SIGINT-stopped
+ * stream, checked against the ODE statics. Loopback only, bounded. */
 #include "ea_test.h"
 #include "stream_impl.h"
 #include "test_stream_fixture.h"
 
+#include <math.h>
 #include <signal.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -67,6 +71,147 @@ static pid_t start_sim(const char *log, int *port) {
   const pid_t pid = spawn(argv, "cli_sim.out", "cli_sim.err");
   *port = read_port("cli_sim.port");
   return pid;
+}
+
+/* controller-sim with --simulate TIP --settle 0.5 --json (summary to json). */
+static pid_t start_sim_fe(const char *log, const char *tipf, const char *json, int *port) {
+  remove("cli_sim.port");
+  remove(tipf);
+  char *argv[] = {(char *)bin, "controller-sim", "--listen", "127.0.0.1:0", "--port-file",
+                  "cli_sim.port", "--log", (char *)log, "--timeout", "5", "--simulate",
+                  (char *)tipf, "--settle", "0.5", "--json", NULL};
+  const pid_t pid = spawn(argv, json, "cli_sim.err");
+  *port = read_port("cli_sim.port");
+  return pid;
+}
+
+static void slurp(const char *path, char *buf, size_t cap) {
+  buf[0] = 0;
+  FILE *fp = fopen(path, "r");
+  if (!fp) return;
+  const size_t k = fread(buf, 1, cap - 1, fp);
+  buf[k] = 0;
+  fclose(fp);
+}
+
+/* Number after "key": in a JSON text; the first two of an array for vec. NAN if absent. */
+static double json_num(const char *buf, const char *key, int idx) {
+  char pat[96];
+  snprintf(pat, sizeof pat, "\"%s\":", key);
+  const char *p = strstr(buf, pat);
+  if (!p) return NAN;
+  p += strlen(pat);
+  while (*p == ' ' || *p == '[') ++p;
+  for (int k = 0; k < idx; ++k) {
+    p = strchr(p, ',');
+    if (!p) return NAN;
+    ++p;
+  }
+  char *end;
+  const double v = strtod(p, &end);
+  return end == p ? NAN : v;
+}
+
+/* A physically consistent move (every sample an ODE statics solution): cable length
+ * L0 -> L0 + dL and cable angle a0 -> a0 + da along the septic smoothstep in Tm s,
+ * sampled every 10 ms; theta0 rates by centred differences (0 at the rest ends). */
+static int make_phys_traj(const ea_arm_t *arm, double Tm, double L0, double dL, double a0,
+                          double da, const char *path) {
+  const int n = (int)(Tm / 0.01 + 0.5) + 1;
+  ea_traj_t tr = {0};
+  ea_shooter_t *sh = NULL;
+  if (ea_traj_alloc(&tr, n) || ea_shooter_alloc(arm, NULL, &sh, NULL)) return 1;
+  ea_load_t load = {arm->m_hand};
+  ea_shooter_set_load(sh, &load);
+  tr.payload_kg = 0;
+  tr.tip_mass_kg = arm->m_hand;
+  snprintf(tr.arm_file, sizeof tr.arm_file, "%s", "data/elasticarm.yaml");
+  snprintf(tr.task, sizeof tr.task, "%s", "test: statics along a septic smoothstep");
+  snprintf(tr.status, sizeof tr.status, "%s", "EA_OK");
+  double guess[EA_NP];
+  int rc = 0;
+  for (int i = 0; i < n && !rc; ++i) {
+    const double t = (i == n - 1) ? Tm : i * 0.01;
+    double u, ud, udd;
+    fx_step(Tm, t, &u, &ud, &udd);
+    const double L = L0 + dL * u, a = a0 + da * u;
+    ea_statics_problem_t pr = ea_statics_problem_cable(L, a);
+    ea_statics_solution_t sol;
+    if (ea_statics_solve(sh, &pr, NULL, i ? guess : NULL, &sol, NULL)) rc = 1;
+    memcpy(guess, sol.p, sizeof guess);
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_t) = t;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length) = L;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle) = a;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length_rate) = dL * ud;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle_rate) = da * ud;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length_acc) = dL * udd;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle_acc) = da * udd;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_tension) = sol.p[EA_P_TENSION];
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0) = sol.p[EA_P_THETA0];
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_kappa0) = sol.p[EA_P_KAPPA0];
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_shoulder_torque) = arm->EI * sol.p[EA_P_KAPPA0];
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_tip_x) = sol.tip[EA_X_X];
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_tip_z) = sol.tip[EA_X_Y];
+  }
+  for (int i = 1; i < n - 1 && !rc; ++i)
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0_rate) =
+        (EA_TRAJ_AT(&tr, i + 1, EA_TRAJ_theta0) - EA_TRAJ_AT(&tr, i - 1, EA_TRAJ_theta0)) /
+        (EA_TRAJ_AT(&tr, i + 1, EA_TRAJ_t) - EA_TRAJ_AT(&tr, i - 1, EA_TRAJ_t));
+  if (!rc && ea_traj_write(&tr, path, NULL)) rc = 1;
+  ea_traj_free(&tr);
+  ea_shooter_free(sh);
+  return rc;
+}
+
+/* Tip history: rows, first and last time, last tip (x, y). */
+static int tip_rows(const char *path, double *t_first, double *t_last, double last[2]) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) return -1;
+  char line[512];
+  int n = 0, header = 0;
+  while (fgets(line, sizeof line, fp)) {
+    if (!strncmp(line, "t_s,tip_x_m,tip_y_m,tip_theta_rad", 33)) {
+      header = 1;
+      continue;
+    }
+    double t, x, y, th;
+    if (sscanf(line, "%lf,%lf,%lf,%lf", &t, &x, &y, &th) != 4) continue;
+    if (!n) *t_first = t;
+    *t_last = t;
+    last[0] = x;
+    last[1] = y;
+    ++n;
+  }
+  fclose(fp);
+  return header ? n : -1;
+}
+
+/* Last row of a controller log: time, cable length, theta0. */
+static int log_last(const char *path, double *t, double *L, double *theta0) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) return 1;
+  char line[4096];
+  int ok = 0;
+  while (fgets(line, sizeof line, fp)) {
+    if (line[0] == '#' || !strncmp(line, "seq,", 4)) continue;
+    double c[17];
+    char *p = line;
+    int k = 0;
+    for (; k < 17; ++k) {
+      char *end;
+      c[k] = strtod(p, &end);
+      if (end == p) break;
+      p = *end == ',' ? end + 1 : end;
+    }
+    if (k == 17) {
+      *t = c[2];
+      *theta0 = c[8];
+      *L = c[16];
+      ok = 1;
+    }
+  }
+  fclose(fp);
+  return !ok;
 }
 
 /* Rows of a log (non-comment, non-header) and the velocities of the last. */
@@ -165,7 +310,95 @@ int main(void) {
     ea_test_true(rc == 1 && access("cli_fast.bin", F_OK) != 0,
                  "too fast a trajectory: exit 1, nothing written");
   }
-  const char *tmp[] = {"cli_move.csv", "cli_fast.csv", "cli_sim.port", "cli_sim.out",
+  /* 5. controller-sim --simulate after a complete stream of a physical move: the tip
+   * history spans the setpoints plus the settling time, and its final static tip is
+   * the ODE statics tip of the trajectory's last sample (independent: the shooting
+   * solution at the planned cable length and angle). */
+  const double Tm = 0.5, Lp = 0.40, dLp = 0.02, ap = -0.7, dap = 0.05;
+  ea_test_true(make_phys_traj(&arm, Tm, Lp, dLp, ap, dap, "cli_phys.csv") == 0,
+               "physical move: statics at every sample, trajectory written");
+  ea_shooter_t *sh = NULL;
+  ea_shooter_alloc(&arm, NULL, &sh, NULL);
+  ea_load_t load = {arm.m_hand};
+  ea_shooter_set_load(sh, &load);
+  char js[8192];
+  sim = start_sim_fe("cli_sim_log3.csv", "cli_tip.csv", "cli_sim3.json", &port);
+  snprintf(url, sizeof url, "tcp://127.0.0.1:%d", port);
+  {
+    char *argv[] = {(char *)bin, "stream", "cli_phys.csv", "--to", url, "--json", NULL};
+    const int rc = wait_for(spawn(argv, "cli_stream3.json", "cli_stream3.err"), 5000);
+    ea_test_true(rc == 0, "--simulate session: stream complete");
+  }
+  ea_test_true(wait_for(sim, 10000) == 0, "controller-sim --simulate: exit 0");
+  slurp("cli_sim3.json", js, sizeof js);
+  {
+    double t0 = NAN, t1 = NAN, last[2] = {NAN, NAN};
+    const int n = tip_rows("cli_tip.csv", &t0, &t1, last);
+    printf("tip rows %d, t %g .. %g s\n", n, t0, t1);
+    ea_test_true(strstr(js, "\"sim_status\": \"EA_OK\"") != NULL, "JSON: sim_status EA_OK");
+    ea_test_true(n == 1001 && fabs(t0) < 1e-9 && fabs(t1 - (Tm + 0.5)) < 1e-6,
+                 "tip file: 1001 rows over the 0.5 s of setpoints + 0.5 s settling");
+    ea_statics_problem_t pr = ea_statics_problem_cable(Lp + dLp, ap + dap);
+    ea_statics_solution_t sol;
+    const int ok = ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL) == EA_OK;
+    const double fx = json_num(js, "sim_final_static_tip_m", 0),
+                 fy = json_num(js, "sim_final_static_tip_m", 1),
+                 rms = json_num(js, "residual_vibration_rms_m", 0),
+                 peak = json_num(js, "residual_vibration_peak_m", 0);
+    const double d = hypot(fx - sol.tip[EA_X_X], fy - sol.tip[EA_X_Y]);
+    const double dl = hypot(last[0] - fx, last[1] - fy);
+    printf("final static tip (%.9f, %.9f) vs ODE statics (%.9f, %.9f): %.3f um; residual "
+           "vibration rms %.4f mm, peak %.4f mm; last tip row %.4f mm from it\n",
+           fx, fy, sol.tip[EA_X_X], sol.tip[EA_X_Y], 1e6 * d, 1e3 * rms, 1e3 * peak, 1e3 * dl);
+    ea_test_true(ok && d < 5e-6, "final static tip = ODE statics tip of the last sample (5 um)");
+    ea_test_true(rms >= 0 && peak >= rms && dl <= peak + 1e-9,
+                 "residual vibration reported; the last tip row lies within its peak");
+  }
+
+  /* 6. SIGINT to the streamer: the tip history follows the stop ramp the controller
+   * accepted and settles at the statics of the log's last (rest) setpoint. */
+  sim = start_sim_fe("cli_sim_log4.csv", "cli_tip4.csv", "cli_sim4.json", &port);
+  snprintf(url, sizeof url, "tcp://127.0.0.1:%d", port);
+  {
+    char *argv[] = {(char *)bin, "stream", "cli_phys.csv", "--to", url, "--time-scale", "3",
+                    "--json", NULL};
+    const pid_t stp = spawn(argv, "cli_stream4.json", "cli_stream4.err");
+    msleep(600);
+    kill(stp, SIGINT);
+    ea_test_true(wait_for(stp, 5000) == 1, "--simulate, SIGINT: streamer's controlled stop");
+  }
+  wait_for(sim, 10000);
+  slurp("cli_sim4.json", js, sizeof js);
+  {
+    double tl = NAN, Ll = NAN, thl = NAN, t0 = NAN, t1 = NAN, last[2] = {NAN, NAN};
+    const int bad = log_last("cli_sim_log4.csv", &tl, &Ll, &thl);
+    const int n = tip_rows("cli_tip4.csv", &t0, &t1, last);
+    const double dur = json_num(js, "sim_motion_duration_s", 0);
+    printf("stopped: log ends at t = %.4f s (L_c %.6f m, theta0 %.6f rad); tip rows %d, "
+           "t %g .. %g s\n", tl, Ll, thl, n, t0, t1);
+    ea_test_true(!bad && strstr(js, "\"sim_status\": \"EA_OK\"") != NULL && tl < 3 * Tm - 0.1,
+                 "stopped stream simulated; the log ends before the plan's end");
+    ea_test_true(n > 0 && fabs(t1 - (tl + 0.5)) < 1e-6 && fabs(dur - tl) < 1e-9,
+                 "tip file spans the accepted setpoints (stop ramp included) + 0.5 s");
+    ea_statics_problem_t pr = {{EA_GIVEN_CABLE_LENGTH, EA_GIVEN_THETA0}, {Ll, thl}};
+    ea_statics_solution_t sol;
+    const int ok = ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL) == EA_OK;
+    const double fx = json_num(js, "sim_final_static_tip_m", 0),
+                 fy = json_num(js, "sim_final_static_tip_m", 1),
+                 peak = json_num(js, "residual_vibration_peak_m", 0);
+    const double d = hypot(fx - sol.tip[EA_X_X], fy - sol.tip[EA_X_Y]);
+    const double dl = hypot(last[0] - sol.tip[EA_X_X], last[1] - sol.tip[EA_X_Y]);
+    printf("stop: final static tip %.3f um from the statics of the last setpoint; last tip row "
+           "%.4f mm from it (residual peak %.4f mm)\n", 1e6 * d, 1e3 * dl, 1e3 * peak);
+    ea_test_true(ok && d < 5e-6, "stopped: final static tip = statics of the stop configuration");
+    ea_test_true(dl <= peak + 5e-6, "stopped: the tip history ends near the stop configuration");
+  }
+  ea_shooter_free(sh);
+
+  const char *tmp[] = {"cli_phys.csv", "cli_tip.csv", "cli_tip4.csv", "cli_sim3.json",
+                       "cli_sim4.json", "cli_sim_log3.csv", "cli_sim_log4.csv",
+                       "cli_stream3.json", "cli_stream3.err", "cli_stream4.json",
+                       "cli_stream4.err", "cli_move.csv", "cli_fast.csv", "cli_sim.port", "cli_sim.out",
                        "cli_sim.err", "cli_sim_log.csv", "cli_sim_log2.csv", "cli_stream.json",
                        "cli_stream.err", "cli_stream2.json", "cli_stream2.err", "cli_dry.bin",
                        "cli_dry.out", "cli_dry.err", "cli_fast.out", "cli_fast.err"};
