@@ -5,6 +5,26 @@
 #include <math.h>
 #include <string.h>
 
+/* Strain-displacement matrix of the element at a Gauss point: rows are the
+ * variations of the axial strain G1, the shear strain G2 and the curvature K
+ * with respect to the 9 element DOFs (x, y, theta of each node), given
+ * cos/sin of the section rotation, the strains and the shape functions N
+ * and their arclength derivatives dN. */
+static void ea__fe_strain_B(double c, double s, double G1, double G2, const double N[3],
+                            const double dN[3], double B[3][9]) {
+  for (int a = 0; a < 3; ++a) {
+    B[0][3 * a] = c * dN[a];
+    B[0][3 * a + 1] = s * dN[a];
+    B[0][3 * a + 2] = G2 * N[a];
+    B[1][3 * a] = -s * dN[a];
+    B[1][3 * a + 1] = c * dN[a];
+    B[1][3 * a + 2] = -(1.0 + G1) * N[a];
+    B[2][3 * a] = 0.0;
+    B[2][3 * a + 1] = 0.0;
+    B[2][3 * a + 2] = dN[a];
+  }
+}
+
 /* Strains of the planar Reissner beam with a straight, unstrained reference:
  *   Gamma1 = x' cos(th) + y' sin(th) - 1   (axial)
  *   Gamma2 = -x' sin(th) + y' cos(th)      (shear)
@@ -38,17 +58,7 @@ double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[
     const double Nf = EA * G1, Qf = GA * G2, Mf = EI * K;
     W += 0.5 * w * (EA * G1 * G1 + GA * G2 * G2 + EI * K * K);
     double B[3][9];
-    for (int a = 0; a < 3; ++a) {
-      B[0][3 * a] = c * dN[a];
-      B[0][3 * a + 1] = s * dN[a];
-      B[0][3 * a + 2] = G2 * N[a];
-      B[1][3 * a] = -s * dN[a];
-      B[1][3 * a + 1] = c * dN[a];
-      B[1][3 * a + 2] = -(1.0 + G1) * N[a];
-      B[2][3 * a] = 0.0;
-      B[2][3 * a + 1] = 0.0;
-      B[2][3 * a + 2] = dN[a];
-    }
+    ea__fe_strain_B(c, s, G1, G2, N, dN, B);
     for (int i = 0; i < 9; ++i) fe[i] += w * (B[0][i] * Nf + B[1][i] * Qf + B[2][i] * Mf);
     if (!ke) continue;
     for (int i = 0; i < 9; ++i)
@@ -132,17 +142,7 @@ void ea__fe_beam_rate(const ea_fe_model_t *m, const double u[9], const double ud
     const double c = cos(th), s = sin(th);
     const double G1 = xp * c + yp * s - 1.0, G2 = -xp * s + yp * c;
     double B[3][9];
-    for (int a = 0; a < 3; ++a) {
-      B[0][3 * a] = c * dN[a];
-      B[0][3 * a + 1] = s * dN[a];
-      B[0][3 * a + 2] = G2 * N[a];
-      B[1][3 * a] = -s * dN[a];
-      B[1][3 * a + 1] = c * dN[a];
-      B[1][3 * a + 2] = -(1.0 + G1) * N[a];
-      B[2][3 * a] = 0.0;
-      B[2][3 * a + 1] = 0.0;
-      B[2][3 * a + 2] = dN[a];
-    }
+    ea__fe_strain_B(c, s, G1, G2, N, dN, B);
     double e1 = 0, e2 = 0, e3 = 0; /* strain rates */
     for (int i = 0; i < 9; ++i) {
       e1 += B[0][i] * ud[i];
