@@ -898,12 +898,7 @@ static int ea__sim_fill_statics(const char *cmd, const char *path, ea_traj_t *tr
       return EA_EXIT_FAIL;
     }
     memcpy(guess, sol.p, sizeof guess);
-    EA_TRAJ_AT(tr, i, EA_TRAJ_tension) = sol.p[EA_P_TENSION];
-    EA_TRAJ_AT(tr, i, EA_TRAJ_theta0) = sol.p[EA_P_THETA0];
-    EA_TRAJ_AT(tr, i, EA_TRAJ_kappa0) = sol.p[EA_P_KAPPA0];
-    EA_TRAJ_AT(tr, i, EA_TRAJ_shoulder_torque) = arm->EI * sol.p[EA_P_KAPPA0];
-    EA_TRAJ_AT(tr, i, EA_TRAJ_tip_x) = sol.tip[EA_X_X];
-    EA_TRAJ_AT(tr, i, EA_TRAJ_tip_z) = sol.tip[EA_X_Y];
+    ea_traj_set_statics(tr, i, sol.p, sol.tip, arm->EI);
   }
   return 0;
 }

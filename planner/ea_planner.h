@@ -139,6 +139,11 @@ typedef struct ea_traj {
 /** Allocate n zeroed samples (frees previous data). */
 ea_status_t ea_traj_alloc(ea_traj_t *tr, int n);
 void ea_traj_free(ea_traj_t *tr);
+/** Fill the statics columns of sample i from a configuration p = (alpha, T,
+ *  theta0, kappa0) with tip state xL: tension, theta0, kappa0, shoulder
+ *  torque EI kappa0, and the tip in the base frame using the sample's base
+ *  angle. (Rates and the actuator columns are left alone.) */
+void ea_traj_set_statics(ea_traj_t *tr, int i, const double p[4], const double xL[4], double EI);
 /** Write atomically (CSV with '#' metadata lines). */
 ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err);
 /** Read and validate (header, version, monotonic time, finite values);

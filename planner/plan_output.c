@@ -77,10 +77,7 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
     double xL[EA_NX], S[EA_NX * EA_NP];
     if ((st = ea_shoot(pl->sh, p, xL, S)))
       return ea_error_set(err, st, "trajectory: shooting failed at knot %d", k);
-    EA_TRAJ_AT(tr, k, EA_TRAJ_tension) = p[EA_P_TENSION];
-    EA_TRAJ_AT(tr, k, EA_TRAJ_theta0) = p[EA_P_THETA0];
-    EA_TRAJ_AT(tr, k, EA_TRAJ_kappa0) = p[EA_P_KAPPA0];
-    EA_TRAJ_AT(tr, k, EA_TRAJ_shoulder_torque) = t->arm.EI * p[EA_P_KAPPA0];
+    ea_traj_set_statics(tr, k, p, xL, t->arm.EI);
     /* theta0 rate by implicit differentiation of the statics residual. */
     const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
     double A[3][3], rhs[3], dp[3];
@@ -93,10 +90,6 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
       rhs[r] = -(dLc[r] * x[EA__IV(pl, k, 0)] + dal[r] * x[EA__IV(pl, k, 1)]);
     }
     EA_TRAJ_AT(tr, k, EA_TRAJ_theta0_rate) = ea__solve3(A, rhs, dp) ? 0.0 : dp[1];
-    const double b = EA_TRAJ_AT(tr, k, EA_TRAJ_base_angle);
-    EA_TRAJ_AT(tr, k, EA_TRAJ_tip_x) = xL[EA_X_X] * cos(b);
-    EA_TRAJ_AT(tr, k, EA_TRAJ_tip_y) = xL[EA_X_X] * sin(b);
-    EA_TRAJ_AT(tr, k, EA_TRAJ_tip_z) = xL[EA_X_Y];
   }
   return ea_error_set(err, EA_OK, "ok");
 }

@@ -29,6 +29,17 @@ void ea_traj_free(ea_traj_t *tr) {
   tr->n = 0;
 }
 
+void ea_traj_set_statics(ea_traj_t *tr, int i, const double p[4], const double xL[4], double EI) {
+  const double b = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle);
+  EA_TRAJ_AT(tr, i, EA_TRAJ_tension) = p[EA_P_TENSION];
+  EA_TRAJ_AT(tr, i, EA_TRAJ_theta0) = p[EA_P_THETA0];
+  EA_TRAJ_AT(tr, i, EA_TRAJ_kappa0) = p[EA_P_KAPPA0];
+  EA_TRAJ_AT(tr, i, EA_TRAJ_shoulder_torque) = EI * p[EA_P_KAPPA0];
+  EA_TRAJ_AT(tr, i, EA_TRAJ_tip_x) = xL[EA_X_X] * cos(b);
+  EA_TRAJ_AT(tr, i, EA_TRAJ_tip_y) = xL[EA_X_X] * sin(b);
+  EA_TRAJ_AT(tr, i, EA_TRAJ_tip_z) = xL[EA_X_Y];
+}
+
 ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err) {
   ea_afile_t f;
   ea_status_t st = ea_afile_open(&f, path, err);

@@ -147,11 +147,7 @@ int main(void) {
       EA_TRAJ_AT(&tr, k, EA_TRAJ_t) = 0.5 * k;
       EA_TRAJ_AT(&tr, k, EA_TRAJ_cable_length) = sol.cable_length;
       EA_TRAJ_AT(&tr, k, EA_TRAJ_cable_angle) = sol.p[EA_P_ALPHA];
-      EA_TRAJ_AT(&tr, k, EA_TRAJ_tension) = sol.p[EA_P_TENSION];
-      EA_TRAJ_AT(&tr, k, EA_TRAJ_theta0) = sol.p[EA_P_THETA0];
-      EA_TRAJ_AT(&tr, k, EA_TRAJ_kappa0) = sol.p[EA_P_KAPPA0];
-      EA_TRAJ_AT(&tr, k, EA_TRAJ_tip_x) = sol.tip[EA_X_X];
-      EA_TRAJ_AT(&tr, k, EA_TRAJ_tip_z) = sol.tip[EA_X_Y];
+      ea_traj_set_statics(&tr, k, sol.p, sol.tip, arm.EI);
     }
     ea_traj_write(&tr, "test_cli_traj.csv", NULL);
     ea_traj_free(&tr);

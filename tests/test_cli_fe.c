@@ -60,12 +60,7 @@ static int write_traj(const char *path, const ea_arm_t *arm, double T, const dou
     EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle) = al;
     EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length_rate) = (b[0] - a[0]) * hd;
     EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle_rate) = (b[1] - a[1]) * hd;
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_tension) = sol.p[EA_P_TENSION];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0) = sol.p[EA_P_THETA0];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_kappa0) = sol.p[EA_P_KAPPA0];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_shoulder_torque) = arm->EI * sol.p[EA_P_KAPPA0];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_tip_x) = sol.tip[EA_X_X];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_tip_z) = sol.tip[EA_X_Y];
+    ea_traj_set_statics(&tr, i, sol.p, sol.tip, arm->EI);
   }
   if (!rc) rc = ea_traj_write(&tr, path, NULL) != EA_OK;
   ea_traj_free(&tr);

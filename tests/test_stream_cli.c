@@ -146,12 +146,7 @@ static int make_phys_traj(const ea_arm_t *arm, double Tm, double L0, double dL, 
     EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle_rate) = da * ud;
     EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length_acc) = dL * udd;
     EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle_acc) = da * udd;
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_tension) = sol.p[EA_P_TENSION];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0) = sol.p[EA_P_THETA0];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_kappa0) = sol.p[EA_P_KAPPA0];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_shoulder_torque) = arm->EI * sol.p[EA_P_KAPPA0];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_tip_x) = sol.tip[EA_X_X];
-    EA_TRAJ_AT(&tr, i, EA_TRAJ_tip_z) = sol.tip[EA_X_Y];
+    ea_traj_set_statics(&tr, i, sol.p, sol.tip, arm->EI);
   }
   for (int i = 1; i < n - 1 && !rc; ++i)
     EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0_rate) =
