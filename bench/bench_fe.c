@@ -78,7 +78,7 @@ int main(void) {
   printf("| backend | elements | assembly+stability [us] | eigen [us] | total [us] |\n");
   printf("|---|---|---|---|---|\n");
   const char *bn[EA_FE_EIG_COUNT] = {"LAPACK dsbgvx (band)", "LAPACK dsygv (dense)",
-                                      "GSL gensymmv (dense)", "Lanczos (band Cholesky of K)"};
+                                     "GSL gensymmv (dense)", "Lanczos (band Cholesky of K)"};
   const int tm[] = {EA_FE_PAPER_ELEMENTS, 8, EA_FE_DEFAULT_ELEMENTS, 24};
   const int ntm = (int)(sizeof tm / sizeof tm[0]);
   for (int b = 0; b < EA_FE_EIG_COUNT; ++b)
@@ -136,8 +136,10 @@ int main(void) {
   }
 
   /* 4. transient: shoulder move of 0.2 rad in 3 s (smooth), hold 2 s, passive cable */
-  printf("\n## Transient: 5 s (3 s shoulder move of 0.2 rad + 2 s hold), passive cable, Lc = 0.4 m\n");
-  printf("| dt [ms] | steps | Newton it | wall [ms] | x real time | residual rms [mm] | peak [mm] |\n");
+  printf(
+      "\n## Transient: 5 s (3 s shoulder move of 0.2 rad + 2 s hold), passive cable, Lc = 0.4 m\n");
+  printf("| dt [ms] | steps | Newton it | wall [ms] | x real time | residual rms [mm] | peak [mm] "
+         "|\n");
   printf("|---|---|---|---|---|---|---|\n");
   const double dts[3] = {2e-3, 1e-3, 5e-4};
   for (int i = 0; i < 3; ++i) {
@@ -155,7 +157,8 @@ int main(void) {
     }
     double q0[3 * 65];
     ea_fe_get_state(m, q0, NULL);
-    for (int k = 0; k < NS; ++k) th[k] += q0[2] - sol.p[EA_P_THETA0];
+    for (int k = 0; k < NS; ++k)
+      th[k] += q0[2] - sol.p[EA_P_THETA0];
     ea_fe_samples_t hs = {NS, tt, th};
     ea_fe_drive_t drv = {ea_fe_samples_eval, &hs, NULL, NULL};
     ea_fe_sim_settings_t ss;

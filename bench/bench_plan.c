@@ -170,8 +170,8 @@ static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double
 
 static void print_row(const char *name, const row_t *r) {
   printf("%-34s %5d %5d %6.0f %9.2f %8.2f %8.2f %8.2f %7.2f %9.5f %s\n", name, r->nvar, r->ncon,
-         r->iters, 1e3 * r->total, 1e3 * r->guess, 1e3 * r->statics, 1e3 * r->ipopt,
-         1e3 * r->rest, r->dur, r->ok ? "" : "FAILED");
+         r->iters, 1e3 * r->total, 1e3 * r->guess, 1e3 * r->statics, 1e3 * r->ipopt, 1e3 * r->rest,
+         r->dur, r->ok ? "" : "FAILED");
 }
 
 static void header(const char *title) {
@@ -200,35 +200,35 @@ int main(int argc, char **argv) {
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
   row_t r;
   if (!only_replan) {
-  header("paper line, 100 knots");
-  r = run(&line, R, 0);
-  print_row("cold, partial Hessian (default)", &r);
-  r = run(&line, R, 1);
-  print_row("warm (previous solution)", &r);
-  ea_task_t ex = line;
-  ex.solver.hessian_exact = 1;
-  r = run(&ex, R, 0);
-  print_row("cold, exact Hessian", &r);
-  r = run(&ex, R, 1);
-  print_row("warm, exact Hessian", &r);
-  ea_task_t lm = line;
-  lm.solver.hessian_exact = 0;
-  r = run(&lm, R, 0);
-  print_row("cold, limited-memory Hessian", &r);
-  r = run(&lm, R, 1);
-  print_row("warm, limited-memory Hessian", &r);
+    header("paper line, 100 knots");
+    r = run(&line, R, 0);
+    print_row("cold, partial Hessian (default)", &r);
+    r = run(&line, R, 1);
+    print_row("warm (previous solution)", &r);
+    ea_task_t ex = line;
+    ex.solver.hessian_exact = 1;
+    r = run(&ex, R, 0);
+    print_row("cold, exact Hessian", &r);
+    r = run(&ex, R, 1);
+    print_row("warm, exact Hessian", &r);
+    ea_task_t lm = line;
+    lm.solver.hessian_exact = 0;
+    r = run(&lm, R, 0);
+    print_row("cold, limited-memory Hessian", &r);
+    r = run(&lm, R, 1);
+    print_row("warm, limited-memory Hessian", &r);
 
-  header("replanning from a previous plan (EA_PLAN_FROM_TRAJ, 100 knots)");
-  r = run_traj(&line, &line, R);
-  print_row("same task", &r);
-  ea_task_t moved = line;
-  moved.goal = ea_task_point_planar(0.605, -0.2, 0.0);
-  if (ea_task_check(&moved, &e)) {
-    fprintf(stderr, "bench_plan: %s\n", e.msg);
-    return 1;
-  }
-  r = run_traj(&line, &moved, R);
-  print_row("goal moved 5 mm", &r);
+    header("replanning from a previous plan (EA_PLAN_FROM_TRAJ, 100 knots)");
+    r = run_traj(&line, &line, R);
+    print_row("same task", &r);
+    ea_task_t moved = line;
+    moved.goal = ea_task_point_planar(0.605, -0.2, 0.0);
+    if (ea_task_check(&moved, &e)) {
+      fprintf(stderr, "bench_plan: %s\n", e.msg);
+      return 1;
+    }
+    r = run_traj(&line, &moved, R);
+    print_row("goal moved 5 mm", &r);
   }
 
   header("replanning a live planner (ea_planner_update + EA_PLAN_WARM, 100 knots) vs cold");
@@ -237,7 +237,8 @@ int main(int argc, char **argv) {
     const char *nm[5] = {"goal moved 1 mm", "goal moved 5 mm", "goal moved 20 mm",
                          "start moved 5 mm", "payload +5 % (factor 0.2 -> 0.21)"};
     ea_task_t base[5];
-    for (int i = 0; i < 5; ++i) base[i] = ch[i] = line;
+    for (int i = 0; i < 5; ++i)
+      base[i] = ch[i] = line;
     ch[0].goal = ea_task_point_planar(0.601, -0.2, 0.0);
     ch[1].goal = ea_task_point_planar(0.605, -0.2, 0.0);
     ch[2].goal = ea_task_point_planar(0.620, -0.2, 0.0);

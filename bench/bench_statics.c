@@ -153,17 +153,16 @@ int main(int argc, char **argv) {
       etip = fmax(etip, hypot(xr[EA_X_X] - tx, xr[EA_X_Y] - ty));
       eT = fmax(eT, fabs(sol[k][EA_P_TENSION] - cfgs[k].p[EA_P_TENSION]) /
                         fabs(cfgs[k].p[EA_P_TENSION]));
-      eth = fmax(eth, fabs(sol[k][EA_P_THETA0] - cfgs[k].p[EA_P_THETA0]) /
-                          fabs(cfgs[k].p[EA_P_THETA0]));
+      eth = fmax(eth,
+                 fabs(sol[k][EA_P_THETA0] - cfgs[k].p[EA_P_THETA0]) / fabs(cfgs[k].p[EA_P_THETA0]));
     }
     char st[32];
     if (cases[c].steps)
       snprintf(st, sizeof st, "%d steps", cases[c].steps);
     else
       snprintf(st, sizeof st, "tol %.0e", cases[c].tol);
-    printf("| %s | %s | %.2f | %.2f | %.2e | %.2e | %.2e | %d |\n",
-           ea_integrator_name(cases[c].it), st, 1e6 * times[reps / 2], (double)iters / NC, etip,
-           eT, eth, fails);
+    printf("| %s | %s | %.2f | %.2f | %.2e | %.2e | %.2e | %d |\n", ea_integrator_name(cases[c].it),
+           st, 1e6 * times[reps / 2], (double)iters / NC, etip, eT, eth, fails);
     ea_shooter_free(sh);
   }
 
@@ -183,7 +182,8 @@ int main(int argc, char **argv) {
   }
   qsort(times, (size_t)reps, sizeof *times, ea_bench_cmp);
   int inside = 0;
-  for (int k = 0; k < 2500; ++k) inside += cells[k].status == EA_OK;
+  for (int k = 0; k < 2500; ++k)
+    inside += cells[k].status == EA_OK;
   printf("\n50 x 50 torque map (default settings, cold edge per angle): median %.1f ms, %d cells "
          "inside the workspace\n",
          1e3 * times[reps / 2], inside);

@@ -25,7 +25,9 @@ static void *sim_main(void *p) {
   return NULL;
 }
 
-static double now_s(void) { return ea__mono_ns() * 1e-9; }
+static double now_s(void) {
+  return ea__mono_ns() * 1e-9;
+}
 
 int main(int argc, char **argv) {
   const double seconds = argc > 1 ? atof(argv[1]) : 2.0;
@@ -82,16 +84,17 @@ int main(int argc, char **argv) {
   int parsed = 0;
   t0 = now_s();
   for (size_t off = 0; off < (size_t)M * len;) {
-    off += ea_frame_parser_feed(&p, stream + off, (size_t)M * len - off < 1460 ? (size_t)M * len - off : 1460);
+    off += ea_frame_parser_feed(&p, stream + off,
+                                (size_t)M * len - off < 1460 ? (size_t)M * len - off : 1460);
     int r;
-    while ((r = ea_frame_parser_next(&p, &g)) != 0) parsed += r > 0;
+    while ((r = ea_frame_parser_next(&p, &g)) != 0)
+      parsed += r > 0;
   }
   const double t_par = now_s() - t0;
   free(stream);
   printf("encode: %.2f M frames/s (%.0f MB/s); decode incl. CRC: %.2f M frames/s (%d valid); "
          "parser: %.2f M frames/s (%d of %d)\n",
-         N / t_enc * 1e-6, bytes / t_enc * 1e-6, N / t_dec * 1e-6, ok, M / t_par * 1e-6, parsed,
-         M);
+         N / t_enc * 1e-6, bytes / t_enc * 1e-6, N / t_dec * 1e-6, ok, M / t_par * 1e-6, parsed, M);
 
   /* ---- Jitter on loopback ---------------------------------------------------- */
   m.T = seconds;

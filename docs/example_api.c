@@ -1,25 +1,28 @@
 /* The README's C API example, built with the project so that it keeps
  * compiling (target example_api). */
 
-#include "ea_model.h"   /* model/: statics and FE */
+#include "ea_model.h" /* model/: statics and FE */
 #include <math.h>
 #include <stdio.h>
 
 int main(void) {
   ea_arm_t arm;
-  ea_arm_default(&arm);                       /* paper, Tables 1 and 2 */
+  ea_arm_default(&arm); /* paper, Tables 1 and 2 */
   ea_shooter_t *sh = NULL;
   ea_error_t err;
-  if (ea_shooter_alloc(&arm, NULL, &sh, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
+  if (ea_shooter_alloc(&arm, NULL, &sh, &err)) {
+    fprintf(stderr, "%s\n", err.msg);
+    return 1;
+  }
   ea_load_t load = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, 0.25))};
-  ea_shooter_set_load(sh, &load);             /* payload factor 0.25 (eq. 17) */
+  ea_shooter_set_load(sh, &load); /* payload factor 0.25 (eq. 17) */
 
   /* Cable 0.45 m at -25 deg: solve g*(alpha, T, theta0, kappa0) = 0 on the
      physical branch (continued from the T = 0 outer edge). */
   ea_statics_problem_t pr = ea_statics_problem_cable(0.45, -25.0 * M_PI / 180);
   ea_statics_solution_t sol;
   if (ea_statics_solve(sh, &pr, NULL, NULL, &sol, &err) != EA_OK) {
-    fprintf(stderr, "%s\n", err.msg);         /* not converged, or T < 0 */
+    fprintf(stderr, "%s\n", err.msg); /* not converged, or T < 0 */
     ea_shooter_free(sh);
     return 1;
   }

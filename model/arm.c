@@ -42,29 +42,28 @@ void ea_arm_default(ea_arm_t *arm) {
   a->base_angle_max = 180.0 * EA__DEG;
 }
 
-#define EA__CHECK_POS(field)                                                      \
-  do {                                                                            \
-    if (!isfinite(arm->field) || !(arm->field > 0.0))                             \
-      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite and > 0",   \
-                          #field, arm->field);                                    \
+#define EA__CHECK_POS(field)                                                                       \
+  do {                                                                                             \
+    if (!isfinite(arm->field) || !(arm->field > 0.0))                                              \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite and > 0", #field,            \
+                          arm->field);                                                             \
   } while (0)
-#define EA__CHECK_NONNEG(field)                                                   \
-  do {                                                                            \
-    if (!isfinite(arm->field) || !(arm->field >= 0.0))                            \
-      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite and >= 0",  \
-                          #field, arm->field);                                    \
+#define EA__CHECK_NONNEG(field)                                                                    \
+  do {                                                                                             \
+    if (!isfinite(arm->field) || !(arm->field >= 0.0))                                             \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite and >= 0", #field,           \
+                          arm->field);                                                             \
   } while (0)
-#define EA__CHECK_FINITE(field)                                                   \
-  do {                                                                            \
-    if (!isfinite(arm->field))                                                    \
-      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite", #field,   \
-                          arm->field);                                            \
+#define EA__CHECK_FINITE(field)                                                                    \
+  do {                                                                                             \
+    if (!isfinite(arm->field))                                                                     \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g: must be finite", #field, arm->field);       \
   } while (0)
-#define EA__CHECK_LT(lo, hi)                                                      \
-  do {                                                                            \
-    if (!(arm->lo < arm->hi))                                                     \
-      return ea_error_set(err, EA_ERR_INPUT, "%s = %g must be below %s = %g", #lo, \
-                          arm->lo, #hi, arm->hi);                                 \
+#define EA__CHECK_LT(lo, hi)                                                                       \
+  do {                                                                                             \
+    if (!(arm->lo < arm->hi))                                                                      \
+      return ea_error_set(err, EA_ERR_INPUT, "%s = %g must be below %s = %g", #lo, arm->lo, #hi,   \
+                          arm->hi);                                                                \
   } while (0)
 
 ea_status_t ea_arm_validate(const ea_arm_t *arm, ea_error_t *err) {

@@ -26,24 +26,24 @@ extern "C" {
 /** X-macro list of every status: name, message. 0 = OK. "Call was wrong"
  *  codes (bad argument, bad input) are kept apart from "solver did not
  *  converge" and "the answer is physically inadmissible". */
-#define EA_STATUS_LIST(X)                                                     \
-  X(EA_OK, "ok")                                                              \
-  X(EA_ERR_ARG, "invalid argument")                                          \
-  X(EA_ERR_NOMEM, "out of memory")                                           \
-  X(EA_ERR_IO, "input/output error")                                         \
-  X(EA_ERR_PARSE, "syntax error in input")                                   \
-  X(EA_ERR_INPUT, "invalid value in input")                                  \
-  X(EA_ERR_NOCONV, "solver did not converge")                                \
-  X(EA_ERR_MAXITER, "iteration limit reached")                               \
-  X(EA_ERR_SINGULAR, "singular Jacobian")                                    \
-  X(EA_ERR_INTEGRATION, "ODE integration failed")                            \
-  X(EA_ERR_INADMISSIBLE, "configuration is not admissible")                  \
-  X(EA_ERR_INFEASIBLE, "problem is infeasible")                              \
-  X(EA_ERR_UNSTABLE, "configuration is unstable")                            \
-  X(EA_ERR_BACKEND, "numerical backend failed")                              \
-  X(EA_ERR_NET, "network or device error")                                   \
-  X(EA_ERR_PROTOCOL, "protocol violation")                                   \
-  X(EA_ERR_INTERRUPTED, "interrupted")                                       \
+#define EA_STATUS_LIST(X)                                                                          \
+  X(EA_OK, "ok")                                                                                   \
+  X(EA_ERR_ARG, "invalid argument")                                                                \
+  X(EA_ERR_NOMEM, "out of memory")                                                                 \
+  X(EA_ERR_IO, "input/output error")                                                               \
+  X(EA_ERR_PARSE, "syntax error in input")                                                         \
+  X(EA_ERR_INPUT, "invalid value in input")                                                        \
+  X(EA_ERR_NOCONV, "solver did not converge")                                                      \
+  X(EA_ERR_MAXITER, "iteration limit reached")                                                     \
+  X(EA_ERR_SINGULAR, "singular Jacobian")                                                          \
+  X(EA_ERR_INTEGRATION, "ODE integration failed")                                                  \
+  X(EA_ERR_INADMISSIBLE, "configuration is not admissible")                                        \
+  X(EA_ERR_INFEASIBLE, "problem is infeasible")                                                    \
+  X(EA_ERR_UNSTABLE, "configuration is unstable")                                                  \
+  X(EA_ERR_BACKEND, "numerical backend failed")                                                    \
+  X(EA_ERR_NET, "network or device error")                                                         \
+  X(EA_ERR_PROTOCOL, "protocol violation")                                                         \
+  X(EA_ERR_INTERRUPTED, "interrupted")                                                             \
   X(EA_ERR_NOTIMPL, "not implemented")
 
 #define EA__STATUS_ENUM(name, msg) name,
@@ -77,42 +77,42 @@ ea_status_t ea_error_set(ea_error_t *err, ea_status_t status, const char *fmt, .
 /** Actuator limits and geometry. Values not in the paper are assumptions,
  *  marked as such in data/elasticarm.yaml. */
 typedef struct ea_actuators {
-  double spool_radius;       /**< [m] effective cable spool radius */
-  double spool_gear_ratio;   /**< [-] motor turns per spool turn */
-  double spool_zero_length;  /**< [m] cable length at spool motor position 0 */
-  double cable_length_min;   /**< [m] shortest cable (inner workspace edge) */
-  double cable_length_max;   /**< [m] longest cable the spool holds */
-  double cable_speed_max;    /**< [m/s] |dL_c/dt| limit */
-  double cable_accel_max;    /**< [m/s^2] |d2L_c/dt2| limit */
-  double tension_max;        /**< [N] cable tension limit */
-  double tension_min;        /**< [N] default minimum tension margin (> 0) */
-  double shoulder_torque_max;/**< [N m] |EI kappa0| limit */
-  double shoulder_speed_max; /**< [rad/s] |dtheta0/dt| limit */
-  double shoulder_angle_min; /**< [rad] shoulder range */
-  double shoulder_angle_max; /**< [rad] */
-  double shoulder_accel_max; /**< [rad/s^2] |d2theta0/dt2| limit */
-  double base_speed_max;     /**< [rad/s] base motor speed limit */
-  double base_accel_max;     /**< [rad/s^2] base motor acceleration limit */
-  double base_angle_min;     /**< [rad] base range */
-  double base_angle_max;     /**< [rad] */
+  double spool_radius;        /**< [m] effective cable spool radius */
+  double spool_gear_ratio;    /**< [-] motor turns per spool turn */
+  double spool_zero_length;   /**< [m] cable length at spool motor position 0 */
+  double cable_length_min;    /**< [m] shortest cable (inner workspace edge) */
+  double cable_length_max;    /**< [m] longest cable the spool holds */
+  double cable_speed_max;     /**< [m/s] |dL_c/dt| limit */
+  double cable_accel_max;     /**< [m/s^2] |d2L_c/dt2| limit */
+  double tension_max;         /**< [N] cable tension limit */
+  double tension_min;         /**< [N] default minimum tension margin (> 0) */
+  double shoulder_torque_max; /**< [N m] |EI kappa0| limit */
+  double shoulder_speed_max;  /**< [rad/s] |dtheta0/dt| limit */
+  double shoulder_angle_min;  /**< [rad] shoulder range */
+  double shoulder_angle_max;  /**< [rad] */
+  double shoulder_accel_max;  /**< [rad/s^2] |d2theta0/dt2| limit */
+  double base_speed_max;      /**< [rad/s] base motor speed limit */
+  double base_accel_max;      /**< [rad/s^2] base motor acceleration limit */
+  double base_angle_min;      /**< [rad] base range */
+  double base_angle_max;      /**< [rad] */
 } ea_actuators_t;
 
 /** Arm parameters. Tables 1 and 2 of the paper. */
 typedef struct ea_arm {
   /* Table 1 */
-  double rho;      /**< [kg/m] beam mass per unit length */
-  double m_hand;   /**< [kg] hand (gripper) mass m_h */
-  double length;   /**< [m] beam length L */
-  double EI;       /**< [N m^2] flexural rigidity */
-  double x_c;      /**< [m] cable root x */
-  double y_c;      /**< [m] cable root y */
-  double g;        /**< [m/s^2] gravitational acceleration */
+  double rho;    /**< [kg/m] beam mass per unit length */
+  double m_hand; /**< [kg] hand (gripper) mass m_h */
+  double length; /**< [m] beam length L */
+  double EI;     /**< [N m^2] flexural rigidity */
+  double x_c;    /**< [m] cable root x */
+  double y_c;    /**< [m] cable root y */
+  double g;      /**< [m/s^2] gravitational acceleration */
   /* Table 2 (FE model) */
-  double EA;       /**< [N] axial rigidity */
-  double GA_s;     /**< [N] shear rigidity (beta G A) */
-  double EA_cable; /**< [N] cable axial rigidity EA_c */
-  double I_zz;     /**< [kg m] rotary inertia per unit length */
-  double I_hand;   /**< [kg m^2] rotary inertia I_L of hand (+ payload) */
+  double EA;          /**< [N] axial rigidity */
+  double GA_s;        /**< [N] shear rigidity (beta G A) */
+  double EA_cable;    /**< [N] cable axial rigidity EA_c */
+  double I_zz;        /**< [kg m] rotary inertia per unit length */
+  double I_hand;      /**< [kg m^2] rotary inertia I_L of hand (+ payload) */
   ea_actuators_t act; /**< actuator data */
 } ea_arm_t;
 
@@ -170,8 +170,8 @@ typedef struct ea_load {
 typedef struct ea_shooter ea_shooter_t;
 
 /** Allocate a shooter for arm (copied) and settings (copied; NULL = default). */
-ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s,
-                             ea_shooter_t **out, ea_error_t *err);
+ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s, ea_shooter_t **out,
+                             ea_error_t *err);
 void ea_shooter_free(ea_shooter_t *sh);
 /** Change the load (tip mass) without reallocating. */
 void ea_shooter_set_load(ea_shooter_t *sh, const ea_load_t *load);
@@ -186,21 +186,19 @@ const ea_load_t *ea_shooter_load(const ea_shooter_t *sh);
  * @param[out] dxdp  if not NULL: row-major EA_NX x EA_NP exact sensitivities
  *                   d x(L) / d p from the variational equations.
  */
-ea_status_t ea_shoot(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX],
-                     double *dxdp);
+ea_status_t ea_shoot(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX], double *dxdp);
 
 /** Centreline samples of the beam for p: n points at s = i L/(n-1):
  *  theta, kappa, x, y each n long (any may be NULL). Uses a tight adaptive
  *  integration with dense output. */
-ea_status_t ea_shoot_shape(ea_shooter_t *sh, const double p[EA_NP], int n,
-                           double *s, double *theta, double *kappa, double *x,
-                           double *y);
+ea_status_t ea_shoot_shape(ea_shooter_t *sh, const double p[EA_NP], int n, double *s, double *theta,
+                           double *kappa, double *x, double *y);
 
 /** Tip state on the exact ODE at a tight tolerance, by a different scheme and
  *  code path than ea_shoot() (GSL rkf45, adaptive, atol = rtol = 1e-13, no
  *  sensitivities): an independent re-integration used to check answers. */
-ea_status_t ea_shoot_reference(const ea_arm_t *arm, const ea_load_t *load,
-                               const double p[EA_NP], double xL[EA_NX]);
+ea_status_t ea_shoot_reference(const ea_arm_t *arm, const ea_load_t *load, const double p[EA_NP],
+                               double xL[EA_NX]);
 
 /* ------------------------------------------------------------------------ */
 /* Statics: the general problem g*(alpha, T, theta0, kappa0) = 0 (eq. 14-16) */
@@ -235,9 +233,9 @@ ea_statics_problem_t ea_statics_problem_tension_alpha(double T, double alpha);
 
 /** Settings of the statics solver. */
 typedef struct ea_statics_settings {
-  double tol;          /**< residual tolerance (max-norm, [m] / [1/m]) */
-  int max_iter;        /**< Newton iterations per solve */
-  int max_cont_steps;  /**< continuation steps before giving up */
+  double tol;                 /**< residual tolerance (max-norm, [m] / [1/m]) */
+  int max_iter;               /**< Newton iterations per solve */
+  int max_cont_steps;         /**< continuation steps before giving up */
   int allow_negative_tension; /**< 0: T < 0 is reported as inadmissible */
 } ea_statics_settings_t;
 
@@ -245,9 +243,9 @@ void ea_statics_settings_default(ea_statics_settings_t *s);
 
 /** How the solution's branch was reached. */
 typedef enum ea_branch {
-  EA_BRANCH_NONE = 0,   /**< no solution */
-  EA_BRANCH_WARM,       /**< Newton from the caller's guess */
-  EA_BRANCH_EDGE,       /**< continuation from the T = 0 outer edge (physical) */
+  EA_BRANCH_NONE = 0, /**< no solution */
+  EA_BRANCH_WARM,     /**< Newton from the caller's guess */
+  EA_BRANCH_EDGE,     /**< continuation from the T = 0 outer edge (physical) */
 } ea_branch_t;
 
 /** Result of a statics solve. */
@@ -284,9 +282,8 @@ ea_status_t ea_statics_residual(ea_shooter_t *sh, const ea_statics_problem_t *pr
                                 const double p[EA_NP], double r[4], double *J);
 
 /** Outer workspace edge point (T = 0, eq. 16) at cable angle alpha. */
-ea_status_t ea_statics_edge(ea_shooter_t *sh, double alpha,
-                            const ea_statics_settings_t *s, const double *guess,
-                            ea_statics_solution_t *sol, ea_error_t *err);
+ea_status_t ea_statics_edge(ea_shooter_t *sh, double alpha, const ea_statics_settings_t *s,
+                            const double *guess, ea_statics_solution_t *sol, ea_error_t *err);
 
 /* ------------------------------------------------------------------------ */
 /* Finite element model (paper sec. 3): see the FE section below             */
@@ -342,10 +339,10 @@ typedef struct ea_fe_settings {
   double newton_tol;   /**< static Newton: stop at eps <= tol, eps of eq. 23 (default 1e-6) */
   int newton_max_iter; /**< static Newton iteration limit (default 50) */
   ea_fe_eig_backend_t eig_backend; /**< eigen-solver (default EA_FE_EIG_LANCZOS) */
-  int static_hold_tip; /**< ea_fe_static_solve: 0 = hold the ODE tension T and theta0
-                            (paper sec. 3.2; the tip moves by the extensibility
-                            effects); 1 = hold the ODE tip position (cable length
-                            and angle), solving for T and theta0 too (default 0) */
+  int static_hold_tip;             /**< ea_fe_static_solve: 0 = hold the ODE tension T and theta0
+                                        (paper sec. 3.2; the tip moves by the extensibility
+                                        effects); 1 = hold the ODE tip position (cable length
+                                        and angle), solving for T and theta0 too (default 0) */
 } ea_fe_settings_t;
 
 /** Fill s with the defaults. */
@@ -359,8 +356,8 @@ typedef struct ea_fe_model ea_fe_model_t;
 /** Allocate a model for arm (copied; must satisfy ea_arm_validate and
  *  I_zz >= 0; M may be singular) with settings s (copied; NULL = default). The tip mass starts at
  *  arm->m_hand, the state is the straight beam at theta0 = 0, cable NONE. */
-ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s,
-                              ea_fe_model_t **out, ea_error_t *err);
+ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s, ea_fe_model_t **out,
+                              ea_error_t *err);
 /** Free the model; NULL is a no-op. */
 void ea_fe_model_free(ea_fe_model_t *m);
 /** Set the tip mass m_L [kg] (hand + payload); I_hand stays arm->I_hand. */
@@ -402,16 +399,16 @@ double ea_fe_energy(const ea_fe_model_t *m);
 
 /** Result of a static solve. */
 typedef struct ea_fe_static_info {
-  ea_status_t status; /**< EA_OK, EA_ERR_MAXITER, EA_ERR_SINGULAR, ... */
-  int iterations;     /**< Newton iterations */
-  double residual;    /**< eps of eq. 23: |P - F| / |F| (absolute if F = 0) */
-  double tip[3];      /**< tip (x [m], y [m], theta [rad]) at the solution */
-  double tension;     /**< [N] cable tension at the solution */
-  double cable_length;/**< [m] |tip - root| at the solution */
-  double cable_angle; /**< [rad] alpha = atan2(y_L - y_c, x_L - x_c) */
-  double theta0;      /**< [rad] shoulder angle */
-  double tip_shift;   /**< [m] |tip_FE - tip_ODE| (ea_fe_static_solve only, else 0) */
-  double time_s;      /**< [s] wall time */
+  ea_status_t status;  /**< EA_OK, EA_ERR_MAXITER, EA_ERR_SINGULAR, ... */
+  int iterations;      /**< Newton iterations */
+  double residual;     /**< eps of eq. 23: |P - F| / |F| (absolute if F = 0) */
+  double tip[3];       /**< tip (x [m], y [m], theta [rad]) at the solution */
+  double tension;      /**< [N] cable tension at the solution */
+  double cable_length; /**< [m] |tip - root| at the solution */
+  double cable_angle;  /**< [rad] alpha = atan2(y_L - y_c, x_L - x_c) */
+  double theta0;       /**< [rad] shoulder angle */
+  double tip_shift;    /**< [m] |tip_FE - tip_ODE| (ea_fe_static_solve only, else 0) */
+  double time_s;       /**< [s] wall time */
 } ea_fe_static_info_t;
 
 /** Static equilibrium (eq. 21-23) in the active phase started from the ODE
@@ -420,14 +417,13 @@ typedef struct ea_fe_static_info {
  *  T = ode->p[EA_P_TENSION], the tip mass is taken from sh's load, and
  *  Newton-Raphson runs until eps <= settings.newton_tol (or the Newton
  *  residual stagnates with a correction below 1e-10 L: the attainable eps
- *  is ~1e-8 to 1e-6 (finer meshes: higher), set by EA / h). With settings.static_hold_tip, T and theta0 are
- *  unknowns too and the tip is held at the ODE tip (bordered Newton).
+ *  is ~1e-8 to 1e-6 (finer meshes: higher), set by EA / h). With settings.static_hold_tip, T and
+ * theta0 are unknowns too and the tip is held at the ODE tip (bordered Newton).
  * @param[in,out] m    model; on success holds the FE equilibrium
  * @param[in]     sh   shooter of the same arm (only used to sample the shape)
  * @param[in]     ode  converged statics solution
  * @param[out]    info iterations, residual, tip; may be NULL */
-ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh,
-                               const ea_statics_solution_t *ode,
+ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh, const ea_statics_solution_t *ode,
                                ea_fe_static_info_t *info, ea_error_t *err);
 /** Make the positions consistent with the rotations: with every nodal theta
  *  held, move the nodes so that the axial and shear strains balance the
@@ -442,15 +438,15 @@ ea_status_t ea_fe_newton(ea_fe_model_t *m, ea_fe_static_info_t *info, ea_error_t
 
 /** Result of ea_fe_modes(). */
 typedef struct ea_fe_modes_info {
-  ea_status_t status;   /**< EA_OK or backend failure */
-  int modes;            /**< number of modes filled */
-  double freq_hz[EA_FE_MAX_MODES]; /**< [Hz] sign(l) sqrt(|l|) / (2 pi), ascending */
-  double lambda[EA_FE_MAX_MODES];  /**< [rad^2/s^2] generalized eigenvalues omega^2 */
-  int stable;           /**< 1: passive stiffness positive definite (Cholesky) */
+  ea_status_t status;                   /**< EA_OK or backend failure */
+  int modes;                            /**< number of modes filled */
+  double freq_hz[EA_FE_MAX_MODES];      /**< [Hz] sign(l) sqrt(|l|) / (2 pi), ascending */
+  double lambda[EA_FE_MAX_MODES];       /**< [rad^2/s^2] generalized eigenvalues omega^2 */
+  int stable;                           /**< 1: passive stiffness positive definite (Cholesky) */
   double time_assembly_s, time_eigen_s; /**< [s] wall times */
-  int backend_info;     /**< raw LAPACK info / GSL status */
-  int iterations;       /**< Lanczos steps (Krylov dimension); 0 for the other backends */
-  int fallback;         /**< 1: Lanczos did not converge and dsbgvx gave the modes */
+  int backend_info;                     /**< raw LAPACK info / GSL status */
+  int iterations; /**< Lanczos steps (Krylov dimension); 0 for the other backends */
+  int fallback;   /**< 1: Lanczos did not converge and dsbgvx gave the modes */
 } ea_fe_modes_info_t;
 
 /** Natural frequencies and mode shapes (eq. 24) about the current state:
@@ -524,14 +520,14 @@ typedef enum ea_fe_scheme {
 
 /** Transient settings. */
 typedef struct ea_fe_sim_settings {
-  ea_fe_scheme_t scheme; /**< default EA_FE_SCHEME_ENERGY */
-  double dt;             /**< [s] time step (default 1e-3) */
-  double t_end;          /**< [s] end time (default 1) */
-  double t_motion_end;   /**< [s] when the drive stops; the residual vibration is
-                              measured on [t_motion_end, t_end]; < 0: not measured
-                              (default -1) */
-  double rho_inf;        /**< generalized-alpha spectral radius in [0, 1] (default 0.9;
-                              1 = no numerical dissipation) */
+  ea_fe_scheme_t scheme;     /**< default EA_FE_SCHEME_ENERGY */
+  double dt;                 /**< [s] time step (default 1e-3) */
+  double t_end;              /**< [s] end time (default 1) */
+  double t_motion_end;       /**< [s] when the drive stops; the residual vibration is
+                                  measured on [t_motion_end, t_end]; < 0: not measured
+                                  (default -1) */
+  double rho_inf;            /**< generalized-alpha spectral radius in [0, 1] (default 0.9;
+                                  1 = no numerical dissipation) */
   double rayleigh_mass;      /**< [1/s] a: mass-proportional damping force a M v
                                   (drags rigid motion too; default 0) */
   double rayleigh_stiffness; /**< [s] b: strain-rate (Kelvin-Voigt) damping: the sectional
@@ -543,10 +539,10 @@ typedef struct ea_fe_sim_settings {
                                   b K0 it is zero for rigid motions of any size.
                                   ea_fe_strain_damping() sets b from a modal damping
                                   ratio (default 0) */
-  double tol;            /**< Newton: max |dq| of free DOFs [m, rad] (default 1e-11);
-                              corrections that stagnate below 1e3 tol (rounding) stop too */
-  int max_iter;          /**< Newton iterations per step (default 25) */
-  int output_every;      /**< write a tip row every this many steps (default 1) */
+  double tol;                /**< Newton: max |dq| of free DOFs [m, rad] (default 1e-11);
+                                  corrections that stagnate below 1e3 tol (rounding) stop too */
+  int max_iter;              /**< Newton iterations per step (default 25) */
+  int output_every;          /**< write a tip row every this many steps (default 1) */
 } ea_fe_sim_settings_t;
 
 void ea_fe_sim_settings_default(ea_fe_sim_settings_t *s);
@@ -555,20 +551,20 @@ ea_status_t ea_fe_sim_settings_validate(const ea_fe_sim_settings_t *s, ea_error_
 /** Result of a transient. */
 typedef struct ea_fe_sim_info {
   ea_status_t status;
-  int steps;              /**< time steps taken */
-  int rows;               /**< tip rows written */
-  int newton_iterations;  /**< total */
-  int max_step_iterations;/**< worst step */
+  int steps;                       /**< time steps taken */
+  int rows;                        /**< tip rows written */
+  int newton_iterations;           /**< total */
+  int max_step_iterations;         /**< worst step */
   double energy_start, energy_end; /**< [J] ea_fe_energy at t = 0 and t_end */
-  double energy_drift_max;/**< [J] max_n |E_n - E_0| */
-  double damping_work;    /**< [J] work done by the damping forces, sum over the steps
-                               of (q_{n+1} - q_n) . f_damp at the scheme's evaluation
-                               point (energy scheme, undriven: E_n + W_n = E_0) */
-  double kinetic_max;     /**< [J] max kinetic energy */
-  double residual_rms;    /**< [m] RMS of |tip_xy(t) - tip_xy_static| on [t_motion_end, t_end] */
-  double residual_peak;   /**< [m] peak of the same */
-  double tip_static[3];   /**< final static equilibrium tip (x, y, theta) */
-  double time_s;          /**< [s] wall time */
+  double energy_drift_max;         /**< [J] max_n |E_n - E_0| */
+  double damping_work;             /**< [J] work done by the damping forces, sum over the steps
+                                        of (q_{n+1} - q_n) . f_damp at the scheme's evaluation
+                                        point (energy scheme, undriven: E_n + W_n = E_0) */
+  double kinetic_max;              /**< [J] max kinetic energy */
+  double residual_rms;  /**< [m] RMS of |tip_xy(t) - tip_xy_static| on [t_motion_end, t_end] */
+  double residual_peak; /**< [m] peak of the same */
+  double tip_static[3]; /**< final static equilibrium tip (x, y, theta) */
+  double time_s;        /**< [s] wall time */
 } ea_fe_sim_info_t;
 
 /** Integrate the nonlinear FE model from the current state (q, v) over

@@ -7,7 +7,7 @@
 
 #include <gsl/gsl_errno.h>
 
-#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j) * EA__FE_LDS]
+#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j)*EA__FE_LDS]
 
 /* Free-DOF block of a full symmetric band matrix into a free band (LDS x nf). */
 static void ea__fe_band_free(const ea_fe_model_t *m, const double *full, double *fr) {
@@ -76,7 +76,8 @@ static ea_status_t ea__fe_inverse_iteration(ea_fe_model_t *m, double lam, int j)
     return l2 != lam ? ea__fe_inverse_iteration(m, l2, j) : EA_ERR_BACKEND;
   }
   double *z = m->Z + (size_t)j * n, *xf = m->qs, *yf = m->vs; /* full-length work */
-  for (int i = 0; i < n; ++i) z[i] = 1.0 + 0.1 * sin(1.3 * i + 0.7 * j); /* deterministic start */
+  for (int i = 0; i < n; ++i)
+    z[i] = 1.0 + 0.1 * sin(1.3 * i + 0.7 * j); /* deterministic start */
   for (int it = 0; it < 3; ++it) {
     memset(xf, 0, sizeof(double) * (size_t)nd);
     memset(yf, 0, sizeof(double) * (size_t)nd);
@@ -98,12 +99,15 @@ static ea_status_t ea__fe_inverse_iteration(ea_fe_model_t *m, double lam, int j)
         pp += yf[i + 3] * zp[i];
       }
       if (pp > 0.0)
-        for (int i = 0; i < n; ++i) z[i] -= pz / pp * zp[i];
+        for (int i = 0; i < n; ++i)
+          z[i] -= pz / pp * zp[i];
     }
     double zmax = 0.0;
-    for (int i = 0; i < n; ++i) zmax = fmax(zmax, fabs(z[i]));
+    for (int i = 0; i < n; ++i)
+      zmax = fmax(zmax, fabs(z[i]));
     if (!(zmax > 0.0) || !isfinite(zmax)) return EA_ERR_BACKEND;
-    for (int i = 0; i < n; ++i) z[i] /= zmax;
+    for (int i = 0; i < n; ++i)
+      z[i] /= zmax;
   }
   return EA_OK;
 }
@@ -119,7 +123,8 @@ static void ea__fe_band_usolve(int n, const double *U, double *x) {
   for (int j = n - 1; j >= 0; --j) {
     const double *col = U + (size_t)j * ld + kd - j; /* col[i] = U(i, j) */
     const double xj = (x[j] /= col[j]);
-    for (int i = (j > kd ? j - kd : 0); i < j; ++i) x[i] -= col[i] * xj;
+    for (int i = (j > kd ? j - kd : 0); i < j; ++i)
+      x[i] -= col[i] * xj;
   }
 }
 
@@ -129,7 +134,8 @@ static void ea__fe_band_utsolve(int n, const double *U, double *x) {
   for (int j = 0; j < n; ++j) {
     const double *col = U + (size_t)j * ld + kd - j;
     double s = x[j];
-    for (int i = (j > kd ? j - kd : 0); i < j; ++i) s -= col[i] * x[i];
+    for (int i = (j > kd ? j - kd : 0); i < j; ++i)
+      s -= col[i] * x[i];
     x[j] = s / col[j];
   }
 }
@@ -151,7 +157,8 @@ static void ea__fe_band_symv(int n, const double *A, const double *x, double *y)
 
 static double ea__fe_dot(int n, const double *a, const double *b) {
   double s = 0.0;
-  for (int i = 0; i < n; ++i) s += a[i] * b[i];
+  for (int i = 0; i < n; ++i)
+    s += a[i] * b[i];
   return s;
 }
 
@@ -162,10 +169,12 @@ static double ea__fe_dot(int n, const double *a, const double *b) {
 static double ea__fe_reorth(int n, const double *Q, int cols, double *w, double *h) {
   double hl = 0.0;
   for (int pass = 0; pass < 2; ++pass) {
-    for (int p = 0; p < cols; ++p) h[p] = ea__fe_dot(n, Q + (size_t)p * n, w);
+    for (int p = 0; p < cols; ++p)
+      h[p] = ea__fe_dot(n, Q + (size_t)p * n, w);
     for (int p = 0; p < cols; ++p) {
       const double *qp = Q + (size_t)p * n, hp = h[p];
-      for (int i = 0; i < n; ++i) w[i] -= hp * qp[i];
+      for (int i = 0; i < n; ++i)
+        w[i] -= hp * qp[i];
     }
     if (cols > 0) hl += h[cols - 1];
   }
@@ -186,18 +195,20 @@ static ea_status_t ea__fe_lanczos(ea_fe_model_t *m, int k, double *mu, int *step
   double *Q = m->Qw, *lz = m->lz;
   double *al = lz, *be = lz + n, *d = lz + 2 * n, *e = lz + 3 * n, *th = lz + 4 * n,
          *h = lz + 5 * n, *wk = lz + 6 * n /* 5 n */, *S = lz + 11 * n /* (k + 1) n */;
-  double *w = m->qs, *u = m->vs; /* nd >= nf */
+  double *w = m->qs, *u = m->vs;          /* nd >= nf */
   const int want = k + 1 < n ? k + 1 : k; /* one more Ritz value for the gap of mode k */
   *steps = 0;
   *linfo = 0;
   /* start: y0 = U^-T M x = C (U x), x a smooth deterministic vector: one step of the
    * operator already damps the high modes */
-  for (int i = 0; i < n; ++i) u[i] = 1.0 + 0.5 * sin(0.37 * i + 0.3);
+  for (int i = 0; i < n; ++i)
+    u[i] = 1.0 + 0.5 * sin(0.37 * i + 0.3);
   ea__fe_band_symv(n, M, u, w);
   ea__fe_band_utsolve(n, U, w);
   double nw = sqrt(ea__fe_dot(n, w, w));
   if (!(nw > 0.0) || !isfinite(nw)) return EA_ERR_NOCONV;
-  for (int i = 0; i < n; ++i) Q[i] = w[i] / nw;
+  for (int i = 0; i < n; ++i)
+    Q[i] = w[i] / nw;
   int nr = 0, conv = 0;
   for (int j = 0; j < n; ++j) {
     const double *qj = Q + (size_t)j * n;
@@ -206,9 +217,11 @@ static ea_status_t ea__fe_lanczos(ea_fe_model_t *m, int k, double *mu, int *step
     ea__fe_band_symv(n, M, u, w);
     ea__fe_band_utsolve(n, U, w); /* w = C q_j */
     double a = ea__fe_dot(n, qj, w);
-    for (int i = 0; i < n; ++i) w[i] -= a * qj[i];
+    for (int i = 0; i < n; ++i)
+      w[i] -= a * qj[i];
     if (j > 0)
-      for (int i = 0, p = j - 1; i < n; ++i) w[i] -= be[p] * Q[i + (size_t)p * n];
+      for (int i = 0, p = j - 1; i < n; ++i)
+        w[i] -= be[p] * Q[i + (size_t)p * n];
     a += ea__fe_reorth(n, Q, j + 1, w, h);
     al[j] = a;
     double b = sqrt(ea__fe_dot(n, w, w));
@@ -242,14 +255,17 @@ static ea_status_t ea__fe_lanczos(ea_fe_model_t *m, int k, double *mu, int *step
     double *qn = Q + (size_t)(j + 1) * n;
     if (!(b > 1e-14 * fabs(a)) || !isfinite(b)) {
       /* invariant subspace found: continue with a new direction orthogonal to it */
-      for (int i = 0; i < n; ++i) w[i] = sin(2.1 * i + 1.7 * j + 0.5);
+      for (int i = 0; i < n; ++i)
+        w[i] = sin(2.1 * i + 1.7 * j + 0.5);
       ea__fe_reorth(n, Q, j + 1, w, h);
       b = sqrt(ea__fe_dot(n, w, w));
       if (!(b > 0.0) || !isfinite(b)) return EA_ERR_NOCONV;
-      for (int i = 0; i < n; ++i) qn[i] = w[i] / b;
+      for (int i = 0; i < n; ++i)
+        qn[i] = w[i] / b;
       be[j] = 0.0;
     } else {
-      for (int i = 0; i < n; ++i) qn[i] = w[i] / b;
+      for (int i = 0; i < n; ++i)
+        qn[i] = w[i] / b;
       be[j] = b;
     }
   }
@@ -263,7 +279,8 @@ static ea_status_t ea__fe_lanczos(ea_fe_model_t *m, int k, double *mu, int *step
     memset(z, 0, sizeof(double) * (size_t)n);
     for (int p = 0; p < ms; ++p) {
       const double *qp = Q + (size_t)p * n, sp = s[p];
-      for (int r = 0; r < n; ++r) z[r] += sp * qp[r];
+      for (int r = 0; r < n; ++r)
+        z[r] += sp * qp[r];
     }
     ea__fe_band_usolve(n, U, z);
     mu[c] = th[i];
@@ -298,7 +315,8 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
     memcpy(K0, m->Ab, sizeof(double) * nb);
     int ok = 0;
     for (sigma = 1.0; sigma < 1e12 && !ok; sigma *= 10.0) {
-      for (size_t i = 0; i < nb; ++i) m->Ab[i] = K0[i] + sigma * m->Bb[i];
+      for (size_t i = 0; i < nb; ++i)
+        m->Ab[i] = K0[i] + sigma * m->Bb[i];
       ok = ea__fe_posdef(m);
       if (ok) break;
     }
@@ -330,15 +348,15 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
      * iteration on K - lambda M */
     const double vl = 0.0, vu = 0.0, abstol = 2.0 * DBL_MIN;
     const int il = n - k + 1, iu = n, ld1 = 1;
-    dsbgvx_("N", "I", "U", &n, &kd, &kd, A, &ld, B, &ld, m->Qw, &ld1, &vl, &vu, &il, &iu,
-            &abstol, &found, m->work, m->Z, &ld1, m->work + n, m->iwork,
-            m->ifail, &info_l, 1, 1, 1);
+    dsbgvx_("N", "I", "U", &n, &kd, &kd, A, &ld, B, &ld, m->Qw, &ld1, &vl, &vu, &il, &iu, &abstol,
+            &found, m->work, m->Z, &ld1, m->work + n, m->iwork, m->ifail, &info_l, 1, 1, 1);
     if (info_l != 0 || found < k) {
       st = EA_ERR_BACKEND;
       break;
     }
     /* found ascending mu: reverse into ascending lambda */
-    for (int j = 0; j < k; ++j) mu[j] = m->work[k - 1 - j];
+    for (int j = 0; j < k; ++j)
+      mu[j] = m->work[k - 1 - j];
     for (int j = 0; j < k && !st; ++j)
       st = ea__fe_inverse_iteration(m, (mu[j] > 0.0) ? 1.0 / mu[j] - sigma : INFINITY, j);
     break;
@@ -347,8 +365,7 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
     const int itype = 1;
     ea__fe_band_dense(m, A, m->Ad);
     ea__fe_band_dense(m, B, m->Bd);
-    dsygv_(&itype, "V", "U", &n, m->Ad, &n, m->Bd, &n, m->evals, m->work, &m->lwork, &info_l,
-           1, 1);
+    dsygv_(&itype, "V", "U", &n, m->Ad, &n, m->Bd, &n, m->evals, m->work, &m->lwork, &info_l, 1, 1);
     if (info_l != 0) {
       st = EA_ERR_BACKEND;
       break;
@@ -357,7 +374,8 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
       memcpy(m->Z + (size_t)j * n, m->Ad + (size_t)(n - 1 - j) * n, sizeof(double) * (size_t)n);
       m->work[j] = m->evals[n - 1 - j];
     }
-    for (int j = 0; j < k; ++j) mu[j] = m->work[j];
+    for (int j = 0; j < k; ++j)
+      mu[j] = m->work[j];
     break;
   }
   case EA_FE_EIG_GSL: {
@@ -407,7 +425,8 @@ ea_status_t ea_fe_modes(ea_fe_model_t *m, ea_fe_modes_info_t *info, ea_error_t *
     const double sgn =
         (fabs(ty) > 1e-6 * amax) ? (ty > 0 ? 1.0 : -1.0) : (phi[imax] > 0 ? 1.0 : -1.0);
     if (amax > 0)
-      for (int i = 0; i < m->nd; ++i) phi[i] *= sgn / amax;
+      for (int i = 0; i < m->nd; ++i)
+        phi[i] *= sgn / amax;
   }
   m->modes_valid = k;
   return EA_OK;
@@ -448,6 +467,7 @@ ea_status_t ea_fe_strain_damping(ea_fe_model_t *m, int k, double zeta, double *b
   /* zeta_j = b phi_j' K_mat phi_j / (2 omega_j phi_j' M phi_j) */
   *b = 2.0 * zeta / ratio[k];
   if (zeta_modes)
-    for (int j = 0; j < m->modes_valid; ++j) zeta_modes[j] = 0.5 * *b * ratio[j];
+    for (int j = 0; j < m->modes_valid; ++j)
+      zeta_modes[j] = 0.5 * *b * ratio[j];
   return EA_OK;
 }

@@ -33,8 +33,7 @@ static void ea__fe_strain_B(double c, double s, double G1, double G2, const doub
  *   dW = int (N dGamma1 + Q dGamma2 + M dK) ds
  * gives the internal force; its linearization the material part B^T D B and
  * the geometric part (second variation of the strains times the resultants). */
-double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[9],
-                           double *ke) {
+double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[9], double *ke) {
   const double EA = m->arm.EA, GA = m->arm.GA_s, EI = m->arm.EI;
   const ea__fe_quad_t *qd = &m->quad_k;
   double W = 0.0;
@@ -59,12 +58,13 @@ double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[
     W += 0.5 * w * (EA * G1 * G1 + GA * G2 * G2 + EI * K * K);
     double B[3][9];
     ea__fe_strain_B(c, s, G1, G2, N, dN, B);
-    for (int i = 0; i < 9; ++i) fe[i] += w * (B[0][i] * Nf + B[1][i] * Qf + B[2][i] * Mf);
+    for (int i = 0; i < 9; ++i)
+      fe[i] += w * (B[0][i] * Nf + B[1][i] * Qf + B[2][i] * Mf);
     if (!ke) continue;
     for (int i = 0; i < 9; ++i)
       for (int j = 0; j < 9; ++j)
-        ke[9 * i + j] += w * (EA * B[0][i] * B[0][j] + GA * B[1][i] * B[1][j] +
-                              EI * B[2][i] * B[2][j]);
+        ke[9 * i + j] +=
+            w * (EA * B[0][i] * B[0][j] + GA * B[1][i] * B[1][j] + EI * B[2][i] * B[2][j]);
     /* geometric part */
     const double gx = -Nf * s - Qf * c, gy = Nf * c - Qf * s;
     const double gt = -Nf * (1.0 + G1) - Qf * G2;
@@ -86,9 +86,8 @@ double ea__fe_beam_element(const ea_fe_model_t *m, const double u[9], double fe[
  * magnitude aimed at a fixed point is conservative), load stiffness
  * -d(T e)/dr = T/l (I - e e^T). PASSIVE: T = EA_c (l - L0) / L0 (0 if slack),
  * potential EA_c (l - L0)^2 / (2 L0), stiffness EA_c/L0 e e^T + T/l (I - e e^T). */
-double ea__fe_cable(const ea_fe_model_t *m, ea_fe_cable_phase_t phase, double value,
-                    double x, double y, double *tension, double *length, double f[2],
-                    double kc[4]) {
+double ea__fe_cable(const ea_fe_model_t *m, ea_fe_cable_phase_t phase, double value, double x,
+                    double y, double *tension, double *length, double f[2], double kc[4]) {
   const double dx = m->arm.x_c - x, dy = m->arm.y_c - y;
   const double l = hypot(dx, dy);
   double T = 0.0, kt = 0.0, V = 0.0;
@@ -138,7 +137,8 @@ void ea__fe_beam_rate(const ea_fe_model_t *m, const double u[9], const double ud
       xp += dN[a] * (u[3 * a] - u[0]);
       yp += dN[a] * (u[3 * a + 1] - u[1]);
     }
-    for (int a = 0; a < 3; ++a) th += N[a] * u[3 * a + 2];
+    for (int a = 0; a < 3; ++a)
+      th += N[a] * u[3 * a + 2];
     const double c = cos(th), s = sin(th);
     const double G1 = xp * c + yp * s - 1.0, G2 = -xp * s + yp * c;
     double B[3][9];
@@ -150,11 +150,12 @@ void ea__fe_beam_rate(const ea_fe_model_t *m, const double u[9], const double ud
       e3 += B[2][i] * ud[i];
     }
     const double n1 = w * EA * e1, n2 = w * GA * e2, n3 = w * EI * e3;
-    for (int i = 0; i < 9; ++i) fd[i] += B[0][i] * n1 + B[1][i] * n2 + B[2][i] * n3;
+    for (int i = 0; i < 9; ++i)
+      fd[i] += B[0][i] * n1 + B[1][i] * n2 + B[2][i] * n3;
     if (!ce) continue;
     for (int i = 0; i < 9; ++i)
       for (int j = 0; j < 9; ++j)
-        ce[9 * i + j] += w * (EA * B[0][i] * B[0][j] + GA * B[1][i] * B[1][j] +
-                              EI * B[2][i] * B[2][j]);
+        ce[9 * i + j] +=
+            w * (EA * B[0][i] * B[0][j] + GA * B[1][i] * B[1][j] + EI * B[2][i] * B[2][j]);
   }
 }

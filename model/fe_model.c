@@ -25,8 +25,7 @@ void ea_fe_settings_default(ea_fe_settings_t *s) {
 ea_status_t ea_fe_settings_validate(const ea_fe_settings_t *s, ea_error_t *err) {
   if (!s) return ea_error_set(err, EA_ERR_ARG, "fe settings are NULL");
   if (s->elements < 1 || s->elements > 10000)
-    return ea_error_set(err, EA_ERR_ARG, "fe elements = %d: must be in [1, 10000]",
-                        s->elements);
+    return ea_error_set(err, EA_ERR_ARG, "fe elements = %d: must be in [1, 10000]", s->elements);
   if (s->modes < 1 || s->modes > EA_FE_MAX_MODES || s->modes > 6 * s->elements)
     return ea_error_set(err, EA_ERR_ARG, "fe modes = %d: must be in [1, %d] and <= 6 elements",
                         s->modes, EA_FE_MAX_MODES);
@@ -58,7 +57,7 @@ static void ea__fe_quad_fill(ea__fe_quad_t *qd, int n, double h) {
   }
 }
 
-#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j) * EA__FE_LDS]
+#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j)*EA__FE_LDS]
 
 /* Mass matrix (band) and gravity load for the current tip mass. */
 static void ea__fe_build_mass(ea_fe_model_t *m) {
@@ -87,11 +86,12 @@ static void ea__fe_build_mass(ea_fe_model_t *m) {
 
 void ea_fe_model_free(ea_fe_model_t *m) {
   if (!m) return;
-  double *dp[] = {m->q,  m->v,  m->fg, m->Mb,   m->Kb,  m->fi, m->r,  m->dq,
-                  m->Gb, m->Ab, m->Bb, m->Ad,   m->Bd,  m->Z,  m->Qw, m->work,
-                  m->evals, m->phi, m->q0, m->v0, m->a0, m->qm, m->fm, m->tmp,
-                  m->Cb, m->qs, m->vs, m->Kt, m->rhs3, m->acc, m->acc0, m->qprev, m->lz};
-  for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) free(dp[i]);
+  double *dp[] = {m->q,  m->v,    m->fg,  m->Mb,   m->Kb,    m->fi,  m->r,    m->dq,    m->Gb,
+                  m->Ab, m->Bb,   m->Ad,  m->Bd,   m->Z,     m->Qw,  m->work, m->evals, m->phi,
+                  m->q0, m->v0,   m->a0,  m->qm,   m->fm,    m->tmp, m->Cb,   m->qs,    m->vs,
+                  m->Kt, m->rhs3, m->acc, m->acc0, m->qprev, m->lz};
+  for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i)
+    free(dp[i]);
   free(m->ipiv);
   free(m->iwork);
   free(m->ifail);
@@ -103,15 +103,17 @@ void ea_fe_model_free(ea_fe_model_t *m) {
   free(m);
 }
 
-ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s,
-                              ea_fe_model_t **out, ea_error_t *err) {
+ea_status_t ea_fe_model_alloc(const ea_arm_t *arm, const ea_fe_settings_t *s, ea_fe_model_t **out,
+                              ea_error_t *err) {
   if (!out) return ea_error_set(err, EA_ERR_ARG, "out is NULL");
   *out = NULL;
   ea_status_t st = ea_arm_validate(arm, err);
   if (st) return st;
   ea_fe_settings_t set;
-  if (s) set = *s;
-  else ea_fe_settings_default(&set);
+  if (s)
+    set = *s;
+  else
+    ea_fe_settings_default(&set);
   if ((st = ea_fe_settings_validate(&set, err))) return st;
   ea_fe_model_t *m = calloc(1, sizeof *m);
   if (!m) return ea_error_set(err, EA_ERR_NOMEM, "fe model");
@@ -201,8 +203,12 @@ ea_status_t ea_fe_model_set_load(ea_fe_model_t *m, const ea_load_t *load) {
   return EA_OK;
 }
 
-int ea_fe_model_nodes(const ea_fe_model_t *m) { return m ? m->nn : 0; }
-const ea_arm_t *ea_fe_model_arm(const ea_fe_model_t *m) { return m ? &m->arm : NULL; }
+int ea_fe_model_nodes(const ea_fe_model_t *m) {
+  return m ? m->nn : 0;
+}
+const ea_arm_t *ea_fe_model_arm(const ea_fe_model_t *m) {
+  return m ? &m->arm : NULL;
+}
 const ea_fe_settings_t *ea_fe_model_settings(const ea_fe_model_t *m) {
   return m ? &m->set : NULL;
 }
@@ -227,8 +233,7 @@ ea_status_t ea_fe_set_cable(ea_fe_model_t *m, ea_fe_cable_phase_t phase, double 
   if (!m) return EA_ERR_ARG;
   if (phase == EA_FE_CABLE_ACTIVE && !(isfinite(value) && value >= 0.0)) return EA_ERR_ARG;
   if (phase == EA_FE_CABLE_PASSIVE && !(isfinite(value) && value > 0.0)) return EA_ERR_ARG;
-  if (phase != EA_FE_CABLE_NONE && phase != EA_FE_CABLE_ACTIVE &&
-      phase != EA_FE_CABLE_PASSIVE)
+  if (phase != EA_FE_CABLE_NONE && phase != EA_FE_CABLE_ACTIVE && phase != EA_FE_CABLE_PASSIVE)
     return EA_ERR_ARG;
   m->phase = phase;
   m->cable_value = (phase == EA_FE_CABLE_NONE) ? 0.0 : value;
@@ -283,8 +288,10 @@ ea_status_t ea_fe_set_state(ea_fe_model_t *m, const double *q, const double *v) 
     if (!isfinite(q[i]) || (v && !isfinite(v[i]))) return EA_ERR_ARG;
   memcpy(m->q, q, sizeof(double) * (size_t)m->nd);
   m->q[0] = m->q[1] = 0.0;
-  if (v) memcpy(m->v, v, sizeof(double) * (size_t)m->nd);
-  else memset(m->v, 0, sizeof(double) * (size_t)m->nd);
+  if (v)
+    memcpy(m->v, v, sizeof(double) * (size_t)m->nd);
+  else
+    memset(m->v, 0, sizeof(double) * (size_t)m->nd);
   m->modes_valid = 0;
   return EA_OK;
 }
@@ -296,18 +303,20 @@ void ea_fe_tip(const ea_fe_model_t *m, double tip[3]) {
 
 /* ---- assembly ---------------------------------------------------------- */
 
-double ea__fe_assemble(ea_fe_model_t *m, const double *q, ea_fe_cable_phase_t phase,
-                       double value, double *fi, double *Kb) {
+double ea__fe_assemble(ea_fe_model_t *m, const double *q, ea_fe_cable_phase_t phase, double value,
+                       double *fi, double *Kb) {
   double V = 0.0, fe[9], ke[81];
   memset(fi, 0, sizeof(double) * (size_t)m->nd);
   if (Kb) memset(Kb, 0, sizeof(double) * EA__FE_LDS * (size_t)m->nd);
   for (int e = 0; e < m->ne; ++e) {
     const int o = 6 * e;
     V += ea__fe_beam_element(m, q + o, fe, Kb ? ke : NULL);
-    for (int i = 0; i < 9; ++i) fi[o + i] += fe[i];
+    for (int i = 0; i < 9; ++i)
+      fi[o + i] += fe[i];
     if (Kb)
       for (int i = 0; i < 9; ++i)
-        for (int j = i; j < 9; ++j) EA__SB(Kb, o + i, o + j) += ke[9 * i + j];
+        for (int j = i; j < 9; ++j)
+          EA__SB(Kb, o + i, o + j) += ke[9 * i + j];
   }
   /* gravity: potential -fg . q, gradient -fg */
   for (int i = 0; i < m->nd; ++i) {
@@ -338,8 +347,10 @@ double ea__fe_assemble(ea_fe_model_t *m, const double *q, ea_fe_cable_phase_t ph
 double ea__fe_potential(const ea_fe_model_t *m, const double *q, ea_fe_cable_phase_t phase,
                         double value) {
   double V = 0.0, fe[9];
-  for (int e = 0; e < m->ne; ++e) V += ea__fe_beam_element(m, q + 6 * e, fe, NULL);
-  for (int i = 0; i < m->nd; ++i) V -= m->fg[i] * q[i];
+  for (int e = 0; e < m->ne; ++e)
+    V += ea__fe_beam_element(m, q + 6 * e, fe, NULL);
+  for (int i = 0; i < m->nd; ++i)
+    V -= m->fg[i] * q[i];
   const int t = m->nd - 3;
   V += ea__fe_cable(m, phase, value, q[t], q[t + 1], NULL, NULL, NULL, NULL);
   return V;
@@ -358,7 +369,8 @@ double ea_fe_energy(const ea_fe_model_t *m) {
 
 void ea__fe_band_axpy(const ea_fe_model_t *m, double s, const double *A, double *B) {
   const size_t n = EA__FE_LDS * (size_t)m->nd;
-  for (size_t i = 0; i < n; ++i) B[i] += s * A[i];
+  for (size_t i = 0; i < n; ++i)
+    B[i] += s * A[i];
 }
 
 void ea__fe_band_gemv(const ea_fe_model_t *m, double s, const double *A, const double *x,
@@ -416,9 +428,11 @@ void ea__fe_assemble_rate(ea_fe_model_t *m, const double *q, const double *v, do
   for (int e = 0; e < m->ne; ++e) {
     const int o = 6 * e;
     ea__fe_beam_rate(m, q + o, v + o, fe, Cb ? ce : NULL);
-    for (int i = 0; i < 9; ++i) fd[o + i] += b * fe[i];
+    for (int i = 0; i < 9; ++i)
+      fd[o + i] += b * fe[i];
     if (Cb)
       for (int i = 0; i < 9; ++i)
-        for (int j = i; j < 9; ++j) EA__SB(Cb, o + i, o + j) += b * ce[9 * i + j];
+        for (int j = i; j < 9; ++j)
+          EA__SB(Cb, o + i, o + j) += b * ce[9 * i + j];
   }
 }

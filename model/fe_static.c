@@ -8,14 +8,13 @@
  * scaled back (a guard for starts far from equilibrium; never active near it). */
 #define EA__FE_MAX_DTHETA 0.3
 
-
 /* Newton-Raphson on the free DOFs of q. With tip != NULL (ACTIVE phase only)
  * the tension *value and theta0 = q[2] are unknowns as well and the tip is
  * held at tip[0..1]: the bordered system [K b_T b_th0; C 0 0] is solved by
  * block elimination with three right-hand sides on the band LU of K. */
 static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
-                                      double *value, const double *tip,
-                                      ea_fe_static_info_t *info, ea_error_t *err) {
+                                      double *value, const double *tip, ea_fe_static_info_t *info,
+                                      ea_error_t *err) {
   const double t0 = ea__fe_now();
   const int nf = m->nf, tx = nf - 3, ty = nf - 2; /* free indices of the tip x, y */
   ea_status_t st = EA_ERR_MAXITER;
@@ -67,7 +66,8 @@ static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_p
       }
       dT = (gx * a22 - a12 * gy) / det;
       dth = (a11 * gy - a21 * gx) / det;
-      for (int i = 0; i < nf; ++i) X[i] -= X1[i] * dT + X2[i] * dth;
+      for (int i = 0; i < nf; ++i)
+        X[i] -= X1[i] * dT + X2[i] * dth;
     }
     st = EA_ERR_MAXITER;
     double dmax = fabs(dth), xmax = 0.0;
@@ -76,7 +76,8 @@ static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_p
       xmax = fmax(xmax, fabs(X[i]));
     }
     const double sc = (dmax > EA__FE_MAX_DTHETA) ? EA__FE_MAX_DTHETA / dmax : 1.0;
-    for (int i = 0; i < nf; ++i) q[i + 3] -= sc * X[i];
+    for (int i = 0; i < nf; ++i)
+      q[i + 3] -= sc * X[i];
     if (tip) {
       *value -= sc * dT;
       q[2] -= sc * dth;
@@ -92,7 +93,8 @@ static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_p
       st = EA_OK;
       ea__fe_assemble(m, q, phase, *value, m->fi, NULL);
       r2 = 0.0;
-      for (int i = 0; i < nf; ++i) r2 += m->fi[i + 3] * m->fi[i + 3];
+      for (int i = 0; i < nf; ++i)
+        r2 += m->fi[i + 3] * m->fi[i + 3];
       eps = (m->fext_norm > 0.0) ? sqrt(r2) / m->fext_norm : sqrt(r2);
       if (tip) gtip = fmax(fabs(q[tx + 3] - tip[0]), fabs(q[ty + 3] - tip[1]));
       if (gtip > 1e-12 * m->arm.length) st = EA_ERR_MAXITER;
@@ -124,8 +126,8 @@ static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_p
   return EA_OK;
 }
 
-ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
-                            double value, ea_fe_static_info_t *info, ea_error_t *err) {
+ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase, double value,
+                            ea_fe_static_info_t *info, ea_error_t *err) {
   return ea__fe_newton_core(m, q, phase, &value, NULL, info, err);
 }
 
@@ -140,7 +142,8 @@ ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phas
                                    double value, int iters) {
   for (int it = 0; it < iters; ++it) {
     ea__fe_assemble(m, q, phase, value, m->fi, m->Kb);
-    for (int i = 0; i < m->nf; ++i) m->r[i] = m->fi[i + 3];
+    for (int i = 0; i < m->nf; ++i)
+      m->r[i] = m->fi[i + 3];
     for (int j = 5; j < m->nd; j += 3) { /* full index of each free theta */
       for (int i = (j > EA__FE_KD ? j - EA__FE_KD : 0); i <= j; ++i)
         m->Kb[(EA__FE_KD + i - j) + (size_t)j * EA__FE_LDS] = 0.0;
@@ -151,7 +154,8 @@ ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phas
     }
     ea_status_t st = ea__fe_solve_free(m, m->Kb);
     if (st) return st;
-    for (int i = 0; i < m->nf; ++i) q[i + 3] -= m->dq[i];
+    for (int i = 0; i < m->nf; ++i)
+      q[i + 3] -= m->dq[i];
   }
   return EA_OK;
 }
@@ -178,9 +182,8 @@ ea_status_t ea_fe_newton(ea_fe_model_t *m, ea_fe_static_info_t *info, ea_error_t
   return st;
 }
 
-ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh,
-                               const ea_statics_solution_t *ode, ea_fe_static_info_t *info,
-                               ea_error_t *err) {
+ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh, const ea_statics_solution_t *ode,
+                               ea_fe_static_info_t *info, ea_error_t *err) {
   if (!m || !sh || !ode) return ea_error_set(err, EA_ERR_ARG, "fe static: NULL argument");
   for (int i = 0; i < EA_NP; ++i)
     if (!isfinite(ode->p[i]))
@@ -207,8 +210,8 @@ ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh,
   st = ea__fe_relax_positions(m, m->qs, EA_FE_CABLE_ACTIVE, T, 2);
   if (st) return ea_error_set(err, st, "fe static: singular position relaxation");
   double target[2] = {x[n - 1], y[n - 1]};
-  st = ea__fe_newton_core(m, m->qs, EA_FE_CABLE_ACTIVE, &T,
-                          m->set.static_hold_tip ? target : NULL, info, err);
+  st = ea__fe_newton_core(m, m->qs, EA_FE_CABLE_ACTIVE, &T, m->set.static_hold_tip ? target : NULL,
+                          info, err);
   if (info) {
     info->tip_shift = hypot(info->tip[0] - x[n - 1], info->tip[1] - y[n - 1]);
     info->time_s = ea__fe_now() - t0;

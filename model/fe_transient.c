@@ -42,8 +42,7 @@ ea_status_t ea_fe_sim_settings_validate(const ea_fe_sim_settings_t *s, ea_error_
   if (!isfinite(s->t_end) || !(s->t_end >= 0.0) || s->t_end / s->dt > 1e9)
     return ea_error_set(err, EA_ERR_ARG, "sim t_end = %g: must be >= 0 and < 1e9 dt", s->t_end);
   if (!isfinite(s->t_motion_end))
-    return ea_error_set(err, EA_ERR_ARG, "sim t_motion_end = %g: must be finite",
-                        s->t_motion_end);
+    return ea_error_set(err, EA_ERR_ARG, "sim t_motion_end = %g: must be finite", s->t_motion_end);
   if (!(s->rho_inf >= 0.0 && s->rho_inf <= 1.0))
     return ea_error_set(err, EA_ERR_ARG, "sim rho_inf = %g: must be in [0, 1]", s->rho_inf);
   if (!(s->rayleigh_mass >= 0.0) || !(s->rayleigh_stiffness >= 0.0) ||
@@ -71,8 +70,10 @@ int ea_fe_samples_eval(double t, double *value, double *rate, void *data) {
   int lo = 0, hi = n - 1;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    if (h->t[mid] <= t) lo = mid;
-    else hi = mid;
+    if (h->t[mid] <= t)
+      lo = mid;
+    else
+      hi = mid;
   }
   const double t0 = h->t[lo], t1 = h->t[hi], dt = t1 - t0;
   if (!(dt > 0.0)) return 1;
@@ -83,7 +84,8 @@ int ea_fe_samples_eval(double t, double *value, double *rate, void *data) {
   *value = (2 * u3 - 3 * u2 + 1) * y0 + (u3 - 2 * u2 + u) * dt * m0 + (-2 * u3 + 3 * u2) * y1 +
            (u3 - u2) * dt * m1;
   *rate = ((6 * u2 - 6 * u) * y0 + (3 * u2 - 4 * u + 1) * dt * m0 + (-6 * u2 + 6 * u) * y1 +
-           (3 * u2 - 2 * u) * dt * m1) / dt;
+           (3 * u2 - 2 * u) * dt * m1) /
+          dt;
   return 0;
 }
 
@@ -104,10 +106,10 @@ static double ea__fe_kinetic(const ea_fe_model_t *m, const double *v) {
   memset(m->tmp, 0, sizeof(double) * (size_t)m->nd);
   ea__fe_band_gemv(m, 1.0, m->Mb, v, m->tmp);
   double T = 0.0;
-  for (int i = 0; i < m->nd; ++i) T += 0.5 * v[i] * m->tmp[i];
+  for (int i = 0; i < m->nd; ++i)
+    T += 0.5 * v[i] * m->tmp[i];
   return T;
 }
-
 
 /* Clamp angular acceleration [rad/s^2] at t: centred difference of the drive's
  * rate over +-h/2 (second order; the drives give value and rate only). */
@@ -144,16 +146,17 @@ static int ea__fe_apply_dq(ea_fe_model_t *m, double *q, double *dmax) {
 /* One step of the energy-consistent midpoint scheme from (m->q0, m->v0) to
  * (m->q, m->v); clamp angle/rate th1, th1r at t1, cable value cm at the
  * midpoint; V0 = potential at q0. *iters: Newton iterations. */
-static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings_t *s,
-                                      int damped, double bkv, ea_fe_cable_phase_t phase, double cm,
-                                      double th1, double th1r, int *iters) {
+static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings_t *s, int damped,
+                                      double bkv, ea_fe_cable_phase_t phase, double cm, double th1,
+                                      double th1r, int *iters) {
   const int nd = m->nd, nf = m->nf;
   const double h = s->dt;
   double *q0 = m->q0, *v0 = m->v0, *q1 = m->q, *v1 = m->v, *qm = m->qm;
   const double V0 = ea__fe_potential(m, q0, phase, cm);
   ea_status_t st = EA_OK;
   /* predictor */
-  for (int i = 3; i < nd; ++i) q1[i] = q0[i] + h * v0[i];
+  for (int i = 3; i < nd; ++i)
+    q1[i] = q0[i] + h * v0[i];
   q1[0] = q1[1] = 0.0;
   q1[2] = th1;
   v1[0] = v1[1] = 0.0;
@@ -161,12 +164,15 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
   int it = 0, conv = 0;
   double dprev = INFINITY;
   for (; it < s->max_iter; ++it) {
-    for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
-    for (int i = 0; i < nd; ++i) qm[i] = 0.5 * (q0[i] + q1[i]);
+    for (int i = 3; i < nd; ++i)
+      v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
+    for (int i = 0; i < nd; ++i)
+      qm[i] = 0.5 * (q0[i] + q1[i]);
     ea__fe_assemble(m, qm, phase, cm, m->fm, m->Kb);
     /* discrete gradient correction */
     double *dq = m->tmp, *Mdq = m->a0;
-    for (int i = 0; i < nd; ++i) dq[i] = q1[i] - q0[i];
+    for (int i = 0; i < nd; ++i)
+      dq[i] = q1[i] - q0[i];
     memset(Mdq, 0, sizeof(double) * (size_t)nd);
     ea__fe_band_gemv(m, 1.0, m->Mb, dq, Mdq);
     double dMd = 0.0, fd = 0.0;
@@ -182,7 +188,8 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
        * the midpoint gradient is then exact to rounding already. */
       if (fabs(dV) > 2e-14 * (fabs(V0) + fabs(V1))) {
         const double c = dV / dMd;
-        for (int i = 0; i < nd; ++i) m->fm[i] += c * Mdq[i];
+        for (int i = 0; i < nd; ++i)
+          m->fm[i] += c * Mdq[i];
       }
     }
     /* residual: M (v1 - v0)/h + C vm + dV */
@@ -197,7 +204,8 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
       memset(m->Kt, 0, sizeof(double) * nb);
       ea__fe_assemble_rate(m, qm, m->vs, bkv, m->fm, m->Kt);
     }
-    for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
+    for (int i = 0; i < nf; ++i)
+      m->r[i] = m->fm[i + 3];
     /* Jacobian 2M/h^2 + C/h + K/2 */
     for (size_t i = 0; i < nb; ++i)
       m->Kb[i] = 0.5 * m->Kb[i] + 2.0 / (h * h) * m->Mb[i] + (damped ? m->Cb[i] / h : 0.0) +
@@ -215,7 +223,8 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
     }
     dprev = dmax;
   }
-  for (int i = 3; i < nd; ++i) v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
+  for (int i = 3; i < nd; ++i)
+    v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
   *iters = it;
   if (!st && !conv) st = EA_ERR_NOCONV;
   return st;
@@ -259,15 +268,15 @@ static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings
    * shear GA / h, omega h >> 1) a start slightly off equilibrium gives accelerations
    * ~ omega^2 x and, for rho_inf < 1, velocities h v ~ (omega h)^2 x while the
    * positions stay ~ x: extrapolating with v or a throws Newton out of its basin. */
-  for (int i = 3; i < nd; ++i) q1[i] = first ? q0[i] + h * v0[i] : 2.0 * q0[i] - m->qprev[i];
+  for (int i = 3; i < nd; ++i)
+    q1[i] = first ? q0[i] + h * v0[i] : 2.0 * q0[i] - m->qprev[i];
   q1[0] = q1[1] = 0.0;
   q1[2] = th1;
   v1[0] = v1[1] = 0.0;
   v1[2] = th1r;
   a1[0] = a1[1] = 0.0;
   a1[2] = th1a;
-  const double ca = (1.0 - am) / (be * h * h), cv = (1.0 - af) * ga / (be * h),
-               ck = 1.0 - af;
+  const double ca = (1.0 - am) / (be * h * h), cv = (1.0 - af) * ga / (be * h), ck = 1.0 - af;
   int it = 0, conv = 0;
   double dprev = INFINITY;
   for (; it < s->max_iter; ++it) {
@@ -288,7 +297,8 @@ static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings
       memset(m->Kt, 0, sizeof(double) * nb);
       ea__fe_assemble_rate(m, qf, vf, bkv, m->fm, m->Kt);
     }
-    for (int i = 0; i < nf; ++i) m->r[i] = m->fm[i + 3];
+    for (int i = 0; i < nf; ++i)
+      m->r[i] = m->fm[i + 3];
     for (size_t i = 0; i < nb; ++i)
       m->Kb[i] = ck * m->Kb[i] + ca * m->Mb[i] + (damped ? cv * m->Cb[i] : 0.0) +
                  (bkv > 0.0 ? cv * m->Kt[i] : 0.0);
@@ -325,10 +335,12 @@ static ea_status_t ea__fe_initial_acc(ea_fe_model_t *m, int damped, double bkv, 
   ea__fe_band_gemv(m, 1.0, m->Mb, a, m->fm);
   if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, m->v, m->fm);
   ea__fe_assemble_rate(m, m->q, m->v, bkv, m->fm, NULL);
-  for (int i = 0; i < nf; ++i) m->r[i] = -m->fm[i + 3];
+  for (int i = 0; i < nf; ++i)
+    m->r[i] = -m->fm[i + 3];
   ea_status_t st = ea__fe_solve_free(m, m->Mb);
   if (st) return st;
-  for (int i = 0; i < nf; ++i) a[i + 3] = m->dq[i];
+  for (int i = 0; i < nf; ++i)
+    a[i + 3] = m->dq[i];
   return EA_OK;
 }
 
@@ -369,9 +381,10 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       return info->status =
                  ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
     if ((st = ea__fe_initial_acc(m, damped, bkv, th0a, m->acc)) != EA_OK)
-      return info->status = ea_error_set(
-                 err, st, "simulate: generalized-alpha initial acceleration: singular mass "
-                          "matrix (I_zz = 0 with I_hand = 0?)");
+      return info->status =
+                 ea_error_set(err, st,
+                              "simulate: generalized-alpha initial acceleration: singular mass "
+                              "matrix (I_zz = 0 with I_hand = 0?)");
   }
   const double E0 = ea_fe_energy(m);
   info->energy_start = E0;
@@ -438,7 +451,8 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       memset(fd, 0, sizeof(double) * (size_t)nd);
       if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, ve, fd);
       ea__fe_assemble_rate(m, qe, ve, bkv, fd, NULL);
-      for (int i = 0; i < nd; ++i) info->damping_work += (m->q[i] - m->q0[i]) * fd[i];
+      for (int i = 0; i < nd; ++i)
+        info->damping_work += (m->q[i] - m->q0[i]) * fd[i];
     }
     const double E = ea_fe_energy(m), K = ea__fe_kinetic(m, m->v);
     if (!isfinite(E)) {
@@ -471,7 +485,8 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
         memcpy(m->v, m->v0, sizeof(double) * (size_t)nd);
         have_static = 1;
       }
-      const double d = hypot(m->q[nd - 3] - info->tip_static[0], m->q[nd - 2] - info->tip_static[1]);
+      const double d =
+          hypot(m->q[nd - 3] - info->tip_static[0], m->q[nd - 2] - info->tip_static[1]);
       sum2 += d * d;
       peak = fmax(peak, d);
       ++nres;

@@ -16,8 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const ea__int_names[EA_INT_COUNT] = {
-    "rk8pd-fixed", "rk8pd-adaptive", "rkf45-adaptive", "rk4-fixed"};
+static const char *const ea__int_names[EA_INT_COUNT] = {"rk8pd-fixed", "rk8pd-adaptive",
+                                                        "rkf45-adaptive", "rk4-fixed"};
 
 const char *ea_integrator_name(ea_integrator_t it) {
   if ((int)it < 0 || it >= EA_INT_COUNT) return "unknown";
@@ -81,10 +81,14 @@ static int ea__rhs(double s, const double y[], double f[], void *params) {
 static const gsl_odeiv2_step_type *ea__step_type(ea_integrator_t it) {
   switch (it) {
   case EA_INT_RK8PD_FIXED:
-  case EA_INT_RK8PD_ADAPTIVE: return gsl_odeiv2_step_rk8pd;
-  case EA_INT_RKF45_ADAPTIVE: return gsl_odeiv2_step_rkf45;
-  case EA_INT_RK4_FIXED: return gsl_odeiv2_step_rk4;
-  default: return NULL;
+  case EA_INT_RK8PD_ADAPTIVE:
+    return gsl_odeiv2_step_rk8pd;
+  case EA_INT_RKF45_ADAPTIVE:
+    return gsl_odeiv2_step_rkf45;
+  case EA_INT_RK4_FIXED:
+    return gsl_odeiv2_step_rk4;
+  default:
+    return NULL;
   }
 }
 
@@ -92,8 +96,8 @@ static int ea__is_fixed(ea_integrator_t it) {
   return it == EA_INT_RK8PD_FIXED || it == EA_INT_RK4_FIXED;
 }
 
-ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s,
-                             ea_shooter_t **out, ea_error_t *err) {
+ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s, ea_shooter_t **out,
+                             ea_error_t *err) {
   if (!arm || !out) return ea_error_set(err, EA_ERR_ARG, "ea_shooter_alloc: NULL argument");
   *out = NULL;
   ea_status_t st = ea_arm_validate(arm, err);
@@ -129,8 +133,8 @@ ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s,
       sh->step[nc] = gsl_odeiv2_step_alloc(T, dim);
       if (!sh->step[nc]) goto nomem;
     } else {
-      sh->drv[nc] = gsl_odeiv2_driver_alloc_y_new(&sh->sys[nc], T, arm->length / 16.0, set.atol,
-                                                  set.rtol);
+      sh->drv[nc] =
+          gsl_odeiv2_driver_alloc_y_new(&sh->sys[nc], T, arm->length / 16.0, set.atol, set.rtol);
       if (!sh->drv[nc]) goto nomem;
     }
   }
@@ -156,8 +160,12 @@ void ea_shooter_set_load(ea_shooter_t *sh, const ea_load_t *load) {
   sh->load = *load;
   sh->cache_valid = 0;
 }
-const ea_arm_t *ea_shooter_arm(const ea_shooter_t *sh) { return &sh->arm; }
-const ea_load_t *ea_shooter_load(const ea_shooter_t *sh) { return &sh->load; }
+const ea_arm_t *ea_shooter_arm(const ea_shooter_t *sh) {
+  return &sh->arm;
+}
+const ea_load_t *ea_shooter_load(const ea_shooter_t *sh) {
+  return &sh->load;
+}
 void ea__shooter_set_gscale(ea_shooter_t *sh, double scale) {
   const double g = sh->arm.g * scale;
   if (g != sh->g) sh->cache_valid = 0;
@@ -205,8 +213,8 @@ static ea_status_t ea__integrate(ea_shooter_t *sh, double *y) {
   return EA_OK;
 }
 
-ea_status_t ea__shoot_cols(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX],
-                           double *dxdp, unsigned mask) {
+ea_status_t ea__shoot_cols(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX], double *dxdp,
+                           unsigned mask) {
   if (!sh || !p || !xL) return EA_ERR_ARG;
   for (int i = 0; i < EA_NP; ++i)
     if (!isfinite(p[i])) return EA_ERR_ARG;
@@ -236,7 +244,8 @@ ea_status_t ea__shoot_cols(ea_shooter_t *sh, const double p[EA_NP], double xL[EA
   memcpy(sh->cache_x, y, sizeof sh->cache_x);
   memset(sh->cache_S, 0, sizeof sh->cache_S);
   for (int i = 0; i < EA_NX; ++i)
-    for (int k = 0; k < nc; ++k) sh->cache_S[i * EA_NP + sh->cols_active[k]] = y[4 + i * nc + k];
+    for (int k = 0; k < nc; ++k)
+      sh->cache_S[i * EA_NP + sh->cols_active[k]] = y[4 + i * nc + k];
   if (dxdp) memcpy(dxdp, sh->cache_S, sizeof sh->cache_S);
   memcpy(sh->cache_p, p, sizeof sh->cache_p);
   sh->cache_mask = mask;
@@ -244,13 +253,12 @@ ea_status_t ea__shoot_cols(ea_shooter_t *sh, const double p[EA_NP], double xL[EA
   return EA_OK;
 }
 
-ea_status_t ea_shoot(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX],
-                     double *dxdp) {
+ea_status_t ea_shoot(ea_shooter_t *sh, const double p[EA_NP], double xL[EA_NX], double *dxdp) {
   return ea__shoot_cols(sh, p, xL, dxdp, (1u << EA_NP) - 1u);
 }
 
-ea_status_t ea_shoot_shape(ea_shooter_t *sh, const double p[EA_NP], int n, double *s,
-                           double *theta, double *kappa, double *x, double *y) {
+ea_status_t ea_shoot_shape(ea_shooter_t *sh, const double p[EA_NP], int n, double *s, double *theta,
+                           double *kappa, double *x, double *y) {
   if (!sh || !p || n < 2) return EA_ERR_ARG;
   for (int i = 0; i < EA_NP; ++i)
     if (!isfinite(p[i])) return EA_ERR_ARG;
@@ -281,8 +289,8 @@ ea_status_t ea_shoot_shape(ea_shooter_t *sh, const double p[EA_NP], int n, doubl
   return EA_OK;
 }
 
-ea_status_t ea_shoot_reference(const ea_arm_t *arm, const ea_load_t *load,
-                               const double p[EA_NP], double xL[EA_NX]) {
+ea_status_t ea_shoot_reference(const ea_arm_t *arm, const ea_load_t *load, const double p[EA_NP],
+                               double xL[EA_NX]) {
   ea_shoot_settings_t set;
   ea_shoot_settings_default(&set);
   set.integrator = EA_INT_RKF45_ADAPTIVE;

@@ -72,24 +72,32 @@ static double ea__given_value(const ea_arm_t *arm, ea_given_t g, const double p[
     return dx * ca + dy * sa;
   case EA_GIVEN_TIP_X:
     if (grad && dxdp)
-      for (int j = 0; j < EA_NP; ++j) grad[j] = dxdp[EA_X_X * EA_NP + j];
+      for (int j = 0; j < EA_NP; ++j)
+        grad[j] = dxdp[EA_X_X * EA_NP + j];
     return xL[EA_X_X];
   case EA_GIVEN_TIP_Y:
     if (grad && dxdp)
-      for (int j = 0; j < EA_NP; ++j) grad[j] = dxdp[EA_X_Y * EA_NP + j];
+      for (int j = 0; j < EA_NP; ++j)
+        grad[j] = dxdp[EA_X_Y * EA_NP + j];
     return xL[EA_X_Y];
-  default: return NAN;
+  default:
+    return NAN;
   }
 }
 
 /* The parameter a given quantity fixes directly, or -1. */
 static int ea__direct_param(ea_given_t g) {
   switch (g) {
-  case EA_GIVEN_ALPHA: return EA_P_ALPHA;
-  case EA_GIVEN_TENSION: return EA_P_TENSION;
-  case EA_GIVEN_THETA0: return EA_P_THETA0;
-  case EA_GIVEN_KAPPA0: return EA_P_KAPPA0;
-  default: return -1;
+  case EA_GIVEN_ALPHA:
+    return EA_P_ALPHA;
+  case EA_GIVEN_TENSION:
+    return EA_P_TENSION;
+  case EA_GIVEN_THETA0:
+    return EA_P_THETA0;
+  case EA_GIVEN_KAPPA0:
+    return EA_P_KAPPA0;
+  default:
+    return -1;
   }
 }
 
@@ -128,8 +136,8 @@ static ea_status_t ea__residual(ea_shooter_t *sh, const ea_given_t given[2], con
     J[1 * 4 + EA_P_ALPHA] += -dy * sa - dx * ca;
   }
   for (int k = 0; k < 2; ++k)
-    r[2 + k] = ea__given_value(arm, given[k], p, xL, J ? S : NULL, J ? J + (2 + k) * 4 : NULL) -
-               v[k];
+    r[2 + k] =
+        ea__given_value(arm, given[k], p, xL, J ? S : NULL, J ? J + (2 + k) * 4 : NULL) - v[k];
   if (xL_out) memcpy(xL_out, xL, sizeof xL);
   return EA_OK;
 }
@@ -142,7 +150,8 @@ ea_status_t ea_statics_residual(ea_shooter_t *sh, const ea_statics_problem_t *pr
 
 static double ea__norm(const double r[4]) {
   double m = 0.0;
-  for (int i = 0; i < 4; ++i) m = fmax(m, fabs(r[i]));
+  for (int i = 0; i < 4; ++i)
+    m = fmax(m, fabs(r[i]));
   return m;
 }
 
@@ -194,7 +203,8 @@ static ea_status_t ea__newton(ea_shooter_t *sh, const ea_given_t given[2], const
                      nr * nr < 1e-2 * tol;
     int accepted = 0;
     for (int k = 0; k < 12; ++k) {
-      for (int j = 0; j < EA_NP; ++j) pt[j] = p[j] - lam * dz[j];
+      for (int j = 0; j < EA_NP; ++j)
+        pt[j] = p[j] - lam * dz[j];
       if (ea__residual(sh, given, v, pt, rt, (k == 0 && !last) ? Jt : NULL, NULL) == EA_OK) {
         const double nt = ea__norm(rt);
         if (nt < (1.0 - 1e-4 * lam) * nr || nt <= tol) {
@@ -258,7 +268,8 @@ static ea_status_t ea__continue(ea_shooter_t *sh, const ea_given_t given[2], ea_
     memcpy(pt, p, sizeof pt);
     if (lprev >= 0.0 && lam > lprev) { /* secant predictor */
       const double f = (lt - lam) / (lam - lprev);
-      for (int j = 0; j < EA_NP; ++j) pt[j] = p[j] + f * (p[j] - pprev[j]);
+      for (int j = 0; j < EA_NP; ++j)
+        pt[j] = p[j] + f * (p[j] - pprev[j]);
     }
     fn(sh, lt, ctx, v);
     ++*steps;
@@ -381,7 +392,7 @@ ea_status_t ea_statics_solve(ea_shooter_t *sh, const ea_statics_problem_t *prob,
           lc.v1[k] = prob->value[k];
         }
         st = ea__continue(sh, prob->given, ea__lin_fn, &lc, p, &set, !set.allow_negative_tension,
-                         &iters, &steps, &res);
+                          &iters, &steps, &res);
         if (st == EA_OK) /* polish at the exact values */
           st = ea__newton(sh, prob->given, prob->value, p, set.tol, set.max_iter, 0, &iters, &res);
       }

@@ -16,8 +16,8 @@ ea_status_t ea_mkdir_parents(const char *path, ea_error_t *err) {
     if (*p != '/') continue;
     *p = '\0';
     if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-      ea_status_t st = ea_error_set(err, EA_ERR_IO, "%s: cannot create directory %s: %s", path,
-                                    buf, strerror(errno));
+      ea_status_t st = ea_error_set(err, EA_ERR_IO, "%s: cannot create directory %s: %s", path, buf,
+                                    strerror(errno));
       return st;
     }
     *p = '/';

@@ -37,8 +37,8 @@ static int ea__fe_check_figure(const char *cmd, const char *path) {
 /* How the FE static state is tied to the ODE solution. */
 enum { EA__FE_HOLD_TIP = 0, EA__FE_HOLD_TENSION = 1 };
 
-static int ea__fe_model_make(const char *cmd, const ea_arm_t *arm, double tip_mass,
-                             long elements, long modes, int hold, ea_fe_model_t **m) {
+static int ea__fe_model_make(const char *cmd, const ea_arm_t *arm, double tip_mass, long elements,
+                             long modes, int hold, ea_fe_model_t **m) {
   ea_error_t err = {0};
   ea_fe_settings_t s;
   ea_fe_settings_default(&s);
@@ -74,13 +74,13 @@ static int ea__fe_make(const char *cmd, const ea_arm_t *arm, double tip_mass, lo
 /* One configuration: ODE statics (warm-started if guess), FE static solve,
  * natural frequencies. */
 typedef struct {
-  double cable_length, alpha;  /**< requested [m], [rad] */
+  double cable_length, alpha; /**< requested [m], [rad] */
   ea_statics_solution_t ode;
   ea_fe_static_info_t fe;
   ea_fe_modes_info_t modes;
   ea_status_t status;
   ea_error_t err;
-  const char *stage;           /**< where it failed: "statics", "fe-static", "modes" */
+  const char *stage; /**< where it failed: "statics", "fe-static", "modes" */
 } ea__fe_point_t;
 
 static ea_status_t ea__fe_point(ea_fe_model_t *m, ea_shooter_t *sh, double Lc, double alpha,
@@ -89,7 +89,8 @@ static ea_status_t ea__fe_point(ea_fe_model_t *m, ea_shooter_t *sh, double Lc, d
   pt->cable_length = Lc;
   pt->alpha = alpha;
   pt->fe.residual = pt->fe.tension = pt->fe.theta0 = NAN;
-  for (int k = 0; k < EA_FE_MAX_MODES; ++k) pt->modes.freq_hz[k] = NAN;
+  for (int k = 0; k < EA_FE_MAX_MODES; ++k)
+    pt->modes.freq_hz[k] = NAN;
   ea_statics_problem_t pr = ea_statics_problem_cable(Lc, alpha);
   pt->stage = "statics";
   pt->status = ea_statics_solve(sh, &pr, NULL, guess, &pt->ode, &pt->err);
@@ -174,35 +175,34 @@ static void ea__fe_plot_modes_cmd(ea_plot_t *pl, int nmodes, const double *freq)
 /* ------------------------------------------------------------------------ */
 
 static void ea__freq_help(void) {
-  printf(
-      "usage: elasticarm frequencies --cable-length M --cable-angle-deg A [options]\n"
-      "       elasticarm frequencies --sweep [--cable-lengths LIST] [--cable-angle-deg A] "
-      "[options]\n\n"
-      "Natural frequencies of the FE model (paper sec. 3.3, eq. 24) about a static\n"
-      "configuration: ODE statics (cable length and angle) -> FE static Newton (eq. 21-23)\n"
-      "-> passive-cable eigenproblem. The sweep form reproduces Fig. 5 (first modes vs\n"
-      "cable length at alpha = 0, statics warm-started along the sweep).\n\n"
-      "  --cable-length M       cable length [m]\n"
-      "  --cable-angle-deg A    cable angle [deg] (sweep default 0)\n"
-      "  --sweep                frequencies vs cable length\n"
-      "  --cable-lengths LIST   sweep lengths: a,b,c or start:step:stop [m]\n"
-      "                         (default 0.254:0.00381:0.635, the paper's range)\n"
-      "  --modes K              number of modes, 1..%d (default 3)\n"
-      "  --elements N           FE elements (default %d; the paper used %d)\n"
-      "  --fe-hold tip|tension  FE static state: tip = hold the ODE tip, i.e. the exact\n"
-      "                         cable length and angle, solving for T and theta0 (default);\n"
-      "                         tension = hold the ODE tension and theta0 (the tip moves by\n"
-      "                         tip_shift_m)\n"
-      "  --payload-factor G     payload m_p = G (m_h + rho L) (eq. 17)\n"
-      "  --payload-kg M         payload mass [kg]\n"
-      "  --arm FILE             arm parameters (default data/elasticarm.yaml)\n"
-      "  --csv FILE             sweep table as CSV ('-' = stdout)\n"
-      "  --json                 JSON on stdout\n"
-      "  --figure OUT           static shape and mode shapes; sweep: Fig. 5 with mode\n"
-      "                         shapes (.svg, .png or .pdf)\n\n"
-      "exit: 0 ok, 1 no static solution / FE not converged (or a sweep point failed),\n"
-      "      2 usage or input error\n",
-      EA_FE_MAX_MODES, EA_FE_DEFAULT_ELEMENTS, EA_FE_PAPER_ELEMENTS);
+  printf("usage: elasticarm frequencies --cable-length M --cable-angle-deg A [options]\n"
+         "       elasticarm frequencies --sweep [--cable-lengths LIST] [--cable-angle-deg A] "
+         "[options]\n\n"
+         "Natural frequencies of the FE model (paper sec. 3.3, eq. 24) about a static\n"
+         "configuration: ODE statics (cable length and angle) -> FE static Newton (eq. 21-23)\n"
+         "-> passive-cable eigenproblem. The sweep form reproduces Fig. 5 (first modes vs\n"
+         "cable length at alpha = 0, statics warm-started along the sweep).\n\n"
+         "  --cable-length M       cable length [m]\n"
+         "  --cable-angle-deg A    cable angle [deg] (sweep default 0)\n"
+         "  --sweep                frequencies vs cable length\n"
+         "  --cable-lengths LIST   sweep lengths: a,b,c or start:step:stop [m]\n"
+         "                         (default 0.254:0.00381:0.635, the paper's range)\n"
+         "  --modes K              number of modes, 1..%d (default 3)\n"
+         "  --elements N           FE elements (default %d; the paper used %d)\n"
+         "  --fe-hold tip|tension  FE static state: tip = hold the ODE tip, i.e. the exact\n"
+         "                         cable length and angle, solving for T and theta0 (default);\n"
+         "                         tension = hold the ODE tension and theta0 (the tip moves by\n"
+         "                         tip_shift_m)\n"
+         "  --payload-factor G     payload m_p = G (m_h + rho L) (eq. 17)\n"
+         "  --payload-kg M         payload mass [kg]\n"
+         "  --arm FILE             arm parameters (default data/elasticarm.yaml)\n"
+         "  --csv FILE             sweep table as CSV ('-' = stdout)\n"
+         "  --json                 JSON on stdout\n"
+         "  --figure OUT           static shape and mode shapes; sweep: Fig. 5 with mode\n"
+         "                         shapes (.svg, .png or .pdf)\n\n"
+         "exit: 0 ok, 1 no static solution / FE not converged (or a sweep point failed),\n"
+         "      2 usage or input error\n",
+         EA_FE_MAX_MODES, EA_FE_DEFAULT_ELEMENTS, EA_FE_PAPER_ELEMENTS);
 }
 
 typedef struct {
@@ -259,8 +259,8 @@ static int ea__freq_single(const char *cmd, const ea__freq_opts_t *o, const ea_a
            "holds the %s)\n",
            o->Lc, o->adeg, ea_shooter_load(sh)->tip_mass, o->elements,
            o->hold == EA__FE_HOLD_TIP ? "tip" : "ODE tension");
-    printf("ODE statics   T = %.6f N, theta0 = %.6f deg (residual %.1e)\n",
-           pt.ode.p[EA_P_TENSION], pt.ode.p[EA_P_THETA0] / EA__DEG, pt.ode.residual);
+    printf("ODE statics   T = %.6f N, theta0 = %.6f deg (residual %.1e)\n", pt.ode.p[EA_P_TENSION],
+           pt.ode.p[EA_P_THETA0] / EA__DEG, pt.ode.residual);
     printf("FE statics    T = %.6f N, theta0 = %.6f deg, eps = %.2e in %d iterations, "
            "tip shift %.3e m\n",
            pt.fe.tension, pt.fe.theta0 / EA__DEG, pt.fe.residual, pt.fe.iterations,
@@ -286,10 +286,11 @@ static int ea__freq_single(const char *cmd, const ea__freq_opts_t *o, const ea_a
       ea__fe_plot_modes(pl, m, nplot, scale);
       ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
                       "set key outside bottom center horizontal\nset grid");
-      ea_plot_cmd(pl, "set title 'FE static shape and mode shapes (tip amplitude %.0f mm), L_c = %.3f m, "
-                      "{/Symbol a} = %.1f deg, T = %.2f N, %s'",
-                  scale * 1e3, o->Lc, o->adeg, pt.fe.tension,
-                  pt.modes.stable ? "stable" : "UNSTABLE");
+      ea_plot_cmd(
+          pl,
+          "set title 'FE static shape and mode shapes (tip amplitude %.0f mm), L_c = %.3f m, "
+          "{/Symbol a} = %.1f deg, T = %.2f N, %s'",
+          scale * 1e3, o->Lc, o->adeg, pt.fe.tension, pt.modes.stable ? "stable" : "UNSTABLE");
       ea__fe_plot_modes_cmd(pl, nplot, pt.modes.freq_hz);
       fe.status = ea_plot_close(pl, &fe);
     }
@@ -347,13 +348,15 @@ static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_ar
       rc = ea__cli_fail(cmd, err.status, &err);
     } else {
       fprintf(f.fp, "cable_length_m");
-      for (int i = 0; i < nm; ++i) fprintf(f.fp, ",f%d_Hz", i + 1);
+      for (int i = 0; i < nm; ++i)
+        fprintf(f.fp, ",f%d_Hz", i + 1);
       fprintf(f.fp, ",stable,tension_N,theta0_rad,fe_iterations,fe_residual,status\n");
       for (int k = 0; k < n; ++k) {
         const ea__fe_point_t *p = &pts[k];
         const int ok = p->status == EA_OK;
         fprintf(f.fp, "%.9g", p->cable_length);
-        for (int i = 0; i < nm; ++i) fprintf(f.fp, ",%.12g", ok ? p->modes.freq_hz[i] : NAN);
+        for (int i = 0; i < nm; ++i)
+          fprintf(f.fp, ",%.12g", ok ? p->modes.freq_hz[i] : NAN);
         fprintf(f.fp, ",%d,%.12g,%.12g,%d,%.3g,%s\n", ok ? p->modes.stable : 0, p->fe.tension,
                 p->fe.theta0, p->fe.iterations, p->fe.residual, ea_status_name(p->status));
       }
@@ -404,7 +407,8 @@ static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_ar
            "%ld elements\n",
            n, o->Ls[0], o->Ls[n - 1], o->adeg, ea_shooter_load(sh)->tip_mass, o->elements);
     printf("%10s", "L_c [m]");
-    for (int i = 0; i < nm; ++i) printf("   f%-2d [Hz]", i + 1);
+    for (int i = 0; i < nm; ++i)
+      printf("   f%-2d [Hz]", i + 1);
     printf(" %7s %10s %10s\n", "stable", "T [N]", "th0 [deg]");
     const int every = n > 25 ? (n + 19) / 20 : 1;
     for (int k = 0; k < n; ++k) {
@@ -415,7 +419,8 @@ static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_ar
         printf("  %s: %s\n", p->stage, p->err.msg);
         continue;
       }
-      for (int i = 0; i < nm; ++i) printf(" %10.5f", p->modes.freq_hz[i]);
+      for (int i = 0; i < nm; ++i)
+        printf(" %10.5f", p->modes.freq_hz[i]);
       printf(" %7s %10.4f %10.4f\n", p->modes.stable ? "yes" : "NO", p->fe.tension,
              p->fe.theta0 / EA__DEG);
     }
@@ -428,13 +433,12 @@ static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_ar
                i + 1, pts[kl].modes.freq_hz[i], pts[ks].modes.freq_hz[i], 100 * shorten[i],
                100 * lengthen[i]);
         if (i < 3)
-          printf("   (paper: %s %.0f %%)", i == 0 ? "shortening" : "lengthening",
-                 100 * paper[i]);
+          printf("   (paper: %s %.0f %%)", i == 0 ? "shortening" : "lengthening", 100 * paper[i]);
         printf("\n");
       }
     }
-    printf("%d points, %d failed, %d unstable, %.1f ms (%.2f ms per point)\n", n, nfail,
-           nunstable, 1e3 * wall, 1e3 * wall / n);
+    printf("%d points, %d failed, %d unstable, %.1f ms (%.2f ms per point)\n", n, nfail, nunstable,
+           1e3 * wall, 1e3 * wall / n);
   }
   if (o->figure && !rc) {
     ea_plot_t *pl;
@@ -464,11 +468,13 @@ static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_ar
         ea__fe_plot_cable_block(pl, arm, mid.fe.tip[0], mid.fe.tip[1]);
         nshape = ea__fe_plot_modes(pl, m, nm < 3 ? nm : 3, 0.06);
       }
-      ea_plot_cmd(pl, "set multiplot layout 1,2 title 'Natural frequencies vs cable length, "
-                      "{/Symbol a} = %.1f deg (paper Fig. 5), %ld elements'",
+      ea_plot_cmd(pl,
+                  "set multiplot layout 1,2 title 'Natural frequencies vs cable length, "
+                  "{/Symbol a} = %.1f deg (paper Fig. 5), %ld elements'",
                   o->adeg, o->elements);
-      ea_plot_cmd(pl, "set xlabel 'cable length L_c [cm]'\nset ylabel 'frequency [Hz]'\n"
-                      "set grid\nset key top center\nset logscale y\nset title 'first %d modes'",
+      ea_plot_cmd(pl,
+                  "set xlabel 'cable length L_c [cm]'\nset ylabel 'frequency [Hz]'\n"
+                  "set grid\nset key top center\nset logscale y\nset title 'first %d modes'",
                   nm);
       char plot[2048];
       int used = snprintf(plot, sizeof plot, "plot");
@@ -599,8 +605,8 @@ int ea__cli_frequencies(int argc, char **argv) {
   if ((rc = ea__cli_load_arm(cmd, o.arm_file, &arm))) goto done;
   ea_shooter_t *sh = NULL;
   ea_fe_model_t *m = NULL;
-  if ((rc = ea__fe_make(cmd, &arm, ea__cli_tip_mass(&arm, &o.payload), o.elements, o.modes,
-                        o.hold, &sh, &m)))
+  if ((rc = ea__fe_make(cmd, &arm, ea__cli_tip_mass(&arm, &o.payload), o.elements, o.modes, o.hold,
+                        &sh, &m)))
     goto done;
   rc = o.sweep ? ea__freq_sweep(cmd, &o, &arm, sh, m) : ea__freq_single(cmd, &o, &arm, sh, m);
   ea_fe_model_free(m);
@@ -685,8 +691,8 @@ static ea_status_t ea__sim_read_simple(const char *path, ea_traj_t *tr, ea_error
       v[c] = strtod(s, &end);
       const int sep_ok = c < 2 ? *end == ',' : *end == '\0';
       if (end == s || !isfinite(v[c]) || !sep_ok) {
-        st = ea_error_set(err, EA_ERR_PARSE, "%s:%ld:%ld: expected a finite number%s", path,
-                          lineno, (long)(s - line) + 1, c < 2 ? " followed by ','" : " at the end");
+        st = ea_error_set(err, EA_ERR_PARSE, "%s:%ld:%ld: expected a finite number%s", path, lineno,
+                          (long)(s - line) + 1, c < 2 ? " followed by ','" : " at the end");
         break;
       }
       s = end + 1;
@@ -805,8 +811,8 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
       continue;
     }
     if (a[0] != '-' || !strcmp(a, "-")) {
-      if (o->traj_path) return ea__cli_usage_error(cmd, "more than one trajectory ('%s', '%s')",
-                                                   o->traj_path, a);
+      if (o->traj_path)
+        return ea__cli_usage_error(cmd, "more than one trajectory ('%s', '%s')", o->traj_path, a);
       o->traj_path = a;
       continue;
     }
@@ -818,13 +824,15 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
     else if (!strcmp(a, "--settle"))
       bad = ea__cli_double(cmd, a, v, 0.0, 1e4, &o->settle);
     else if (!strcmp(a, "--damping-ratio")) {
-      if (o->damping) bad = ea__cli_usage_error(cmd, "give --damping-ratio or --rayleigh once");
+      if (o->damping)
+        bad = ea__cli_usage_error(cmd, "give --damping-ratio or --rayleigh once");
       else {
         o->damping = 1;
         bad = ea__cli_double(cmd, a, v, 0.0, 1.0, &o->zeta);
       }
     } else if (!strcmp(a, "--rayleigh")) {
-      if (o->damping) bad = ea__cli_usage_error(cmd, "give --damping-ratio or --rayleigh once");
+      if (o->damping)
+        bad = ea__cli_usage_error(cmd, "give --damping-ratio or --rayleigh once");
       else {
         o->damping = 2;
         bad = ea__cli_pair(cmd, a, v, o->rayleigh);
@@ -996,7 +1004,8 @@ int ea__cli_simulate(int argc, char **argv) {
       const double L = EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length);
       if (o.drive_fe) {
         ea__fe_point_t pt;
-        ea_statics_problem_t pi = ea_statics_problem_cable(L, EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle));
+        ea_statics_problem_t pi =
+            ea_statics_problem_cable(L, EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle));
         pt.status = ea_statics_solve(sh, &pi, NULL, guess, &pt.ode, &pt.err);
         if (pt.status) pt.status = ea_statics_solve(sh, &pi, NULL, NULL, &pt.ode, &pt.err);
         if (!pt.status) {
@@ -1020,8 +1029,8 @@ int ea__cli_simulate(int argc, char **argv) {
         }
       }
       if (ea__sim_drive_set(&drv, &arm, i, ti, L, T, theta0, &err)) {
-        fprintf(stderr, "elasticarm %s: error: %s: sample %d (t = %g s): %s\n", cmd,
-                o.traj_path, i + 1, ti + t_first, err.msg);
+        fprintf(stderr, "elasticarm %s: error: %s: sample %d (t = %g s): %s\n", cmd, o.traj_path,
+                i + 1, ti + t_first, err.msg);
         rc = EA_EXIT_FAIL;
         goto done;
       }
@@ -1067,8 +1076,10 @@ int ea__cli_simulate(int argc, char **argv) {
   } else if (o.damping == 1 && o.zeta > 0) {
     ea_fe_modes_info_t mi;
     if ((st = ea_fe_modes(m, &mi, &err)) || mi.modes < 1 || !(mi.lambda[0] > 0)) {
-      fprintf(stderr, "elasticarm %s: error: --damping-ratio needs a stable first mode at the "
-                      "start: %s\n", cmd, st ? err.msg : "not stable");
+      fprintf(stderr,
+              "elasticarm %s: error: --damping-ratio needs a stable first mode at the "
+              "start: %s\n",
+              cmd, st ? err.msg : "not stable");
       rc = EA_EXIT_FAIL;
       goto done;
     }
@@ -1113,9 +1124,8 @@ int ea__cli_simulate(int argc, char **argv) {
   }
   double plan_end[2];
   ea__sim_plan_tip(&tr, &arm, t_first + duration, plan_end);
-  const double offset_end = o.settle > 0 ? hypot(si.tip_static[0] - plan_end[0],
-                                                 si.tip_static[1] - plan_end[1])
-                                         : NAN;
+  const double offset_end =
+      o.settle > 0 ? hypot(si.tip_static[0] - plan_end[0], si.tip_static[1] - plan_end[1]) : NAN;
   if (o.out) {
     if (ea_afile_open(&af, o.out, &err)) {
       rc = ea__cli_fail(cmd, err.status, &err);
@@ -1125,8 +1135,8 @@ int ea__cli_simulate(int argc, char **argv) {
     for (int r = 0; r < si.rows; ++r) {
       double p[2];
       ea__sim_plan_tip(&tr, &arm, tip[4 * r] + t_first, p);
-      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g\n", tip[4 * r] + t_first,
-              tip[4 * r + 1], tip[4 * r + 2], tip[4 * r + 3], p[0], p[1]);
+      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g\n", tip[4 * r] + t_first, tip[4 * r + 1],
+              tip[4 * r + 2], tip[4 * r + 3], p[0], p[1]);
     }
     if (ea_afile_commit(&af, &err)) {
       rc = ea__cli_fail(cmd, err.status, &err);
@@ -1181,11 +1191,13 @@ int ea__cli_simulate(int argc, char **argv) {
     printf("trajectory   %s (%s, %d samples, %.4g s), tip mass %.4g kg\n", o.traj_path,
            simple ? "simple CSV" : "format 1", n, duration, tip_mass);
     char scheme[64];
-    if (o.scheme == EA_FE_SCHEME_ENERGY) snprintf(scheme, sizeof scheme, "energy");
-    else snprintf(scheme, sizeof scheme, "genalpha (rho_inf %.3g)", o.rho_inf);
+    if (o.scheme == EA_FE_SCHEME_ENERGY)
+      snprintf(scheme, sizeof scheme, "energy");
+    else
+      snprintf(scheme, sizeof scheme, "genalpha (rho_inf %.3g)", o.rho_inf);
     printf("FE           %ld elements, dt %.3g s, %s scheme, %s cable, drive from the %s\n",
-           o.elements, o.dt, scheme,
-           o.active ? "active" : "passive", o.drive_fe ? "FE statics" : "trajectory");
+           o.elements, o.dt, scheme, o.active ? "active" : "passive",
+           o.drive_fe ? "FE statics" : "trajectory");
     if (o.damping)
       printf("damping      mass a = %.4g 1/s, strain-rate b = %.4g s%s\n", ss.rayleigh_mass,
              ss.rayleigh_stiffness, o.damping == 1 ? " (ratio at mode 1)" : "");
@@ -1226,9 +1238,10 @@ int ea__cli_simulate(int argc, char **argv) {
                       "set key top left\nset title 'tip path'");
       ea_plot_cmd(pl, "plot $sim u 4:5 w l lw 3 lc rgb '#999999' t 'planned (quasi-static)', "
                       "$sim u 2:3 w l lw 1.5 lc rgb '#1f77b4' t 'FE simulation'");
-      ea_plot_cmd(pl, "set size noratio\nset xlabel 't [s]'\nset ylabel '|tip - planned| [mm]'\n"
-                      "set key top right\nset title 'tip error (motion ends at %.3g s)'\n"
-                      "set arrow from %.9g, graph 0 to %.9g, graph 1 nohead dt 2 lc rgb 'black'",
+      ea_plot_cmd(pl,
+                  "set size noratio\nset xlabel 't [s]'\nset ylabel '|tip - planned| [mm]'\n"
+                  "set key top right\nset title 'tip error (motion ends at %.3g s)'\n"
+                  "set arrow from %.9g, graph 0 to %.9g, graph 1 nohead dt 2 lc rgb 'black'",
                   t_first + duration, t_first + duration, t_first + duration);
       ea_plot_cmd(pl, "plot $sim u 1:6 w l lw 1.5 lc rgb '#d62728' t 'FE - plan'");
       ea_plot_cmd(pl, "unset multiplot");

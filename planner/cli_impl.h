@@ -40,8 +40,7 @@ int ea__cli_fail(const char *cmd, ea_status_t st, const ea_error_t *err);
 int ea__cli_double(const char *cmd, const char *flag, const char *text, double lo, double hi,
                    double *out);
 /** Parse an integer option value in [lo, hi]. */
-int ea__cli_int(const char *cmd, const char *flag, const char *text, long lo, long hi,
-                long *out);
+int ea__cli_int(const char *cmd, const char *flag, const char *text, long lo, long hi, long *out);
 /** Parse "a,b" (two finite doubles). */
 int ea__cli_pair(const char *cmd, const char *flag, const char *text, double out[2]);
 /** Parse a list "a,b,c" or a range "start:step:stop" into a malloc'd array. */
@@ -56,7 +55,7 @@ int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm);
 
 /** Payload options shared by commands: --payload-factor G | --payload-kg M. */
 typedef struct ea__cli_payload {
-  int given;      /**< 0 none, 1 factor, 2 kg */
+  int given; /**< 0 none, 1 factor, 2 kg */
   double value;
 } ea__cli_payload_t;
 /** Tip mass m_L for the payload option. */

@@ -6,24 +6,23 @@
 #include <string.h>
 
 static void ea__plan_help(FILE *fp) {
-  fprintf(fp,
-          "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
-          "                       [--figure OUT.svg|png|pdf] [--knots N] [--tune-schedule]\n"
-          "                       [--derivative-test] [--print-level N] [--quiet]\n\n"
-          "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
-          "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
-          "to it (OUT.json). Defaults: the task's outputs, else TASKNAME.csv in the current\n"
-          "folder. Nothing is written for a failed plan but the summary.\n\n"
-          "  -o FILE            trajectory file ('-' = stdout)\n"
-          "  --summary FILE     JSON summary (default: OUT with .json)\n"
-          "  --json             print the JSON summary on stdout\n"
-          "  --figure FILE      tip path and beam shapes in the workspace, time histories\n"
-          "  --knots N          override the task's knot count\n"
-          "  --tune-schedule    tune the knot time distribution with NLopt (min_time)\n"
-          "  --derivative-test  run Ipopt's first-order derivative checker\n"
-          "  --print-level N    Ipopt output (0 = silent)\n"
-          "  --quiet            no progress line\n\n"
-          "exit: 0 plan written, 1 infeasible / not converged, 2 usage or input error\n");
+  fprintf(fp, "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
+              "                       [--figure OUT.svg|png|pdf] [--knots N] [--tune-schedule]\n"
+              "                       [--derivative-test] [--print-level N] [--quiet]\n\n"
+              "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
+              "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
+              "to it (OUT.json). Defaults: the task's outputs, else TASKNAME.csv in the current\n"
+              "folder. Nothing is written for a failed plan but the summary.\n\n"
+              "  -o FILE            trajectory file ('-' = stdout)\n"
+              "  --summary FILE     JSON summary (default: OUT with .json)\n"
+              "  --json             print the JSON summary on stdout\n"
+              "  --figure FILE      tip path and beam shapes in the workspace, time histories\n"
+              "  --knots N          override the task's knot count\n"
+              "  --tune-schedule    tune the knot time distribution with NLopt (min_time)\n"
+              "  --derivative-test  run Ipopt's first-order derivative checker\n"
+              "  --print-level N    Ipopt output (0 = silent)\n"
+              "  --quiet            no progress line\n\n"
+              "exit: 0 plan written, 1 infeasible / not converged, 2 usage or input error\n");
 }
 
 static void ea__replace_ext(const char *in, const char *ext, char *out, size_t len) {
@@ -92,8 +91,7 @@ int ea__cli_plan(int argc, char **argv) {
     snprintf(out_buf, sizeof out_buf, "%.1000s.csv", task.name);
     out = out_buf;
   }
-  if (!summary)
-    summary = ea_task_output_path(&task, task.out_summary, sum_buf, sizeof sum_buf);
+  if (!summary) summary = ea_task_output_path(&task, task.out_summary, sum_buf, sizeof sum_buf);
   if (!summary && strcmp(out, "-")) {
     ea__replace_ext(out, ".json", sum_buf, sizeof sum_buf);
     summary = sum_buf;
@@ -113,8 +111,8 @@ int ea__cli_plan(int argc, char **argv) {
     }
   }
   if (st) {
-    fprintf(stderr, "elasticarm plan: %s: %s\n",
-            st == EA_ERR_INFEASIBLE ? "infeasible" : "failed", info.message);
+    fprintf(stderr, "elasticarm plan: %s: %s\n", st == EA_ERR_INFEASIBLE ? "infeasible" : "failed",
+            info.message);
     if (info.deriv_errors >= 0)
       fprintf(stderr, "elasticarm plan: derivative checker: %d error(s)\n", info.deriv_errors);
     ea_planner_free(pl);
@@ -137,7 +135,8 @@ int ea__cli_plan(int argc, char **argv) {
     if (fp) {
       char buf[4096];
       size_t nr;
-      while ((nr = fread(buf, 1, sizeof buf, fp)) > 0) fwrite(buf, 1, nr, stdout);
+      while ((nr = fread(buf, 1, sizeof buf, fp)) > 0)
+        fwrite(buf, 1, nr, stdout);
       fclose(fp);
     }
   } else if (!quiet && strcmp(out, "-")) {

@@ -70,7 +70,8 @@ static void ea__plot_beam(ea_plot_t *pl, ea_shooter_t *sh, const double p[EA_NP]
   double xs[101], ys[101];
   if (n > 101) n = 101;
   if (ea_shoot_shape(sh, p, n, NULL, NULL, NULL, xs, ys) != EA_OK) return;
-  for (int i = 0; i < n; ++i) ea_plot_data_row(pl, 2, (double[]){xs[i], ys[i]});
+  for (int i = 0; i < n; ++i)
+    ea_plot_data_row(pl, 2, (double[]){xs[i], ys[i]});
   const double nan = NAN;
   ea_plot_data_row(pl, 1, &nan);
 }
@@ -96,9 +97,9 @@ static const char *ea__csv_point_header =
     "shoulder_torque_Nm,residual,status,admissible,reason";
 
 static void ea__csv_point(FILE *fp, const ea_config_point_t *p) {
-  fprintf(fp, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.3g,%s,%d,\"%s\"",
-          p->cable_length, p->alpha, p->x, p->y, p->tension, p->theta0, p->kappa0,
-          p->shoulder_torque, p->residual, ea_status_name(p->status), p->admissible, p->reason);
+  fprintf(fp, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.3g,%s,%d,\"%s\"", p->cable_length,
+          p->alpha, p->x, p->y, p->tension, p->theta0, p->kappa0, p->shoulder_torque, p->residual,
+          ea_status_name(p->status), p->admissible, p->reason);
 }
 
 /* Leading columns of row k of a points CSV. */
@@ -107,8 +108,8 @@ typedef void (*ea__csv_prefix_fn)(FILE *fp, int k, const void *ctx);
 /* Write n points as a CSV to path (atomically; "-" = stdout): a header of
  * prefix_header (may be "") and the point columns, then one row per point.
  * point(k, ctx) gives row k's point. Returns 0 or the exit code. */
-static int ea__write_points_csv(const char *cmd, const char *path, const char *prefix_header,
-                                int n, const ea_config_point_t *(*point)(int k, const void *ctx),
+static int ea__write_points_csv(const char *cmd, const char *path, const char *prefix_header, int n,
+                                const ea_config_point_t *(*point)(int k, const void *ctx),
                                 ea__csv_prefix_fn prefix, const void *ctx) {
   ea_afile_t f;
   ea_error_t err = {0};
@@ -234,9 +235,10 @@ int ea__cli_statics(int argc, char **argv) {
     ea_json_num(&j, "residual", sol.residual);
     ea_json_int(&j, "iterations", sol.iterations);
     ea_json_int(&j, "continuation_steps", sol.cont_steps);
-    ea_json_str(&j, "branch", sol.branch == EA_BRANCH_EDGE   ? "physical (continued from T = 0 edge)"
-                              : sol.branch == EA_BRANCH_WARM ? "warm start"
-                                                             : "none");
+    ea_json_str(&j, "branch",
+                sol.branch == EA_BRANCH_EDGE   ? "physical (continued from T = 0 edge)"
+                : sol.branch == EA_BRANCH_WARM ? "warm start"
+                                               : "none");
     ea_json_num(&j, "winding_rad", sol.winding);
     if (stable >= 0)
       ea_json_bool(&j, "stable", stable);
@@ -244,7 +246,8 @@ int ea__cli_statics(int argc, char **argv) {
       ea_json_null(&j, "stable");
     if (solved && shape > 0) {
       ea_json_arr_begin(&j, "shape_m");
-      for (long k = 0; k < shape; ++k) ea_json_vec(&j, NULL, (double[]){sx[k], sy[k]}, 2);
+      for (long k = 0; k < shape; ++k)
+        ea_json_vec(&j, NULL, (double[]){sx[k], sy[k]}, 2);
       ea_json_arr_end(&j);
     }
     ea_json_obj_end(&j);
@@ -256,10 +259,11 @@ int ea__cli_statics(int argc, char **argv) {
            "theta0            %.9f deg\nkappa0            %.9f 1/m\nshoulder torque   %.9f N m\n"
            "tip               (%.9f, %.9f) m\n",
            sol.cable_length, sol.p[EA_P_ALPHA] / EA__DEG, sol.p[EA_P_TENSION],
-           sol.p[EA_P_THETA0] / EA__DEG, sol.p[EA_P_KAPPA0], sol.shoulder_torque,
-           sol.tip[EA_X_X], sol.tip[EA_X_Y]);
+           sol.p[EA_P_THETA0] / EA__DEG, sol.p[EA_P_KAPPA0], sol.shoulder_torque, sol.tip[EA_X_X],
+           sol.tip[EA_X_Y]);
     printf("stable (FE)       %s\n", stable < 0 ? "not checked" : stable ? "yes" : "NO");
-    for (long k = 0; k < shape; ++k) printf("shape %ld  %.9f %.9f\n", k, sx[k], sy[k]);
+    for (long k = 0; k < shape; ++k)
+      printf("shape %ld  %.9f %.9f\n", k, sx[k], sy[k]);
   }
   if (solved && c.figure) {
     ea_plot_t *pl;
@@ -273,8 +277,9 @@ int ea__cli_statics(int argc, char **argv) {
       ea_plot_data_row(pl, 2, (double[]){sol.tip[EA_X_X], sol.tip[EA_X_Y]});
       ea_plot_data_end(pl);
       ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'");
-      ea_plot_cmd(pl, "set title 'L_c = %.3f m, {/Symbol a} = %.1f deg, T = %.2f N, "
-                      "{/Symbol q}_0 = %.1f deg'",
+      ea_plot_cmd(pl,
+                  "set title 'L_c = %.3f m, {/Symbol a} = %.1f deg, T = %.2f N, "
+                  "{/Symbol q}_0 = %.1f deg'",
                   sol.cable_length, sol.p[EA_P_ALPHA] / EA__DEG, sol.p[EA_P_TENSION],
                   sol.p[EA_P_THETA0] / EA__DEG);
       ea_plot_cmd(pl, "plot $beam w l lw 3 lc rgb '#1f4e9c' t 'beam', $cable w lp lw 1 dt 2 "
@@ -386,7 +391,8 @@ int ea__cli_workspace(int argc, char **argv) {
     rc = EA_EXIT_FAIL;
     goto out;
   }
-  for (int k = 0; k < n; ++k) alpha[k] = (amin + (amax - amin) * k / (n - 1)) * EA__DEG;
+  for (int k = 0; k < n; ++k)
+    alpha[k] = (amin + (amax - amin) * k / (n - 1)) * EA__DEG;
   if ((rc = ea__make_shooter(cmd, &arm, arm.m_hand, &sh))) goto out;
   int failures = 0;
   for (int g = 0; g < ng; ++g) {
@@ -397,8 +403,8 @@ int ea__cli_workspace(int argc, char **argv) {
   }
   if (c.csv) {
     struct ea__ws_csv ctx = {gam, outer, inn, n};
-    if ((rc = ea__write_points_csv(cmd, c.csv, "payload_factor,edge,", 2 * n * ng,
-                                   ea__ws_point, ea__ws_prefix, &ctx)))
+    if ((rc = ea__write_points_csv(cmd, c.csv, "payload_factor,edge,", 2 * n * ng, ea__ws_point,
+                                   ea__ws_prefix, &ctx)))
       goto out;
   }
   if (c.json) {
@@ -418,10 +424,12 @@ int ea__cli_workspace(int argc, char **argv) {
       ea_json_num(&j, "area_m2", ea_workspace_area(o, in, n));
       ea_json_num(&j, "max_reach_m", reach);
       ea_json_arr_begin(&j, "outer");
-      for (int k = 0; k < n; ++k) ea__json_point(&j, NULL, &o[k]);
+      for (int k = 0; k < n; ++k)
+        ea__json_point(&j, NULL, &o[k]);
       ea_json_arr_end(&j);
       ea_json_arr_begin(&j, "inner");
-      for (int k = 0; k < n; ++k) ea__json_point(&j, NULL, &in[k]);
+      for (int k = 0; k < n; ++k)
+        ea__json_point(&j, NULL, &in[k]);
       ea_json_arr_end(&j);
       ea_json_obj_end(&j);
     }
@@ -436,7 +444,7 @@ int ea__cli_workspace(int argc, char **argv) {
       double reach = 0;
       for (int k = 0; k < n; ++k)
         if (o[k].status == EA_OK) reach = fmax(reach, hypot(o[k].x, o[k].y));
-      for (int k = 0; k < n; k += (n - 1) / 4 > 0 ? (n - 1) / 4 : 1)
+      for (int k = 0; k<n; k += (n - 1) / 4> 0 ? (n - 1) / 4 : 1)
         printf("%-8.3g %-10.5f %-10.5f %-12.2f (%.5f, %.5f)%s\n", gam[g],
                ea_workspace_area(o, in, n), reach, o[k].alpha / EA__DEG, o[k].x, o[k].y,
                o[k].status ? "  (no solution)" : "");
@@ -459,8 +467,8 @@ int ea__cli_workspace(int argc, char **argv) {
       }
       ea_plot_data_begin(pl, "inner");
       for (int k = 0; k < n; ++k)
-        ea_plot_data_row(pl, 2,
-                         (double[]){arm.x_c + inner * cos(alpha[k]), arm.y_c + inner * sin(alpha[k])});
+        ea_plot_data_row(
+            pl, 2, (double[]){arm.x_c + inner * cos(alpha[k]), arm.y_c + inner * sin(alpha[k])});
       ea_plot_data_end(pl);
       ea_plot_data_begin(pl, "root");
       ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
@@ -468,7 +476,7 @@ int ea__cli_workspace(int argc, char **argv) {
       ea_plot_data_begin(pl, "beams");
       ea_load_t load0 = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, gam[0]))};
       ea_shooter_set_load(sh, &load0);
-      for (int k = 0; k < n; k += (n - 1) / 3 > 0 ? (n - 1) / 3 : 1) {
+      for (int k = 0; k<n; k += (n - 1) / 3> 0 ? (n - 1) / 3 : 1) {
         const ea_config_point_t *o = outer + k;
         if (o->status) continue;
         ea__plot_beam(pl, sh, (double[]){o->alpha, o->tension, o->theta0, o->kappa0}, 61);
@@ -478,9 +486,9 @@ int ea__cli_workspace(int argc, char **argv) {
                       "set title 'Workspace for payload factors {/Symbol g} (Fig. 3)'\n"
                       "set key outside right");
       char plot[4096];
-      int used = snprintf(plot, sizeof plot,
-                          "plot $beams w l lc rgb '#bbbbbb' t 'T = 0 shapes ({/Symbol g} = %g)'",
-                          gam[0]);
+      int used =
+          snprintf(plot, sizeof plot,
+                   "plot $beams w l lc rgb '#bbbbbb' t 'T = 0 shapes ({/Symbol g} = %g)'", gam[0]);
       for (int g = 0; g < ng && used < (int)sizeof plot - 100; ++g)
         used += snprintf(plot + used, sizeof plot - (size_t)used,
                          ", $outer%d w l lw 2 t 'outer, {/Symbol g} = %g'", g, gam[g]);
@@ -548,7 +556,8 @@ int ea__cli_torque_map(int argc, char **argv) {
       free(As);
       bad = ea__cli_list(cmd, a, v, &As, &nA);
       for (int k = 0; !bad && k < nA; ++k)
-        if (!(fabs(As[k]) <= 180)) bad = ea__cli_usage_error(cmd, "%s: %g is not in [-180, 180]", a, As[k]);
+        if (!(fabs(As[k]) <= 180))
+          bad = ea__cli_usage_error(cmd, "%s: %g is not in [-180, 180]", a, As[k]);
     } else
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) goto usage;
@@ -559,7 +568,8 @@ int ea__cli_torque_map(int argc, char **argv) {
     ea__cli_usage_error(cmd, "grid of %d x %d cells is too large", nL, nA);
     goto usage;
   }
-  for (int k = 0; k < nA; ++k) As[k] *= EA__DEG;
+  for (int k = 0; k < nA; ++k)
+    As[k] *= EA__DEG;
   ea_arm_t arm;
   if ((rc = ea__cli_load_arm(cmd, c.arm_file, &arm))) goto done;
   ea_shooter_t *sh = NULL;
@@ -594,7 +604,8 @@ int ea__cli_torque_map(int argc, char **argv) {
     ea_json_vec(&j, "shoulder_torque_range_Nm", (double[]){tmin, tmax}, 2);
     ea_json_vec(&j, "tension_range_N", (double[]){Tmin, Tmax}, 2);
     ea_json_arr_begin(&j, "cells");
-    for (size_t k = 0; k < (size_t)nL * nA; ++k) ea__json_point(&j, NULL, &cells[k]);
+    for (size_t k = 0; k < (size_t)nL * nA; ++k)
+      ea__json_point(&j, NULL, &cells[k]);
     ea_json_arr_end(&j);
     ea_json_obj_end(&j);
     ea_json_end(&j);
@@ -712,7 +723,8 @@ int ea__cli_path(int argc, char **argv) {
   ea_status_t st = ea_path_check_line_fe(sh, fem, p0, p1, (int)steps, &arm.act, pts);
   ea_fe_model_free(fem);
   int nbad = 0;
-  for (int k = 0; k < n; ++k) nbad += !pts[k].admissible;
+  for (int k = 0; k < n; ++k)
+    nbad += !pts[k].admissible;
   if (c.csv) {
     struct ea__path_csv ctx = {pts, steps};
     rc = ea__write_points_csv(cmd, c.csv, "beta,", n, ea__path_point, ea__beta_prefix, &ctx);
@@ -756,10 +768,12 @@ int ea__cli_path(int argc, char **argv) {
            "th0 [deg]", "torque[Nm]", "stable", "admissible");
     for (int k = 0; k < n; ++k)
       printf("%6.3f %10.5f %10.3f %10.4f %10.3f %11.5f %7s %s%s\n", (double)k / (double)steps,
-             pts[k].cable_length, pts[k].alpha / EA__DEG, pts[k].tension,
-             pts[k].theta0 / EA__DEG, pts[k].shoulder_torque,
-             pts[k].stable < 0 ? "-" : pts[k].stable ? "yes" : "NO", pts[k].admissible ? "yes" : "NO: ",
-             pts[k].reason);
+             pts[k].cable_length, pts[k].alpha / EA__DEG, pts[k].tension, pts[k].theta0 / EA__DEG,
+             pts[k].shoulder_torque,
+             pts[k].stable < 0 ? "-"
+             : pts[k].stable   ? "yes"
+                               : "NO",
+             pts[k].admissible ? "yes" : "NO: ", pts[k].reason);
     printf("path %s\n", st == EA_OK ? "ADMISSIBLE" : "NOT admissible");
   }
   if (c.figure) {
@@ -769,9 +783,8 @@ int ea__cli_path(int argc, char **argv) {
       ea_plot_data_begin(pl, "beams");
       for (int k = 0; k < n; ++k)
         if (pts[k].status == EA_OK || pts[k].status == EA_ERR_INADMISSIBLE)
-          ea__plot_beam(pl, sh, (double[]){pts[k].alpha, pts[k].tension, pts[k].theta0,
-                                           pts[k].kappa0},
-                        61);
+          ea__plot_beam(pl, sh,
+                        (double[]){pts[k].alpha, pts[k].tension, pts[k].theta0, pts[k].kappa0}, 61);
       ea_plot_data_end(pl);
       ea_plot_data_begin(pl, "cables");
       for (int k = 0; k < n; ++k) {
@@ -789,8 +802,9 @@ int ea__cli_path(int argc, char **argv) {
         if (!pts[k].admissible) ea_plot_data_row(pl, 2, (double[]){pts[k].x, pts[k].y});
       ea_plot_data_row(pl, 2, (double[]){NAN, NAN});
       ea_plot_data_end(pl);
-      ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset title "
-                      "'Straight-line tip path (Fig. 4): %s'",
+      ea_plot_cmd(pl,
+                  "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset title "
+                  "'Straight-line tip path (Fig. 4): %s'",
                   st == EA_OK ? "admissible" : "NOT admissible");
       ea_plot_cmd(pl, "plot $beams w l lw 2 lc rgb '#1f4e9c' t 'beam', $cables w l dt 2 lc rgb "
                       "'#c0392b' t 'cable', $line w l lw 2 lc rgb 'black' t 'desired path', $bad "

@@ -40,8 +40,7 @@ static void ea__cli_realtime(int rt) {
     fprintf(stderr, "elasticarm stream: --rt: SCHED_FIFO not permitted (%s); continuing\n",
             strerror(errno));
   if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
-    fprintf(stderr, "elasticarm stream: --rt: mlockall failed (%s); continuing\n",
-            strerror(errno));
+    fprintf(stderr, "elasticarm stream: --rt: mlockall failed (%s); continuing\n", strerror(errno));
 }
 
 static void ea__cli_install_stop(void) {
@@ -159,8 +158,8 @@ int ea__cli_stream(int argc, char **argv) {
       return EA_EXIT_FAIL;
     }
     if (time_scale > 1.0)
-      fprintf(stderr, "elasticarm %s: --time-scale auto: playing the plan %.6g times slower\n",
-              cmd, time_scale);
+      fprintf(stderr, "elasticarm %s: --time-scale auto: playing the plan %.6g times slower\n", cmd,
+              time_scale);
   }
   st = ea_stream_resample_scaled(&tr, &arm, s.rate_hz, time_scale, s.limit_tol, &sp, &n, &err);
   if (st == EA_ERR_INADMISSIBLE) {
@@ -168,7 +167,8 @@ int ea__cli_stream(int argc, char **argv) {
     ea_error_t e2 = {0};
     fprintf(stderr, "elasticarm %s: refused: %s\n", cmd, err.msg);
     if (ea_stream_min_time_scale(&tr, &arm, s.rate_hz, s.limit_tol, &need, &e2) == EA_OK)
-      fprintf(stderr, "elasticarm %s: (the plan meets its limits at its samples; the "
+      fprintf(stderr,
+              "elasticarm %s: (the plan meets its limits at its samples; the "
               "interpolant between them needs --time-scale %.6g, or --time-scale auto)\n",
               cmd, need * 1.000001);
     ea_traj_free(&tr);
@@ -272,13 +272,13 @@ static ea_status_t ea__err_prefix(ea_error_t *err, ea_status_t st, const char *p
 }
 
 typedef struct {
-  int ran;                  /* 1: simulated (ok or not) */
+  int ran; /* 1: simulated (ok or not) */
   ea_status_t status;
   ea_error_t err;
   int samples, skipped;     /* log rows used; rows whose time did not increase */
   double t_first, duration; /* [s] setpoint time of the first row, span of the rows */
   double settle;
-  int rows;                 /* tip rows written */
+  int rows; /* tip rows written */
   ea_fe_sim_info_t si;
   double start_static_tip[2];
   double wall_s;
@@ -358,8 +358,10 @@ static ea_status_t ea__ctrl_simulate(const ea_arm_t *arm, const ea_ctrl_t *c, do
     st = ea_statics_solve(sh, &pr, NULL, NULL, &ode, err);
     if (st) {
       char pre[160];
-      snprintf(pre, sizeof pre, "--simulate: the first setpoint (L_c = %g m, theta0 = %g rad) "
-               "has no static solution: ", q0.cable_length, q0.theta0);
+      snprintf(pre, sizeof pre,
+               "--simulate: the first setpoint (L_c = %g m, theta0 = %g rad) "
+               "has no static solution: ",
+               q0.cable_length, q0.theta0);
       ea__err_prefix(err, st, pre);
     }
     ea_fe_static_info_t fsi;
@@ -417,8 +419,10 @@ static int ea__parse_fault(const char *cmd, const char *v, ea_ctrl_settings_t *s
     if (ea__cli_int(cmd, "--fault corrupt-every", v + 14, 1, 100000000, &n)) return -1;
     s->fault = EA_FAULT_CORRUPT_EVERY;
   } else {
-    ea__cli_usage_error(cmd, "--fault: '%s' is not drop-after=N, delay-ack-ms=D, withhold-ack "
-                        "or corrupt-every=N", v);
+    ea__cli_usage_error(cmd,
+                        "--fault: '%s' is not drop-after=N, delay-ack-ms=D, withhold-ack "
+                        "or corrupt-every=N",
+                        v);
     return -1;
   }
   s->fault_arg = n;
@@ -450,8 +454,7 @@ int ea__cli_controller_sim(int argc, char **argv) {
       if (!(port_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--max-frames")) {
       long n;
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_int(cmd, a, v, 1, 2000000000L, &n))
+      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_int(cmd, a, v, 1, 2000000000L, &n))
         return EA_EXIT_USAGE;
       s.max_frames = (int)n;
     } else if (!strcmp(a, "--timeout")) {
@@ -483,7 +486,8 @@ int ea__cli_controller_sim(int argc, char **argv) {
     } else if (!strcmp(a, "--simulate")) {
       if (!(sim_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--elements")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_int(cmd, a, v, 1, 512, &sim_elements))
+      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
+          ea__cli_int(cmd, a, v, 1, 512, &sim_elements))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--payload-kg")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
@@ -523,8 +527,10 @@ int ea__cli_controller_sim(int argc, char **argv) {
       return EA_EXIT_FAIL;
     }
     st = ea__serial_setup(fd, bps, &err);
-    if (!st) st = ea__ctrl_open_fd(&arm, fd, &s, &c, &err);
-    else close(fd);
+    if (!st)
+      st = ea__ctrl_open_fd(&arm, fd, &s, &c, &err);
+    else
+      close(fd);
     if (st) return ea__cli_fail(cmd, st, &err);
     fprintf(stderr, "elasticarm %s: serving %s\n", cmd, dev);
   } else {
@@ -618,7 +624,8 @@ int ea__cli_controller_sim(int argc, char **argv) {
     }
   }
   if (sim.ran && sim.status)
-    fprintf(stderr, "elasticarm %s: %s\n", cmd, sim.err.msg[0] ? sim.err.msg : ea_strerror(sim.status));
+    fprintf(stderr, "elasticarm %s: %s\n", cmd,
+            sim.err.msg[0] ? sim.err.msg : ea_strerror(sim.status));
   ea_ctrl_free(c);
   if (rc_log) return rc_log;
   return (st || (sim.ran && sim.status)) ? EA_EXIT_FAIL : EA_EXIT_OK;

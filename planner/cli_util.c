@@ -32,16 +32,14 @@ int ea__cli_double(const char *cmd, const char *flag, const char *text, double l
   errno = 0;
   const double v = text ? strtod(text, &end) : NAN;
   if (!text || end == text || *end || errno == ERANGE || !isfinite(v))
-    return ea__cli_usage_error(cmd, "%s: '%s' is not a finite number", flag,
-                               text ? text : "");
+    return ea__cli_usage_error(cmd, "%s: '%s' is not a finite number", flag, text ? text : "");
   if (v < lo || v > hi)
     return ea__cli_usage_error(cmd, "%s: value %s is outside [%g, %g]", flag, text, lo, hi);
   *out = v;
   return 0;
 }
 
-int ea__cli_int(const char *cmd, const char *flag, const char *text, long lo, long hi,
-                long *out) {
+int ea__cli_int(const char *cmd, const char *flag, const char *text, long lo, long hi, long *out) {
   char *end;
   errno = 0;
   const long v = text ? strtol(text, &end, 10) : 0;
@@ -74,20 +72,21 @@ int ea__cli_list(const char *cmd, const char *flag, const char *text, double **o
   double a, st, b;
   char tail;
   if (sscanf(text, "%lf:%lf:%lf%c", &a, &st, &b, &tail) == 3) {
-    if (!isfinite(a) || !isfinite(st) || !isfinite(b) || !(st > 0) || b < a ||
-        (b - a) / st > 1e6)
-      return ea__cli_usage_error(cmd, "%s: '%s' is not a range start:step:stop with step > 0",
-                                 flag, text);
+    if (!isfinite(a) || !isfinite(st) || !isfinite(b) || !(st > 0) || b < a || (b - a) / st > 1e6)
+      return ea__cli_usage_error(cmd, "%s: '%s' is not a range start:step:stop with step > 0", flag,
+                                 text);
     const int m = (int)floor((b - a) / st + 1e-9) + 1;
     double *v = malloc((size_t)m * sizeof *v);
     if (!v) return ea__cli_usage_error(cmd, "out of memory");
-    for (int i = 0; i < m; ++i) v[i] = a + i * st;
+    for (int i = 0; i < m; ++i)
+      v[i] = a + i * st;
     *out = v;
     *n = m;
     return 0;
   }
   int m = 1;
-  for (const char *c = text; *c; ++c) m += (*c == ',');
+  for (const char *c = text; *c; ++c)
+    m += (*c == ',');
   double *v = malloc((size_t)m * sizeof *v);
   if (!v) return ea__cli_usage_error(cmd, "out of memory");
   const char *s = text;

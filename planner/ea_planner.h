@@ -20,9 +20,9 @@ extern "C" {
 /* ------------------------------------------------------------------------ */
 
 typedef struct ea_afile {
-  FILE *fp;          /**< write here */
-  char path[1024];   /**< final path */
-  char tmp[1040];    /**< temporary path */
+  FILE *fp;        /**< write here */
+  char path[1024]; /**< final path */
+  char tmp[1040];  /**< temporary path */
 } ea_afile_t;
 
 /** Create the missing parent directories of path (like mkdir -p dirname). */
@@ -94,24 +94,24 @@ void ea_plot_discard(ea_plot_t *p);
 #define EA_TRAJ_FORMAT_VERSION 1
 
 /** Columns of a trajectory, in file order. */
-#define EA_TRAJ_COLUMNS(X)                                      \
-  X(t, "t_s")                                                   \
-  X(cable_length, "cable_length_m")                             \
-  X(cable_angle, "cable_angle_rad")                             \
-  X(base_angle, "base_angle_rad")                               \
-  X(cable_length_rate, "cable_length_rate_m_per_s")             \
-  X(cable_angle_rate, "cable_angle_rate_rad_per_s")             \
-  X(base_angle_rate, "base_angle_rate_rad_per_s")               \
-  X(cable_length_acc, "cable_length_acc_m_per_s2")              \
-  X(cable_angle_acc, "cable_angle_acc_rad_per_s2")              \
-  X(base_angle_acc, "base_angle_acc_rad_per_s2")                \
-  X(tension, "tension_N")                                       \
-  X(theta0, "theta0_rad")                                       \
-  X(theta0_rate, "theta0_rate_rad_per_s")                       \
-  X(kappa0, "kappa0_per_m")                                     \
-  X(shoulder_torque, "shoulder_torque_Nm")                      \
-  X(tip_x, "tip_x_m")                                           \
-  X(tip_y, "tip_y_m")                                           \
+#define EA_TRAJ_COLUMNS(X)                                                                         \
+  X(t, "t_s")                                                                                      \
+  X(cable_length, "cable_length_m")                                                                \
+  X(cable_angle, "cable_angle_rad")                                                                \
+  X(base_angle, "base_angle_rad")                                                                  \
+  X(cable_length_rate, "cable_length_rate_m_per_s")                                                \
+  X(cable_angle_rate, "cable_angle_rate_rad_per_s")                                                \
+  X(base_angle_rate, "base_angle_rate_rad_per_s")                                                  \
+  X(cable_length_acc, "cable_length_acc_m_per_s2")                                                 \
+  X(cable_angle_acc, "cable_angle_acc_rad_per_s2")                                                 \
+  X(base_angle_acc, "base_angle_acc_rad_per_s2")                                                   \
+  X(tension, "tension_N")                                                                          \
+  X(theta0, "theta0_rad")                                                                          \
+  X(theta0_rate, "theta0_rate_rad_per_s")                                                          \
+  X(kappa0, "kappa0_per_m")                                                                        \
+  X(shoulder_torque, "shoulder_torque_Nm")                                                         \
+  X(tip_x, "tip_x_m")                                                                              \
+  X(tip_y, "tip_y_m")                                                                              \
   X(tip_z, "tip_z_m")
 
 #define EA__TRAJ_ENUM(name, header) EA_TRAJ_##name,
@@ -124,9 +124,9 @@ const char *ea_traj_column_name(int c);
 /** A trajectory: n samples of EA_TRAJ_NCOL columns, row-major, plus the
  *  metadata the file carries. */
 typedef struct ea_traj {
-  int n;            /**< number of samples */
-  double *data;     /**< n x EA_TRAJ_NCOL, row-major; owned */
-  double payload_kg;/**< [kg] payload m_p */
+  int n;              /**< number of samples */
+  double *data;       /**< n x EA_TRAJ_NCOL, row-major; owned */
+  double payload_kg;  /**< [kg] payload m_p */
   double tip_mass_kg; /**< [kg] m_L */
   char arm_file[512]; /**< arm file the plan was made with ("" = defaults) */
   char task[512];     /**< task name or file */
@@ -134,7 +134,7 @@ typedef struct ea_traj {
 } ea_traj_t;
 
 /** Value at sample i, column c. */
-#define EA_TRAJ_AT(tr, i, c) ((tr)->data[(size_t)(i) * EA_TRAJ_NCOL + (c)])
+#define EA_TRAJ_AT(tr, i, c) ((tr)->data[(size_t)(i)*EA_TRAJ_NCOL + (c)])
 
 /** Allocate n zeroed samples (frees previous data). */
 ea_status_t ea_traj_alloc(ea_traj_t *tr, int n);
@@ -171,10 +171,10 @@ typedef struct ea_planner ea_planner_t;
 
 /** Where a solve starts from. */
 typedef enum ea_plan_start {
-  EA_PLAN_COLD = 0,  /**< statics continuation along the straight interpolation */
-  EA_PLAN_WARM,      /**< the planner's last converged solution, with multipliers
-                          (after ea_planner_update: shifted along the change) */
-  EA_PLAN_FROM_TRAJ  /**< a previous plan (ea_traj_t) resampled onto the knots */
+  EA_PLAN_COLD = 0, /**< statics continuation along the straight interpolation */
+  EA_PLAN_WARM,     /**< the planner's last converged solution, with multipliers
+                         (after ea_planner_update: shifted along the change) */
+  EA_PLAN_FROM_TRAJ /**< a previous plan (ea_traj_t) resampled onto the knots */
 } ea_plan_start_t;
 
 /** Most distinct active-limit names an info reports. */
@@ -182,36 +182,36 @@ typedef enum ea_plan_start {
 
 /** Result of a solve. */
 typedef struct ea_plan_info {
-  ea_status_t status;        /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
-  int ipopt_status;          /**< raw Ipopt ApplicationReturnStatus */
+  ea_status_t status; /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
+  int ipopt_status;   /**< raw Ipopt ApplicationReturnStatus */
   char ipopt_status_name[48];
-  int iterations;            /**< Ipopt iterations */
-  int n_var, n_con, nnz_jac; /**< problem size */
-  double objective;          /**< final objective value */
-  double duration_s;         /**< [s] t_f */
-  double min_tension_margin_N;   /**< [N] min_k T_k - tension_min */
-  double peak_shoulder_torque_Nm;/**< [N m] max_k |EI kappa0_k| */
-  double max_statics_residual;   /**< max-norm of the statics residual at the knots */
-  double max_violation;      /**< largest bound or constraint violation at the final point */
-  char worst[160];           /**< what it was: constraint name, knot, by how much */
-  int n_active;              /**< limits active (within 1e-6 relative) at some knot */
+  int iterations;                 /**< Ipopt iterations */
+  int n_var, n_con, nnz_jac;      /**< problem size */
+  double objective;               /**< final objective value */
+  double duration_s;              /**< [s] t_f */
+  double min_tension_margin_N;    /**< [N] min_k T_k - tension_min */
+  double peak_shoulder_torque_Nm; /**< [N m] max_k |EI kappa0_k| */
+  double max_statics_residual;    /**< max-norm of the statics residual at the knots */
+  double max_violation;           /**< largest bound or constraint violation at the final point */
+  char worst[160];                /**< what it was: constraint name, knot, by how much */
+  int n_active;                   /**< limits active (within 1e-6 relative) at some knot */
   char active[EA_PLAN_MAX_ACTIVE][40];
   int active_knots[EA_PLAN_MAX_ACTIVE]; /**< at how many knots / intervals */
-  int deriv_errors;          /**< errors found by Ipopt's derivative checker (-1 = not run) */
-  int evals_g, evals_jac;    /**< callback counts */
-  double time_total_s;       /**< [s] wall time of ea_planner_solve */
-  double time_guess_s;       /**< [s] initial guess (statics continuation) */
-  double time_statics_s;     /**< [s] shooting with sensitivities inside Ipopt's callbacks */
-  double time_ipopt_s;       /**< [s] Ipopt itself (linear algebra, line search), callbacks excluded */
-  double time_rest_s;        /**< [s] other callback work and post-processing */
-  double time_tune_s;        /**< [s] NLopt schedule tuning (0 when off) */
-  double schedule_warp;      /**< knot-time warp parameter used (0 = uniform) */
-  double time_freq_model_s;  /**< [s] building the FE frequency model (ea_planner_alloc;
-                                  0 when the task needs none) */
+  int deriv_errors;       /**< errors found by Ipopt's derivative checker (-1 = not run) */
+  int evals_g, evals_jac; /**< callback counts */
+  double time_total_s;    /**< [s] wall time of ea_planner_solve */
+  double time_guess_s;    /**< [s] initial guess (statics continuation) */
+  double time_statics_s;  /**< [s] shooting with sensitivities inside Ipopt's callbacks */
+  double time_ipopt_s;    /**< [s] Ipopt itself (linear algebra, line search), callbacks excluded */
+  double time_rest_s;     /**< [s] other callback work and post-processing */
+  double time_tune_s;     /**< [s] NLopt schedule tuning (0 when off) */
+  double schedule_warp;   /**< knot-time warp parameter used (0 = uniform) */
+  double time_freq_model_s;      /**< [s] building the FE frequency model (ea_planner_alloc;
+                                      0 when the task needs none) */
   double min_first_frequency_hz; /**< [Hz] min over the knots of the model's f1 (NAN: no model) */
   double max_modal_deflection_m; /**< [m] max over the interval ends of |s_c acc_c| / omega1^2,
                                       s = (1, L_c) (NAN: no model) */
-  char message[512];         /**< human-readable outcome */
+  char message[512];             /**< human-readable outcome */
 } ea_plan_info_t;
 
 /** Build the transcription for a checked task (ea_task_check / ea_task_load;
@@ -249,8 +249,7 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
 ea_status_t ea_planner_update(ea_planner_t *pl, const ea_task_t *task, ea_error_t *err);
 /** ea_planner_update with the planner's task and another goal (resolved and
  *  checked: EA_ERR_INFEASIBLE when it is outside the workspace). */
-ea_status_t ea_planner_update_goal(ea_planner_t *pl, const ea_task_point_t *goal,
-                                   ea_error_t *err);
+ea_status_t ea_planner_update_goal(ea_planner_t *pl, const ea_task_point_t *goal, ea_error_t *err);
 /** ... another start point. */
 ea_status_t ea_planner_update_start(ea_planner_t *pl, const ea_task_point_t *start,
                                     ea_error_t *err);
@@ -276,15 +275,15 @@ ea_status_t ea_plan_figure(ea_planner_t *pl, const char *path, ea_error_t *err);
  *  cable, the task's tip mass) on a grid over the task's region of the
  *  (L_c, alpha) plane, interpolated by a GSL bicubic spline (docs/planner.md). */
 typedef struct ea_plan_freq_model_info {
-  int built;                    /**< 1 if the task needed (and got) the model */
+  int built;                         /**< 1 if the task needed (and got) the model */
   int n_cable_length, n_cable_angle; /**< grid points */
-  double cable_length_range[2]; /**< [m] grid box (also bounds L_c in the plan) */
-  double cable_angle_range[2];  /**< [rad] grid box (also bounds alpha in the plan) */
-  int n_extrapolated;           /**< grid points without a valid FE state (outside the
-                                     workspace or not converged), filled by extrapolation */
-  double f1_min_hz, f1_max_hz;  /**< [Hz] over the valid grid points */
-  double f_ref_hz;              /**< [Hz] f1 at the start (scale of the vibration term) */
-  double time_s;                /**< [s] wall time to build it */
+  double cable_length_range[2];      /**< [m] grid box (also bounds L_c in the plan) */
+  double cable_angle_range[2];       /**< [rad] grid box (also bounds alpha in the plan) */
+  int n_extrapolated;                /**< grid points without a valid FE state (outside the
+                                          workspace or not converged), filled by extrapolation */
+  double f1_min_hz, f1_max_hz;       /**< [Hz] over the valid grid points */
+  double f_ref_hz;                   /**< [Hz] f1 at the start (scale of the vibration term) */
+  double time_s;                     /**< [s] wall time to build it */
 } ea_plan_freq_model_info_t;
 
 /** The frequency model's info (built = 0 when the task needs none). */
@@ -319,17 +318,17 @@ ea_status_t ea_planner_first_frequency(const ea_planner_t *pl, double cable_leng
 
 /** One actuator setpoint in motor coordinates (what goes on the wire). */
 typedef struct ea_setpoint {
-  double spool_pos[2];     /**< [rad] spool motor positions (both spools; equal) */
-  double spool_vel[2];     /**< [rad/s] */
-  double spool_acc[2];     /**< [rad/s^2] */
-  double shoulder_pos;     /**< [rad] shoulder motor = theta0 */
-  double shoulder_vel;     /**< [rad/s] */
-  double shoulder_acc;     /**< [rad/s^2] */
-  double base_pos;         /**< [rad] base motor */
-  double base_vel;         /**< [rad/s] */
-  double base_acc;         /**< [rad/s^2] */
-  double shoulder_torque;  /**< [N m] feed-forward EI kappa0 */
-  double tension;          /**< [N] cable tension feed-forward */
+  double spool_pos[2];    /**< [rad] spool motor positions (both spools; equal) */
+  double spool_vel[2];    /**< [rad/s] */
+  double spool_acc[2];    /**< [rad/s^2] */
+  double shoulder_pos;    /**< [rad] shoulder motor = theta0 */
+  double shoulder_vel;    /**< [rad/s] */
+  double shoulder_acc;    /**< [rad/s^2] */
+  double base_pos;        /**< [rad] base motor */
+  double base_vel;        /**< [rad/s] */
+  double base_acc;        /**< [rad/s^2] */
+  double shoulder_torque; /**< [N m] feed-forward EI kappa0 */
+  double tension;         /**< [N] cable tension feed-forward */
 } ea_setpoint_t;
 
 /** Number of doubles of an ::ea_setpoint_t on the wire. */
@@ -368,16 +367,16 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
  *  t_k = t_0 + min(k / rate, duration), mapped to motor coordinates and
  *  checked against the arm's limits (tol relative slack). *out is malloc'd
  *  (caller frees); on a limit violation err->msg names the sample and time. */
-ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
-                               double tol, ea_setpoint_t **out, int *n, ea_error_t *err);
+ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz, double tol,
+                               ea_setpoint_t **out, int *n, ea_error_t *err);
 
 /** Same, with the trajectory played time_scale (>= 1) times slower: t_plan =
  *  t / time_scale, rates / time_scale, accelerations / time_scale^2 (a
  *  uniform time scaling keeps the path; the feed-forwards, quasi-static, are
  *  unchanged). time_scale = 1 is ea_stream_resample. */
 ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
-                                      double time_scale, double tol, ea_setpoint_t **out,
-                                      int *n, ea_error_t *err);
+                                      double time_scale, double tol, ea_setpoint_t **out, int *n,
+                                      ea_error_t *err);
 
 /** Smallest time scale s >= 1 for which ea_stream_resample_scaled(tr, arm,
  *  rate_hz, s, tol) passes the limits check: the interpolant between the
@@ -394,8 +393,8 @@ ea_status_t ea_stream_min_time_scale(const ea_traj_t *tr, const ea_arm_t *arm, d
  *  margin * limit. Feed-forwards are held. Writes at most max setpoints
  *  (the last at rest) to out; returns their number (>= 1), or -1 if max is
  *  too small. */
-int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rate_hz,
-                        double margin, ea_setpoint_t *out, int max);
+int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rate_hz, double margin,
+                        ea_setpoint_t *out, int max);
 
 /* ---- Frames ------------------------------------------------------------ */
 
@@ -436,34 +435,34 @@ typedef enum ea_nack_reason {
 
 /** END reasons. */
 typedef enum ea_end_reason {
-  EA_END_COMPLETE = 0,    /**< every setpoint sent */
-  EA_END_STOPPED = 1,     /**< controlled stop after NACK, timeout or interrupt */
-  EA_END_REFUSED = 2      /**< handshake refused by the streamer */
+  EA_END_COMPLETE = 0, /**< every setpoint sent */
+  EA_END_STOPPED = 1,  /**< controlled stop after NACK, timeout or interrupt */
+  EA_END_REFUSED = 2   /**< handshake refused by the streamer */
 } ea_end_reason_t;
 
 /** Decoded frame (all types share one flat struct; fields per type in
  *  docs/protocol.md). */
 typedef struct ea_frame {
-  uint8_t version;      /**< EA_PROTO_VERSION */
-  uint8_t type;         /**< ::ea_frame_type_t */
-  uint32_t seq;         /**< sequence number (streamer: HELLO 0, then +1 per frame) */
-  uint64_t time_us;     /**< [us] setpoint time since the session start (sender clock) */
+  uint8_t version;  /**< EA_PROTO_VERSION */
+  uint8_t type;     /**< ::ea_frame_type_t */
+  uint32_t seq;     /**< sequence number (streamer: HELLO 0, then +1 per frame) */
+  uint64_t time_us; /**< [us] setpoint time since the session start (sender clock) */
   /* SETPOINT, HELLO (the trajectory's start) */
-  uint32_t flags;       /**< SETPOINT: EA_SP_FLAG_*; END: ::ea_end_reason_t */
+  uint32_t flags; /**< SETPOINT: EA_SP_FLAG_*; END: ::ea_end_reason_t */
   ea_setpoint_t sp;
   /* HELLO */
-  uint32_t rate_hz;     /**< setpoint rate */
-  uint32_t count;       /**< HELLO: setpoints planned; END: setpoints sent */
-  uint32_t heartbeat_ms;/**< HELLO: heartbeat period */
+  uint32_t rate_hz;      /**< setpoint rate */
+  uint32_t count;        /**< HELLO: setpoints planned; END: setpoints sent */
+  uint32_t heartbeat_ms; /**< HELLO: heartbeat period */
   /* ACK / NACK */
-  uint32_t ack_seq;     /**< highest sequence number accepted */
-  uint32_t accepted;    /**< setpoints accepted so far */
-  uint32_t rejected;    /**< frames rejected so far */
-  uint16_t buffer_level;/**< setpoints buffered, not yet executed */
+  uint32_t ack_seq;      /**< highest sequence number accepted */
+  uint32_t accepted;     /**< setpoints accepted so far */
+  uint32_t rejected;     /**< frames rejected so far */
+  uint16_t buffer_level; /**< setpoints buffered, not yet executed */
   uint16_t buffer_capacity;
-  uint8_t state;        /**< ::ea_ctrl_state_t */
-  uint8_t reason;       /**< ::ea_nack_reason_t */
-  double actual[4];     /**< controller's positions: spool 0, spool 1, shoulder, base [rad] */
+  uint8_t state;    /**< ::ea_ctrl_state_t */
+  uint8_t reason;   /**< ::ea_nack_reason_t */
+  double actual[4]; /**< controller's positions: spool 0, spool 1, shoulder, base [rad] */
 } ea_frame_t;
 
 /** CRC-32 (IEEE 802.3 / zlib: reflected 0xEDB88320, init and xorout
@@ -484,7 +483,7 @@ ea_status_t ea_frame_decode(const uint8_t *buf, size_t len, ea_frame_t *f, ea_er
 typedef struct ea_frame_parser {
   uint8_t buf[2 * EA_PROTO_FRAME_MAX];
   size_t len;
-  uint64_t bad_frames;  /**< frames dropped (CRC, length, version, type, values) */
+  uint64_t bad_frames;    /**< frames dropped (CRC, length, version, type, values) */
   uint64_t skipped_bytes; /**< bytes discarded while resynchronising */
 } ea_frame_parser_t;
 
@@ -500,17 +499,17 @@ int ea_frame_parser_next(ea_frame_parser_t *p, ea_frame_t *f);
 
 /** Streamer settings (ea_stream_settings_default fills them). */
 typedef struct ea_stream_settings {
-  double rate_hz;         /**< setpoint rate (default 1000) */
-  double limit_tol;       /**< relative slack of the limits check (default 1e-6) */
-  double stop_margin;     /**< stop ramp uses at most this fraction of the accel limits (0.9) */
-  double ack_timeout_s;   /**< outstanding frames without an ACK this long -> stop (0.1) */
+  double rate_hz;             /**< setpoint rate (default 1000) */
+  double limit_tol;           /**< relative slack of the limits check (default 1e-6) */
+  double stop_margin;         /**< stop ramp uses at most this fraction of the accel limits (0.9) */
+  double ack_timeout_s;       /**< outstanding frames without an ACK this long -> stop (0.1) */
   double handshake_timeout_s; /**< wait for the HELLO answer (1.0) */
-  double end_timeout_s;   /**< wait for the END answer (1.0) */
-  double heartbeat_s;     /**< heartbeat period when no setpoint is due (0.1) */
-  double start_tol_cable; /**< [m] handshake tolerance on L_c (1e-3) */
-  double start_tol_angle; /**< [rad] handshake tolerance on theta0 and base (0.01) */
-  int realtime;           /**< 1: pace at rate_hz (default); 0: as fast as possible */
-  int wait_acks;          /**< 1: handshake and ACKs (default); 0: dry run (file:) */
+  double end_timeout_s;       /**< wait for the END answer (1.0) */
+  double heartbeat_s;         /**< heartbeat period when no setpoint is due (0.1) */
+  double start_tol_cable;     /**< [m] handshake tolerance on L_c (1e-3) */
+  double start_tol_angle;     /**< [rad] handshake tolerance on theta0 and base (0.01) */
+  int realtime;               /**< 1: pace at rate_hz (default); 0: as fast as possible */
+  int wait_acks;              /**< 1: handshake and ACKs (default); 0: dry run (file:) */
   const volatile sig_atomic_t *stop_request; /**< nonzero -> controlled stop (SIGINT) */
 } ea_stream_settings_t;
 
@@ -519,36 +518,36 @@ ea_status_t ea_stream_settings_validate(const ea_stream_settings_t *s, ea_error_
 
 /** Why the stream ended. */
 typedef enum ea_stream_end {
-  EA_STREAM_COMPLETE = 0,    /**< every setpoint sent and acknowledged */
-  EA_STREAM_REFUSED,         /**< handshake: controller not at the trajectory's start */
-  EA_STREAM_STOP_NACK,       /**< controller rejected a frame: controlled stop */
-  EA_STREAM_STOP_ACK_TIMEOUT,/**< acknowledgements stopped: controlled stop */
-  EA_STREAM_STOP_INTERRUPT,  /**< stop requested (SIGINT): controlled stop */
-  EA_STREAM_DISCONNECTED,    /**< link lost: the controller's watchdog must stop */
-  EA_STREAM_ERROR            /**< could not start (connect, handshake timeout) */
+  EA_STREAM_COMPLETE = 0,     /**< every setpoint sent and acknowledged */
+  EA_STREAM_REFUSED,          /**< handshake: controller not at the trajectory's start */
+  EA_STREAM_STOP_NACK,        /**< controller rejected a frame: controlled stop */
+  EA_STREAM_STOP_ACK_TIMEOUT, /**< acknowledgements stopped: controlled stop */
+  EA_STREAM_STOP_INTERRUPT,   /**< stop requested (SIGINT): controlled stop */
+  EA_STREAM_DISCONNECTED,     /**< link lost: the controller's watchdog must stop */
+  EA_STREAM_ERROR             /**< could not start (connect, handshake timeout) */
 } ea_stream_end_t;
 
 const char *ea_stream_end_name(ea_stream_end_t e);
 
 /** Summary of a stream. */
 typedef struct ea_stream_info {
-  ea_status_t status;      /**< EA_OK only for EA_STREAM_COMPLETE */
+  ea_status_t status; /**< EA_OK only for EA_STREAM_COMPLETE */
   ea_stream_end_t end;
-  int setpoints;           /**< setpoints of the resampled trajectory */
-  int frames_sent;         /**< setpoint frames written (stop ramp included) */
-  int stop_frames;         /**< of which stop ramp */
-  int frames_acked;        /**< setpoints the controller reported accepted */
-  int frames_late;         /**< sent more than half a period after their deadline */
-  int nacks;               /**< NACK frames received */
-  int acks;                /**< ACK frames received */
-  int ctrl_rejected;       /**< frames the controller reported rejected */
-  int ctrl_state;          /**< last reported ::ea_ctrl_state_t (-1 none) */
-  int nack_reason;         /**< reason of the first NACK */
+  int setpoints;              /**< setpoints of the resampled trajectory */
+  int frames_sent;            /**< setpoint frames written (stop ramp included) */
+  int stop_frames;            /**< of which stop ramp */
+  int frames_acked;           /**< setpoints the controller reported accepted */
+  int frames_late;            /**< sent more than half a period after their deadline */
+  int nacks;                  /**< NACK frames received */
+  int acks;                   /**< ACK frames received */
+  int ctrl_rejected;          /**< frames the controller reported rejected */
+  int ctrl_state;             /**< last reported ::ea_ctrl_state_t (-1 none) */
+  int nack_reason;            /**< reason of the first NACK */
   int buffer_min, buffer_max; /**< controller buffer level seen in ACKs */
-  int ack_bad_frames;      /**< malformed frames received from the controller */
+  int ack_bad_frames;         /**< malformed frames received from the controller */
   double jitter_p50_us, jitter_p99_us, jitter_max_us; /**< |send time - deadline| */
   double ack_latency_max_ms; /**< longest wait for an outstanding frame's ACK */
-  double duration_s;       /**< wall time of the setpoint phase */
+  double duration_s;         /**< wall time of the setpoint phase */
 } ea_stream_info_t;
 
 /** Stream setpoints sp[0..n-1] to the transport named by url
@@ -559,8 +558,7 @@ typedef struct ea_stream_info {
  * @return EA_OK if complete; EA_ERR_INADMISSIBLE refused handshake;
  *         EA_ERR_PROTOCOL NACK; EA_ERR_NET link; EA_ERR_INTERRUPTED stop request */
 ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, const char *url,
-                          const ea_stream_settings_t *s, ea_stream_info_t *info,
-                          ea_error_t *err);
+                          const ea_stream_settings_t *s, ea_stream_info_t *info, ea_error_t *err);
 
 /* ---- Controller simulator ---------------------------------------------- */
 
@@ -583,9 +581,9 @@ typedef struct ea_ctrl_settings {
   double limit_tol;      /**< relative slack of the limits check (1e-6) */
   double continuity_tol; /**< relative slack of the continuity check (0.05) */
   ea_ctrl_fault_t fault;
-  long fault_arg;        /**< N or ms of the fault */
-  int has_initial;       /**< 1: report initial[] at HELLO; 0: adopt the HELLO's start */
-  double initial[3];     /**< L_c [m], theta0 [rad], base [rad] */
+  long fault_arg;    /**< N or ms of the fault */
+  int has_initial;   /**< 1: report initial[] at HELLO; 0: adopt the HELLO's start */
+  double initial[3]; /**< L_c [m], theta0 [rad], base [rad] */
   const volatile sig_atomic_t *stop_request; /**< nonzero -> end */
 } ea_ctrl_settings_t;
 
@@ -593,26 +591,26 @@ void ea_ctrl_settings_default(ea_ctrl_settings_t *s);
 
 /** One logged setpoint. */
 typedef struct ea_ctrl_log_row {
-  uint32_t seq;          /**< sequence number (0 for the simulator's own stop) */
-  double time_s;         /**< [s] setpoint time from the frame (own stop: extrapolated) */
-  double recv_s;         /**< [s] receive time since the first setpoint */
-  int source;            /**< 0 received, 1 stop ramp received, 2 own stop (watchdog, drop) */
+  uint32_t seq;  /**< sequence number (0 for the simulator's own stop) */
+  double time_s; /**< [s] setpoint time from the frame (own stop: extrapolated) */
+  double recv_s; /**< [s] receive time since the first setpoint */
+  int source;    /**< 0 received, 1 stop ramp received, 2 own stop (watchdog, drop) */
   ea_setpoint_t sp;
 } ea_ctrl_log_row_t;
 
 /** Simulator summary. */
 typedef struct ea_ctrl_info {
   ea_status_t status;
-  int sessions;          /**< HELLOs answered */
-  int accepted;          /**< setpoints accepted */
-  int rejected;          /**< frames rejected (all reasons) */
+  int sessions; /**< HELLOs answered */
+  int accepted; /**< setpoints accepted */
+  int rejected; /**< frames rejected (all reasons) */
   int rejected_crc, rejected_seq, rejected_limit, rejected_continuity;
-  int gaps;              /**< setpoints missing between accepted sequence numbers */
-  int own_stop_frames;   /**< setpoints of the simulator's own stop */
-  int end_received;      /**< 1 if END arrived */
-  uint32_t end_reason;   /**< its reason */
-  int final_state;       /**< ::ea_ctrl_state_t at exit */
-  int max_buffer;        /**< highest buffer level */
+  int gaps;            /**< setpoints missing between accepted sequence numbers */
+  int own_stop_frames; /**< setpoints of the simulator's own stop */
+  int end_received;    /**< 1 if END arrived */
+  uint32_t end_reason; /**< its reason */
+  int final_state;     /**< ::ea_ctrl_state_t at exit */
+  int max_buffer;      /**< highest buffer level */
 } ea_ctrl_info_t;
 
 typedef struct ea_ctrl ea_ctrl_t;

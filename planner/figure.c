@@ -75,11 +75,14 @@ void ea_plot_data_row(ea_plot_t *p, int n, const double *v) {
       fputc('\n', p->script);
       return;
     }
-  for (int i = 0; i < n; ++i) fprintf(p->script, i ? " %.9g" : "%.9g", v[i]);
+  for (int i = 0; i < n; ++i)
+    fprintf(p->script, i ? " %.9g" : "%.9g", v[i]);
   fputc('\n', p->script);
 }
 
-void ea_plot_data_end(ea_plot_t *p) { fputs("EOD\n", p->script); }
+void ea_plot_data_end(ea_plot_t *p) {
+  fputs("EOD\n", p->script);
+}
 
 void ea_plot_discard(ea_plot_t *p) {
   if (!p) return;

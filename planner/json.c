@@ -33,7 +33,8 @@ static void ea__jsep(ea_json_t *j, const char *key) {
   j->first[j->depth] = 0;
   if (j->pretty && j->depth > 0) {
     fputc('\n', j->fp);
-    for (int i = 0; i < j->depth; ++i) fputs("  ", j->fp);
+    for (int i = 0; i < j->depth; ++i)
+      fputs("  ", j->fp);
   }
   if (key) {
     ea__jstr(j->fp, key);
@@ -53,15 +54,24 @@ static void ea__jclose(ea_json_t *j, char c) {
   if (j->depth > 0) --j->depth;
   if (j->pretty && !empty) {
     fputc('\n', j->fp);
-    for (int i = 0; i < j->depth; ++i) fputs("  ", j->fp);
+    for (int i = 0; i < j->depth; ++i)
+      fputs("  ", j->fp);
   }
   fputc(c, j->fp);
 }
 
-void ea_json_obj_begin(ea_json_t *j, const char *key) { ea__jopen(j, key, '{'); }
-void ea_json_obj_end(ea_json_t *j) { ea__jclose(j, '}'); }
-void ea_json_arr_begin(ea_json_t *j, const char *key) { ea__jopen(j, key, '['); }
-void ea_json_arr_end(ea_json_t *j) { ea__jclose(j, ']'); }
+void ea_json_obj_begin(ea_json_t *j, const char *key) {
+  ea__jopen(j, key, '{');
+}
+void ea_json_obj_end(ea_json_t *j) {
+  ea__jclose(j, '}');
+}
+void ea_json_arr_begin(ea_json_t *j, const char *key) {
+  ea__jopen(j, key, '[');
+}
+void ea_json_arr_end(ea_json_t *j) {
+  ea__jclose(j, ']');
+}
 
 static void ea__jnum(FILE *fp, double v) {
   if (isfinite(v))
@@ -99,4 +109,6 @@ void ea_json_vec(ea_json_t *j, const char *key, const double *v, int n) {
   }
   fputc(']', j->fp);
 }
-void ea_json_end(ea_json_t *j) { fputc('\n', j->fp); }
+void ea_json_end(ea_json_t *j) {
+  fputc('\n', j->fp);
+}

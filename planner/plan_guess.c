@@ -38,8 +38,7 @@ static void ea__cross(const double a[3], const double b[3], double c[3]) {
 static double ea__seg_time(const ea_planner_t *pl, const ea_task_point_t *a,
                            const ea_task_point_t *b) {
   const double dq[3] = {fabs(b->cable_length - a->cable_length),
-                        fabs(b->cable_angle - a->cable_angle),
-                        fabs(b->base_angle - a->base_angle)};
+                        fabs(b->cable_angle - a->cable_angle), fabs(b->base_angle - a->base_angle)};
   double T = 1e-3;
   for (int c = 0; c < 3; ++c) {
     if (isfinite(pl->vmax[c])) T = fmax(T, 1.5 * dq[c] / pl->vmax[c]);
@@ -83,7 +82,8 @@ void ea__plan_segments(ea_planner_t *pl) {
     ea__plan_tip3(pl, a->cable_length, a->cable_angle, a->base_angle, pl->segA[j], NULL);
     ea__plan_tip3(pl, b->cable_length, b->cable_angle, b->base_angle, B, NULL);
     double *D = pl->segD[j];
-    for (int i = 0; i < 3; ++i) D[i] = B[i] - pl->segA[j][i];
+    for (int i = 0; i < 3; ++i)
+      D[i] = B[i] - pl->segA[j][i];
     pl->segLen[j] = sqrt(D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
     ea__unit(D);
     if (pl->nq == 3) {
@@ -98,11 +98,13 @@ void ea__plan_segments(ea_planner_t *pl) {
       ea__unit(pl->segN[j][0]);
     }
   }
-  for (int k = 0; k < N; ++k) pl->seg_of_knot[k] = -1;
+  for (int k = 0; k < N; ++k)
+    pl->seg_of_knot[k] = -1;
   if (t->path != EA_TASK_PATH_FREE)
     for (int j = 0; j < pl->n_seg; ++j)
       if (pl->segLen[j] > 1e-9)
-        for (int k = pl->via_knot[j] + 1; k < pl->via_knot[j + 1]; ++k) pl->seg_of_knot[k] = j;
+        for (int k = pl->via_knot[j] + 1; k < pl->via_knot[j + 1]; ++k)
+          pl->seg_of_knot[k] = j;
 }
 
 /* Tip (reach, height, base) at fraction sig of segment j. */
@@ -112,12 +114,15 @@ static void ea__seg_point(const ea_planner_t *pl, int j, double sig, double prev
   const ea_task_point_t *a = ea__point(t, j), *b = ea__point(t, j + 1);
   if (pl->nq == 3 && t->path != EA_TASK_PATH_FREE) {
     double P[3];
-    for (int i = 0; i < 3; ++i) P[i] = pl->segA[j][i] + sig * pl->segLen[j] * pl->segD[j][i];
+    for (int i = 0; i < 3; ++i)
+      P[i] = pl->segA[j][i] + sig * pl->segLen[j] * pl->segD[j][i];
     *reach = hypot(P[0], P[1]);
     *height = P[2];
     double bb = *reach > 1e-12 ? atan2(P[1], P[0]) : prev_base;
-    while (bb - prev_base > M_PI) bb -= 2 * M_PI;
-    while (bb - prev_base < -M_PI) bb += 2 * M_PI;
+    while (bb - prev_base > M_PI)
+      bb -= 2 * M_PI;
+    while (bb - prev_base < -M_PI)
+      bb += 2 * M_PI;
     *base = bb;
   } else {
     *reach = (1 - sig) * a->reach + sig * b->reach;
@@ -127,8 +132,7 @@ static void ea__seg_point(const ea_planner_t *pl, int j, double sig, double prev
 }
 
 /* Actuator coordinates (L_c, alpha, base) at fraction sig of segment j. */
-static void ea__seg_q(const ea_planner_t *pl, int j, double sig, double *prev_base,
-                      double q[3]) {
+static void ea__seg_q(const ea_planner_t *pl, int j, double sig, double *prev_base, double q[3]) {
   const ea_arm_t *arm = &pl->task.arm;
   double R, H, B;
   ea__seg_point(pl, j, sig, *prev_base, &R, &H, &B);
@@ -153,16 +157,19 @@ static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, d
   double pb = pl->nq == 3 ? ea__point(&pl->task, j)->base_angle : pl->base_fixed;
   const double ds = 1.0 / M;
   int any = 0;
-  for (int c = 0; c < nq; ++c) any |= isfinite(pl->vmax[c]) || isfinite(pl->amax[c]);
+  for (int c = 0; c < nq; ++c)
+    any |= isfinite(pl->vmax[c]) || isfinite(pl->amax[c]);
   if (!any) return 0.0;
-  for (int i = 0; i <= M; ++i) ea__seg_q(pl, j, i * ds, &pb, q[i]);
+  for (int i = 0; i <= M; ++i)
+    ea__seg_q(pl, j, i * ds, &pb, q[i]);
   /* theta0 (when given at the segment's knots, th_sig increasing from 0 to
    * 1): its slope between knots caps the speed by th_vmax */
   double thcap[EA__TOPP_M + 1];
   for (int i = 0, kk = 0; i <= M; ++i) {
     thcap[i] = 1e30;
     if (!th) continue;
-    while (kk + 2 < nk && th_sig[kk + 1] < i * ds) ++kk;
+    while (kk + 2 < nk && th_sig[kk + 1] < i * ds)
+      ++kk;
     const double dsg = th_sig[kk + 1] - th_sig[kk];
     const double slope = dsg > 0.0 ? (th[kk + 1] - th[kk]) / dsg : 0.0;
     if (fabs(slope) > 0.0) thcap[i] = th_vmax * th_vmax / (slope * slope);
@@ -182,16 +189,20 @@ static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, d
     }
   }
   /* admissible sig_ddot at (i, b): [lo, hi] */
-#define EA__ACC_RANGE(i, bb, lo, hi)                                                          \
-  do {                                                                                       \
-    lo = -1e30, hi = 1e30;                                                                   \
-    for (int c = 0; c < nq; ++c) {                                                           \
-      const double A = pl->amax[c], g1 = d1[i][c];                                           \
-      if (!isfinite(A) || fabs(g1) < 1e-9) continue;                                         \
-      double r0 = (-A - d2[i][c] * (bb)) / g1, r1 = (A - d2[i][c] * (bb)) / g1;             \
-      if (r0 > r1) { const double tt = r0; r0 = r1; r1 = tt; }                               \
-      lo = fmax(lo, r0), hi = fmin(hi, r1);                                                  \
-    }                                                                                        \
+#define EA__ACC_RANGE(i, bb, lo, hi)                                                               \
+  do {                                                                                             \
+    lo = -1e30, hi = 1e30;                                                                         \
+    for (int c = 0; c < nq; ++c) {                                                                 \
+      const double A = pl->amax[c], g1 = d1[i][c];                                                 \
+      if (!isfinite(A) || fabs(g1) < 1e-9) continue;                                               \
+      double r0 = (-A - d2[i][c] * (bb)) / g1, r1 = (A - d2[i][c] * (bb)) / g1;                    \
+      if (r0 > r1) {                                                                               \
+        const double tt = r0;                                                                      \
+        r0 = r1;                                                                                   \
+        r1 = tt;                                                                                   \
+      }                                                                                            \
+      lo = fmax(lo, r0), hi = fmin(hi, r1);                                                        \
+    }                                                                                              \
   } while (0)
   bf[0] = 0.0;
   for (int i = 0; i < M; ++i) {
@@ -219,7 +230,8 @@ static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, d
   int i = 0;
   for (int k = 0; k < nk; ++k) {
     const double tau = u[k] * T;
-    while (i + 1 < M && t[i + 1] < tau) ++i;
+    while (i + 1 < M && t[i + 1] < tau)
+      ++i;
     const double dt = t[i + 1] - t[i], w0 = sqrt(b[i]), w1 = sqrt(b[i + 1]);
     const double acc = (w1 - w0) / dt, e = fmax(0.0, fmin(dt, tau - t[i]));
     sig[k] = fmin(1.0, i * ds + w0 * e + 0.5 * acc * e * e);
@@ -255,14 +267,16 @@ retry:
   for (int j = 0; j < pl->n_seg && topp; ++j) {
     const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1], nk = k1 - k0 + 1;
     double *u = pl->gscr + 2 * N; /* nk time fractions of the segment */
-    for (int k = k0; k <= k1; ++k) u[k - k0] = (pl->s[k] - pl->s[k0]) / (pl->s[k1] - pl->s[k0]);
+    for (int k = k0; k <= k1; ++k)
+      u[k - k0] = (pl->s[k] - pl->s[k0]) / (pl->s[k1] - pl->s[k0]);
     const double Tj = ea__topp(pl, j, nk, u, sigk + k0, sdn + k0, th_sig + k0,
                                with_theta0 ? th + k0 : NULL, 0.9 * l->shoulder_speed_max);
     if (!(Tj > 0.0)) {
       topp = 0;
       break;
     }
-    for (int k = k0; k <= k1; ++k) sdn[k] *= Tj; /* d sig / d u */
+    for (int k = k0; k <= k1; ++k)
+      sdn[k] *= Tj; /* d sig / d u */
     tf_topp = fmax(tf_topp, Tj / (pl->s[k1] - pl->s[k0]));
   }
   if (!topp)
@@ -303,8 +317,10 @@ retry:
         const double T = sol.p[EA_P_TENSION], tau = fabs(arm->EI * sol.p[EA_P_KAPPA0]);
         const char *what = NULL;
         double by = 0.0;
-        if (T < l->tension_min) what = "tension >= tension_min", by = l->tension_min - T;
-        else if (T > l->tension_max) what = "tension <= tension_max", by = T - l->tension_max;
+        if (T < l->tension_min)
+          what = "tension >= tension_min", by = l->tension_min - T;
+        else if (T > l->tension_max)
+          what = "tension <= tension_max", by = T - l->tension_max;
         else if (tau > l->shoulder_torque_max)
           what = "shoulder torque limit", by = tau - l->shoulder_torque_max;
         else if (Lc < l->cable_length_min)
@@ -313,8 +329,8 @@ retry:
           what = "cable_length_max", by = Lc - l->cable_length_max;
         else if (sol.p[EA_P_THETA0] < arm->act.shoulder_angle_min ||
                  sol.p[EA_P_THETA0] > arm->act.shoulder_angle_max)
-          what = "shoulder angle range", by = fmax(arm->act.shoulder_angle_min - sol.p[2],
-                                                  sol.p[2] - arm->act.shoulder_angle_max);
+          what = "shoulder angle range",
+          by = fmax(arm->act.shoulder_angle_min - sol.p[2], sol.p[2] - arm->act.shoulder_angle_max);
         if (what)
           return ea_error_set(err, EA_ERR_INFEASIBLE,
                               "the prescribed path leaves the workspace for payload %.4g kg: "
@@ -323,7 +339,8 @@ retry:
                               t->payload_kg, what, k, by, R, H, T, tau);
       }
       memcpy(pprev, sol.p, sizeof pprev);
-      for (int i = 0; i < 3; ++i) x[EA__IP(pl, k, i)] = sol.p[1 + i];
+      for (int i = 0; i < 3; ++i)
+        x[EA__IP(pl, k, i)] = sol.p[1 + i];
     }
   }
   /* Duration: the segment estimates, then stretched until the guess keeps
@@ -347,7 +364,8 @@ retry:
        * theta0 of these knots (linear in sig between them) under 90 % of the
        * limit; if that is not enough either, the smoothstep */
       if (!with_theta0) {
-        for (int k = 0; k < N; ++k) th_sig[k] = sigk[k], th[k] = x[EA__IP(pl, k, 1)];
+        for (int k = 0; k < N; ++k)
+          th_sig[k] = sigk[k], th[k] = x[EA__IP(pl, k, 1)];
         with_theta0 = 1;
       } else {
         topp = 0;
@@ -361,7 +379,8 @@ retry:
    * differences; rest at the pinned knots. */
   int jv = 0;
   for (int k = 0; k < N; ++k) {
-    while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k) ++jv;
+    while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k)
+      ++jv;
     const int pinned = jv <= pl->n_seg && pl->via_knot[jv] == k;
     double dqds[3] = {0.0, 0.0, 0.0}, sdot = 0.0;
     if (!pinned && sdn[k] >= 0.0) {
@@ -370,7 +389,8 @@ retry:
       double qa[3], qb[3], pb = nq == 3 ? x[EA__IQ(pl, k, 2)] : pl->base_fixed;
       ea__seg_q(pl, j, sa, &pb, qa);
       ea__seg_q(pl, j, sb, &pb, qb);
-      for (int c = 0; c < nq; ++c) dqds[c] = (qb[c] - qa[c]) / (sb - sa);
+      for (int c = 0; c < nq; ++c)
+        dqds[c] = (qb[c] - qa[c]) / (sb - sa);
       sdot = sdn[k] / (tf * (pl->s[k1] - pl->s[k0]));
     }
     for (int c = 0; c < nq; ++c) {
@@ -418,18 +438,19 @@ retry:
 /* Linear interpolation of column c of tr at time tt. */
 static double ea__traj_at(const ea_traj_t *tr, int c, double tt) {
   int i = 0;
-  while (i + 2 < tr->n && EA_TRAJ_AT(tr, i + 1, EA_TRAJ_t) < tt) ++i;
+  while (i + 2 < tr->n && EA_TRAJ_AT(tr, i + 1, EA_TRAJ_t) < tt)
+    ++i;
   const double t0 = EA_TRAJ_AT(tr, i, EA_TRAJ_t), t1 = EA_TRAJ_AT(tr, i + 1, EA_TRAJ_t);
   double w = (tt - t0) / (t1 - t0);
   w = fmax(0.0, fmin(1.0, w));
   return (1 - w) * EA_TRAJ_AT(tr, i, c) + w * EA_TRAJ_AT(tr, i + 1, c);
 }
 
-ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x,
-                                ea_error_t *err) {
+ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x, ea_error_t *err) {
   if (!tr || tr->n < 2 || !tr->data)
     return ea_error_set(err, EA_ERR_ARG, "warm start: the previous plan has fewer than 2 rows");
-  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), tf_prev = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t),
+               tf_prev = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
   if (!(tf_prev > 0.0)) return ea_error_set(err, EA_ERR_ARG, "warm start: zero-length plan");
   const double tf = pl->has_tf ? tf_prev : pl->tf_fixed;
   static const int qc[3] = {EA_TRAJ_cable_length, EA_TRAJ_cable_angle, EA_TRAJ_base_angle};
@@ -467,7 +488,8 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x)
   const ea_task_t *t = &pl->task;
   const int N = pl->N, nq = pl->nq;
   const double w[3] = {1.0, t->arm.length, t->arm.length}; /* [m], [m/rad] */
-  double tf = pl->has_tf ? x[EA__ITF(pl)] : (isnan(prev->duration_s) ? pl->tf_fixed : prev->duration_s);
+  double tf =
+      pl->has_tf ? x[EA__ITF(pl)] : (isnan(prev->duration_s) ? pl->tf_fixed : prev->duration_s);
   const int retime = pl->has_tf && t->objective == EA_TASK_MIN_TIME;
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1) {
@@ -513,20 +535,23 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x)
       set.max_cont_steps = 0;
       int jv = 0;
       for (int k = 0; k < N; ++k) {
-        while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k) ++jv;
+        while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k)
+          ++jv;
         if (jv <= pl->n_seg && pl->via_knot[jv] == k) { /* pinned: the point's statics */
           const ea_task_point_t *p = ea__point(t, jv);
-          for (int i = 0; i < 3; ++i) x[EA__IP(pl, k, i)] = p->p[i + 1];
+          for (int i = 0; i < 3; ++i)
+            x[EA__IP(pl, k, i)] = p->p[i + 1];
           continue;
         }
-        const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)],
-                                     x[EA__IP(pl, k, 1)], x[EA__IP(pl, k, 2)]};
+        const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
+                                     x[EA__IP(pl, k, 2)]};
         ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
         ea_statics_solution_t sol;
         if (ea_statics_solve(pl->sh, &prob, &set, guess, &sol, NULL) != EA_OK ||
             sol.branch != EA_BRANCH_WARM)
           continue; /* Ipopt starts from the old values there */
-        for (int i = 0; i < 3; ++i) x[EA__IP(pl, k, i)] = sol.p[i + 1];
+        for (int i = 0; i < 3; ++i)
+          x[EA__IP(pl, k, i)] = sol.p[i + 1];
       }
     }
     if (!retime || pass == 0) continue;
@@ -553,7 +578,8 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x)
           u[3] = sqrt(fabs(a[1]) / pl->amax[c]);
         }
         for (int i = 0; i < 4; ++i)
-          if (isfinite(uo[i]) && isfinite(un[i])) un_max = fmax(un_max, un[i]), uo_max = fmax(uo_max, uo[i]);
+          if (isfinite(uo[i]) && isfinite(un[i]))
+            un_max = fmax(un_max, un[i]), uo_max = fmax(uo_max, uo[i]);
       }
       const double ws = t->limits.shoulder_speed_max;
       if (isfinite(ws)) {
@@ -568,7 +594,8 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x)
       const double lam = fmax(0.5, fmin(2.0, un_max / uo_max));
       x[EA__ITF(pl)] = tf * lam;
       for (int k = 0; k < N; ++k)
-        for (int c = 0; c < nq; ++c) x[EA__IV(pl, k, c)] /= lam;
+        for (int c = 0; c < nq; ++c)
+          x[EA__IV(pl, k, c)] /= lam;
     }
   }
   return EA_OK;

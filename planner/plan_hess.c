@@ -121,7 +121,8 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
     int v[5];
     ea__stat_vars(pl, k, v);
     for (int a = 0; a < 5; ++a)
-      for (int b = 0; b <= a; ++b) keys[nk++] = ea__key(pl, v[a], v[b]);
+      for (int b = 0; b <= a; ++b)
+        keys[nk++] = ea__key(pl, v[a], v[b]);
   }
   size_t npos = 0;
   for (int r = 0; r < nr; ++r) {
@@ -129,7 +130,8 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
     if (row->kind <= EA__ROW_STATICS_Y) continue;
     const int nc = ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
-      for (int b = 0; b <= a; ++b) keys[nk++] = ea__key(pl, cols[a], cols[b]);
+      for (int b = 0; b <= a; ++b)
+        keys[nk++] = ea__key(pl, cols[a], cols[b]);
     npos += (size_t)nc * (nc + 1) / 2;
   }
   qsort(keys, nk, sizeof *keys, ea__cmp64);
@@ -192,7 +194,8 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
       const double d = 1e-7 * fmax(1.0, fabs(p0[j]));
       p[j] += d;
       if ((st = ea_shoot(pl->sh, p, xL, S))) return st;
-      for (int e = 0; e < EA_NX * EA_NP; ++e) D[j][e] = (S[e] - S0[e]) / d;
+      for (int e = 0; e < EA_NX * EA_NP; ++e)
+        D[j][e] = (S[e] - S0[e]) / d;
     }
     const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
     const double lam[3] = {lk, lx, ly};
@@ -206,7 +209,8 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
     H[0][1] = H[1][0];
     int e = 0;
     for (int a = 0; a < 5; ++a)
-      for (int b = 0; b <= a; ++b) values[pl->hpos_stat[15 * k + e++]] += H[a][b];
+      for (int b = 0; b <= a; ++b)
+        values[pl->hpos_stat[15 * k + e++]] += H[a][b];
   }
   pl->t_statics += ea__plan_now() - t0;
   (void)arm;
@@ -229,11 +233,13 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
       pl->xx[v] = x[v] - d;
       ea__plan_row_eval(pl, pl->xx, row, NULL, NULL, gm);
       pl->xx[v] = x[v];
-      for (int b = 0; b < nc; ++b) Hl[a][b] = (gp[b] - gm[b]) / (2.0 * d);
+      for (int b = 0; b < nc; ++b)
+        Hl[a][b] = (gp[b] - gm[b]) / (2.0 * d);
     }
     int p = pl->hpos_start[r];
     for (int a = 0; a < nc; ++a)
-      for (int b = 0; b <= a; ++b) values[pl->hpos[p++]] += w * 0.5 * (Hl[a][b] + Hl[b][a]);
+      for (int b = 0; b <= a; ++b)
+        values[pl->hpos[p++]] += w * 0.5 * (Hl[a][b] + Hl[b][a]);
   }
   return EA_OK;
 }

@@ -49,7 +49,7 @@ typedef struct ea__plan_term {
 /** FE first-frequency model f1(L_c, alpha) (plan_vib.c). */
 typedef struct ea__freq_model {
   int nL, na;
-  double *Lg, *ag, *f;          /* grid (nL, na) and f1 [Hz] (na x nL, x fastest) */
+  double *Lg, *ag, *f; /* grid (nL, na) and f1 [Hz] (na x nL, x fastest) */
   gsl_spline2d *sp;
   gsl_interp_accel *xa, *ya;
   ea_plan_freq_model_info_t info;
@@ -59,21 +59,21 @@ struct ea_planner {
   ea_task_t task;
   ea_shooter_t *sh;
   double tip_mass;
-  int N;        /* knots */
-  int nq;       /* actuator coordinates: 2 (L_c, alpha) or 3 (+ base) */
-  int nb;       /* variables per knot: 2 nq + 3 */
-  int has_tf;   /* 1: t_f is a variable (min_time) */
+  int N;      /* knots */
+  int nq;     /* actuator coordinates: 2 (L_c, alpha) or 3 (+ base) */
+  int nb;     /* variables per knot: 2 nq + 3 */
+  int has_tf; /* 1: t_f is a variable (min_time) */
   int n, m, nnz;
   double tf_fixed;
-  double base_fixed; /* base angle when the base does not move */
-  double *s;         /* N knot time fractions, s_0 = 0, s_{N-1} = 1 */
+  double base_fixed;                /* base angle when the base does not move */
+  double *s;                        /* N knot time fractions, s_0 = 0, s_{N-1} = 1 */
   double vmax[3], amax[3], aref[3]; /* per coordinate; INFINITY = no limit */
   /* path */
-  int n_seg, n_normals;      /* segments; normals per path knot (1 planar, 2 in 3-D) */
+  int n_seg, n_normals;              /* segments; normals per path knot (1 planar, 2 in 3-D) */
   int via_knot[EA_TASK_MAX_VIA + 2]; /* knot index of start, vias, goal */
   double segA[EA_TASK_MAX_VIA + 1][3], segD[EA_TASK_MAX_VIA + 1][3],
       segN[EA_TASK_MAX_VIA + 1][2][3], segLen[EA_TASK_MAX_VIA + 1];
-  int *seg_of_knot;          /* N: segment of each knot (-1: pinned or no path) */
+  int *seg_of_knot; /* N: segment of each knot (-1: pinned or no path) */
   /* Ipopt arrays */
   double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
   ea__row_t *rows;
@@ -81,39 +81,39 @@ struct ea_planner {
   IpoptProblem ip;
   /* frequency model (NULL when the task needs none) */
   ea__freq_model_t *fm;
-  int zero_end_acc;  /* 1: acceleration 0 at start and goal (min_vibration) */
+  int zero_end_acc; /* 1: acceleration 0 at start and goal (min_vibration) */
   /* objective */
   int n_terms;
   ea__plan_term_t terms[EA__MAX_TERMS];
   /* exact Hessian (plan_hess.c) */
   int hess_exact;
-  int n_orows;          /* objective pieces (rows of kind EA__ROW_OBJ_*) */
+  int n_orows; /* objective pieces (rows of kind EA__ROW_OBJ_*) */
   ea__row_t *orows;
-  double *oweight;      /* weight of each piece */
+  double *oweight; /* weight of each piece */
   int nnz_h;
-  int *hirow, *hjcol;   /* lower triangle, sorted */
-  int *hpos_start;      /* (m + n_orows + 1): offsets into hpos, per row */
-  int *hpos;            /* value position of each local pair of a row */
-  int *hpos_stat;       /* N x 15: statics block (L_c, alpha, T, theta0, kappa0) */
-  double *xx;           /* n scratch */
-  double *kkt_r;        /* n scratch: KKT check of a warm start */
-  double *x0;           /* n: start point kept for a retry with another barrier strategy */
-  double *jval;         /* nnz scratch: Jacobian values (KKT check) */
-  int guess_timed;      /* 1: the last cold guess was timed along its path (ea__topp) */
-  double *gscr;         /* 5 N scratch of the initial guess */
+  int *hirow, *hjcol; /* lower triangle, sorted */
+  int *hpos_start;    /* (m + n_orows + 1): offsets into hpos, per row */
+  int *hpos;          /* value position of each local pair of a row */
+  int *hpos_stat;     /* N x 15: statics block (L_c, alpha, T, theta0, kappa0) */
+  double *xx;         /* n scratch */
+  double *kkt_r;      /* n scratch: KKT check of a warm start */
+  double *x0;         /* n: start point kept for a retry with another barrier strategy */
+  double *jval;       /* nnz scratch: Jacobian values (KKT check) */
+  int guess_timed;    /* 1: the last cold guess was timed along its path (ea__topp) */
+  double *gscr;       /* 5 N scratch of the initial guess */
   /* statics cache, per knot, keyed on the knot's shooting parameters
    * p = (alpha, T, theta0, kappa0): Ipopt evaluates g, its Jacobian and
    * the Hessian at the same x, and a knot is shot (always with
    * sensitivities) only when its p changed. */
-  double *xL;   /* N x 4 tip states */
-  double *S;    /* N x 16 sensitivities */
-  double *pkey; /* N x 4 p of the cached shot */
+  double *xL;            /* N x 4 tip states */
+  double *S;             /* N x 16 sensitivities */
+  double *pkey;          /* N x 4 p of the cached shot */
   unsigned char *kvalid; /* N: 1 = xL, S hold the shot at pkey */
   int cache_val, cache_sens;
   /* last converged solution (warm start) */
   int have_solution;
-  int updated;          /* the task changed since x_sol (ea_planner_update) */
-  ea_task_t task_sol;   /* the task x_sol solves */
+  int updated;        /* the task changed since x_sol (ea_planner_update) */
+  ea_task_t task_sol; /* the task x_sol solves */
   double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol;
   /* bookkeeping during a solve */
   ea_plan_info_t *info;
@@ -144,8 +144,8 @@ ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g);
 int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values);
 /** One row (constraint or objective piece): value and entries (col, val);
  *  returns the entry count (<= EA__ROW_MAX). Statics rows read the cached sensitivities. */
-int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r,
-                      double *value, int *cols, double *vals);
+int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
+                      int *cols, double *vals);
 /** Hessian setup (structure, positions) and values (lower triangle). */
 ea_status_t ea__plan_hess_setup(ea_planner_t *pl);
 ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double obj_factor,
@@ -158,8 +158,7 @@ const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *
 /** Initial guess (statics continuation along the straight interpolation). */
 ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err);
 /** Initial guess from a previous trajectory. */
-ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x,
-                                ea_error_t *err);
+ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x, ea_error_t *err);
 /** Via knots, segments and the knot-to-segment map (at alloc). */
 void ea__plan_layout(ea_planner_t *pl);
 /** Path segments (ends, directions, normals) and the knot-to-segment map

@@ -93,16 +93,16 @@ static void ea__interval(const ea_planner_t *pl, const double *x, int k, int c, 
 }
 
 /* One row: value and (optionally) its entries (col, val); returns count. */
-int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r,
-                      double *value, int *cols, double *vals) {
+int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
+                      int *cols, double *vals) {
   const ea_arm_t *arm = &pl->task.arm;
   const int k = r->knot, c = r->coord;
   int n = 0;
-#define EA__E(col, v)                                                                        \
-  do {                                                                                       \
-    if (cols) cols[n] = (col);                                                               \
-    if (vals) vals[n] = (v);                                                                 \
-    ++n;                                                                                     \
+#define EA__E(col, v)                                                                              \
+  do {                                                                                             \
+    if (cols) cols[n] = (col);                                                                     \
+    if (vals) vals[n] = (v);                                                                       \
+    ++n;                                                                                           \
   } while (0)
   switch ((ea__row_kind_t)r->kind) {
   case EA__ROW_STATICS_KAPPA:
@@ -195,8 +195,7 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
     ea__plan_tip3(pl, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], b, P, dP);
     const double *dir = r->kind == EA__ROW_PATH_NORMAL ? pl->segN[sg][c] : pl->segD[sg];
     const double *A = pl->segA[sg];
-    if (value)
-      *value = dir[0] * (P[0] - A[0]) + dir[1] * (P[1] - A[1]) + dir[2] * (P[2] - A[2]);
+    if (value) *value = dir[0] * (P[0] - A[0]) + dir[1] * (P[1] - A[1]) + dir[2] * (P[2] - A[2]);
     for (int j = 0; j < pl->nq; ++j)
       EA__E(EA__IQ(pl, k, j), dir[0] * dP[0][j] + dir[1] * dP[1][j] + dir[2] * dP[2][j]);
     break;
@@ -231,8 +230,10 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
   case EA__ROW_FREQ_MIN:
   case EA__ROW_DEFL_START:
   case EA__ROW_DEFL_END:
-  case EA__ROW_OBJ_VIB: return ea__plan_vib_row(pl, x, r, value, cols, vals);
-  default: break;
+  case EA__ROW_OBJ_VIB:
+    return ea__plan_vib_row(pl, x, r, value, cols, vals);
+  default:
+    break;
   }
 #undef EA__E
   return n;
@@ -241,7 +242,8 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g) {
   ea_status_t st = ea__plan_shoot_all(pl, x, 0);
   if (st) return st;
-  for (int i = 0; i < pl->m; ++i) ea__plan_row_eval(pl, x, &pl->rows[i], &g[i], NULL, NULL);
+  for (int i = 0; i < pl->m; ++i)
+    ea__plan_row_eval(pl, x, &pl->rows[i], &g[i], NULL, NULL);
   return EA_OK;
 }
 
@@ -250,7 +252,7 @@ int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double
   int cols[EA__ROW_MAX];
   for (int i = 0; i < pl->m; ++i) {
     const int c = ea__plan_row_eval(pl, x, &pl->rows[i], NULL, jcol ? cols : NULL,
-                               values ? values + nz : NULL);
+                                    values ? values + nz : NULL);
     if (irow)
       for (int j = 0; j < c; ++j) {
         irow[nz + j] = i;
@@ -261,26 +263,49 @@ int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double
   return nz;
 }
 
-const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *buf,
-                              size_t len) {
+const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *buf, size_t len) {
   static const char *const coord[3] = {"cable length", "cable angle", "base"};
   const char *cn = r->coord < 3 ? coord[r->coord] : "?";
   (void)pl;
   switch ((ea__row_kind_t)r->kind) {
-  case EA__ROW_STATICS_KAPPA: snprintf(buf, len, "statics residual kappa(L) = 0"); break;
-  case EA__ROW_STATICS_X: snprintf(buf, len, "statics residual tip x on the cable"); break;
-  case EA__ROW_STATICS_Y: snprintf(buf, len, "statics residual tip y on the cable"); break;
+  case EA__ROW_STATICS_KAPPA:
+    snprintf(buf, len, "statics residual kappa(L) = 0");
+    break;
+  case EA__ROW_STATICS_X:
+    snprintf(buf, len, "statics residual tip x on the cable");
+    break;
+  case EA__ROW_STATICS_Y:
+    snprintf(buf, len, "statics residual tip y on the cable");
+    break;
   case EA__ROW_ACC_START:
-  case EA__ROW_ACC_END: snprintf(buf, len, "%s acceleration limit", cn); break;
-  case EA__ROW_SPEED_MID: snprintf(buf, len, "%s speed limit (mid-interval)", cn); break;
-  case EA__ROW_SHOULDER_SPEED: snprintf(buf, len, "shoulder speed limit"); break;
-  case EA__ROW_ACC_CONT: snprintf(buf, len, "%s acceleration continuity", cn); break;
-  case EA__ROW_PATH_NORMAL: snprintf(buf, len, "tip on the path line"); break;
-  case EA__ROW_PATH_PROGRESS: snprintf(buf, len, "tip between the path segment's ends"); break;
-  case EA__ROW_FREQ_MIN: snprintf(buf, len, "first natural frequency limit"); break;
+  case EA__ROW_ACC_END:
+    snprintf(buf, len, "%s acceleration limit", cn);
+    break;
+  case EA__ROW_SPEED_MID:
+    snprintf(buf, len, "%s speed limit (mid-interval)", cn);
+    break;
+  case EA__ROW_SHOULDER_SPEED:
+    snprintf(buf, len, "shoulder speed limit");
+    break;
+  case EA__ROW_ACC_CONT:
+    snprintf(buf, len, "%s acceleration continuity", cn);
+    break;
+  case EA__ROW_PATH_NORMAL:
+    snprintf(buf, len, "tip on the path line");
+    break;
+  case EA__ROW_PATH_PROGRESS:
+    snprintf(buf, len, "tip between the path segment's ends");
+    break;
+  case EA__ROW_FREQ_MIN:
+    snprintf(buf, len, "first natural frequency limit");
+    break;
   case EA__ROW_DEFL_START:
-  case EA__ROW_DEFL_END: snprintf(buf, len, "%s modal deflection limit", cn); break;
-  default: snprintf(buf, len, "constraint"); break;
+  case EA__ROW_DEFL_END:
+    snprintf(buf, len, "%s modal deflection limit", cn);
+    break;
+  default:
+    snprintf(buf, len, "constraint");
+    break;
   }
   return buf;
 }
@@ -326,7 +351,8 @@ static double ea__acc_energy(const ea_planner_t *pl, const double *x, double w, 
       if (!g) continue;
       const int idx[4] = {EA__IQ(pl, k, c), EA__IQ(pl, k + 1, c), EA__IV(pl, k, c),
                           EA__IV(pl, k + 1, c)};
-      for (int i = 0; i < 4; ++i) g[idx[i]] += w * (fa0 * ga[0][i] + fa1 * ga[1][i]);
+      for (int i = 0; i < 4; ++i)
+        g[idx[i]] += w * (fa0 * ga[0][i] + fa1 * ga[1][i]);
       if (pl->has_tf) g[EA__ITF(pl)] += w * (fa0 * ga[0][4] + fa1 * ga[1][4] + fh) * ds;
     }
   return f;
@@ -362,7 +388,8 @@ static void ea__term_vib_grad(const ea_planner_t *pl, const double *x, double w,
   for (int k = 0; k + 1 < pl->N; ++k) {
     const ea__row_t r = {EA__ROW_OBJ_VIB, 0, k};
     const int n = ea__plan_vib_row(pl, x, &r, NULL, cols, vals);
-    for (int i = 0; i < n; ++i) g[cols[i]] += w * vals[i];
+    for (int i = 0; i < n; ++i)
+      g[cols[i]] += w * vals[i];
   }
 }
 
@@ -372,8 +399,7 @@ void ea__plan_terms_setup(ea_planner_t *pl) {
   ea__plan_term_t *tm = pl->terms;
   switch (t->objective) {
   case EA_TASK_MIN_TIME:
-    tm[pl->n_terms++] =
-        (ea__plan_term_t){"time", 1.0, ea__term_time_value, ea__term_time_grad};
+    tm[pl->n_terms++] = (ea__plan_term_t){"time", 1.0, ea__term_time_value, ea__term_time_grad};
     if (t->solver.regularization > 0.0)
       tm[pl->n_terms++] = (ea__plan_term_t){"acceleration energy", t->solver.regularization,
                                             ea__term_acc_value, ea__term_acc_grad};
@@ -387,8 +413,7 @@ void ea__plan_terms_setup(ea_planner_t *pl) {
         (ea__plan_term_t){"jerk energy", 1.0, ea__term_jerk_value, ea__term_jerk_grad};
     break;
   case EA_TASK_MIN_VIBRATION:
-    tm[pl->n_terms++] =
-        (ea__plan_term_t){"vibration", 1.0, ea__term_vib_value, ea__term_vib_grad};
+    tm[pl->n_terms++] = (ea__plan_term_t){"vibration", 1.0, ea__term_vib_value, ea__term_vib_grad};
     if (pl->has_tf)
       tm[pl->n_terms++] =
           (ea__plan_term_t){"time", t->time_weight, ea__term_time_value, ea__term_time_grad};

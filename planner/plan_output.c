@@ -17,7 +17,8 @@ static int ea__solve3(double A[3][3], const double b[3], double x[3]) {
   for (int c = 0; c < 3; ++c) {
     double M[3][3];
     memcpy(M, A, sizeof M);
-    for (int r = 0; r < 3; ++r) M[r][c] = b[r];
+    for (int r = 0; r < 3; ++r)
+      M[r][c] = b[r];
     x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
             M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
@@ -86,7 +87,8 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
                            S[EA_X_X * 4 + EA_P_ALPHA] + Lc * sin(al),
                            S[EA_X_Y * 4 + EA_P_ALPHA] - Lc * cos(al)};
     for (int r = 0; r < 3; ++r) {
-      for (int j = 0; j < 3; ++j) A[r][j] = S[xi[r] * 4 + 1 + j];
+      for (int j = 0; j < 3; ++j)
+        A[r][j] = S[xi[r] * 4 + 1 + j];
       rhs[r] = -(dLc[r] * x[EA__IV(pl, k, 0)] + dal[r] * x[EA__IV(pl, k, 1)]);
     }
     EA_TRAJ_AT(tr, k, EA_TRAJ_theta0_rate) = ea__solve3(A, rhs, dp) ? 0.0 : dp[1];

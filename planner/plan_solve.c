@@ -12,7 +12,9 @@
 
 #define EA__IPINF 1e19
 
-const ea_task_t *ea_planner_task(const ea_planner_t *pl) { return &pl->task; }
+const ea_task_t *ea_planner_task(const ea_planner_t *pl) {
+  return &pl->task;
+}
 
 void ea_planner_free(ea_planner_t *pl) {
   if (!pl) return;
@@ -63,7 +65,8 @@ static Bool ea__cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) 
   const double t0 = ea__plan_now();
   ea__touch(pl, new_x);
   double v = 0.0;
-  for (int i = 0; i < pl->n_terms; ++i) v += pl->terms[i].weight * pl->terms[i].value(pl, x);
+  for (int i = 0; i < pl->n_terms; ++i)
+    v += pl->terms[i].weight * pl->terms[i].value(pl, x);
   *f = v;
   pl->t_callbacks += ea__plan_now() - t0;
   return isfinite(v);
@@ -74,7 +77,8 @@ static Bool ea__cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr
   const double t0 = ea__plan_now();
   ea__touch(pl, new_x);
   memset(g, 0, (size_t)n * sizeof *g);
-  for (int i = 0; i < pl->n_terms; ++i) pl->terms[i].grad(pl, x, pl->terms[i].weight, g);
+  for (int i = 0; i < pl->n_terms; ++i)
+    pl->terms[i].grad(pl, x, pl->terms[i].weight, g);
   pl->t_callbacks += ea__plan_now() - t0;
   return TRUE;
 }
@@ -169,26 +173,29 @@ static int ea__build_rows(ea_planner_t *pl) {
         ea__add_row(pl, &i, EA__ROW_ACC_START, k, c, z0 ? 0.0 : -pl->amax[c],
                     z0 ? 0.0 : pl->amax[c]);
       if (isfinite(pl->amax[c]) || z1)
-        ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, z1 ? 0.0 : -pl->amax[c],
-                    z1 ? 0.0 : pl->amax[c]);
+        ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, z1 ? 0.0 : -pl->amax[c], z1 ? 0.0 : pl->amax[c]);
       if (isfinite(pl->vmax[c]))
         ea__add_row(pl, &i, EA__ROW_SPEED_MID, k, c, -pl->vmax[c], pl->vmax[c]);
     }
   if (pl->task.limits.continuous_acceleration)
     for (int c = 0; c < pl->nq; ++c)
-      for (int k = 1; k + 1 < N; ++k) ea__add_row(pl, &i, EA__ROW_ACC_CONT, k, c, 0.0, 0.0);
+      for (int k = 1; k + 1 < N; ++k)
+        ea__add_row(pl, &i, EA__ROW_ACC_CONT, k, c, 0.0, 0.0);
   const double sm = pl->task.limits.shoulder_speed_max;
   if (isfinite(sm))
-    for (int k = 0; k + 1 < N; ++k) ea__add_row(pl, &i, EA__ROW_SHOULDER_SPEED, k, 0, -sm, sm);
+    for (int k = 0; k + 1 < N; ++k)
+      ea__add_row(pl, &i, EA__ROW_SHOULDER_SPEED, k, 0, -sm, sm);
   for (int k = 0; k < N; ++k) {
     const int sg = pl->seg_of_knot[k];
     if (sg < 0) continue;
-    for (int j = 0; j < pl->n_normals; ++j) ea__add_row(pl, &i, EA__ROW_PATH_NORMAL, k, j, 0, 0);
+    for (int j = 0; j < pl->n_normals; ++j)
+      ea__add_row(pl, &i, EA__ROW_PATH_NORMAL, k, j, 0, 0);
     ea__add_row(pl, &i, EA__ROW_PATH_PROGRESS, k, 0, 0.0, pl->segLen[sg]);
   }
   const double fmin = pl->task.limits.min_first_frequency_hz;
   if (pl->fm && fmin > 0.0)
-    for (int k = 0; k < N; ++k) ea__add_row(pl, &i, EA__ROW_FREQ_MIN, k, 0, fmin, EA__IPINF);
+    for (int k = 0; k < N; ++k)
+      ea__add_row(pl, &i, EA__ROW_FREQ_MIN, k, 0, fmin, EA__IPINF);
   const double dmax = pl->task.limits.max_modal_deflection_m;
   if (pl->fm && isfinite(dmax))
     for (int c = 0; c < 2; ++c)
@@ -237,7 +244,8 @@ static void ea__bounds(ea_planner_t *pl) {
     const ea_task_point_t *p = ea__pt(t, j);
     const int k = pl->via_knot[j];
     const double q[3] = {p->cable_length, p->cable_angle, p->base_angle};
-    for (int c = 0; c < pl->nq; ++c) pl->xl[EA__IQ(pl, k, c)] = pl->xu[EA__IQ(pl, k, c)] = q[c];
+    for (int c = 0; c < pl->nq; ++c)
+      pl->xl[EA__IQ(pl, k, c)] = pl->xu[EA__IQ(pl, k, c)] = q[c];
   }
   for (int c = 0; c < pl->nq; ++c) {
     pl->xl[EA__IV(pl, 0, c)] = pl->xu[EA__IV(pl, 0, c)] = 0.0;
@@ -291,8 +299,8 @@ static ea_status_t ea__ipopt_create(ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   if (pl->ip) FreeIpoptProblem(pl->ip);
   pl->ip = CreateIpoptProblem(pl->n, pl->xl, pl->xu, pl->m, pl->gl, pl->gu, pl->nnz,
-                              pl->hess_exact ? pl->nnz_h : 0, 0,
-                              ea__cb_f, ea__cb_g, ea__cb_grad_f, ea__cb_jac, ea__cb_h);
+                              pl->hess_exact ? pl->nnz_h : 0, 0, ea__cb_f, ea__cb_g, ea__cb_grad_f,
+                              ea__cb_jac, ea__cb_h);
   if (!pl->ip) return EA_ERR_BACKEND;
   AddIpoptStrOption(pl->ip, "sb", "yes");
   AddIpoptIntOption(pl->ip, "print_level", t->solver.print_level);
@@ -301,8 +309,7 @@ static ea_status_t ea__ipopt_create(ea_planner_t *pl) {
    * KKT systems (8 -> 2 ms at 100 knots); the ordering is chosen per solve
    * (ea__plan_solve_once). */
   AddIpoptIntOption(pl->ip, "mumps_permuting_scaling", 0);
-  AddIpoptStrOption(pl->ip, "hessian_approximation",
-                    pl->hess_exact ? "exact" : "limited-memory");
+  AddIpoptStrOption(pl->ip, "hessian_approximation", pl->hess_exact ? "exact" : "limited-memory");
   AddIpoptNumOption(pl->ip, "tol", t->solver.tol);
   AddIpoptNumOption(pl->ip, "constr_viol_tol", t->solver.constr_tol);
   /* L-BFGS stalls at a dual infeasibility of ~1e-5 on these problems: accept
@@ -411,10 +418,10 @@ nomem:
 static const char *ea__struct_differs(const ea_planner_t *pl, const ea_task_t *t) {
   const ea_task_t *o = &pl->task;
   const ea_task_limits_t *a = &o->limits, *b = &t->limits;
-  const double la[7] = {a->cable_speed_max,     a->cable_accel_max, a->cable_angle_speed_max,
+  const double la[7] = {a->cable_speed_max,       a->cable_accel_max, a->cable_angle_speed_max,
                         a->cable_angle_accel_max, a->base_speed_max,  a->base_accel_max,
                         a->shoulder_speed_max};
-  const double lb[7] = {b->cable_speed_max,     b->cable_accel_max, b->cable_angle_speed_max,
+  const double lb[7] = {b->cable_speed_max,       b->cable_accel_max, b->cable_angle_speed_max,
                         b->cable_angle_accel_max, b->base_speed_max,  b->base_accel_max,
                         b->shoulder_speed_max};
   if (!(t->start.cable_length > 0) || !(t->goal.cable_length > 0))
@@ -447,7 +454,8 @@ ea_status_t ea_planner_update(ea_planner_t *pl, const ea_task_t *task, ea_error_
                         why);
   /* A segment that becomes (or stops being) a point changes the path rows. */
   unsigned char deg[EA_TASK_MAX_VIA + 1];
-  for (int j = 0; j < pl->n_seg; ++j) deg[j] = pl->segLen[j] > 1e-9;
+  for (int j = 0; j < pl->n_seg; ++j)
+    deg[j] = pl->segLen[j] > 1e-9;
   const double tip_mass = pl->tip_mass;
   const ea_task_t old = pl->task;
   pl->task = *task;
@@ -471,7 +479,8 @@ ea_status_t ea_planner_update(ea_planner_t *pl, const ea_task_t *task, ea_error_
       if (pl->task.objective == EA_TASK_MIN_TIME) pl->oweight[i] = pl->task.solver.regularization;
   if (pl->tip_mass != tip_mass) memset(pl->kvalid, 0, (size_t)pl->N);
   pl->cache_val = pl->cache_sens = 0;
-  if (ea__ipopt_create(pl)) return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
+  if (ea__ipopt_create(pl))
+    return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
   if (pl->have_solution) pl->updated = 1;
   return ea_error_set(err, EA_OK, "ok");
 }
@@ -483,8 +492,7 @@ static ea_status_t ea__update_checked(ea_planner_t *pl, ea_task_t *t, ea_error_t
   return ea_planner_update(pl, t, err);
 }
 
-ea_status_t ea_planner_update_goal(ea_planner_t *pl, const ea_task_point_t *goal,
-                                   ea_error_t *err) {
+ea_status_t ea_planner_update_goal(ea_planner_t *pl, const ea_task_point_t *goal, ea_error_t *err) {
   if (!pl || !goal) return ea_error_set(err, EA_ERR_ARG, "ea_planner_update_goal: NULL argument");
   ea_task_t t = pl->task;
   t.goal = *goal;
@@ -493,8 +501,7 @@ ea_status_t ea_planner_update_goal(ea_planner_t *pl, const ea_task_point_t *goal
 
 ea_status_t ea_planner_update_start(ea_planner_t *pl, const ea_task_point_t *start,
                                     ea_error_t *err) {
-  if (!pl || !start)
-    return ea_error_set(err, EA_ERR_ARG, "ea_planner_update_start: NULL argument");
+  if (!pl || !start) return ea_error_set(err, EA_ERR_ARG, "ea_planner_update_start: NULL argument");
   ea_task_t t = pl->task;
   t.start = *start;
   return ea__update_checked(pl, &t, err);
@@ -537,15 +544,18 @@ static const char *ea__var_name(const ea_planner_t *pl, int i, int upper, int *k
   if (r < pl->nq) return qn[upper][r];
   if (r < 2 * pl->nq) return vn[r - pl->nq];
   switch (r - 2 * pl->nq) {
-  case 0: return upper ? "tension <= tension_max" : "tension >= tension_min";
-  case 1: return "shoulder angle range";
-  default: *scale = pl->task.arm.EI; return "shoulder torque limit";
+  case 0:
+    return upper ? "tension <= tension_max" : "tension >= tension_min";
+  case 1:
+    return "shoulder angle range";
+  default:
+    *scale = pl->task.arm.EI;
+    return "shoulder torque limit";
   }
 }
 
 /* Largest violation of the bounds and rows at x (g filled). */
-static double ea__worst(ea_planner_t *pl, const double *x, const double *g, char *buf,
-                        size_t len) {
+static double ea__worst(ea_planner_t *pl, const double *x, const double *g, char *buf, size_t len) {
   double worst = 0.0;
   buf[0] = '\0';
   for (int i = 0; i < pl->m; ++i) {
@@ -561,8 +571,7 @@ static double ea__worst(ea_planner_t *pl, const double *x, const double *g, char
                        r->kind == EA__ROW_SPEED_MID || r->kind == EA__ROW_SHOULDER_SPEED
                    ? "interval"
                    : "knot",
-               r->knot, v,
-               is_statics ? " (no static equilibrium there within the limits)" : "");
+               r->knot, v, is_statics ? " (no static equilibrium there within the limits)" : "");
     }
   }
   for (int i = 0; i < pl->n; ++i) {
@@ -590,7 +599,9 @@ static void ea__add_active(ea_plan_info_t *info, const char *name) {
   info->active_knots[info->n_active++] = 1;
 }
 
-static int ea__near(double v, double b) { return fabs(v - b) <= 1e-5 * fmax(1.0, fabs(b)); }
+static int ea__near(double v, double b) {
+  return fabs(v - b) <= 1e-5 * fmax(1.0, fabs(b));
+}
 
 static void ea__stats(ea_planner_t *pl, const double *x, ea_plan_info_t *info) {
   const ea_task_t *t = &pl->task;
@@ -632,22 +643,38 @@ static void ea__stats(ea_planner_t *pl, const double *x, ea_plan_info_t *info) {
 
 static const char *ea__ipopt_name(int s) {
   switch (s) {
-  case Solve_Succeeded: return "Solve_Succeeded";
-  case Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
-  case Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
-  case Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
-  case Diverging_Iterates: return "Diverging_Iterates";
-  case User_Requested_Stop: return "User_Requested_Stop (time limit)";
-  case Feasible_Point_Found: return "Feasible_Point_Found";
-  case Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
-  case Restoration_Failed: return "Restoration_Failed";
-  case Error_In_Step_Computation: return "Error_In_Step_Computation";
-  case Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
-  case Not_Enough_Degrees_Of_Freedom: return "Not_Enough_Degrees_Of_Freedom";
-  case Invalid_Problem_Definition: return "Invalid_Problem_Definition";
-  case Invalid_Option: return "Invalid_Option";
-  case Invalid_Number_Detected: return "Invalid_Number_Detected";
-  default: return "Ipopt_Internal_Error";
+  case Solve_Succeeded:
+    return "Solve_Succeeded";
+  case Solved_To_Acceptable_Level:
+    return "Solved_To_Acceptable_Level";
+  case Infeasible_Problem_Detected:
+    return "Infeasible_Problem_Detected";
+  case Search_Direction_Becomes_Too_Small:
+    return "Search_Direction_Becomes_Too_Small";
+  case Diverging_Iterates:
+    return "Diverging_Iterates";
+  case User_Requested_Stop:
+    return "User_Requested_Stop (time limit)";
+  case Feasible_Point_Found:
+    return "Feasible_Point_Found";
+  case Maximum_Iterations_Exceeded:
+    return "Maximum_Iterations_Exceeded";
+  case Restoration_Failed:
+    return "Restoration_Failed";
+  case Error_In_Step_Computation:
+    return "Error_In_Step_Computation";
+  case Maximum_CpuTime_Exceeded:
+    return "Maximum_CpuTime_Exceeded";
+  case Not_Enough_Degrees_Of_Freedom:
+    return "Not_Enough_Degrees_Of_Freedom";
+  case Invalid_Problem_Definition:
+    return "Invalid_Problem_Definition";
+  case Invalid_Option:
+    return "Invalid_Option";
+  case Invalid_Number_Detected:
+    return "Invalid_Number_Detected";
+  default:
+    return "Ipopt_Internal_Error";
   }
 }
 
@@ -686,9 +713,11 @@ static void ea__polish(ea_planner_t *pl, double *x) {
         sol.branch != EA_BRANCH_WARM)
       continue;
     double d = 0.0;
-    for (int j = 1; j < EA_NP; ++j) d = fmax(d, fabs(sol.p[j] - guess[j]));
+    for (int j = 1; j < EA_NP; ++j)
+      d = fmax(d, fabs(sol.p[j] - guess[j]));
     if (d > 1e-6) continue; /* not a polish: keep Ipopt's point */
-    for (int j = 1; j < EA_NP; ++j) x[EA__IP(pl, k, j - 1)] = sol.p[j];
+    for (int j = 1; j < EA_NP; ++j)
+      x[EA__IP(pl, k, j - 1)] = sol.p[j];
   }
 }
 
@@ -715,9 +744,11 @@ static int ea__kkt_ok(ea_planner_t *pl, const double *x) {
   }
   double *r = pl->kkt_r;
   memset(r, 0, (size_t)pl->n * sizeof *r);
-  for (int i = 0; i < pl->n_terms; ++i) pl->terms[i].grad(pl, x, pl->terms[i].weight, r);
+  for (int i = 0; i < pl->n_terms; ++i)
+    pl->terms[i].grad(pl, x, pl->terms[i].weight, r);
   ea__plan_jac(pl, x, NULL, NULL, pl->jval);
-  for (int e = 0; e < pl->nnz; ++e) r[pl->jcol[e]] += pl->jval[e] * pl->mult_g[pl->irow[e]];
+  for (int e = 0; e < pl->nnz; ++e)
+    r[pl->jcol[e]] += pl->jval[e] * pl->mult_g[pl->irow[e]];
   for (int i = 0; i < pl->n; ++i) {
     if (x[i] < pl->xl[i] - ptol || x[i] > pl->xu[i] + ptol) return 0;
     if (pl->xl[i] == pl->xu[i]) continue; /* fixed: Ipopt removes it */
@@ -805,7 +836,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     pl->info = NULL;
     return st;
   }
-  for (int i = 0; i < pl->n; ++i) pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
+  for (int i = 0; i < pl->n; ++i)
+    pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
   AddIpoptStrOption(pl->ip, "warm_start_init_point", warm ? "yes" : "no");
   /* MUMPS ordering (docs/planner.md, bench_plan): SCOTCH gives fewer,
    * larger fronts (numeric factorization 1.6 instead of 2.5 ms at 100
@@ -853,7 +885,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     }
     AddIpoptStrOption(pl->ip, "derivative_test",
                       pl->task.solver.derivative_test == 2 && pl->hess_exact == 1 ? "second-order"
-                                                                             : "first-order");
+                                                                                  : "first-order");
     AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
     AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);
   }
@@ -936,8 +968,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   info->time_total_s = t1 - t0;
   info->time_statics_s = pl->t_statics;
   info->time_ipopt_s = t_ipopt - pl->t_callbacks;
-  info->time_rest_s = info->time_total_s - info->time_guess_s - info->time_statics_s -
-                      info->time_ipopt_s;
+  info->time_rest_s =
+      info->time_total_s - info->time_guess_s - info->time_statics_s - info->time_ipopt_s;
   (void)tp;
   pl->info = NULL;
   if (replan && info->status) {

@@ -24,9 +24,8 @@ static double ea__tune_f(unsigned n, const double *w, double *grad, void *data) 
   (void)grad;
   ea__plan_schedule(t->pl, w[0]);
   ea_plan_info_t info;
-  const ea_status_t st =
-      ea__plan_solve_once(t->pl, t->pl->have_solution ? EA_PLAN_WARM : EA_PLAN_COLD, NULL,
-                          &info, NULL);
+  const ea_status_t st = ea__plan_solve_once(
+      t->pl, t->pl->have_solution ? EA_PLAN_WARM : EA_PLAN_COLD, NULL, &info, NULL);
   ++t->evals;
   const double tf = st == EA_OK ? info.duration_s : 1e6;
   if (tf < t->best_tf) {

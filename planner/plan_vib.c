@@ -61,7 +61,8 @@ static void ea__box(const ea_planner_t *pl, double box[4]) {
         ea__plan_tip3(pl, a->cable_length, a->cable_angle, a->base_angle, PA, NULL);
         ea__plan_tip3(pl, b->cable_length, b->cable_angle, b->base_angle, PB, NULL);
         double P[3];
-        for (int c = 0; c < 3; ++c) P[c] = PA[c] + u * (PB[c] - PA[c]);
+        for (int c = 0; c < 3; ++c)
+          P[c] = PA[c] + u * (PB[c] - PA[c]);
         const double r = hypot(P[0], P[1]) - arm->x_c, z = P[2] - arm->y_c;
         L = hypot(r, z);
         al = atan2(z, r);
@@ -72,15 +73,16 @@ static void ea__box(const ea_planner_t *pl, double box[4]) {
       box[3] = fmax(box[3], al);
     }
   }
-  const double mL = fmax(0.15 * (box[1] - box[0]), 0.02),
-               ma = fmax(0.15 * (box[3] - box[2]), 0.04);
+  const double mL = fmax(0.15 * (box[1] - box[0]), 0.02), ma = fmax(0.15 * (box[3] - box[2]), 0.04);
   box[0] = fmax(box[0] - mL, t->limits.cable_length_min);
   box[1] = fmin(box[1] + mL, t->limits.cable_length_max);
   box[2] = fmax(box[2] - ma, -M_PI);
   box[3] = fmin(box[3] + ma, M_PI);
 }
 
-static int ea__clampi(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
+static int ea__clampi(int v, int lo, int hi) {
+  return v < lo ? lo : v > hi ? hi : v;
+}
 
 /* Fill invalid grid values (ok[i] = 0) by linear extrapolation from valid
  * neighbours (averaged over the directions that have two valid points), or
@@ -143,8 +145,10 @@ ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err) {
     free(ok);
     return ea_error_set(err, EA_ERR_NOMEM, "out of memory (frequency model)");
   }
-  for (int i = 0; i < nL; ++i) fm->Lg[i] = box[0] + (box[1] - box[0]) * i / (nL - 1);
-  for (int j = 0; j < na; ++j) fm->ag[j] = box[2] + (box[3] - box[2]) * j / (na - 1);
+  for (int i = 0; i < nL; ++i)
+    fm->Lg[i] = box[0] + (box[1] - box[0]) * i / (nL - 1);
+  for (int j = 0; j < na; ++j)
+    fm->ag[j] = box[2] + (box[3] - box[2]) * j / (na - 1);
 
   ea_fe_settings_t fs;
   ea_fe_settings_default(&fs);
@@ -182,8 +186,8 @@ ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err) {
       }
       ea_fe_static_info_t fi;
       ea_fe_modes_info_t mi;
-      if (ea_fe_static_solve(m, pl->sh, &sol, &fi, &e2) || ea_fe_modes(m, &mi, &e2) ||
-          !mi.stable || !(mi.freq_hz[0] > 0.0))
+      if (ea_fe_static_solve(m, pl->sh, &sol, &fi, &e2) || ea_fe_modes(m, &mi, &e2) || !mi.stable ||
+          !(mi.freq_hz[0] > 0.0))
         continue;
       fm->f[j * nL + i] = mi.freq_hz[0];
       ok[j * nL + i] = 1;
@@ -279,7 +283,8 @@ int ea__plan_vib_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
     cl[1] = EA__IQ(pl, k + 1, c);
     cl[2] = EA__IV(pl, k, c);
     cl[3] = EA__IV(pl, k + 1, c);
-    for (int i = 0; i < 4; ++i) gv[i] = dd_da * ga[e][i];
+    for (int i = 0; i < 4; ++i)
+      gv[i] = dd_da * ga[e][i];
     n = 4;
     /* frequency (and s) through the coordinates at knot ke */
     const int other = c == 0 ? 1 : 0;
@@ -307,8 +312,8 @@ int ea__plan_vib_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
     double val = 0.0, gtf = 0.0, sw[2] = {0.0, 0.0};
     for (int cc = 0; cc < pl->nq; ++cc) {
       double a[2], ga[2][5];
-      ea__plan_hermite_acc(x[EA__IQ(pl, k, cc)], x[EA__IQ(pl, k + 1, cc)],
-                           x[EA__IV(pl, k, cc)], x[EA__IV(pl, k + 1, cc)], h, a, ga);
+      ea__plan_hermite_acc(x[EA__IQ(pl, k, cc)], x[EA__IQ(pl, k + 1, cc)], x[EA__IV(pl, k, cc)],
+                           x[EA__IV(pl, k + 1, cc)], h, a, ga);
       const double is = 1.0 / (pl->aref[cc] * pl->aref[cc]);
       const double e0 = a[0] * a[0] / 4.0 + a[0] * a[1] / 6.0 + a[1] * a[1] / 12.0;
       const double e1 = a[0] * a[0] / 12.0 + a[0] * a[1] / 6.0 + a[1] * a[1] / 4.0;
@@ -321,7 +326,8 @@ int ea__plan_vib_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
       cl[b + 1] = EA__IQ(pl, k + 1, cc);
       cl[b + 2] = EA__IV(pl, k, cc);
       cl[b + 3] = EA__IV(pl, k + 1, cc);
-      for (int i = 0; i < 4; ++i) gv[b + i] = pa0 * ga[0][i] + pa1 * ga[1][i];
+      for (int i = 0; i < 4; ++i)
+        gv[b + i] = pa0 * ga[0][i] + pa1 * ga[1][i];
       gtf += (pa0 * ga[0][4] + pa1 * ga[1][4] + P / h) * ds;
       sw[0] += is * h * e0; /* d val / d W_e */
       sw[1] += is * h * e1;
@@ -339,7 +345,8 @@ int ea__plan_vib_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
     if (value) *value = val;
     break;
   }
-  default: return 0;
+  default:
+    return 0;
   }
   for (int i = 0; i < n; ++i) {
     if (cols) cols[i] = cl[i];

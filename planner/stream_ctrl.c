@@ -33,9 +33,9 @@ typedef struct {
 struct ea_ctrl {
   ea_arm_t arm;
   ea_ctrl_settings_t s;
-  int listen_fd;            /* TCP listening socket, UDP socket, or -1 */
-  int fd;                   /* connection (TCP), the UDP socket, or the serial fd */
-  int kind;                 /* EA__TR_TCP, EA__TR_UDP, EA__TR_SERIAL */
+  int listen_fd; /* TCP listening socket, UDP socket, or -1 */
+  int fd;        /* connection (TCP), the UDP socket, or the serial fd */
+  int kind;      /* EA__TR_TCP, EA__TR_UDP, EA__TR_SERIAL */
   int port;
   struct sockaddr_storage peer;
   socklen_t peer_len;
@@ -45,13 +45,13 @@ struct ea_ctrl {
   /* session */
   ea_ctrl_state_t state;
   double rate_hz;
-  uint32_t last_seq;        /* highest sequence number accepted (HELLO = 0) */
+  uint32_t last_seq; /* highest sequence number accepted (HELLO = 0) */
   int have_last;
-  ea_setpoint_t last;       /* last accepted setpoint */
+  ea_setpoint_t last; /* last accepted setpoint */
   uint64_t last_time_us;
   int64_t first_recv_ns, last_frame_ns;
   double actual[4];
-  long setpoint_frames;     /* SETPOINT frames parsed (for corrupt-every) */
+  long setpoint_frames; /* SETPOINT frames parsed (for corrupt-every) */
   ea_ctrl_info_t info;
   /* delayed ACKs */
   ea__pending_t *pend;
@@ -114,14 +114,15 @@ ea_status_t ea_ctrl_open(const ea_arm_t *arm, const char *listen_at, const ea_ct
   const int gai = getaddrinfo(host, service, &hints, &res);
   if (gai) {
     ea_ctrl_free(c);
-    return ea_error_set(err, EA_ERR_ARG, "--listen %s: %s (give a numeric address, e.g. "
-                        "127.0.0.1:PORT)", listen_at, gai_strerror(gai));
+    return ea_error_set(err, EA_ERR_ARG,
+                        "--listen %s: %s (give a numeric address, e.g. "
+                        "127.0.0.1:PORT)",
+                        listen_at, gai_strerror(gai));
   }
   const int fd = socket(res->ai_family, res->ai_socktype | SOCK_CLOEXEC, res->ai_protocol);
   const int one = 1;
   if (fd >= 0) setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-  if (fd < 0 || bind(fd, res->ai_addr, res->ai_addrlen) != 0 ||
-      (!c->s.udp && listen(fd, 1) != 0)) {
+  if (fd < 0 || bind(fd, res->ai_addr, res->ai_addrlen) != 0 || (!c->s.udp && listen(fd, 1) != 0)) {
     const int e = errno;
     if (fd >= 0) close(fd);
     freeaddrinfo(res);
@@ -158,7 +159,9 @@ ea_status_t ea__ctrl_open_fd(const ea_arm_t *arm, int fd, const ea_ctrl_settings
   return EA_OK;
 }
 
-int ea_ctrl_port(const ea_ctrl_t *c) { return c ? c->port : -1; }
+int ea_ctrl_port(const ea_ctrl_t *c) {
+  return c ? c->port : -1;
+}
 
 void ea_ctrl_free(ea_ctrl_t *c) {
   if (!c) return;
@@ -311,11 +314,20 @@ static int ea__ctrl_continuous(const ea_ctrl_t *c, const ea_setpoint_t *sp, doub
 static void ea__ctrl_reject(ea_ctrl_t *c, uint32_t seq, int reason) {
   ++c->info.rejected;
   switch (reason) {
-  case EA_NACK_CRC: ++c->info.rejected_crc; break;
-  case EA_NACK_SEQUENCE: ++c->info.rejected_seq; break;
-  case EA_NACK_LIMIT: ++c->info.rejected_limit; break;
-  case EA_NACK_CONTINUITY: ++c->info.rejected_continuity; break;
-  default: break;
+  case EA_NACK_CRC:
+    ++c->info.rejected_crc;
+    break;
+  case EA_NACK_SEQUENCE:
+    ++c->info.rejected_seq;
+    break;
+  case EA_NACK_LIMIT:
+    ++c->info.rejected_limit;
+    break;
+  case EA_NACK_CONTINUITY:
+    ++c->info.rejected_continuity;
+    break;
+  default:
+    break;
   }
   ea__ctrl_answer(c, seq, 1, reason);
 }
@@ -380,8 +392,7 @@ static int ea__ctrl_frame(ea_ctrl_t *c, const ea_frame_t *f) {
         return 0;
       }
     }
-    if (c->state != EA_CTRL_READY && c->state != EA_CTRL_RUNNING &&
-        c->state != EA_CTRL_STOPPING) {
+    if (c->state != EA_CTRL_READY && c->state != EA_CTRL_RUNNING && c->state != EA_CTRL_STOPPING) {
       ea__ctrl_reject(c, f->seq, EA_NACK_STATE);
       return 0;
     }
@@ -400,7 +411,8 @@ static int ea__ctrl_frame(ea_ctrl_t *c, const ea_frame_t *f) {
         return 0;
       }
     } else if (fabs(f->sp.spool_pos[0] - c->actual[0]) * c->arm.act.spool_radius /
-                       c->arm.act.spool_gear_ratio > 1e-3 ||
+                       c->arm.act.spool_gear_ratio >
+                   1e-3 ||
                fabs(f->sp.shoulder_pos - c->actual[2]) > 0.01 ||
                fabs(f->sp.base_pos - c->actual[3]) > 0.01) {
       /* The first setpoint must start where the arm is (the streamer's
@@ -562,27 +574,32 @@ ea_status_t ea_ctrl_run(ea_ctrl_t *c, ea_ctrl_info_t *info, ea_error_t *err) {
   if (interrupted)
     st = ea_error_set(err, EA_ERR_INTERRUPTED, "controller-sim interrupted");
   else if (dropped && s->fault == EA_FAULT_DROP_AFTER)
-    st = ea_error_set(err, EA_ERR_NET, "fault injected: link dropped after %d setpoints; own "
-                      "stop in %d setpoints", c->info.accepted, c->info.own_stop_frames);
+    st = ea_error_set(err, EA_ERR_NET,
+                      "fault injected: link dropped after %d setpoints; own "
+                      "stop in %d setpoints",
+                      c->info.accepted, c->info.own_stop_frames);
   else if (dropped)
     st = ea_error_set(err, EA_ERR_NET, "--max-frames %d reached; own stop in %d setpoints",
                       s->max_frames, c->info.own_stop_frames);
   else if (timed_out && !c->info.sessions)
     st = ea_error_set(err, EA_ERR_NET, "no session within %g s", s->timeout_s);
   else if (timed_out)
-    st = ea_error_set(err, EA_ERR_NET, "no frame for %g s; own stop in %d setpoints",
-                      s->timeout_s, c->info.own_stop_frames);
+    st = ea_error_set(err, EA_ERR_NET, "no frame for %g s; own stop in %d setpoints", s->timeout_s,
+                      c->info.own_stop_frames);
   else if (link_lost)
     st = ea_error_set(err, EA_ERR_NET, "link lost after %d setpoints; own stop in %d setpoints",
                       c->info.accepted, c->info.own_stop_frames);
   else if (watchdog)
-    st = ea_error_set(err, EA_ERR_NET, "watchdog: no frame for %g s while moving; own stop in "
-                      "%d setpoints", s->watchdog_s, c->info.own_stop_frames);
+    st = ea_error_set(err, EA_ERR_NET,
+                      "watchdog: no frame for %g s while moving; own stop in "
+                      "%d setpoints",
+                      s->watchdog_s, c->info.own_stop_frames);
   else if (c->info.rejected)
-    st = ea_error_set(err, EA_ERR_PROTOCOL, "%d frames rejected (crc %d, sequence %d, limit %d, "
-                      "continuity %d)", c->info.rejected, c->info.rejected_crc,
-                      c->info.rejected_seq, c->info.rejected_limit,
-                      c->info.rejected_continuity);
+    st = ea_error_set(err, EA_ERR_PROTOCOL,
+                      "%d frames rejected (crc %d, sequence %d, limit %d, "
+                      "continuity %d)",
+                      c->info.rejected, c->info.rejected_crc, c->info.rejected_seq,
+                      c->info.rejected_limit, c->info.rejected_continuity);
   else if (c->info.end_received && c->info.end_reason != EA_END_COMPLETE)
     st = ea_error_set(err, EA_ERR_INTERRUPTED, "stream ended early (END reason %u)",
                       (unsigned)c->info.end_reason);

@@ -24,14 +24,13 @@ typedef enum ea__tr_kind { EA__TR_TCP = 0, EA__TR_UDP, EA__TR_SERIAL, EA__TR_FIL
 
 typedef struct ea__transport {
   ea__tr_kind_t kind;
-  int fd;            /**< socket / tty; -1 for file */
-  ea_afile_t file;   /**< file: transport (atomic), "-" = stdout */
+  int fd;          /**< socket / tty; -1 for file */
+  ea_afile_t file; /**< file: transport (atomic), "-" = stdout */
   int is_open;
 } ea__transport_t;
 
 /** Split "HOST:PORT" ("[v6]:PORT" too); port in [0, 65535]. */
-ea_status_t ea__split_hostport(const char *s, char *host, size_t hcap, int *port,
-                               ea_error_t *err);
+ea_status_t ea__split_hostport(const char *s, char *host, size_t hcap, int *port, ea_error_t *err);
 /** Baud rate constant of termios for bits/s; 0 if unsupported. */
 unsigned ea__baud_constant(long bps);
 /** Put a tty fd in raw 8N1 mode at bps. */
@@ -39,8 +38,7 @@ ea_status_t ea__serial_setup(int fd, long bps, ea_error_t *err);
 /** Open the transport named by url (see ea_stream_run). */
 ea_status_t ea__transport_open(ea__transport_t *t, const char *url, ea_error_t *err);
 /** Write all len bytes (one datagram for UDP). EA_ERR_NET on a lost link. */
-ea_status_t ea__transport_send(ea__transport_t *t, const uint8_t *buf, size_t len,
-                               ea_error_t *err);
+ea_status_t ea__transport_send(ea__transport_t *t, const uint8_t *buf, size_t len, ea_error_t *err);
 /** Read what is available, waiting at most timeout_ms (0 = poll). Returns
  *  bytes read (0 = none), -1 if the link is closed or failed. File: 0. */
 long ea__transport_recv(ea__transport_t *t, uint8_t *buf, size_t cap, int timeout_ms);

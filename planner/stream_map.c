@@ -66,13 +66,13 @@ ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp,
                         sp->spool_pos[0], sp->spool_pos[1]);
   ea_joint_state_t q;
   ea_stream_unmap(arm, sp, &q);
-#define EA__RANGE(v, lo, hi, what, unit)                                                  \
-  if (!ea__range_ok(v, lo, hi, tol))                                                      \
-    return ea_error_set(err, EA_ERR_INADMISSIBLE, "%s %.9g %s outside [%.9g, %.9g]", what, \
-                        v, unit, lo, hi);
-#define EA__ABS(v, max, what, unit)                                                          \
-  if (!ea__abs_ok(v, max, tol))                                                              \
-    return ea_error_set(err, EA_ERR_INADMISSIBLE, "|%s| %.9g %s above the limit %.9g", what, \
+#define EA__RANGE(v, lo, hi, what, unit)                                                           \
+  if (!ea__range_ok(v, lo, hi, tol))                                                               \
+    return ea_error_set(err, EA_ERR_INADMISSIBLE, "%s %.9g %s outside [%.9g, %.9g]", what, v,      \
+                        unit, lo, hi);
+#define EA__ABS(v, max, what, unit)                                                                \
+  if (!ea__abs_ok(v, max, tol))                                                                    \
+    return ea_error_set(err, EA_ERR_INADMISSIBLE, "|%s| %.9g %s above the limit %.9g", what,       \
                         fabs(v), unit, max);
   EA__RANGE(q.cable_length, a->cable_length_min, a->cable_length_max, "cable length", "m")
   EA__ABS(q.cable_length_rate, a->cable_speed_max, "cable speed", "m/s")
@@ -93,8 +93,8 @@ ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp,
 /* ---- Interpolation ----------------------------------------------------------- */
 
 /* Quintic Hermite on [0, h]: value, rate and acceleration at both ends. */
-static void ea__quintic(double h, double s, double p0, double v0, double a0, double p1,
-                        double v1, double a1, double *p, double *v, double *a) {
+static void ea__quintic(double h, double s, double p0, double v0, double a0, double p1, double v1,
+                        double a1, double *p, double *v, double *a) {
   const double d = p1 - p0, hv0 = h * v0, hv1 = h * v1, h2a0 = h * h * a0, h2a1 = h * h * a1;
   const double c0 = p0, c1 = hv0, c2 = 0.5 * h2a0;
   const double c3 = 10 * d - 6 * hv0 - 4 * hv1 - 1.5 * h2a0 + 0.5 * h2a1;
@@ -182,12 +182,11 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
   }
   const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
   const double s = (t - t0) / h;
-#define EA__Q(col, rate, acc, P, V, A)                                                      \
-  ea__quintic(h, s, EA_TRAJ_AT(tr, lo, col), EA_TRAJ_AT(tr, lo, rate), EA_TRAJ_AT(tr, lo, acc), \
-              EA_TRAJ_AT(tr, hi, col), EA_TRAJ_AT(tr, hi, rate), EA_TRAJ_AT(tr, hi, acc), P, V, \
-              A)
-  EA__Q(EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, EA_TRAJ_cable_length_acc,
-        &q->cable_length, &q->cable_length_rate, &q->cable_length_acc);
+#define EA__Q(col, rate, acc, P, V, A)                                                             \
+  ea__quintic(h, s, EA_TRAJ_AT(tr, lo, col), EA_TRAJ_AT(tr, lo, rate), EA_TRAJ_AT(tr, lo, acc),    \
+              EA_TRAJ_AT(tr, hi, col), EA_TRAJ_AT(tr, hi, rate), EA_TRAJ_AT(tr, hi, acc), P, V, A)
+  EA__Q(EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, EA_TRAJ_cable_length_acc, &q->cable_length,
+        &q->cable_length_rate, &q->cable_length_acc);
   EA__Q(EA_TRAJ_base_angle, EA_TRAJ_base_angle_rate, EA_TRAJ_base_angle_acc, &q->base_angle,
         &q->base_angle_rate, &q->base_angle_acc);
 #undef EA__Q
@@ -195,20 +194,18 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
               ea__fd(tr, lo, EA_TRAJ_theta0_rate), EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0),
               EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0_rate), ea__fd(tr, hi, EA_TRAJ_theta0_rate),
               &q->theta0, &q->theta0_rate, &q->theta0_acc);
-  q->tension = ea__cubic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_tension),
-                         ea__fd_monotone(tr, lo, EA_TRAJ_tension),
-                         EA_TRAJ_AT(tr, hi, EA_TRAJ_tension),
-                         ea__fd_monotone(tr, hi, EA_TRAJ_tension));
-  q->kappa0 = ea__cubic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_kappa0),
-                        ea__fd_monotone(tr, lo, EA_TRAJ_kappa0),
-                        EA_TRAJ_AT(tr, hi, EA_TRAJ_kappa0),
-                        ea__fd_monotone(tr, hi, EA_TRAJ_kappa0));
+  q->tension =
+      ea__cubic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_tension), ea__fd_monotone(tr, lo, EA_TRAJ_tension),
+                EA_TRAJ_AT(tr, hi, EA_TRAJ_tension), ea__fd_monotone(tr, hi, EA_TRAJ_tension));
+  q->kappa0 =
+      ea__cubic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_kappa0), ea__fd_monotone(tr, lo, EA_TRAJ_kappa0),
+                EA_TRAJ_AT(tr, hi, EA_TRAJ_kappa0), ea__fd_monotone(tr, hi, EA_TRAJ_kappa0));
   return EA_OK;
 }
 
 ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
-                                      double time_scale, double tol, ea_setpoint_t **out,
-                                      int *n, ea_error_t *err) {
+                                      double time_scale, double tol, ea_setpoint_t **out, int *n,
+                                      ea_error_t *err) {
   if (!tr || !arm || !out || !n)
     return ea_error_set(err, EA_ERR_ARG, "stream resample: NULL argument");
   *out = NULL;
@@ -217,14 +214,13 @@ ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, 
     return ea_error_set(err, EA_ERR_ARG, "rate %g Hz outside (0, 1e6]", rate_hz);
   if (!(time_scale >= 1.0) || time_scale > 1e3 || !isfinite(time_scale))
     return ea_error_set(err, EA_ERR_ARG, "time scale %g outside [1, 1000]", time_scale);
-  if (tr->n < 1 || !tr->data)
-    return ea_error_set(err, EA_ERR_INPUT, "trajectory has no samples");
+  if (tr->n < 1 || !tr->data) return ea_error_set(err, EA_ERR_INPUT, "trajectory has no samples");
   const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
   const double dur = (EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0) * time_scale;
   const double nf = ceil(dur * rate_hz - 1e-9) + 1.0;
   if (!(nf >= 1) || nf > 5e7)
-    return ea_error_set(err, EA_ERR_INPUT, "trajectory of %g s at %g Hz: too many setpoints",
-                        dur, rate_hz);
+    return ea_error_set(err, EA_ERR_INPUT, "trajectory of %g s at %g Hz: too many setpoints", dur,
+                        rate_hz);
   const int m = (int)nf;
   ea_setpoint_t *sp = malloc((size_t)m * sizeof *sp);
   if (!sp) return ea_error_set(err, EA_ERR_NOMEM, "stream resample: %d setpoints", m);
@@ -244,8 +240,8 @@ ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, 
     if (ea_stream_check_limits(arm, &sp[k], tol, &e) != EA_OK) {
       free(sp);
       return ea_error_set(err, EA_ERR_INADMISSIBLE,
-                          "setpoint %d at t = %.6f s (resampled at %g Hz%s): %s; nothing sent",
-                          k, t, rate_hz, time_scale != 1.0 ? ", time-scaled" : "", e.msg);
+                          "setpoint %d at t = %.6f s (resampled at %g Hz%s): %s; nothing sent", k,
+                          t, rate_hz, time_scale != 1.0 ? ", time-scaled" : "", e.msg);
     }
   }
   *out = sp;
@@ -253,8 +249,8 @@ ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, 
   return EA_OK;
 }
 
-ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
-                               double tol, ea_setpoint_t **out, int *n, ea_error_t *err) {
+ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz, double tol,
+                               ea_setpoint_t **out, int *n, ea_error_t *err) {
   return ea_stream_resample_scaled(tr, arm, rate_hz, 1.0, tol, out, n, err);
 }
 
@@ -320,14 +316,14 @@ static double ea__stop_peak_acc(const ea__axis_t *x, double T) {
 static void ea__stop_eval(const ea__axis_t *x, double T, double s, double *p, double *v,
                           double *a) {
   const double s2 = s * s, s3 = s2 * s, s4 = s3 * s;
-  *p = x->p0 + T * (x->v0 * (0.5 * s4 - s3 + s) + T * x->a0 * (0.25 * s4 - 2.0 / 3.0 * s3 +
-                                                                 0.5 * s2));
+  *p = x->p0 +
+       T * (x->v0 * (0.5 * s4 - s3 + s) + T * x->a0 * (0.25 * s4 - 2.0 / 3.0 * s3 + 0.5 * s2));
   *v = x->v0 * (2 * s3 - 3 * s2 + 1) + T * x->a0 * (s3 - 2 * s2 + s);
   *a = x->v0 * (6 * s2 - 6 * s) / T + x->a0 * (3 * s2 - 4 * s + 1);
 }
 
-int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rate_hz,
-                        double margin, ea_setpoint_t *out, int max) {
+int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rate_hz, double margin,
+                        ea_setpoint_t *out, int max) {
   const ea_actuators_t *ac = &arm->act;
   const double ks = ac->spool_gear_ratio / ac->spool_radius;
   ea__axis_t ax[3] = {
@@ -339,7 +335,8 @@ int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rat
    * up one period at a time until every axis is within its budget. */
   double T0 = dt;
   for (int i = 0; i < 3; ++i)
-    if (ax[i].amax > 0) T0 = fmax(T0, 1.5 * fabs(ax[i].v0) / (margin * ax[i].amax + fabs(ax[i].a0)));
+    if (ax[i].amax > 0)
+      T0 = fmax(T0, 1.5 * fabs(ax[i].v0) / (margin * ax[i].amax + fabs(ax[i].a0)));
   long k = (long)ceil(T0 * rate_hz - 1e-9);
   if (k < 1) k = 1;
   for (;; ++k) {

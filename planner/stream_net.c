@@ -46,8 +46,7 @@ double ea__quantile(double *v, int n, double q) {
 
 /* ---- Addresses ------------------------------------------------------------- */
 
-ea_status_t ea__split_hostport(const char *s, char *host, size_t hcap, int *port,
-                               ea_error_t *err) {
+ea_status_t ea__split_hostport(const char *s, char *host, size_t hcap, int *port, ea_error_t *err) {
   const char *colon, *h = s;
   size_t hl;
   if (s[0] == '[') {
@@ -78,31 +77,44 @@ ea_status_t ea__split_hostport(const char *s, char *host, size_t hcap, int *port
 
 unsigned ea__baud_constant(long bps) {
   switch (bps) {
-  case 9600: return B9600;
-  case 19200: return B19200;
-  case 38400: return B38400;
-  case 57600: return B57600;
-  case 115200: return B115200;
-  case 230400: return B230400;
+  case 9600:
+    return B9600;
+  case 19200:
+    return B19200;
+  case 38400:
+    return B38400;
+  case 57600:
+    return B57600;
+  case 115200:
+    return B115200;
+  case 230400:
+    return B230400;
 #ifdef B460800
-  case 460800: return B460800;
+  case 460800:
+    return B460800;
 #endif
 #ifdef B921600
-  case 921600: return B921600;
+  case 921600:
+    return B921600;
 #endif
 #ifdef B1000000
-  case 1000000: return B1000000;
+  case 1000000:
+    return B1000000;
 #endif
 #ifdef B2000000
-  case 2000000: return B2000000;
+  case 2000000:
+    return B2000000;
 #endif
 #ifdef B3000000
-  case 3000000: return B3000000;
+  case 3000000:
+    return B3000000;
 #endif
 #ifdef B4000000
-  case 4000000: return B4000000;
+  case 4000000:
+    return B4000000;
 #endif
-  default: return 0;
+  default:
+    return 0;
   }
 }
 
@@ -120,8 +132,7 @@ ea_status_t ea__serial_setup(int fd, long bps, ea_error_t *err) {
 #endif
   tio.c_cc[VMIN] = 0;
   tio.c_cc[VTIME] = 0;
-  if (cfsetispeed(&tio, b) != 0 || cfsetospeed(&tio, b) != 0 ||
-      tcsetattr(fd, TCSANOW, &tio) != 0)
+  if (cfsetispeed(&tio, b) != 0 || cfsetospeed(&tio, b) != 0 || tcsetattr(fd, TCSANOW, &tio) != 0)
     return ea_error_set(err, EA_ERR_NET, "serial: cannot configure %ld baud: %s", bps,
                         strerror(errno));
   tcflush(fd, TCIOFLUSH);
@@ -136,8 +147,8 @@ static ea_status_t ea__connect(ea__transport_t *t, const char *hostport, int dgr
   int port;
   ea_status_t st = ea__split_hostport(hostport, host, sizeof host, &port, err);
   if (st) return st;
-  if (port == 0) return ea_error_set(err, EA_ERR_ARG, "'%s': port 0 is not a destination",
-                                     hostport);
+  if (port == 0)
+    return ea_error_set(err, EA_ERR_ARG, "'%s': port 0 is not a destination", hostport);
   snprintf(service, sizeof service, "%d", port);
   struct addrinfo hints, *res = NULL;
   memset(&hints, 0, sizeof hints);
@@ -210,7 +221,8 @@ ea_status_t ea__transport_open(ea__transport_t *t, const char *url, ea_error_t *
   } else {
     return ea_error_set(err, EA_ERR_ARG,
                         "'%s': expected tcp://HOST:PORT, udp://HOST:PORT, serial:DEVICE[@BAUD] "
-                        "or file:PATH", url);
+                        "or file:PATH",
+                        url);
   }
   if (st == EA_OK) t->is_open = 1;
   return st;
@@ -246,7 +258,8 @@ long ea__transport_recv(ea__transport_t *t, uint8_t *buf, size_t cap, int timeou
   if (t->kind == EA__TR_FILE) return 0;
   struct pollfd pf = {t->fd, POLLIN, 0};
   int r;
-  do r = poll(&pf, 1, timeout_ms);
+  do
+    r = poll(&pf, 1, timeout_ms);
   while (r < 0 && errno == EINTR && timeout_ms == 0);
   if (r < 0) return errno == EINTR ? 0 : -1;
   if (r == 0) return 0;

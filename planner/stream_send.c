@@ -24,7 +24,7 @@ void ea_stream_settings_default(ea_stream_settings_t *s) {
 }
 
 ea_status_t ea_stream_settings_validate(const ea_stream_settings_t *s, ea_error_t *err) {
-#define EA__CHK(cond, ...) \
+#define EA__CHK(cond, ...)                                                                         \
   if (!(cond)) return ea_error_set(err, EA_ERR_ARG, __VA_ARGS__);
   EA__CHK(isfinite(s->rate_hz) && s->rate_hz >= 1 && s->rate_hz <= 100000,
           "rate_hz %g outside [1, 100000]", s->rate_hz)
@@ -45,9 +45,9 @@ ea_status_t ea_stream_settings_validate(const ea_stream_settings_t *s, ea_error_
 }
 
 const char *ea_stream_end_name(ea_stream_end_t e) {
-  static const char *const names[] = {"complete",    "refused",      "stop-nack",
-                                      "stop-ack-timeout", "stop-interrupt", "disconnected",
-                                      "error"};
+  static const char *const names[] = {
+      "complete",       "refused",      "stop-nack", "stop-ack-timeout",
+      "stop-interrupt", "disconnected", "error"};
   return (e >= 0 && e <= EA_STREAM_ERROR) ? names[e] : "?";
 }
 
@@ -59,21 +59,23 @@ typedef struct {
   ea_stream_info_t *info;
   ea__transport_t tr;
   ea_frame_parser_t parser;
-  int acks_on;          /* handshake and ACKs in use */
-  uint32_t seq;         /* last sequence number sent */
-  uint32_t acked_seq;   /* highest sequence number acknowledged */
-  int64_t *send_ns;     /* send time of each sequence number */
+  int acks_on;        /* handshake and ACKs in use */
+  uint32_t seq;       /* last sequence number sent */
+  uint32_t acked_seq; /* highest sequence number acknowledged */
+  int64_t *send_ns;   /* send time of each sequence number */
   int send_cap;
   int link_lost;
   int nacked;
-  int have_ack;         /* an ACK (any) was received */
+  int have_ack; /* an ACK (any) was received */
   ea_frame_t last_ack;
   uint8_t buf[EA_PROTO_FRAME_MAX];
 } ea__sess_t;
 
 static ea_status_t ea__send(ea__sess_t *x, ea_frame_t *f, ea_error_t *err) {
-  if (f->type != EA_FRAME_HEARTBEAT) f->seq = ++x->seq;
-  else f->seq = x->seq;
+  if (f->type != EA_FRAME_HEARTBEAT)
+    f->seq = ++x->seq;
+  else
+    f->seq = x->seq;
   f->version = EA_PROTO_VERSION;
   const size_t len = ea_frame_encode(f, x->buf, sizeof x->buf);
   if (!len) return ea_error_set(err, EA_ERR_ARG, "cannot encode frame type %d", f->type);
@@ -148,7 +150,8 @@ static int ea__ack_overdue(const ea__sess_t *x, int64_t now) {
 
 static void ea__summarise(ea_stream_info_t *in, double *jit, int nj, double period_us) {
   in->frames_late = 0;
-  for (int i = 0; i < nj; ++i) in->frames_late += jit[i] > 0.5 * period_us;
+  for (int i = 0; i < nj; ++i)
+    in->frames_late += jit[i] > 0.5 * period_us;
   in->jitter_p50_us = ea__quantile(jit, nj, 0.5);
   in->jitter_p99_us = ea__quantile(jit, nj, 0.99);
   in->jitter_max_us = nj ? jit[nj - 1] : NAN;
@@ -176,8 +179,8 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
   for (int k = 0; k < n; ++k) {
     ea_error_t e = {0};
     if (ea_stream_check_limits(arm, &sp[k], s->limit_tol, &e))
-      return info->status = ea_error_set(err, EA_ERR_INADMISSIBLE,
-                                         "setpoint %d: %s; nothing sent", k, e.msg);
+      return info->status =
+                 ea_error_set(err, EA_ERR_INADMISSIBLE, "setpoint %d: %s; nothing sent", k, e.msg);
   }
 
   ea__sess_t x;
@@ -244,10 +247,9 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
       if (x.last_ack.type == EA_FRAME_NACK || x.last_ack.ack_seq != 0 ||
           x.last_ack.state != EA_CTRL_READY) {
         info->end = EA_STREAM_REFUSED;
-        st = ea_error_set(err, EA_ERR_PROTOCOL,
-                          "controller answered HELLO with %s (state %u, reason %u)",
-                          x.last_ack.type == EA_FRAME_NACK ? "NACK" : "ACK", x.last_ack.state,
-                          x.last_ack.reason);
+        st = ea_error_set(
+            err, EA_ERR_PROTOCOL, "controller answered HELLO with %s (state %u, reason %u)",
+            x.last_ack.type == EA_FRAME_NACK ? "NACK" : "ACK", x.last_ack.state, x.last_ack.reason);
         goto out_end_refused;
       }
       /* The controller's reported position must be the trajectory's start. */
@@ -278,8 +280,8 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
 
   /* ---- Setpoints, paced on absolute deadlines -------------------------------- */
   const int64_t t0 = ea__mono_ns() + 1000000; /* first deadline 1 ms from now */
-  long k = 0;            /* index of the next frame in the schedule */
-  int last_sent = -1;    /* index into sp of the last setpoint sent */
+  long k = 0;                                 /* index of the next frame in the schedule */
+  int last_sent = -1;                         /* index into sp of the last setpoint sent */
   info->end = EA_STREAM_COMPLETE;
   for (; k < n; ++k) {
     const int64_t deadline = t0 + k * period_ns;
@@ -320,8 +322,8 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
 
   /* ---- Controlled stop: ramp down from the last setpoint sent ----------------- */
   if (info->end != EA_STREAM_COMPLETE && info->end != EA_STREAM_DISCONNECTED && last_sent >= 0) {
-    const int m = ea_stream_stop_ramp(arm, &sp[last_sent], s->rate_hz, s->stop_margin, ramp,
-                                      ramp_cap);
+    const int m =
+        ea_stream_stop_ramp(arm, &sp[last_sent], s->rate_hz, s->stop_margin, ramp, ramp_cap);
     for (int j = 0; j < m; ++j, ++k) {
       ea_error_t e = {0};
       if (ea_stream_check_limits(arm, &ramp[j], s->limit_tol, &e)) break; /* never beyond */
@@ -384,14 +386,14 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
   case EA_STREAM_STOP_NACK:
     st = ea_error_set(err, EA_ERR_PROTOCOL,
                       "controller rejected a frame (NACK reason %d) after %d setpoints: "
-                      "controlled stop in %d frames", info->nack_reason,
-                      info->frames_sent - info->stop_frames, info->stop_frames);
+                      "controlled stop in %d frames",
+                      info->nack_reason, info->frames_sent - info->stop_frames, info->stop_frames);
     break;
   case EA_STREAM_STOP_ACK_TIMEOUT:
     st = ea_error_set(err, EA_ERR_NET,
                       "no acknowledgement for %g s after %d setpoints: controlled stop in %d "
-                      "frames", s->ack_timeout_s, info->frames_sent - info->stop_frames,
-                      info->stop_frames);
+                      "frames",
+                      s->ack_timeout_s, info->frames_sent - info->stop_frames, info->stop_frames);
     break;
   case EA_STREAM_STOP_INTERRUPT:
     st = ea_error_set(err, EA_ERR_INTERRUPTED,
@@ -401,7 +403,8 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
   case EA_STREAM_DISCONNECTED:
     st = ea_error_set(err, EA_ERR_NET,
                       "link lost after %d setpoints: the controller's watchdog must stop the "
-                      "arm", info->frames_sent);
+                      "arm",
+                      info->frames_sent);
     break;
   default:
     st = ea_error_set(err, EA_ERR_NET, "stream failed");

@@ -42,8 +42,9 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, double cable_l
   /* Tip path in the arm's plane and beam shapes at 6 knots. */
   ea_plot_data_begin(p, "tip");
   for (int k = 0; k < tr->n; ++k) {
-    const double row[2] = {hypot(EA_TRAJ_AT(tr, k, EA_TRAJ_tip_x), EA_TRAJ_AT(tr, k, EA_TRAJ_tip_y)),
-                           EA_TRAJ_AT(tr, k, EA_TRAJ_tip_z)};
+    const double row[2] = {
+        hypot(EA_TRAJ_AT(tr, k, EA_TRAJ_tip_x), EA_TRAJ_AT(tr, k, EA_TRAJ_tip_y)),
+        EA_TRAJ_AT(tr, k, EA_TRAJ_tip_z)};
     ea_plot_data_row(p, 2, row);
   }
   ea_plot_data_end(p);
@@ -52,8 +53,7 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, double cable_l
   for (int i = 0; i < 6; ++i) {
     const int k = (int)lround(i * (tr->n - 1) / 5.0);
     const double pp[EA_NP] = {EA_TRAJ_AT(tr, k, EA_TRAJ_cable_angle),
-                              EA_TRAJ_AT(tr, k, EA_TRAJ_tension),
-                              EA_TRAJ_AT(tr, k, EA_TRAJ_theta0),
+                              EA_TRAJ_AT(tr, k, EA_TRAJ_tension), EA_TRAJ_AT(tr, k, EA_TRAJ_theta0),
                               EA_TRAJ_AT(tr, k, EA_TRAJ_kappa0)};
     if (ea_shoot_shape(sh, pp, 41, NULL, NULL, NULL, xs, ys) != EA_OK) continue;
     for (int j = 0; j < 41; ++j) {
@@ -69,26 +69,32 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, double cable_l
   }
   ea_plot_data_end(p);
   ea_plot_data_begin(p, "hist");
-  for (int k = 0; k < tr->n; ++k) ea_plot_data_row(p, EA_TRAJ_NCOL, &EA_TRAJ_AT(tr, k, 0));
+  for (int k = 0; k < tr->n; ++k)
+    ea_plot_data_row(p, EA_TRAJ_NCOL, &EA_TRAJ_AT(tr, k, 0));
   ea_plot_data_end(p);
   ea_plot_cmd(p, "set multiplot layout 2,2 title \"%s  (duration %.4g s)\" noenhanced",
-              title ? title : "trajectory", EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t));
+              title ? title : "trajectory",
+              EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t));
   ea_plot_cmd(p, "set size ratio -1\nset xlabel 'reach x_L [m]'\nset ylabel 'height y_L [m]'");
   ea_plot_cmd(p, "set key below maxrows 3");
-  ea_plot_cmd(p, "plot $edge w l lw 2 lc rgb '#888888' t 'outer edge (T = 0)', "
-                 "$inner w l dt 2 lc rgb '#888888' t 'inner edge (L_c min)', "
-                 "$beams w l lc rgb '#1f77b4' t 'beam and cable', "
-                 "$tip w lp pt 7 ps 0.3 lc rgb '#d62728' t 'tip path', "
-                 "'+' using (%.17g):(%.17g) every ::0::0 w p pt 5 ps 1.2 lc rgb 'black' "
-                 "t 'cable root'",
+  ea_plot_cmd(p,
+              "plot $edge w l lw 2 lc rgb '#888888' t 'outer edge (T = 0)', "
+              "$inner w l dt 2 lc rgb '#888888' t 'inner edge (L_c min)', "
+              "$beams w l lc rgb '#1f77b4' t 'beam and cable', "
+              "$tip w lp pt 7 ps 0.3 lc rgb '#d62728' t 'tip path', "
+              "'+' using (%.17g):(%.17g) every ::0::0 w p pt 5 ps 1.2 lc rgb 'black' "
+              "t 'cable root'",
               arm->x_c, arm->y_c);
-  ea_plot_cmd(p, "set size noratio\nset xlabel 't [s]'\nset key default\nset key inside top right box opaque");
+  ea_plot_cmd(
+      p,
+      "set size noratio\nset xlabel 't [s]'\nset key default\nset key inside top right box opaque");
   ea_plot_cmd(p, "set ylabel 'L_c [m], alpha, base [rad]'");
   ea_plot_cmd(p, "plot $hist u 1:2 w l lw 2 t 'L_c', '' u 1:3 w l lw 2 t 'alpha', "
                  "'' u 1:4 w l lw 2 t 'base'");
   ea_plot_cmd(p, "set ylabel 'T [N], EI kappa_0 [N m]'");
-  ea_plot_cmd(p, "plot $hist u 1:11 w l lw 2 t 'tension T', '' u 1:15 w l lw 2 t 'shoulder "
-                 "torque', %.17g w l dt 2 lc rgb 'black' t 'T_{min}'",
+  ea_plot_cmd(p,
+              "plot $hist u 1:11 w l lw 2 t 'tension T', '' u 1:15 w l lw 2 t 'shoulder "
+              "torque', %.17g w l dt 2 lc rgb 'black' t 'T_{min}'",
               tension_min);
   ea_plot_cmd(p, "set ylabel 'rates [m/s, rad/s]'");
   ea_plot_cmd(p, "plot $hist u 1:5 w l lw 2 t 'dL_c/dt', '' u 1:6 w l lw 2 t 'dalpha/dt', "

@@ -50,7 +50,8 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
   fprintf(f.fp, "# status: %s\n", tr->status);
   fprintf(f.fp, "# payload_kg: %.17g\n", tr->payload_kg);
   fprintf(f.fp, "# tip_mass_kg: %.17g\n", tr->tip_mass_kg);
-  for (int c = 0; c < EA_TRAJ_NCOL; ++c) fprintf(f.fp, c ? ",%s" : "%s", ea__traj_names[c]);
+  for (int c = 0; c < EA_TRAJ_NCOL; ++c)
+    fprintf(f.fp, c ? ",%s" : "%s", ea__traj_names[c]);
   fputc('\n', f.fp);
   for (int i = 0; i < tr->n; ++i) {
     for (int c = 0; c < EA_TRAJ_NCOL; ++c)
@@ -62,11 +63,11 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
 
 static void ea__meta(ea_traj_t *tr, const char *line) {
   const char *v;
-#define EA__META_STR(key, field)                                                     \
-  if (!strncmp(line, "# " key ": ", strlen("# " key ": "))) {                        \
-    v = line + strlen("# " key ": ");                                                \
-    snprintf(tr->field, sizeof tr->field, "%.*s", (int)strcspn(v, "\r\n"), v);       \
-    return;                                                                          \
+#define EA__META_STR(key, field)                                                                   \
+  if (!strncmp(line, "# " key ": ", strlen("# " key ": "))) {                                      \
+    v = line + strlen("# " key ": ");                                                              \
+    snprintf(tr->field, sizeof tr->field, "%.*s", (int)strcspn(v, "\r\n"), v);                     \
+    return;                                                                                        \
   }
   EA__META_STR("arm_file", arm_file)
   EA__META_STR("task", task)
@@ -91,8 +92,9 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
       int ver;
       if (sscanf(line, "# elasticarm-trajectory %d", &ver) == 1) {
         if (ver != EA_TRAJ_FORMAT_VERSION) {
-          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: trajectory format version %d, expected %d",
-                            path, lineno, ver, EA_TRAJ_FORMAT_VERSION);
+          st =
+              ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: trajectory format version %d, expected %d",
+                           path, lineno, ver, EA_TRAJ_FORMAT_VERSION);
           break;
         }
         version_seen = 1;
@@ -102,9 +104,10 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
     }
     if (line[0] == '\n' || line[0] == '\0') continue;
     if (!version_seen) {
-      st = ea_error_set(err, EA_ERR_INPUT,
-                        "%s:%ld:1: not an elasticarm trajectory (no '# elasticarm-trajectory' line)",
-                        path, lineno);
+      st =
+          ea_error_set(err, EA_ERR_INPUT,
+                       "%s:%ld:1: not an elasticarm trajectory (no '# elasticarm-trajectory' line)",
+                       path, lineno);
       break;
     }
     if (!header_seen) {
@@ -113,8 +116,8 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
       long col = 1;
       for (; tok; tok = strtok_r(NULL, ",\r\n", &save), ++c) {
         if (c >= EA_TRAJ_NCOL || strcmp(tok, ea__traj_names[c]) != 0) {
-          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: column %d is '%s', expected '%s'",
-                            path, lineno, col, c + 1, tok,
+          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: column %d is '%s', expected '%s'", path,
+                            lineno, col, c + 1, tok,
                             c < EA_TRAJ_NCOL ? ea__traj_names[c] : "(end of line)");
           break;
         }
@@ -122,8 +125,8 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
       }
       if (st) break;
       if (c != EA_TRAJ_NCOL) {
-        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: header has %d columns, expected %d",
-                          path, lineno, col, c, EA_TRAJ_NCOL);
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: header has %d columns, expected %d", path,
+                          lineno, col, c, EA_TRAJ_NCOL);
         break;
       }
       header_seen = 1;
@@ -146,8 +149,8 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
       double v = strtod(s, &end);
       const long col = (long)(s - line) + 1;
       if (end == s || errno == ERANGE || !isfinite(v)) {
-        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: column '%s': not a finite number",
-                          path, lineno, col, ea__traj_names[c]);
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: column '%s': not a finite number", path,
+                          lineno, col, ea__traj_names[c]);
         break;
       }
       if (c + 1 < EA_TRAJ_NCOL && *end != ',') {
@@ -156,8 +159,8 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
         break;
       }
       if (c + 1 == EA_TRAJ_NCOL && *end && *end != '\n' && *end != '\r') {
-        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: extra data after column %d", path,
-                          lineno, (long)(end - line) + 1, EA_TRAJ_NCOL);
+        st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%ld: extra data after column %d", path, lineno,
+                          (long)(end - line) + 1, EA_TRAJ_NCOL);
         break;
       }
       tr->data[(size_t)tr->n * EA_TRAJ_NCOL + c] = v;
@@ -165,8 +168,8 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
     }
     if (st) break;
     if (tr->n > 0 && !(EA_TRAJ_AT(tr, tr->n, EA_TRAJ_t) > EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t))) {
-      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: time %.17g does not increase", path,
-                        lineno, EA_TRAJ_AT(tr, tr->n, EA_TRAJ_t));
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: time %.17g does not increase", path, lineno,
+                        EA_TRAJ_AT(tr, tr->n, EA_TRAJ_t));
       break;
     }
     ++tr->n;

@@ -13,13 +13,14 @@ typedef struct {
   size_t off; /* offset of the double in ea_arm_t */
 } ea__field_t;
 
-#define EA__F(key, lo, hi, member) {key, lo, hi, offsetof(ea_arm_t, member)}
+#define EA__F(key, lo, hi, member)                                                                 \
+  { key, lo, hi, offsetof(ea_arm_t, member) }
 
 static ea_status_t ea__read_fields(ea__ydoc_t *d, yaml_node_t *map, const char *ctx,
-                                   const ea__field_t *f, size_t n, ea_arm_t *arm,
-                                   ea_error_t *err) {
+                                   const ea__field_t *f, size_t n, ea_arm_t *arm, ea_error_t *err) {
   const char *allowed[16];
-  for (size_t i = 0; i < n && i < 15; ++i) allowed[i] = f[i].key;
+  for (size_t i = 0; i < n && i < 15; ++i)
+    allowed[i] = f[i].key;
   allowed[n < 15 ? n : 15] = NULL;
   ea_status_t st = ea__ymap_check_keys(d, map, allowed, ctx, err);
   if (st) return st;
@@ -35,8 +36,7 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
   yaml_node_t *root, *beam, *hand, *cable, *act, *spool, *ten, *sho, *base;
   ea_status_t st = ea__ydoc_root_map(d, &root, err);
   if (st) return st;
-  static const char *const top[] = {"beam", "hand", "cable", "gravity_m_per_s2", "actuators",
-                                    NULL};
+  static const char *const top[] = {"beam", "hand", "cable", "gravity_m_per_s2", "actuators", NULL};
   if ((st = ea__ymap_check_keys(d, root, top, "the arm file", err))) return st;
   ea_arm_default(arm);
   if ((st = ea__ymap_map(d, root, "beam", 1, &beam, err))) return st;
@@ -44,9 +44,9 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
   if ((st = ea__ymap_map(d, root, "cable", 1, &cable, err))) return st;
   if ((st = ea__ymap_map(d, root, "actuators", 1, &act, err))) return st;
   static const ea__field_t fb[] = {
-      EA__F("rho_kg_per_m", 0, EA__INF, rho),   EA__F("length_m", 1e-6, EA__INF, length),
-      EA__F("EI_Nm2", 1e-12, EA__INF, EI),      EA__F("EA_N", 1e-12, EA__INF, EA),
-      EA__F("GA_N", 1e-12, EA__INF, GA_s),      EA__F("Izz_kg_m", 0, EA__INF, I_zz)};
+      EA__F("rho_kg_per_m", 0, EA__INF, rho), EA__F("length_m", 1e-6, EA__INF, length),
+      EA__F("EI_Nm2", 1e-12, EA__INF, EI),    EA__F("EA_N", 1e-12, EA__INF, EA),
+      EA__F("GA_N", 1e-12, EA__INF, GA_s),    EA__F("Izz_kg_m", 0, EA__INF, I_zz)};
   static const ea__field_t fh[] = {EA__F("mass_kg", 0, EA__INF, m_hand),
                                    EA__F("Izz_kg_m2", 0, EA__INF, I_hand)};
   static const ea__field_t fc[] = {EA__F("root_x_m", -EA__INF, EA__INF, x_c),
@@ -88,8 +88,7 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
     return st;
   if ((st = ea__read_fields(d, ten, "actuators.tension", ft, sizeof ft / sizeof *ft, arm, err)))
     return st;
-  if ((st = ea__read_fields(d, sho, "actuators.shoulder", fsh, sizeof fsh / sizeof *fsh, arm,
-                            err)))
+  if ((st = ea__read_fields(d, sho, "actuators.shoulder", fsh, sizeof fsh / sizeof *fsh, arm, err)))
     return st;
   if ((st = ea__read_fields(d, base, "actuators.base", fba, sizeof fba / sizeof *fba, arm, err)))
     return st;

@@ -76,8 +76,7 @@ void ea_config_check_limits(ea_config_point_t *pt, const ea_actuators_t *lim, do
  *  positive definite? Sets pt->stable; an unstable configuration becomes
  *  inadmissible with the reason. fe must be made for the same arm and load
  *  as sh. Returns the FE status (pt->stable = -1 if the FE failed). */
-ea_status_t ea_config_check_stability(ea_shooter_t *sh, ea_fe_model_t *fe,
-                                      ea_config_point_t *pt);
+ea_status_t ea_config_check_stability(ea_shooter_t *sh, ea_fe_model_t *fe, ea_config_point_t *pt);
 
 /** Straight tip path from tip0 to tip1 (eqs. 18-20) at steps + 1 points
  *  beta = 0, 1/steps, ..., 1; each solved (warm start along the path, cold
@@ -113,16 +112,16 @@ typedef enum ea_task_point_kind {
 /** A start, goal or via point. */
 typedef struct ea_task_point {
   ea_task_point_kind_t kind;
-  double given[3];      /**< as given: planar (x, y, base) [m, m, rad]; 3-D (x, y, z) [m];
-                             actuators (L_c [m], alpha [rad], base [rad]) */
+  double given[3]; /**< as given: planar (x, y, base) [m, m, rad]; 3-D (x, y, z) [m];
+                        actuators (L_c [m], alpha [rad], base [rad]) */
   /* resolved by ea_task_check(): */
-  double cable_length;  /**< [m] L_c (eq. 19) */
-  double cable_angle;   /**< [rad] alpha (eq. 20) */
-  double base_angle;    /**< [rad] base angle (3-D: atan2(y, x)) */
-  double reach;         /**< [m] planar tip x_L (3-D: hypot(x, y)) */
-  double height;        /**< [m] planar tip y_L (3-D: z) */
-  double p[EA_NP];      /**< statics (alpha, T, theta0, kappa0) at the point */
-  char where[300];      /**< "file:line:col" of the point in the task file, or "" */
+  double cable_length; /**< [m] L_c (eq. 19) */
+  double cable_angle;  /**< [rad] alpha (eq. 20) */
+  double base_angle;   /**< [rad] base angle (3-D: atan2(y, x)) */
+  double reach;        /**< [m] planar tip x_L (3-D: hypot(x, y)) */
+  double height;       /**< [m] planar tip y_L (3-D: z) */
+  double p[EA_NP];     /**< statics (alpha, T, theta0, kappa0) at the point */
+  char where[300];     /**< "file:line:col" of the point in the task file, or "" */
 } ea_task_point_t;
 
 /** Path constraint on the tip between the points. */
@@ -146,74 +145,74 @@ typedef enum ea_task_objective {
 /** Limits of a plan; defaults from the arm file (ea_actuators_t). INFINITY
  *  means "no limit" (only allowed where documented). */
 typedef struct ea_task_limits {
-  double tension_min;           /**< [N] T >= tension_min > 0 */
-  double tension_max;           /**< [N] */
-  double cable_length_min;      /**< [m] */
-  double cable_length_max;      /**< [m] */
-  double cable_speed_max;       /**< [m/s] |dL_c/dt| */
-  double cable_accel_max;       /**< [m/s^2] |d2L_c/dt2| */
-  double cable_angle_speed_max; /**< [rad/s] |dalpha/dt| (default INFINITY) */
-  double cable_angle_accel_max; /**< [rad/s^2] (default INFINITY) */
-  double shoulder_torque_max;   /**< [N m] |EI kappa0| */
-  double shoulder_speed_max;    /**< [rad/s] |dtheta0/dt| (INFINITY = off) */
-  double base_speed_max;        /**< [rad/s] */
-  double base_accel_max;        /**< [rad/s^2] */
-  double min_first_frequency_hz;/**< [Hz] first natural frequency (FE, passive cable) >= this
-                                     at every knot (0 = off, default) */
-  double max_modal_deflection_m;/**< [m] quasi-static modal deflection |s_c acc_c| / omega1^2
-                                     <= this at both ends of every interval, s = (1, L_c)
-                                     for (L_c, alpha) (INFINITY = off, default) */
-  double resample_margin;       /**< [-] speed and acceleration limits are planned
-                                     1 + margin times tighter, so that the streamer's
-                                     quintic resampling stays within them (default 0.005) */
-  int continuous_acceleration;  /**< 1 (default): the acceleration is continuous at the
-                                     knots (the plan is a C2 cubic spline, which the
-                                     streamer's quintic reproduces exactly); 0: the
-                                     cubic Hermite's acceleration may jump at the knots */
+  double tension_min;            /**< [N] T >= tension_min > 0 */
+  double tension_max;            /**< [N] */
+  double cable_length_min;       /**< [m] */
+  double cable_length_max;       /**< [m] */
+  double cable_speed_max;        /**< [m/s] |dL_c/dt| */
+  double cable_accel_max;        /**< [m/s^2] |d2L_c/dt2| */
+  double cable_angle_speed_max;  /**< [rad/s] |dalpha/dt| (default INFINITY) */
+  double cable_angle_accel_max;  /**< [rad/s^2] (default INFINITY) */
+  double shoulder_torque_max;    /**< [N m] |EI kappa0| */
+  double shoulder_speed_max;     /**< [rad/s] |dtheta0/dt| (INFINITY = off) */
+  double base_speed_max;         /**< [rad/s] */
+  double base_accel_max;         /**< [rad/s^2] */
+  double min_first_frequency_hz; /**< [Hz] first natural frequency (FE, passive cable) >= this
+                                      at every knot (0 = off, default) */
+  double max_modal_deflection_m; /**< [m] quasi-static modal deflection |s_c acc_c| / omega1^2
+                                      <= this at both ends of every interval, s = (1, L_c)
+                                      for (L_c, alpha) (INFINITY = off, default) */
+  double resample_margin;        /**< [-] speed and acceleration limits are planned
+                                      1 + margin times tighter, so that the streamer's
+                                      quintic resampling stays within them (default 0.005) */
+  int continuous_acceleration;   /**< 1 (default): the acceleration is continuous at the
+                                      knots (the plan is a C2 cubic spline, which the
+                                      streamer's quintic reproduces exactly); 0: the
+                                      cubic Hermite's acceleration may jump at the knots */
 } ea_task_limits_t;
 
 /** Solver options of a task. */
 typedef struct ea_task_solver {
-  int max_iter;         /**< Ipopt iterations (default 500) */
-  double tol;           /**< Ipopt tol (default 1e-8) */
-  double constr_tol;    /**< Ipopt constr_viol_tol (default 1e-10) */
-  double max_time_s;    /**< wall-clock limit (default 60) */
-  int derivative_test;  /**< run Ipopt's derivative checker: 1 first-order, 2 second-order */
-  int print_level;      /**< Ipopt print level (default 0 = silent) */
-  int tune_schedule;    /**< NLopt: tune the knot time distribution (min_time only) */
-  double regularization;/**< weight of the acceleration-energy term added to min_time
-                             (default 1e-4; 0 = pure minimum time) */
-  int hessian_exact;    /**< Hessian of the Lagrangian: 2 "partial" (default): exact for
-                             every row but without the statics curvature; 1 "exact":
-                             with it (second-order statics by differences of the exact
-                             sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
+  int max_iter;          /**< Ipopt iterations (default 500) */
+  double tol;            /**< Ipopt tol (default 1e-8) */
+  double constr_tol;     /**< Ipopt constr_viol_tol (default 1e-10) */
+  double max_time_s;     /**< wall-clock limit (default 60) */
+  int derivative_test;   /**< run Ipopt's derivative checker: 1 first-order, 2 second-order */
+  int print_level;       /**< Ipopt print level (default 0 = silent) */
+  int tune_schedule;     /**< NLopt: tune the knot time distribution (min_time only) */
+  double regularization; /**< weight of the acceleration-energy term added to min_time
+                              (default 1e-4; 0 = pure minimum time) */
+  int hessian_exact;     /**< Hessian of the Lagrangian: 2 "partial" (default): exact for
+                              every row but without the statics curvature; 1 "exact":
+                              with it (second-order statics by differences of the exact
+                              sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
 } ea_task_solver_t;
 
 /** A task spec. Plain data, no owned memory. */
 typedef struct ea_task {
   char name[128];
-  char file[512];            /**< task file ("" when built in C) */
-  char arm_file[512];        /**< arm file used ("" = built-in defaults) */
+  char file[512];     /**< task file ("" when built in C) */
+  char arm_file[512]; /**< arm file used ("" = built-in defaults) */
   ea_arm_t arm;
-  double payload_kg;         /**< [kg] m_p */
-  double payload_factor;     /**< [-] gamma (eq. 17) if given as factor, else NAN */
+  double payload_kg;     /**< [kg] m_p */
+  double payload_factor; /**< [-] gamma (eq. 17) if given as factor, else NAN */
   ea_task_point_t start, goal;
   int n_via;
   ea_task_point_t via[EA_TASK_MAX_VIA];
   ea_task_path_t path;
   ea_task_objective_t objective;
-  double duration_s;         /**< [s] fixed duration (min_effort, min_jerk, min_vibration);
-                                  NAN for min_time and a free-time min_vibration */
-  double time_weight;        /**< [1/s] min_vibration with free duration: weight of t_f
-                                  added to the vibration integral (NAN otherwise) */
+  double duration_s;  /**< [s] fixed duration (min_effort, min_jerk, min_vibration);
+                           NAN for min_time and a free-time min_vibration */
+  double time_weight; /**< [1/s] min_vibration with free duration: weight of t_f
+                           added to the vibration integral (NAN otherwise) */
   ea_task_limits_t limits;
-  int knots;                 /**< time knots including start and goal (default 100) */
+  int knots; /**< time knots including start and goal (default 100) */
   ea_task_solver_t solver;
-  char out_trajectory[512];  /**< outputs (relative to the task file); "" = none */
+  char out_trajectory[512]; /**< outputs (relative to the task file); "" = none */
   char out_summary[512];
   char out_figure[512];
-  int base_moves;            /**< set by ea_task_check(): some point has another base angle */
-  char where_limits[300];    /**< positions used in messages */
+  int base_moves;         /**< set by ea_task_check(): some point has another base angle */
+  char where_limits[300]; /**< positions used in messages */
   char where_objective[300];
 } ea_task_t;
 
@@ -230,8 +229,7 @@ ea_task_point_t ea_task_point_planar(double x, double y, double base_angle);
 /** Tip in 3-D (x, y, z [m]). */
 ea_task_point_t ea_task_point_3d(double x, double y, double z);
 /** Actuator coordinates (L_c [m], alpha [rad], base [rad]). */
-ea_task_point_t ea_task_point_actuators(double cable_length, double cable_angle,
-                                        double base_angle);
+ea_task_point_t ea_task_point_actuators(double cable_length, double cable_angle, double base_angle);
 /** Resolve every point and validate the whole task: limits consistent and
  *  within the arm's, objective and duration consistent, every point inside
  *  the workspace for the payload (ea_statics_solve with the cable problem:
@@ -309,40 +307,40 @@ typedef struct ea_study_axis {
  *  and the torque-map grids: release with ea_study_free(). */
 typedef struct ea_study {
   char name[128];
-  char file[512];       /**< spec file ("" when built in C) */
-  char arm_file[512];   /**< arm file used ("" = built-in defaults) */
-  ea_arm_t arm;         /**< base arm; grid parameters override it per case */
-  int n_axes;           /**< axes in CSV column order (ea_study_param_t order) */
+  char file[512];     /**< spec file ("" when built in C) */
+  char arm_file[512]; /**< arm file used ("" = built-in defaults) */
+  ea_arm_t arm;       /**< base arm; grid parameters override it per case */
+  int n_axes;         /**< axes in CSV column order (ea_study_param_t order) */
   ea_study_axis_t axis[EA_STUDY_NPARAM];
-  long n_cases;         /**< product of the axis sizes (set by ea_study_check) */
-  unsigned metrics;     /**< EA_STUDY_M_* flags */
+  long n_cases;     /**< product of the axis sizes (set by ea_study_check) */
+  unsigned metrics; /**< EA_STUDY_M_* flags */
   struct {
     double alpha_min, alpha_max; /**< [rad] cable angle sweep of the edges (-60, 10 deg) */
     int points;                  /**< edge points (default 71) */
     double inner_cable_length;   /**< [m] inner edge (<= 0: the arm's cable_length_min) */
   } workspace;
   struct {
-    int n_len, n_alpha;          /**< grid sizes */
-    double *cable_length;        /**< [m] owned */
-    double *alpha;               /**< [rad] owned */
+    int n_len, n_alpha;   /**< grid sizes */
+    double *cable_length; /**< [m] owned */
+    double *alpha;        /**< [rad] owned */
   } torque;
   struct {
-    int modes;                   /**< modes per configuration (default 3) */
-    int elements;                /**< FE elements (default EA_FE_DEFAULT_ELEMENTS) */
+    int modes;    /**< modes per configuration (default 3) */
+    int elements; /**< FE elements (default EA_FE_DEFAULT_ELEMENTS) */
     int n_config;
     double cable_length[EA_STUDY_MAX_CONFIGS]; /**< [m] */
     double alpha[EA_STUDY_MAX_CONFIGS];        /**< [rad] */
   } freq;
   struct {
-    double start[2], goal[2];    /**< [m] tip (x, y) */
-    int steps;                   /**< points - 1 (default 20) */
+    double start[2], goal[2]; /**< [m] tip (x, y) */
+    int steps;                /**< points - 1 (default 20) */
   } path;
   struct {
-    char task_file[512];         /**< task spec (resolved against the spec's folder) */
+    char task_file[512]; /**< task spec (resolved against the spec's folder) */
   } min_time;
-  char out_csv[512];             /**< outputs resolved against the spec's folder ("" = none) */
+  char out_csv[512]; /**< outputs resolved against the spec's folder ("" = none) */
   char out_summary[512];
-  char out_figures[512];         /**< figure path prefix */
+  char out_figures[512]; /**< figure path prefix */
 } ea_study_t;
 
 /** Initialise: base arm (copied; NULL = ea_arm_default), no axes, no
@@ -371,8 +369,8 @@ void ea_study_case_values(const ea_study_t *s, long case_id, double *values);
 /** The arm and payload of a case: grid values applied to the base arm;
  *  payload from payload_kg or the factor of the case's arm (eq. 17).
  *  *payload_factor is NAN when the payload is given in kg. */
-ea_status_t ea_study_case_arm(const ea_study_t *s, long case_id, ea_arm_t *arm,
-                              double *payload_kg, double *payload_factor, ea_error_t *err);
+ea_status_t ea_study_case_arm(const ea_study_t *s, long case_id, ea_arm_t *arm, double *payload_kg,
+                              double *payload_factor, ea_error_t *err);
 
 /** Minimum-time duration of the study's task for one case: registered by
  *  the planner (problems/ does not link Ipopt). Returns EA_OK and
@@ -388,17 +386,17 @@ typedef void (*ea_study_progress_fn)(void *data, long case_id, long done, long t
 
 /** Run settings. */
 typedef struct ea_study_settings {
-  int threads;           /**< worker threads (0 = all online cores) */
-  int shard_k, shard_n;  /**< run the cases with case_id % shard_n == shard_k - 1
-                              (1 <= shard_k <= shard_n; 1/1 = all) */
-  const char *checkpoint;/**< journal path for resume (NULL = none) */
-  int fsync;             /**< fsync the journal (default 1): power-loss safe up to the
-                              last fsync; a killed process loses nothing written */
+  int threads;             /**< worker threads (0 = all online cores) */
+  int shard_k, shard_n;    /**< run the cases with case_id % shard_n == shard_k - 1
+                                (1 <= shard_k <= shard_n; 1/1 = all) */
+  const char *checkpoint;  /**< journal path for resume (NULL = none) */
+  int fsync;               /**< fsync the journal (default 1): power-loss safe up to the
+                                last fsync; a killed process loses nothing written */
   double fsync_interval_s; /**< [s] at most one fsync per interval (group commit; default
                               0.2; 0 = after every case); always at the end */
-  long stop_after;       /**< test hook: stop after this many newly computed cases (0 = off) */
+  long stop_after;         /**< test hook: stop after this many newly computed cases (0 = off) */
   const volatile sig_atomic_t *stop_request; /**< nonzero: finish running cases, stop */
-  ea_study_min_time_fn min_time; /**< NULL: min_time rows report EA_ERR_NOTIMPL */
+  ea_study_min_time_fn min_time;             /**< NULL: min_time rows report EA_ERR_NOTIMPL */
   void *min_time_data;
   ea_study_progress_fn progress;
   void *progress_data;
@@ -408,18 +406,18 @@ void ea_study_settings_default(ea_study_settings_t *set);
 
 /** Outcome of a run. */
 typedef struct ea_study_info {
-  ea_status_t status;   /**< EA_OK: every case of the shard has its rows (some may
-                             record failures); EA_ERR_INTERRUPTED: stopped, resume
-                             later; other: could not run (I/O, bad settings) */
-  long cases_total;     /**< cases of the grid */
-  long cases_shard;     /**< cases of this shard */
-  long cases_skipped;   /**< found finished in the checkpoint (not recomputed) */
-  long cases_computed;  /**< computed in this run */
-  long cases_failed;    /**< cases with at least one non-ok row */
-  long rows_failed;     /**< non-ok rows */
+  ea_status_t status;         /**< EA_OK: every case of the shard has its rows (some may
+                                   record failures); EA_ERR_INTERRUPTED: stopped, resume
+                                   later; other: could not run (I/O, bad settings) */
+  long cases_total;           /**< cases of the grid */
+  long cases_shard;           /**< cases of this shard */
+  long cases_skipped;         /**< found finished in the checkpoint (not recomputed) */
+  long cases_computed;        /**< computed in this run */
+  long cases_failed;          /**< cases with at least one non-ok row */
+  long rows_failed;           /**< non-ok rows */
   long journal_dropped_bytes; /**< torn / corrupt tail removed from the journal */
-  int threads;          /**< threads used */
-  double time_s;        /**< [s] wall time */
+  int threads;                /**< threads used */
+  double time_s;              /**< [s] wall time */
 } ea_study_info_t;
 
 /** Run (one shard of) a checked study. On EA_OK, *csv (malloc'd, caller
@@ -438,9 +436,8 @@ size_t ea_study_csv_header(const ea_study_t *s, char *buf, size_t len);
  *  into the single-run CSV: same header required, rows ordered by case_id,
  *  each case from exactly one shard; case ids must be 0..n-1 without gaps
  *  (n = expect_cases when > 0). *out malloc'd. */
-ea_status_t ea_study_merge(const char *const *texts, const size_t *lens,
-                           const char *const *names, int n, long expect_cases, char **out,
-                           size_t *out_len, ea_error_t *err);
+ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const char *const *names,
+                           int n, long expect_cases, char **out, size_t *out_len, ea_error_t *err);
 
 /* EA_STUDY_SECTION_END */
 

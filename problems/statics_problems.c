@@ -104,11 +104,11 @@ void ea_config_check_limits(ea_config_point_t *pt, const ea_actuators_t *lim, do
     return;
   }
   if (!(pt->tension >= tmin))
-    snprintf(pt->reason, sizeof pt->reason, "tension %.4g N below the minimum %.4g N",
-             pt->tension, tmin);
+    snprintf(pt->reason, sizeof pt->reason, "tension %.4g N below the minimum %.4g N", pt->tension,
+             tmin);
   else if (pt->tension > lim->tension_max)
-    snprintf(pt->reason, sizeof pt->reason, "tension %.4g N above the maximum %.4g N",
-             pt->tension, lim->tension_max);
+    snprintf(pt->reason, sizeof pt->reason, "tension %.4g N above the maximum %.4g N", pt->tension,
+             lim->tension_max);
   else if (pt->cable_length < lim->cable_length_min - 1e-9)
     snprintf(pt->reason, sizeof pt->reason, "cable length %.4g m below the minimum %.4g m",
              pt->cable_length, lim->cable_length_min);
@@ -179,8 +179,7 @@ ea_status_t ea_torque_map(ea_shooter_t *sh, const double *cable_length, int n_le
   return EA_OK;
 }
 
-ea_status_t ea_config_check_stability(ea_shooter_t *sh, ea_fe_model_t *fe,
-                                      ea_config_point_t *pt) {
+ea_status_t ea_config_check_stability(ea_shooter_t *sh, ea_fe_model_t *fe, ea_config_point_t *pt) {
   if (!sh || !fe || !pt) return EA_ERR_ARG;
   pt->stable = -1;
   if (pt->status != EA_OK && pt->status != EA_ERR_INADMISSIBLE) return EA_OK;

@@ -6,8 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const ea__obj_names[] = {"min_time", "min_effort", "min_jerk",
-                                            "min_vibration"};
+static const char *const ea__obj_names[] = {"min_time", "min_effort", "min_jerk", "min_vibration"};
 static const char *const ea__path_names[] = {"free", "line", "polyline"};
 
 const char *ea_task_objective_name(ea_task_objective_t o) {
@@ -117,12 +116,12 @@ static ea_status_t ea__check_limits(const ea_task_t *t, ea_error_t *err) {
   for (size_t i = 0; i < sizeof pos / sizeof *pos; ++i) {
     const double v = pos[i].v;
     if (isnan(v) || !(v > 0.0) || (isinf(v) && !pos[i].may_be_inf))
-      return ea_error_set(err, EA_ERR_INPUT, "%slimits.%s = %g: must be a finite number > 0",
-                          pre, pos[i].key, v);
+      return ea_error_set(err, EA_ERR_INPUT, "%slimits.%s = %g: must be a finite number > 0", pre,
+                          pos[i].key, v);
     if (v > pos[i].arm_max * (1.0 + 1e-12))
       return ea_error_set(err, EA_ERR_INPUT,
-                          "%slimits.%s = %g exceeds the arm's limit %g (arm file)", pre,
-                          pos[i].key, v, pos[i].arm_max);
+                          "%slimits.%s = %g exceeds the arm's limit %g (arm file)", pre, pos[i].key,
+                          v, pos[i].arm_max);
   }
   if (!(l->tension_min < l->tension_max))
     return ea_error_set(err, EA_ERR_INPUT,
@@ -144,8 +143,8 @@ static ea_status_t ea__check_limits(const ea_task_t *t, ea_error_t *err) {
                         pre, l->min_first_frequency_hz);
   if (!(l->max_modal_deflection_m > 0.0))
     return ea_error_set(err, EA_ERR_INPUT,
-                        "%slimits.max_modal_deflection_m = %g: must be > 0 (INFINITY = off)",
-                        pre, l->max_modal_deflection_m);
+                        "%slimits.max_modal_deflection_m = %g: must be > 0 (INFINITY = off)", pre,
+                        l->max_modal_deflection_m);
   if (!(l->resample_margin >= 0.0 && l->resample_margin <= 0.5))
     return ea_error_set(err, EA_ERR_INPUT, "%slimits.resample_margin = %g: must be in [0, 0.5]",
                         pre, l->resample_margin);
@@ -160,8 +159,8 @@ static ea_status_t ea__check_point(ea_task_t *t, ea_shooter_t *sh, ea_task_point
   ea__pre(pt->where, pre, sizeof pre);
   for (int i = 0; i < 3; ++i)
     if (!isfinite(pt->given[i]))
-      return ea_error_set(err, EA_ERR_INPUT, "%s%s: coordinate %d is not finite (or not set)",
-                          pre, what, i);
+      return ea_error_set(err, EA_ERR_INPUT, "%s%s: coordinate %d is not finite (or not set)", pre,
+                          what, i);
   switch (pt->kind) {
   case EA_TASK_TIP_PLANAR:
     pt->reach = pt->given[0];
@@ -180,11 +179,12 @@ static ea_status_t ea__check_point(ea_task_t *t, ea_shooter_t *sh, ea_task_point
     pt->reach = arm->x_c + pt->cable_length * cos(pt->cable_angle);
     pt->height = arm->y_c + pt->cable_length * sin(pt->cable_angle);
     break;
-  default: return ea_error_set(err, EA_ERR_INPUT, "%s%s: unknown point kind", pre, what);
+  default:
+    return ea_error_set(err, EA_ERR_INPUT, "%s%s: unknown point kind", pre, what);
   }
   if (pt->kind != EA_TASK_ACTUATORS) {
     pt->cable_length = hypot(pt->reach - arm->x_c, pt->height - arm->y_c); /* eq. 19 */
-    pt->cable_angle = atan2(pt->height - arm->y_c, pt->reach - arm->x_c); /* eq. 20 */
+    pt->cable_angle = atan2(pt->height - arm->y_c, pt->reach - arm->x_c);  /* eq. 20 */
   }
   const ea_task_limits_t *l = &t->limits;
   const double Lc = pt->cable_length;
@@ -196,9 +196,8 @@ static ea_status_t ea__check_point(ea_task_t *t, ea_shooter_t *sh, ea_task_point
                         pt->height);
   if (pt->base_angle < arm->act.base_angle_min || pt->base_angle > arm->act.base_angle_max)
     return ea_error_set(err, EA_ERR_INFEASIBLE,
-                        "%s%s: base angle %.4g rad is outside the base range [%.4g, %.4g] rad",
-                        pre, what, pt->base_angle, arm->act.base_angle_min,
-                        arm->act.base_angle_max);
+                        "%s%s: base angle %.4g rad is outside the base range [%.4g, %.4g] rad", pre,
+                        what, pt->base_angle, arm->act.base_angle_min, arm->act.base_angle_max);
   ea_statics_problem_t prob = ea_statics_problem_cable(Lc, pt->cable_angle);
   ea_statics_settings_t set;
   ea_statics_settings_default(&set);
@@ -226,14 +225,13 @@ static ea_status_t ea__check_point(ea_task_t *t, ea_shooter_t *sh, ea_task_point
   const double tau = arm->EI * sol.p[EA_P_KAPPA0];
   if (fabs(tau) > l->shoulder_torque_max)
     return ea_error_set(err, EA_ERR_INFEASIBLE,
-                        "%s%s: shoulder torque |EI kappa0| = %.4g N m exceeds %.4g N m", pre,
-                        what, fabs(tau), l->shoulder_torque_max);
+                        "%s%s: shoulder torque |EI kappa0| = %.4g N m exceeds %.4g N m", pre, what,
+                        fabs(tau), l->shoulder_torque_max);
   const double th0 = sol.p[EA_P_THETA0];
   if (th0 < arm->act.shoulder_angle_min || th0 > arm->act.shoulder_angle_max)
     return ea_error_set(err, EA_ERR_INFEASIBLE,
-                        "%s%s: shoulder angle theta0 = %.4g rad is outside [%.4g, %.4g] rad",
-                        pre, what, th0, arm->act.shoulder_angle_min,
-                        arm->act.shoulder_angle_max);
+                        "%s%s: shoulder angle theta0 = %.4g rad is outside [%.4g, %.4g] rad", pre,
+                        what, th0, arm->act.shoulder_angle_min, arm->act.shoulder_angle_max);
   return EA_OK;
 }
 
@@ -243,14 +241,12 @@ ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
   if (st) return st;
   char pre[320];
   if (!(t->payload_kg >= 0.0) || !isfinite(t->payload_kg))
-    return ea_error_set(err, EA_ERR_INPUT, "payload %g kg: must be finite and >= 0",
-                        t->payload_kg);
+    return ea_error_set(err, EA_ERR_INPUT, "payload %g kg: must be finite and >= 0", t->payload_kg);
   if ((st = ea__check_limits(t, err))) return st;
   if (t->knots < 3 || t->knots > 4000)
     return ea_error_set(err, EA_ERR_INPUT, "knots = %d: must be in [3, 4000]", t->knots);
   if (t->n_via < 0 || t->n_via > EA_TASK_MAX_VIA)
-    return ea_error_set(err, EA_ERR_INPUT, "%d via points: at most %d", t->n_via,
-                        EA_TASK_MAX_VIA);
+    return ea_error_set(err, EA_ERR_INPUT, "%d via points: at most %d", t->n_via, EA_TASK_MAX_VIA);
   if (t->n_via + 1 > t->knots - 1)
     return ea_error_set(err, EA_ERR_INPUT, "%d via points need more than %d knots", t->n_via,
                         t->knots);
@@ -278,9 +274,8 @@ ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
                         t->duration_s);
   if (t->objective != EA_TASK_MIN_TIME && isnan(t->time_weight) &&
       !(t->duration_s > 0.0 && isfinite(t->duration_s)))
-    return ea_error_set(err, EA_ERR_INPUT,
-                        "%sobjective %s needs a finite duration_s > 0 (got %g)", pre,
-                        ea_task_objective_name(t->objective), t->duration_s);
+    return ea_error_set(err, EA_ERR_INPUT, "%sobjective %s needs a finite duration_s > 0 (got %g)",
+                        pre, ea_task_objective_name(t->objective), t->duration_s);
   if ((int)t->path < 0 || t->path > EA_TASK_PATH_POLYLINE)
     return ea_error_set(err, EA_ERR_INPUT, "unknown path type");
   if (t->path == EA_TASK_PATH_LINE && t->n_via > 0)

@@ -14,16 +14,15 @@ static ea_status_t ea__load_point(ea__ydoc_t *d, yaml_node_t *n, const char *wha
                     "%s must be a mapping: {tip: [x, y]} or {tip: [x, y, z]} or "
                     "{cable_length_m: .., cable_angle_rad: .., base_angle_rad: ..}",
                     what);
-  static const char *const keys[] = {"tip", "base_angle_rad", "cable_length_m",
-                                     "cable_angle_rad", NULL};
+  static const char *const keys[] = {"tip", "base_angle_rad", "cable_length_m", "cable_angle_rad",
+                                     NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, what, err);
   if (st) return st;
   yaml_node_t *tip = ea__ymap_get(d, n, "tip");
   yaml_node_t *lc = ea__ymap_get(d, n, "cable_length_m");
   yaml_node_t *al = ea__ymap_get(d, n, "cable_angle_rad");
   double base = 0.0;
-  if ((st = ea__ymap_double(d, n, "base_angle_rad", 0, -4 * M_PI, 4 * M_PI, &base, err)))
-    return st;
+  if ((st = ea__ymap_double(d, n, "base_angle_rad", 0, -4 * M_PI, 4 * M_PI, &base, err))) return st;
   if (tip && (lc || al))
     return ea__yerr(d, n, err, EA_ERR_INPUT,
                     "%s: give either 'tip' or the actuator coordinates (cable_length_m, "
@@ -49,8 +48,7 @@ static ea_status_t ea__load_point(ea__ydoc_t *d, yaml_node_t *n, const char *wha
   } else {
     double L = NAN, a = NAN;
     if ((st = ea__ymap_double(d, n, "cable_length_m", 1, 1e-9, 100.0, &L, err))) return st;
-    if ((st = ea__ymap_double(d, n, "cable_angle_rad", 1, -2 * M_PI, 2 * M_PI, &a, err)))
-      return st;
+    if ((st = ea__ymap_double(d, n, "cable_angle_rad", 1, -2 * M_PI, 2 * M_PI, &a, err))) return st;
     *pt = ea_task_point_actuators(L, a, base);
   }
   ea__ynode_where(d, n, pt->where, sizeof pt->where);
@@ -76,18 +74,16 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
                                      "resample_margin",
                                      "continuous_acceleration",
                                      NULL};
-  double *dst[] = {&l->tension_min,           &l->tension_max,
-                   &l->cable_length_min,      &l->cable_length_max,
-                   &l->cable_speed_max,       &l->cable_accel_max,
-                   &l->cable_angle_speed_max, &l->cable_angle_accel_max,
-                   &l->shoulder_torque_max,   &l->shoulder_speed_max,
-                   &l->base_speed_max,        &l->base_accel_max};
+  double *dst[] = {&l->tension_min,           &l->tension_max,           &l->cable_length_min,
+                   &l->cable_length_max,      &l->cable_speed_max,       &l->cable_accel_max,
+                   &l->cable_angle_speed_max, &l->cable_angle_accel_max, &l->shoulder_torque_max,
+                   &l->shoulder_speed_max,    &l->base_speed_max,        &l->base_accel_max};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "limits", err);
   if (st) return st;
   for (int i = 0; i < (int)(sizeof dst / sizeof *dst); ++i)
     if ((st = ea__ymap_double(d, n, keys[i], 0, 1e-12, 1e12, dst[i], err))) return st;
-  if ((st = ea__ymap_double(d, n, "min_first_frequency_Hz", 0, 0.0, 1e4,
-                            &l->min_first_frequency_hz, err)))
+  if ((st = ea__ymap_double(d, n, "min_first_frequency_Hz", 0, 0.0, 1e4, &l->min_first_frequency_hz,
+                            err)))
     return st;
   if ((st = ea__ymap_double(d, n, "max_modal_deflection_m", 0, 1e-12, 1e3,
                             &l->max_modal_deflection_m, err)))
@@ -101,9 +97,9 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
 
 static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver_t *s,
                                    ea_error_t *err) {
-  static const char *const keys[] = {"max_iter",        "tol",         "constr_viol_tol",
-                                     "max_time_s",      "derivative_test", "print_level",
-                                     "tune_schedule",   "regularization", "hessian", NULL};
+  static const char *const keys[] = {
+      "max_iter",    "tol",           "constr_viol_tol", "max_time_s", "derivative_test",
+      "print_level", "tune_schedule", "regularization",  "hessian",    NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
   if (st) return st;
   long v = s->max_iter;
@@ -132,10 +128,9 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
   yaml_node_t *root, *n;
   ea_status_t st = ea__ydoc_root_map(d, &root, err);
   if (st) return st;
-  static const char *const top[] = {"name",   "arm_file",  "payload_kg", "payload_factor",
-                                    "start",  "goal",      "via",        "path",
-                                    "objective", "limits", "knots",      "solver",
-                                    "outputs", NULL};
+  static const char *const top[] = {
+      "name", "arm_file",  "payload_kg", "payload_factor", "start",  "goal",    "via",
+      "path", "objective", "limits",     "knots",          "solver", "outputs", NULL};
   if ((st = ea__ymap_check_keys(d, root, top, "the task file", err))) return st;
 
   /* The arm first: limits default to its values. */
@@ -182,8 +177,7 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
   if (pk && (st = ea__ymap_double(d, root, "payload_kg", 1, 0.0, 1e3, &t->payload_kg, err)))
     return st;
   if (pf) {
-    if ((st = ea__ymap_double(d, root, "payload_factor", 1, 0.0, 100.0, &t->payload_factor,
-                              err)))
+    if ((st = ea__ymap_double(d, root, "payload_factor", 1, 0.0, 100.0, &t->payload_factor, err)))
       return st;
     t->payload_kg = ea_arm_payload_from_factor(&t->arm, t->payload_factor);
   }
@@ -221,8 +215,7 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     return ea__yerr(d, ea__ymap_get(d, root, "path"), err, EA_ERR_INPUT,
                     "key 'path': 'polyline' needs via points (or use 'line')");
 
-  static const char *const objs[] = {"min_time", "min_effort", "min_jerk", "min_vibration",
-                                     NULL};
+  static const char *const objs[] = {"min_time", "min_effort", "min_jerk", "min_vibration", NULL};
   n = ea__ymap_get(d, root, "objective");
   if (n && n->type == YAML_SCALAR_NODE) {
     iv = 0;
@@ -237,8 +230,7 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     iv = 0;
     if ((st = ea__ymap_enum(d, n, "type", 1, objs, &iv, err))) return st;
     t->objective = (ea_task_objective_t)iv;
-    if ((st = ea__ymap_double(d, n, "duration_s", 0, 1e-6, 1e6, &t->duration_s, err)))
-      return st;
+    if ((st = ea__ymap_double(d, n, "duration_s", 0, 1e-6, 1e6, &t->duration_s, err))) return st;
     if ((st = ea__ymap_double(d, n, "time_weight", 0, 1e-12, 1e12, &t->time_weight, err)))
       return st;
     yaml_node_t *dn = ea__ymap_get(d, n, "duration_s");
@@ -277,8 +269,8 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
   if (n) {
     static const char *const okeys[] = {"trajectory", "summary", "figure", NULL};
     if ((st = ea__ymap_check_keys(d, n, okeys, "outputs", err))) return st;
-    if ((st = ea__ymap_string(d, n, "trajectory", 0, t->out_trajectory,
-                              sizeof t->out_trajectory, err)))
+    if ((st = ea__ymap_string(d, n, "trajectory", 0, t->out_trajectory, sizeof t->out_trajectory,
+                              err)))
       return st;
     if ((st = ea__ymap_string(d, n, "summary", 0, t->out_summary, sizeof t->out_summary, err)))
       return st;

@@ -31,8 +31,7 @@ ea_status_t ea__ydoc_load(ea__ydoc_t *d, const char *path, const char *text, siz
     st = ea_error_set(err, EA_ERR_PARSE, "%s:%lu:%lu: YAML syntax error: %s %s", d->file,
                       (unsigned long)parser.problem_mark.line + 1,
                       (unsigned long)parser.problem_mark.column + 1,
-                      parser.problem ? parser.problem : "",
-                      parser.context ? parser.context : "");
+                      parser.problem ? parser.problem : "", parser.context ? parser.context : "");
   } else {
     d->loaded = 1;
   }
@@ -84,8 +83,7 @@ const char *ea__ynode_text(const yaml_node_t *n) {
 
 yaml_node_t *ea__ymap_get(ea__ydoc_t *d, yaml_node_t *map, const char *key) {
   if (!map || map->type != YAML_MAPPING_NODE) return NULL;
-  for (yaml_node_pair_t *p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
-       ++p) {
+  for (yaml_node_pair_t *p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top; ++p) {
     const char *k = ea__ynode_text(yaml_document_get_node(&d->doc, p->key));
     if (k && strcmp(k, key) == 0) return yaml_document_get_node(&d->doc, p->value);
   }
@@ -94,8 +92,7 @@ yaml_node_t *ea__ymap_get(ea__ydoc_t *d, yaml_node_t *map, const char *key) {
 
 ea_status_t ea__ymap_check_keys(ea__ydoc_t *d, yaml_node_t *map, const char *const *allowed,
                                 const char *ctx, ea_error_t *err) {
-  for (yaml_node_pair_t *p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top;
-       ++p) {
+  for (yaml_node_pair_t *p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top; ++p) {
     yaml_node_t *kn = yaml_document_get_node(&d->doc, p->key);
     const char *k = ea__ynode_text(kn);
     if (!k) return ea__yerr(d, kn, err, EA_ERR_INPUT, "%s: keys must be plain strings", ctx);
@@ -157,8 +154,8 @@ ea_status_t ea__ymap_seq(ea__ydoc_t *d, yaml_node_t *map, const char *key, int r
   return EA_OK;
 }
 
-ea_status_t ea__ynode_double(ea__ydoc_t *d, yaml_node_t *n, const char *key, double lo,
-                             double hi, double *out, ea_error_t *err) {
+ea_status_t ea__ynode_double(ea__ydoc_t *d, yaml_node_t *n, const char *key, double lo, double hi,
+                             double *out, ea_error_t *err) {
   const char *t = ea__ynode_text(n);
   if (!t) return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s' must be a number", key);
   char *end = NULL;
@@ -169,11 +166,11 @@ ea_status_t ea__ynode_double(ea__ydoc_t *d, yaml_node_t *n, const char *key, dou
   if (!isfinite(v))
     return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': '%s' is not finite", key, t);
   if (v < lo)
-    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value %s is below the bound %g", key,
-                    t, lo);
+    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value %s is below the bound %g", key, t,
+                    lo);
   if (v > hi)
-    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value %s is above the bound %g", key,
-                    t, hi);
+    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value %s is above the bound %g", key, t,
+                    hi);
   *out = v;
   return EA_OK;
 }
@@ -186,8 +183,8 @@ ea_status_t ea__ymap_double(ea__ydoc_t *d, yaml_node_t *map, const char *key, in
   return ea__ynode_double(d, n, key, lo, hi, out, err);
 }
 
-ea_status_t ea__ymap_int(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
-                         long lo, long hi, long *out, ea_error_t *err) {
+ea_status_t ea__ymap_int(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required, long lo,
+                         long hi, long *out, ea_error_t *err) {
   yaml_node_t *n;
   ea_status_t st = ea__ymap_node(d, map, key, required, &n, err);
   if (st || !n) return st;
@@ -199,14 +196,14 @@ ea_status_t ea__ymap_int(ea__ydoc_t *d, yaml_node_t *map, const char *key, int r
   if (end == t || *end != '\0' || errno == ERANGE)
     return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': '%s' is not an integer", key, t);
   if (v < lo || v > hi)
-    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value %ld is outside [%ld, %ld]", key,
-                    v, lo, hi);
+    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value %ld is outside [%ld, %ld]", key, v,
+                    lo, hi);
   *out = v;
   return EA_OK;
 }
 
-ea_status_t ea__ymap_bool(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
-                          int *out, ea_error_t *err) {
+ea_status_t ea__ymap_bool(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required, int *out,
+                          ea_error_t *err) {
   yaml_node_t *n;
   ea_status_t st = ea__ymap_node(d, map, key, required, &n, err);
   if (st || !n) return st;
@@ -230,8 +227,8 @@ ea_status_t ea__ymap_string(ea__ydoc_t *d, yaml_node_t *map, const char *key, in
   const char *t = ea__ynode_text(n);
   if (!t) return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s' must be a string", key);
   if (strlen(t) + 1 > len)
-    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value is longer than %zu characters",
-                    key, len - 1);
+    return ea__yerr(d, n, err, EA_ERR_INPUT, "key '%s': value is longer than %zu characters", key,
+                    len - 1);
   memcpy(buf, t, strlen(t) + 1);
   return EA_OK;
 }

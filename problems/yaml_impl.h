@@ -48,14 +48,14 @@ ea_status_t ea__ymap_seq(ea__ydoc_t *d, yaml_node_t *map, const char *key, int r
 ea_status_t ea__ymap_double(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
                             double lo, double hi, double *out, ea_error_t *err);
 /** A scalar node as a finite double; key used in messages. */
-ea_status_t ea__ynode_double(ea__ydoc_t *d, yaml_node_t *n, const char *key, double lo,
-                             double hi, double *out, ea_error_t *err);
+ea_status_t ea__ynode_double(ea__ydoc_t *d, yaml_node_t *n, const char *key, double lo, double hi,
+                             double *out, ea_error_t *err);
 /** An integer in [lo, hi]. */
-ea_status_t ea__ymap_int(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
-                         long lo, long hi, long *out, ea_error_t *err);
+ea_status_t ea__ymap_int(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required, long lo,
+                         long hi, long *out, ea_error_t *err);
 /** A boolean (true/false/yes/no). */
-ea_status_t ea__ymap_bool(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
-                          int *out, ea_error_t *err);
+ea_status_t ea__ymap_bool(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required, int *out,
+                          ea_error_t *err);
 /** A string copied into buf (len bytes incl. NUL); too long is an error. */
 ea_status_t ea__ymap_string(ea__ydoc_t *d, yaml_node_t *map, const char *key, int required,
                             char *buf, size_t len, ea_error_t *err);

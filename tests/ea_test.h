@@ -14,8 +14,8 @@ static inline void ea_test_rel(double got, double want, double relerr, const cha
   const double d = (want == 0.0) ? fabs(got) : fabs(got - want) / fabs(want);
   const int ok = isfinite(got) && d <= relerr;
   if (!ok) ++ea_test_fails;
-  printf("%s: %s: got %.15g want %.15g (rel err %.3g, tol %.3g)\n", ok ? "PASS" : "FAIL", what,
-         got, want, d, relerr);
+  printf("%s: %s: got %.15g want %.15g (rel err %.3g, tol %.3g)\n", ok ? "PASS" : "FAIL", what, got,
+         want, d, relerr);
 }
 
 static inline void ea_test_abs(double got, double want, double abserr, const char *what) {
@@ -23,8 +23,8 @@ static inline void ea_test_abs(double got, double want, double abserr, const cha
   const double d = fabs(got - want);
   const int ok = isfinite(got) && d <= abserr;
   if (!ok) ++ea_test_fails;
-  printf("%s: %s: got %.15g want %.15g (abs err %.3g, tol %.3g)\n", ok ? "PASS" : "FAIL", what,
-         got, want, d, abserr);
+  printf("%s: %s: got %.15g want %.15g (abs err %.3g, tol %.3g)\n", ok ? "PASS" : "FAIL", what, got,
+         want, d, abserr);
 }
 
 static inline void ea_test_true(int cond, const char *what) {

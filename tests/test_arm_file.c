@@ -86,8 +86,8 @@ int main(void) {
   expect_error(good, "EI_Nm2: 0.705", "EI_Nm2: -0.705", "EI_Nm2", "below", "negative stiffness");
   expect_error(good, "rho_kg_per_m: 0.501", "rho_kg_per_m: nan", "rho_kg_per_m", "not finite",
                "NaN value");
-  expect_error(good, "rho_kg_per_m: 0.501", "rho_kg_per_m: .nan", "rho_kg_per_m",
-               "not a number", "YAML .nan value");
+  expect_error(good, "rho_kg_per_m: 0.501", "rho_kg_per_m: .nan", "rho_kg_per_m", "not a number",
+               "YAML .nan value");
   expect_error(good, "length_m: 0.914", "length_m: [1, 2]", "length_m", "must be a number",
                "wrong type (sequence for a number)");
   expect_error(good, "length_m: 0.914", "length_m: long", "length_m", "not a number",
@@ -95,7 +95,8 @@ int main(void) {
   expect_error(good, "  length_m: 0.914", "  lenght_m: 0.914", "unknown key 'lenght_m'", NULL,
                "misspelt key");
   expect_error(good, "hand:\n", "hand: [\n", "syntax error", NULL, "YAML syntax error");
-  expect_error(good, "  max_N: 60.0", "  max_N: 0.01", "actuators.tension", "min_N = 0.05 must be below max_N = 0.01",
+  expect_error(good, "  max_N: 60.0", "  max_N: 0.01", "actuators.tension",
+               "min_N = 0.05 must be below max_N = 0.01",
                "contradictory limits (tension max below min)");
   expect_error(good, "    radius_m: 0.015", "    radius_m: 0.015\n    radius_m: 0.02",
                "duplicate key 'radius_m'", NULL, "duplicate key");
@@ -115,8 +116,7 @@ int main(void) {
   for (const char *s = bad; *s && s < strstr(bad, "EI_Nm2: -1"); ++s)
     if (*s == '\n') ++line, q = s + 1;
   char want[64];
-  snprintf(want, sizeof want, "arm.yaml:%d:%d:", line + 1,
-           (int)(strstr(bad, "-1") - q) + 1);
+  snprintf(want, sizeof want, "arm.yaml:%d:%d:", line + 1, (int)(strstr(bad, "-1") - q) + 1);
   ea_test_true(strstr(err.msg, want) != NULL, "error position is the value's line:column");
   printf("  want %s in: %s\n", want, err.msg);
   free(bad);

@@ -57,8 +57,8 @@ int main(void) {
            arm_path);
   int rc = run(args);
   ea_test_true(rc == 0, "statics --json exits 0");
-  const char *keys[] = {"tension_N", "theta0_rad", "kappa0_per_m", "shoulder_torque_Nm",
-                        "cable_angle_rad", "cable_length_m", "residual", "iterations"};
+  const char *keys[] = {"tension_N",       "theta0_rad",     "kappa0_per_m", "shoulder_torque_Nm",
+                        "cable_angle_rad", "cable_length_m", "residual",     "iterations"};
   for (size_t k = 0; k < sizeof keys / sizeof *keys; ++k) {
     char w[96];
     snprintf(w, sizeof w, "JSON has key %s", keys[k]);
@@ -78,8 +78,10 @@ int main(void) {
         ea_statics_problem_tip(arm.x_c + 0.45 * cos(a), arm.y_c + 0.45 * sin(a));
     ea_statics_solution_t sol;
     ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL);
-    ea_test_rel(json_num("tension_N"), sol.p[EA_P_TENSION], 1e-8, "CLI tension vs library tip solve");
-    ea_test_rel(json_num("theta0_rad"), sol.p[EA_P_THETA0], 1e-8, "CLI theta0 vs library tip solve");
+    ea_test_rel(json_num("tension_N"), sol.p[EA_P_TENSION], 1e-8,
+                "CLI tension vs library tip solve");
+    ea_test_rel(json_num("theta0_rad"), sol.p[EA_P_THETA0], 1e-8,
+                "CLI theta0 vs library tip solve");
     ea_test_rel(json_num("shoulder_torque_Nm"), arm.EI * sol.p[EA_P_KAPPA0], 1e-8,
                 "CLI torque = EI kappa0");
     ea_shooter_free(sh);
@@ -112,7 +114,8 @@ int main(void) {
   if (blocker) fclose(blocker);
   snprintf(args, sizeof args, "torque-map --arm %s --csv test_cli_blocker/x.csv", arm_path);
   rc = run(args);
-  ea_test_true(rc != 0 && strstr(out, "test_cli_blocker/x.csv"), "unwritable output: error names it");
+  ea_test_true(rc != 0 && strstr(out, "test_cli_blocker/x.csv"),
+               "unwritable output: error names it");
   const char *csv = "test_cli_tm.csv";
   remove(csv);
   snprintf(args, sizeof args,
@@ -153,8 +156,7 @@ int main(void) {
     ea_traj_free(&tr);
     ea_shooter_free(sh);
     remove("test_cli_traj.png");
-    snprintf(args, sizeof args, "figure test_cli_traj.csv -o test_cli_traj.png --arm %s",
-             arm_path);
+    snprintf(args, sizeof args, "figure test_cli_traj.csv -o test_cli_traj.png --arm %s", arm_path);
     rc = run(args);
     struct stat fs;
     ea_test_true(rc == 0 && stat("test_cli_traj.png", &fs) == 0 && fs.st_size > 1000,
@@ -165,7 +167,8 @@ int main(void) {
       fclose(bad);
     }
     rc = run("figure test_cli_bad.csv -o test_cli_bad.png");
-    ea_test_true(rc == 2 && strstr(out, "test_cli_bad.csv:2:") && stat("test_cli_bad.png", &fs) != 0,
+    ea_test_true(rc == 2 && strstr(out, "test_cli_bad.csv:2:") &&
+                     stat("test_cli_bad.png", &fs) != 0,
                  "figure refuses a malformed trajectory with file:line, writes nothing");
     printf("  -> %.200s\n", out);
   }

@@ -98,9 +98,9 @@ int main(void) {
            arm_path);
   int rc = run(args);
   ea_test_true(rc == 0, "frequencies --json exits 0");
-  const char *keys[] = {"fe_iterations", "fe_residual", "tension_N", "theta0_rad",
-                        "cable_length_m", "cable_angle_rad", "tip_mass_kg", "elements",
-                        "tip_shift_m"};
+  const char *keys[] = {"fe_iterations", "fe_residual",    "tension_N",
+                        "theta0_rad",    "cable_length_m", "cable_angle_rad",
+                        "tip_mass_kg",   "elements",       "tip_shift_m"};
   for (size_t k = 0; k < sizeof keys / sizeof *keys; ++k) {
     char w[96];
     snprintf(w, sizeof w, "JSON has numeric key %s", keys[k]);
@@ -112,7 +112,8 @@ int main(void) {
                "frequencies_Hz lists exactly 4 modes");
   {
     double cli_f[4], cli_T = json_num("tension_N"), cli_th = json_num("theta0_rad");
-    for (int k = 0; k < 4; ++k) cli_f[k] = json_list("frequencies_Hz", k);
+    for (int k = 0; k < 4; ++k)
+      cli_f[k] = json_list("frequencies_Hz", k);
     ea_shooter_t *sh = NULL;
     ea_shooter_alloc(&arm, NULL, &sh, NULL);
     ea_load_t load = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, 0.1))};
@@ -178,11 +179,12 @@ int main(void) {
                                 "fe_iterations,fe_residual,status\n");
     while (f && fgets(line, sizeof line, f) && rows < 32) {
       int commas = 0;
-      for (char *c = line; *c; ++c) commas += *c == ',';
+      for (char *c = line; *c; ++c)
+        commas += *c == ',';
       cols_ok = cols_ok && commas == 9 && strstr(line, ",EA_OK");
       int stable = 0;
-      if (sscanf(line, "%lf,%lf,%lf,%lf,%d", &L[rows], &f1[rows], &f2[rows], &f3[rows],
-                 &stable) != 5)
+      if (sscanf(line, "%lf,%lf,%lf,%lf,%d", &L[rows], &f1[rows], &f2[rows], &f3[rows], &stable) !=
+          5)
         cols_ok = 0;
       stable_all = stable_all && stable == 1;
       ++rows;
@@ -248,9 +250,14 @@ int main(void) {
   rc = run(args);
   ea_test_true(rc == 0, "simulate fast: exit 0");
   if (rc) printf("  -> %.400s\n", out);
-  const char *skeys[] = {"residual_vibration_rms_m", "residual_vibration_peak_m",
-                         "max_tracking_error_m", "energy_drift_J", "steps",
-                         "newton_iterations", "wall_time_s", "simulated_time_s"};
+  const char *skeys[] = {"residual_vibration_rms_m",
+                         "residual_vibration_peak_m",
+                         "max_tracking_error_m",
+                         "energy_drift_J",
+                         "steps",
+                         "newton_iterations",
+                         "wall_time_s",
+                         "simulated_time_s"};
   for (size_t k = 0; k < sizeof skeys / sizeof *skeys; ++k) {
     char w[96];
     snprintf(w, sizeof w, "simulate JSON has key %s", skeys[k]);
@@ -263,7 +270,8 @@ int main(void) {
     if (f && fgets(line, sizeof line, f))
       header_ok = !strcmp(line, "t_s,tip_x_m,tip_y_m,tip_theta_rad,planned_tip_x_m,"
                                 "planned_tip_y_m\n");
-    while (f && fgets(line, sizeof line, f)) ++rows;
+    while (f && fgets(line, sizeof line, f))
+      ++rows;
     if (f) fclose(f);
     ea_test_true(header_ok && rows == (int)json_num("steps") + 1,
                  "tip CSV: header and one row per step + 1");
@@ -284,10 +292,10 @@ int main(void) {
   ea_test_true(json_list("modal_damping_ratios", 1) > 0.1 && json_num("rayleigh_mass_per_s") == 0,
                "--damping-ratio: strain-rate only, mode 2 damped more");
   printf("  --damping-ratio 0.1: b = %.4g s, ratios %.4f %.4f %.4f, residual rms %.4g m, "
-         "tracking %.4g m\n", json_num("rayleigh_stiffness_s"),
-         json_list("modal_damping_ratios", 0), json_list("modal_damping_ratios", 1),
-         json_list("modal_damping_ratios", 2), json_num("residual_vibration_rms_m"),
-         json_num("max_tracking_error_m"));
+         "tracking %.4g m\n",
+         json_num("rayleigh_stiffness_s"), json_list("modal_damping_ratios", 0),
+         json_list("modal_damping_ratios", 1), json_list("modal_damping_ratios", 2),
+         json_num("residual_vibration_rms_m"), json_num("max_tracking_error_m"));
   /* the simple CSV form gives the same result as the trajectory file */
   {
     FILE *f = fopen("test_cli_fe_simple.csv", "w");
@@ -313,15 +321,16 @@ int main(void) {
   snprintf(args, sizeof args, "simulate /nonexistent/traj.csv --arm %s -o %s", arm_path, tip);
   expect_rc(args, 2, "/nonexistent/traj.csv", "missing trajectory: exit 2 naming it");
   ea_test_true(!exists(tip), "missing trajectory: no tip file");
-  write_text("test_cli_fe_bad.csv",
-             "# elasticarm-trajectory 1\nt_s,cable_length_m\n0,0.4\n");
+  write_text("test_cli_fe_bad.csv", "# elasticarm-trajectory 1\nt_s,cable_length_m\n0,0.4\n");
   snprintf(args, sizeof args, "simulate test_cli_fe_bad.csv --arm %s -o %s", arm_path, tip);
   expect_rc(args, 2, "test_cli_fe_bad.csv:", "malformed trajectory: exit 2 with file:line");
   ea_test_true(!exists(tip), "malformed trajectory: no tip file");
-  write_text("test_cli_fe_bad2.csv", "t_s,cable_length_m,cable_angle_rad\n0,0.4,-0.3\n0.5,0.4x,-0.3\n");
+  write_text("test_cli_fe_bad2.csv",
+             "t_s,cable_length_m,cable_angle_rad\n0,0.4,-0.3\n0.5,0.4x,-0.3\n");
   snprintf(args, sizeof args, "simulate test_cli_fe_bad2.csv --arm %s -o %s", arm_path, tip);
   expect_rc(args, 2, "test_cli_fe_bad2.csv:3:", "malformed simple CSV: exit 2 with file:line:col");
-  write_text("test_cli_fe_out.csv", "t_s,cable_length_m,cable_angle_rad\n0,0.95,-0.35\n1,0.95,-0.35\n");
+  write_text("test_cli_fe_out.csv",
+             "t_s,cable_length_m,cable_angle_rad\n0,0.95,-0.35\n1,0.95,-0.35\n");
   snprintf(args, sizeof args, "simulate test_cli_fe_out.csv --arm %s -o %s --figure %s.svg",
            arm_path, tip, tip);
   expect_rc(args, 1, "no static solution", "trajectory outside the workspace: exit 1");
@@ -341,8 +350,7 @@ int main(void) {
    * scheme (the low modes, omega dt << 1, carry next to no numerical damping) */
   snprintf(args, sizeof args, "simulate %s --arm %s --scheme genalpha --json", held, arm_path);
   rc = run(args);
-  ea_test_true(rc == 0 && json_num("residual_vibration_rms_m") < 1e-6 &&
-                   json_num("rho_inf") == 0.9,
+  ea_test_true(rc == 0 && json_num("residual_vibration_rms_m") < 1e-6 && json_num("rho_inf") == 0.9,
                "genalpha held: exit 0, residual rms < 1 um, rho_inf 0.9 reported");
   remove(tip);
   snprintf(args, sizeof args, "simulate %s --arm %s --scheme genalpha --rho-inf 0.7 -o %s --json",
@@ -357,7 +365,8 @@ int main(void) {
   rc = run(args);
   const double fine_rms = json_num("residual_vibration_rms_m");
   printf("  genalpha (rho_inf 0.7, dt 1 ms) fast rms %.6g m; energy scheme %.6g m (dt 1 ms), "
-         "%.6g m (dt 0.25 ms)\n", ga_rms, fast_rms, fine_rms);
+         "%.6g m (dt 0.25 ms)\n",
+         ga_rms, fast_rms, fine_rms);
   ea_test_rel(ga_rms, fine_rms, 0.01,
               "genalpha fast move: residual rms ~ energy scheme at dt / 4 (1 %)");
   return ea_test_summary("test_cli_fe");

@@ -62,7 +62,8 @@ static int cantilever_modes(const ea_arm_t *a, int ne, double tip_mass, double f
   ea_fe_set_straight(m, 0.0);
   ea_fe_modes_info_t mi;
   int rc = ea_fe_modes(m, &mi, &e) != EA_OK;
-  for (int k = 0; k < 3; ++k) f[k] = mi.freq_hz[k];
+  for (int k = 0; k < 3; ++k)
+    f[k] = mi.freq_hz[k];
   ea_fe_model_free(m);
   return rc;
 }
@@ -76,19 +77,22 @@ static void test_cantilever(void) {
   const double bm[3] = {tipmass_root(mu, 1.0, 1.5), tipmass_root(mu, 3.5, 4.5),
                         tipmass_root(mu, 6.5, 7.5)};
   const double bm_pub[3] = {1.24791741, 4.03113944, 7.13413224};
-  for (int k = 0; k < 3; ++k) ea_test_abs(bm[k], bm_pub[k], 1e-8, "tip-mass root (GSL brent) vs published");
+  for (int k = 0; k < 3; ++k)
+    ea_test_abs(bm[k], bm_pub[k], 1e-8, "tip-mass root (GSL brent) vs published");
   for (int pass = 0; pass < 2; ++pass) {
     const double *b = pass ? bm : bl;
     const double M = pass ? mu * a.rho * L : 0.0;
     double want[3], err[5][3];
-    for (int k = 0; k < 3; ++k) want[k] = b[k] * b[k] * c;
+    for (int k = 0; k < 3; ++k)
+      want[k] = b[k] * b[k] * c;
     const int meshes[5] = {2, 4, 8, 16, 32};
     printf("%s: elements, f1 f2 f3 [Hz], rel. errors, observed order\n",
            pass ? "tip mass mu = 1" : "no tip mass");
     for (int i = 0; i < 5; ++i) {
       double f[3] = {0, 0, 0};
       if (cantilever_modes(&a, meshes[i], M, f)) ea_test_true(0, "cantilever modes");
-      for (int k = 0; k < 3; ++k) err[i][k] = fabs(f[k] - want[k]) / want[k];
+      for (int k = 0; k < 3; ++k)
+        err[i][k] = fabs(f[k] - want[k]) / want[k];
       printf("  %2d  %.9f %.9f %.9f  %.2e %.2e %.2e", meshes[i], f[0], f[1], f[2], err[i][0],
              err[i][1], err[i][2]);
       if (i > 0)
@@ -115,7 +119,8 @@ static void test_cantilever(void) {
 
 static double max_abs(const double *a, int n) {
   double r = 0;
-  for (int i = 0; i < n; ++i) r = fmax(r, fabs(a[i]));
+  for (int i = 0; i < n; ++i)
+    r = fmax(r, fabs(a[i]));
   return r;
 }
 
@@ -145,8 +150,7 @@ static void fd_check(ea_arm_t a, int large, const char *label) {
     q[3 * i + 1] = si * sin(0.3) + amp * 0.03 * rnd[1] * (i > 0);
     q[3 * i + 2] = th + amp * 0.5 * rnd[2];
   }
-  const ea_fe_cable_phase_t phases[3] = {EA_FE_CABLE_NONE, EA_FE_CABLE_ACTIVE,
-                                         EA_FE_CABLE_PASSIVE};
+  const ea_fe_cable_phase_t phases[3] = {EA_FE_CABLE_NONE, EA_FE_CABLE_ACTIVE, EA_FE_CABLE_PASSIVE};
   const double l = hypot(a.x_c - q[nd - 3], a.y_c - q[nd - 2]);
   const double vals[3] = {0.0, 12.0, l * (large ? 0.9 : 0.9999)};
   for (int ph = 0; ph < 3; ++ph) {
@@ -172,8 +176,8 @@ static void fd_check(ea_arm_t a, int large, const char *label) {
       Fmax = fmax(Fmax, fabs(f1[j]));
     }
     char w[200];
-    snprintf(w, sizeof w, "%s, cable phase %d: max|K_fd - K| / max|K| = %.2e (nf = %d)", label,
-             ph, dK / Kmax, nf);
+    snprintf(w, sizeof w, "%s, cable phase %d: max|K_fd - K| / max|K| = %.2e (nf = %d)", label, ph,
+             dK / Kmax, nf);
     ea_test_true(dK / Kmax < 1e-7, w);
     snprintf(w, sizeof w, "%s, cable phase %d: force = gradient of potential, %.2e", label, ph,
              dF / Fmax);
@@ -240,7 +244,8 @@ static void test_static_linear(void) {
   ea_fe_static_info_t fi;
   ea_status_t st = ea_fe_newton(m, &fi, NULL);
   const double L = a.length, W = a.rho * a.g, P = a.m_hand * a.g;
-  const double want = (W * L * L * L * L / 8 + P * L * L * L / 3) / a.EI + (W * L * L / 2 + P * L) / a.GA_s;
+  const double want =
+      (W * L * L * L * L / 8 + P * L * L * L / 3) / a.EI + (W * L * L / 2 + P * L) / a.GA_s;
   printf("Newton %d it, eps %.2e\n", fi.iterations, fi.residual);
   ea_test_true(st == EA_OK, "Newton converged");
   /* the geometric nonlinearity at this load is ~ (deflection / L)^2 ~ 3e-6 */
@@ -298,7 +303,8 @@ static int fig5_point(ea_fe_model_t *m, ea_shooter_t *sh, double Lc, double f[3]
   if (ea_fe_static_solve(m, sh, &sol, NULL, &e)) return 1;
   ea_fe_modes_info_t mi;
   if (ea_fe_modes(m, &mi, &e)) return 1;
-  for (int k = 0; k < 3; ++k) f[k] = mi.freq_hz[k];
+  for (int k = 0; k < 3; ++k)
+    f[k] = mi.freq_hz[k];
   double T, l;
   ea_fe_cable_get(m, NULL, NULL, &T, &l);
   printf("  Lc %.3f: FE cable length %.6f m, T %.4f N (ODE %.4f N), theta0 %.4f rad\n", Lc, l, T,
@@ -336,7 +342,8 @@ static void test_fig5(void) {
     printf("%d elements: Lc 0.254 m: %.3f %.3f %.3f Hz; Lc 0.635 m: %.3f %.3f %.3f Hz\n",
            ea_fe_model_settings(mm)->elements, fs[0], fs[1], fs[2], fl[0], fl[1], fl[2]);
     printf("  f1 rises %.1f %% as the cable shortens (paper 55 %%); f2 rises %.1f %% (paper 38 %%),"
-           " f3 rises %.1f %% (paper 12 %%) as it lengthens\n", r1, r2, r3);
+           " f3 rises %.1f %% (paper 12 %%) as it lengthens\n",
+           r1, r2, r3);
     ea_test_true(ss && sl, "both end states stable");
     ea_test_true(r1 > 40.0 && r1 < 70.0, "f1 rise as the cable shortens within 40-70 %");
     ea_test_true(r2 > 0.0, "f2 rises as the cable lengthens");
@@ -374,7 +381,8 @@ static void test_dynamics(void) {
   ea_fe_get_state(m, qs, NULL);
   ea_fe_mode_shape(m, 0, phi);
   /* release from the static state displaced 1 mm along mode 1 */
-  for (int i = 0; i < nd; ++i) q[i] = qs[i] + 1e-3 * phi[i];
+  for (int i = 0; i < nd; ++i)
+    q[i] = qs[i] + 1e-3 * phi[i];
   ea_fe_set_state(m, q, NULL);
   ea_fe_relax_positions(m, NULL);
   ea_fe_get_state(m, q, NULL);
@@ -396,7 +404,9 @@ static void test_dynamics(void) {
   ea_test_true(rel < 1e-6, "energy conserved to 1e-6 of the oscillation energy over 1000 steps");
   /* period from upward zero crossings of the tip y about the static tip */
   const double y0 = qs[nd - 2];
-  for (int k = 0; k < si.rows; k += 250) printf("  t %.4f x %.7f y %.7f\n", tip[4 * k], tip[4 * k + 1] - qs[nd - 3], tip[4 * k + 2] - y0);
+  for (int k = 0; k < si.rows; k += 250)
+    printf("  t %.4f x %.7f y %.7f\n", tip[4 * k], tip[4 * k + 1] - qs[nd - 3],
+           tip[4 * k + 2] - y0);
   double tc[64];
   int nc = 0;
   for (int k = 1; k < si.rows && nc < 64; ++k) {
@@ -405,8 +415,8 @@ static void test_dynamics(void) {
       tc[nc++] = tip[4 * (k - 1)] + (tip[4 * k] - tip[4 * (k - 1)]) * a0 / (a0 - a1);
   }
   const double Tm = (nc >= 2) ? (tc[nc - 1] - tc[0]) / (nc - 1) : NAN;
-  printf("zero crossings %d: measured f = %.6f Hz vs eigen-solver %.6f Hz (%.3f %%)\n", nc, 1.0 / Tm,
-         f1, 100.0 * (1.0 / Tm / f1 - 1.0));
+  printf("zero crossings %d: measured f = %.6f Hz vs eigen-solver %.6f Hz (%.3f %%)\n", nc,
+         1.0 / Tm, f1, 100.0 * (1.0 / Tm / f1 - 1.0));
   ea_test_rel(1.0 / Tm, f1, 5e-3, "oscillation frequency = first eigenfrequency (0.5 %)");
   /* residual vibration measure: a damped release settles */
   ea_fe_set_state(m, q, NULL);
@@ -510,7 +520,8 @@ static void release_velocity(ea_fe_model_t *m, ea_fe_modes_info_t *mi, int k, do
   ea_fe_set_straight(m, 0.0);
   double *q = calloc((size_t)nd, sizeof *q);
   ea_fe_get_state(m, q, NULL);
-  for (int i = 0; i < nd; ++i) phi[i] *= amp * sqrt(mi->lambda[k]);
+  for (int i = 0; i < nd; ++i)
+    phi[i] *= amp * sqrt(mi->lambda[k]);
   ea_fe_set_state(m, q, phi);
   free(q);
   free(phi);
@@ -544,8 +555,7 @@ static void test_genalpha(void) {
   double ref[3];
   ea_fe_tip(m, ref);
   ea_test_true(st == EA_OK, "energy-scheme reference (dt = T1/6400)");
-  printf("f1 = %.5f Hz; reference tip at t = T1: (%.9f, %.9f) m\n", mi.freq_hz[0], ref[0],
-         ref[1]);
+  printf("f1 = %.5f Hz; reference tip at t = T1: (%.9f, %.9f) m\n", mi.freq_hz[0], ref[0], ref[1]);
   const double rhos[2] = {0.9, 0.5};
   for (int r = 0; r < 2; ++r) {
     double errs[4];
@@ -576,7 +586,8 @@ static void test_genalpha(void) {
 
   /* 2. spectral radius: small release (tip 10 um) along mode k with dt = Omega / omega_k;
    * decay per step from the tip signal vs the closed form */
-  printf("mode, Omega = omega dt, rho_inf: measured |lambda| vs closed form, decrement -ln|lambda|\n");
+  printf(
+      "mode, Omega = omega dt, rho_inf: measured |lambda| vs closed form, decrement -ln|lambda|\n");
   struct {
     int k;
     double Om, rho;
@@ -596,11 +607,13 @@ static void test_genalpha(void) {
     galpha_radius(cases[c].rho, cases[c].Om, &princ);
     const double dm = -log(meas), dw = -log(princ);
     printf("  mode %d, Omega %.2f, rho_inf %.1f: |lambda| %.6f vs %.6f; decrement %.5f vs %.5f "
-           "(%.2f %%)\n", k + 1, cases[c].Om, cases[c].rho, meas, princ, dm, dw,
-           100 * (dm / dw - 1));
+           "(%.2f %%)\n",
+           k + 1, cases[c].Om, cases[c].rho, meas, princ, dm, dw, 100 * (dm / dw - 1));
     char w[160];
-    snprintf(w, sizeof w, "mode %d, Omega %.1f, rho_inf %.1f: numerical decrement per step vs "
-             "closed form", k + 1, cases[c].Om, cases[c].rho);
+    snprintf(w, sizeof w,
+             "mode %d, Omega %.1f, rho_inf %.1f: numerical decrement per step vs "
+             "closed form",
+             k + 1, cases[c].Om, cases[c].rho);
     ea_test_true(st == EA_OK, "spectral-radius run integrated");
     ea_test_rel(dm, dw, 0.03, w);
   }
@@ -616,7 +629,8 @@ static void test_genalpha(void) {
     galpha_radius(0.5, 0.05, &princ);
     const double per_period = 1.0 - pow(meas, 2 * M_PI / 0.05);
     printf("  mode 1, Omega 0.05, rho_inf 0.5: |lambda| = 1 - %.3e (closed form 1 - %.3e); "
-           "amplitude loss per period %.2e\n", 1 - meas, 1 - princ, per_period);
+           "amplitude loss per period %.2e\n",
+           1 - meas, 1 - princ, per_period);
     ea_test_true(st == EA_OK && per_period < 1e-4,
                  "low mode (Omega = 0.05, rho_inf = 0.5): amplitude loss per period < 1e-4");
   }
@@ -643,7 +657,8 @@ static void test_genalpha(void) {
       double *q = calloc((size_t)nd, sizeof *q), *phi = calloc((size_t)nd, sizeof *phi);
       ea_fe_get_state(m, q, NULL);
       ea_fe_mode_shape(m, 0, phi);
-      for (int i = 0; i < nd; ++i) q[i] += 1e-3 * phi[i];
+      for (int i = 0; i < nd; ++i)
+        q[i] += 1e-3 * phi[i];
       for (int pass = 0; pass < 2; ++pass) {
         ea_fe_set_state(m, q, NULL);
         ea_fe_relax_positions(m, NULL);
@@ -656,8 +671,9 @@ static void test_genalpha(void) {
         st = ea_fe_simulate(m, NULL, &ss, NULL, 0, &si, &e);
         const double rel = si.energy_drift_max / si.kinetic_max;
         printf("rho_inf %.1f: %d steps, %d Newton it (max %d), max |E - E0| / max kinetic = %.2e, "
-               "E_end - E0 = %.3e J\n", ss.rho_inf, si.steps, si.newton_iterations,
-               si.max_step_iterations, rel, si.energy_end - si.energy_start);
+               "E_end - E0 = %.3e J\n",
+               ss.rho_inf, si.steps, si.newton_iterations, si.max_step_iterations, rel,
+               si.energy_end - si.energy_start);
         if (!pass) {
           ea_test_true(st == EA_OK && si.steps == 1000, "rho_inf = 1: 1000 steps");
           ea_test_true(rel < 1e-4, "rho_inf = 1: energy drift < 1e-4 of the oscillation energy");
@@ -735,21 +751,26 @@ static void test_strain_damping(void) {
     ea__fe_assemble_rate(m, m->q, v, 1.0, fd, C);
     ea__fe_band_gemv(m, 1.0, C, v, cv);
     double cmax = 0.0;
-    for (size_t i = 0; i < nb; ++i) cmax = fmax(cmax, fabs(C[i]));
+    for (size_t i = 0; i < nb; ++i)
+      cmax = fmax(cmax, fabs(C[i]));
     const double vmax = max_abs(v, nd), rigid = max_abs(fd, nd) / (cmax * vmax);
-    snprintf(w, sizeof w, "rigid rotation + translation of a curved strained beam: |f_d| = "
-             "%.2e |C| |v|", rigid);
+    snprintf(w, sizeof w,
+             "rigid rotation + translation of a curved strained beam: |f_d| = "
+             "%.2e |C| |v|",
+             rigid);
     ea_test_true(rigid < 1e-13, w);
     /* a deforming velocity: force = C v and nonzero */
-    for (int i = 0; i < nd; ++i) v[i] += 1e-3 * sin(1.7 * i);
+    for (int i = 0; i < nd; ++i)
+      v[i] += 1e-3 * sin(1.7 * i);
     memset(fd, 0, (size_t)nd * sizeof *fd);
     memset(cv, 0, (size_t)nd * sizeof *cv);
     ea__fe_assemble_rate(m, m->q, v, 1.0, fd, NULL);
     ea__fe_band_gemv(m, 1.0, C, v, cv);
     double dd = 0;
-    for (int i = 0; i < nd; ++i) dd = fmax(dd, fabs(fd[i] - cv[i]));
-    snprintf(w, sizeof w, "deforming velocity: f_d = C v to %.2e of |f_d| = %.3g", dd / max_abs(fd, nd),
-             max_abs(fd, nd));
+    for (int i = 0; i < nd; ++i)
+      dd = fmax(dd, fabs(fd[i] - cv[i]));
+    snprintf(w, sizeof w, "deforming velocity: f_d = C v to %.2e of |f_d| = %.3g",
+             dd / max_abs(fd, nd), max_abs(fd, nd));
     ea_test_true(dd / max_abs(fd, nd) < 1e-12 && max_abs(fd, nd) > 1e-3 * cmax * 1e-3, w);
     free(C);
     free(v);
@@ -769,7 +790,8 @@ static void test_strain_damping(void) {
     double b, zm[EA_FE_MAX_MODES];
     ea_status_t st = ea_fe_strain_damping(m, 0, 0.05, &b, zm);
     printf("straight arm: f1 %.4f Hz; zeta 0.05 at mode 1 -> b = %.4e s; zeta of modes 1-3: "
-           "%.4f %.4f %.4f\n", mi.freq_hz[0], b, zm[0], zm[1], zm[2]);
+           "%.4f %.4f %.4f\n",
+           mi.freq_hz[0], b, zm[0], zm[1], zm[2]);
     ea_test_true(st == EA_OK && b > 0, "ea_fe_strain_damping");
     const int nd = m->nd;
     double w_spin = 1.0, *v = calloc((size_t)nd, sizeof *v), *q = calloc((size_t)nd, sizeof *q);
@@ -796,8 +818,11 @@ static void test_strain_damping(void) {
       W[pass] = si.damping_work / si.energy_start;
       ea_fe_tip(m, tipa[pass]);
       printf("  %s: %d steps, E_end / E_0 = %.10f, damping work / E_0 = %.3e, tip (%.6f, "
-             "%.6f)%s\n", pass == 0 ? "undamped      " : pass == 1 ? "strain-rate   "
-                          : pass == 2 ? "mass-prop.    " : "strain, dt/2  ",
+             "%.6f)%s\n",
+             pass == 0   ? "undamped      "
+             : pass == 1 ? "strain-rate   "
+             : pass == 2 ? "mass-prop.    "
+                         : "strain, dt/2  ",
              si.steps, E[pass], W[pass], tipa[pass][0], tipa[pass][1], st ? " FAILED" : "");
       ea_test_true(st == EA_OK, "spin integrated");
     }
@@ -849,10 +874,10 @@ static void test_strain_damping(void) {
     ea_fe_strain_damping(m, 0, 0.02, &b, zm);
     printf("Lc 0.4 m, passive: f %.4f %.4f %.4f Hz; zeta 0.02 at mode 1 -> b = %.4e s "
            "(2 zeta / omega_1 = %.4e s: cable and geometric stiffness); zeta modes 1-3: "
-           "%.4f %.4f %.4f\n", mi.freq_hz[0], mi.freq_hz[1], mi.freq_hz[2], b,
-           0.04 / sqrt(mi.lambda[0]), zm[0], zm[1], zm[2]);
-    double *qs = calloc((size_t)nd, sizeof *qs), *q = calloc((size_t)nd, sizeof *q),
-           *phi[2];
+           "%.4f %.4f %.4f\n",
+           mi.freq_hz[0], mi.freq_hz[1], mi.freq_hz[2], b, 0.04 / sqrt(mi.lambda[0]), zm[0], zm[1],
+           zm[2]);
+    double *qs = calloc((size_t)nd, sizeof *qs), *q = calloc((size_t)nd, sizeof *q), *phi[2];
     ea_fe_get_state(m, qs, NULL);
     for (int k = 0; k < 2; ++k) {
       phi[k] = calloc((size_t)nd, sizeof *phi[k]);
@@ -861,7 +886,8 @@ static void test_strain_damping(void) {
     const int nst = 600, cap = nst + 1;
     double *tip = calloc(4 * (size_t)cap, sizeof *tip);
     for (int k = 0; k < 2; ++k) {
-      for (int i = 0; i < nd; ++i) q[i] = qs[i] + 1e-3 * phi[k][i];
+      for (int i = 0; i < nd; ++i)
+        q[i] = qs[i] + 1e-3 * phi[k][i];
       ea_fe_set_state(m, q, NULL);
       ea_fe_relax_positions(m, NULL);
       ea_fe_sim_settings_t ss;
@@ -872,11 +898,13 @@ static void test_strain_damping(void) {
       ss.rayleigh_stiffness = b;
       ea_fe_sim_info_t si;
       ea_status_t st = ea_fe_simulate(m, NULL, &ss, tip, cap, &si, &e);
-      for (int n = 0; n < si.rows; ++n) tip[4 * n + 2] -= qs[nd - 2];
+      for (int n = 0; n < si.rows; ++n)
+        tip[4 * n + 2] -= qs[nd - 2];
       const double lam = lp_modulus(tip, 20, nst), zeta = -log(lam) / (om * ss.dt);
       printf("  mode %d: measured zeta %.5f vs %.5f (%.2f %%); E_end + W = %.12f J vs E_0 = "
-             "%.12f J\n", k + 1, zeta, zm[k], 100 * (zeta / zm[k] - 1),
-             si.energy_end + si.damping_work, si.energy_start);
+             "%.12f J\n",
+             k + 1, zeta, zm[k], 100 * (zeta / zm[k] - 1), si.energy_end + si.damping_work,
+             si.energy_start);
       char w[160];
       snprintf(w, sizeof w, "mode %d release: measured damping ratio vs requested/modal", k + 1);
       ea_test_true(st == EA_OK, "damped release integrated");
@@ -904,7 +932,7 @@ static void test_strain_damping(void) {
  * reference for them is omega^2 by inverse iteration in extended precision
  * (long double LU of K - lambda M, Rayleigh quotient) on the same double
  * matrices, started from the dsygv pair. */
-#define EA__SBX(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j) * EA__FE_LDS]
+#define EA__SBX(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j)*EA__FE_LDS]
 static long double band_ld(const double *B, int i, int j) {
   if (i > j) {
     const int t = i;
@@ -924,7 +952,8 @@ static double lambda_reference(const ea_fe_model_t *m, double lam0, const double
     return NAN;
   }
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) A[i * n + j] = band_ld(m->Kb, i, j) - lam * band_ld(m->Mb, i, j);
+    for (int j = 0; j < n; ++j)
+      A[i * n + j] = band_ld(m->Kb, i, j) - lam * band_ld(m->Mb, i, j);
   for (int c = 0; c < n; ++c) { /* LU with partial pivoting */
     int p = c;
     for (int r = c + 1; r < n; ++r)
@@ -937,10 +966,12 @@ static double lambda_reference(const ea_fe_model_t *m, double lam0, const double
     }
     for (int r = c + 1; r < n; ++r) {
       const long double f = (A[r * n + c] /= A[c * n + c]);
-      for (int j = c + 1; j < n && f != 0.0L; ++j) A[r * n + j] -= f * A[c * n + j];
+      for (int j = c + 1; j < n && f != 0.0L; ++j)
+        A[r * n + j] -= f * A[c * n + j];
     }
   }
-  for (int i = 0; i < n; ++i) x[i] = phi[i + 3];
+  for (int i = 0; i < n; ++i)
+    x[i] = phi[i + 3];
   for (int it = 0; it < 3; ++it) {
     for (int i = 0; i < n; ++i) {
       y[i] = 0.0L;
@@ -951,11 +982,13 @@ static double lambda_reference(const ea_fe_model_t *m, double lam0, const double
       const long double t = y[c];
       y[c] = y[piv[c]];
       y[piv[c]] = t;
-      for (int r = c + 1; r < n; ++r) y[r] -= A[r * n + c] * y[c];
+      for (int r = c + 1; r < n; ++r)
+        y[r] -= A[r * n + c] * y[c];
     }
     for (int r = n - 1; r >= 0; --r) {
       long double sum = y[r];
-      for (int j = r + 1; j < n; ++j) sum -= A[r * n + j] * y[j];
+      for (int j = r + 1; j < n; ++j)
+        sum -= A[r * n + j] * y[j];
       y[r] = sum / A[r * n + r];
     }
     long double yk = 0.0L, ym = 0.0L, ymax = 0.0L;
@@ -965,8 +998,10 @@ static double lambda_reference(const ea_fe_model_t *m, double lam0, const double
         ym += y[i] * band_ld(m->Mb, i, j) * y[j];
       }
     lam = yk / ym;
-    for (int i = 0; i < n; ++i) ymax = fmaxl(ymax, fabsl(y[i]));
-    for (int i = 0; i < n; ++i) x[i] = y[i] / ymax;
+    for (int i = 0; i < n; ++i)
+      ymax = fmaxl(ymax, fabsl(y[i]));
+    for (int i = 0; i < n; ++i)
+      x[i] = y[i] / ymax;
   }
   free(A), free(x), free(y), free(piv);
   return (double)lam;
@@ -975,7 +1010,8 @@ static double lambda_reference(const ea_fe_model_t *m, double lam0, const double
 static void compare_backends(ea_fe_model_t *const ms[EA_FE_EIG_COUNT], const char *where) {
   ea_fe_modes_info_t mi[EA_FE_EIG_COUNT];
   ea_status_t st = EA_OK;
-  for (int b = 0; b < EA_FE_EIG_COUNT && !st; ++b) st = ea_fe_modes(ms[b], &mi[b], NULL);
+  for (int b = 0; b < EA_FE_EIG_COUNT && !st; ++b)
+    st = ea_fe_modes(ms[b], &mi[b], NULL);
   char w[200];
   snprintf(w, sizeof w, "%s: modes with all backends (Lanczos %d steps, fallback %d)", where,
            mi[EA_FE_EIG_LANCZOS].iterations, mi[EA_FE_EIG_LANCZOS].fallback);
@@ -999,7 +1035,8 @@ static void compare_backends(ea_fe_model_t *const ms[EA_FE_EIG_COUNT], const cha
       ea_fe_mode_shape(ms[b], k, pb);
       ea_fe_mode_shape(md, k, pd);
       double d = 0.0;
-      for (int i = 0; i < nd; ++i) d = fmax(d, fabs(pb[i] - pd[i]));
+      for (int i = 0; i < nd; ++i)
+        d = fmax(d, fabs(pb[i] - pd[i]));
       /* residual of the mode on the free rows, relative to |K phi| */
       memset(r, 0, (size_t)nd * sizeof *r);
       ea__fe_band_gemv(ms[b], 1.0, ms[b]->Kb, pb, r);
@@ -1018,8 +1055,8 @@ static void compare_backends(ea_fe_model_t *const ms[EA_FE_EIG_COUNT], const cha
   }
   /* Lanczos as accurate as the LAPACK backends, up to the rounding floor */
   const double lapack = fmax(worst_f[EA_FE_EIG_DSBGVX], worst_f[EA_FE_EIG_DSYGV]);
-  snprintf(w, sizeof w, "%s: Lanczos frequency error %.1e <= max(2 x LAPACK's %.1e, 5e-8)",
-           where, worst_f[EA_FE_EIG_LANCZOS], lapack);
+  snprintf(w, sizeof w, "%s: Lanczos frequency error %.1e <= max(2 x LAPACK's %.1e, 5e-8)", where,
+           worst_f[EA_FE_EIG_LANCZOS], lapack);
   ea_test_true(worst_f[EA_FE_EIG_LANCZOS] <= fmax(2.0 * lapack, 5e-8), w);
   free(pb);
   free(pd);
@@ -1069,7 +1106,8 @@ static void test_mode_shapes(void) {
       else
         compare_backends(ms, where);
       free(q);
-      for (int b = 0; b < EA_FE_EIG_COUNT; ++b) ea_fe_model_free(ms[b]);
+      for (int b = 0; b < EA_FE_EIG_COUNT; ++b)
+        ea_fe_model_free(ms[b]);
     }
   ea_shooter_free(sh);
 
@@ -1098,7 +1136,8 @@ static void test_mode_shapes(void) {
                  "unstable column: not stable, lambda_1 < 0 < lambda_2");
     compare_backends(ms, "unstable column (shifted pencil)");
   }
-  for (int b = 0; b < EA_FE_EIG_COUNT; ++b) ea_fe_model_free(ms[b]);
+  for (int b = 0; b < EA_FE_EIG_COUNT; ++b)
+    ea_fe_model_free(ms[b]);
 }
 
 /* ---- (e) bad arguments ---- */

@@ -23,16 +23,15 @@ static void check_limits(const ea_task_t *t, const ea_traj_t *tr, const char *na
   const double vmax[3] = {l->cable_speed_max, l->cable_angle_speed_max, l->base_speed_max};
   const double amax[3] = {l->cable_accel_max, l->cable_angle_accel_max, l->base_accel_max};
   const int qc[3] = {EA_TRAJ_cable_length, EA_TRAJ_cable_angle, EA_TRAJ_base_angle};
-  const int vc[3] = {EA_TRAJ_cable_length_rate, EA_TRAJ_cable_angle_rate,
-                     EA_TRAJ_base_angle_rate};
+  const int vc[3] = {EA_TRAJ_cable_length_rate, EA_TRAJ_cable_angle_rate, EA_TRAJ_base_angle_rate};
   double worst[8] = {0}; /* relative excess: T_min, T_max, torque, L_c, speed, acc, mid, shoulder */
   for (int k = 0; k < tr->n; ++k) {
     const double T = EA_TRAJ_AT(tr, k, EA_TRAJ_tension);
     worst[0] = fmax(worst[0], (l->tension_min - T) / l->tension_min);
     worst[1] = fmax(worst[1], (T - l->tension_max) / l->tension_max);
-    worst[2] = fmax(worst[2], (fabs(EA_TRAJ_AT(tr, k, EA_TRAJ_shoulder_torque)) -
-                               l->shoulder_torque_max) /
-                                  l->shoulder_torque_max);
+    worst[2] =
+        fmax(worst[2], (fabs(EA_TRAJ_AT(tr, k, EA_TRAJ_shoulder_torque)) - l->shoulder_torque_max) /
+                           l->shoulder_torque_max);
     const double Lc = EA_TRAJ_AT(tr, k, EA_TRAJ_cable_length);
     worst[3] = fmax(worst[3], fmax(l->cable_length_min - Lc, Lc - l->cable_length_max));
     for (int c = 0; c < 3; ++c)
@@ -52,14 +51,15 @@ static void check_limits(const ea_task_t *t, const ea_traj_t *tr, const char *na
       if (isfinite(vmax[c])) worst[6] = fmax(worst[6], (fabs(vm) - vmax[c]) / vmax[c]);
     }
     if (isfinite(l->shoulder_speed_max)) {
-      const double w = (EA_TRAJ_AT(tr, k + 1, EA_TRAJ_theta0) - EA_TRAJ_AT(tr, k, EA_TRAJ_theta0)) / h;
+      const double w =
+          (EA_TRAJ_AT(tr, k + 1, EA_TRAJ_theta0) - EA_TRAJ_AT(tr, k, EA_TRAJ_theta0)) / h;
       worst[7] = fmax(worst[7], (fabs(w) - l->shoulder_speed_max) / l->shoulder_speed_max);
     }
   }
-  static const char *const nm[8] = {"T >= T_min",           "T <= T_max",
-                                    "|EI kappa0| <= max",   "L_c in range [m]",
-                                    "knot speeds",          "Hermite accelerations",
-                                    "mid-interval speeds",  "shoulder speed (theta0 differences)"};
+  static const char *const nm[8] = {"T >= T_min",          "T <= T_max",
+                                    "|EI kappa0| <= max",  "L_c in range [m]",
+                                    "knot speeds",         "Hermite accelerations",
+                                    "mid-interval speeds", "shoulder speed (theta0 differences)"};
   for (int i = 0; i < 8; ++i) {
     char what[200];
     snprintf(what, sizeof what, "%s: %s (worst relative excess %.3g)", name, nm[i], worst[i]);
@@ -84,8 +84,7 @@ static void check_statics(const ea_task_t *t, const ea_traj_t *tr, const char *n
     const double Lc = EA_TRAJ_AT(tr, k, EA_TRAJ_cable_length);
     const double al = EA_TRAJ_AT(tr, k, EA_TRAJ_cable_angle);
     const double p[EA_NP] = {al, EA_TRAJ_AT(tr, k, EA_TRAJ_tension),
-                             EA_TRAJ_AT(tr, k, EA_TRAJ_theta0),
-                             EA_TRAJ_AT(tr, k, EA_TRAJ_kappa0)};
+                             EA_TRAJ_AT(tr, k, EA_TRAJ_theta0), EA_TRAJ_AT(tr, k, EA_TRAJ_kappa0)};
     ea_statics_problem_t prob = ea_statics_problem_cable(Lc, al);
     ea_statics_solution_t sol;
     if (ea_statics_solve(sh, &prob, NULL, NULL, &sol, &e) != EA_OK) {
@@ -133,9 +132,9 @@ typedef void (*path_fn)(double beta, double q1[2], double q2[2]);
 static void paper_line_path(double beta, double q1[2], double q2[2]) {
   const double xc = 0.098, yc = -0.006;
   const double X = 0.3 * beta + 0.3 - xc, Y = -0.2 - yc, L2 = X * X + Y * Y, L = sqrt(L2);
-  q1[0] = 0.3 * X / L;               /* dL_c/dbeta (eq. 19) */
+  q1[0] = 0.3 * X / L; /* dL_c/dbeta (eq. 19) */
   q2[0] = 0.09 * Y * Y / (L2 * L);
-  q1[1] = -0.3 * Y / L2;             /* dalpha/dbeta (eq. 20) */
+  q1[1] = -0.3 * Y / L2; /* dalpha/dbeta (eq. 20) */
   q2[1] = 0.18 * X * Y / (L2 * L2);
 }
 
@@ -382,8 +381,8 @@ static void test_infeasible(void) {
   if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
   char what[700];
   snprintf(what, sizeof what, "infeasible-line reported infeasible: %s", e.msg);
-  ea_test_true(st == EA_ERR_INFEASIBLE && strstr(e.msg, "knot") && strstr(e.msg, "cable_length_min"),
-               what);
+  ea_test_true(
+      st == EA_ERR_INFEASIBLE && strstr(e.msg, "knot") && strstr(e.msg, "cable_length_min"), what);
   ea_traj_t tr;
   memset(&tr, 0, sizeof tr);
   ea_test_true(pl && ea_planner_trajectory(pl, &tr, NULL) != EA_OK,

@@ -45,7 +45,8 @@ static ea_status_t plan_resample(int knots, double margin, int c2, ea_task_objec
   st = ea_stream_resample(&tr, &t.arm, 1000.0, 1e-6, &sp, &n, &e);
   *scale = NAN;
   ea_stream_min_time_scale(&tr, &t.arm, 1000.0, 1e-6, scale, NULL);
-  printf("%s, %3d knots, resample_margin %.4f, continuous acceleration %d: duration %.5f s, %d setpoints: %s; least time "
+  printf("%s, %3d knots, resample_margin %.4f, continuous acceleration %d: duration %.5f s, %d "
+         "setpoints: %s; least time "
          "scale %.5f\n",
          ea_task_objective_name(obj), knots, margin, c2, info.duration_s, n,
          st ? e.msg : "every setpoint within the arm's limits", *scale);

@@ -69,9 +69,9 @@ static void test_model_accuracy(void) {
   ea_planner_freq_model(pl, &fi);
   printf("frequency model: %d x %d grid, L_c %.4f..%.4f m, alpha %.4f..%.4f rad, f1 %.4f..%.4f "
          "Hz, %d extrapolated, built in %.1f ms\n",
-         fi.n_cable_length, fi.n_cable_angle, fi.cable_length_range[0],
-         fi.cable_length_range[1], fi.cable_angle_range[0], fi.cable_angle_range[1],
-         fi.f1_min_hz, fi.f1_max_hz, fi.n_extrapolated, 1e3 * fi.time_s);
+         fi.n_cable_length, fi.n_cable_angle, fi.cable_length_range[0], fi.cable_length_range[1],
+         fi.cable_angle_range[0], fi.cable_angle_range[1], fi.f1_min_hz, fi.f1_max_hz,
+         fi.n_extrapolated, 1e3 * fi.time_s);
   ea_test_true(fi.built == 1, "frequency model built");
   /* cell centres (farthest from the knots of the spline) along the line
    * (u = 0..1 of the tip path) and 0.02 m below it */
@@ -196,8 +196,8 @@ static void test_residual_vibration(void) {
   ea_status_t st = ea_task_check(&tf, &e);
   if (!st) st = ea_planner_alloc(&tf, &pl, &e);
   if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
-  printf("  min_first_frequency_Hz = %.4f (goal %.4f): %s\n", tf.limits.min_first_frequency_hz,
-         fg, e.msg);
+  printf("  min_first_frequency_Hz = %.4f (goal %.4f): %s\n", tf.limits.min_first_frequency_hz, fg,
+         e.msg);
   ea_test_true(st != EA_OK, "a frequency limit above the goal's f1 is refused");
   ea_planner_free(pl);
 }

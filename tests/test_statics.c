@@ -30,7 +30,9 @@ static ea_arm_t test_arm(double rho, double tip_mass, double L) {
 struct bd_ctx {
   double a;
 };
-static double bd_k(double phi0) { return sqrt((1.0 + sin(phi0)) / 2.0); }
+static double bd_k(double phi0) {
+  return sqrt((1.0 + sin(phi0)) / 2.0);
+}
 static double bd_f(double phi0, void *vp) {
   const struct bd_ctx *c = vp;
   const double k = bd_k(phi0), t1 = asin(1.0 / (k * M_SQRT2));
@@ -214,7 +216,8 @@ static void test_workspace_shrinks(void) {
   ea_shooter_alloc(&arm, NULL, &sh, NULL);
   const double gam[] = {0.0, 0.1, 0.25, 0.5};
   double alpha[15];
-  for (int k = 0; k < 15; ++k) alpha[k] = (-60.0 + 5.0 * k) * M_PI / 180.0;
+  for (int k = 0; k < 15; ++k)
+    alpha[k] = (-60.0 + 5.0 * k) * M_PI / 180.0;
   ea_config_point_t prev[15], cur[15];
   int ok = 1, conv = 1;
   for (int g = 0; g < 4; ++g) {
@@ -222,7 +225,8 @@ static void test_workspace_shrinks(void) {
     ea_shooter_set_load(sh, &load);
     conv &= ea_workspace_outer(sh, alpha, 15, cur) == EA_OK;
     if (g > 0)
-      for (int k = 0; k < 15; ++k) ok &= cur[k].cable_length < prev[k].cable_length;
+      for (int k = 0; k < 15; ++k)
+        ok &= cur[k].cable_length < prev[k].cable_length;
     memcpy(prev, cur, sizeof cur);
   }
   ea_test_true(conv, "outer edge converged for every payload factor and angle");
@@ -241,8 +245,7 @@ static void test_problem_statements(void) {
   ea_statics_solution_t a, b, c, d;
   ea_statics_solve(sh, &pa, NULL, NULL, &a, NULL);
   ea_statics_problem_t pb = ea_statics_problem_tip(a.tip[EA_X_X], a.tip[EA_X_Y]);
-  ea_statics_problem_t pc =
-      ea_statics_problem_tension_theta0(a.p[EA_P_TENSION], a.p[EA_P_THETA0]);
+  ea_statics_problem_t pc = ea_statics_problem_tension_theta0(a.p[EA_P_TENSION], a.p[EA_P_THETA0]);
   ea_statics_problem_t pd = ea_statics_problem_tension_alpha(a.p[EA_P_TENSION], a.p[EA_P_ALPHA]);
   ea_test_true(ea_statics_solve(sh, &pb, NULL, NULL, &b, NULL) == EA_OK, "tip statement solves");
   ea_test_true(ea_statics_solve(sh, &pc, NULL, NULL, &c, NULL) == EA_OK,

@@ -36,8 +36,8 @@ static void check_one(ea_shooter_t *sh, const ea_arm_t *arm, double Lc, double a
   t->worst_kappa = fmax(t->worst_kappa, ek);
   if (etip > 1e-9 || ek > 1e-8 || sol.p[EA_P_TENSION] < 0) {
     ++t->wrong;
-    printf("  WRONG: Lc=%.9g alpha=%.9g: tip err %.3g kappa_L %.3g T %.6g\n", Lc, alpha, etip,
-           ek, sol.p[EA_P_TENSION]);
+    printf("  WRONG: Lc=%.9g alpha=%.9g: tip err %.3g kappa_L %.3g T %.6g\n", Lc, alpha, etip, ek,
+           sol.p[EA_P_TENSION]);
   }
 }
 
@@ -75,8 +75,8 @@ int main(void) {
       check_one(sh, &arm, Le * (1 - 1e-7), alpha, NULL, &nasty); /* T -> 0 */
       check_one(sh, &arm, Lmin, alpha, NULL, &nasty);            /* shortest cable */
       /* Beyond the edge: must never be reported as a solution. */
-      ea_statics_problem_t pr = ea_statics_problem_cable(Le + 0.005 + 0.05 * gsl_rng_uniform(r),
-                                                         alpha);
+      ea_statics_problem_t pr =
+          ea_statics_problem_cable(Le + 0.005 + 0.05 * gsl_rng_uniform(r), alpha);
       ea_statics_solution_t sol;
       ++beyond;
       if (ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL) != EA_OK && sol.status != EA_OK)
@@ -87,7 +87,8 @@ int main(void) {
   {
     ea_load_t load = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, 0.5))};
     ea_shooter_set_load(sh, &load);
-    for (int k = 0; k <= 14; ++k) check_one(sh, &arm, 0.3, (-60.0 + 5 * k) * M_PI / 180, NULL, &nasty);
+    for (int k = 0; k <= 14; ++k)
+      check_one(sh, &arm, 0.3, (-60.0 + 5 * k) * M_PI / 180, NULL, &nasty);
     ea_arm_t stiff = arm;
     stiff.EI = 500.0;
     ea_shooter_t *s2 = NULL;

@@ -33,7 +33,8 @@ static void test_crc(void) {
 static ea_setpoint_t sample_sp(double x) {
   ea_setpoint_t sp;
   double v[EA_SETPOINT_DOUBLES];
-  for (int i = 0; i < EA_SETPOINT_DOUBLES; ++i) v[i] = x * (i + 1) - 0.125 * i * i;
+  for (int i = 0; i < EA_SETPOINT_DOUBLES; ++i)
+    v[i] = x * (i + 1) - 0.125 * i * i;
   ea__setpoint_from_array(v, &sp);
   return sp;
 }
@@ -86,14 +87,15 @@ static ea_frame_t make_frame(int type, uint32_t seq) {
     f.actual[2] = -0.5;
     f.actual[3] = 1e-300;
     break;
-  default: break;
+  default:
+    break;
   }
   return f;
 }
 
 static void test_frames(void) {
-  const int types[] = {EA_FRAME_HELLO, EA_FRAME_SETPOINT, EA_FRAME_HEARTBEAT, EA_FRAME_END,
-                       EA_FRAME_ACK, EA_FRAME_NACK};
+  const int types[] = {EA_FRAME_HELLO, EA_FRAME_SETPOINT, EA_FRAME_HEARTBEAT,
+                       EA_FRAME_END,   EA_FRAME_ACK,      EA_FRAME_NACK};
   const size_t want_len[] = {152, 140, 24, 32, 76, 76};
   for (int k = 0; k < 6; ++k) {
     ea_frame_t f = make_frame(types[k], 1000u + (uint32_t)k), g;
@@ -146,8 +148,10 @@ static void test_parser(void) {
   for (int i = 0; i < 50; ++i) {
     ea_frame_t f = make_frame(i % 3 ? EA_FRAME_SETPOINT : EA_FRAME_ACK, (uint32_t)i);
     const size_t k = ea_frame_encode(&f, stream + len, sizeof stream - len);
-    if (i == 17) stream[len + 40] ^= 0x01; /* corrupted */
-    else ++good;
+    if (i == 17)
+      stream[len + 40] ^= 0x01; /* corrupted */
+    else
+      ++good;
     len += k;
     if (i % 7 == 3) { /* garbage, including a false magic */
       memcpy(stream + len, "xxEASF\x01\x02zz", 10);
@@ -226,14 +230,16 @@ static void test_resample(void) {
    * remainder of the two-point Hermite interpolant); f^(6) of the smoothstep
    * move is <= 2e4 dL / T^6 ~ 1.3e4 m/s^6 here, so ~ 2e-11 m. */
   printf("resample max errors: L_c %.3g m, rate %.3g m/s, acc %.3g m/s^2, theta0 %.3g rad, "
-         "base %.3g rad, tension %.3g N\n", eL, ev, ea, eth, eb, eT);
+         "base %.3g rad, tension %.3g N\n",
+         eL, ev, ea, eth, eb, eT);
   ea_test_true(eL < 1e-9 && eb < 1e-8, "quintic Hermite reproduces L_c and base (< 1e-9)");
   ea_test_true(eth < 1e-5, "theta0 (accelerations from rates) within 1e-5 rad");
   ea_test_true(ev < 1e-6 && ea < 1e-3, "cable rate and acceleration continuous and close");
   ea_test_true(eT < 1e-3, "tension feed-forward (monotone cubic) within 1 mN");
   /* Continuity of the resampled signal: no step in acceleration across knots. */
   double jmax = 0;
-  for (int k = 1; k < n && sp; ++k) jmax = fmax(jmax, fabs(sp[k].spool_acc[0] - sp[k - 1].spool_acc[0]));
+  for (int k = 1; k < n && sp; ++k)
+    jmax = fmax(jmax, fabs(sp[k].spool_acc[0] - sp[k - 1].spool_acc[0]));
   ea_test_true(jmax < 1.0, "spool acceleration changes < 1 rad/s^2 per ms (no jumps)");
   free(sp);
   /* Too fast: refused before anything is sent, with the reason. */
@@ -250,7 +256,8 @@ static void test_resample(void) {
   /* Closed form: septic smoothstep peak |s''| = 7.5132 / T^2 (at u = 0.2113...), peak |s'| =
    * 35/16 / T: acceleration 0.3 * 7.5132 / 0.36 = 6.26 m/s^2 -> scale sqrt(6.26) = 2.50;
    * speed 0.3 * 2.1875 / 0.6 = 1.094 m/s -> 4.375 (binding). */
-  printf("min time scale for the fast move: %.6f (closed form 4.375 from the cable speed)\n", scale);
+  printf("min time scale for the fast move: %.6f (closed form 4.375 from the cable speed)\n",
+         scale);
   ea_test_true(st == EA_OK && scale >= 4.375 * (1 - 1e-6) && scale <= 4.375 * 1.003,
                "min time scale = closed form from the speed limit (within 0.3 %)");
   ea_setpoint_t *sp2 = NULL;
@@ -267,7 +274,8 @@ static void test_resample(void) {
 
 static void check_rows_within(const ea_setpoint_t *sp, int n, const char *what) {
   int ok = 1;
-  for (int i = 0; i < n; ++i) ok &= ea_stream_check_limits(&arm, &sp[i], 1e-9, NULL) == EA_OK;
+  for (int i = 0; i < n; ++i)
+    ok &= ea_stream_check_limits(&arm, &sp[i], 1e-9, NULL) == EA_OK;
   ea_test_true(ok, what);
 }
 
@@ -316,8 +324,8 @@ typedef struct {
   int udp;
   ea_ctrl_fault_t fault;
   long arg;
-  int initial_off;   /* controller not at the start */
-  int interrupt_ms;  /* SIGINT to the streamer after this many ms */
+  int initial_off;  /* controller not at the start */
+  int interrupt_ms; /* SIGINT to the streamer after this many ms */
   ea_stream_end_t want_end;
   ea_status_t want_status;
 } scenario_t;
@@ -365,7 +373,8 @@ static void check_log(ea_ctrl_t *c, const char *name, int expect_rows_min) {
     snprintf(what, sizeof what, "%s: the arm ends at rest (|v| = %.2g, %.2g, %.2g)", name,
              e->spool_vel[0], e->shoulder_vel, e->base_vel);
     ea_test_true(fabs(e->spool_vel[0]) < 1e-9 && fabs(e->shoulder_vel) < 1e-9 &&
-                     fabs(e->base_vel) < 1e-9, what);
+                     fabs(e->base_vel) < 1e-9,
+                 what);
   }
 }
 
@@ -414,8 +423,8 @@ static void run_scenario(const scenario_t *sc, double *p99_out) {
          sim.st ? sim.err.msg : "clean", sim.info.accepted, sim.info.rejected,
          sim.info.rejected_crc, sim.info.own_stop_frames);
   char what[200];
-  snprintf(what, sizeof what, "%s: ends as '%s' with %s", sc->name, ea_stream_end_name(sc->want_end),
-           ea_status_name(sc->want_status));
+  snprintf(what, sizeof what, "%s: ends as '%s' with %s", sc->name,
+           ea_stream_end_name(sc->want_end), ea_status_name(sc->want_status));
   ea_test_true(info.end == sc->want_end && st == sc->want_status, what);
   if (p99_out) *p99_out = info.jitter_p99_us;
 
@@ -444,7 +453,8 @@ static void run_scenario(const scenario_t *sc, double *p99_out) {
         et = fmax(et, fabs(log[i].sp.shoulder_torque - want.shoulder_torque));
       }
       printf("round trip max errors: spool %.3g rad (%.3g m of cable), shoulder %.3g rad, base "
-             "%.3g rad, torque ff %.3g N m\n", es, es * arm.act.spool_radius, esh, eb, et);
+             "%.3g rad, torque ff %.3g N m\n",
+             es, es * arm.act.spool_radius, esh, eb, et);
       ea_test_true(n == g_n && es < 1e-7 && esh < 1e-5 && eb < 1e-8 && et < 1e-3,
                    "round trip: trajectory -> stream -> controller log reproduces the move");
       ea_error_t e2 = {0};
@@ -596,7 +606,8 @@ int main(void) {
        EA_ERR_INTERRUPTED},
   };
   double p99 = NAN;
-  for (size_t i = 0; i < sizeof sc / sizeof *sc; ++i) run_scenario(&sc[i], i == 0 ? &p99 : NULL);
+  for (size_t i = 0; i < sizeof sc / sizeof *sc; ++i)
+    run_scenario(&sc[i], i == 0 ? &p99 : NULL);
   printf("p99 send jitter at 1 kHz over TCP loopback: %.1f us (reported, not asserted)\n", p99);
   test_serial_pty();
   test_file();

@@ -66,8 +66,9 @@ static int read_port(const char *pf) {
 
 static pid_t start_sim(const char *log, int *port) {
   remove("cli_sim.port");
-  char *argv[] = {(char *)bin, "controller-sim", "--listen", "127.0.0.1:0", "--port-file",
-                  "cli_sim.port", "--log", (char *)log, "--timeout", "5", NULL};
+  char *argv[] = {
+      (char *)bin, "controller-sim", "--listen",  "127.0.0.1:0", "--port-file", "cli_sim.port",
+      "--log",     (char *)log,      "--timeout", "5",           NULL};
   const pid_t pid = spawn(argv, "cli_sim.out", "cli_sim.err");
   *port = read_port("cli_sim.port");
   return pid;
@@ -77,9 +78,14 @@ static pid_t start_sim(const char *log, int *port) {
 static pid_t start_sim_fe(const char *log, const char *tipf, const char *json, int *port) {
   remove("cli_sim.port");
   remove(tipf);
-  char *argv[] = {(char *)bin, "controller-sim", "--listen", "127.0.0.1:0", "--port-file",
-                  "cli_sim.port", "--log", (char *)log, "--timeout", "5", "--simulate",
-                  (char *)tipf, "--settle", "0.5", "--json", NULL};
+  char *argv[] = {(char *)bin,   "controller-sim",
+                  "--listen",    "127.0.0.1:0",
+                  "--port-file", "cli_sim.port",
+                  "--log",       (char *)log,
+                  "--timeout",   "5",
+                  "--simulate",  (char *)tipf,
+                  "--settle",    "0.5",
+                  "--json",      NULL};
   const pid_t pid = spawn(argv, json, "cli_sim.err");
   *port = read_port("cli_sim.port");
   return pid;
@@ -101,7 +107,8 @@ static double json_num(const char *buf, const char *key, int idx) {
   const char *p = strstr(buf, pat);
   if (!p) return NAN;
   p += strlen(pat);
-  while (*p == ' ' || *p == '[') ++p;
+  while (*p == ' ' || *p == '[')
+    ++p;
   for (int k = 0; k < idx; ++k) {
     p = strchr(p, ',');
     if (!p) return NAN;
@@ -355,8 +362,8 @@ int main(void) {
   sim = start_sim_fe("cli_sim_log4.csv", "cli_tip4.csv", "cli_sim4.json", &port);
   snprintf(url, sizeof url, "tcp://127.0.0.1:%d", port);
   {
-    char *argv[] = {(char *)bin, "stream", "cli_phys.csv", "--to", url, "--time-scale", "3",
-                    "--json", NULL};
+    char *argv[] = {(char *)bin,    "stream", "cli_phys.csv", "--to", url,
+                    "--time-scale", "3",      "--json",       NULL};
     const pid_t stp = spawn(argv, "cli_stream4.json", "cli_stream4.err");
     msleep(600);
     kill(stp, SIGINT);
@@ -370,7 +377,8 @@ int main(void) {
     const int n = tip_rows("cli_tip4.csv", &t0, &t1, last);
     const double dur = json_num(js, "sim_motion_duration_s", 0);
     printf("stopped: log ends at t = %.4f s (L_c %.6f m, theta0 %.6f rad); tip rows %d, "
-           "t %g .. %g s\n", tl, Ll, thl, n, t0, t1);
+           "t %g .. %g s\n",
+           tl, Ll, thl, n, t0, t1);
     ea_test_true(!bad && strstr(js, "\"sim_status\": \"EA_OK\"") != NULL && tl < 3 * Tm - 0.1,
                  "stopped stream simulated; the log ends before the plan's end");
     ea_test_true(n > 0 && fabs(t1 - (tl + 0.5)) < 1e-6 && fabs(dur - tl) < 1e-9,
@@ -384,19 +392,22 @@ int main(void) {
     const double d = hypot(fx - sol.tip[EA_X_X], fy - sol.tip[EA_X_Y]);
     const double dl = hypot(last[0] - sol.tip[EA_X_X], last[1] - sol.tip[EA_X_Y]);
     printf("stop: final static tip %.3f um from the statics of the last setpoint; last tip row "
-           "%.4f mm from it (residual peak %.4f mm)\n", 1e6 * d, 1e3 * dl, 1e3 * peak);
+           "%.4f mm from it (residual peak %.4f mm)\n",
+           1e6 * d, 1e3 * dl, 1e3 * peak);
     ea_test_true(ok && d < 5e-6, "stopped: final static tip = statics of the stop configuration");
     ea_test_true(dl <= peak + 5e-6, "stopped: the tip history ends near the stop configuration");
   }
   ea_shooter_free(sh);
 
-  const char *tmp[] = {"cli_phys.csv", "cli_tip.csv", "cli_tip4.csv", "cli_sim3.json",
-                       "cli_sim4.json", "cli_sim_log3.csv", "cli_sim_log4.csv",
-                       "cli_stream3.json", "cli_stream3.err", "cli_stream4.json",
-                       "cli_stream4.err", "cli_move.csv", "cli_fast.csv", "cli_sim.port", "cli_sim.out",
-                       "cli_sim.err", "cli_sim_log.csv", "cli_sim_log2.csv", "cli_stream.json",
-                       "cli_stream.err", "cli_stream2.json", "cli_stream2.err", "cli_dry.bin",
-                       "cli_dry.out", "cli_dry.err", "cli_fast.out", "cli_fast.err"};
-  for (size_t i = 0; i < sizeof tmp / sizeof *tmp; ++i) remove(tmp[i]);
+  const char *tmp[] = {
+      "cli_phys.csv",     "cli_tip.csv",      "cli_tip4.csv",     "cli_sim3.json",
+      "cli_sim4.json",    "cli_sim_log3.csv", "cli_sim_log4.csv", "cli_stream3.json",
+      "cli_stream3.err",  "cli_stream4.json", "cli_stream4.err",  "cli_move.csv",
+      "cli_fast.csv",     "cli_sim.port",     "cli_sim.out",      "cli_sim.err",
+      "cli_sim_log.csv",  "cli_sim_log2.csv", "cli_stream.json",  "cli_stream.err",
+      "cli_stream2.json", "cli_stream2.err",  "cli_dry.bin",      "cli_dry.out",
+      "cli_dry.err",      "cli_fast.out",     "cli_fast.err"};
+  for (size_t i = 0; i < sizeof tmp / sizeof *tmp; ++i)
+    remove(tmp[i]);
   return ea_test_summary("test_stream_cli");
 }

@@ -12,12 +12,12 @@
 #include <string.h>
 
 typedef struct {
-  double T;                 /* [s] duration */
-  double L0, dL;            /* [m] cable length start, change */
-  double th0, dth;          /* [rad] theta0 */
-  double b0, db;            /* [rad] base */
-  double T0, dT;            /* [N] tension */
-  double k0, dk;            /* [1/m] kappa0 */
+  double T;        /* [s] duration */
+  double L0, dL;   /* [m] cable length start, change */
+  double th0, dth; /* [rad] theta0 */
+  double b0, db;   /* [rad] base */
+  double T0, dT;   /* [N] tension */
+  double k0, dk;   /* [1/m] kappa0 */
 } fx_move_t;
 
 static fx_move_t fx_default_move(void) {

@@ -13,31 +13,31 @@
 typedef struct {
   const char *name;
   const char *yaml;
-  ea_status_t status;    /* expected */
-  const char *where;     /* "bad.yaml:L:C" expected in the message */
-  const char *key;       /* another substring expected (key / reason) */
+  ea_status_t status; /* expected */
+  const char *where;  /* "bad.yaml:L:C" expected in the message */
+  const char *key;    /* another substring expected (key / reason) */
 } ea_case_t;
 
 static const ea_case_t cases[] = {
     {"unknown top-level key", OKTASK "speed: 3\n", EA_ERR_INPUT, "bad.yaml:3:1", "'speed'"},
     {"unknown key in limits", OKTASK "limits:\n  tension_min: 1\n", EA_ERR_INPUT, "bad.yaml:4:3",
      "'tension_min'"},
-    {"wrong type: tip not a list", "start: {tip: 0.3}\ngoal: {tip: [0.6, -0.2]}\n",
-     EA_ERR_INPUT, "bad.yaml:1:14", "'tip'"},
+    {"wrong type: tip not a list", "start: {tip: 0.3}\ngoal: {tip: [0.6, -0.2]}\n", EA_ERR_INPUT,
+     "bad.yaml:1:14", "'tip'"},
     {"wrong type: tip element text", "start: {tip: [0.3, abc]}\ngoal: {tip: [0.6, -0.2]}\n",
      EA_ERR_INPUT, "bad.yaml:1:20", "'abc' is not a number"},
     {"NaN coordinate", "start:\n  tip: [nan, -0.2]\ngoal: {tip: [0.6, -0.2]}\n", EA_ERR_INPUT,
      "bad.yaml:2:9", "not finite"},
-    {".nan coordinate", "start:\n  tip: [0.3, .nan]\ngoal: {tip: [0.6, -0.2]}\n",
-     EA_ERR_INPUT, "bad.yaml:2:14", "'tip'"},
-    {"NaN limit", OKTASK "limits:\n  cable_speed_max_m_per_s: NaN\n", EA_ERR_INPUT,
-     "bad.yaml:4:28", "cable_speed_max_m_per_s"},
+    {".nan coordinate", "start:\n  tip: [0.3, .nan]\ngoal: {tip: [0.6, -0.2]}\n", EA_ERR_INPUT,
+     "bad.yaml:2:14", "'tip'"},
+    {"NaN limit", OKTASK "limits:\n  cable_speed_max_m_per_s: NaN\n", EA_ERR_INPUT, "bad.yaml:4:28",
+     "cable_speed_max_m_per_s"},
     {"tip with 4 numbers", "start: {tip: [0.3, -0.2, 0, 1]}\ngoal: {tip: [0.6, -0.2]}\n",
      EA_ERR_INPUT, "bad.yaml:1:14", "'tip'"},
     {"missing goal", "start: {tip: [0.3, -0.2]}\n", EA_ERR_INPUT, "bad.yaml:1:1", "'goal'"},
     {"tip and actuators both",
-     "start: {tip: [0.3, -0.2], cable_length_m: 0.3}\ngoal: {tip: [0.6, -0.2]}\n",
-     EA_ERR_INPUT, "bad.yaml:1:8", "not both"},
+     "start: {tip: [0.3, -0.2], cable_length_m: 0.3}\ngoal: {tip: [0.6, -0.2]}\n", EA_ERR_INPUT,
+     "bad.yaml:1:8", "not both"},
     {"3-D tip with base angle",
      "start: {tip: [0.3, 0.1, -0.2], base_angle_rad: 0.1}\ngoal: {tip: [0.6, -0.2]}\n",
      EA_ERR_INPUT, "bad.yaml:1:48", "base_angle_rad"},
@@ -59,8 +59,7 @@ static const ea_case_t cases[] = {
     {"unknown objective", OKTASK "objective: fastest\n", EA_ERR_INPUT, "bad.yaml:3:12",
      "'objective'"},
     {"unknown path", OKTASK "path: curvy\n", EA_ERR_INPUT, "bad.yaml:3:7", "'path'"},
-    {"polyline without vias", OKTASK "path: polyline\n", EA_ERR_INPUT, "bad.yaml:3:7",
-     "'path'"},
+    {"polyline without vias", OKTASK "path: polyline\n", EA_ERR_INPUT, "bad.yaml:3:7", "'path'"},
     {"knots out of range", OKTASK "knots: 2\n", EA_ERR_INPUT, "bad.yaml:3:8", "'knots'"},
     {"knots not an integer", OKTASK "knots: 10.5\n", EA_ERR_INPUT, "bad.yaml:3:8", "'knots'"},
     {"both payload keys", OKTASK "payload_kg: 0.1\npayload_factor: 0.1\n", EA_ERR_INPUT,
@@ -69,10 +68,10 @@ static const ea_case_t cases[] = {
      "'payload_kg'"},
     {"duplicate key", OKTASK "knots: 10\nknots: 20\n", EA_ERR_INPUT, "bad.yaml:4:1",
      "duplicate key 'knots'"},
-    {"figure extension", OKTASK "outputs: {figure: plan.gif}\n", EA_ERR_INPUT,
-     "bad.yaml:3:19", "'figure'"},
-    {"solver bool", OKTASK "solver: {derivative_test: maybe}\n", EA_ERR_INPUT,
-     "bad.yaml:3:27", "'derivative_test'"},
+    {"figure extension", OKTASK "outputs: {figure: plan.gif}\n", EA_ERR_INPUT, "bad.yaml:3:19",
+     "'figure'"},
+    {"solver bool", OKTASK "solver: {derivative_test: maybe}\n", EA_ERR_INPUT, "bad.yaml:3:27",
+     "'derivative_test'"},
     {"YAML syntax error", OKTASK "limits: [1, 2\n", EA_ERR_PARSE, "bad.yaml:4:1", "YAML"},
     {"top level not a mapping", "- 1\n- 2\n", EA_ERR_INPUT, "bad.yaml:1:1", "mapping"},
     {"missing arm file", "arm_file: /nonexistent/arm.yaml\n" OKTASK, EA_ERR_IO, "bad.yaml:1:11",
