@@ -555,11 +555,19 @@ ea_status_t ea_ctrl_run(ea_ctrl_t *c, ea_ctrl_info_t *info, ea_error_t *err) {
       }
     }
   }
-  /* Deliver delayed ACKs still due (END answer) before closing. */
+  /* Deliver the delayed ACKs (the END answer among them) before closing: wait
+   * until each is due (at most 2 s in all), then flush it. Bounded by the
+   * queue's own due times, not by a window from now, so a descheduled
+   * simulator still delivers every ACK it owes. */
   if (done && !dropped) {
-    const int64_t until = ea__mono_ns() + (int64_t)fmin(2e9, (double)s->fault_arg * 1e6 + 1e6);
-    while (c->pend_n && ea__mono_ns() < until) {
-      ea__ctrl_flush_pending(c, ea__mono_ns());
+    const int64_t cap = ea__mono_ns() + 2000000000;
+    while (c->pend_n) {
+      const int64_t now = ea__mono_ns();
+      if (now >= cap) {
+        ea__ctrl_flush_pending(c, INT64_MAX); /* give up waiting: send them now */
+        break;
+      }
+      ea__ctrl_flush_pending(c, now);
       struct timespec ts = {0, 200000};
       nanosleep(&ts, NULL);
     }
