@@ -25,23 +25,42 @@ static void print_load(const char *when) {
   printf("load average %s: %s", when, buf);
 }
 
-static int cmpd(const void *a, const void *b) {
-  const double x = *(const double *)a, y = *(const double *)b;
-  return x < y ? -1 : x > y;
-}
-static double median(double *v, int n) {
-  qsort(v, (size_t)n, sizeof *v, cmpd);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 typedef struct {
   double total, guess, statics, ipopt, rest, iters, dur;
   int ok, nvar, ncon;
 } row_t;
 
+/* Per-phase samples of up to 64 solves. */
+typedef struct {
+  double tot[64], gu[64], st[64], ip[64], re[64], it[64];
+} samples_t;
+
+/* Sample i from a solve's info; the row keeps the problem size and duration. */
+static void record(samples_t *S, int i, const ea_plan_info_t *info, row_t *r) {
+  S->tot[i] = info->time_total_s;
+  S->gu[i] = info->time_guess_s;
+  S->st[i] = info->time_statics_s;
+  S->ip[i] = info->time_ipopt_s;
+  S->re[i] = info->time_rest_s;
+  S->it[i] = info->iterations;
+  r->dur = info->duration_s;
+  r->nvar = info->n_var;
+  r->ncon = info->n_con;
+}
+
+/* Medians of R samples into the row. */
+static void summarize(samples_t *S, int R, row_t *r) {
+  r->total = ea_bench_median(S->tot, R);
+  r->guess = ea_bench_median(S->gu, R);
+  r->statics = ea_bench_median(S->st, R);
+  r->ipopt = ea_bench_median(S->ip, R);
+  r->rest = ea_bench_median(S->re, R);
+  r->iters = ea_bench_median(S->it, R);
+}
+
 /* Median of R solves (warm: each after one cold solve). */
 static row_t run(const ea_task_t *t, int R, int warm) {
-  double tot[64], gu[64], st[64], ip[64], re[64], it[64];
+  samples_t S;
   row_t r;
   memset(&r, 0, sizeof r);
   r.ok = 1;
@@ -57,22 +76,9 @@ static row_t run(const ea_task_t *t, int R, int warm) {
   if (warm && ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e)) r.ok = 0;
   for (int i = 0; i < R; ++i) {
     if (ea_planner_solve(pl, warm ? EA_PLAN_WARM : EA_PLAN_COLD, NULL, &info, &e)) r.ok = 0;
-    tot[i] = info.time_total_s;
-    gu[i] = info.time_guess_s;
-    st[i] = info.time_statics_s;
-    ip[i] = info.time_ipopt_s;
-    re[i] = info.time_rest_s;
-    it[i] = info.iterations;
-    r.dur = info.duration_s;
+    record(&S, i, &info, &r);
   }
-  r.nvar = info.n_var;
-  r.ncon = info.n_con;
-  r.total = median(tot, R);
-  r.guess = median(gu, R);
-  r.statics = median(st, R);
-  r.ipopt = median(ip, R);
-  r.rest = median(re, R);
-  r.iters = median(it, R);
+  summarize(&S, R, &r);
   ea_planner_free(pl);
   return r;
 }
@@ -80,7 +86,7 @@ static row_t run(const ea_task_t *t, int R, int warm) {
 /* Median of R plans of task t started from the trajectory of a plan of
  * task prev (EA_PLAN_FROM_TRAJ, a new planner each time as for a new task). */
 static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
-  double tot[64], gu[64], st[64], ip[64], re[64], it[64];
+  samples_t S;
   row_t r;
   memset(&r, 0, sizeof r);
   r.ok = 1;
@@ -103,24 +109,11 @@ static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
     ea_planner_t *pl = NULL;
     if (ea_planner_alloc(t, &pl, &e) || ea_planner_solve(pl, EA_PLAN_FROM_TRAJ, &tr, &info, &e))
       r.ok = 0;
-    tot[i] = info.time_total_s;
-    gu[i] = info.time_guess_s;
-    st[i] = info.time_statics_s;
-    ip[i] = info.time_ipopt_s;
-    re[i] = info.time_rest_s;
-    it[i] = info.iterations;
-    r.dur = info.duration_s;
-    r.nvar = info.n_var;
-    r.ncon = info.n_con;
+    record(&S, i, &info, &r);
     ea_planner_free(pl);
   }
   ea_traj_free(&tr);
-  r.total = median(tot, R);
-  r.guess = median(gu, R);
-  r.statics = median(st, R);
-  r.ipopt = median(ip, R);
-  r.rest = median(re, R);
-  r.iters = median(it, R);
+  summarize(&S, R, &r);
   return r;
 }
 
@@ -128,7 +121,8 @@ static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
  * to task t (ea_planner_update, timed apart: *upd) and solves it warm
  * (EA_PLAN_WARM from the previous plan and multipliers). */
 static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double *upd) {
-  double tot[64], gu[64], st[64], ip[64], re[64], it[64], up[64];
+  samples_t S;
+  double up[64];
   row_t r;
   memset(&r, 0, sizeof r);
   r.ok = 1;
@@ -147,24 +141,11 @@ static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double
     if (ea_planner_update(pl, t, &e)) r.ok = 0;
     up[i] = ea_bench_now() - t0;
     if (ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e)) r.ok = 0;
-    tot[i] = info.time_total_s;
-    gu[i] = info.time_guess_s;
-    st[i] = info.time_statics_s;
-    ip[i] = info.time_ipopt_s;
-    re[i] = info.time_rest_s;
-    it[i] = info.iterations;
-    r.dur = info.duration_s;
-    r.nvar = info.n_var;
-    r.ncon = info.n_con;
+    record(&S, i, &info, &r);
     ea_planner_free(pl);
   }
-  r.total = median(tot, R);
-  r.guess = median(gu, R);
-  r.statics = median(st, R);
-  r.ipopt = median(ip, R);
-  r.rest = median(re, R);
-  r.iters = median(it, R);
-  *upd = median(up, R);
+  summarize(&S, R, &r);
+  *upd = ea_bench_median(up, R);
   return r;
 }
 

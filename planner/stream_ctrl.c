@@ -86,10 +86,9 @@ static ea_status_t ea__ctrl_alloc_bufs(ea_ctrl_t *c, ea_error_t *err) {
   return EA_OK;
 }
 
-ea_status_t ea_ctrl_open(const ea_arm_t *arm, const char *listen_at, const ea_ctrl_settings_t *s,
-                         ea_ctrl_t **out, ea_error_t *err) {
-  if (!arm || !listen_at || !out) return ea_error_set(err, EA_ERR_ARG, "controller-sim: NULL");
-  *out = NULL;
+/* A controller with its settings and buffers, not yet bound to a transport. */
+static ea_status_t ea__ctrl_new(const ea_arm_t *arm, const ea_ctrl_settings_t *s, ea_ctrl_t **out,
+                                ea_error_t *err) {
   ea_ctrl_t *c = calloc(1, sizeof *c);
   if (!c) return ea_error_set(err, EA_ERR_NOMEM, "controller-sim");
   ea__ctrl_init_common(c, arm, s);
@@ -98,6 +97,17 @@ ea_status_t ea_ctrl_open(const ea_arm_t *arm, const char *listen_at, const ea_ct
     ea_ctrl_free(c);
     return st;
   }
+  *out = c;
+  return EA_OK;
+}
+
+ea_status_t ea_ctrl_open(const ea_arm_t *arm, const char *listen_at, const ea_ctrl_settings_t *s,
+                         ea_ctrl_t **out, ea_error_t *err) {
+  if (!arm || !listen_at || !out) return ea_error_set(err, EA_ERR_ARG, "controller-sim: NULL");
+  *out = NULL;
+  ea_ctrl_t *c = NULL;
+  ea_status_t st = ea__ctrl_new(arm, s, &c, err);
+  if (st) return st;
   c->kind = c->s.udp ? EA__TR_UDP : EA__TR_TCP;
   char host[256], service[16];
   int port;
@@ -145,14 +155,9 @@ ea_status_t ea__ctrl_open_fd(const ea_arm_t *arm, int fd, const ea_ctrl_settings
                              ea_ctrl_t **out, ea_error_t *err) {
   if (!arm || fd < 0 || !out) return ea_error_set(err, EA_ERR_ARG, "controller-sim: bad fd");
   *out = NULL;
-  ea_ctrl_t *c = calloc(1, sizeof *c);
-  if (!c) return ea_error_set(err, EA_ERR_NOMEM, "controller-sim");
-  ea__ctrl_init_common(c, arm, s);
-  ea_status_t st = ea__ctrl_alloc_bufs(c, err);
-  if (st) {
-    ea_ctrl_free(c);
-    return st;
-  }
+  ea_ctrl_t *c = NULL;
+  ea_status_t st = ea__ctrl_new(arm, s, &c, err);
+  if (st) return st;
   c->kind = EA__TR_SERIAL;
   c->fd = fd;
   *out = c;
