@@ -143,13 +143,43 @@ static int ea__fe_apply_dq(ea_fe_model_t *m, double *q, double *dmax) {
   return finite;
 }
 
+/* The common end of a Newton iteration of both time schemes, once m->fm holds
+ * the residual (inertia and Rayleigh terms included) and m->Kb the tangent K
+ * at the evaluation point qe: adds the strain-rate damping at (qe, ve), forms
+ * the iteration matrix ck K + ca M + cv (C + K_damping), solves for the free
+ * DOFs and updates q1. *conv is set when the correction meets the stopping
+ * rule; *dprev carries the previous correction. */
+static ea_status_t ea__fe_newton_correct(ea_fe_model_t *m, const ea_fe_sim_settings_t *s,
+                                         double *q1, const double *qe, const double *ve, int damped,
+                                         double bkv, double ck, double ca, double cv, double *dprev,
+                                         int *conv) {
+  const int nd = m->nd, nf = m->nf;
+  const size_t nb = EA__FE_LDS * (size_t)nd;
+  if (bkv > 0.0) {
+    memset(m->Kt, 0, sizeof(double) * nb);
+    ea__fe_assemble_rate(m, qe, ve, bkv, m->fm, m->Kt);
+  }
+  for (int i = 0; i < nf; ++i)
+    m->r[i] = m->fm[i + 3];
+  for (size_t i = 0; i < nb; ++i)
+    m->Kb[i] = ck * m->Kb[i] + ca * m->Mb[i] + (damped ? cv * m->Cb[i] : 0.0) +
+               (bkv > 0.0 ? cv * m->Kt[i] : 0.0);
+  ea_status_t st = ea__fe_solve_free(m, m->Kb);
+  if (st) return st;
+  double dmax;
+  if (!ea__fe_apply_dq(m, q1, &dmax)) return EA_ERR_NOCONV;
+  *conv = ea__fe_newton_done(s, dmax, *dprev);
+  *dprev = dmax;
+  return EA_OK;
+}
+
 /* One step of the energy-consistent midpoint scheme from (m->q0, m->v0) to
  * (m->q, m->v); clamp angle/rate th1, th1r at t1, cable value cm at the
  * midpoint; V0 = potential at q0. *iters: Newton iterations. */
 static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings_t *s, int damped,
                                       double bkv, ea_fe_cable_phase_t phase, double cm, double th1,
                                       double th1r, int *iters) {
-  const int nd = m->nd, nf = m->nf;
+  const int nd = m->nd;
   const double h = s->dt;
   double *q0 = m->q0, *v0 = m->v0, *q1 = m->q, *v1 = m->v, *qm = m->qm;
   const double V0 = ea__fe_potential(m, q0, phase, cm);
@@ -199,29 +229,15 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
     }
     ea__fe_band_gemv(m, 1.0, m->Mb, m->qs, m->fm);
     if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, m->vs, m->fm);
-    const size_t nb = EA__FE_LDS * (size_t)nd;
-    if (bkv > 0.0) { /* strain-rate damping at (q_m, v_m); d v_m / d q1 = 1/h */
-      memset(m->Kt, 0, sizeof(double) * nb);
-      ea__fe_assemble_rate(m, qm, m->vs, bkv, m->fm, m->Kt);
-    }
-    for (int i = 0; i < nf; ++i)
-      m->r[i] = m->fm[i + 3];
-    /* Jacobian 2M/h^2 + C/h + K/2 */
-    for (size_t i = 0; i < nb; ++i)
-      m->Kb[i] = 0.5 * m->Kb[i] + 2.0 / (h * h) * m->Mb[i] + (damped ? m->Cb[i] / h : 0.0) +
-                 (bkv > 0.0 ? m->Kt[i] / h : 0.0);
-    if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
-    double dmax;
-    if (!ea__fe_apply_dq(m, q1, &dmax)) {
-      st = EA_ERR_NOCONV;
+    /* strain-rate damping at (q_m, v_m); d v_m / d q1 = 1/h.
+     * Jacobian 2M/h^2 + C/h + K/2 */
+    if ((st = ea__fe_newton_correct(m, s, q1, qm, m->vs, damped, bkv, 0.5, 2.0 / (h * h), 1.0 / h,
+                                    &dprev, &conv)) != EA_OK)
       break;
-    }
-    if (ea__fe_newton_done(s, dmax, dprev)) {
-      conv = 1;
+    if (conv) {
       ++it;
       break;
     }
-    dprev = dmax;
   }
   for (int i = 3; i < nd; ++i)
     v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
@@ -258,7 +274,7 @@ static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings
                                       const ea__fe_galpha_t *g, int damped, double bkv,
                                       ea_fe_cable_phase_t phase, double caf, double th1,
                                       double th1r, double th1a, int first, int *iters) {
-  const int nd = m->nd, nf = m->nf;
+  const int nd = m->nd;
   const double h = s->dt, am = g->am, af = g->af, ga = g->gamma, be = g->beta;
   double *q0 = m->q0, *v0 = m->v0, *a0 = m->acc0, *q1 = m->q, *v1 = m->v, *a1 = m->acc;
   double *qf = m->qm, *vf = m->vs, *amv = m->qs;
@@ -292,28 +308,14 @@ static ea_status_t ea__fe_step_galpha(ea_fe_model_t *m, const ea_fe_sim_settings
     ea__fe_assemble(m, qf, phase, caf, m->fm, m->Kb);
     ea__fe_band_gemv(m, 1.0, m->Mb, amv, m->fm);
     if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, vf, m->fm);
-    const size_t nb = EA__FE_LDS * (size_t)nd;
-    if (bkv > 0.0) { /* strain-rate damping at (q_{1-af}, v_{1-af}) */
-      memset(m->Kt, 0, sizeof(double) * nb);
-      ea__fe_assemble_rate(m, qf, vf, bkv, m->fm, m->Kt);
-    }
-    for (int i = 0; i < nf; ++i)
-      m->r[i] = m->fm[i + 3];
-    for (size_t i = 0; i < nb; ++i)
-      m->Kb[i] = ck * m->Kb[i] + ca * m->Mb[i] + (damped ? cv * m->Cb[i] : 0.0) +
-                 (bkv > 0.0 ? cv * m->Kt[i] : 0.0);
-    if ((st = ea__fe_solve_free(m, m->Kb)) != EA_OK) break;
-    double dmax;
-    if (!ea__fe_apply_dq(m, q1, &dmax)) {
-      st = EA_ERR_NOCONV;
+    /* strain-rate damping at (q_{1-af}, v_{1-af}) */
+    if ((st = ea__fe_newton_correct(m, s, q1, qf, vf, damped, bkv, ck, ca, cv, &dprev, &conv)) !=
+        EA_OK)
       break;
-    }
-    if (ea__fe_newton_done(s, dmax, dprev)) {
-      conv = 1;
+    if (conv) {
       ++it;
       break;
     }
-    dprev = dmax;
   }
   for (int i = 3; i < nd; ++i) {
     a1[i] = (q1[i] - q0[i] - h * v0[i]) / (be * h * h) - (0.5 / be - 1.0) * a0[i];
