@@ -12,6 +12,19 @@
 static char out[1 << 18];
 static const char *bin;
 
+/* bin from $EA_BINARY and the arm file under $EA_SOURCE_DIR (both set by
+ * CTest); returns 0, or 1 with a message when run outside CTest. */
+static inline int cli_setup(char *arm_path, size_t len) {
+  bin = getenv("EA_BINARY");
+  const char *src = getenv("EA_SOURCE_DIR");
+  if (!bin || !src) {
+    printf("EA_BINARY / EA_SOURCE_DIR not set (run through ctest)\n");
+    return 1;
+  }
+  snprintf(arm_path, len, "%s/data/elasticarm.yaml", src);
+  return 0;
+}
+
 /* Run "bin args" through the shell; returns the exit code (-1 if killed). */
 static inline int run(const char *args) {
   char cmd[4096];

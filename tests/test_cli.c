@@ -18,14 +18,9 @@ static void expect_usage(const char *args, const char *want, const char *what) {
 }
 
 int main(void) {
-  bin = getenv("EA_BINARY");
-  const char *src = getenv("EA_SOURCE_DIR");
-  if (!bin || !src) {
-    printf("EA_BINARY / EA_SOURCE_DIR not set (run through ctest)\n");
-    return 1;
-  }
   char arm_path[1024];
-  snprintf(arm_path, sizeof arm_path, "%s/data/elasticarm.yaml", src);
+  if (cli_setup(arm_path, sizeof arm_path)) return 1;
+  const char *src = getenv("EA_SOURCE_DIR");
 
   /* Usage errors: exit 2, a message naming the flag and the value. */
   expect_usage("", "usage", "no command");

@@ -77,14 +77,8 @@ static void write_text(const char *path, const char *text) {
 }
 
 int main(void) {
-  bin = getenv("EA_BINARY");
-  const char *src = getenv("EA_SOURCE_DIR");
-  if (!bin || !src) {
-    printf("EA_BINARY / EA_SOURCE_DIR not set (run through ctest)\n");
-    return 1;
-  }
   char arm_path[1024], args[3072];
-  snprintf(arm_path, sizeof arm_path, "%s/data/elasticarm.yaml", src);
+  if (cli_setup(arm_path, sizeof arm_path)) return 1;
   ea_arm_t arm;
   if (ea_arm_load(arm_path, &arm, NULL)) {
     printf("cannot load %s\n", arm_path);
