@@ -159,7 +159,7 @@ int main(void) {
     ea_fe_get_state(m, q0, NULL);
     for (int k = 0; k < NS; ++k)
       th[k] += q0[2] - sol.p[EA_P_THETA0];
-    ea_fe_samples_t hs = {NS, tt, th};
+    ea_fe_samples_t hs = {NS, tt, th, NULL};
     ea_fe_drive_t drv = {ea_fe_samples_eval, &hs, NULL, NULL};
     ea_fe_sim_settings_t ss;
     ea_fe_sim_settings_default(&ss);

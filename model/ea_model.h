@@ -435,6 +435,18 @@ ea_status_t ea_fe_relax_positions(ea_fe_model_t *m, ea_error_t *err);
 /** Newton-Raphson from the current state, in the current cable phase, with
  *  theta0 held. The velocity is set to zero. */
 ea_status_t ea_fe_newton(ea_fe_model_t *m, ea_fe_static_info_t *info, ea_error_t *err);
+/** Static equilibrium at shoulder angle theta0 [rad] and cable parameter value (ACTIVE:
+ *  T [N]; PASSIVE: rest length L0 [m]) by continuation from the current equilibrium:
+ *  theta0 and the cable value move along a straight path from the current state's to the
+ *  targets, each step solved by Newton from the previous one (secant predictor), the step
+ *  halved on failure (down to 1/4096 of the way) and doubled after easy steps. Use it
+ *  where a single Newton from the current state may fail: an arm heavier or stiffer than
+ *  the state was made for, a large change of the inputs. An ACTIVE state may be continued
+ *  to a PASSIVE target (made passive at its current tension first). On success m holds the
+ *  equilibrium at rest; on failure m is unchanged and err says how far it got.
+ *  info->iterations counts the Newton iterations of all steps. */
+ea_status_t ea_fe_static_continue(ea_fe_model_t *m, double theta0, ea_fe_cable_phase_t phase,
+                                  double value, ea_fe_static_info_t *info, ea_error_t *err);
 
 /** Result of ea_fe_modes(). */
 typedef struct ea_fe_modes_info {
@@ -479,15 +491,17 @@ ea_status_t ea_fe_stability(ea_fe_model_t *m, int *stable, ea_error_t *err);
  *  nonzero to abort the simulation (EA_ERR_INTERRUPTED). */
 typedef int (*ea_fe_history_fn)(double t, double *value, double *rate, void *data);
 
-/** A sampled history: n >= 1 points (t[i] strictly increasing, value[i]);
- *  ea_fe_samples_eval interpolates with a C1 cubic Hermite spline (slopes by
- *  centred differences; zero slope at the ends) and holds the end values
+/** A sampled history: n >= 1 points (t[i] strictly increasing, value[i], and
+ *  optionally the rate at each point); ea_fe_samples_eval interpolates with the
+ *  C1 cubic Hermite spline of the values and the rates (rate NULL: slopes by
+ *  centred differences, zero slope at the ends) and holds the end values
  *  outside [t[0], t[n-1]]. Pass ea_fe_samples_eval with a pointer to an
  *  ea_fe_samples_t as its data. */
 typedef struct ea_fe_samples {
   int n;
   const double *t;     /**< [s] sample times */
   const double *value; /**< samples (rad, N or m) */
+  const double *rate;  /**< rates d value / dt at the samples, or NULL */
 } ea_fe_samples_t;
 int ea_fe_samples_eval(double t, double *value, double *rate, void *data);
 

@@ -7,8 +7,6 @@
 
 #include <gsl/gsl_errno.h>
 
-#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j)*EA__FE_LDS]
-
 /* Free-DOF block of a full symmetric band matrix into a free band (LDS x nf). */
 static void ea__fe_band_free(const ea_fe_model_t *m, const double *full, double *fr) {
   memset(fr, 0, sizeof(double) * EA__FE_LDS * (size_t)m->nf);

@@ -13,6 +13,8 @@
 #define EA__FE_LDS (EA__FE_KD + 1)
 /** Rows of the general band storage for LU (2 kl + ku + 1). */
 #define EA__FE_LDG (3 * EA__FE_KD + 1)
+/** Entry (i, j), i <= j, of a symmetric band matrix in upper storage (LDS x nd). */
+#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j)*EA__FE_LDS]
 
 /** Precomputed shape functions at the quadrature points of the uniform mesh. */
 typedef struct ea__fe_quad {

@@ -57,8 +57,6 @@ static void ea__fe_quad_fill(ea__fe_quad_t *qd, int n, double h) {
   }
 }
 
-#define EA__SB(A, i, j) (A)[(EA__FE_KD + (i) - (j)) + (size_t)(j)*EA__FE_LDS]
-
 /* Mass matrix (band) and gravity load for the current tip mass. */
 static void ea__fe_build_mass(ea_fe_model_t *m) {
   memset(m->Mb, 0, sizeof(double) * EA__FE_LDS * (size_t)m->nd);

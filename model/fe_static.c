@@ -224,3 +224,94 @@ ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh, const ea_stat
   m->modes_valid = 0;
   return EA_OK;
 }
+
+/* Continuation of an equilibrium in (theta0, cable value): the path
+ * lambda -> (theta0_a + lambda (theta0_b - theta0_a), c_a + lambda (c_b - c_a)) from the
+ * current equilibrium (lambda = 0) to the target (lambda = 1), Newton at each step from
+ * the previous solution extrapolated along the path's secant, the step halved when Newton
+ * fails and grown after easy successes. */
+ea_status_t ea_fe_static_continue(ea_fe_model_t *m, double theta0, ea_fe_cable_phase_t phase,
+                                  double value, ea_fe_static_info_t *info, ea_error_t *err) {
+  if (!m) return ea_error_set(err, EA_ERR_ARG, "fe continue: model is NULL");
+  if (!isfinite(theta0) || !isfinite(value) || (int)phase < 0 || phase > EA_FE_CABLE_PASSIVE)
+    return ea_error_set(err, EA_ERR_ARG, "fe continue: theta0 = %g, cable value = %g", theta0,
+                        value);
+  if (phase == EA_FE_CABLE_PASSIVE && !(value > 0.0))
+    return ea_error_set(err, EA_ERR_ARG, "fe continue: rest length %g <= 0", value);
+  if (phase == EA_FE_CABLE_ACTIVE && !(value >= 0.0))
+    return ea_error_set(err, EA_ERR_ARG, "fe continue: tension %g < 0", value);
+  const double t0 = ea__fe_now();
+  const int nd = m->nd;
+  /* the start in the target's phase: an ACTIVE cable becomes PASSIVE keeping its tension */
+  ea_fe_cable_phase_t ph = m->phase;
+  double ca = m->cable_value;
+  if (phase == EA_FE_CABLE_PASSIVE && ph == EA_FE_CABLE_ACTIVE)
+    ea__fe_passive_equiv(m, m->q, &ph, &ca);
+  if (ph != phase)
+    return ea_error_set(err, EA_ERR_ARG, "fe continue: cable phase %d cannot become %d", (int)ph,
+                        (int)phase);
+  const double tha = m->q[2];
+  double *qa = m->q0, *qb = m->v0, *qt = m->qs; /* last two accepted states, trial */
+  memcpy(qa, m->q, sizeof(double) * (size_t)nd);
+  memcpy(qb, m->q, sizeof(double) * (size_t)nd);
+  double la = 0.0, lb = 0.0, step = 1.0;
+  int steps = 0, newton = 0, easy = 0;
+  ea_fe_static_info_t si;
+  memset(&si, 0, sizeof si);
+  ea_status_t st = EA_OK;
+  while (lb < 1.0) {
+    const double lt = fmin(1.0, lb + step);
+    /* predictor: secant through the last two accepted states */
+    const double w = (lb > la) ? (lt - lb) / (lb - la) : 0.0;
+    for (int i = 0; i < nd; ++i)
+      qt[i] = qb[i] + w * (qb[i] - qa[i]);
+    qt[2] = tha + lt * (theta0 - tha);
+    const double ct = ca + lt * (value - ca);
+    st = ea__fe_newton_core(m, qt, phase, (double[]){ct}, NULL, &si, NULL);
+    newton += si.iterations;
+    ++steps;
+    /* a step must stay on the branch: Newton from a stiff cable's state can land on a
+     * distant (axially crushed, unstable) equilibrium; accept only a continuous change
+     * (every node within 2 % of L, every rotation within 0.05 rad of the prediction from
+     * the last state) */
+    if (st == EA_OK) {
+      double dx = 0.0, dth = 0.0;
+      for (int i = 3; i < nd; ++i) {
+        const double d = fabs(qt[i] - qb[i]);
+        if (i % 3 == 2)
+          dth = fmax(dth, d);
+        else
+          dx = fmax(dx, d);
+      }
+      if (dx > 0.02 * m->arm.length || dth > 0.05 + fabs(qt[2] - qb[2])) st = EA_ERR_NOCONV;
+    }
+    if (st == EA_OK) {
+      memcpy(qa, qb, sizeof(double) * (size_t)nd);
+      memcpy(qb, qt, sizeof(double) * (size_t)nd);
+      la = lb;
+      lb = lt;
+      if (si.iterations <= 6 && ++easy >= 2) step = fmin(1.0, 2.0 * step);
+    } else {
+      easy = 0;
+      step *= 0.5;
+      if (step < 1.0 / 4096) break;
+    }
+  }
+  if (info) {
+    *info = si;
+    info->iterations = newton;
+    info->time_s = ea__fe_now() - t0;
+  }
+  if (!(lb >= 1.0))
+    return ea_error_set(err, st ? st : EA_ERR_NOCONV,
+                        "fe continuation to theta0 = %g rad, cable value %g stopped at %.4g of "
+                        "the way after %d steps (last Newton eps %g)",
+                        theta0, value, lb, steps, si.residual);
+  memcpy(m->q, qb, sizeof(double) * (size_t)nd);
+  memset(m->v, 0, sizeof(double) * (size_t)nd);
+  m->phase = phase;
+  m->cable_value = value;
+  m->modes_valid = 0;
+  if (info) info->status = EA_OK;
+  return EA_OK;
+}

@@ -78,8 +78,14 @@ int ea_fe_samples_eval(double t, double *value, double *rate, void *data) {
   const double t0 = h->t[lo], t1 = h->t[hi], dt = t1 - t0;
   if (!(dt > 0.0)) return 1;
   const double y0 = h->value[lo], y1 = h->value[hi];
-  const double m0 = (lo > 0) ? (y1 - h->value[lo - 1]) / (t1 - h->t[lo - 1]) : 0.0;
-  const double m1 = (hi < n - 1) ? (h->value[hi + 1] - y0) / (h->t[hi + 1] - t0) : 0.0;
+  double m0, m1;
+  if (h->rate) {
+    m0 = h->rate[lo];
+    m1 = h->rate[hi];
+  } else {
+    m0 = (lo > 0) ? (y1 - h->value[lo - 1]) / (t1 - h->t[lo - 1]) : 0.0;
+    m1 = (hi < n - 1) ? (h->value[hi + 1] - y0) / (h->t[hi + 1] - t0) : 0.0;
+  }
   const double u = (t - t0) / dt, u2 = u * u, u3 = u2 * u;
   *value = (2 * u3 - 3 * u2 + 1) * y0 + (u3 - 2 * u2 + u) * dt * m0 + (-2 * u3 + 3 * u2) * y1 +
            (u3 - u2) * dt * m1;
@@ -173,16 +179,70 @@ static ea_status_t ea__fe_newton_correct(ea_fe_model_t *m, const ea_fe_sim_setti
   return EA_OK;
 }
 
+/* Cable force of the energy scheme over a step: the discrete gradient of the cable
+ * potential taken in the cable's own strain, e = l - L0 (PASSIVE) with the rest
+ * length at each end of the step, e0 = l(q0) - L0(t0), e1 = l(q1) - L0(t1):
+ *   T_sec = [W(e1) - W(e0)] / (e1 - e0),  W(e) = EA_c max(e, 0)^2 / (2 L0(t_m)),
+ * applied along u = (d0 + d1) / (l0 + l1), d = root - tip, so that the work the cable
+ * does on the tip over the step is exactly -T_sec (l1 - l0) (l1^2 - l0^2 = (d1 + d0).
+ * (d1 - d0)). Undriven (L0 fixed) this is Gonzalez's discrete gradient of a spring:
+ * energy is conserved exactly. Driven, the reel's work is -T_sec (L0(t1) - L0(t0)),
+ * and the tension is the secant over the strains the cable really has at the two ends
+ * (both ~ T L0 / EA_c), not over a frozen rest length that the moving cable crosses
+ * within the step (|dL0| per step can exceed the stretch: with L0 frozen at its mid-step
+ * value the cable is slack at one end and overstretched at the other, and the global
+ * correction turned that into a spurious force of newtons). ACTIVE: T_sec = T(t_m).
+ * Adds -T_sec u to the tip rows of f (f = f_int - f_ext) and the midpoint cable
+ * stiffness (Newton matrix) to Kb; returns T_sec. */
+static double ea__fe_cable_secant(ea_fe_model_t *m, const double *q0, const double *q1,
+                                  ea_fe_cable_phase_t phase, double c0, double cm, double c1,
+                                  double *f, double *Kb) {
+  const int t = m->nd - 3;
+  if (phase == EA_FE_CABLE_NONE) return 0.0;
+  const double xc = m->arm.x_c, yc = m->arm.y_c;
+  const double d0x = xc - q0[t], d0y = yc - q0[t + 1], d1x = xc - q1[t], d1y = yc - q1[t + 1];
+  const double l0 = hypot(d0x, d0y), l1 = hypot(d1x, d1y);
+  double Tsec;
+  if (phase == EA_FE_CABLE_ACTIVE) {
+    Tsec = cm;
+  } else {
+    const double kt = m->arm.EA_cable / cm;
+    const double e0 = fmax(l0 - c0, 0.0), e1 = fmax(l1 - c1, 0.0);
+    const double de = (l1 - c1) - (l0 - c0);
+    /* secant of W' = kt max(e, 0); where the difference is at rounding level, the
+     * tangent at the mean strain (the limit of the secant) */
+    if (fabs(de) > 1e-9 * (fabs(l0 - c0) + fabs(l1 - c1)) + 1e-300)
+      Tsec = 0.5 * kt * (e1 * e1 - e0 * e0) / de;
+    else
+      Tsec = kt * fmax(0.5 * ((l0 - c0) + (l1 - c1)), 0.0);
+  }
+  const double ls = l0 + l1;
+  const double ux = ls > 0 ? (d0x + d1x) / ls : 0.0, uy = ls > 0 ? (d0y + d1y) / ls : 0.0;
+  f[t] -= Tsec * ux;
+  f[t + 1] -= Tsec * uy;
+  if (Kb) {
+    double kc[4], fc[2];
+    ea__fe_cable(m, phase, cm, 0.5 * (q0[t] + q1[t]), 0.5 * (q0[t + 1] + q1[t + 1]), NULL, NULL, fc,
+                 kc);
+    EA__SB(Kb, t, t) += kc[0];
+    EA__SB(Kb, t, t + 1) += kc[1];
+    EA__SB(Kb, t + 1, t + 1) += kc[3];
+  }
+  return Tsec;
+}
+
 /* One step of the energy-consistent midpoint scheme from (m->q0, m->v0) to
- * (m->q, m->v); clamp angle/rate th1, th1r at t1, cable value cm at the
- * midpoint; V0 = potential at q0. *iters: Newton iterations. */
+ * (m->q, m->v); clamp angle/rate th1, th1r at t1; cable value (T or L0) c0, cm, c1 at
+ * t0, the midpoint and t1. The potential is partitioned: beam strain + gravity get the
+ * global (mass-weighted) discrete-gradient correction, the cable its own discrete
+ * gradient in its strain (ea__fe_cable_secant). *iters: Newton iterations. */
 static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings_t *s, int damped,
-                                      double bkv, ea_fe_cable_phase_t phase, double cm, double th1,
-                                      double th1r, int *iters) {
+                                      double bkv, ea_fe_cable_phase_t phase, double c0, double cm,
+                                      double c1, double th1, double th1r, int *iters) {
   const int nd = m->nd;
   const double h = s->dt;
   double *q0 = m->q0, *v0 = m->v0, *q1 = m->q, *v1 = m->v, *qm = m->qm;
-  const double V0 = ea__fe_potential(m, q0, phase, cm);
+  const double V0 = ea__fe_potential(m, q0, EA_FE_CABLE_NONE, 0.0);
   ea_status_t st = EA_OK;
   /* predictor */
   for (int i = 3; i < nd; ++i)
@@ -198,8 +258,8 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
       v1[i] = 2.0 * (q1[i] - q0[i]) / h - v0[i];
     for (int i = 0; i < nd; ++i)
       qm[i] = 0.5 * (q0[i] + q1[i]);
-    ea__fe_assemble(m, qm, phase, cm, m->fm, m->Kb);
-    /* discrete gradient correction */
+    ea__fe_assemble(m, qm, EA_FE_CABLE_NONE, 0.0, m->fm, m->Kb);
+    /* discrete gradient correction of the beam + gravity potential */
     double *dq = m->tmp, *Mdq = m->a0;
     for (int i = 0; i < nd; ++i)
       dq[i] = q1[i] - q0[i];
@@ -211,7 +271,7 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
       fd += m->fm[i] * dq[i];
     }
     if (dMd > 1e-300) {
-      const double V1 = ea__fe_potential(m, q1, phase, cm);
+      const double V1 = ea__fe_potential(m, q1, EA_FE_CABLE_NONE, 0.0);
       const double dV = V1 - V0 - fd;
       /* Below the rounding level of V (2e-14 of it, ~90 ulp) the difference is noise; dividing
        * it by a tiny dq' M dq (an arm nearly at rest) would swamp Newton:
@@ -222,6 +282,7 @@ static ea_status_t ea__fe_step_energy(ea_fe_model_t *m, const ea_fe_sim_settings
           m->fm[i] += c * Mdq[i];
       }
     }
+    ea__fe_cable_secant(m, q0, q1, phase, c0, cm, c1, m->fm, m->Kb);
     /* residual: M (v1 - v0)/h + C vm + dV */
     for (int i = 0; i < nd; ++i) {
       m->qs[i] = (v1[i] - v0[i]) / h; /* acceleration-like */
@@ -428,7 +489,7 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       st = ea__fe_step_galpha(m, s, &g, damped, bkv, phase, cm, th1, th1r, th1a, n == 0, &it);
       memcpy(m->qprev, m->q0, sizeof(double) * (size_t)nd);
     } else {
-      st = ea__fe_step_energy(m, s, damped, bkv, phase, cm, th1, th1r, &it);
+      st = ea__fe_step_energy(m, s, damped, bkv, phase, m->cable_value, cm, cab1, th1, th1r, &it);
     }
     info->newton_iterations += it;
     if (it > info->max_step_iterations) info->max_step_iterations = it;
@@ -437,9 +498,8 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
                    t1, it);
       break;
     }
-    /* the energy scheme keeps the midpoint value (its forces' value); generalized-alpha the
-     * value at t1, where its state is */
-    if (phase != EA_FE_CABLE_NONE) m->cable_value = galpha ? cab1 : cm;
+    /* the state at t1 goes with the cable value at t1 (both schemes) */
+    if (phase != EA_FE_CABLE_NONE) m->cable_value = cab1;
     info->steps = n + 1;
     if (damped || bkv > 0.0) {
       /* work of the damping forces over the step: (q1 - q0) . f_d(q_e, v_e) at the scheme's

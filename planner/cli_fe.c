@@ -2,12 +2,13 @@
  * trajectory). The FE model itself lives in model/fe_*.c (docs/fe.md); this
  * file only wires statics -> FE and writes tables, JSON, CSV and figures. */
 #include "cli_impl.h"
-#include "sim_impl.h"
+#include "ea_simulate.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 /* ------------------------------------------------------------------------ */
 /* Shared pieces                                                             */
@@ -626,15 +627,19 @@ static void ea__sim_help(void) {
       "FE transient (docs/fe.md) of a trajectory: the statics at the start, the FE static\n"
       "equilibrium, then the nonlinear dynamics driven by the shoulder angle theta0(t) and\n"
       "the cable (passive: moving rest length L0(t) = L_c(t) / (1 + T(t) / EA_c); active:\n"
-      "tension T(t)), to the end of the motion plus a settling time. Reports the tip\n"
-      "history, the tracking error against the plan's (quasi-static) tip during the motion\n"
-      "and the residual vibration after it.\n\n"
+      "tension T(t)), following the cubic Hermite of the file's values and rates, to the\n"
+      "end of the motion plus a settling time. Reports the tip history, the tracking error\n"
+      "against the plan's (quasi-static) tip during the motion, the residual vibration\n"
+      "after it and the time to rest (the tip within --tolerance of its final equilibrium\n"
+      "from then on).\n\n"
       "TRAJ: a trajectory file (docs/trajectory-format.md, written by 'elasticarm plan'),\n"
       "or a simple CSV with the header 't_s,cable_length_m,cable_angle_rad' (one row per\n"
       "sample; T, theta0 and kappa0 come from the statics, warm-started along the rows).\n\n"
       "  --elements N              FE elements (default %d)\n"
       "  --dt S                    time step [s] (default 1e-3)\n"
-      "  --settle S                simulated time after the motion [s] (default 1)\n"
+      "  --settle S                simulated time after the motion [s] (default 3)\n"
+      "  --tolerance M             time to rest: |tip - final equilibrium| <= M [m] from then\n"
+      "                            on (default 1e-3)\n"
       "  --damping-ratio Z         damping ratio Z at the first mode at the start, by strain-\n"
       "                            rate (Kelvin-Voigt) damping of the beam: zero for rigid\n"
       "                            motion; higher modes get more (reported)\n"
@@ -649,8 +654,12 @@ static void ea__sim_help(void) {
       "  --drive plan|fe           theta0(t) and T(t): the trajectory's columns (default), or\n"
       "                            re-solved by FE statics holding the planned tip at every\n"
       "                            sample (removes the ODE-vs-FE static offset)\n"
-      "  --payload-factor G | --payload-kg M   tip load (default: the trajectory's tip mass)\n"
-      "  --arm FILE                arm parameters (default data/elasticarm.yaml)\n"
+      "  --payload-factor G | --payload-kg M   payload (default: the trajectory's payload);\n"
+      "                            the tip mass is the arm's hand mass plus the payload\n"
+      "  --arm FILE                arm parameters (default: the arm file the trajectory\n"
+      "                            records, else data/elasticarm.yaml); a plan run on another\n"
+      "                            arm (heavier hand, stiffer beam) is the what-if: the arm\n"
+      "                            starts from its own equilibrium under the plan's inputs\n"
       "  -o FILE                   tip history CSV: t_s, tip_x_m, tip_y_m, tip_theta_rad,\n"
       "                            planned_tip_x_m, planned_tip_y_m ('-' = stdout)\n"
       "  --json                    JSON summary on stdout\n"
@@ -749,50 +758,13 @@ static int ea__sim_is_simple(const char *path) {
   return c != '#' && c != EOF;
 }
 
-/* Planned (quasi-static) tip at trajectory time t: cubic Hermite of L_c and
- * alpha with their rates, tip = root + L_c (cos alpha, sin alpha). */
-static void ea__sim_plan_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, double xy[2]) {
-  const int n = tr->n;
-  double L, a;
-  if (t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t) || n == 1) {
-    L = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_length);
-    a = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_angle);
-  } else if (t >= EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t)) {
-    L = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_cable_length);
-    a = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_cable_angle);
-  } else {
-    int lo = 0, hi = n - 1;
-    while (hi - lo > 1) {
-      const int mid = (lo + hi) / 2;
-      if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
-        lo = mid;
-      else
-        hi = mid;
-    }
-    const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
-    const double s = (t - t0) / h, s2 = s * s, s3 = s2 * s;
-    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
-                 h11 = s3 - s2;
-    L = h00 * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_length) +
-        h10 * h * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_length_rate) +
-        h01 * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_length) +
-        h11 * h * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_length_rate);
-    a = h00 * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_angle) +
-        h10 * h * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_angle_rate) +
-        h01 * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_angle) +
-        h11 * h * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_angle_rate);
-  }
-  xy[0] = arm->x_c + L * cos(a);
-  xy[1] = arm->y_c + L * sin(a);
-}
-
 typedef struct {
   const char *traj_path, *arm_file, *out, *figure;
   ea__cli_payload_t payload;
   int json, active, drive_fe, damping; /* damping: 0 none, 1 ratio, 2 rayleigh */
   ea_fe_scheme_t scheme;
   long elements;
-  double dt, settle, zeta, rayleigh[2], rho_inf;
+  double dt, settle, zeta, rayleigh[2], rho_inf, tolerance;
   int rho_given;
 } ea__sim_opts_t;
 
@@ -800,9 +772,10 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
   memset(o, 0, sizeof *o);
   o->elements = EA_FE_DEFAULT_ELEMENTS;
   o->dt = 1e-3;
-  o->settle = 1.0;
+  o->settle = 3.0;
   o->scheme = EA_FE_SCHEME_ENERGY;
   o->rho_inf = 0.9;
+  o->tolerance = 1e-3;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v;
     int bad = 0;
@@ -823,6 +796,8 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
       bad = ea__cli_double(cmd, a, v, 1e-6, 0.1, &o->dt);
     else if (!strcmp(a, "--settle"))
       bad = ea__cli_double(cmd, a, v, 0.0, 1e4, &o->settle);
+    else if (!strcmp(a, "--tolerance"))
+      bad = ea__cli_double(cmd, a, v, 1e-9, 1.0, &o->tolerance);
     else if (!strcmp(a, "--damping-ratio")) {
       if (o->damping)
         bad = ea__cli_usage_error(cmd, "give --damping-ratio or --rayleigh once");
@@ -884,29 +859,158 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
   return ea__fe_check_figure(cmd, o->figure);
 }
 
-/* Statics along the rows of tr (warm-started), filling T, theta0, kappa0,
- * torque and tip; used for the simple CSV form. */
-static int ea__sim_fill_statics(const char *cmd, const char *path, ea_traj_t *tr,
-                                ea_shooter_t *sh) {
-  double guess[EA_NP];
-  const ea_arm_t *arm = ea_shooter_arm(sh);
-  for (int i = 0; i < tr->n; ++i) {
-    const double L = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length),
-                 a = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle);
-    ea_statics_problem_t pr = ea_statics_problem_cable(L, a);
-    ea_statics_solution_t sol;
-    ea_error_t err = {0};
-    ea_status_t st = ea_statics_solve(sh, &pr, NULL, i ? guess : NULL, &sol, &err);
-    if (st && i) st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, &err);
-    if (st) {
+/* The arm to simulate on: --arm, else the arm file the trajectory records (if it is
+ * there), else the default; *which says which, for the summary. */
+static int ea__sim_arm(const char *cmd, const ea__sim_opts_t *o, const ea_traj_t *tr, ea_arm_t *arm,
+                       const char **which) {
+  const char *path = o->arm_file;
+  *which = "--arm";
+  if (!path && tr->arm_file[0]) {
+    if (access(tr->arm_file, R_OK) != 0) {
       fprintf(stderr,
-              "elasticarm %s: error: %s: sample %d (t = %g s, L_c = %g m, alpha = %g deg): no "
-              "static solution: %s\n",
-              cmd, path, i + 1, EA_TRAJ_AT(tr, i, EA_TRAJ_t), L, a / EA__DEG, err.msg);
-      return EA_EXIT_FAIL;
+              "elasticarm %s: error: %s records the arm file '%s', which cannot be read here: "
+              "give the arm with --arm FILE\n",
+              cmd, o->traj_path, tr->arm_file);
+      return EA_EXIT_USAGE;
     }
-    memcpy(guess, sol.p, sizeof guess);
-    ea_traj_set_statics(tr, i, sol.p, sol.tip, arm->EI);
+    path = tr->arm_file;
+    *which = "recorded in the trajectory";
+  }
+  if (!path) {
+    path = ea__cli_default_arm();
+    *which = "default";
+  }
+  return ea__cli_load_arm(cmd, path, arm);
+}
+
+static void ea__sim_json(const ea__sim_opts_t *o, const ea_sim_settings_t *s, int simple, int n,
+                         const char *arm_path, const ea_sim_info_t *si) {
+  ea_json_t j;
+  ea_json_init(&j, stdout, 1);
+  ea_json_obj_begin(&j, NULL);
+  ea_json_str(&j, "status", ea_status_name(si->status));
+  ea_json_str(&j, "trajectory", o->traj_path);
+  ea_json_str(&j, "trajectory_format", simple ? "simple-csv" : "trajectory-v1");
+  ea_json_str(&j, "arm_file", arm_path);
+  ea_json_int(&j, "samples", n);
+  ea_json_num(&j, "tip_mass_kg", si->tip_mass);
+  ea_json_int(&j, "elements", s->elements);
+  ea_json_num(&j, "dt_s", s->dt);
+  ea_json_str(&j, "scheme", s->scheme == EA_FE_SCHEME_ENERGY ? "energy" : "genalpha");
+  if (s->scheme == EA_FE_SCHEME_GENALPHA) ea_json_num(&j, "rho_inf", s->rho_inf);
+  ea_json_str(&j, "cable", s->cable_active ? "active" : "passive");
+  ea_json_str(&j, "drive", s->drive_fe ? "fe" : "plan");
+  ea_json_num(&j, "rayleigh_mass_per_s", si->rayleigh_mass);
+  ea_json_num(&j, "rayleigh_stiffness_s", si->rayleigh_stiffness); /* strain-rate b */
+  if (s->damping_ratio > 0) {
+    ea_json_num(&j, "damping_ratio", s->damping_ratio);
+    ea_json_vec(&j, "start_frequencies_Hz", si->start_freq_hz, 2);
+    ea_json_vec(&j, "modal_damping_ratios", si->modal_damping,
+                si->n_modal_damping < 3 ? si->n_modal_damping : 3);
+  }
+  ea_json_num(&j, "motion_duration_s", si->duration);
+  ea_json_num(&j, "settle_s", s->settle);
+  ea_json_num(&j, "simulated_time_s", si->simulated_time);
+  ea_json_int(&j, "steps", si->steps);
+  ea_json_int(&j, "newton_iterations", si->newton_iterations);
+  ea_json_int(&j, "max_step_iterations", si->max_step_iterations);
+  ea_json_int(&j, "start_newton_iterations", si->start_newton_iterations);
+  ea_json_num(&j, "start_tension_N", si->start_tension);
+  ea_json_num(&j, "wall_time_s", si->wall_time_s);
+  ea_json_num(&j, "realtime_factor",
+              si->wall_time_s > 0 ? si->simulated_time / si->wall_time_s : NAN);
+  ea_json_num(&j, "residual_vibration_rms_m", si->residual_rms);
+  ea_json_num(&j, "residual_vibration_peak_m", si->residual_peak);
+  ea_json_num(&j, "rest_tolerance_m", s->rest_tolerance);
+  ea_json_num(&j, "time_to_rest_s", si->time_to_rest);
+  ea_json_num(&j, "max_tracking_error_m", si->max_tracking_error);
+  ea_json_num(&j, "max_tracking_error_time_s", si->max_tracking_error_time);
+  ea_json_num(&j, "static_offset_start_m", si->static_offset_start);
+  ea_json_num(&j, "static_offset_end_m", si->static_offset_end);
+  ea_json_vec(&j, "final_static_tip_m", si->final_static_tip, s->settle > 0 ? 2 : 0);
+  ea_json_num(&j, "energy_start_J", si->energy_start);
+  ea_json_num(&j, "energy_end_J", si->energy_end);
+  ea_json_num(&j, "energy_drift_J", si->energy_drift_max);
+  ea_json_num(&j, "kinetic_max_J", si->kinetic_max);
+  ea_json_obj_end(&j);
+  ea_json_end(&j);
+}
+
+static void ea__sim_text(const ea__sim_opts_t *o, const ea_sim_settings_t *s, int simple, int n,
+                         const char *arm_path, const char *arm_which, const ea_sim_info_t *si) {
+  printf("trajectory   %s (%s, %d samples, %.4g s), tip mass %.4g kg\n", o->traj_path,
+         simple ? "simple CSV" : "format 1", n, si->duration, si->tip_mass);
+  printf("arm          %s (%s)\n", arm_path, arm_which);
+  char scheme[64];
+  if (s->scheme == EA_FE_SCHEME_ENERGY)
+    snprintf(scheme, sizeof scheme, "energy");
+  else
+    snprintf(scheme, sizeof scheme, "genalpha (rho_inf %.3g)", s->rho_inf);
+  printf("FE           %d elements, dt %.3g s, %s scheme, %s cable, drive from the %s\n",
+         s->elements, s->dt, scheme, s->cable_active ? "active" : "passive",
+         s->drive_fe ? "FE statics" : "trajectory");
+  if (si->rayleigh_mass > 0 || si->rayleigh_stiffness > 0)
+    printf("damping      mass a = %.4g 1/s, strain-rate b = %.4g s%s\n", si->rayleigh_mass,
+           si->rayleigh_stiffness, s->damping_ratio > 0 ? " (ratio at mode 1)" : "");
+  if (si->n_modal_damping > 0)
+    printf("             modal damping ratios at the start: %.4f %.4f %.4f\n", si->modal_damping[0],
+           si->n_modal_damping > 1 ? si->modal_damping[1] : NAN,
+           si->n_modal_damping > 2 ? si->modal_damping[2] : NAN);
+  printf("simulated    %.4g s in %d steps, %d Newton iterations (max %d per step), wall "
+         "%.3f s (%.1fx real time)\n",
+         si->simulated_time, si->steps, si->newton_iterations, si->max_step_iterations,
+         si->wall_time_s, si->wall_time_s > 0 ? si->simulated_time / si->wall_time_s : NAN);
+  printf("tracking     max |tip - planned tip| during the motion %.4f mm (t = %.4g s); "
+         "static offset at start %.4f mm\n",
+         1e3 * si->max_tracking_error, si->max_tracking_error_time, 1e3 * si->static_offset_start);
+  if (s->settle > 0) {
+    printf("residual     vibration after the motion: rms %.4f mm, peak %.4f mm (about the "
+           "final equilibrium, %.4f mm from the planned end)\n",
+           1e3 * si->residual_rms, 1e3 * si->residual_peak, 1e3 * si->static_offset_end);
+    if (isfinite(si->time_to_rest))
+      printf("rest         within %.3g mm of the final equilibrium from t = %.4g s on (%.4g s "
+             "after the motion)\n",
+             1e3 * s->rest_tolerance, si->time_to_rest, si->time_to_rest - si->duration);
+    else
+      printf("rest         not within %.3g mm of the final equilibrium by the end (t = %.4g "
+             "s): simulate longer (--settle) or add damping\n",
+             1e3 * s->rest_tolerance, si->simulated_time);
+  }
+  printf("energy       start %.6g J, end %.6g J, max |E - E0| %.3g J (drives do work)\n",
+         si->energy_start, si->energy_end, si->energy_drift_max);
+}
+
+static int ea__sim_figure(const char *cmd, const ea__sim_opts_t *o, const ea_sim_settings_t *s,
+                          const ea_sim_info_t *si, const ea_sim_history_t *h) {
+  ea_plot_t *pl;
+  ea_error_t fe = {0};
+  if (ea_plot_open(&pl, o->figure, 1300, 600, &fe) == EA_OK) {
+    ea_plot_data_begin(pl, "sim");
+    for (int r = 0; r < h->rows; ++r) {
+      const double *v = h->data + 6 * r;
+      ea_plot_data_row(
+          pl, 6, (double[]){v[0], v[1], v[2], v[4], v[5], 1e3 * hypot(v[1] - v[4], v[2] - v[5])});
+    }
+    ea_plot_data_end(pl);
+    const double t_end_motion = h->rows ? h->data[0] + si->duration : si->duration;
+    ea_plot_cmd(pl, "set multiplot layout 1,2 title 'FE transient (%s cable, dt = %g s)'",
+                s->cable_active ? "active" : "passive", s->dt);
+    ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
+                    "set key top left\nset title 'tip path'");
+    ea_plot_cmd(pl, "plot $sim u 4:5 w l lw 3 lc rgb '#999999' t 'planned (quasi-static)', "
+                    "$sim u 2:3 w l lw 1.5 lc rgb '#1f77b4' t 'FE simulation'");
+    ea_plot_cmd(pl,
+                "set size noratio\nset xlabel 't [s]'\nset ylabel '|tip - planned| [mm]'\n"
+                "set key top right\nset title 'tip error (motion ends at %.3g s)'\n"
+                "set arrow from %.9g, graph 0 to %.9g, graph 1 nohead dt 2 lc rgb 'black'",
+                t_end_motion, t_end_motion, t_end_motion);
+    ea_plot_cmd(pl, "plot $sim u 1:6 w l lw 1.5 lc rgb '#d62728' t 'FE - plan'");
+    ea_plot_cmd(pl, "unset multiplot");
+    fe.status = ea_plot_close(pl, &fe);
+  }
+  if (fe.status) {
+    fprintf(stderr, "elasticarm %s: figure: %s\n", cmd, fe.msg);
+    return EA_EXIT_FAIL;
   }
   return 0;
 }
@@ -920,8 +1024,6 @@ int ea__cli_simulate(int argc, char **argv) {
   ea__sim_opts_t o;
   int rc = ea__sim_parse(cmd, argc, argv, &o);
   if (rc) return rc;
-  ea_arm_t arm;
-  if ((rc = ea__cli_load_arm(cmd, o.arm_file, &arm))) return rc;
   ea_traj_t tr = {0};
   ea_error_t err = {0};
   const int simple = ea__sim_is_simple(o.traj_path);
@@ -931,335 +1033,88 @@ int ea__cli_simulate(int argc, char **argv) {
     ea_traj_free(&tr);
     return ea__cli_fail(cmd, st, &err) == EA_EXIT_FAIL ? EA_EXIT_FAIL : EA_EXIT_USAGE;
   }
-  if (tr.n < 1) {
+  ea_arm_t arm;
+  const char *arm_which = "";
+  if ((rc = ea__sim_arm(cmd, &o, &tr, &arm, &arm_which))) {
     ea_traj_free(&tr);
-    return ea__cli_usage_error(cmd, "%s: no samples", o.traj_path);
+    return rc;
   }
-  const int n = tr.n;
-  const double t_first = EA_TRAJ_AT(&tr, 0, EA_TRAJ_t);
-  const double duration = EA_TRAJ_AT(&tr, n - 1, EA_TRAJ_t) - t_first;
-  const double t_end = duration + o.settle;
-  if (!(t_end > 0)) {
-    ea_traj_free(&tr);
-    return ea__cli_usage_error(cmd, "nothing to simulate: trajectory of one sample and "
-                                    "--settle 0");
-  }
-  if (t_end / o.dt > 2e7) {
-    ea_traj_free(&tr);
-    return ea__cli_usage_error(cmd, "%.3g s at --dt %g is more than 2e7 steps", t_end, o.dt);
-  }
-  double tip_mass = tr.tip_mass_kg > 0 ? tr.tip_mass_kg : arm.m_hand;
-  if (o.payload.given) tip_mass = ea__cli_tip_mass(&arm, &o.payload);
-
-  ea_shooter_t *sh = NULL;
-  ea_fe_model_t *m = NULL, *mh = NULL;
-  double *tip = NULL, *qstart = NULL;
-  ea__sim_drive_t drv = {0};
-  ea_afile_t af = {0};
-  const int rows_cap = (int)ceil(t_end / o.dt - 1e-9) + 2;
-  if ((rc = ea__fe_make(cmd, &arm, tip_mass, o.elements, 3, EA__FE_HOLD_TENSION, &sh, &m)))
-    goto done;
-  if (simple && (rc = ea__sim_fill_statics(cmd, o.traj_path, &tr, sh))) goto done;
-
-  /* 1. statics at the start, warm-started from the trajectory's row 0 */
-  const double L_0 = EA_TRAJ_AT(&tr, 0, EA_TRAJ_cable_length),
-               a_0 = EA_TRAJ_AT(&tr, 0, EA_TRAJ_cable_angle);
-  ea_statics_problem_t pr = ea_statics_problem_cable(L_0, a_0);
-  ea_statics_solution_t ode;
-  const double g0[EA_NP] = {a_0, EA_TRAJ_AT(&tr, 0, EA_TRAJ_tension),
-                            EA_TRAJ_AT(&tr, 0, EA_TRAJ_theta0), EA_TRAJ_AT(&tr, 0, EA_TRAJ_kappa0)};
-  st = ea_statics_solve(sh, &pr, NULL, g0, &ode, &err);
-  if (st) st = ea_statics_solve(sh, &pr, NULL, NULL, &ode, &err);
-  if (st) {
-    fprintf(stderr,
-            "elasticarm %s: error: %s: the start (L_c = %g m, alpha = %g deg) has no static "
-            "solution (outside the workspace?): %s\n",
-            cmd, o.traj_path, L_0, a_0 / EA__DEG, err.msg);
-    rc = EA_EXIT_FAIL;
-    goto done;
-  }
-  const double dT0 = fabs(ode.p[EA_P_TENSION] - g0[1]), dth0 = fabs(ode.p[EA_P_THETA0] - g0[2]);
-  if (!simple && (dT0 > 1e-4 * fmax(1.0, fabs(g0[1])) || dth0 > 1e-4))
-    fprintf(stderr,
-            "elasticarm %s: warning: at the start the statics give T = %.6g N, theta0 = %.6g "
-            "rad, the trajectory T = %.6g N, theta0 = %.6g rad (another arm file or payload?)\n",
-            cmd, ode.p[EA_P_TENSION], ode.p[EA_P_THETA0], g0[1], g0[2]);
-
-  /* 2. drive samples: theta0(t) and the cable parameter (L0 or T) */
-  tip = malloc(sizeof(double) * 4 * (size_t)rows_cap);
-  if (!tip || ea__sim_drive_alloc(&drv, n, o.active, &err)) {
-    rc = ea__cli_usage_error(cmd, "out of memory");
-    goto done;
-  }
-  if (o.drive_fe) {
-    if ((rc = ea__fe_model_make(cmd, &arm, tip_mass, o.elements, 3, EA__FE_HOLD_TIP, &mh)))
-      goto done;
-  }
-  {
-    double guess[EA_NP];
-    memcpy(guess, ode.p, sizeof guess);
-    for (int i = 0; i < n; ++i) {
-      const double ti = EA_TRAJ_AT(&tr, i, EA_TRAJ_t) - t_first;
-      double T = EA_TRAJ_AT(&tr, i, EA_TRAJ_tension), theta0 = EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0);
-      const double L = EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length);
-      if (o.drive_fe) {
-        ea__fe_point_t pt;
-        ea_statics_problem_t pi =
-            ea_statics_problem_cable(L, EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle));
-        pt.status = ea_statics_solve(sh, &pi, NULL, guess, &pt.ode, &pt.err);
-        if (pt.status) pt.status = ea_statics_solve(sh, &pi, NULL, NULL, &pt.ode, &pt.err);
-        if (!pt.status) {
-          memcpy(guess, pt.ode.p, sizeof guess);
-          pt.status = ea_fe_static_solve(mh, sh, &pt.ode, &pt.fe, &pt.err);
-        }
-        if (pt.status) {
-          fprintf(stderr, "elasticarm %s: error: --drive fe: sample %d (t = %g s): %s\n", cmd,
-                  i + 1, ti + t_first, pt.err.msg);
-          rc = EA_EXIT_FAIL;
-          goto done;
-        }
-        T = pt.fe.tension;
-        theta0 = pt.fe.theta0;
-        if (i == 0) {
-          qstart = malloc(sizeof(double) * 3 * (size_t)ea_fe_model_nodes(mh));
-          if (!qstart || ea_fe_get_state(mh, qstart, NULL)) {
-            rc = ea__cli_usage_error(cmd, "out of memory");
-            goto done;
-          }
-        }
-      }
-      if (ea__sim_drive_set(&drv, &arm, i, ti, L, T, theta0, &err)) {
-        fprintf(stderr, "elasticarm %s: error: %s: sample %d (t = %g s): %s\n", cmd, o.traj_path,
-                i + 1, ti + t_first, err.msg);
-        rc = EA_EXIT_FAIL;
-        goto done;
-      }
-    }
-    ea__sim_drive_finish(&drv);
-  }
-
-  /* 3. FE static equilibrium under the drive values at t = 0 */
-  ea_fe_static_info_t fsi;
-  const double t_wall0 = ea__fe_wall();
-  if ((st = ea_fe_static_solve(m, sh, &ode, &fsi, &err))) {
-    fprintf(stderr, "elasticarm %s: error: FE static solve at the start: %s\n", cmd, err.msg);
-    rc = EA_EXIT_FAIL;
-    goto done;
-  }
-  {
-    st = ea__sim_drive_start(m, &drv, qstart, &fsi, &err);
-    if (st) {
-      fprintf(stderr, "elasticarm %s: error: FE equilibrium under the start drive: %s\n", cmd,
-              err.msg[0] ? err.msg : ea_strerror(st));
-      rc = EA_EXIT_FAIL;
-      goto done;
-    }
-  }
-  double plan0[2], tip0[3];
-  ea__sim_plan_tip(&tr, &arm, t_first, plan0);
-  ea_fe_tip(m, tip0);
-  const double offset_start = hypot(tip0[0] - plan0[0], tip0[1] - plan0[1]);
-
-  /* 4. damping */
-  ea_fe_sim_settings_t ss;
-  ea_fe_sim_settings_default(&ss);
-  ss.scheme = o.scheme;
-  ss.rho_inf = o.rho_inf;
-  ss.dt = o.dt;
-  ss.t_end = t_end;
-  ss.t_motion_end = o.settle > 0 ? duration : -1.0;
-  double f12[2] = {NAN, NAN}, zeta_modes[EA_FE_MAX_MODES];
-  int nzeta = 0;
+  const char *arm_path =
+      o.arm_file ? o.arm_file : (tr.arm_file[0] ? tr.arm_file : ea__cli_default_arm());
+  ea_sim_settings_t s;
+  ea_sim_settings_default(&s);
+  s.elements = (int)o.elements;
+  s.dt = o.dt;
+  s.settle = o.settle;
+  s.scheme = o.scheme;
+  s.rho_inf = o.rho_inf;
+  s.cable_active = o.active;
+  s.drive_fe = o.drive_fe;
+  s.rest_tolerance = o.tolerance;
+  s.keep_history = o.out || o.figure;
+  if (o.damping == 1) s.damping_ratio = o.zeta;
   if (o.damping == 2) {
-    ss.rayleigh_mass = o.rayleigh[0];
-    ss.rayleigh_stiffness = o.rayleigh[1];
-  } else if (o.damping == 1 && o.zeta > 0) {
-    ea_fe_modes_info_t mi;
-    if ((st = ea_fe_modes(m, &mi, &err)) || mi.modes < 1 || !(mi.lambda[0] > 0)) {
-      fprintf(stderr,
-              "elasticarm %s: error: --damping-ratio needs a stable first mode at the "
-              "start: %s\n",
-              cmd, st ? err.msg : "not stable");
-      rc = EA_EXIT_FAIL;
-      goto done;
-    }
-    /* strain-rate (Kelvin-Voigt) damping only, b from ratio Z at mode 1 of the start
-     * state (ea_fe_strain_damping). Not mass-proportional: a M v acts on absolute
-     * velocities and so brakes the commanded rigid rotation of the whole arm (a drag
-     * that shows up as tracking error), which no physical mechanism of the arm does;
-     * the strain rates are zero for rigid motion. The higher modes get the ratios
-     * that material damping gives them (rising with frequency), reported. */
-    f12[0] = mi.freq_hz[0];
-    f12[1] = mi.freq_hz[1];
-    if ((st = ea_fe_strain_damping(m, 0, o.zeta, &ss.rayleigh_stiffness, zeta_modes)) != EA_OK) {
-      fprintf(stderr, "elasticarm %s: error: --damping-ratio: %s\n", cmd, ea_strerror(st));
-      rc = EA_EXIT_FAIL;
-      goto done;
-    }
-    nzeta = mi.modes < 3 ? mi.modes : 3;
-    ss.rayleigh_mass = 0.0;
+    s.rayleigh_mass = o.rayleigh[0];
+    s.rayleigh_stiffness = o.rayleigh[1];
   }
-
-  /* 5. transient */
-  ea_fe_sim_info_t si;
-  st = ea_fe_simulate(m, &drv.drive, &ss, tip, rows_cap, &si, &err);
-  const double wall = ea__fe_wall() - t_wall0;
+  /* the tip mass: the arm's hand plus the trajectory's payload, or the flags' payload */
+  const double tip_mass = o.payload.given ? ea__cli_tip_mass(&arm, &o.payload) : 0.0;
+  ea_sim_history_t h = {0};
+  ea_sim_info_t si;
+  ea_afile_t af = {0};
+  if (simple) {
+    ea_shooter_t *sh = NULL;
+    const ea_load_t load = {tip_mass > 0 ? tip_mass : arm.m_hand};
+    st = ea_shooter_alloc(&arm, NULL, &sh, &err);
+    if (!st) {
+      ea_shooter_set_load(sh, &load);
+      st = ea_traj_fill_statics(&tr, sh, &err);
+    }
+    ea_shooter_free(sh);
+    if (st) {
+      rc = ea__cli_fail(cmd, st == EA_ERR_NOMEM ? st : EA_ERR_INADMISSIBLE, &err);
+      goto done;
+    }
+  }
+  st = ea_traj_simulate(&arm, &tr, tip_mass, &s, &h, &si, &err);
   if (st) {
-    fprintf(stderr, "elasticarm %s: error: %s\n", cmd, err.msg[0] ? err.msg : ea_strerror(st));
-    rc = st == EA_ERR_ARG ? EA_EXIT_USAGE : EA_EXIT_FAIL;
+    fprintf(stderr, "elasticarm %s: error: %s: %s\n", cmd, o.traj_path,
+            err.msg[0] ? err.msg : ea_strerror(st));
+    rc = (st == EA_ERR_ARG || st == EA_ERR_INPUT) ? EA_EXIT_USAGE : EA_EXIT_FAIL;
     goto done;
   }
-  /* 6. tracking error during the motion, final offset */
-  double track = 0.0, track_t = 0.0;
-  for (int r = 0; r < si.rows; ++r) {
-    const double t = tip[4 * r];
-    if (t > duration + 1e-9) break;
-    double p[2];
-    ea__sim_plan_tip(&tr, &arm, t + t_first, p);
-    const double e = hypot(tip[4 * r + 1] - p[0], tip[4 * r + 2] - p[1]);
-    if (e > track) {
-      track = e;
-      track_t = t + t_first;
-    }
-  }
-  double plan_end[2];
-  ea__sim_plan_tip(&tr, &arm, t_first + duration, plan_end);
-  const double offset_end =
-      o.settle > 0 ? hypot(si.tip_static[0] - plan_end[0], si.tip_static[1] - plan_end[1]) : NAN;
+  if (!simple &&
+      (si.start_tension_mismatch > 1e-4 * fmax(1.0, EA_TRAJ_AT(&tr, 0, EA_TRAJ_tension)) ||
+       si.start_theta0_mismatch > 1e-4))
+    fprintf(stderr,
+            "elasticarm %s: note: this arm and tip mass (%.4g kg) are not the plan's: at the "
+            "start its statics differ from the trajectory's by %.3g N in T and %.3g rad in "
+            "theta0; the drive is the trajectory's, the arm settles where its own equilibrium "
+            "is\n",
+            cmd, si.tip_mass, si.start_tension_mismatch, si.start_theta0_mismatch);
   if (o.out) {
     if (ea_afile_open(&af, o.out, &err)) {
       rc = ea__cli_fail(cmd, err.status, &err);
       goto done;
     }
     fprintf(af.fp, "t_s,tip_x_m,tip_y_m,tip_theta_rad,planned_tip_x_m,planned_tip_y_m\n");
-    for (int r = 0; r < si.rows; ++r) {
-      double p[2];
-      ea__sim_plan_tip(&tr, &arm, tip[4 * r] + t_first, p);
-      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g\n", tip[4 * r] + t_first, tip[4 * r + 1],
-              tip[4 * r + 2], tip[4 * r + 3], p[0], p[1]);
+    for (int r = 0; r < h.rows; ++r) {
+      const double *v = h.data + 6 * r;
+      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g\n", v[0], v[1], v[2], v[3], v[4], v[5]);
     }
     if (ea_afile_commit(&af, &err)) {
       rc = ea__cli_fail(cmd, err.status, &err);
       goto done;
     }
   }
-  const double sim_time = si.steps * o.dt;
-  if (o.json) {
-    ea_json_t j;
-    ea_json_init(&j, stdout, 1);
-    ea_json_obj_begin(&j, NULL);
-    ea_json_str(&j, "status", ea_status_name(si.status));
-    ea_json_str(&j, "trajectory", o.traj_path);
-    ea_json_str(&j, "trajectory_format", simple ? "simple-csv" : "trajectory-v1");
-    ea_json_int(&j, "samples", n);
-    ea_json_num(&j, "tip_mass_kg", tip_mass);
-    ea_json_int(&j, "elements", o.elements);
-    ea_json_num(&j, "dt_s", o.dt);
-    ea_json_str(&j, "scheme", o.scheme == EA_FE_SCHEME_ENERGY ? "energy" : "genalpha");
-    if (o.scheme == EA_FE_SCHEME_GENALPHA) ea_json_num(&j, "rho_inf", o.rho_inf);
-    ea_json_str(&j, "cable", o.active ? "active" : "passive");
-    ea_json_str(&j, "drive", o.drive_fe ? "fe" : "plan");
-    ea_json_num(&j, "rayleigh_mass_per_s", ss.rayleigh_mass);
-    ea_json_num(&j, "rayleigh_stiffness_s", ss.rayleigh_stiffness); /* strain-rate b */
-    if (o.damping == 1) {
-      ea_json_num(&j, "damping_ratio", o.zeta);
-      ea_json_vec(&j, "start_frequencies_Hz", f12, 2);
-      ea_json_vec(&j, "modal_damping_ratios", zeta_modes, nzeta);
-    }
-    ea_json_num(&j, "motion_duration_s", duration);
-    ea_json_num(&j, "settle_s", o.settle);
-    ea_json_num(&j, "simulated_time_s", sim_time);
-    ea_json_int(&j, "steps", si.steps);
-    ea_json_int(&j, "newton_iterations", si.newton_iterations);
-    ea_json_int(&j, "max_step_iterations", si.max_step_iterations);
-    ea_json_num(&j, "wall_time_s", wall);
-    ea_json_num(&j, "realtime_factor", wall > 0 ? sim_time / wall : NAN);
-    ea_json_num(&j, "residual_vibration_rms_m", o.settle > 0 ? si.residual_rms : NAN);
-    ea_json_num(&j, "residual_vibration_peak_m", o.settle > 0 ? si.residual_peak : NAN);
-    ea_json_num(&j, "max_tracking_error_m", track);
-    ea_json_num(&j, "max_tracking_error_time_s", track_t);
-    ea_json_num(&j, "static_offset_start_m", offset_start);
-    ea_json_num(&j, "static_offset_end_m", offset_end);
-    ea_json_vec(&j, "final_static_tip_m", si.tip_static, o.settle > 0 ? 2 : 0);
-    ea_json_num(&j, "energy_start_J", si.energy_start);
-    ea_json_num(&j, "energy_end_J", si.energy_end);
-    ea_json_num(&j, "energy_drift_J", si.energy_drift_max);
-    ea_json_num(&j, "kinetic_max_J", si.kinetic_max);
-    ea_json_obj_end(&j);
-    ea_json_end(&j);
-  } else if (!o.out || strcmp(o.out, "-")) {
-    printf("trajectory   %s (%s, %d samples, %.4g s), tip mass %.4g kg\n", o.traj_path,
-           simple ? "simple CSV" : "format 1", n, duration, tip_mass);
-    char scheme[64];
-    if (o.scheme == EA_FE_SCHEME_ENERGY)
-      snprintf(scheme, sizeof scheme, "energy");
-    else
-      snprintf(scheme, sizeof scheme, "genalpha (rho_inf %.3g)", o.rho_inf);
-    printf("FE           %ld elements, dt %.3g s, %s scheme, %s cable, drive from the %s\n",
-           o.elements, o.dt, scheme, o.active ? "active" : "passive",
-           o.drive_fe ? "FE statics" : "trajectory");
-    if (o.damping)
-      printf("damping      mass a = %.4g 1/s, strain-rate b = %.4g s%s\n", ss.rayleigh_mass,
-             ss.rayleigh_stiffness, o.damping == 1 ? " (ratio at mode 1)" : "");
-    if (nzeta > 0)
-      printf("             modal damping ratios at the start: %.4f %.4f %.4f\n", zeta_modes[0],
-             nzeta > 1 ? zeta_modes[1] : NAN, nzeta > 2 ? zeta_modes[2] : NAN);
-    printf("simulated    %.4g s in %d steps, %d Newton iterations (max %d per step), wall "
-           "%.3f s (%.1fx real time)\n",
-           sim_time, si.steps, si.newton_iterations, si.max_step_iterations, wall,
-           wall > 0 ? sim_time / wall : NAN);
-    printf("tracking     max |tip - planned tip| during the motion %.4f mm (t = %.4g s); "
-           "static offset at start %.4f mm\n",
-           1e3 * track, track_t, 1e3 * offset_start);
-    if (o.settle > 0)
-      printf("residual     vibration after the motion: rms %.4f mm, peak %.4f mm (about the "
-             "final equilibrium, %.4f mm from the planned end)\n",
-             1e3 * si.residual_rms, 1e3 * si.residual_peak, 1e3 * offset_end);
-    printf("energy       start %.6g J, end %.6g J, max |E - E0| %.3g J (drives do work)\n",
-           si.energy_start, si.energy_end, si.energy_drift_max);
-  }
-  if (o.figure) {
-    ea_plot_t *pl;
-    ea_error_t fe = {0};
-    if (ea_plot_open(&pl, o.figure, 1300, 600, &fe) == EA_OK) {
-      ea_plot_data_begin(pl, "sim");
-      for (int r = 0; r < si.rows; ++r) {
-        double p[2];
-        const double t = tip[4 * r] + t_first;
-        ea__sim_plan_tip(&tr, &arm, t, p);
-        ea_plot_data_row(pl, 6,
-                         (double[]){t, tip[4 * r + 1], tip[4 * r + 2], p[0], p[1],
-                                    1e3 * hypot(tip[4 * r + 1] - p[0], tip[4 * r + 2] - p[1])});
-      }
-      ea_plot_data_end(pl);
-      ea_plot_cmd(pl, "set multiplot layout 1,2 title 'FE transient of %s (%s cable, dt = %g s)'",
-                  o.traj_path, o.active ? "active" : "passive", o.dt);
-      ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
-                      "set key top left\nset title 'tip path'");
-      ea_plot_cmd(pl, "plot $sim u 4:5 w l lw 3 lc rgb '#999999' t 'planned (quasi-static)', "
-                      "$sim u 2:3 w l lw 1.5 lc rgb '#1f77b4' t 'FE simulation'");
-      ea_plot_cmd(pl,
-                  "set size noratio\nset xlabel 't [s]'\nset ylabel '|tip - planned| [mm]'\n"
-                  "set key top right\nset title 'tip error (motion ends at %.3g s)'\n"
-                  "set arrow from %.9g, graph 0 to %.9g, graph 1 nohead dt 2 lc rgb 'black'",
-                  t_first + duration, t_first + duration, t_first + duration);
-      ea_plot_cmd(pl, "plot $sim u 1:6 w l lw 1.5 lc rgb '#d62728' t 'FE - plan'");
-      ea_plot_cmd(pl, "unset multiplot");
-      fe.status = ea_plot_close(pl, &fe);
-    }
-    if (fe.status) {
-      fprintf(stderr, "elasticarm %s: figure: %s\n", cmd, fe.msg);
-      rc = EA_EXIT_FAIL;
-    }
-  }
+  if (o.json)
+    ea__sim_json(&o, &s, simple, tr.n, arm_path, &si);
+  else if (!o.out || strcmp(o.out, "-"))
+    ea__sim_text(&o, &s, simple, tr.n, arm_path, arm_which, &si);
+  if (o.figure) rc = ea__sim_figure(cmd, &o, &s, &si, &h);
 done:
   ea_afile_abort(&af);
-  free(qstart);
-  ea__sim_drive_free(&drv);
-  free(tip);
-  ea_fe_model_free(mh);
-  ea_fe_model_free(m);
-  ea_shooter_free(sh);
+  ea_sim_history_free(&h);
   ea_traj_free(&tr);
   return rc;
 }

@@ -1186,7 +1186,7 @@ static void test_bad_args(void) {
   ea_test_true(ea_fe_simulate(m, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_ARG,
                "simulate: generalized-alpha rho_inf = 1.5 rejected");
   ea_test_true(ea_fe_simulate(NULL, NULL, &ss, NULL, 0, NULL, &e) == EA_ERR_ARG, "simulate: NULL");
-  ea_fe_samples_t hs = {0, NULL, NULL};
+  ea_fe_samples_t hs = {0, NULL, NULL, NULL};
   double v, r;
   ea_test_true(ea_fe_samples_eval(0.0, &v, &r, &hs) != 0, "samples: empty history");
   ea_fe_model_free(m);

@@ -1,0 +1,109 @@
+/**
+ * @file ea_simulate.h
+ * @brief The FE transient of a trajectory file as one library call: the ground
+ *        truth for vibration that `elasticarm simulate`, `controller-sim
+ *        --simulate`, `plan --verify` and studies share.
+ *
+ * The trajectory (docs/trajectory-format.md) drives the nonlinear FE model
+ * (docs/fe.md) by the shoulder angle theta0(t) and the cable: passive (default),
+ * with the moving rest length L0(t) = L_c(t) / (1 + T(t) / EA_c), or active, with
+ * the tension T(t). Between samples the drive follows the cubic Hermite of the
+ * file's values and rates, as the format promises. Never prints.
+ */
+#ifndef EA_SIMULATE_H
+#define EA_SIMULATE_H
+
+#include "ea_planner.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Settings of a trajectory simulation. */
+typedef struct ea_sim_settings {
+  int elements;              /**< FE elements (default EA_FE_DEFAULT_ELEMENTS) */
+  ea_fe_scheme_t scheme;     /**< time integrator (default EA_FE_SCHEME_ENERGY) */
+  double dt;                 /**< [s] time step (default 1e-3: converged to 1e-4 relative on the
+                                  residual, bench/bench_fe's work-precision table) */
+  double rho_inf;            /**< generalized-alpha spectral radius (default 0.9) */
+  double settle;             /**< [s] simulated after the motion (default 3) */
+  int cable_active;          /**< 0: passive cable (default), 1: active (tension drives) */
+  int drive_fe;              /**< 0: theta0 and T from the file (default); 1: re-solved by FE
+                                  statics holding the planned tip at every sample */
+  double damping_ratio;      /**< zeta at the first mode of the start state, by strain-rate
+                                  damping (0 = undamped, default) */
+  double rayleigh_mass;      /**< [1/s] explicit mass damping a (used when damping_ratio = 0) */
+  double rayleigh_stiffness; /**< [s] explicit strain-rate damping b (idem) */
+  double rest_tolerance;     /**< [m] "at rest": |tip - final equilibrium| stays below this
+                                  (default 1e-3) */
+  int keep_history;          /**< 1: return the tip history (ea_sim_history_t) */
+} ea_sim_settings_t;
+
+void ea_sim_settings_default(ea_sim_settings_t *s);
+/** Check s; err names the bad field, its value and the bound. */
+ea_status_t ea_sim_settings_validate(const ea_sim_settings_t *s, ea_error_t *err);
+
+/** What a trajectory simulation found. Lengths [m], times [s] from the trajectory's
+ *  first sample. */
+typedef struct ea_sim_info {
+  ea_status_t status;
+  double tip_mass;       /**< [kg] m_L simulated */
+  double duration;       /**< [s] the motion (last sample time - first) */
+  double simulated_time; /**< [s] motion + settle, as stepped */
+  int steps, newton_iterations, max_step_iterations;
+  int start_newton_iterations;   /**< continuation to the start equilibrium */
+  double start_tension;          /**< [N] FE cable tension at the start equilibrium */
+  double start_theta0_mismatch;  /**< [rad] |theta0 of this arm's statics - the file's| at t0 */
+  double start_tension_mismatch; /**< [N] the same for the tension */
+  double start_freq_hz[2];       /**< first two frequencies at the start (damping only) */
+  double modal_damping[EA_FE_MAX_MODES]; /**< damping ratios of the start's modes */
+  int n_modal_damping;
+  double rayleigh_mass, rayleigh_stiffness; /**< damping used */
+  double residual_rms;            /**< RMS of |tip - final equilibrium| after the motion */
+  double residual_peak;           /**< peak of the same (the residual vibration) */
+  double time_to_rest;            /**< first time after which |tip - final equilibrium| <=
+                                       rest_tolerance until the end; NAN if not at rest by then */
+  double max_tracking_error;      /**< max |tip - planned tip| during the motion */
+  double max_tracking_error_time; /**< when */
+  double static_offset_start;     /**< |FE start equilibrium - planned start tip| */
+  double static_offset_end;       /**< |final FE equilibrium - planned end tip| */
+  double final_static_tip[2];     /**< final FE equilibrium for the held inputs */
+  double energy_start, energy_end, energy_drift_max, kinetic_max; /**< [J] */
+  double wall_time_s;
+} ea_sim_info_t;
+
+/** Tip history: rows of (t [s], tip x [m], tip y [m], tip theta [rad],
+ *  planned tip x [m], planned tip y [m]). Owned; ea_sim_history_free. */
+typedef struct ea_sim_history {
+  int rows;
+  double *data; /**< rows x 6 */
+} ea_sim_history_t;
+void ea_sim_history_free(ea_sim_history_t *h);
+
+/** Simulate trajectory tr on arm with tip mass tip_mass [kg] (<= 0: the arm's hand plus the
+ *  trajectory's recorded payload). Statics of the start for this arm and load, its FE
+ *  equilibrium, continuation to the file's inputs at t = 0 (ea_fe_static_continue), then the
+ *  transient over the motion and the settling time.
+ * @param[out] hist history if s->keep_history (else untouched); may be NULL
+ * @param[out] info summary; filled as far as it got on failure
+ * @return EA_OK; EA_ERR_INPUT for a trajectory whose values the drive refuses (T < 0, ...);
+ *         EA_ERR_INADMISSIBLE if the start has no static solution; EA_ERR_NOCONV/... if the
+ *         FE did not converge (err says where). */
+ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
+                             const ea_sim_settings_t *s, ea_sim_history_t *hist,
+                             ea_sim_info_t *info, ea_error_t *err);
+
+/** The planned (quasi-static) tip at trajectory time t [s]: the cubic Hermite of L_c and
+ *  alpha with their rates (docs/trajectory-format.md), tip = root + L_c (cos, sin) alpha.
+ *  Holds the end values outside the samples. */
+void ea_traj_planned_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, double xy[2]);
+
+/** Fill the statics columns (T, theta0, kappa0, torque, tip) of every row from the cable
+ *  length and angle columns, warm-started along the rows (a simple CSV has only those).
+ *  err names the first row without a static solution. */
+ea_status_t ea_traj_fill_statics(ea_traj_t *tr, ea_shooter_t *sh, ea_error_t *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,379 @@
+/* The FE transient of a trajectory (planner/ea_simulate.h): statics of the start,
+ * FE equilibrium, continuation to the file's inputs, the driven transient, and the
+ * residual vibration, tracking error and time to rest from the tip history. */
+#include "ea_simulate.h"
+#include "sim_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void ea_sim_settings_default(ea_sim_settings_t *s) {
+  if (!s) return;
+  memset(s, 0, sizeof *s);
+  s->elements = EA_FE_DEFAULT_ELEMENTS;
+  s->scheme = EA_FE_SCHEME_ENERGY;
+  s->dt = 1e-3;
+  s->rho_inf = 0.9;
+  s->settle = 3.0;
+  s->rest_tolerance = 1e-3;
+}
+
+ea_status_t ea_sim_settings_validate(const ea_sim_settings_t *s, ea_error_t *err) {
+  if (!s) return ea_error_set(err, EA_ERR_ARG, "simulate settings are NULL");
+  if (s->elements < 1 || s->elements > 512)
+    return ea_error_set(err, EA_ERR_ARG, "simulate: elements = %d: must be in [1, 512]",
+                        s->elements);
+  if (!(s->dt >= 1e-6 && s->dt <= 0.1))
+    return ea_error_set(err, EA_ERR_ARG, "simulate: dt = %g s: must be in [1e-6, 0.1]", s->dt);
+  if (!(s->settle >= 0.0 && s->settle <= 1e4))
+    return ea_error_set(err, EA_ERR_ARG, "simulate: settle = %g s: must be in [0, 1e4]", s->settle);
+  if (!(s->damping_ratio >= 0.0 && s->damping_ratio <= 1.0))
+    return ea_error_set(err, EA_ERR_ARG, "simulate: damping ratio = %g: must be in [0, 1]",
+                        s->damping_ratio);
+  if (!(s->rayleigh_mass >= 0.0) || !(s->rayleigh_stiffness >= 0.0) ||
+      !isfinite(s->rayleigh_mass) || !isfinite(s->rayleigh_stiffness))
+    return ea_error_set(err, EA_ERR_ARG, "simulate: Rayleigh coefficients must be finite, >= 0");
+  if (s->damping_ratio > 0 && (s->rayleigh_mass > 0 || s->rayleigh_stiffness > 0))
+    return ea_error_set(err, EA_ERR_ARG,
+                        "simulate: give a damping ratio or Rayleigh "
+                        "coefficients, not both");
+  if (!(s->rest_tolerance > 0.0) || !isfinite(s->rest_tolerance))
+    return ea_error_set(err, EA_ERR_ARG, "simulate: rest tolerance = %g m: must be > 0",
+                        s->rest_tolerance);
+  if (!(s->rho_inf >= 0.0 && s->rho_inf <= 1.0))
+    return ea_error_set(err, EA_ERR_ARG, "simulate: rho_inf = %g: must be in [0, 1]", s->rho_inf);
+  if ((int)s->scheme < 0 || s->scheme >= EA_FE_SCHEME_COUNT)
+    return ea_error_set(err, EA_ERR_ARG, "simulate: unknown scheme %d", (int)s->scheme);
+  return EA_OK;
+}
+
+void ea_sim_history_free(ea_sim_history_t *h) {
+  if (!h) return;
+  free(h->data);
+  h->data = NULL;
+  h->rows = 0;
+}
+
+static double ea__sim_wall(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void ea_traj_planned_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, double xy[2]) {
+  const int n = tr->n;
+  double L, a;
+  if (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t)) {
+    L = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_length);
+    a = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_angle);
+  } else if (t >= EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t)) {
+    L = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_cable_length);
+    a = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_cable_angle);
+  } else {
+    int lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
+        lo = mid;
+      else
+        hi = mid;
+    }
+    const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
+    const double s = (t - t0) / h, s2 = s * s, s3 = s2 * s;
+    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
+                 h11 = s3 - s2;
+    L = h00 * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_length) +
+        h10 * h * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_length_rate) +
+        h01 * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_length) +
+        h11 * h * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_length_rate);
+    a = h00 * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_angle) +
+        h10 * h * EA_TRAJ_AT(tr, lo, EA_TRAJ_cable_angle_rate) +
+        h01 * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_angle) +
+        h11 * h * EA_TRAJ_AT(tr, hi, EA_TRAJ_cable_angle_rate);
+  }
+  xy[0] = arm->x_c + L * cos(a);
+  xy[1] = arm->y_c + L * sin(a);
+}
+
+ea_status_t ea_traj_fill_statics(ea_traj_t *tr, ea_shooter_t *sh, ea_error_t *err) {
+  if (!tr || !sh) return ea_error_set(err, EA_ERR_ARG, "fill statics: NULL argument");
+  double guess[EA_NP];
+  const ea_arm_t *arm = ea_shooter_arm(sh);
+  for (int i = 0; i < tr->n; ++i) {
+    const double L = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length),
+                 a = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle);
+    ea_statics_problem_t pr = ea_statics_problem_cable(L, a);
+    ea_statics_solution_t sol;
+    ea_error_t e = {0};
+    ea_status_t st = ea_statics_solve(sh, &pr, NULL, i ? guess : NULL, &sol, &e);
+    if (st && i) st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, &e);
+    if (st)
+      return ea_error_set(err, st,
+                          "sample %d (t = %g s, L_c = %g m, alpha = %g rad): no static "
+                          "solution: %s",
+                          i + 1, EA_TRAJ_AT(tr, i, EA_TRAJ_t), L, a, e.msg);
+    memcpy(guess, sol.p, sizeof guess);
+    ea_traj_set_statics(tr, i, sol.p, sol.tip, arm->EI);
+  }
+  return EA_OK;
+}
+
+/* Drive samples: theta0(t) and the cable parameter, from the file's columns (with their
+ * rates) or, with drive_fe, re-solved by FE statics holding the planned tip (mh), in which
+ * case the first sample's FE state is copied to qstart. */
+static ea_status_t ea__sim_drive_fill(const ea_arm_t *arm, const ea_traj_t *tr,
+                                      const ea_sim_settings_t *s, ea_shooter_t *sh,
+                                      ea_fe_model_t *mh, const double *p0, double *qstart,
+                                      ea__sim_drive_t *drv, ea_error_t *err) {
+  const int n = tr->n;
+  const double t_first = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  double guess[EA_NP];
+  memcpy(guess, p0, sizeof guess);
+  for (int i = 0; i < n; ++i) {
+    const double ti = EA_TRAJ_AT(tr, i, EA_TRAJ_t) - t_first;
+    double T = EA_TRAJ_AT(tr, i, EA_TRAJ_tension), theta0 = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0);
+    double theta0_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0_rate);
+    const double L = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length);
+    if (s->drive_fe) {
+      ea_statics_problem_t pi = ea_statics_problem_cable(L, EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle));
+      ea_statics_solution_t ode;
+      ea_fe_static_info_t fe;
+      ea_error_t e = {0};
+      ea_status_t st = ea_statics_solve(sh, &pi, NULL, guess, &ode, &e);
+      if (st) st = ea_statics_solve(sh, &pi, NULL, NULL, &ode, &e);
+      if (!st) {
+        memcpy(guess, ode.p, sizeof guess);
+        st = ea_fe_static_solve(mh, sh, &ode, &fe, &e);
+      }
+      if (st)
+        return ea_error_set(err, st, "FE drive: sample %d (t = %g s): %s", i + 1, ti + t_first,
+                            e.msg);
+      T = fe.tension;
+      theta0 = fe.theta0;
+      theta0_rate = NAN; /* re-solved values: their rates by differences */
+      if (i == 0 && (st = ea_fe_get_state(mh, qstart, NULL)))
+        return ea_error_set(err, st, "FE drive: state");
+    }
+    ea_status_t st = ea__sim_drive_set(drv, arm, i, ti, L, T, theta0, err);
+    if (st) return ea_error_set(err, st, "sample %d: %s", i + 1, err ? err->msg : "");
+    ea__sim_drive_set_rates(drv, i, EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_rate), theta0_rate);
+  }
+  ea__sim_drive_finish(drv);
+  return EA_OK;
+}
+
+/* Damping of the transient: explicit Rayleigh coefficients, or strain-rate damping
+ * giving ratio zeta to the first mode of the start state (m at its start equilibrium). */
+static ea_status_t ea__sim_damping(ea_fe_model_t *m, const ea_sim_settings_t *s,
+                                   ea_fe_sim_settings_t *ss, ea_sim_info_t *info, ea_error_t *err) {
+  ss->rayleigh_mass = s->rayleigh_mass;
+  ss->rayleigh_stiffness = s->rayleigh_stiffness;
+  if (!(s->damping_ratio > 0)) return EA_OK;
+  /* strain-rate (Kelvin-Voigt) damping only: mass-proportional a M v acts on absolute
+   * velocities and so brakes the commanded rigid rotation of the whole arm, which no
+   * physical mechanism of the arm does; the strain rates are zero for rigid motion. The
+   * higher modes get the ratios that material damping gives them (reported). */
+  ea_fe_modes_info_t mi;
+  ea_status_t st = ea_fe_modes(m, &mi, err);
+  if (st || mi.modes < 1 || !(mi.lambda[0] > 0))
+    return ea_error_set(err, st ? st : EA_ERR_UNSTABLE,
+                        "a damping ratio needs a stable first mode at the start");
+  info->start_freq_hz[0] = mi.freq_hz[0];
+  info->start_freq_hz[1] = mi.modes > 1 ? mi.freq_hz[1] : NAN;
+  if ((st = ea_fe_strain_damping(m, 0, s->damping_ratio, &ss->rayleigh_stiffness,
+                                 info->modal_damping)) != EA_OK)
+    return ea_error_set(err, st, "damping ratio: %s", ea_strerror(st));
+  info->n_modal_damping = mi.modes;
+  ss->rayleigh_mass = 0.0;
+  return EA_OK;
+}
+
+/* Tracking error during the motion and the time to rest, from the tip rows (t from 0). */
+static void ea__sim_measure(const ea_traj_t *tr, const ea_arm_t *arm, const double *tip, int rows,
+                            double t_first, double tol, int have_static, ea_sim_info_t *info) {
+  info->max_tracking_error = 0.0;
+  info->max_tracking_error_time = t_first;
+  for (int r = 0; r < rows; ++r) {
+    const double t = tip[4 * r];
+    if (t > info->duration + 1e-9) break;
+    double p[2];
+    ea_traj_planned_tip(tr, arm, t + t_first, p);
+    const double e = hypot(tip[4 * r + 1] - p[0], tip[4 * r + 2] - p[1]);
+    if (e > info->max_tracking_error) {
+      info->max_tracking_error = e;
+      info->max_tracking_error_time = t + t_first;
+    }
+  }
+  info->time_to_rest = NAN;
+  if (!have_static || rows < 1) return;
+  const double *xs = info->final_static_tip;
+  int last_out = -1; /* last row outside the tolerance */
+  for (int r = rows - 1; r >= 0; --r)
+    if (hypot(tip[4 * r + 1] - xs[0], tip[4 * r + 2] - xs[1]) > tol) {
+      last_out = r;
+      break;
+    }
+  if (last_out < 0)
+    info->time_to_rest = 0.0;
+  else if (last_out < rows - 1)
+    info->time_to_rest = tip[4 * (last_out + 1)];
+}
+
+ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
+                             const ea_sim_settings_t *s, ea_sim_history_t *hist,
+                             ea_sim_info_t *info, ea_error_t *err) {
+  ea_sim_info_t loc;
+  if (!info) info = &loc;
+  memset(info, 0, sizeof *info);
+  info->time_to_rest = info->residual_rms = info->residual_peak = NAN;
+  info->static_offset_end = info->start_freq_hz[0] = info->start_freq_hz[1] = NAN;
+  if (!arm || !tr || !s) return info->status = ea_error_set(err, EA_ERR_ARG, "simulate: NULL");
+  ea_status_t st = ea_sim_settings_validate(s, err);
+  if (!st) st = ea_arm_validate(arm, err);
+  if (st) return info->status = st;
+  if (tr->n < 1 || !tr->data)
+    return info->status = ea_error_set(err, EA_ERR_INPUT, "simulate: no samples");
+  const int n = tr->n;
+  const double t_first = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  info->duration = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t) - t_first;
+  const double t_end = info->duration + s->settle;
+  if (!(t_end > 0))
+    return info->status = ea_error_set(err, EA_ERR_ARG,
+                                       "simulate: nothing to simulate (one "
+                                       "sample and no settling time)");
+  if (t_end / s->dt > 2e7)
+    return info->status = ea_error_set(
+               err, EA_ERR_ARG, "simulate: %.3g s at dt %g s is more than 2e7 steps", t_end, s->dt);
+  info->tip_mass = tip_mass > 0 ? tip_mass : ea_arm_tip_mass(arm, fmax(tr->payload_kg, 0.0));
+  const double wall0 = ea__sim_wall();
+
+  ea_shooter_t *sh = NULL;
+  ea_fe_model_t *m = NULL, *mh = NULL;
+  double *tip = NULL, *qstart = NULL;
+  ea__sim_drive_t drv = {0};
+  const int rows_cap = (int)ceil(t_end / s->dt - 1e-9) + 2;
+  ea_fe_settings_t fs;
+  ea_fe_settings_default(&fs);
+  fs.elements = s->elements;
+  fs.modes = 3;
+  const ea_load_t load = {info->tip_mass};
+  if ((st = ea_shooter_alloc(arm, NULL, &sh, err))) goto done;
+  ea_shooter_set_load(sh, &load);
+  if ((st = ea_fe_model_alloc(arm, &fs, &m, err)) || (st = ea_fe_model_set_load(m, &load)))
+    goto done;
+  if (s->drive_fe) {
+    fs.static_hold_tip = 1;
+    if ((st = ea_fe_model_alloc(arm, &fs, &mh, err)) || (st = ea_fe_model_set_load(mh, &load)))
+      goto done;
+  }
+  tip = malloc(sizeof(double) * 4 * (size_t)rows_cap);
+  qstart = malloc(sizeof(double) * 3 * (size_t)ea_fe_model_nodes(m));
+  if (!tip || !qstart) {
+    st = ea_error_set(err, EA_ERR_NOMEM, "simulate: %d rows", rows_cap);
+    goto done;
+  }
+
+  /* 1. statics of the start for this arm and load, warm-started from row 0 */
+  const double L_0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_length),
+               a_0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_angle);
+  ea_statics_problem_t pr = ea_statics_problem_cable(L_0, a_0);
+  ea_statics_solution_t ode;
+  const double g0[EA_NP] = {a_0, EA_TRAJ_AT(tr, 0, EA_TRAJ_tension),
+                            EA_TRAJ_AT(tr, 0, EA_TRAJ_theta0), EA_TRAJ_AT(tr, 0, EA_TRAJ_kappa0)};
+  ea_error_t e = {0};
+  st = ea_statics_solve(sh, &pr, NULL, g0, &ode, &e);
+  if (st) st = ea_statics_solve(sh, &pr, NULL, NULL, &ode, &e);
+  if (st) {
+    st = ea_error_set(err, EA_ERR_INADMISSIBLE,
+                      "the start (L_c = %g m, alpha = %g rad) has no static solution for this "
+                      "arm and tip mass %g kg: %s",
+                      L_0, a_0, info->tip_mass, e.msg);
+    goto done;
+  }
+  info->start_tension_mismatch = fabs(ode.p[EA_P_TENSION] - g0[1]);
+  info->start_theta0_mismatch = fabs(ode.p[EA_P_THETA0] - g0[2]);
+
+  /* 2. drive */
+  if ((st = ea__sim_drive_alloc(&drv, n, s->cable_active, err))) goto done;
+  if ((st = ea__sim_drive_fill(arm, tr, s, sh, mh, ode.p, qstart, &drv, err))) goto done;
+
+  /* 3. FE equilibrium of the start, then continuation to the drive's inputs at t = 0 */
+  ea_fe_static_info_t fsi;
+  if ((st = ea_fe_static_solve(m, sh, &ode, &fsi, &e))) {
+    st = ea_error_set(err, st, "FE static solve at the start: %s", e.msg);
+    goto done;
+  }
+  if ((st = ea__sim_drive_start(m, &drv, s->drive_fe ? qstart : NULL, &fsi, &e))) {
+    st = ea_error_set(err, st, "FE equilibrium under the start inputs: %s", e.msg);
+    goto done;
+  }
+  info->start_newton_iterations = fsi.iterations;
+  info->start_tension = fsi.tension;
+  {
+    double plan0[2], tip0[3];
+    ea_traj_planned_tip(tr, arm, t_first, plan0);
+    ea_fe_tip(m, tip0);
+    info->static_offset_start = hypot(tip0[0] - plan0[0], tip0[1] - plan0[1]);
+  }
+
+  /* 4. damping, 5. transient */
+  ea_fe_sim_settings_t ss;
+  ea_fe_sim_settings_default(&ss);
+  ss.scheme = s->scheme;
+  ss.rho_inf = s->rho_inf;
+  ss.dt = s->dt;
+  ss.t_end = t_end;
+  ss.t_motion_end = s->settle > 0 ? info->duration : -1.0;
+  if ((st = ea__sim_damping(m, s, &ss, info, err))) goto done;
+  info->rayleigh_mass = ss.rayleigh_mass;
+  info->rayleigh_stiffness = ss.rayleigh_stiffness;
+  ea_fe_sim_info_t si;
+  st = ea_fe_simulate(m, &drv.drive, &ss, tip, rows_cap, &si, err);
+  info->steps = si.steps;
+  info->simulated_time = si.steps * s->dt;
+  info->newton_iterations = si.newton_iterations;
+  info->max_step_iterations = si.max_step_iterations;
+  info->energy_start = si.energy_start;
+  info->energy_end = si.energy_end;
+  info->energy_drift_max = si.energy_drift_max;
+  info->kinetic_max = si.kinetic_max;
+  if (st) goto done;
+  const int have_static = s->settle > 0;
+  if (have_static) {
+    info->residual_rms = si.residual_rms;
+    info->residual_peak = si.residual_peak;
+    memcpy(info->final_static_tip, si.tip_static, 2 * sizeof(double));
+    double pe[2];
+    ea_traj_planned_tip(tr, arm, t_first + info->duration, pe);
+    info->static_offset_end = hypot(si.tip_static[0] - pe[0], si.tip_static[1] - pe[1]);
+  }
+  ea__sim_measure(tr, arm, tip, si.rows, t_first, s->rest_tolerance, have_static, info);
+  if (s->keep_history && hist) {
+    double *h = malloc(sizeof(double) * 6 * (size_t)(si.rows > 0 ? si.rows : 1));
+    if (!h) {
+      st = ea_error_set(err, EA_ERR_NOMEM, "simulate: history of %d rows", si.rows);
+      goto done;
+    }
+    for (int r = 0; r < si.rows; ++r) {
+      double *o = h + 6 * r;
+      o[0] = tip[4 * r] + t_first;
+      memcpy(o + 1, tip + 4 * r + 1, 3 * sizeof(double));
+      ea_traj_planned_tip(tr, arm, o[0], o + 4);
+    }
+    ea_sim_history_free(hist);
+    hist->data = h;
+    hist->rows = si.rows;
+  }
+done:
+  info->wall_time_s = ea__sim_wall() - wall0;
+  info->status = st;
+  free(qstart);
+  ea__sim_drive_free(&drv);
+  free(tip);
+  ea_fe_model_free(mh);
+  ea_fe_model_free(m);
+  ea_shooter_free(sh);
+  return st;
+}
