@@ -99,7 +99,9 @@ ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double ti
 void ea_traj_planned_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, double xy[2]);
 
 /** Fill the statics columns (T, theta0, kappa0, torque, tip) of every row from the cable
- *  length and angle columns, warm-started along the rows (a simple CSV has only those).
+ *  length and angle columns, warm-started along the rows (a simple CSV has only those);
+ *  the theta0 rate column becomes NAN ("not known": ea_traj_simulate takes centred
+ *  differences; such a trajectory is not written to a file).
  *  err names the first row without a static solution. */
 ea_status_t ea_traj_fill_statics(ea_traj_t *tr, ea_shooter_t *sh, ea_error_t *err);
 

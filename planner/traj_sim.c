@@ -116,6 +116,7 @@ ea_status_t ea_traj_fill_statics(ea_traj_t *tr, ea_shooter_t *sh, ea_error_t *er
                           i + 1, EA_TRAJ_AT(tr, i, EA_TRAJ_t), L, a, e.msg);
     memcpy(guess, sol.p, sizeof guess);
     ea_traj_set_statics(tr, i, sol.p, sol.tip, arm->EI);
+    EA_TRAJ_AT(tr, i, EA_TRAJ_theta0_rate) = NAN; /* not known: differences (the drive) */
   }
   return EA_OK;
 }

@@ -318,43 +318,59 @@ static void test_fig5(void) {
   ea_arm_t a;
   ea_arm_default(&a);
   ea_shooter_t *sh = NULL;
-  ea_fe_model_t *m = NULL, *m6 = NULL;
-  ea_fe_settings_t s6, sd;
+  ea_fe_model_t *m = NULL, *m6 = NULL, *m48 = NULL;
+  ea_fe_settings_t s6, sd, s48;
   ea_fe_settings_default(&sd);
   sd.static_hold_tip = 1; /* FE at the exact cable length and angle of Fig. 5 */
   s6 = sd;
   s6.elements = EA_FE_PAPER_ELEMENTS;
+  s48 = sd;
+  s48.elements = 48;
   if (ea_shooter_alloc(&a, NULL, &sh, NULL) || ea_fe_model_alloc(&a, &sd, &m, NULL) ||
-      ea_fe_model_alloc(&a, &s6, &m6, NULL)) {
+      ea_fe_model_alloc(&a, &s6, &m6, NULL) || ea_fe_model_alloc(&a, &s48, &m48, NULL)) {
     ea_test_true(0, "alloc");
     return;
   }
-  for (int pass = 0; pass < 2; ++pass) {
-    ea_fe_model_t *mm = pass ? m6 : m;
+  double rise[3][3]; /* [mesh: default, paper's 6, 48][mode] */
+  ea_fe_model_t *mm[3] = {m, m6, m48};
+  for (int pass = 0; pass < 3; ++pass) {
     double fs[3], fl[3];
     int ss = 0, sl = 0;
-    if (fig5_point(mm, sh, 0.254, fs, &ss) || fig5_point(mm, sh, 0.635, fl, &sl)) {
+    if (fig5_point(mm[pass], sh, 0.254, fs, &ss) || fig5_point(mm[pass], sh, 0.635, fl, &sl)) {
       ea_test_true(0, "Fig. 5 end points");
+      for (int k = 0; k < 3; ++k)
+        rise[pass][k] = NAN;
       continue;
     }
-    const double r1 = 100.0 * (fs[0] / fl[0] - 1.0), r2 = 100.0 * (fl[1] / fs[1] - 1.0),
-                 r3 = 100.0 * (fl[2] / fs[2] - 1.0);
+    double *r = rise[pass];
+    r[0] = 100.0 * (fs[0] / fl[0] - 1.0);
+    r[1] = 100.0 * (fl[1] / fs[1] - 1.0);
+    r[2] = 100.0 * (fl[2] / fs[2] - 1.0);
     printf("%d elements: Lc 0.254 m: %.3f %.3f %.3f Hz; Lc 0.635 m: %.3f %.3f %.3f Hz\n",
-           ea_fe_model_settings(mm)->elements, fs[0], fs[1], fs[2], fl[0], fl[1], fl[2]);
-    printf("  f1 rises %.1f %% as the cable shortens (paper 55 %%); f2 rises %.1f %% (paper 38 %%),"
-           " f3 rises %.1f %% (paper 12 %%) as it lengthens\n",
-           r1, r2, r3);
+           ea_fe_model_settings(mm[pass])->elements, fs[0], fs[1], fs[2], fl[0], fl[1], fl[2]);
+    printf("  f1 rises %.2f %% as the cable shortens (paper 55 %%); f2 rises %.2f %% (paper 38 "
+           "%%), f3 rises %.2f %% (paper 12 %%) as it lengthens\n",
+           r[0], r[1], r[2]);
     ea_test_true(ss && sl, "both end states stable");
-    ea_test_true(r1 > 40.0 && r1 < 70.0, "f1 rise as the cable shortens within 40-70 %");
-    ea_test_true(r2 > 0.0, "f2 rises as the cable lengthens");
-    ea_test_true(r3 > 0.0, "f3 rises as the cable lengthens");
   }
+  /* the paper's Fig. 5: f1 +55 % (read off the figure, +-1 point); f2 and f3 depend on the
+   * hand inertia I_L (README: the paper's 38 % needs ~3x Table 2's), so they are checked
+   * against the mesh-converged answer (48 elements) instead */
+  ea_test_abs(rise[0][0], 55.0, 1.0, "f1 rise (default mesh) vs the paper's Fig. 5 (55 %)");
+  ea_test_abs(rise[1][0], 55.0, 1.0, "f1 rise (paper's 6 elements) vs the paper's Fig. 5 (55 %)");
+  /* default mesh vs 48 elements: measured within 0.004 points; tolerance 0.02 point */
+  ea_test_abs(rise[0][0], rise[2][0], 0.02, "f1 rise: default mesh vs 48 elements [points]");
+  ea_test_abs(rise[0][1], rise[2][1], 0.02, "f2 rise: default mesh vs 48 elements [points]");
+  ea_test_abs(rise[0][2], rise[2][2], 0.02, "f3 rise: default mesh vs 48 elements [points]");
   ea_fe_model_free(m);
   ea_fe_model_free(m6);
+  ea_fe_model_free(m48);
   ea_shooter_free(sh);
 }
 
 /* ---- (d) dynamics ---- */
+
+static double lp_modulus(const double *tip, int n0, int n1);
 
 static void test_dynamics(void) {
   printf("--- (d) transient: energy conservation and first frequency ---\n");
@@ -418,18 +434,29 @@ static void test_dynamics(void) {
   printf("zero crossings %d: measured f = %.6f Hz vs eigen-solver %.6f Hz (%.3f %%)\n", nc,
          1.0 / Tm, f1, 100.0 * (1.0 / Tm / f1 - 1.0));
   ea_test_rel(1.0 / Tm, f1, 5e-3, "oscillation frequency = first eigenfrequency (0.5 %)");
-  /* residual vibration measure: a damped release settles */
+  /* residual vibration measure: a damped release settles at the rate of mass-proportional
+   * damping a M v, which gives every mode zeta omega = a / 2: the tip signal's modulus per
+   * step (linear prediction) is exp(-a dt / 2). A 0.1 mm release: at 1 mm the geometric
+   * nonlinearity shifts the fitted rate by 0.45 %, at 0.1 mm by 5e-5. */
+  for (int i = 0; i < nd; ++i)
+    q[i] = qs[i] + 1e-4 * phi[i];
   ea_fe_set_state(m, q, NULL);
-  ss.t_end = 3.0;
+  ea_fe_relax_positions(m, NULL);
+  ss.t_end = 2.0;
   ss.dt = 2e-3;
   ss.t_motion_end = 0.0;
   ss.rayleigh_mass = 2.0;
-  st = ea_fe_simulate(m, NULL, &ss, NULL, 0, &si, &e);
-  printf("damped release (a = 2/s): residual rms %.3e m, peak %.3e m\n", si.residual_rms,
-         si.residual_peak);
-  ea_test_true(st == EA_OK && si.residual_peak > 0.9e-3 && si.residual_peak < 1.5e-3,
-               "residual peak ~ initial 1 mm amplitude");
-  ea_test_true(si.residual_rms < 0.5 * si.residual_peak, "residual rms below peak (decay)");
+  st = ea_fe_simulate(m, NULL, &ss, tip, cap, &si, &e);
+  for (int k = 0; k < si.rows; ++k)
+    tip[4 * k + 2] -= y0;
+  const double rate = -log(lp_modulus(tip, 10, si.rows - 1)) / ss.dt;
+  printf("damped release (a = 2/s): residual rms %.3e m, peak %.3e m; decay rate %.5f 1/s "
+         "(a / 2 = 1)\n",
+         si.residual_rms, si.residual_peak, rate);
+  ea_test_true(st == EA_OK && si.residual_peak > 0.9e-4 && si.residual_peak < 1.5e-4,
+               "residual peak ~ initial 0.1 mm amplitude");
+  /* measured 5e-5; tolerance 5x */
+  ea_test_rel(rate, 0.5 * ss.rayleigh_mass, 2.5e-4, "damped release: decay rate = a / 2");
   free(tip);
   free(q);
   free(qs);
@@ -615,7 +642,8 @@ static void test_genalpha(void) {
              "closed form",
              k + 1, cases[c].Om, cases[c].rho);
     ea_test_true(st == EA_OK, "spectral-radius run integrated");
-    ea_test_rel(dm, dw, 0.03, w);
+    /* measured 1e-8 .. 2.2e-5 (mode 3 at rho_inf 0: the fastest decay, fewest usable steps) */
+    ea_test_rel(dm, dw, 1e-4, w);
   }
   /* 3. low mode (Omega = 0.05): essentially undamped */
   ss.rho_inf = 0.5;
@@ -659,12 +687,13 @@ static void test_genalpha(void) {
       ea_fe_mode_shape(m, 0, phi);
       for (int i = 0; i < nd; ++i)
         q[i] += 1e-3 * phi[i];
-      for (int pass = 0; pass < 2; ++pass) {
+      /* (rho_inf < 1 is checked against the closed-form spectral radius above) */
+      for (int pass = 0; pass < 1; ++pass) {
         ea_fe_set_state(m, q, NULL);
         ea_fe_relax_positions(m, NULL);
         ea_fe_sim_settings_default(&ss);
         ss.scheme = EA_FE_SCHEME_GENALPHA;
-        ss.rho_inf = pass ? 0.5 : 1.0;
+        ss.rho_inf = 1.0;
         ss.dt = 1.0 / mi.freq_hz[0] / 200.0;
         ss.t_end = 1000 * ss.dt;
         ea_fe_sim_info_t si;
@@ -1163,8 +1192,7 @@ static void test_bad_args(void) {
   ea_arm_t bad = a;
   bad.EI = -1.0;
   ea_test_true(ea_fe_model_alloc(&bad, NULL, &m, &e) == EA_ERR_INPUT, "alloc: EI < 0");
-  ea_fe_model_free(NULL);
-  ea_test_true(1, "free(NULL) is a no-op");
+  ea_fe_model_free(NULL); /* a no-op (a crash fails the test) */
   if (ea_fe_model_alloc(&a, NULL, &m, &e)) {
     ea_test_true(0, "alloc");
     return;
