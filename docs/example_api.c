@@ -29,9 +29,11 @@ int main(void) {
   printf("T = %.4f N, theta0 = %.4f rad, shoulder torque = %.4f N m (residual %.1e)\n",
          sol.p[EA_P_TENSION], sol.p[EA_P_THETA0], sol.shoulder_torque, sol.residual);
 
-  /* The shooting map h (eq. 13) with exact sensitivities d x(L) / d p. */
+  /* The shooting map h (eq. 13) with exact sensitivities d x(L) / d p:
+     the tip lies on the cable, 0.45 m from its root. */
   double xL[EA_NX], dxdp[EA_NX * EA_NP];
-  ea_shoot(sh, sol.p, xL, dxdp);
+  const ea_status_t st = ea_shoot(sh, sol.p, xL, dxdp);
   ea_shooter_free(sh);
-  return 0;
+  const double Lc = hypot(xL[EA_X_X] - arm.x_c, xL[EA_X_Y] - arm.y_c);
+  return st == EA_OK && fabs(Lc - 0.45) < 1e-9 ? 0 : 1;
 }

@@ -1,7 +1,12 @@
-/* Atomic output: temporary beside the target, fsync, rename. */
+/* Atomic output: temporary beside the target, fsync, rename. Temporaries
+ * are named "<target>.tmp<pid>.XXXXXX"; opening a target removes the ones a
+ * killed run left behind (afile_impl.h). */
+#include "afile_impl.h"
 #include "ea_planner.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,10 +30,47 @@ ea_status_t ea_mkdir_parents(const char *path, ea_error_t *err) {
   return EA_OK;
 }
 
+void ea__afile_clean_stale(const char *path) {
+  if (!path || !*path || !strcmp(path, "-")) return;
+  char dir[1024];
+  const char *slash = strrchr(path, '/');
+  const char *base = slash ? slash + 1 : path;
+  if (!*base || strlen(path) >= sizeof dir) return;
+  if (!slash)
+    snprintf(dir, sizeof dir, ".");
+  else if (slash == path)
+    snprintf(dir, sizeof dir, "/");
+  else
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+  DIR *d = opendir(dir);
+  if (!d) return;
+  const size_t nb = strlen(base);
+  const pid_t self = getpid();
+  struct dirent *e;
+  while ((e = readdir(d)) != NULL) {
+    const char *n = e->d_name;
+    if (strncmp(n, base, nb) || strncmp(n + nb, ".tmp", 4)) continue;
+    const char *q = n + nb + 4;
+    long pid = 0;
+    int digits = 0;
+    while (*q >= '0' && *q <= '9' && digits < 10) {
+      pid = 10 * pid + (*q++ - '0');
+      ++digits;
+    }
+    if (!digits || *q != '.' || pid <= 0 || (pid_t)pid == self) continue;
+    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue; /* alive (or not ours to judge) */
+    char full[2048];
+    snprintf(full, sizeof full, "%s/%s", dir, n);
+    struct stat sb;
+    if (lstat(full, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_uid == geteuid()) unlink(full);
+  }
+  closedir(d);
+}
+
 ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err) {
   memset(f, 0, sizeof *f);
   if (!path || !*path) return ea_error_set(err, EA_ERR_ARG, "empty output path");
-  if (strlen(path) >= sizeof f->path)
+  if (strlen(path) + 24 >= sizeof f->tmp)
     return ea_error_set(err, EA_ERR_ARG, "output path too long: %s", path);
   snprintf(f->path, sizeof f->path, "%s", path);
   if (strcmp(path, "-") == 0) {
@@ -37,7 +79,8 @@ ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err) {
   }
   ea_status_t st = ea_mkdir_parents(path, err);
   if (st) return st;
-  snprintf(f->tmp, sizeof f->tmp, "%s.tmpXXXXXX", path);
+  ea__afile_clean_stale(path);
+  snprintf(f->tmp, sizeof f->tmp, "%s.tmp%ld.XXXXXX", path, (long)getpid());
   int fd = mkstemp(f->tmp);
   if (fd < 0) {
     f->tmp[0] = '\0';

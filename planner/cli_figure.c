@@ -33,13 +33,15 @@ int ea__cli_figure(int argc, char **argv) {
     }
   }
   if (!traj || !out) return ea__cli_usage_error(cmd, "needs TRAJ.csv and -o OUT");
+  int rc = ea__cli_check_figure(cmd, out); /* extension and folder, before the work */
+  if (rc) return rc;
   ea_traj_t tr;
   ea_error_t err = {0};
   ea_status_t st = ea_traj_read(&tr, traj, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
   if (!arm_file && tr.arm_file[0] && access(tr.arm_file, R_OK) == 0) arm_file = tr.arm_file;
   ea_arm_t arm;
-  int rc = ea__cli_load_arm(cmd, arm_file, &arm);
+  rc = ea__cli_load_arm(cmd, arm_file, &arm);
   ea_shooter_t *sh = NULL;
   if (!rc && (st = ea_shooter_alloc(&arm, NULL, &sh, &err))) rc = ea__cli_fail(cmd, st, &err);
   if (!rc) {

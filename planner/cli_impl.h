@@ -53,6 +53,29 @@ const char *ea__cli_default_arm(void);
 /** Load the arm file (path NULL = default). Prints errors; returns exit code. */
 int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm);
 
+/** Check a figure path before the work: known extension (.svg, .png, .pdf)
+ *  and a writable directory (a temporary is created there and removed).
+ *  Prints the error; returns 0 or the exit code. */
+int ea__cli_check_figure(const char *cmd, const char *path);
+/** Check an output path before the work (not "-"): its directory can take a
+ *  temporary (created and removed). Also removes the temporaries a killed run
+ *  left beside it. Prints the error; returns 0 or the exit code. */
+int ea__cli_check_output(const char *cmd, const char *path);
+/** A safe file name from a free-form name (a task's `name`): one path
+ *  component, letters, digits, '-', '_', '.', '+' only (others become '_'),
+ *  no leading '.', at most 100 characters; fallback if nothing is left. */
+void ea__cli_safe_name(const char *name, const char *fallback, char *buf, size_t len);
+
+/** The arm for a trajectory file (stream, figure, simulate): the file's
+ *  '# arm_file:' when it has one, else arm_opt, else the default. With both,
+ *  the two arms must have the same parameters (else an error naming the first
+ *  that differs); a recorded arm file that cannot be read is an error unless
+ *  --arm is given (then a warning). used (may be NULL) gets the file loaded
+ *  ("" = the default). Unless quiet, says on stderr which arm file it took
+ *  from the trajectory. Prints errors; returns 0 or the exit code. */
+int ea__cli_arm_for_traj(const char *cmd, const char *arm_opt, const ea_traj_t *tr, int quiet,
+                         ea_arm_t *arm, char *used, size_t used_len);
+
 /** Payload options shared by commands: --payload-factor G | --payload-kg M. */
 typedef struct ea__cli_payload {
   int given; /**< 0 none, 1 factor, 2 kg */

@@ -1,9 +1,12 @@
 /* elasticarm plan: task spec -> trajectory file + JSON summary (+ figure). */
 #include "cli_impl.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static void ea__plan_help(FILE *fp) {
   fprintf(fp, "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
@@ -11,18 +14,85 @@ static void ea__plan_help(FILE *fp) {
               "                       [--derivative-test] [--print-level N] [--quiet]\n\n"
               "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
               "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
-              "to it (OUT.json). Defaults: the task's outputs, else TASKNAME.csv in the current\n"
-              "folder. Nothing is written for a failed plan but the summary.\n\n"
+              "to it (OUT.json). Defaults: the task's outputs, else NAME.csv in the current\n"
+              "folder, NAME being the task's name reduced to a safe file name (letters, digits,\n"
+              "'-', '_', '.', '+'; no folders, no leading dot).\n\n"
+              "Outputs: every path is checked (writable, figure extension known) before the\n"
+              "work. A converged plan writes the trajectory and the summary to temporaries,\n"
+              "renames the trajectory, then the summary, then draws the figure. A plan that\n"
+              "fails (infeasible, not converged) or whose trajectory cannot be written writes\n"
+              "only the summary, with the failure status, and removes an earlier trajectory\n"
+              "and figure of the same names, so a summary never sits beside a trajectory it\n"
+              "does not describe. Temporaries ('NAME.tmp<pid>.*') left by a killed run are\n"
+              "removed by the next run writing the same outputs.\n\n"
               "  -o FILE            trajectory file ('-' = stdout)\n"
               "  --summary FILE     JSON summary (default: OUT with .json)\n"
-              "  --json             print the JSON summary on stdout\n"
+              "  --json             print the JSON summary on stdout (also for a failed plan)\n"
               "  --figure FILE      tip path and beam shapes in the workspace, time histories\n"
               "  --knots N          override the task's knot count\n"
               "  --tune-schedule    tune the knot time distribution with NLopt (min_time)\n"
               "  --derivative-test  run Ipopt's first-order derivative checker\n"
               "  --print-level N    Ipopt output (0 = silent)\n"
               "  --quiet            no progress line\n\n"
-              "exit: 0 plan written, 1 infeasible / not converged, 2 usage or input error\n");
+              "exit: 0 plan written, 1 infeasible / not converged / an output not written,\n"
+              "2 usage or input error\n");
+}
+
+/* Remove an earlier output of a failed run: regular files only (never a
+ * device such as /dev/null, never stdout). */
+static void ea__remove_stale(const char *path) {
+  struct stat sb;
+  if (path && strcmp(path, "-") && lstat(path, &sb) == 0 && S_ISREG(sb.st_mode)) unlink(path);
+}
+
+/* Copy a file to stdout (the summary for --json). */
+static void ea__cat(const char *path) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) return;
+  char buf[4096];
+  size_t nr;
+  while ((nr = fread(buf, 1, sizeof buf, fp)) > 0)
+    fwrite(buf, 1, nr, stdout);
+  fclose(fp);
+}
+
+/* Write the converged plan: trajectory and summary to temporaries, then
+ * rename the trajectory, then the summary. On failure nothing of this run
+ * is left (the caller then treats the plan as failed). */
+static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_plan_info_t *info, const char *out,
+                                  const char *summary, ea_error_t *err) {
+  char ttmp[1100] = "", stmp[1100] = "";
+  ea_traj_t tr;
+  memset(&tr, 0, sizeof tr);
+  ea_status_t st = ea_planner_trajectory(pl, &tr, err);
+  const int to_stdout = !strcmp(out, "-");
+  if (!st && !to_stdout) {
+    snprintf(ttmp, sizeof ttmp, "%s.tmp%ld.traj", out, (long)getpid());
+    st = ea_traj_write(&tr, ttmp, err);
+    if (st) ttmp[0] = '\0';
+  }
+  if (!st && summary) {
+    snprintf(stmp, sizeof stmp, "%s.tmp%ld.json", summary, (long)getpid());
+    st = ea_plan_summary_write(pl, info, stmp, err);
+    if (st) stmp[0] = '\0';
+  }
+  if (!st && to_stdout) st = ea_traj_write(&tr, "-", err);
+  if (!st && ttmp[0]) {
+    if (rename(ttmp, out) != 0)
+      st = ea_error_set(err, EA_ERR_IO, "%s: cannot write: %s", out, strerror(errno));
+    else
+      ttmp[0] = '\0';
+  }
+  if (!st && stmp[0]) {
+    if (rename(stmp, summary) != 0)
+      st = ea_error_set(err, EA_ERR_IO, "%s: cannot write: %s", summary, strerror(errno));
+    else
+      stmp[0] = '\0';
+  }
+  if (ttmp[0]) unlink(ttmp);
+  if (stmp[0]) unlink(stmp);
+  ea_traj_free(&tr);
+  return st;
 }
 
 static void ea__replace_ext(const char *in, const char *ext, char *out, size_t len) {
@@ -88,7 +158,10 @@ int ea__cli_plan(int argc, char **argv) {
   char out_buf[1024], sum_buf[1024], fig_buf[1024];
   if (!out) out = ea_task_output_path(&task, task.out_trajectory, out_buf, sizeof out_buf);
   if (!out) {
-    snprintf(out_buf, sizeof out_buf, "%.1000s.csv", task.name);
+    /* The name is free text: never a path (no folders, no hidden file). */
+    char safe[128];
+    ea__cli_safe_name(task.name, "plan", safe, sizeof safe);
+    snprintf(out_buf, sizeof out_buf, "%s.csv", safe);
     out = out_buf;
   }
   if (!summary) summary = ea_task_output_path(&task, task.out_summary, sum_buf, sizeof sum_buf);
@@ -97,52 +170,68 @@ int ea__cli_plan(int argc, char **argv) {
     summary = sum_buf;
   }
   if (!figure) figure = ea_task_output_path(&task, task.out_figure, fig_buf, sizeof fig_buf);
+  if (summary && !strcmp(summary, "-"))
+    return ea__cli_usage_error(cmd, "--summary -: use --json for the summary on stdout");
+  if (json && !strcmp(out, "-"))
+    return ea__cli_usage_error(cmd, "--json and -o - both want stdout");
+  if ((summary && !strcmp(summary, out)) ||
+      (figure && (!strcmp(figure, out) || (summary && !strcmp(figure, summary)))))
+    return ea__cli_usage_error(cmd,
+                               "the trajectory, summary and figure need three different "
+                               "paths (trajectory %s, summary %s, figure %s)",
+                               out, summary ? summary : "-", figure ? figure : "none");
+  /* Every output checked before the work (this also clears a killed run's temporaries). */
+  int rc = ea__cli_check_output(cmd, out);
+  if (!rc && summary) rc = ea__cli_check_output(cmd, summary);
+  if (!rc && figure) rc = ea__cli_check_figure(cmd, figure);
+  if (rc) return rc;
 
   ea_planner_t *pl = NULL;
   if ((st = ea_planner_alloc(&task, &pl, &err))) return ea__cli_fail(cmd, st, &err);
   ea_plan_info_t info;
   st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &err);
-  int rc = EA_EXIT_OK;
-  if (summary) {
-    ea_error_t e2;
-    if (ea_plan_summary_write(pl, &info, summary, &e2)) {
-      fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
-      rc = EA_EXIT_FAIL;
+  ea_error_t werr = {0};
+  ea_status_t wst = st ? EA_OK : ea__plan_write(pl, &info, out, summary, &werr);
+  if (st || wst) {
+    /* Failed: no trajectory or figure of an earlier run stays beside the
+     * failure summary. */
+    ea__remove_stale(out);
+    ea__remove_stale(figure);
+    if (wst) {
+      info.status = wst;
+      char why[sizeof info.message];
+      snprintf(why, sizeof why, "%s", werr.msg);
+      snprintf(info.message, sizeof info.message,
+               "the plan converged but its outputs could not be written: %.400s", why);
+      fprintf(stderr, "elasticarm plan: error: %s\n", werr.msg);
+    } else {
+      fprintf(stderr, "elasticarm plan: %s: %s\n",
+              st == EA_ERR_INFEASIBLE ? "infeasible" : "failed", info.message);
     }
-  }
-  if (st) {
-    fprintf(stderr, "elasticarm plan: %s: %s\n", st == EA_ERR_INFEASIBLE ? "infeasible" : "failed",
-            info.message);
     if (info.deriv_errors >= 0)
       fprintf(stderr, "elasticarm plan: derivative checker: %d error(s)\n", info.deriv_errors);
+    int wrote = 0;
+    if (summary) {
+      ea_error_t e2 = {0};
+      if (ea_plan_summary_write(pl, &info, summary, &e2))
+        fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
+      else
+        wrote = 1;
+    }
+    if (json && wrote) ea__cat(summary);
     ea_planner_free(pl);
     return EA_EXIT_FAIL;
   }
-  ea_traj_t tr;
-  memset(&tr, 0, sizeof tr);
-  if ((st = ea_planner_trajectory(pl, &tr, &err)) || (st = ea_traj_write(&tr, out, &err))) {
-    ea_traj_free(&tr);
-    ea_planner_free(pl);
-    return ea__cli_fail(cmd, st, &err);
-  }
-  ea_traj_free(&tr);
   if (figure && (st = ea_plan_figure(pl, figure, &err))) {
     fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
     rc = EA_EXIT_FAIL;
   }
   if (json && summary) {
-    FILE *fp = fopen(summary, "r");
-    if (fp) {
-      char buf[4096];
-      size_t nr;
-      while ((nr = fread(buf, 1, sizeof buf, fp)) > 0)
-        fwrite(buf, 1, nr, stdout);
-      fclose(fp);
-    }
+    ea__cat(summary);
   } else if (!quiet && strcmp(out, "-")) {
     printf("%s\n", info.message);
     printf("wrote %s%s%s%s%s\n", out, summary ? ", " : "", summary ? summary : "",
-           figure ? ", " : "", figure ? figure : "");
+           figure && !rc ? ", " : "", figure && !rc ? figure : "");
     printf("time: %.2f ms total (guess %.2f, statics Jacobians %.2f, Ipopt %.2f, rest %.2f); "
            "%d variables, %d constraints\n",
            1e3 * info.time_total_s, 1e3 * info.time_guess_s, 1e3 * info.time_statics_s,

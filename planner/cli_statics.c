@@ -37,6 +37,7 @@ static int ea__common_opt(const char *cmd, int argc, char **argv, int *i, ea__co
     c->no_stability = 1;
   } else if (!strcmp(a, "--figure")) {
     if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
+    if (ea__cli_check_figure(cmd, v)) return -1; /* before the work */
     c->figure = v;
   } else if (!strcmp(a, "--csv")) {
     if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
@@ -145,14 +146,21 @@ int ea__cli_statics(int argc, char **argv) {
     printf("usage: elasticarm statics (--cable-length M --cable-angle-deg A | --tip X,Y |\n"
            "                           --tension N --cable-angle-deg A | --tension N "
            "--theta0-deg D) [options]\n"
-           "Solves the planar statics (eq. 11, 14-16) on the physical branch.\n"
+           "Solves the planar statics (eq. 11, 14-16) on the physical branch, then checks\n"
+           "the arm's limits (tension, cable length range, shoulder torque and angle) and,\n"
+           "unless --no-stability, FE stability: 'admissible' says whether all hold, and\n"
+           "why not.\n"
            "  --shape N             add N centreline points to the output\n"
-           "  --guess-deg A,T,TH,K  warm start (alpha deg, T N, theta0 deg, kappa0 1/m)\n%s",
+           "  --guess-deg A,T,TH,K  warm start (alpha deg, T N, theta0 deg, kappa0 1/m)\n%s"
+           "exit: 0 solved and admissible, 1 no solution or not admissible (or the figure\n"
+           "failed), 2 usage or input error\n",
            ea__common_help);
     return EA_EXIT_OK;
   }
   ea__common_t c = {0};
   double Lc = NAN, adeg = NAN, T = NAN, th0deg = NAN, tip[2] = {NAN, NAN};
+  double guess[EA_NP];
+  int has_guess = 0;
   long shape = 0;
   for (int i = 1; i < argc; ++i) {
     int r = ea__common_opt(cmd, argc, argv, &i, &c);
@@ -173,7 +181,22 @@ int ea__cli_statics(int argc, char **argv) {
       bad = ea__cli_pair(cmd, a, v, tip);
     else if (!strcmp(a, "--shape"))
       bad = ea__cli_int(cmd, a, v, 2, 10000, &shape);
-    else
+    else if (!strcmp(a, "--guess-deg")) {
+      double *g = NULL;
+      int ng = 0;
+      bad = ea__cli_list(cmd, a, v, &g, &ng);
+      if (!bad && ng != EA_NP)
+        bad = ea__cli_usage_error(cmd, "%s: '%s' is not 4 values alpha_deg,T,theta0_deg,kappa0", a,
+                                  v);
+      if (!bad) {
+        guess[EA_P_ALPHA] = g[0] * EA__DEG;
+        guess[EA_P_TENSION] = g[1];
+        guess[EA_P_THETA0] = g[2] * EA__DEG;
+        guess[EA_P_KAPPA0] = g[3];
+        has_guess = 1;
+      }
+      free(g);
+    } else
       return ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) return EA_EXIT_USAGE;
   }
@@ -195,11 +218,24 @@ int ea__cli_statics(int argc, char **argv) {
   ea_arm_t arm;
   int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);
   if (rc) return rc;
+  /* The cable angle is undefined for a tip at the cable root; the same
+   * bound as --cable-length's. */
+  if (has_tip && hypot(tip[0] - arm.x_c, tip[1] - arm.y_c) < 1e-6)
+    return ea__cli_usage_error(cmd,
+                               "--tip %.9g,%.9g is at the cable root (%.9g, %.9g): no cable, "
+                               "its angle is undefined (the tip must be >= 1e-6 m from it)",
+                               tip[0], tip[1], arm.x_c, arm.y_c);
   ea_shooter_t *sh = NULL;
   if ((rc = ea__make_shooter(cmd, &arm, ea__cli_tip_mass(&arm, &c.payload), &sh))) return rc;
   ea_statics_solution_t sol;
   ea_error_t err = {0};
-  ea_status_t st = ea_statics_solve(sh, &prob, NULL, NULL, &sol, &err);
+  ea_status_t st = ea_statics_solve(sh, &prob, NULL, has_guess ? guess : NULL, &sol, &err);
+  if (st == EA_OK && !(sol.cable_length >= 1e-6)) {
+    st = ea_error_set(&err, EA_ERR_INADMISSIBLE,
+                      "the solution has the tip at the cable root (L_c = %.3g m): no cable",
+                      sol.cable_length);
+    sol.status = st;
+  }
   const int solved = st == EA_OK;
   int stable = -1;
   if (solved && !c.no_stability) {
@@ -210,6 +246,22 @@ int ea__cli_statics(int argc, char **argv) {
         ea_fe_static_solve(fe, sh, &sol, &fi, NULL) == EA_OK)
       ea_fe_stability(fe, &stable, NULL);
     ea_fe_model_free(fe);
+  }
+  /* The arm's limits, as path and torque-map check them. */
+  ea_config_point_t cp;
+  memset(&cp, 0, sizeof cp);
+  cp.cable_length = sol.cable_length;
+  cp.alpha = sol.p[EA_P_ALPHA];
+  cp.tension = sol.p[EA_P_TENSION];
+  cp.theta0 = sol.p[EA_P_THETA0];
+  cp.kappa0 = sol.p[EA_P_KAPPA0];
+  cp.shoulder_torque = arm.EI * sol.p[EA_P_KAPPA0];
+  cp.status = st;
+  ea_config_check_limits(&cp, &arm.act, 0.0);
+  if (solved && cp.admissible && stable == 0) {
+    cp.admissible = 0;
+    snprintf(cp.reason, sizeof cp.reason,
+             "unstable: the FE passive stiffness is not positive definite");
   }
   double *sx = NULL, *sy = NULL;
   if (solved && shape > 0) {
@@ -244,6 +296,8 @@ int ea__cli_statics(int argc, char **argv) {
       ea_json_bool(&j, "stable", stable);
     else
       ea_json_null(&j, "stable");
+    ea_json_bool(&j, "admissible", solved && cp.admissible);
+    ea_json_str(&j, "reason", solved ? cp.reason : err.msg);
     if (solved && shape > 0) {
       ea_json_arr_begin(&j, "shape_m");
       for (long k = 0; k < shape; ++k)
@@ -262,6 +316,7 @@ int ea__cli_statics(int argc, char **argv) {
            sol.p[EA_P_THETA0] / EA__DEG, sol.p[EA_P_KAPPA0], sol.shoulder_torque, sol.tip[EA_X_X],
            sol.tip[EA_X_Y]);
     printf("stable (FE)       %s\n", stable < 0 ? "not checked" : stable ? "yes" : "NO");
+    printf("admissible        %s%s\n", cp.admissible ? "yes" : "NO: ", cp.reason);
     for (long k = 0; k < shape; ++k)
       printf("shape %ld  %.9f %.9f\n", k, sx[k], sy[k]);
   }
@@ -286,7 +341,10 @@ int ea__cli_statics(int argc, char **argv) {
                       "pt 7 lc rgb '#c0392b' t 'cable'");
       fe.status = ea_plot_close(pl, &fe);
     }
-    if (fe.status) fprintf(stderr, "elasticarm statics: figure: %s\n", fe.msg);
+    if (fe.status) {
+      fprintf(stderr, "elasticarm statics: figure: %s\n", fe.msg);
+      rc = EA_EXIT_FAIL;
+    }
   }
   free(sx);
   free(sy);
@@ -295,7 +353,11 @@ int ea__cli_statics(int argc, char **argv) {
     if (!c.json) ea__cli_fail(cmd, st, &err);
     return EA_EXIT_FAIL;
   }
-  return EA_EXIT_OK;
+  if (!cp.admissible) {
+    fprintf(stderr, "elasticarm statics: not admissible: %s\n", cp.reason);
+    return EA_EXIT_FAIL;
+  }
+  return rc;
 }
 
 /* ------------------------------------------------------------------------ */

@@ -64,7 +64,9 @@ static const char *ea__stream_help =
     "  --to DEST             tcp://HOST:PORT | udp://HOST:PORT | serial:DEVICE[@BAUD]\n"
     "                        | file:PATH (dry run, binary frames; file:- = stdout)\n"
     "  --rate-hz R           setpoint rate (default 1000)\n"
-    "  --arm FILE            arm parameters (default data/elasticarm.yaml)\n"
+    "  --arm FILE            arm parameters: the trajectory's '# arm_file:' by default\n"
+    "                        (said on stderr), else data/elasticarm.yaml; refused when\n"
+    "                        it differs from the trajectory's\n"
     "  --json                summary as JSON on stdout\n"
     "  --no-realtime         send as fast as possible (default for file:)\n"
     "  --realtime            pace file: output too\n"
@@ -141,13 +143,18 @@ int ea__cli_stream(int argc, char **argv) {
   s.wait_acks = !to_file;
   FILE *out = to_stdout ? stderr : stdout;
 
-  ea_arm_t arm;
-  int rc = ea__cli_load_arm(cmd, arm_file, &arm);
-  if (rc) return rc;
   ea_traj_t tr = {0};
   ea_error_t err = {0};
   ea_status_t st = ea_traj_read(&tr, traj_path, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
+  /* The arm the plan was made for: its limits and motor mapping. */
+  ea_arm_t arm;
+  char arm_used[512];
+  int rc = ea__cli_arm_for_traj(cmd, arm_file, &tr, 0, &arm, arm_used, sizeof arm_used);
+  if (rc) {
+    ea_traj_free(&tr);
+    return rc;
+  }
   ea_setpoint_t *sp = NULL;
   int n = 0;
   if (time_scale_auto) {
@@ -190,6 +197,7 @@ int ea__cli_stream(int argc, char **argv) {
     ea_json_str(&j, "end", ea_stream_end_name(info.end));
     ea_json_str(&j, "message", st ? err.msg : "");
     ea_json_str(&j, "to", to);
+    ea_json_str(&j, "arm_file", arm_used[0] ? arm_used : ea__cli_default_arm());
     ea_json_num(&j, "rate_hz", s.rate_hz);
     ea_json_int(&j, "setpoints", info.setpoints);
     ea_json_int(&j, "frames_sent", info.frames_sent);

@@ -1,9 +1,11 @@
 /* Shared CLI helpers: option parsing with clear messages, arm loading. */
 #include "cli_impl.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -137,4 +139,123 @@ double ea__cli_tip_mass(const ea_arm_t *arm, const ea__cli_payload_t *p) {
   if (p->given == 1) mp = ea_arm_payload_from_factor(arm, p->value);
   if (p->given == 2) mp = p->value;
   return ea_arm_tip_mass(arm, mp);
+}
+
+int ea__cli_check_figure(const char *cmd, const char *path) {
+  ea_plot_t *p = NULL;
+  ea_error_t err = {0};
+  ea_status_t st = ea_plot_open(&p, path, 0, 0, &err);
+  if (st) return ea__cli_fail(cmd, st, &err);
+  ea_plot_discard(p);
+  return 0;
+}
+
+int ea__cli_check_output(const char *cmd, const char *path) {
+  if (!strcmp(path, "-")) return 0;
+  ea_afile_t f;
+  ea_error_t err = {0};
+  ea_status_t st = ea_afile_open(&f, path, &err);
+  if (st) return ea__cli_fail(cmd, st, &err);
+  ea_afile_abort(&f);
+  return 0;
+}
+
+void ea__cli_safe_name(const char *name, const char *fallback, char *buf, size_t len) {
+  size_t n = 0;
+  for (const char *c = name ? name : ""; *c && n + 1 < len && n < 100; ++c) {
+    const unsigned char u = (unsigned char)*c;
+    if (n == 0 && (u == '.' || u == '/' || u == ' ')) continue; /* no hidden, absolute names */
+    buf[n++] = (isalnum(u) || u == '-' || u == '_' || u == '.' || u == '+') ? (char)u : '_';
+  }
+  buf[n] = '\0';
+  if (!n) snprintf(buf, len, "%s", fallback);
+}
+
+/* The first parameter in which two arms differ ("" if none). */
+static const char *ea__arm_diff(const ea_arm_t *a, const ea_arm_t *b) {
+#define EA__F(f)                                                                                   \
+  { #f, offsetof(ea_arm_t, f) }
+  static const struct {
+    const char *name;
+    size_t off;
+  } f[] = {EA__F(rho),
+           EA__F(m_hand),
+           EA__F(length),
+           EA__F(EI),
+           EA__F(x_c),
+           EA__F(y_c),
+           EA__F(g),
+           EA__F(EA),
+           EA__F(GA_s),
+           EA__F(EA_cable),
+           EA__F(I_zz),
+           EA__F(I_hand),
+           EA__F(act.spool_radius),
+           EA__F(act.spool_gear_ratio),
+           EA__F(act.spool_zero_length),
+           EA__F(act.cable_length_min),
+           EA__F(act.cable_length_max),
+           EA__F(act.cable_speed_max),
+           EA__F(act.cable_accel_max),
+           EA__F(act.tension_max),
+           EA__F(act.tension_min),
+           EA__F(act.shoulder_torque_max),
+           EA__F(act.shoulder_speed_max),
+           EA__F(act.shoulder_angle_min),
+           EA__F(act.shoulder_angle_max),
+           EA__F(act.shoulder_accel_max),
+           EA__F(act.base_speed_max),
+           EA__F(act.base_accel_max),
+           EA__F(act.base_angle_min),
+           EA__F(act.base_angle_max)};
+#undef EA__F
+  for (size_t i = 0; i < sizeof f / sizeof *f; ++i) {
+    double x, y;
+    memcpy(&x, (const char *)a + f[i].off, sizeof x);
+    memcpy(&y, (const char *)b + f[i].off, sizeof y);
+    if (x != y) return f[i].name;
+  }
+  return "";
+}
+
+int ea__cli_arm_for_traj(const char *cmd, const char *arm_opt, const ea_traj_t *tr, int quiet,
+                         ea_arm_t *arm, char *used, size_t used_len) {
+  const char *rec = tr->arm_file[0] ? tr->arm_file : NULL;
+  if (used && used_len) used[0] = '\0';
+  if (!rec || (arm_opt && access(rec, R_OK) != 0)) {
+    if (rec)
+      fprintf(stderr,
+              "elasticarm %s: warning: the trajectory's arm file '%s' cannot be read: its limits "
+              "are not compared with --arm %s\n",
+              cmd, rec, arm_opt);
+    int rc = ea__cli_load_arm(cmd, arm_opt, arm);
+    if (!rc && used && used_len) snprintf(used, used_len, "%s", arm_opt ? arm_opt : "");
+    return rc;
+  }
+  ea_error_t err = {0};
+  ea_status_t st = ea_arm_load(rec, arm, &err);
+  if (st) {
+    fprintf(stderr,
+            "elasticarm %s: error: the trajectory was made for the arm file '%s' (its '# "
+            "arm_file:' line), which cannot be loaded: %s\n(give the arm with --arm FILE)\n",
+            cmd, rec, err.msg);
+    return EA_EXIT_USAGE;
+  }
+  if (arm_opt) {
+    ea_arm_t given;
+    int rc = ea__cli_load_arm(cmd, arm_opt, &given);
+    if (rc) return rc;
+    const char *d = ea__arm_diff(arm, &given);
+    if (d[0]) {
+      fprintf(stderr,
+              "elasticarm %s: error: --arm %s differs from the trajectory's arm file '%s' in %s: "
+              "refused (the plan's limits and motor mapping would not hold)\n",
+              cmd, arm_opt, rec, d);
+      return EA_EXIT_USAGE;
+    }
+  } else if (!quiet) {
+    fprintf(stderr, "elasticarm %s: using the trajectory's arm file '%s'\n", cmd, rec);
+  }
+  if (used && used_len) snprintf(used, used_len, "%s", rec);
+  return 0;
 }

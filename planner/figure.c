@@ -1,15 +1,26 @@
 /* Figures through gnuplot: a script is built in memory (data inline as
- * $blocks), piped to gnuplot, which draws to a temporary file that is
- * renamed onto the target when gnuplot succeeds. All figure code of the
- * project goes through here. */
+ * $blocks) and given to gnuplot as its standard input; gnuplot draws to a
+ * temporary file beside the target, created (so the directory is known to
+ * be writable) when the figure is opened, and renamed onto the target when
+ * gnuplot succeeds. gnuplot's standard output goes to /dev/null (never to
+ * ours: a failed 'set output' would make it draw there) and its standard
+ * error to a temporary file whose last line goes into the error message.
+ * All figure code of the project goes through here. */
+#include "afile_impl.h"
 #include "ea_planner.h"
 
+#include <errno.h>
+#include <fcntl.h>
+#include <spawn.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+extern char **environ;
 
 struct ea_plot {
   char *buf;
@@ -38,13 +49,29 @@ ea_status_t ea_plot_open(ea_plot_t **pp, const char *out_path, int width, int he
   if (st) return st;
   ea_plot_t *p = calloc(1, sizeof *p);
   if (!p) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  snprintf(p->out, sizeof p->out, "%s", out_path);
+  /* The temporary now: proves the directory writable before any work. */
+  ea__afile_clean_stale(out_path);
+  snprintf(p->tmp, sizeof p->tmp, "%s.tmp%ld.XXXXXX%s", out_path, (long)getpid(), ext);
+  const int fd = mkstemps(p->tmp, (int)strlen(ext));
+  if (fd < 0) {
+    const int eno = errno;
+    free(p);
+    return ea_error_set(err, EA_ERR_IO, "%s: cannot write the figure there: %s", out_path,
+                        strerror(eno));
+  }
+  const mode_t mask = umask(0);
+  umask(mask);
+  if (fchmod(fd, 0666 & ~mask) != 0) {
+    /* not fatal: the figure stays private */
+  }
+  close(fd);
   p->script = open_memstream(&p->buf, &p->len);
   if (!p->script) {
+    unlink(p->tmp);
     free(p);
     return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
   }
-  snprintf(p->out, sizeof p->out, "%s", out_path);
-  snprintf(p->tmp, sizeof p->tmp, "%s.tmp%ld%s", out_path, (long)getpid(), ext);
   if (width <= 0) width = 900;
   if (height <= 0) height = 650;
   const int pdf = !strcmp(ext, ".pdf");
@@ -52,7 +79,10 @@ ea_status_t ea_plot_open(ea_plot_t **pp, const char *out_path, int width, int he
     fprintf(p->script, "set terminal %s size %gin,%gin\n", term, width / 100.0, height / 100.0);
   else
     fprintf(p->script, "set terminal %s size %d,%d\n", term, width, height);
-  fprintf(p->script, "set output '%s'\nset grid\nset key box opaque\n", p->tmp);
+  fputs("set output '", p->script); /* single-quoted: a quote is written twice */
+  for (const char *c = p->tmp; *c; ++c)
+    fputs(*c == '\'' ? "''" : (char[]){*c, '\0'}, p->script);
+  fputs("'\nset grid\nset key box opaque\n", p->script);
   *pp = p;
   return EA_OK;
 }
@@ -87,8 +117,47 @@ void ea_plot_data_end(ea_plot_t *p) {
 void ea_plot_discard(ea_plot_t *p) {
   if (!p) return;
   if (p->script) fclose(p->script);
+  unlink(p->tmp);
   free(p->buf);
   free(p);
+}
+
+/* The last non-blank line of fp (gnuplot's error), trimmed, into buf. */
+static void ea__last_line(FILE *fp, char *buf, size_t len) {
+  buf[0] = '\0';
+  if (!fp || fseek(fp, 0, SEEK_SET) != 0) return;
+  char line[512];
+  while (fgets(line, sizeof line, fp)) {
+    size_t n = strlen(line);
+    while (n && (line[n - 1] == '\n' || line[n - 1] == '\r' || line[n - 1] == ' '))
+      line[--n] = '\0';
+    const char *s = line;
+    while (*s == ' ' || *s == '\t' || *s == '^')
+      ++s;
+    if (*s) snprintf(buf, len, "%s", s);
+  }
+}
+
+/* Run gnuplot: stdin = script, stdout = /dev/null, stderr = errf. Returns
+ * the wait status, or -1 (errno set) if it could not be started. */
+static int ea__run_gnuplot(FILE *script, FILE *errf) {
+  posix_spawn_file_actions_t fa;
+  if (posix_spawn_file_actions_init(&fa) != 0) return -1;
+  int rc = posix_spawn_file_actions_adddup2(&fa, fileno(script), STDIN_FILENO);
+  if (!rc) rc = posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  if (!rc) rc = posix_spawn_file_actions_adddup2(&fa, fileno(errf), STDERR_FILENO);
+  pid_t pid = -1;
+  char *argv[] = {(char *)"gnuplot", NULL};
+  if (!rc) rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc) {
+    errno = rc;
+    return -1;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return status;
 }
 
 ea_status_t ea_plot_close(ea_plot_t *p, ea_error_t *err) {
@@ -97,18 +166,29 @@ ea_status_t ea_plot_close(ea_plot_t *p, ea_error_t *err) {
   fclose(p->script);
   p->script = NULL;
   ea_status_t st = EA_OK;
-  FILE *gp = popen("gnuplot 2>/dev/null", "w");
-  if (!gp) {
-    st = ea_error_set(err, EA_ERR_IO, "%s: cannot run gnuplot (install gnuplot-nox)", p->out);
+  FILE *script = tmpfile(), *errf = tmpfile();
+  if (!script || !errf || fwrite(p->buf, 1, p->len, script) != p->len || fflush(script) != 0 ||
+      fseek(script, 0, SEEK_SET) != 0) {
+    st = ea_error_set(err, EA_ERR_IO, "%s: cannot make the gnuplot script: %s", p->out,
+                      strerror(errno));
   } else {
-    fwrite(p->buf, 1, p->len, gp);
-    int rc = pclose(gp);
-    if (rc == -1 || !WIFEXITED(rc) || WEXITSTATUS(rc) != 0)
-      st = ea_error_set(err, EA_ERR_IO, "%s: gnuplot failed (exit %d; is gnuplot-nox installed?)",
-                        p->out, WIFEXITED(rc) ? WEXITSTATUS(rc) : -1);
+    const int rc = ea__run_gnuplot(script, errf);
+    char msg[400];
+    ea__last_line(errf, msg, sizeof msg);
+    struct stat sb;
+    if (rc == -1 || (WIFEXITED(rc) && WEXITSTATUS(rc) == 127))
+      st = ea_error_set(err, EA_ERR_IO, "%s: cannot run gnuplot (install gnuplot-nox)", p->out);
+    else if (!WIFEXITED(rc) || WEXITSTATUS(rc) != 0)
+      st = ea_error_set(err, EA_ERR_IO, "%s: gnuplot failed (exit %d)%s%s", p->out,
+                        WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, msg[0] ? ": " : "", msg);
+    else if (stat(p->tmp, &sb) != 0 || sb.st_size == 0)
+      st = ea_error_set(err, EA_ERR_IO, "%s: gnuplot wrote nothing%s%s", p->out, msg[0] ? ": " : "",
+                        msg);
     else if (rename(p->tmp, p->out) != 0)
-      st = ea_error_set(err, EA_ERR_IO, "%s: cannot write the figure", p->out);
+      st = ea_error_set(err, EA_ERR_IO, "%s: cannot write the figure: %s", p->out, strerror(errno));
   }
+  if (script) fclose(script);
+  if (errf) fclose(errf);
   if (st) unlink(p->tmp);
   free(p->buf);
   free(p);

@@ -5,16 +5,306 @@
 #include "ea_test.h"
 #include "ea_test_cli.h"
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 static void expect_usage(const char *args, const char *want, const char *what) {
   int rc = run(args);
   ea_test_true(rc == 2 && strstr(out, want) != NULL, what);
   printf("  $ elasticarm %s -> exit %d: %.200s\n", args, rc, out);
+}
+
+static int exists(const char *path) {
+  struct stat sb;
+  return stat(path, &sb) == 0;
+}
+
+/* The whole of a small file into buf ("" if unreadable). */
+static void slurp(const char *path, char *buf, size_t cap) {
+  buf[0] = '\0';
+  FILE *fp = fopen(path, "r");
+  if (!fp) return;
+  const size_t k = fread(buf, 1, cap - 1, fp);
+  buf[k] = '\0';
+  fclose(fp);
+}
+
+static void touch(const char *path, const char *text) {
+  FILE *fp = fopen(path, "w");
+  if (!fp) return;
+  fputs(text, fp);
+  fclose(fp);
+}
+
+/* A pid that no longer runs: a child that exited and was reaped. */
+static pid_t dead_pid(void) {
+  const pid_t pid = fork();
+  if (pid == 0) _exit(0);
+  waitpid(pid, NULL, 0);
+  return pid;
+}
+
+/* Figures: checked before the work, never drawn on stdout (issue: a figure
+ * that could not be written made gnuplot dump the SVG into --json output,
+ * exit 0). */
+static void test_figures(const char *arm_path) {
+  char args[1400];
+  touch("test_cli_blocker", "");
+  snprintf(args, sizeof args,
+           "statics --cable-length 0.45 --cable-angle-deg -25 --no-stability --arm %s --json "
+           "--figure test_cli_blocker/x.svg",
+           arm_path);
+  int rc = run(args);
+  ea_test_true(rc == 2 && !strstr(out, "<svg") && !strstr(out, "\"status\"") &&
+                   strstr(out, "test_cli_blocker/x.svg"),
+               "statics: unwritable figure refused before the work (exit 2, no SVG on stdout)");
+  printf("  -> %.300s\n", out);
+  snprintf(args, sizeof args,
+           "statics --cable-length 0.45 --cable-angle-deg -25 --no-stability --arm %s "
+           "--figure test_cli_fig.txt",
+           arm_path);
+  rc = run(args);
+  ea_test_true(rc == 2 && strstr(out, "test_cli_fig.txt: figure must end in"),
+               "statics: unknown figure extension refused before the work (exit 2)");
+  snprintf(args, sizeof args,
+           "torque-map --arm %s --cable-lengths 0.3 --cable-angles-deg 0 --csv test_cli_tm1.csv "
+           "--figure test_cli_blocker/tm.png",
+           arm_path);
+  remove("test_cli_tm1.csv");
+  rc = run(args);
+  ea_test_true(rc == 2 && !exists("test_cli_tm1.csv"),
+               "torque-map: unwritable figure refused before anything is written");
+  snprintf(args, sizeof args,
+           "statics --cable-length 0.45 --cable-angle-deg -25 --no-stability --arm %s --json "
+           "--figure test_cli_fig/st.svg",
+           arm_path);
+  remove("test_cli_fig/st.svg");
+  rc = run(args);
+  struct stat sb;
+  ea_test_true(
+      rc == 0 && !strstr(out, "<svg") && stat("test_cli_fig/st.svg", &sb) == 0 && sb.st_size > 1000,
+      "statics --json --figure: figure in its file (folder created), JSON alone on stdout");
+
+  /* gnuplot failing after the check (its temporary replaced by a folder):
+   * an error, and nothing on our stdout. */
+  ea_plot_t *pl = NULL;
+  ea_error_t err = {0};
+  mkdir("test_cli_gp", 0777);
+  ea_status_t st = ea_plot_open(&pl, "test_cli_gp/f.svg", 0, 0, &err);
+  char tmpdir[600] = "";
+  DIR *d = opendir("test_cli_gp");
+  struct dirent *e;
+  while (d && (e = readdir(d)) != NULL)
+    if (!strncmp(e->d_name, "f.svg.tmp", 9))
+      snprintf(tmpdir, sizeof tmpdir, "test_cli_gp/%.500s", e->d_name);
+  if (d) closedir(d);
+  ea_test_true(st == EA_OK && tmpdir[0], "ea_plot_open makes its temporary beside the target");
+  if (st == EA_OK) {
+    if (tmpdir[0]) {
+      unlink(tmpdir);
+      mkdir(tmpdir, 0777);
+    }
+    ea_plot_cmd(pl, "plot x");
+    fflush(stdout);
+    const int saved = dup(STDOUT_FILENO);
+    const int fd = open("test_cli_gp_stdout.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, STDOUT_FILENO);
+    close(fd);
+    st = ea_plot_close(pl, &err);
+    fflush(stdout);
+    dup2(saved, STDOUT_FILENO);
+    close(saved);
+    const int quiet = stat("test_cli_gp_stdout.txt", &sb) == 0 && sb.st_size == 0;
+    printf("  gnuplot failure: %s; %lld bytes on stdout\n", err.msg, (long long)sb.st_size);
+    ea_test_true(st == EA_ERR_IO && quiet && !exists("test_cli_gp/f.svg") &&
+                     strstr(err.msg, "gnuplot failed"),
+                 "gnuplot failure: EA_ERR_IO with gnuplot's message, stdout untouched");
+  }
+  if (tmpdir[0]) rmdir(tmpdir);
+  remove("test_cli_gp_stdout.txt");
+  remove("test_cli_fig/st.svg");
+  rmdir("test_cli_fig");
+  rmdir("test_cli_gp");
+}
+
+/* statics: --guess-deg (listed in --help) works; the arm's limits are
+ * checked; a tip at the cable root is refused. */
+static void test_statics_checks(const char *arm_path) {
+  ea_arm_t arm;
+  ea_status_t ast = ea_arm_load(arm_path, &arm, NULL);
+  ea_test_true(ast == EA_OK, "arm file loads");
+  if (ast) return;
+  char args[1400];
+  /* Warm start from a guess near the answer: the library's tip solve. */
+  ea_shooter_t *sh = NULL;
+  ea_shooter_alloc(&arm, NULL, &sh, NULL);
+  ea_load_t load = {arm.m_hand};
+  ea_shooter_set_load(sh, &load);
+  const double a = -25.0 * M_PI / 180;
+  ea_statics_problem_t pr =
+      ea_statics_problem_tip(arm.x_c + 0.45 * cos(a), arm.y_c + 0.45 * sin(a));
+  ea_statics_solution_t sol;
+  const ea_status_t sst = ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL);
+  ea_shooter_free(sh);
+  ea_test_true(sst == EA_OK, "library tip solve");
+  snprintf(args, sizeof args,
+           "statics --cable-length 0.45 --cable-angle-deg -25 --no-stability --arm %s --json "
+           "--guess-deg %.3f,%.3f,%.3f,%.3f",
+           arm_path, sol.p[EA_P_ALPHA] * 180 / M_PI + 1, sol.p[EA_P_TENSION] * 1.05,
+           sol.p[EA_P_THETA0] * 180 / M_PI + 2, sol.p[EA_P_KAPPA0] * 0.95);
+  int rc = run(args);
+  ea_test_true(rc == 0 && strstr(out, "\"branch\": \"warm start\""),
+               "statics --guess-deg accepted: warm start");
+  ea_test_rel(json_num("tension_N"), sol.p[EA_P_TENSION], 1e-8,
+              "--guess-deg: tension vs library tip solve");
+  ea_test_rel(json_num("theta0_rad"), sol.p[EA_P_THETA0], 1e-8,
+              "--guess-deg: theta0 vs library tip solve");
+  run("statics --help");
+  ea_test_true(strstr(out, "--guess-deg") != NULL, "statics --help lists --guess-deg");
+
+  /* Below the spool's minimum cable length (the arm file's value). */
+  const double Lshort = 0.8 * arm.act.cable_length_min;
+  snprintf(args, sizeof args,
+           "statics --cable-length %.6f --cable-angle-deg -20 --no-stability --arm %s --json",
+           Lshort, arm_path);
+  rc = run(args);
+  ea_test_true(rc == 1 && strstr(out, "\"admissible\": false") &&
+                   strstr(out, "below the minimum") && strstr(out, "\"status\": \"EA_OK\""),
+               "statics below the spool minimum: solved, flagged inadmissible, exit 1");
+  printf("  -> %.200s\n", strstr(out, "\"admissible\"") ? strstr(out, "\"admissible\"") : out);
+  snprintf(args, sizeof args,
+           "statics --cable-length %.6f --cable-angle-deg -20 --no-stability --arm %s", Lshort,
+           arm_path);
+  rc = run(args);
+  ea_test_true(rc == 1 && strstr(out, "admissible        NO: cable length"),
+               "statics text output says why it is not admissible");
+  snprintf(args, sizeof args,
+           "statics --cable-length 0.45 --cable-angle-deg -25 --no-stability --arm %s --json",
+           arm_path);
+  rc = run(args);
+  ea_test_true(rc == 0 && strstr(out, "\"admissible\": true"),
+               "statics inside the limits: admissible, exit 0");
+
+  /* A tip at the cable root: no cable, no angle. */
+  snprintf(args, sizeof args, "statics --tip %.17g,%.17g --no-stability --arm %s --json", arm.x_c,
+           arm.y_c, arm_path);
+  rc = run(args);
+  ea_test_true(rc == 2 && strstr(out, "cable root") && !strstr(out, "EA_OK"),
+               "statics --tip at the cable root refused (exit 2)");
+  printf("  -> %.200s\n", out);
+}
+
+/* A paper-line task with the given name (YAML-quoted), knots 20. */
+static void write_task(const char *path, const char *name, const char *arm_path, int feasible) {
+  FILE *fp = fopen(path, "w");
+  if (!fp) return;
+  fprintf(fp, "name: \"%s\"\narm_file: %s\npayload_factor: 0.0\n", name, arm_path);
+  if (feasible)
+    fputs("start:\n  tip: [0.3, -0.2]\ngoal:\n  tip: [0.6, -0.2]\n", fp);
+  else /* the line passes closer to the cable root than the shortest cable */
+    fputs("start:\n  tip: [0.34, 0.08]\ngoal:\n  tip: [0.34, -0.30]\n", fp);
+  fputs("path: line\nobjective: min_time\nknots: 20\n", fp);
+  fclose(fp);
+}
+
+/* plan: outputs written so that a summary never sits beside a trajectory it
+ * does not describe; killed runs' temporaries cleaned; names made safe. */
+static void test_plan_outputs(const char *arm_path) {
+  char buf[8192];
+  write_task("test_cli_ok.yaml", "ok", arm_path, 1);
+  write_task("test_cli_inf.yaml", "inf", arm_path, 0);
+  const char *o[] = {"test_cli_p.csv", "test_cli_p.json", "test_cli_p.svg"};
+  for (int i = 0; i < 3; ++i)
+    remove(o[i]);
+  int rc = run("plan test_cli_ok.yaml -o test_cli_p.csv --figure test_cli_p.svg --quiet");
+  ea_test_true(rc == 0 && exists(o[0]) && exists(o[1]) && exists(o[2]),
+               "plan: trajectory, summary, figure written");
+  /* The same outputs, a failing plan: the earlier trajectory and figure go. */
+  rc = run("plan test_cli_inf.yaml -o test_cli_p.csv --figure test_cli_p.svg --quiet --json");
+  slurp(o[1], buf, sizeof buf);
+  ea_test_true(rc == 1 && !exists(o[0]) && !exists(o[2]) &&
+                   strstr(buf, "\"status\": \"EA_ERR_INFEASIBLE\"") &&
+                   strstr(out, "\"status\": \"EA_ERR_INFEASIBLE\""),
+               "failed plan: failure summary (also on --json), earlier trajectory and figure "
+               "removed");
+
+  /* The trajectory cannot be written (its name is a folder): no EA_OK summary. */
+  mkdir("test_cli_dir.csv", 0777);
+  touch("test_cli_dir.csv/keep", "x");
+  remove("test_cli_dir.json");
+  rc = run("plan test_cli_ok.yaml -o test_cli_dir.csv --quiet");
+  slurp("test_cli_dir.json", buf, sizeof buf);
+  ea_test_true(rc == 1 && !strstr(buf, "\"EA_OK\"") && strstr(buf, "\"status\": \"EA_ERR_IO\"") &&
+                   strstr(buf, "could not be written"),
+               "trajectory not written: the summary says so (EA_ERR_IO), never EA_OK");
+  printf("  -> %.300s\n", out);
+  remove("test_cli_dir.csv/keep");
+  rmdir("test_cli_dir.csv");
+  remove("test_cli_dir.json");
+  DIR *d = opendir(".");
+  struct dirent *e;
+  int left = 0;
+  while (d && (e = readdir(d)) != NULL)
+    if (strstr(e->d_name, "test_cli_dir.") && strstr(e->d_name, ".tmp")) ++left;
+  if (d) closedir(d);
+  ea_test_true(left == 0, "no temporaries left after the failed write");
+
+  /* Temporaries of a killed run (dead pid) are removed, a live one's kept. */
+  char stale1[128], stale2[128], live[128];
+  const long dp = (long)dead_pid();
+  snprintf(stale1, sizeof stale1, "test_cli_k.csv.tmp%ld.traj", dp);
+  snprintf(stale2, sizeof stale2, "test_cli_k.json.tmp%ld.json.tmp%ld.Ab12Cd", dp, dp);
+  snprintf(live, sizeof live, "test_cli_k.csv.tmp%ld.Xy34Zw", (long)getpid());
+  touch(stale1, "x");
+  touch(stale2, "x");
+  touch(live, "x");
+  rc = run("plan test_cli_ok.yaml -o test_cli_k.csv --quiet");
+  ea_test_true(rc == 0 && !exists(stale1) && !exists(stale2) && exists(live),
+               "plan: a killed run's temporaries removed, a live process's kept");
+  remove(live);
+  remove("test_cli_k.csv");
+  remove("test_cli_k.json");
+
+  /* The task's name is free text, not a path. */
+  write_task("test_cli_name.yaml", "../test_cli_evil", arm_path, 1);
+  remove("../test_cli_evil.csv");
+  remove("../test_cli_evil.json");
+  rc = run("plan test_cli_name.yaml --quiet");
+  ea_test_true(rc == 0 && !exists("../test_cli_evil.csv") && exists("test_cli_evil.csv") &&
+                   exists("test_cli_evil.json"),
+               "name '../test_cli_evil': default outputs in the current folder, not above");
+  remove("../test_cli_evil.csv");
+  remove("../test_cli_evil.json");
+  remove("test_cli_evil.csv");
+  remove("test_cli_evil.json");
+  write_task("test_cli_name.yaml", "", arm_path, 1);
+  remove(".csv");
+  remove(".json");
+  rc = run("plan test_cli_name.yaml --quiet");
+  ea_test_true(rc == 0 && !exists(".csv") && exists("plan.csv"),
+               "empty name: 'plan.csv', not the hidden '.csv'");
+  remove(".csv");
+  remove(".json");
+  remove("plan.csv");
+  remove("plan.json");
+
+  /* An unwritable figure: refused before the solve, nothing written. */
+  remove(o[0]);
+  remove(o[1]);
+  rc = run("plan test_cli_ok.yaml -o test_cli_p.csv --figure test_cli_blocker/p.svg --quiet");
+  ea_test_true(rc == 2 && !exists(o[0]) && !exists(o[1]),
+               "plan: unwritable figure refused before the solve, nothing written");
+  for (int i = 0; i < 3; ++i)
+    remove(o[i]);
+  remove("test_cli_ok.yaml");
+  remove("test_cli_inf.yaml");
+  remove("test_cli_name.yaml");
 }
 
 int main(void) {
@@ -205,5 +495,9 @@ int main(void) {
     ea_test_true(rows == 7, "golden: 7 path steps compared");
     ea_test_abs(worst, 0.0, 1e-8, "golden: path vs independent scipy solution (worst rel.)");
   }
+  test_figures(arm_path);
+  test_statics_checks(arm_path);
+  test_plan_outputs(arm_path);
+  remove("test_cli_blocker");
   return ea_test_summary("test_cli");
 }

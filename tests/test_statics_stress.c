@@ -29,12 +29,13 @@ static void check_one(ea_shooter_t *sh, const ea_arm_t *arm, double Lc, double a
   }
   ++t->solved;
   double xr[EA_NX];
-  ea_shoot_reference(arm, ea_shooter_load(sh), sol.p, xr);
+  const ea_status_t rst = ea_shoot_reference(arm, ea_shooter_load(sh), sol.p, xr);
   const double tx = arm->x_c + Lc * cos(alpha), ty = arm->y_c + Lc * sin(alpha);
   const double etip = hypot(xr[EA_X_X] - tx, xr[EA_X_Y] - ty), ek = fabs(xr[EA_X_KAPPA]);
-  t->worst_tip = fmax(t->worst_tip, etip);
-  t->worst_kappa = fmax(t->worst_kappa, ek);
-  if (etip > 1e-9 || ek > 1e-8 || sol.p[EA_P_TENSION] < 0) {
+  t->worst_tip = ea_test_max(t->worst_tip, etip);
+  t->worst_kappa = ea_test_max(t->worst_kappa, ek);
+  /* written so that a NaN (or a failed re-integration) counts as wrong */
+  if (rst != EA_OK || !(etip <= 1e-9) || !(ek <= 1e-8) || !(sol.p[EA_P_TENSION] >= 0)) {
     ++t->wrong;
     printf("  WRONG: Lc=%.9g alpha=%.9g: tip err %.3g kappa_L %.3g T %.6g\n", Lc, alpha, etip, ek,
            sol.p[EA_P_TENSION]);
