@@ -26,15 +26,6 @@ static double ea__fe_wall(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Figure path must end in .svg, .png or .pdf: checked before any work. */
-static int ea__fe_check_figure(const char *cmd, const char *path) {
-  if (!path) return 0;
-  const char *ext = strrchr(path, '.');
-  if (!ext || (strcmp(ext, ".svg") && strcmp(ext, ".png") && strcmp(ext, ".pdf")))
-    return ea__cli_usage_error(cmd, "--figure: '%s' must end in .svg, .png or .pdf", path);
-  return 0;
-}
-
 /* How the FE static state is tied to the ODE solution. */
 enum { EA__FE_HOLD_TIP = 0, EA__FE_HOLD_TENSION = 1 };
 
@@ -601,7 +592,7 @@ int ea__cli_frequencies(int argc, char **argv) {
     ea__cli_usage_error(cmd, "--json and --csv - both want stdout");
     goto done;
   }
-  if (ea__fe_check_figure(cmd, o.figure)) goto done;
+  if (o.figure && ea__cli_check_figure(cmd, o.figure)) goto done;
   ea_arm_t arm;
   if ((rc = ea__cli_load_arm(cmd, o.arm_file, &arm))) goto done;
   ea_shooter_t *sh = NULL;
@@ -856,7 +847,9 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
     return ea__cli_usage_error(cmd, "--rho-inf needs --scheme genalpha");
   if (o->json && o->out && !strcmp(o->out, "-"))
     return ea__cli_usage_error(cmd, "--json and -o - both want stdout");
-  return ea__fe_check_figure(cmd, o->figure);
+  if (o->figure && ea__cli_check_figure(cmd, o->figure)) return EA_EXIT_USAGE;
+  if (o->out && strcmp(o->out, "-") && ea__cli_check_output(cmd, o->out)) return EA_EXIT_USAGE;
+  return 0;
 }
 
 /* The arm to simulate on: --arm, else the arm file the trajectory records (if it is
