@@ -22,9 +22,10 @@ extern "C" {
 /** Settings of a trajectory simulation. */
 typedef struct ea_sim_settings {
   int elements;              /**< FE elements (default EA_FE_DEFAULT_ELEMENTS) */
-  ea_fe_scheme_t scheme;     /**< time integrator (default EA_FE_SCHEME_ENERGY) */
-  double dt;                 /**< [s] time step (default 1e-3: converged to 1e-4 relative on the
-                                  residual, bench/bench_fe's work-precision table) */
+  ea_fe_scheme_t scheme;     /**< time integrator (default EA_FE_SCHEME_GENALPHA, rho_inf 0.9:
+                                  bench/bench_sim's work-precision table) */
+  double dt;                 /**< [s] time step (default 1e-3: the residual within 1e-4 of the
+                                  dt -> 0 limit, bench/bench_sim) */
   double rho_inf;            /**< generalized-alpha spectral radius (default 0.9) */
   double settle;             /**< [s] simulated after the motion (default 3) */
   int cable_active;          /**< 0: passive cable (default), 1: active (tension drives) */

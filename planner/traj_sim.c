@@ -13,7 +13,7 @@ void ea_sim_settings_default(ea_sim_settings_t *s) {
   if (!s) return;
   memset(s, 0, sizeof *s);
   s->elements = EA_FE_DEFAULT_ELEMENTS;
-  s->scheme = EA_FE_SCHEME_ENERGY;
+  s->scheme = EA_FE_SCHEME_GENALPHA;
   s->dt = 1e-3;
   s->rho_inf = 0.9;
   s->settle = 3.0;
