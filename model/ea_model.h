@@ -592,6 +592,86 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
                            const ea_fe_sim_settings_t *s, double *tip, int tip_rows,
                            ea_fe_sim_info_t *info, ea_error_t *err);
 
+/* ------------------------------------------------------------------------ */
+/* Reduced dynamic model along the quasi-static manifold (model/fe_rom.c)     */
+/* ------------------------------------------------------------------------ */
+
+/** Most modes of the reduced model. */
+#define EA_ROM_MAX_MODES 4
+
+/** Settings of the reduced model. */
+typedef struct ea_rom_settings {
+  int modes;          /**< K modes kept (default 2) */
+  int elements;       /**< FE elements (default EA_FE_DEFAULT_ELEMENTS) */
+  double step_length; /**< [m] central-difference step in L_c for du_s/dq (default 2e-3) */
+  double step_angle;  /**< [rad] the same in alpha (default 4e-3) */
+} ea_rom_settings_t;
+
+void ea_rom_settings_default(ea_rom_settings_t *s);
+ea_status_t ea_rom_settings_validate(const ea_rom_settings_t *s, ea_error_t *err);
+
+/** The reduced model at one configuration q = (L_c, alpha): with u = u_s(q) + sum Phi_i eta_i
+ *  (mass-normalised modes about the static state, passive cable),
+ *    eta_i'' + omega_i^2 eta_i = -B_i . q'' - q'^T C_i q'
+ *  Units: eta_i [sqrt(kg) m]. Index 0 of a pair is L_c, 1 is alpha; C_i = (LL, La, aa). */
+typedef struct ea_rom_point {
+  int modes;
+  double omega2[EA_ROM_MAX_MODES];   /**< [rad^2/s^2] omega_i^2 */
+  double B[EA_ROM_MAX_MODES][2];     /**< Phi_i^T M du_s/dq */
+  double C[EA_ROM_MAX_MODES][3];     /**< Phi_i^T M d2u_s/dq2 (LL, La, aa) */
+  double tip[EA_ROM_MAX_MODES][2];   /**< tip (x, y) displacement per unit eta_i */
+  double dtension[EA_ROM_MAX_MODES]; /**< cable tension per unit eta_i (cable rest length held) */
+  double dtorque[EA_ROM_MAX_MODES];  /**< shoulder torque per unit eta_i: (K Phi_i)_theta0 */
+  double tension;                    /**< [N] FE static tension */
+  double theta0;                     /**< [rad] FE static shoulder angle */
+  double rest_length;                /**< [m] passive cable rest length (ea_rom_point only) */
+  double p_centre[EA_NP];            /**< ODE statics p at q (ea_rom_point only) */
+} ea_rom_point_t;
+
+/** Workspace to compute the reduced model (opaque). */
+typedef struct ea_rom ea_rom_t;
+
+/** Allocate for arm (copied) and tip mass [kg]; s NULL = defaults. */
+ea_status_t ea_rom_alloc(const ea_arm_t *arm, double tip_mass, const ea_rom_settings_t *s,
+                         ea_rom_t **out, ea_error_t *err);
+void ea_rom_free(ea_rom_t *r);
+const ea_rom_settings_t *ea_rom_settings(const ea_rom_t *r);
+/** The reduced model at (L_c [m], alpha [rad]) directly from the FE model (9 static solves and
+ *  one eigen-solve). align = 1: the mode signs continue those of the previous successful call
+ *  (give nearby points in sequence); 0: the tip's y component >= 0.
+ *  EA_ERR_UNSTABLE when the configuration is not stable; statics/FE failures as they come. */
+ea_status_t ea_rom_point(ea_rom_t *r, double cable_length, double cable_angle, int align,
+                         ea_rom_point_t *out, ea_error_t *err);
+
+/** The reduced model tabulated over a box of (L_c, alpha) (opaque). */
+typedef struct ea_rom_table ea_rom_table_t;
+
+typedef struct ea_rom_table_info {
+  int modes;
+  int n_cable_length, n_cable_angle; /**< grid points */
+  double box[4];                     /**< [m, m, rad, rad] L_c min, max, alpha min, max */
+  int n_extrapolated;                /**< grid points without a stable state, extrapolated */
+  double time_s;                     /**< [s] wall time of the build (0: loaded) */
+} ea_rom_table_info_t;
+
+/** Build the table on an nL x na grid over box (L_c min, max, alpha min, max): ea_rom_point at
+ *  every grid point, mode signs continuous over the grid, points without a stable state
+ *  filled by linear extrapolation from their neighbours. */
+ea_status_t ea_rom_table_build(ea_rom_t *r, const double box[4], int nL, int na,
+                               ea_rom_table_t **out, ea_error_t *err);
+/** The table from its grid values (as ea_rom_table_values gives them): for a cache. */
+ea_status_t ea_rom_table_from_values(int modes, int nL, int na, const double box[4],
+                                     const double *values, ea_rom_table_t **out, ea_error_t *err);
+/** The grid values (count of them in *count); owned by the table. */
+const double *ea_rom_table_values(const ea_rom_table_t *tb, size_t *count);
+void ea_rom_table_info(const ea_rom_table_t *tb, ea_rom_table_info_t *info);
+void ea_rom_table_free(ea_rom_table_t *tb);
+/** Values (v) and exact derivatives of the bicubic interpolant wrt L_c (dL) and alpha (da) at
+ *  (L_c, alpha), clamped to the box (derivatives 0 outside); any output may be NULL. The
+ *  p_centre and rest_length fields are not tabulated (0). No allocation. */
+void ea_rom_table_eval(const ea_rom_table_t *tb, double cable_length, double cable_angle,
+                       ea_rom_point_t *v, ea_rom_point_t *dL, ea_rom_point_t *da);
+
 /* EA_FE_SECTION_END */
 
 #ifdef __cplusplus

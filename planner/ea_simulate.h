@@ -106,6 +106,23 @@ void ea_traj_planned_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, dou
  *  err names the first row without a static solution. */
 ea_status_t ea_traj_fill_statics(ea_traj_t *tr, ea_shooter_t *sh, ea_error_t *err);
 
+/** What the reduced model (ea_rom_table_t) predicts for a trajectory: the modal states
+ *  integrated along the file's cubic Hermite of (L_c, alpha) (RK4, dt), then free vibration
+ *  for settle seconds at the goal. */
+typedef struct ea_rom_prediction {
+  int modes;
+  double eta[EA_ROM_MAX_MODES];      /**< [sqrt(kg) m] modal coordinates at the end of the motion */
+  double eta_rate[EA_ROM_MAX_MODES]; /**< [sqrt(kg) m / s] their rates */
+  double amplitude_m[EA_ROM_MAX_MODES]; /**< [m] tip amplitude of each mode's free vibration */
+  double residual_peak;                 /**< [m] peak |tip - goal| over the settling time */
+  double max_deviation;                 /**< [m] peak modal tip deviation during the motion */
+  double min_tension_change;            /**< [N] most negative modal tension change */
+} ea_rom_prediction_t;
+
+/** Integrate the reduced model along trajectory tr (dt [s], e.g. 1e-4; settle [s]). */
+ea_status_t ea_traj_rom_predict(const ea_rom_table_t *tb, const ea_traj_t *tr, double dt,
+                                double settle, ea_rom_prediction_t *out, ea_error_t *err);
+
 #ifdef __cplusplus
 }
 #endif

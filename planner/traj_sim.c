@@ -378,3 +378,117 @@ done:
   ea_shooter_free(sh);
   return st;
 }
+
+/* Cubic Hermite value, rate and acceleration of column c (rate column cr) at t. */
+static void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v,
+                             double *a) {
+  const int n = tr->n;
+  if (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t) || t >= EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t)) {
+    const int i = (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t)) ? 0 : n - 1;
+    *q = EA_TRAJ_AT(tr, i, c);
+    *v = *a = 0.0;
+    return;
+  }
+  int lo = 0, hi = n - 1;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
+  const double s = (t - t0) / h, s2 = s * s, s3 = s2 * s;
+  const double y0 = EA_TRAJ_AT(tr, lo, c), y1 = EA_TRAJ_AT(tr, hi, c);
+  const double m0 = EA_TRAJ_AT(tr, lo, cr) * h, m1 = EA_TRAJ_AT(tr, hi, cr) * h;
+  *q = (2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * y1 +
+       (s3 - s2) * m1;
+  *v = ((6 * s2 - 6 * s) * y0 + (3 * s2 - 4 * s + 1) * m0 + (-6 * s2 + 6 * s) * y1 +
+        (3 * s2 - 2 * s) * m1) /
+       h;
+  *a = ((12 * s - 6) * y0 + (6 * s - 4) * m0 + (-12 * s + 6) * y1 + (6 * s - 2) * m1) / (h * h);
+}
+
+/* Modal right-hand side along the trajectory at time t (from the first sample). */
+static void ea__rom_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, double t,
+                        const double *z, double *dz, double tip[2], double *dT) {
+  double q[2], v[2], a[2];
+  const double t_abs = t + EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t_abs, &q[0], &v[0], &a[0]);
+  ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t_abs, &q[1], &v[1], &a[1]);
+  ea_rom_point_t p;
+  ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
+  if (tip) tip[0] = tip[1] = 0.0;
+  if (dT) *dT = 0.0;
+  for (int k = 0; k < K; ++k) {
+    const double F =
+        -(p.B[k][0] * a[0] + p.B[k][1] * a[1]) -
+        (p.C[k][0] * v[0] * v[0] + 2 * p.C[k][1] * v[0] * v[1] + p.C[k][2] * v[1] * v[1]);
+    dz[2 * k] = z[2 * k + 1];
+    dz[2 * k + 1] = -p.omega2[k] * z[2 * k] + F;
+    if (tip) {
+      tip[0] += p.tip[k][0] * z[2 * k];
+      tip[1] += p.tip[k][1] * z[2 * k];
+    }
+    if (dT) *dT += p.dtension[k] * z[2 * k];
+  }
+}
+
+ea_status_t ea_traj_rom_predict(const ea_rom_table_t *tb, const ea_traj_t *tr, double dt,
+                                double settle, ea_rom_prediction_t *out, ea_error_t *err) {
+  if (!tb || !tr || !out || tr->n < 1 || !(dt > 0) || !(settle >= 0))
+    return ea_error_set(err, EA_ERR_ARG, "reduced-model prediction: bad argument");
+  memset(out, 0, sizeof *out);
+  ea_rom_table_info_t ti;
+  ea_rom_table_info(tb, &ti);
+  const int K = ti.modes;
+  out->modes = K;
+  const double T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  const int n = (int)ceil(T / dt - 1e-9);
+  const double h = n > 0 ? T / n : 0.0;
+  double z[2 * EA_ROM_MAX_MODES] = {0}, k1[2 * EA_ROM_MAX_MODES], k2[2 * EA_ROM_MAX_MODES],
+               k3[2 * EA_ROM_MAX_MODES], k4[2 * EA_ROM_MAX_MODES], zt[2 * EA_ROM_MAX_MODES];
+  for (int i = 0; i < n; ++i) {
+    const double t = i * h;
+    double tip[2], dT;
+    ea__rom_rhs(tb, tr, K, t, z, k1, tip, &dT);
+    out->max_deviation = fmax(out->max_deviation, hypot(tip[0], tip[1]));
+    out->min_tension_change = fmin(out->min_tension_change, dT);
+    for (int j = 0; j < 2 * K; ++j)
+      zt[j] = z[j] + 0.5 * h * k1[j];
+    ea__rom_rhs(tb, tr, K, t + 0.5 * h, zt, k2, NULL, NULL);
+    for (int j = 0; j < 2 * K; ++j)
+      zt[j] = z[j] + 0.5 * h * k2[j];
+    ea__rom_rhs(tb, tr, K, t + 0.5 * h, zt, k3, NULL, NULL);
+    for (int j = 0; j < 2 * K; ++j)
+      zt[j] = z[j] + h * k3[j];
+    ea__rom_rhs(tb, tr, K, t + h, zt, k4, NULL, NULL);
+    for (int j = 0; j < 2 * K; ++j)
+      z[j] += h / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
+  }
+  ea_rom_point_t p;
+  const int last = tr->n - 1;
+  ea_rom_table_eval(tb, EA_TRAJ_AT(tr, last, EA_TRAJ_cable_length),
+                    EA_TRAJ_AT(tr, last, EA_TRAJ_cable_angle), &p, NULL, NULL);
+  for (int k = 0; k < K; ++k) {
+    const double w = sqrt(fmax(p.omega2[k], 1e-300));
+    out->eta[k] = z[2 * k];
+    out->eta_rate[k] = z[2 * k + 1];
+    out->amplitude_m[k] = hypot(z[2 * k], z[2 * k + 1] / w) * hypot(p.tip[k][0], p.tip[k][1]);
+  }
+  /* free vibration at the goal: exact superposition of the modes, sampled finely */
+  const double w1 = sqrt(fmax(p.omega2[K - 1], 1e-300));
+  const int ns = (int)ceil(settle * w1 / (2 * M_PI) * 64) + 1;
+  for (int i = 0; i <= ns; ++i) {
+    const double t = settle * i / (ns > 0 ? ns : 1);
+    double dx = 0, dy = 0;
+    for (int k = 0; k < K; ++k) {
+      const double w = sqrt(fmax(p.omega2[k], 1e-300));
+      const double e = z[2 * k] * cos(w * t) + z[2 * k + 1] / w * sin(w * t);
+      dx += p.tip[k][0] * e;
+      dy += p.tip[k][1] * e;
+    }
+    out->residual_peak = fmax(out->residual_peak, hypot(dx, dy));
+  }
+  return EA_OK;
+}

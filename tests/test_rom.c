@@ -1,0 +1,274 @@
+/* The reduced dynamic model (model/fe_rom.c) against answers from outside it:
+ *  - its frequencies against the FE eigen-solver at the same state (direct), and the table's
+ *    bicubic interpolation against direct evaluations at the cell centres (the farthest from
+ *    the grid);
+ *  - the modal forcing (central differences of FE static states): converged in the step
+ *    (halving it moves B and C by little, at the rate of a second-order difference);
+ *  - its static tension against the ODE statics;
+ *  - what it predicts for a trajectory (modal states integrated along the plan) against the
+ *    nonlinear FE transient: the residual vibration of the minimum-time paper line, the
+ *    min_vibration paper line, and a small cable-length cycloid (linear regime). */
+#include "ea_simulate.h"
+#include "ea_test.h"
+
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *src;
+
+static int plan_example(const char *name, ea_traj_t *tr, ea_arm_t *arm) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/problems/examples/%s", src, name);
+  ea_task_t task;
+  ea_error_t e;
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t info;
+  int rc = 1;
+  if (ea_task_load(path, NULL, &task, &e) || ea_planner_alloc(&task, &pl, &e) ||
+      ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e) || ea_planner_trajectory(pl, tr, &e))
+    printf("%s: %s\n", name, e.msg);
+  else
+    rc = 0;
+  *arm = task.arm;
+  ea_planner_free(pl);
+  return rc;
+}
+
+/* The (L_c, alpha) box of a trajectory with a margin. */
+static void traj_box(const ea_traj_t *tr, double box[4]) {
+  box[0] = box[2] = INFINITY;
+  box[1] = box[3] = -INFINITY;
+  for (int i = 0; i < tr->n; ++i) {
+    box[0] = fmin(box[0], EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length));
+    box[1] = fmax(box[1], EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length));
+    box[2] = fmin(box[2], EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle));
+    box[3] = fmax(box[3], EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle));
+  }
+  box[0] -= 0.02;
+  box[1] += 0.02;
+  box[2] -= 0.04;
+  box[3] += 0.04;
+}
+
+static double rel(double a, double b, double scale) {
+  return fabs(a - b) / scale;
+}
+
+static void test_point_and_table(void) {
+  ea_arm_t arm;
+  ea_arm_default(&arm);
+  ea_error_t e;
+  ea_rom_t *r = NULL, *r2 = NULL;
+  ea_rom_settings_t s;
+  ea_rom_settings_default(&s);
+  if (ea_rom_alloc(&arm, arm.m_hand, &s, &r, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  /* frequencies against the FE eigen-solver at the state ea_fe_static_solve gives */
+  const double Lc = 0.45, al = -0.3;
+  ea_rom_point_t p, ph;
+  ea_test_true(ea_rom_point(r, Lc, al, 0, &p, &e) == EA_OK, "reduced model at (0.45 m, -0.3)");
+  {
+    ea_shooter_t *sh = NULL;
+    ea_fe_model_t *m = NULL;
+    ea_fe_settings_t fs;
+    ea_fe_settings_default(&fs);
+    fs.static_hold_tip = 1;
+    const ea_load_t load = {arm.m_hand};
+    ea_statics_problem_t pr = ea_statics_problem_cable(Lc, al);
+    ea_statics_solution_t sol;
+    ea_fe_modes_info_t mi;
+    if (ea_shooter_alloc(&arm, NULL, &sh, NULL) || ea_fe_model_alloc(&arm, &fs, &m, NULL)) return;
+    ea_shooter_set_load(sh, &load);
+    ea_fe_model_set_load(m, &load);
+    if (!ea_statics_solve(sh, &pr, NULL, NULL, &sol, NULL) &&
+        !ea_fe_static_solve(m, sh, &sol, NULL, NULL) && !ea_fe_modes(m, &mi, NULL)) {
+      ea_test_rel(sqrt(p.omega2[0]) / (2 * M_PI), mi.freq_hz[0], 1e-9, "f1: reduced model = FE");
+      ea_test_rel(sqrt(p.omega2[1]) / (2 * M_PI), mi.freq_hz[1], 1e-9, "f2: reduced model = FE");
+      /* the FE static tension against the ODE statics: FE and ODE differ by extensibility
+       * (~1e-5 N, README) */
+      ea_test_abs(p.tension, sol.p[EA_P_TENSION], 1e-4, "static tension vs the ODE statics");
+    } else {
+      ea_test_true(0, "direct FE");
+    }
+    ea_fe_model_free(m);
+    ea_shooter_free(sh);
+  }
+  /* the difference step: halved */
+  s.step_length /= 2;
+  s.step_angle /= 2;
+  if (!ea_rom_alloc(&arm, arm.m_hand, &s, &r2, &e) && !ea_rom_point(r2, Lc, al, 0, &ph, &e)) {
+    double dB = 0, dC = 0, Bs = 0, Cs = 0;
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c) {
+        if (c < 2) {
+          dB = fmax(dB, fabs(p.B[k][c] - ph.B[k][c]));
+          Bs = fmax(Bs, fabs(p.B[k][c]));
+        }
+        dC = fmax(dC, fabs(p.C[k][c] - ph.C[k][c]));
+        Cs = fmax(Cs, fabs(p.C[k][c]));
+      }
+    printf("difference step halved: B moves %.2e, C %.2e (of their largest entries)\n", dB / Bs,
+           dC / Cs);
+    /* measured 2.5e-6 (B) and 3e-5 (C); tolerances 10x */
+    ea_test_true(dB / Bs < 2.5e-5, "modal forcing B converged in the difference step");
+    ea_test_true(dC / Cs < 3e-4, "velocity term C converged in the difference step");
+  } else {
+    ea_test_true(0, e.msg);
+  }
+  ea_rom_free(r2);
+  /* the table over the paper line's box vs direct values at the cell centres */
+  const double box[4] = {0.254, 0.55, -0.75, 0.0}; /* from the inner edge */
+  ea_rom_table_t *tb = NULL;
+  const int nL = 12, na = 12;
+  if (ea_rom_table_build(r, box, nL, na, &tb, &e)) {
+    ea_test_true(0, e.msg);
+    ea_rom_free(r);
+    return;
+  }
+  ea_rom_table_info_t ti;
+  ea_rom_table_info(tb, &ti);
+  double ew = 0, eB = 0, eC = 0, et = 0, eT = 0, emax = 0;
+  int npts = 0;
+  for (int j = 0; j + 1 < na; j += 2)
+    for (int i = 0; i + 1 < nL; i += 2) {
+      const double L = box[0] + (box[1] - box[0]) * (i + 0.5) / (nL - 1);
+      const double a = box[2] + (box[3] - box[2]) * (j + 0.5) / (na - 1);
+      ea_rom_point_t d, v;
+      if (ea_rom_point(r, L, a, 0, &d, NULL)) continue; /* outside the workspace */
+      ea_rom_table_eval(tb, L, a, &v, NULL, NULL);
+      ++npts;
+      for (int k = 0; k < 2; ++k) {
+        const double sg = (d.B[k][0] * v.B[k][0] + d.B[k][1] * v.B[k][1]) < 0 ? -1 : 1;
+        ew = fmax(ew, rel(v.omega2[k], d.omega2[k], d.omega2[k]));
+        const double Bs = hypot(d.B[k][0], d.B[k][1]), Cs = fmax(fabs(d.C[k][0]), fabs(d.C[k][2]));
+        for (int c = 0; c < 2; ++c) {
+          eB = fmax(eB, rel(sg * v.B[k][c], d.B[k][c], Bs));
+          et = fmax(et, rel(sg * v.tip[k][c], d.tip[k][c], hypot(d.tip[k][0], d.tip[k][1])));
+        }
+        for (int c = 0; c < 3; ++c)
+          eC = fmax(eC, rel(sg * v.C[k][c], d.C[k][c], Cs));
+        eT = fmax(eT, rel(sg * v.dtension[k], d.dtension[k], hypot(d.B[k][0], d.B[k][1]) * 1e3));
+      }
+      if (getenv("EA_ROM_DEBUG"))
+        printf("  L %.3f a %.3f: w2 %.5g/%.5g B %.4g,%.4g/%.4g,%.4g tip %.4g,%.4g/%.4g,%.4g\n", L,
+               a, v.omega2[1], d.omega2[1], v.B[1][0], v.B[1][1], d.B[1][0], d.B[1][1], v.tip[1][0],
+               v.tip[1][1], d.tip[1][0], d.tip[1][1]);
+      emax = fmax(emax, fmax(fmax(ew, eB), et));
+    }
+  printf("table %d x %d over L_c [%.2f, %.2f] m, alpha [%.2f, %.2f] rad (%d extrapolated, built "
+         "in %.3f s) vs direct at %d cell centres: omega^2 %.1e, B %.1e, C %.1e, tip %.1e, "
+         "dT %.1e\n",
+         nL, na, box[0], box[1], box[2], box[3], ti.n_extrapolated, ti.time_s, npts, ew, eB, eC, et,
+         eT);
+  ea_test_true(npts >= 10, "cell centres inside the workspace");
+  /* measured (12 x 12; worst near the inner edge, where f1 changes fastest): omega^2 1.3e-3,
+   * B 5.0e-4, C 2.0e-3, tip 4.6e-3, tension per mode 1.8e-3; tolerances 3x */
+  ea_test_true(ew < 4e-3, "table: omega^2 at the cell centres within 4e-3");
+  ea_test_true(eB < 1.5e-3, "table: modal forcing B at the cell centres within 1.5e-3");
+  ea_test_true(eC < 6e-3, "table: velocity term C at the cell centres within 6e-3");
+  ea_test_true(et < 1.5e-2, "table: modal tip displacement at the cell centres within 1.5e-2");
+  ea_test_true(eT < 6e-3, "table: tension per mode at the cell centres within 6e-3");
+  /* the interpolant's derivative against a central difference of it */
+  {
+    ea_rom_point_t v0, dL, da, vp, vm;
+    const double L = 0.41, a = -0.33, h = 1e-6;
+    ea_rom_table_eval(tb, L, a, &v0, &dL, &da);
+    ea_rom_table_eval(tb, L + h, a, &vp, NULL, NULL);
+    ea_rom_table_eval(tb, L - h, a, &vm, NULL, NULL);
+    const double gL = (vp.B[0][0] - vm.B[0][0]) / (2 * h);
+    ea_rom_table_eval(tb, L, a + h, &vp, NULL, NULL);
+    ea_rom_table_eval(tb, L, a - h, &vm, NULL, NULL);
+    const double ga = (vp.omega2[0] - vm.omega2[0]) / (2 * h);
+    ea_test_rel(dL.B[0][0], gL, 1e-6, "table: exact d B / d L_c of the interpolant");
+    ea_test_rel(da.omega2[0], ga, 1e-6, "table: exact d omega^2 / d alpha of the interpolant");
+  }
+  ea_rom_table_free(tb);
+  ea_rom_free(r);
+}
+
+/* The model's prediction along a trajectory vs the FE transient. */
+static void compare_with_fe(const char *what, const ea_arm_t *arm, const ea_traj_t *tr,
+                            double tol) {
+  double box[4];
+  traj_box(tr, box);
+  ea_rom_t *r = NULL;
+  ea_rom_table_t *tb = NULL;
+  ea_error_t e;
+  ea_rom_prediction_t pr;
+  ea_sim_settings_t s;
+  ea_sim_settings_default(&s);
+  ea_sim_info_t si;
+  if (ea_rom_alloc(arm, ea_arm_tip_mass(arm, tr->payload_kg), NULL, &r, &e) ||
+      ea_rom_table_build(r, box, 12, 12, &tb, &e) ||
+      ea_traj_rom_predict(tb, tr, 1e-4, s.settle, &pr, &e) ||
+      ea_traj_simulate(arm, tr, 0.0, &s, NULL, &si, &e)) {
+    ea_test_true(0, e.msg);
+  } else {
+    printf("%s: reduced model residual peak %.4f mm (modes %.4f, %.4f mm), FE transient %.4f "
+           "mm\n",
+           what, 1e3 * pr.residual_peak, 1e3 * pr.amplitude_m[0], 1e3 * pr.amplitude_m[1],
+           1e3 * si.residual_peak);
+    char w[160];
+    snprintf(w, sizeof w, "%s: reduced-model residual vs the FE transient", what);
+    ea_test_rel(pr.residual_peak, si.residual_peak, tol, w);
+  }
+  ea_rom_table_free(tb);
+  ea_rom_free(r);
+}
+
+static void test_prediction(void) {
+  ea_traj_t tr = {0};
+  ea_arm_t arm;
+  /* measured: 0.8 % (min time), 0.6 % (min_vibration); tolerance 2 % */
+  if (!plan_example("paper-line.yaml", &tr, &arm))
+    compare_with_fe("paper line, min time", &arm, &tr, 0.02);
+  ea_traj_free(&tr);
+  if (!plan_example("paper-line-smooth.yaml", &tr, &arm))
+    compare_with_fe("paper line, min_vibration 3 s", &arm, &tr, 0.02);
+  ea_traj_free(&tr);
+  /* a small cable-length cycloid at a fixed angle, 1.5 periods of f1 (linear regime) */
+  ea_arm_default(&arm);
+  const double L0 = 0.40, dL = 0.01, al = -0.3, T = 1.5 / 1.066;
+  const int n = 301;
+  if (ea_traj_alloc(&tr, n)) return;
+  tr.tip_mass_kg = arm.m_hand;
+  for (int i = 0; i < n; ++i) {
+    const double t = T * i / (n - 1), w = 2 * M_PI / T;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_t) = t;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length) = L0 + dL * (t / T - sin(w * t) / (2 * M_PI));
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_length_rate) = dL * (1 - cos(w * t)) / T;
+    EA_TRAJ_AT(&tr, i, EA_TRAJ_cable_angle) = al;
+  }
+  ea_shooter_t *sh = NULL;
+  const ea_load_t load = {arm.m_hand};
+  if (!ea_shooter_alloc(&arm, NULL, &sh, NULL)) {
+    ea_shooter_set_load(sh, &load);
+    if (!ea_traj_fill_statics(&tr, sh, NULL)) {
+      for (int i = 1; i < n - 1; ++i)
+        EA_TRAJ_AT(&tr, i, EA_TRAJ_theta0_rate) =
+            (EA_TRAJ_AT(&tr, i + 1, EA_TRAJ_theta0) - EA_TRAJ_AT(&tr, i - 1, EA_TRAJ_theta0)) /
+            (EA_TRAJ_AT(&tr, i + 1, EA_TRAJ_t) - EA_TRAJ_AT(&tr, i - 1, EA_TRAJ_t));
+      /* measured 0.3 %; tolerance 1 % */
+      compare_with_fe("1 cm cable cycloid, 1.5 periods", &arm, &tr, 0.01);
+    }
+    ea_shooter_free(sh);
+  }
+  ea_traj_free(&tr);
+}
+
+int main(void) {
+  gsl_set_error_handler_off();
+  src = getenv("EA_SOURCE_DIR");
+  if (!src) {
+    printf("EA_SOURCE_DIR not set (run through ctest)\n");
+    return EXIT_FAILURE;
+  }
+  test_point_and_table();
+  test_prediction();
+  return ea_test_summary("test_rom");
+}
