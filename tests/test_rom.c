@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const char *src;
 
@@ -261,6 +262,53 @@ static void test_prediction(void) {
   ea_traj_free(&tr);
 }
 
+/* The table cache: built once, then loaded bit for bit; other inputs or a damaged file are
+ * never used. */
+static void test_cache(void) {
+  ea_arm_t arm;
+  ea_arm_default(&arm);
+  char dir[] = "/tmp/ea_test_rom_XXXXXX";
+  if (!mkdtemp(dir)) {
+    ea_test_true(0, "temp dir");
+    return;
+  }
+  ea_rom_settings_t s;
+  ea_rom_settings_default(&s);
+  const double box[4] = {0.3, 0.45, -0.4, -0.2};
+  ea_rom_table_t *a = NULL, *b = NULL, *c = NULL, *d = NULL;
+  ea_rom_cache_info_t ia, ib, ic, id;
+  ea_error_t e;
+  int ok = !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &a, &ia, &e) &&
+           !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &b, &ib, &e);
+  ea_test_true(ok && ia.built && ia.saved && !ia.loaded && ib.loaded && !ib.built,
+               "cache: built and saved once, then loaded");
+  if (ok) {
+    size_t na = 0, nb = 0;
+    const double *va = ea_rom_table_values(a, &na), *vb = ea_rom_table_values(b, &nb);
+    ea_test_true(na == nb && !memcmp(va, vb, na * sizeof *va), "cache: loaded values bit-exact");
+  }
+  /* another tip mass: another file, built */
+  ok = !ea_rom_table_cached(&arm, arm.m_hand + 0.05, &s, box, 5, 5, dir, &c, &ic, &e);
+  ea_test_true(ok && ic.built && strcmp(ic.path, ia.path), "cache: another payload is rebuilt");
+  /* a damaged file: rebuilt, not used */
+  FILE *f = fopen(ia.path, "r+b");
+  if (f) {
+    fseek(f, -8, SEEK_END);
+    fputc(0x7f, f);
+    fclose(f);
+  }
+  truncate(ia.path, 200);
+  ok = !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &d, &id, &e);
+  ea_test_true(ok && id.built && !id.loaded, "cache: a damaged file is rebuilt");
+  remove(ia.path);
+  remove(ic.path);
+  rmdir(dir);
+  ea_rom_table_free(a);
+  ea_rom_table_free(b);
+  ea_rom_table_free(c);
+  ea_rom_table_free(d);
+}
+
 int main(void) {
   gsl_set_error_handler_off();
   src = getenv("EA_SOURCE_DIR");
@@ -269,6 +317,7 @@ int main(void) {
     return EXIT_FAILURE;
   }
   test_point_and_table();
+  test_cache();
   test_prediction();
   return ea_test_summary("test_rom");
 }
