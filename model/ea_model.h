@@ -621,7 +621,7 @@ typedef struct ea_rom_point {
   double C[EA_ROM_MAX_MODES][3];     /**< Phi_i^T M d2u_s/dq2 (LL, La, aa) */
   double tip[EA_ROM_MAX_MODES][2];   /**< tip (x, y) displacement per unit eta_i */
   double dtension[EA_ROM_MAX_MODES]; /**< cable tension per unit eta_i (cable rest length held) */
-  double dtorque[EA_ROM_MAX_MODES];  /**< shoulder torque per unit eta_i: (K Phi_i)_theta0 */
+  double dtorque[EA_ROM_MAX_MODES];  /**< shoulder torque EI kappa0 per unit eta_i: -(K Phi_i)_theta0 */
   double tension;                    /**< [N] FE static tension */
   double theta0;                     /**< [rad] FE static shoulder angle */
   double rest_length;                /**< [m] passive cable rest length (ea_rom_point only) */

@@ -7,7 +7,7 @@
  *   B_i = Phi_i^T M du_s/dq,  C_i = Phi_i^T M d2u_s/dq2   (full M: the clamp's theta0 too)
  * (the terms of the moving mode shapes, O(eta q'), are left out). The tip moves by
  * sum_i tip(Phi_i) eta_i, the cable tension by EA_c / L0 e . tip(Phi_i) eta_i, the shoulder
- * torque by (K Phi_i)_theta0 eta_i. du_s/dq and d2u_s/dq2 are central differences of
+ * torque EI kappa0 by -(K Phi_i)_theta0 eta_i (the clamp's internal force is -EI kappa0). du_s/dq and d2u_s/dq2 are central differences of
  * static states converged to rounding (3 x 3 stencil).
  *
  * The table: those quantities on a grid over a box of (L_c, alpha), interpolated by a
@@ -231,7 +231,7 @@ ea_status_t ea_rom_point(ea_rom_t *r, double Lc, double alpha, int align, ea_rom
     double mk = 0.0; /* (K phi)_theta0: row 2 of the symmetric band */
     for (int j = 2; j <= 2 + EA__FE_KD && j < nd; ++j)
       mk += EA__SB(r->m->Kt, 2, j) * phi[j];
-    out->dtorque[k] = mk;
+    out->dtorque[k] = -mk; /* the clamp's internal force is -EI kappa0 */
   }
   return EA_OK;
 }
