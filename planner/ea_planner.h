@@ -206,6 +206,8 @@ typedef struct ea_plan_info {
   double time_rest_s;     /**< [s] other callback work and post-processing */
   double time_tune_s;     /**< [s] NLopt schedule tuning (0 when off) */
   double schedule_warp;   /**< knot-time warp parameter used (0 = uniform) */
+  int between_passes;     /**< re-solves with knot bounds tightened because a limit was
+                               exceeded between the knots (docs/planner.md) */
   double time_freq_model_s;      /**< [s] building the FE frequency model (ea_planner_alloc;
                                       0 when the task needs none) */
   double min_first_frequency_hz; /**< [Hz] min over the knots of the model's f1 (NAN: no model) */

@@ -49,6 +49,14 @@ static double ea__seg_time(const ea_planner_t *pl, const ea_task_point_t *a,
   return T;
 }
 
+double ea__plan_duration_low(const ea_planner_t *pl) {
+  if (!pl->has_tf) return pl->tf_fixed;
+  double T = 0.0;
+  for (int j = 0; j < pl->task.n_via + 1; ++j)
+    T += ea__seg_time(pl, ea__point(&pl->task, j), ea__point(&pl->task, j + 1));
+  return 0.5 * T;
+}
+
 void ea__plan_layout(ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   const int np = t->n_via + 2, N = pl->N;
@@ -239,6 +247,30 @@ static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, d
   }
   sig[0] = 0.0, sig[nk - 1] = 1.0, sigdot[0] = sigdot[nk - 1] = 0.0;
   return T;
+}
+
+void ea__plan_theta0_rates(const ea_planner_t *pl, double *x) {
+  /* C2 cubic spline slopes through theta0 at the knots, clamped to rest at
+   * both ends (Thomas algorithm on the continuity rows). */
+  const int N = pl->N;
+  const double tf = ea__plan_tf(pl, x);
+  double *cp = pl->wscr, *dp = pl->wscr + N;
+  for (int k = 1; k + 1 < N; ++k) {
+    const double h0 = tf * (pl->s[k] - pl->s[k - 1]), h1 = tf * (pl->s[k + 1] - pl->s[k]);
+    const double a = 1.0 / h0, b = 2.0 * (1.0 / h0 + 1.0 / h1), c = 1.0 / h1;
+    const double r = 3.0 * ((x[EA__IP(pl, k, 1)] - x[EA__IP(pl, k - 1, 1)]) / (h0 * h0) +
+                            (x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]) / (h1 * h1));
+    const double den = b - (k > 1 ? a * cp[k - 1] : 0.0);
+    cp[k] = c / den;
+    dp[k] = (r - (k > 1 ? a * dp[k - 1] : 0.0)) / den;
+  }
+  double w = 0.0;
+  x[EA__IW(pl, N - 1)] = 0.0;
+  for (int k = N - 2; k > 0; --k) {
+    w = dp[k] - cp[k] * w;
+    x[EA__IW(pl, k)] = w;
+  }
+  x[EA__IW(pl, 0)] = 0.0;
 }
 
 ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err) {
@@ -432,6 +464,7 @@ retry:
         }
       }
     }
+  ea__plan_theta0_rates(pl, x);
   return EA_OK;
 }
 
@@ -467,6 +500,7 @@ ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x
     x[EA__IP(pl, k, 2)] = ea__traj_at(tr, EA_TRAJ_kappa0, tt);
   }
   if (pl->has_tf) x[EA__ITF(pl)] = tf;
+  ea__plan_theta0_rates(pl, x);
   return EA_OK;
 }
 
@@ -598,5 +632,6 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x)
           x[EA__IV(pl, k, c)] /= lam;
     }
   }
+  ea__plan_theta0_rates(pl, x);
   return EA_OK;
 }

@@ -15,8 +15,7 @@ typedef enum ea__row_kind {
   EA__ROW_STATICS_Y,         /* y_L - y_c - L_c sin alpha = 0 */
   EA__ROW_ACC_START,         /* acceleration at the start of an interval */
   EA__ROW_ACC_END,           /* ... at its end */
-  EA__ROW_SPEED_MID,         /* rate at the middle of an interval */
-  EA__ROW_SHOULDER_SPEED,    /* (theta0_{k+1} - theta0_k) / h */
+  EA__ROW_SPEED_CTRL,        /* middle Bernstein coefficient of an interval's rate */
   EA__ROW_PATH_NORMAL,       /* tip on the segment's line */
   EA__ROW_PATH_PROGRESS,     /* tip between the segment's ends */
   EA__ROW_OBJ_ACC,           /* objective piece: acceleration energy of an interval */
@@ -29,8 +28,13 @@ typedef enum ea__row_kind {
   EA__ROW_KIND_COUNT
 } ea__row_kind_t;
 
+/** Coordinates with a cubic Hermite per interval: the actuator coordinates
+ *  0 L_c, 1 alpha, 2 base, and the shoulder angle theta0 (its values are
+ *  statics variables, its rates variables of their own). */
+#define EA__C_TH 3
+
 typedef struct ea__row {
-  unsigned char kind, coord; /* coord: actuator coordinate or normal index */
+  unsigned char kind, coord; /* coord: coordinate (EA__C_TH = theta0) or normal index */
   int knot;                  /* knot (or first knot of the interval) */
 } ea__row_t;
 
@@ -61,13 +65,20 @@ struct ea_planner {
   double tip_mass;
   int N;      /* knots */
   int nq;     /* actuator coordinates: 2 (L_c, alpha) or 3 (+ base) */
-  int nb;     /* variables per knot: 2 nq + 3 */
+  int nb;     /* variables per knot block: 2 nq + 3 (q, qdot, T, theta0, kappa0) */
   int has_tf; /* 1: t_f is a variable (min_time) */
   int n, m, nnz;
   double tf_fixed;
   double base_fixed;                /* base angle when the base does not move */
   double *s;                        /* N knot time fractions, s_0 = 0, s_{N-1} = 1 */
-  double vmax[3], amax[3], aref[3]; /* per coordinate; INFINITY = no limit */
+  double vmax[4], amax[4], aref[3]; /* per coordinate (3: theta0); INFINITY = no limit */
+  /* Acceleration rows (ACC_START, ACC_END, ACC_CONT) are multiplied by
+   * acc_scale <= 1: Ipopt's absolute tolerance constr_tol on them is then
+   * acc_tol = constr_tol / acc_scale in m/s^2 or rad/s^2, at least 60 x the
+   * rounding floor 6 eps |q| / h^2 of an acceleration from knot values (at
+   * 2000 knots ~3e-9, above the default 1e-10). Every limit row keeps its
+   * tolerance inside the limit. */
+  double acc_scale, acc_tol;
   /* path */
   int n_seg, n_normals;              /* segments; normals per path knot (1 planar, 2 in 3-D) */
   int via_knot[EA_TASK_MAX_VIA + 2]; /* knot index of start, vias, goal */
@@ -101,6 +112,7 @@ struct ea_planner {
   double *jval;       /* nnz scratch: Jacobian values (KKT check) */
   int guess_timed;    /* 1: the last cold guess was timed along its path (ea__topp) */
   double *gscr;       /* 5 N scratch of the initial guess */
+  double *wscr;       /* 2 N scratch of the theta0 spline */
   /* statics cache, per knot, keyed on the knot's shooting parameters
    * p = (alpha, T, theta0, kappa0): Ipopt evaluates g, its Jacobian and
    * the Hessian at the same x, and a knot is shot (always with
@@ -119,6 +131,7 @@ struct ea_planner {
   ea_plan_info_t *info;
   double t_statics, t_callbacks, t_start, max_time;
   int iter;
+  int refining; /* 1: re-solve after bounds were tightened for limits between knots */
 };
 
 /* Variable indices. */
@@ -126,6 +139,11 @@ struct ea_planner {
 #define EA__IV(pl, k, c) ((k) * (pl)->nb + (pl)->nq + (c))
 #define EA__IP(pl, k, j) ((k) * (pl)->nb + 2 * (pl)->nq + (j)) /* j: 0 T, 1 theta0, 2 kappa0 */
 #define EA__ITF(pl) ((pl)->N * (pl)->nb)
+/* theta0 rates: one block after the knot blocks and t_f */
+#define EA__IW(pl, k) ((pl)->N * (pl)->nb + (pl)->has_tf + (k))
+/* Value and rate of coordinate c (< nq, or EA__C_TH) at knot k. */
+#define EA__IQC(pl, k, c) ((c) == EA__C_TH ? EA__IP(pl, k, 1) : EA__IQ(pl, k, c))
+#define EA__IVC(pl, k, c) ((c) == EA__C_TH ? EA__IW(pl, k) : EA__IV(pl, k, c))
 
 /** Wall clock [s]. */
 double ea__plan_now(void);
@@ -155,6 +173,15 @@ void ea__plan_hess_free(ea_planner_t *pl);
 void ea__plan_terms_setup(ea_planner_t *pl);
 /** Name of a row kind ("tension", ...). */
 const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *buf, size_t len);
+/** theta0 rates of x: the C2 cubic spline through the knots' theta0 with
+ *  rest at the start and the goal (what the theta0 rows hold). */
+void ea__plan_theta0_rates(const ea_planner_t *pl, double *x);
+/** A short estimate of the duration [s] (the fixed one, else half the sum of
+ *  the segments' rest-to-rest estimates), for tolerances set at alloc. */
+double ea__plan_duration_low(const ea_planner_t *pl);
+/** Physical units per unit of row r's value (1 / acc_scale for the
+ *  acceleration rows, else 1). */
+double ea__plan_row_unit(const ea_planner_t *pl, const ea__row_t *r);
 /** Initial guess (statics continuation along the straight interpolation). */
 ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err);
 /** Initial guess from a previous trajectory. */
@@ -170,6 +197,13 @@ void ea__plan_segments(ea_planner_t *pl);
  *  of its segment's end shifts, min_time re-timed within the limits, every
  *  knot's statics re-solved (payload). */
 ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x);
+/** Limits between the knots of a converged plan x that no row holds exactly
+ *  (ranges of the cubics, tension and torque of the statics at the
+ *  interpolated (L_c, alpha), the frequency model's limits, plan_between.c):
+ *  tightens the bounds or rows at the knots of every interval where one is
+ *  exceeded and returns how many; *worst = the largest relative excess
+ *  (<= 0 or -INFINITY: none), msg says which. */
+int ea__plan_between(ea_planner_t *pl, const double *x, double *worst, char *msg, size_t len);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
 void ea__plan_schedule(ea_planner_t *pl, double w);
 /** Build the frequency model when the task needs it (pl->fm; NULL otherwise). */

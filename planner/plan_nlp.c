@@ -81,15 +81,21 @@ ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens) {
   return EA_OK;
 }
 
-/* Interval data for rows of interval k, coordinate c. */
+/* Interval data for rows of interval k, coordinate c (EA__C_TH: theta0). */
 static void ea__interval(const ea_planner_t *pl, const double *x, int k, int c, double *q0,
                          double *q1, double *v0, double *v1, double *h, double *dhdtf) {
-  *q0 = x[EA__IQ(pl, k, c)];
-  *q1 = x[EA__IQ(pl, k + 1, c)];
-  *v0 = x[EA__IV(pl, k, c)];
-  *v1 = x[EA__IV(pl, k + 1, c)];
+  *q0 = x[EA__IQC(pl, k, c)];
+  *q1 = x[EA__IQC(pl, k + 1, c)];
+  *v0 = x[EA__IVC(pl, k, c)];
+  *v1 = x[EA__IVC(pl, k + 1, c)];
   *dhdtf = pl->s[k + 1] - pl->s[k];
   *h = ea__plan_tf(pl, x) * *dhdtf;
+}
+
+double ea__plan_row_unit(const ea_planner_t *pl, const ea__row_t *r) {
+  return r->kind == EA__ROW_ACC_START || r->kind == EA__ROW_ACC_END || r->kind == EA__ROW_ACC_CONT
+             ? 1.0 / pl->acc_scale
+             : 1.0;
 }
 
 /* One row: value and (optionally) its entries (col, val); returns count. */
@@ -144,10 +150,10 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
     ea__plan_hermite_acc(q0, q1, v0, v1, h, a, ga);
     const int e = r->kind == EA__ROW_ACC_END;
     if (value) *value = a[e];
-    EA__E(EA__IQ(pl, k, c), ga[e][0]);
-    EA__E(EA__IQ(pl, k + 1, c), ga[e][1]);
-    EA__E(EA__IV(pl, k, c), ga[e][2]);
-    EA__E(EA__IV(pl, k + 1, c), ga[e][3]);
+    EA__E(EA__IQC(pl, k, c), ga[e][0]);
+    EA__E(EA__IQC(pl, k + 1, c), ga[e][1]);
+    EA__E(EA__IVC(pl, k, c), ga[e][2]);
+    EA__E(EA__IVC(pl, k + 1, c), ga[e][3]);
     if (pl->has_tf) EA__E(EA__ITF(pl), ga[e][4] * ds);
     break;
   }
@@ -158,33 +164,28 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
     ea__plan_hermite_acc(q0, q1, v0, v1, h0, a0, g0);
     ea__plan_hermite_acc(q1, q2, v1, v2, h1, a1, g1);
     if (value) *value = a0[1] - a1[0];
-    EA__E(EA__IQ(pl, k - 1, c), g0[1][0]);
-    EA__E(EA__IQ(pl, k, c), g0[1][1] - g1[0][0]);
-    EA__E(EA__IQ(pl, k + 1, c), -g1[0][1]);
-    EA__E(EA__IV(pl, k - 1, c), g0[1][2]);
-    EA__E(EA__IV(pl, k, c), g0[1][3] - g1[0][2]);
-    EA__E(EA__IV(pl, k + 1, c), -g1[0][3]);
+    EA__E(EA__IQC(pl, k - 1, c), g0[1][0]);
+    EA__E(EA__IQC(pl, k, c), g0[1][1] - g1[0][0]);
+    EA__E(EA__IQC(pl, k + 1, c), -g1[0][1]);
+    EA__E(EA__IVC(pl, k - 1, c), g0[1][2]);
+    EA__E(EA__IVC(pl, k, c), g0[1][3] - g1[0][2]);
+    EA__E(EA__IVC(pl, k + 1, c), -g1[0][3]);
     if (pl->has_tf) EA__E(EA__ITF(pl), g0[1][4] * ds0 - g1[0][4] * ds1);
     break;
   }
-  case EA__ROW_SPEED_MID: {
+  case EA__ROW_SPEED_CTRL: {
+    /* The rate of the cubic Hermite is a quadratic in s = (t - t_k) / h with
+     * Bernstein coefficients (v0, 3 (q1 - q0) / h - v0 - v1, v1): it lies in
+     * their convex hull, so |middle coefficient| <= v with |v0|, |v1| <= v
+     * (variable bounds) holds the speed limit on the whole interval. */
     double q0, q1, v0, v1, h, ds;
     ea__interval(pl, x, k, c, &q0, &q1, &v0, &v1, &h, &ds);
-    if (value) *value = 1.5 * (q1 - q0) / h - 0.25 * (v0 + v1);
-    EA__E(EA__IQ(pl, k, c), -1.5 / h);
-    EA__E(EA__IQ(pl, k + 1, c), 1.5 / h);
-    EA__E(EA__IV(pl, k, c), -0.25);
-    EA__E(EA__IV(pl, k + 1, c), -0.25);
-    if (pl->has_tf) EA__E(EA__ITF(pl), -1.5 * (q1 - q0) / (h * h) * ds);
-    break;
-  }
-  case EA__ROW_SHOULDER_SPEED: {
-    const double ds = pl->s[k + 1] - pl->s[k], h = ea__plan_tf(pl, x) * ds;
-    const double d = x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)];
-    if (value) *value = d / h;
-    EA__E(EA__IP(pl, k, 1), -1.0 / h);
-    EA__E(EA__IP(pl, k + 1, 1), 1.0 / h);
-    if (pl->has_tf) EA__E(EA__ITF(pl), -d / (h * h) * ds);
+    if (value) *value = 3.0 * (q1 - q0) / h - v0 - v1;
+    EA__E(EA__IQC(pl, k, c), -3.0 / h);
+    EA__E(EA__IQC(pl, k + 1, c), 3.0 / h);
+    EA__E(EA__IVC(pl, k, c), -1.0);
+    EA__E(EA__IVC(pl, k + 1, c), -1.0);
+    if (pl->has_tf) EA__E(EA__ITF(pl), -3.0 * (q1 - q0) / (h * h) * ds);
     break;
   }
   case EA__ROW_PATH_NORMAL:
@@ -236,6 +237,12 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
     break;
   }
 #undef EA__E
+  if (r->kind == EA__ROW_ACC_START || r->kind == EA__ROW_ACC_END || r->kind == EA__ROW_ACC_CONT) {
+    if (value) *value *= pl->acc_scale;
+    if (vals)
+      for (int i = 0; i < n; ++i)
+        vals[i] *= pl->acc_scale;
+  }
   return n;
 }
 
@@ -264,8 +271,8 @@ int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double
 }
 
 const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *buf, size_t len) {
-  static const char *const coord[3] = {"cable length", "cable angle", "base"};
-  const char *cn = r->coord < 3 ? coord[r->coord] : "?";
+  static const char *const coord[4] = {"cable length", "cable angle", "base", "shoulder"};
+  const char *cn = r->coord < 4 ? coord[r->coord] : "?";
   (void)pl;
   switch ((ea__row_kind_t)r->kind) {
   case EA__ROW_STATICS_KAPPA:
@@ -281,11 +288,8 @@ const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *
   case EA__ROW_ACC_END:
     snprintf(buf, len, "%s acceleration limit", cn);
     break;
-  case EA__ROW_SPEED_MID:
-    snprintf(buf, len, "%s speed limit (mid-interval)", cn);
-    break;
-  case EA__ROW_SHOULDER_SPEED:
-    snprintf(buf, len, "shoulder speed limit");
+  case EA__ROW_SPEED_CTRL:
+    snprintf(buf, len, "%s speed limit (interval)", cn);
     break;
   case EA__ROW_ACC_CONT:
     snprintf(buf, len, "%s acceleration continuity", cn);

@@ -7,26 +7,6 @@
 #include <stdio.h>
 #include <string.h>
 
-/* 3x3 solve by Cramer's rule (the statics block is well conditioned away
- * from the fold, where the plan never goes). */
-static int ea__solve3(double A[3][3], const double b[3], double x[3]) {
-  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-  if (!(fabs(det) > 1e-300)) return -1;
-  for (int c = 0; c < 3; ++c) {
-    double M[3][3];
-    memcpy(M, A, sizeof M);
-    for (int r = 0; r < 3; ++r)
-      M[r][c] = b[r];
-    x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-            M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
-           det;
-  }
-  return 0;
-}
-
 ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_error_t *err) {
   if (!pl || !tr) return ea_error_set(err, EA_ERR_ARG, "ea_planner_trajectory: NULL argument");
   if (!pl->have_solution)
@@ -73,25 +53,14 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
       }
       EA_TRAJ_AT(tr, k, ac[c]) = na ? acc / na : 0.0;
     }
-    const double Lc = x[EA__IQ(pl, k, 0)], al = x[EA__IQ(pl, k, 1)];
-    const double p[EA_NP] = {al, x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)], x[EA__IP(pl, k, 2)]};
+    const double p[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
+                             x[EA__IP(pl, k, 2)]};
     double xL[EA_NX], S[EA_NX * EA_NP];
     if ((st = ea_shoot(pl->sh, p, xL, S)))
       return ea_error_set(err, st, "trajectory: shooting failed at knot %d", k);
     ea_traj_set_statics(tr, k, p, xL, t->arm.EI);
-    /* theta0 rate by implicit differentiation of the statics residual. */
-    const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
-    double A[3][3], rhs[3], dp[3];
-    const double dLc[3] = {0.0, -cos(al), -sin(al)};
-    const double dal[3] = {S[EA_X_KAPPA * 4 + EA_P_ALPHA],
-                           S[EA_X_X * 4 + EA_P_ALPHA] + Lc * sin(al),
-                           S[EA_X_Y * 4 + EA_P_ALPHA] - Lc * cos(al)};
-    for (int r = 0; r < 3; ++r) {
-      for (int j = 0; j < 3; ++j)
-        A[r][j] = S[xi[r] * 4 + 1 + j];
-      rhs[r] = -(dLc[r] * x[EA__IV(pl, k, 0)] + dal[r] * x[EA__IV(pl, k, 1)]);
-    }
-    EA_TRAJ_AT(tr, k, EA_TRAJ_theta0_rate) = ea__solve3(A, rhs, dp) ? 0.0 : dp[1];
+    /* theta0 rate: the C2 spline's (docs/trajectory-format.md) */
+    EA_TRAJ_AT(tr, k, EA_TRAJ_theta0_rate) = x[EA__IW(pl, k)];
   }
   return ea_error_set(err, EA_OK, "ok");
 }

@@ -4,6 +4,7 @@
  * allocate. */
 #include "plan_impl.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,6 +41,7 @@ void ea_planner_free(ea_planner_t *pl) {
   free(pl->S);
   free(pl->pkey);
   free(pl->gscr);
+  free(pl->wscr);
   free(pl->kkt_r);
   free(pl->x0);
   free(pl->jval);
@@ -165,26 +167,35 @@ static int ea__build_rows(ea_planner_t *pl) {
     ea__add_row(pl, &i, EA__ROW_STATICS_X, k, 0, 0.0, 0.0);
     ea__add_row(pl, &i, EA__ROW_STATICS_Y, k, 0, 0.0, 0.0);
   }
+  /* The actuator coordinates and theta0 (EA__C_TH): every limit holds on
+   * the whole cubic Hermite of each interval (docs/planner.md, "Limits
+   * between the knots"). theta0 is always a C2 spline (its rates are fixed
+   * by these rows and rest at both ends). */
+  const double ct = pl->task.solver.constr_tol;
+  int cs[4], ncs = 0;
   for (int c = 0; c < pl->nq; ++c)
+    cs[ncs++] = c;
+  cs[ncs++] = EA__C_TH;
+  for (int j = 0; j < ncs; ++j) {
+    const int c = cs[j];
     for (int k = 0; k + 1 < N; ++k) {
       /* min_vibration: no acceleration step at the start and the goal (rest) */
-      const int z0 = pl->zero_end_acc && k == 0, z1 = pl->zero_end_acc && k + 2 == N;
+      const int z0 = pl->zero_end_acc && c < pl->nq && k == 0;
+      const int z1 = pl->zero_end_acc && c < pl->nq && k + 2 == N;
+      /* limits kept their tolerance inside (the row holds to it) */
+      const double a = pl->acc_scale * (pl->amax[c] - pl->acc_tol);
+      const double v = pl->vmax[c] - ct;
       if (isfinite(pl->amax[c]) || z0)
-        ea__add_row(pl, &i, EA__ROW_ACC_START, k, c, z0 ? 0.0 : -pl->amax[c],
-                    z0 ? 0.0 : pl->amax[c]);
+        ea__add_row(pl, &i, EA__ROW_ACC_START, k, c, z0 ? 0.0 : -a, z0 ? 0.0 : a);
       if (isfinite(pl->amax[c]) || z1)
-        ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, z1 ? 0.0 : -pl->amax[c], z1 ? 0.0 : pl->amax[c]);
-      if (isfinite(pl->vmax[c]))
-        ea__add_row(pl, &i, EA__ROW_SPEED_MID, k, c, -pl->vmax[c], pl->vmax[c]);
+        ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, z1 ? 0.0 : -a, z1 ? 0.0 : a);
+      if (isfinite(pl->vmax[c])) ea__add_row(pl, &i, EA__ROW_SPEED_CTRL, k, c, -v, v);
     }
-  if (pl->task.limits.continuous_acceleration)
-    for (int c = 0; c < pl->nq; ++c)
+  }
+  for (int j = 0; j < ncs; ++j)
+    if (pl->task.limits.continuous_acceleration || cs[j] == EA__C_TH)
       for (int k = 1; k + 1 < N; ++k)
-        ea__add_row(pl, &i, EA__ROW_ACC_CONT, k, c, 0.0, 0.0);
-  const double sm = pl->task.limits.shoulder_speed_max;
-  if (isfinite(sm))
-    for (int k = 0; k + 1 < N; ++k)
-      ea__add_row(pl, &i, EA__ROW_SHOULDER_SPEED, k, 0, -sm, sm);
+        ea__add_row(pl, &i, EA__ROW_ACC_CONT, k, cs[j], 0.0, 0.0);
   for (int k = 0; k < N; ++k) {
     const int sg = pl->seg_of_knot[k];
     if (sg < 0) continue;
@@ -195,13 +206,13 @@ static int ea__build_rows(ea_planner_t *pl) {
   const double fmin = pl->task.limits.min_first_frequency_hz;
   if (pl->fm && fmin > 0.0)
     for (int k = 0; k < N; ++k)
-      ea__add_row(pl, &i, EA__ROW_FREQ_MIN, k, 0, fmin, EA__IPINF);
+      ea__add_row(pl, &i, EA__ROW_FREQ_MIN, k, 0, fmin + ct, EA__IPINF);
   const double dmax = pl->task.limits.max_modal_deflection_m;
   if (pl->fm && isfinite(dmax))
     for (int c = 0; c < 2; ++c)
       for (int k = 0; k + 1 < N; ++k) {
-        ea__add_row(pl, &i, EA__ROW_DEFL_START, k, c, -dmax, dmax);
-        ea__add_row(pl, &i, EA__ROW_DEFL_END, k, c, -dmax, dmax);
+        ea__add_row(pl, &i, EA__ROW_DEFL_START, k, c, -(dmax - ct), dmax - ct);
+        ea__add_row(pl, &i, EA__ROW_DEFL_END, k, c, -(dmax - ct), dmax - ct);
       }
   return i;
 }
@@ -228,6 +239,9 @@ static void ea__bounds(ea_planner_t *pl) {
     pl->xu[EA__IP(pl, k, 0)] = l->tension_max;
     pl->xl[EA__IP(pl, k, 1)] = a->shoulder_angle_min;
     pl->xu[EA__IP(pl, k, 1)] = a->shoulder_angle_max;
+    const double w = isfinite(pl->vmax[EA__C_TH]) ? pl->vmax[EA__C_TH] : EA__IPINF;
+    pl->xl[EA__IW(pl, k)] = -w;
+    pl->xu[EA__IW(pl, k)] = w;
     const double km = l->shoulder_torque_max / t->arm.EI;
     pl->xl[EA__IP(pl, k, 2)] = -km;
     pl->xu[EA__IP(pl, k, 2)] = km;
@@ -251,6 +265,8 @@ static void ea__bounds(ea_planner_t *pl) {
     pl->xl[EA__IV(pl, 0, c)] = pl->xu[EA__IV(pl, 0, c)] = 0.0;
     pl->xl[EA__IV(pl, pl->N - 1, c)] = pl->xu[EA__IV(pl, pl->N - 1, c)] = 0.0;
   }
+  pl->xl[EA__IW(pl, 0)] = pl->xu[EA__IW(pl, 0)] = 0.0;
+  pl->xl[EA__IW(pl, pl->N - 1)] = pl->xu[EA__IW(pl, pl->N - 1)] = 0.0;
   if (pl->has_tf) {
     pl->xl[EA__ITF(pl)] = 1e-3;
     pl->xu[EA__ITF(pl)] = 1e5;
@@ -284,11 +300,31 @@ static void ea__derive(ea_planner_t *pl) {
   pl->amax[1] = l->cable_angle_accel_max / rm;
   pl->vmax[2] = l->base_speed_max / rm;
   pl->amax[2] = l->base_accel_max / rm;
+  /* theta0: the task's speed limit, the arm's acceleration limit */
+  pl->vmax[EA__C_TH] = l->shoulder_speed_max / rm;
+  pl->amax[EA__C_TH] = t->arm.act.shoulder_accel_max / rm;
   pl->aref[0] = pl->amax[0];
   pl->aref[1] = isfinite(pl->amax[1])
                     ? pl->amax[1]
                     : pl->amax[0] / fmax(t->start.cable_length, t->goal.cable_length);
   pl->aref[2] = pl->amax[2];
+}
+
+/* Scale of the acceleration rows (plan_impl.h): their tolerance is at
+ * least 60 x the rounding floor of a Hermite acceleration 6 eps |q|max /
+ * h^2 on the shortest interval, with h from a short duration estimate. */
+static void ea__acc_scale(ea_planner_t *pl) {
+  const ea_task_t *t = &pl->task;
+  double ds = 1.0, qmax = fmax(M_PI, fmax(t->limits.cable_length_max,
+                                          fmax(fabs(t->arm.act.shoulder_angle_min),
+                                               fabs(t->arm.act.shoulder_angle_max))));
+  for (int k = 0; k + 1 < pl->N; ++k)
+    ds = fmin(ds, pl->s[k + 1] - pl->s[k]);
+  const double h = ea__plan_duration_low(pl) * ds;
+  const double floor_a = 60.0 * 6.0 * DBL_EPSILON * qmax / (h * h);
+  const double ct = t->solver.constr_tol;
+  pl->acc_tol = fmax(ct, floor_a);
+  pl->acc_scale = ct / pl->acc_tol;
 }
 
 /* The Ipopt problem with the planner's bounds and options. Ipopt's C
@@ -350,12 +386,13 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   }
   ea__derive(pl);
   const int N = pl->N;
-  pl->n = N * pl->nb + pl->has_tf;
+  pl->n = N * pl->nb + pl->has_tf + N; /* knot blocks, t_f, theta0 rates */
   pl->s = calloc((size_t)N, sizeof *pl->s);
   pl->seg_of_knot = calloc((size_t)N, sizeof *pl->seg_of_knot);
   if (!pl->s || !pl->seg_of_knot) goto nomem;
   ea__plan_schedule(pl, 0.0);
   ea__plan_layout(pl);
+  ea__acc_scale(pl);
   if ((st = ea__plan_freq_build(pl, err))) {
     ea_planner_free(pl);
     return st;
@@ -381,9 +418,10 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   pl->pkey = calloc((size_t)N * 4, sizeof *pl->pkey);
   pl->kvalid = calloc((size_t)N, sizeof *pl->kvalid);
   pl->gscr = calloc((size_t)N * 5, sizeof *pl->gscr);
+  pl->wscr = calloc((size_t)N * 2, sizeof *pl->wscr);
   if (!pl->rows || !pl->gl || !pl->gu || !pl->g || !pl->mult_g || !pl->mult_g_sol || !pl->x ||
       !pl->xl || !pl->xu || !pl->mult_xl || !pl->mult_xu || !pl->x_sol || !pl->mult_xl_sol ||
-      !pl->mult_xu_sol || !pl->xL || !pl->S || !pl->pkey || !pl->kvalid || !pl->gscr)
+      !pl->mult_xu_sol || !pl->xL || !pl->S || !pl->pkey || !pl->kvalid || !pl->gscr || !pl->wscr)
     goto nomem;
   ea__build_rows(pl);
   ea__bounds(pl);
@@ -539,6 +577,10 @@ static const char *ea__var_name(const ea_planner_t *pl, int i, int upper, int *k
     *knot = -1;
     return "duration range";
   }
+  if (i >= EA__IW(pl, 0)) {
+    *knot = i - EA__IW(pl, 0);
+    return "shoulder speed limit";
+  }
   *knot = i / pl->nb;
   const int r = i % pl->nb;
   if (r < pl->nq) return qn[upper][r];
@@ -559,7 +601,7 @@ static double ea__worst(ea_planner_t *pl, const double *x, const double *g, char
   double worst = 0.0;
   buf[0] = '\0';
   for (int i = 0; i < pl->m; ++i) {
-    const double v = fmax(pl->gl[i] - g[i], g[i] - pl->gu[i]);
+    const double v = fmax(pl->gl[i] - g[i], g[i] - pl->gu[i]) * ea__plan_row_unit(pl, &pl->rows[i]);
     if (v > worst) {
       worst = v;
       char nm[80];
@@ -568,7 +610,7 @@ static double ea__worst(ea_planner_t *pl, const double *x, const double *g, char
       snprintf(buf, len, "'%s' at %s %d violated by %.3g%s",
                ea__plan_row_name(pl, r, nm, sizeof nm),
                r->kind == EA__ROW_ACC_START || r->kind == EA__ROW_ACC_END ||
-                       r->kind == EA__ROW_SPEED_MID || r->kind == EA__ROW_SHOULDER_SPEED
+                       r->kind == EA__ROW_SPEED_CTRL
                    ? "interval"
                    : "knot",
                r->knot, v, is_statics ? " (no static equilibrium there within the limits)" : "");
@@ -590,7 +632,7 @@ static double ea__worst(ea_planner_t *pl, const double *x, const double *g, char
 
 static void ea__add_active(ea_plan_info_t *info, const char *name) {
   for (int i = 0; i < info->n_active; ++i)
-    if (!strcmp(info->active[i], name)) {
+    if (!strncmp(info->active[i], name, sizeof info->active[0] - 1)) {
       info->active_knots[i]++;
       return;
     }
@@ -704,7 +746,9 @@ static void ea__polish(ea_planner_t *pl, double *x) {
   set.max_cont_steps = 0;
   for (int k = 0; k < pl->N; ++k) {
     const double *gk = pl->g + 3 * k; /* Ipopt's constraint values at x */
-    if (fmax(fabs(gk[0]), fmax(fabs(gk[1]), fabs(gk[2]))) <= 1e-11) continue;
+    /* only where the final check (1e-9) needs it: a polished theta0 moves
+     * the theta0 spline's accelerations by 6 dtheta0 / h^2 */
+    if (fmax(fabs(gk[0]), fmax(fabs(gk[1]), fabs(gk[2]))) <= 5e-10) continue;
     const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
                                  x[EA__IP(pl, k, 2)]};
     ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
@@ -768,11 +812,73 @@ ea_status_t ea__plan_tune(ea_planner_t *pl, double *w_best, ea_error_t *err);
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                                 ea_plan_info_t *info_out, ea_error_t *err);
 
+/* Most re-solves with tightened knot bounds for limits between the knots. */
+#define EA__BW_PASSES 4
+
+/* A solve, then the limits between the knots (ea__plan_between): where one
+ * is exceeded, the bounds at that interval's knots are tightened by 1.5 x
+ * the excess and the plan is re-solved from itself, until every limit
+ * holds (docs/planner.md, "Limits between the knots"). */
+static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                                     ea_plan_info_t *info_out, ea_error_t *err) {
+  ea_plan_info_t local, *info = info_out ? info_out : &local;
+  ea_status_t st = ea__plan_solve_once(pl, start, prev, info, err);
+  if (st || pl->task.solver.derivative_test) return st;
+  int iters = info->iterations, pass = 0;
+  double tt = info->time_total_s, worst = -INFINITY;
+  char msg[160] = "";
+  for (;; ++pass) {
+    const double t0 = ea__plan_now();
+    const int n = ea__plan_between(pl, pl->x_sol, &worst, msg, sizeof msg);
+    tt += ea__plan_now() - t0;
+    if (!(worst > 0.0)) break;
+    if (!n || pass == EA__BW_PASSES) {
+      pl->have_solution = 0;
+      info->status = EA_ERR_NOCONV;
+      info->iterations = iters;
+      info->time_total_s = tt;
+      info->between_passes = pass;
+      snprintf(info->message, sizeof info->message,
+               "the planner did not converge: %s (relative %.3g) after %d re-solves with the "
+               "knot bounds tightened%s",
+               msg, worst, pass, n ? "; use more knots" : " (at pinned knots)");
+      return ea_error_set(err, info->status, "%s", info->message);
+    }
+    ea__ipopt_create(pl);
+    pl->refining = 1;
+    st = ea__plan_solve_once(pl, EA_PLAN_WARM, NULL, info, err);
+    iters += info->iterations;
+    tt += info->time_total_s;
+    if (st) { /* from the tightened problem's cold guess */
+      st = ea__plan_solve_once(pl, EA_PLAN_COLD, NULL, info, err);
+      iters += info->iterations;
+      tt += info->time_total_s;
+    }
+    pl->refining = 0;
+    if (st) {
+      info->iterations = iters;
+      info->time_total_s = tt;
+      info->between_passes = pass + 1;
+      return st;
+    }
+  }
+  info->iterations = iters;
+  info->time_total_s = tt;
+  info->between_passes = pass;
+  if (pass)
+    snprintf(info->message, sizeof info->message,
+             "plan found: duration %.6g s, %d iterations (%d re-solves for limits between the "
+             "knots), min tension margin %.4g N, peak shoulder torque %.4g N m",
+             info->duration_s, info->iterations, pass, info->min_tension_margin_N,
+             info->peak_shoulder_torque_Nm);
+  return ea_error_set(err, EA_OK, "%s", info->message);
+}
+
 ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                              ea_plan_info_t *info_out, ea_error_t *err) {
   if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_solve: NULL planner");
   if (!pl->task.solver.tune_schedule || !pl->has_tf)
-    return ea__plan_solve_once(pl, start, prev, info_out, err);
+    return ea__solve_checked(pl, start, prev, info_out, err);
   /* NLopt over the knot time distribution, then the final plan. */
   const double t0 = ea__plan_now();
   ea_status_t st = ea__plan_solve_once(pl, start, prev, info_out, err);
@@ -783,7 +889,7 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
   if (st) return st;
   ea__plan_schedule(pl, w);
   ea_plan_info_t local, *info = info_out ? info_out : &local;
-  st = ea__plan_solve_once(pl, EA_PLAN_WARM, NULL, info, err);
+  st = ea__solve_checked(pl, EA_PLAN_WARM, NULL, info, err);
   info->time_tune_s = tt;
   info->schedule_warp = w;
   return st;
@@ -845,13 +951,12 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
    * solve: it pays off over a cold solve's ~17 iterations (and a start from
    * a previous plan's ~16), not over the few of a warm start. */
   AddIpoptIntOption(pl->ip, "mumps_pivot_order", warm ? 0 : 3);
-  if (replan) {
-    /* After ea_planner_update (docs/planner.md, bench_plan): the shifted
-     * point is near, not at, the new optimum; mu_init 1e-6 with pushes 1e-5
-     * took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an
-     * unchanged task: 7; 1e-5 / 1e-5: 5-6 but 10 for a moved start; the
-     * monotone strategy: 11-19). SCOTCH: 5-16 iterations pay for its
-     * analysis as in a cold solve. */
+  if (replan || pl->refining) {
+    /* After ea_planner_update (or bounds tightened for limits between knots) (docs/planner.md,
+     * bench_plan): the shifted point is near, not at, the new optimum; mu_init 1e-6 with pushes
+     * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
+     * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). SCOTCH: 5-16
+     * iterations pay for its analysis as in a cold solve. */
     AddIpoptIntOption(pl->ip, "mumps_pivot_order", 3);
     AddIpoptNumOption(pl->ip, "mu_init", 1e-6);
     AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-5);
@@ -927,7 +1032,10 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   info->objective = obj;
   const double tp = ea__plan_now();
   const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
-  if (solved) ea__polish(pl, pl->x);
+  if (solved) {
+    ea__polish(pl, pl->x);
+    ea__plan_theta0_rates(pl, pl->x); /* the spline of the polished theta0 */
+  }
   ea__stats(pl, pl->x, info);
   ea__plan_vib_stats(pl, pl->x, info);
   info->time_freq_model_s = pl->fm ? pl->fm->info.time_s : 0.0;

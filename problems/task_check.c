@@ -43,7 +43,7 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->limits.base_accel_max = a->base_accel_max;
   t->limits.min_first_frequency_hz = 0.0;
   t->limits.max_modal_deflection_m = INFINITY;
-  t->limits.resample_margin = 0.005;
+  t->limits.resample_margin = 0.0;
   t->limits.continuous_acceleration = 1;
   t->time_weight = NAN;
   t->knots = 100;

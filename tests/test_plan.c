@@ -310,6 +310,8 @@ static void test_topp(void) {
     int alpha_active = 0;
     for (int i = 0; i < info.n_active; ++i)
       if (strstr(info.active[i], "cable angle")) alpha_active = 1;
+    for (int i = 0; i < info.n_active; ++i)
+      printf("active: %s (%d)\n", info.active[i], info.active_knots[i]);
     ea_test_true(alpha_active, "TOPP task: a cable-angle limit is active");
     int other = 0;
     for (int i = 0; i < info.n_active; ++i)

@@ -3,6 +3,7 @@
  * statics, T >= T_min); pairs outside the workspace must be reported as
  * infeasible, never planned. Run as a `slow` test with 200 pairs;
  * test_plan.c includes it for a short unit sweep. */
+#include "ea_plan_check.h"
 #include "ea_planner.h"
 #include "ea_test.h"
 
@@ -20,10 +21,15 @@ static double ea_sweep_rand(unsigned long long *s) {
   return (double)((*s * 2685821657736338717ULL) >> 11) / 9007199254740992.0;
 }
 
+/* Largest relative excess of a limit accepted by the 1 kHz re-check of the
+ * written file (ea_plan_check.h). */
+#define EA_SWEEP_LIMIT_TOL 0.0
+
 /* Returns the number of failures. */
 static int ea_sweep_run(int n, unsigned long long seed, int knots) {
   int planned = 0, infeasible = 0, failures = 0, outside_reported = 0;
-  double tmax = 0.0;
+  double tmax = 0.0, chk_worst = -INFINITY, th_dev = 0.0;
+  int n_between = 0; /* plans re-solved for a limit exceeded between knots */
   for (int i = 0; i < n; ++i) {
     ea_task_t t;
     ea_task_init(&t, NULL);
@@ -80,8 +86,28 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots) {
       for (int k = 0; ok && k < tr.n; ++k)
         ok = EA_TRAJ_AT(&tr, k, EA_TRAJ_tension) >= t.limits.tension_min - 1e-9;
       ok = ok && info.max_statics_residual <= 1e-9;
+      /* every limit between the knots, from the written file at 1 kHz */
+      char csv[] = "/tmp/ea_sweep_XXXXXX";
+      const int fd = mkstemp(csv);
+      ea_traj_t back = {0};
+      if (fd >= 0) close(fd);
+      const int io = ok && fd >= 0 && !ea_traj_write(&tr, csv, &e) && !ea_traj_read(&back, csv, &e);
+      if (fd >= 0) remove(csv);
+      if (ok && !io) ok = 0;
+      if (ok) {
+        ea_chk_t c;
+        const double w = ea_chk_traj(&t, &back, 1000.0, &c);
+        chk_worst = fmax(chk_worst, w);
+        th_dev = fmax(th_dev, c.th_dev);
+        if (w > EA_SWEEP_LIMIT_TOL) {
+          ok = 0;
+          ea_chk_print("limits re-checked at 1 kHz", &c);
+        }
+      }
+      ea_traj_free(&back);
       ea_traj_free(&tr);
       tmax = fmax(tmax, info.time_total_s);
+      if (info.between_passes) ++n_between;
       ++planned;
     }
     if (!ok) {
@@ -102,6 +128,12 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots) {
            "failures; slowest plan %.3f s",
            n, planned, infeasible, outside_reported, failures, tmax);
   ea_test_true(failures == 0, what);
+  snprintf(what, sizeof what,
+           "sweep: every limit re-checked from the written files at 1 kHz: worst relative "
+           "excess %.3g (tolerance %.0e); theta0 spline vs statics at the interpolated (L_c, "
+           "alpha) %.3g rad; %d plans re-solved with knot bounds tightened",
+           chk_worst, EA_SWEEP_LIMIT_TOL, th_dev, n_between);
+  ea_test_true(chk_worst <= EA_SWEEP_LIMIT_TOL, what);
   ea_test_true(planned >= n / 3, "sweep: at least a third of the pairs are feasible and planned");
   ea_test_true(outside_reported == n / 10, "sweep: every goal beyond the edge reported");
   return failures;
