@@ -557,6 +557,9 @@ typedef struct ea_fe_sim_settings {
                                   corrections that stagnate below 1e3 tol (rounding) stop too */
   int max_iter;              /**< Newton iterations per step (default 25) */
   int output_every;          /**< write a tip row every this many steps (default 1) */
+  double tip_static[2];      /**< [m] the final static equilibrium's tip (x, y) for the residual,
+                                  when the caller knows it (e.g. by ea_fe_static_continue);
+                                  NAN (default): Newton from the state at t_motion_end */
 } ea_fe_sim_settings_t;
 
 void ea_fe_sim_settings_default(ea_fe_sim_settings_t *s);
@@ -621,11 +624,12 @@ typedef struct ea_rom_point {
   double C[EA_ROM_MAX_MODES][3];     /**< Phi_i^T M d2u_s/dq2 (LL, La, aa) */
   double tip[EA_ROM_MAX_MODES][2];   /**< tip (x, y) displacement per unit eta_i */
   double dtension[EA_ROM_MAX_MODES]; /**< cable tension per unit eta_i (cable rest length held) */
-  double dtorque[EA_ROM_MAX_MODES];  /**< shoulder torque EI kappa0 per unit eta_i: -(K Phi_i)_theta0 */
-  double tension;                    /**< [N] FE static tension */
-  double theta0;                     /**< [rad] FE static shoulder angle */
-  double rest_length;                /**< [m] passive cable rest length (ea_rom_point only) */
-  double p_centre[EA_NP];            /**< ODE statics p at q (ea_rom_point only) */
+  double
+      dtorque[EA_ROM_MAX_MODES]; /**< shoulder torque EI kappa0 per unit eta_i: -(K Phi_i)_theta0 */
+  double tension;                /**< [N] FE static tension */
+  double theta0;                 /**< [rad] FE static shoulder angle */
+  double rest_length;            /**< [m] passive cable rest length (ea_rom_point only) */
+  double p_centre[EA_NP];        /**< ODE statics p at q (ea_rom_point only) */
 } ea_rom_point_t;
 
 /** Workspace to compute the reduced model (opaque). */

@@ -7,8 +7,8 @@
  *   B_i = Phi_i^T M du_s/dq,  C_i = Phi_i^T M d2u_s/dq2   (full M: the clamp's theta0 too)
  * (the terms of the moving mode shapes, O(eta q'), are left out). The tip moves by
  * sum_i tip(Phi_i) eta_i, the cable tension by EA_c / L0 e . tip(Phi_i) eta_i, the shoulder
- * torque EI kappa0 by -(K Phi_i)_theta0 eta_i (the clamp's internal force is -EI kappa0). du_s/dq and d2u_s/dq2 are central differences of
- * static states converged to rounding (3 x 3 stencil).
+ * torque EI kappa0 by -(K Phi_i)_theta0 eta_i (the clamp's internal force is -EI kappa0). du_s/dq
+ * and d2u_s/dq2 are central differences of static states converged to rounding (3 x 3 stencil).
  *
  * The table: those quantities on a grid over a box of (L_c, alpha), interpolated by a
  * bicubic (values, first derivatives and the cross derivative at the grid points, from

@@ -31,6 +31,7 @@ void ea_fe_sim_settings_default(ea_fe_sim_settings_t *s) {
   s->tol = 1e-11;
   s->max_iter = 25;
   s->output_every = 1;
+  s->tip_static[0] = s->tip_static[1] = NAN;
 }
 
 ea_status_t ea_fe_sim_settings_validate(const ea_fe_sim_settings_t *s, ea_error_t *err) {
@@ -529,6 +530,12 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       memcpy(r + 1, m->q + nd - 3, 3 * sizeof(double));
     }
     if (measure && t1 >= s->t_motion_end - 1e-12 * h) {
+      if (!have_static && isfinite(s->tip_static[0]) && isfinite(s->tip_static[1])) {
+        info->tip_static[0] = s->tip_static[0];
+        info->tip_static[1] = s->tip_static[1];
+        info->tip_static[2] = NAN;
+        have_static = 1;
+      }
       if (!have_static) {
         /* final static equilibrium for the inputs held from here on */
         double th_e, th_er, cab_e;

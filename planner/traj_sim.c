@@ -300,7 +300,35 @@ ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double ti
   if ((st = ea__sim_drive_alloc(&drv, n, s->cable_active, err))) goto done;
   if ((st = ea__sim_drive_fill(arm, tr, s, sh, mh, ode.p, qstart, &drv, err))) goto done;
 
-  /* 3. FE equilibrium of the start, then continuation to the drive's inputs at t = 0 */
+  /* 3. the final equilibrium (the goal's statics for this arm and load, continued to the
+   * drive's held inputs: a Newton from the vibrating state at the end of the motion can miss
+   * it with a stiff cable), then the FE equilibrium of the start, continued likewise */
+  double tip_end[2] = {NAN, NAN};
+  if (s->settle > 0) {
+    const int l = n - 1;
+    ea_statics_problem_t pe = ea_statics_problem_cable(EA_TRAJ_AT(tr, l, EA_TRAJ_cable_length),
+                                                       EA_TRAJ_AT(tr, l, EA_TRAJ_cable_angle));
+    const double ge[EA_NP] = {EA_TRAJ_AT(tr, l, EA_TRAJ_cable_angle),
+                              EA_TRAJ_AT(tr, l, EA_TRAJ_tension), EA_TRAJ_AT(tr, l, EA_TRAJ_theta0),
+                              EA_TRAJ_AT(tr, l, EA_TRAJ_kappa0)};
+    ea_statics_solution_t ode_e;
+    ea_fe_static_info_t fei;
+    st = ea_statics_solve(sh, &pe, NULL, ge, &ode_e, &e);
+    if (st) st = ea_statics_solve(sh, &pe, NULL, NULL, &ode_e, &e);
+    if (!st) st = ea_fe_static_solve(m, sh, &ode_e, &fei, &e);
+    if (!st)
+      st = ea_fe_static_continue(m, drv.theta0[l],
+                                 s->cable_active ? EA_FE_CABLE_ACTIVE : EA_FE_CABLE_PASSIVE,
+                                 drv.cable[l], &fei, &e);
+    if (st) {
+      st = ea_error_set(err, st, "the final equilibrium (goal of the trajectory): %s", e.msg);
+      goto done;
+    }
+    double te[3];
+    ea_fe_tip(m, te);
+    tip_end[0] = te[0];
+    tip_end[1] = te[1];
+  }
   ea_fe_static_info_t fsi;
   if ((st = ea_fe_static_solve(m, sh, &ode, &fsi, &e))) {
     st = ea_error_set(err, st, "FE static solve at the start: %s", e.msg);
@@ -327,6 +355,8 @@ ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double ti
   ss.dt = s->dt;
   ss.t_end = t_end;
   ss.t_motion_end = s->settle > 0 ? info->duration : -1.0;
+  ss.tip_static[0] = tip_end[0];
+  ss.tip_static[1] = tip_end[1];
   if ((st = ea__sim_damping(m, s, &ss, info, err))) goto done;
   info->rayleigh_mass = ss.rayleigh_mass;
   info->rayleigh_stiffness = ss.rayleigh_stiffness;
