@@ -213,8 +213,26 @@ typedef struct ea_plan_info {
   double min_first_frequency_hz; /**< [Hz] min over the knots of the model's f1 (NAN: no model) */
   double max_modal_deflection_m; /**< [m] max over the interval ends of |s_c acc_c| / omega1^2,
                                       s = (1, L_c) (NAN: no model) */
-  char message[512];             /**< human-readable outcome */
+  /* dynamics (task key dynamics; NAN without) */
+  double time_dyn_model_s;     /**< [s] reduced-model table: built or loaded */
+  double predicted_residual_m; /**< [m] the model's residual tip amplitude after the
+                                    motion: sum_i of the modes' amplitudes */
+  double predicted_amplitude_m[EA_ROM_MAX_MODES]; /**< [m] per mode */
+  double max_modal_deviation_m;                   /**< [m] max over the knots of the modal tip
+                                                       deviation from the quasi-static tip */
+  double min_dynamic_tension_margin_N; /**< [N] min over the knots of T + modal part - min */
+  char message[512];                   /**< human-readable outcome */
 } ea_plan_info_t;
+
+/** The reduced dynamic model of a planner (task key dynamics). */
+typedef struct ea_plan_dyn_info {
+  int built;                 /**< 1 if the task has dynamics */
+  ea_rom_table_info_t table; /**< grid, box, extrapolated points, build time */
+  int cache_loaded;          /**< 1: the table came from the cache */
+  int cache_saved;           /**< 1: it was built and saved */
+  char cache_path[1200];     /**< the cache file ("" = none) */
+  double time_s;             /**< [s] to build or load */
+} ea_plan_dyn_info_t;
 
 /** Build the transcription for a checked task (ea_task_check / ea_task_load;
  *  the task is copied). Only what the task uses is built: base variables
@@ -296,6 +314,11 @@ ea_status_t ea_planner_freq_model(const ea_planner_t *pl, ea_plan_freq_model_inf
 ea_status_t ea_planner_first_frequency(const ea_planner_t *pl, double cable_length,
                                        double cable_angle, double *f1_hz, double grad[2],
                                        ea_error_t *err);
+
+/** The reduced dynamic model's info (built = 0 when the task has no dynamics). */
+ea_status_t ea_planner_dyn_model(const ea_planner_t *pl, ea_plan_dyn_info_t *info);
+/** The planner's reduced-model table (NULL when the task has no dynamics); owned by pl. */
+const ea_rom_table_t *ea_planner_rom_table(const ea_planner_t *pl);
 
 /* EA_PLAN_SECTION_END */
 

@@ -86,13 +86,24 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
     kind = EA__ROW_OBJ_JERK, w = 1.0;
   else if (t->objective == EA_TASK_MIN_VIBRATION)
     kind = EA__ROW_OBJ_VIB, w = 1.0;
+  /* min_vibration with dynamics: the model's residual (one piece at the goal) and the
+   * acceleration energy as regularization */
+  const int dyn_obj = pl->rom && t->objective == EA_TASK_MIN_VIBRATION;
+  if (dyn_obj) {
+    kind = t->solver.regularization > 0.0 ? EA__ROW_OBJ_ACC : -1;
+    w = t->solver.regularization;
+  }
   const int per_coord = kind != EA__ROW_OBJ_VIB; /* the vibration piece spans all coordinates */
-  pl->n_orows = kind < 0 ? 0 : (N - 1) * (per_coord ? pl->nq : 1);
+  pl->n_orows = (kind < 0 ? 0 : (N - 1) * (per_coord ? pl->nq : 1)) + dyn_obj;
   pl->orows = calloc((size_t)pl->n_orows + 1, sizeof *pl->orows);
   pl->oweight = calloc((size_t)pl->n_orows + 1, sizeof *pl->oweight);
   pl->xx = calloc((size_t)pl->n, sizeof *pl->xx);
   if (!pl->orows || !pl->oweight || !pl->xx) return EA_ERR_NOMEM;
   int i = 0;
+  if (dyn_obj) {
+    pl->orows[i] = (ea__row_t){EA__ROW_OBJ_DYN, 0, N - 1};
+    pl->oweight[i++] = 1.0;
+  }
   if (kind >= 0)
     for (int k = 0; k + 1 < N; ++k)
       for (int c = 0; c < (per_coord ? pl->nq : 1); ++c) {

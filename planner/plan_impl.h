@@ -25,6 +25,13 @@ typedef enum ea__row_kind {
   EA__ROW_DEFL_END,          /* ... at its end */
   EA__ROW_OBJ_VIB,           /* objective piece: vibration integral of an interval (all coords) */
   EA__ROW_ACC_CONT,          /* acceleration continuous at an interior knot */
+  EA__ROW_DYN_DEF_POS,       /* modal Hermite-Simpson defect, eta (plan_dyn.c) */
+  EA__ROW_DYN_DEF_VEL,       /* ... eta' */
+  EA__ROW_DYN_TENSION,       /* tension with the modal part at a knot */
+  EA__ROW_DYN_TORQUE,        /* shoulder torque with the modal part at a knot */
+  EA__ROW_DYN_DEVIATION,     /* squared modal tip deviation at a knot */
+  EA__ROW_DYN_TERMINAL,      /* squared residual amplitude at the goal */
+  EA__ROW_OBJ_DYN,           /* objective piece: the same (min_vibration with dynamics) */
   EA__ROW_KIND_COUNT
 } ea__row_kind_t;
 
@@ -92,6 +99,14 @@ struct ea_planner {
   IpoptProblem ip;
   /* frequency model (NULL when the task needs none) */
   ea__freq_model_t *fm;
+  /* reduced dynamic model (NULL when the task has no dynamics; plan_dyn.c) */
+  ea_rom_table_t *rom;
+  int K;                         /* modes */
+  double zeta[EA_ROM_MAX_MODES]; /* modal damping ratios */
+  double dyn_scale;              /* defect rows are multiplied by this */
+  double dyn_term_scale;         /* [1/m^2] the terminal amplitude row and objective piece */
+  int ie0;                       /* index of the first modal variable */
+  ea_plan_dyn_info_t dyn_info;
   int zero_end_acc; /* 1: acceleration 0 at start and goal (min_vibration) */
   /* objective */
   int n_terms;
@@ -144,6 +159,9 @@ struct ea_planner {
 /* Value and rate of coordinate c (< nq, or EA__C_TH) at knot k. */
 #define EA__IQC(pl, k, c) ((c) == EA__C_TH ? EA__IP(pl, k, 1) : EA__IQ(pl, k, c))
 #define EA__IVC(pl, k, c) ((c) == EA__C_TH ? EA__IW(pl, k) : EA__IV(pl, k, c))
+/* modal states: one block after the theta0 rates, 2 K per knot (eta_i, then eta'_i) */
+#define EA__IE(pl, k, i) ((pl)->ie0 + 2 * (pl)->K * (k) + (i))
+#define EA__IED(pl, k, i) ((pl)->ie0 + 2 * (pl)->K * (k) + (pl)->K + (i))
 
 /** Wall clock [s]. */
 double ea__plan_now(void);
@@ -204,6 +222,18 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x)
  *  exceeded and returns how many; *worst = the largest relative excess
  *  (<= 0 or -INFINITY: none), msg says which. */
 int ea__plan_between(ea_planner_t *pl, const double *x, double *worst, char *msg, size_t len);
+/** The reduced dynamic model for a task with dynamics (pl->rom; NULL otherwise): the box of
+ *  the task, the table from the cache or built (plan_dyn.c). */
+ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err);
+/** Rows of the dynamic kinds; same contract as ea__plan_row_eval. */
+int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
+                     int *cols, double *vals);
+/** Modal states of x integrated along its (L_c, alpha) from rest (a guess). */
+void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
+/** The model's predicted residual and modal figures of a plan x into info. */
+void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info);
+/** The (L_c, alpha) box the task's path covers, with a margin (plan_vib.c). */
+void ea__plan_box(const ea_planner_t *pl, double box[4]);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
 void ea__plan_schedule(ea_planner_t *pl, double w);
 /** Build the frequency model when the task needs it (pl->fm; NULL otherwise). */

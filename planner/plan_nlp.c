@@ -233,6 +233,14 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
   case EA__ROW_DEFL_END:
   case EA__ROW_OBJ_VIB:
     return ea__plan_vib_row(pl, x, r, value, cols, vals);
+  case EA__ROW_DYN_DEF_POS:
+  case EA__ROW_DYN_DEF_VEL:
+  case EA__ROW_DYN_TENSION:
+  case EA__ROW_DYN_TORQUE:
+  case EA__ROW_DYN_DEVIATION:
+  case EA__ROW_DYN_TERMINAL:
+  case EA__ROW_OBJ_DYN:
+    return ea__plan_dyn_row(pl, x, r, value, cols, vals);
   default:
     break;
   }
@@ -306,6 +314,22 @@ const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *
   case EA__ROW_DEFL_START:
   case EA__ROW_DEFL_END:
     snprintf(buf, len, "%s modal deflection limit", cn);
+    break;
+  case EA__ROW_DYN_DEF_POS:
+  case EA__ROW_DYN_DEF_VEL:
+    snprintf(buf, len, "mode %d dynamics (reduced model)", r->coord + 1);
+    break;
+  case EA__ROW_DYN_TENSION:
+    snprintf(buf, len, "tension limit with the vibration");
+    break;
+  case EA__ROW_DYN_TORQUE:
+    snprintf(buf, len, "shoulder torque limit with the vibration");
+    break;
+  case EA__ROW_DYN_DEVIATION:
+    snprintf(buf, len, "tip deviation limit (dynamics)");
+    break;
+  case EA__ROW_DYN_TERMINAL:
+    snprintf(buf, len, "residual vibration at the goal (dynamics.residual_m)");
     break;
   default:
     snprintf(buf, len, "constraint");
@@ -397,6 +421,22 @@ static void ea__term_vib_grad(const ea_planner_t *pl, const double *x, double w,
   }
 }
 
+/* The reduced model's residual amplitude at the goal [m^2 / (1 mm)^2] (plan_dyn.c). */
+static double ea__term_dyn_value(const ea_planner_t *pl, const double *x) {
+  const ea__row_t r = {EA__ROW_OBJ_DYN, 0, pl->N - 1};
+  double v;
+  ea__plan_dyn_row(pl, x, &r, &v, NULL, NULL);
+  return v;
+}
+static void ea__term_dyn_grad(const ea_planner_t *pl, const double *x, double w, double *g) {
+  int cols[EA__ROW_MAX];
+  double vals[EA__ROW_MAX];
+  const ea__row_t r = {EA__ROW_OBJ_DYN, 0, pl->N - 1};
+  const int n = ea__plan_dyn_row(pl, x, &r, NULL, cols, vals);
+  for (int i = 0; i < n; ++i)
+    g[cols[i]] += w * vals[i];
+}
+
 void ea__plan_terms_setup(ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   pl->n_terms = 0;
@@ -417,6 +457,17 @@ void ea__plan_terms_setup(ea_planner_t *pl) {
         (ea__plan_term_t){"jerk energy", 1.0, ea__term_jerk_value, ea__term_jerk_grad};
     break;
   case EA_TASK_MIN_VIBRATION:
+    if (pl->rom) { /* the model's residual at the goal, an effort term to make it unique */
+      tm[pl->n_terms++] =
+          (ea__plan_term_t){"residual vibration", 1.0, ea__term_dyn_value, ea__term_dyn_grad};
+      if (t->solver.regularization > 0.0)
+        tm[pl->n_terms++] = (ea__plan_term_t){"acceleration energy", t->solver.regularization,
+                                              ea__term_acc_value, ea__term_acc_grad};
+      if (pl->has_tf)
+        tm[pl->n_terms++] =
+            (ea__plan_term_t){"time", t->time_weight, ea__term_time_value, ea__term_time_grad};
+      break;
+    }
     tm[pl->n_terms++] = (ea__plan_term_t){"vibration", 1.0, ea__term_vib_value, ea__term_vib_grad};
     if (pl->has_tf)
       tm[pl->n_terms++] =

@@ -22,6 +22,7 @@ void ea_planner_free(ea_planner_t *pl) {
   if (pl->ip) FreeIpoptProblem(pl->ip);
   ea__plan_hess_free(pl);
   ea__plan_freq_free(pl->fm);
+  ea_rom_table_free(pl->rom);
   ea_shooter_free(pl->sh);
   free(pl->s);
   free(pl->seg_of_knot);
@@ -214,6 +215,26 @@ static int ea__build_rows(ea_planner_t *pl) {
         ea__add_row(pl, &i, EA__ROW_DEFL_START, k, c, -(dmax - ct), dmax - ct);
         ea__add_row(pl, &i, EA__ROW_DEFL_END, k, c, -(dmax - ct), dmax - ct);
       }
+  if (pl->rom) { /* the reduced dynamic model (plan_dyn.c) */
+    const ea_task_t *t = &pl->task;
+    for (int k = 0; k + 1 < N; ++k)
+      for (int m = 0; m < pl->K; ++m) {
+        ea__add_row(pl, &i, EA__ROW_DYN_DEF_POS, k, m, 0.0, 0.0);
+        ea__add_row(pl, &i, EA__ROW_DYN_DEF_VEL, k, m, 0.0, 0.0);
+      }
+    for (int k = 1; k + 1 < N; ++k) {
+      ea__add_row(pl, &i, EA__ROW_DYN_TENSION, k, 0, t->limits.tension_min + ct,
+                  t->limits.tension_max - ct);
+      const double tq = t->limits.shoulder_torque_max - ct;
+      ea__add_row(pl, &i, EA__ROW_DYN_TORQUE, k, 0, -tq, tq);
+      const double d = t->dynamics.max_tip_deviation_m;
+      if (isfinite(d)) ea__add_row(pl, &i, EA__ROW_DYN_DEVIATION, k, 0, -EA__IPINF, d * d);
+    }
+    const double r = t->dynamics.residual_m;
+    if (r > 0 && t->objective != EA_TASK_MIN_VIBRATION)
+      ea__add_row(pl, &i, EA__ROW_DYN_TERMINAL, N - 1, 0, -EA__IPINF,
+                  pl->dyn_term_scale * r * r / pl->K);
+  }
   return i;
 }
 
@@ -270,6 +291,22 @@ static void ea__bounds(ea_planner_t *pl) {
   if (pl->has_tf) {
     pl->xl[EA__ITF(pl)] = 1e-3;
     pl->xu[EA__ITF(pl)] = 1e5;
+  }
+  if (pl->rom) { /* modal states: rest at the start; at the goal unless a residual is allowed */
+    const ea_plan_dyn_info_t *di = &pl->dyn_info;
+    const int rest_end = !(t->dynamics.residual_m > 0) && t->objective != EA_TASK_MIN_VIBRATION;
+    for (int k = 0; k < pl->N; ++k) {
+      const int fix = k == 0 || (k == pl->N - 1 && rest_end);
+      for (int i = 0; i < pl->K; ++i) {
+        pl->xl[EA__IE(pl, k, i)] = pl->xl[EA__IED(pl, k, i)] = fix ? 0.0 : -EA__IPINF;
+        pl->xu[EA__IE(pl, k, i)] = pl->xu[EA__IED(pl, k, i)] = fix ? 0.0 : EA__IPINF;
+      }
+      /* stay on the model's table */
+      pl->xl[EA__IQ(pl, k, 0)] = fmax(pl->xl[EA__IQ(pl, k, 0)], di->table.box[0]);
+      pl->xu[EA__IQ(pl, k, 0)] = fmin(pl->xu[EA__IQ(pl, k, 0)], di->table.box[1]);
+      pl->xl[EA__IQ(pl, k, 1)] = fmax(pl->xl[EA__IQ(pl, k, 1)], di->table.box[2]);
+      pl->xu[EA__IQ(pl, k, 1)] = fmin(pl->xu[EA__IQ(pl, k, 1)], di->table.box[3]);
+    }
   }
 }
 
@@ -386,7 +423,13 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   }
   ea__derive(pl);
   const int N = pl->N;
-  pl->n = N * pl->nb + pl->has_tf + N; /* knot blocks, t_f, theta0 rates */
+  if ((st = ea__plan_dyn_build(pl, err))) {
+    ea_planner_free(pl);
+    return st;
+  }
+  /* knot blocks, t_f, theta0 rates, modal states */
+  pl->ie0 = N * pl->nb + pl->has_tf + N;
+  pl->n = pl->ie0 + 2 * pl->K * N;
   pl->s = calloc((size_t)N, sizeof *pl->s);
   pl->seg_of_knot = calloc((size_t)N, sizeof *pl->seg_of_knot);
   if (!pl->s || !pl->seg_of_knot) goto nomem;
@@ -468,6 +511,12 @@ static const char *ea__struct_differs(const ea_planner_t *pl, const ea_task_t *t
   if (t->n_via != o->n_via) return "number of via points";
   if (t->path != o->path) return "path kind";
   if (t->objective != o->objective) return "objective";
+  if (t->dynamics.modes != o->dynamics.modes || t->dynamics.grid[0] != o->dynamics.grid[0] ||
+      t->dynamics.grid[1] != o->dynamics.grid[1] ||
+      (t->dynamics.residual_m > 0) != (o->dynamics.residual_m > 0) ||
+      isfinite(t->dynamics.max_tip_deviation_m) != isfinite(o->dynamics.max_tip_deviation_m) ||
+      (t->dynamics.modes && t->payload_kg != o->payload_kg))
+    return "dynamics (modes, grid, residual or deviation limit, payload)";
   if (t->base_moves != o->base_moves) return "base motion (base variables)";
   if (isnan(t->duration_s) != isnan(o->duration_s)) return "free/fixed duration";
   if (t->limits.continuous_acceleration != o->limits.continuous_acceleration)
@@ -934,6 +983,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   } else {
     st = ea__plan_guess(pl, pl->x, info, err);
   }
+  if (!st && (!warm || replan)) ea__plan_dyn_fill(pl, pl->x); /* modal states along the guess */
   info->time_guess_s = ea__plan_now() - t0;
   if (st) {
     info->status = st;
@@ -976,7 +1026,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
    * strategy's three, in as many or fewer iterations (docs/planner.md). If
    * it fails, the solve is repeated from the same start with the adaptive
    * strategy, the default for every other start. */
-  int mono = !warm && (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+  int mono = !warm && !pl->rom &&
+             (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   char tmpl[64] = "";
   if (pl->task.solver.derivative_test) {
@@ -1038,6 +1089,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   }
   ea__stats(pl, pl->x, info);
   ea__plan_vib_stats(pl, pl->x, info);
+  ea__plan_dyn_stats(pl, pl->x, info);
   info->time_freq_model_s = pl->fm ? pl->fm->info.time_s : 0.0;
   const double tol_viol = 1e-6;
   if (solved && info->max_violation <= tol_viol && info->max_statics_residual <= 1e-9) {

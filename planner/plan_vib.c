@@ -33,16 +33,15 @@ void ea__plan_freq_free(ea__freq_model_t *fm) {
 }
 
 static int ea__needs_model(const ea_task_t *t) {
-  return t->objective == EA_TASK_MIN_VIBRATION || t->limits.min_first_frequency_hz > 0.0 ||
-         isfinite(t->limits.max_modal_deflection_m);
+  return (t->objective == EA_TASK_MIN_VIBRATION && t->dynamics.modes == 0) ||
+         t->limits.min_first_frequency_hz > 0.0 || isfinite(t->limits.max_modal_deflection_m);
 }
 
 static const ea_task_point_t *ea__vpt(const ea_task_t *t, int j) {
   return j == 0 ? &t->start : j <= t->n_via ? &t->via[j - 1] : &t->goal;
 }
 
-/* The (L_c, alpha) box the task's path covers. */
-static void ea__box(const ea_planner_t *pl, double box[4]) {
+void ea__plan_box(const ea_planner_t *pl, double box[4]) {
   const ea_task_t *t = &pl->task;
   const ea_arm_t *arm = &t->arm;
   box[0] = box[2] = INFINITY;
@@ -133,7 +132,7 @@ ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err) {
   if (!fm) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (frequency model)");
   pl->fm = fm;
   double box[4];
-  ea__box(pl, box);
+  ea__plan_box(pl, box);
   fm->nL = ea__clampi((int)ceil((box[1] - box[0]) / 0.04) + 1, 5, 15);
   fm->na = ea__clampi((int)ceil((box[3] - box[2]) / 0.06) + 1, 5, 15);
   const int nL = fm->nL, na = fm->na, n = nL * na;

@@ -103,8 +103,7 @@ static ea_status_t ea__rom_save(const char *path, const char *key, const ea_rom_
 
 ea_status_t ea_rom_table_cached(const ea_arm_t *arm, double tip_mass, const ea_rom_settings_t *s,
                                 const double box[4], int nL, int na, const char *cache_dir,
-                                ea_rom_table_t **out, ea_rom_cache_info_t *info,
-                                ea_error_t *err) {
+                                ea_rom_table_t **out, ea_rom_cache_info_t *info, ea_error_t *err) {
   ea_rom_cache_info_t loc;
   if (!info) info = &loc;
   memset(info, 0, sizeof *info);

@@ -188,6 +188,17 @@ typedef struct ea_task_solver {
                               sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
 } ea_task_solver_t;
 
+/** Dynamics of a plan (docs/task-format.md, "dynamics"): plan with the reduced dynamic model
+ *  of the arm (model/fe_rom.c) so that it arrives at rest. */
+typedef struct ea_task_dynamics {
+  int modes;                  /**< K modes of the reduced model; 0 = quasi-static plan (default) */
+  double residual_m;          /**< [m] allowed residual tip amplitude after the motion (model);
+                                   0 (default) = the modal state is zero at the goal */
+  double max_tip_deviation_m; /**< [m] modal tip deviation from the quasi-static tip during the
+                                   motion, at the knots (INFINITY = off, default) */
+  int grid[2];                /**< table grid (L_c, alpha) points (0 = from the box, default) */
+} ea_task_dynamics_t;
+
 /** A task spec. Plain data, no owned memory. */
 typedef struct ea_task {
   char name[128];
@@ -206,7 +217,8 @@ typedef struct ea_task {
   double time_weight; /**< [1/s] min_vibration with free duration: weight of t_f
                            added to the vibration integral (NAN otherwise) */
   ea_task_limits_t limits;
-  int knots; /**< time knots including start and goal (default 100) */
+  ea_task_dynamics_t dynamics; /**< modes = 0: a quasi-static plan */
+  int knots;                   /**< time knots including start and goal (default 100) */
   ea_task_solver_t solver;
   char out_trajectory[512]; /**< outputs (relative to the task file); "" = none */
   char out_summary[512];

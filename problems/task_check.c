@@ -46,6 +46,9 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->limits.resample_margin = 0.0;
   t->limits.continuous_acceleration = 1;
   t->time_weight = NAN;
+  t->dynamics.modes = 0;
+  t->dynamics.residual_m = 0.0;
+  t->dynamics.max_tip_deviation_m = INFINITY;
   t->knots = 100;
   t->solver.max_iter = 500;
   t->solver.tol = 1e-8;

@@ -123,14 +123,39 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   return EA_OK;
 }
 
+static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dynamics_t *dy,
+                                     ea_error_t *err) {
+  static const char *const keys[] = {"modes", "residual_m", "max_tip_deviation_m", "grid", NULL};
+  ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics", err);
+  if (st) return st;
+  long v = 2;
+  if ((st = ea__ymap_int(d, n, "modes", 0, 1, EA_ROM_MAX_MODES, &v, err))) return st;
+  dy->modes = (int)v;
+  if ((st = ea__ymap_double(d, n, "residual_m", 0, 0.0, 1.0, &dy->residual_m, err))) return st;
+  if ((st = ea__ymap_double(d, n, "max_tip_deviation_m", 0, 1e-6, 10.0, &dy->max_tip_deviation_m,
+                            err)))
+    return st;
+  double gv[2] = {0, 0};
+  int have = 0;
+  if ((st = ea__ymap_vec(d, n, "grid", 0, 2, gv, &have, err))) return st;
+  if (have)
+    for (int i = 0; i < 2; ++i) {
+      if (!(gv[i] >= 4 && gv[i] <= 64 && gv[i] == floor(gv[i])))
+        return ea__yerr(d, ea__ymap_get(d, n, "grid"), err, EA_ERR_INPUT,
+                        "key 'grid': %g points: must be a whole number in [4, 64]", gv[i]);
+      dy->grid[i] = (int)gv[i];
+    }
+  return EA_OK;
+}
+
 static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_task_t *t,
                                      ea_error_t *err) {
   yaml_node_t *root, *n;
   ea_status_t st = ea__ydoc_root_map(d, &root, err);
   if (st) return st;
-  static const char *const top[] = {
-      "name", "arm_file",  "payload_kg", "payload_factor", "start",  "goal",    "via",
-      "path", "objective", "limits",     "knots",          "solver", "outputs", NULL};
+  static const char *const top[] = {"name",  "arm_file", "payload_kg", "payload_factor", "start",
+                                    "goal",  "via",      "path",       "objective",      "limits",
+                                    "knots", "solver",   "outputs",    "dynamics",       NULL};
   if ((st = ea__ymap_check_keys(d, root, top, "the task file", err))) return st;
 
   /* The arm first: limits default to its values. */
@@ -265,6 +290,8 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
                     "key 'knots': %d knots cannot hold %d via points", t->knots, t->n_via);
   if ((st = ea__ymap_map(d, root, "solver", 0, &n, err))) return st;
   if (n && (st = ea__load_solver(d, n, &t->solver, err))) return st;
+  if ((st = ea__ymap_map(d, root, "dynamics", 0, &n, err))) return st;
+  if (n && (st = ea__load_dynamics(d, n, &t->dynamics, err))) return st;
   if ((st = ea__ymap_map(d, root, "outputs", 0, &n, err))) return st;
   if (n) {
     static const char *const okeys[] = {"trajectory", "summary", "figure", NULL};

@@ -1,0 +1,466 @@
+/* Plans that arrive at rest (docs/planner.md, "Dynamics"): the reduced dynamic model of the
+ * arm (model/fe_rom.c) in the transcription. Per knot and mode the modal state (eta_i,
+ * eta_i'), tied between the knots by Hermite-Simpson defects of
+ *   eta'' + 2 zeta omega eta' + omega^2 eta = -B(q) . q'' - q'^T C(q) q'
+ * along the trajectory's own interpolant (the cubic Hermite of (L_c, alpha) and their rates:
+ * the ends, and the midpoint q_m = (q0 + q1)/2 + h (v0 - v1)/8, v_m = 3 (q1 - q0)/(2 h) -
+ * (v0 + v1)/4, a_m = (a0 + a1)/2). The rows:
+ *  - EA__ROW_DYN_DEF_POS/VEL: the defects of mode i over interval k;
+ *  - EA__ROW_DYN_TENSION:  T_k + sum_i dT_i(q_k) eta_i,k within the tension limits;
+ *  - EA__ROW_DYN_TORQUE:   EI kappa0_k + sum_i dM_i(q_k) eta_i,k within the torque limit;
+ *  - EA__ROW_DYN_DEVIATION: |sum_i tip_i(q_k) eta_i,k|^2 <= max_tip_deviation^2;
+ *  - EA__ROW_DYN_TERMINAL: sum_i |tip_i|^2 (eta_i^2 + eta_i'^2 / omega_i^2) <= residual^2 / K
+ *    at the goal (when residual_m > 0; else the terminal state is fixed at zero by bounds).
+ * Each row is a small function of <= 13 variables; its gradient is exact by forward-mode
+ * differentiation (ea__dual_t) through the Hermite and the table's exact interpolant
+ * derivatives. */
+#include "ea_simulate.h"
+#include "plan_impl.h"
+
+#include <math.h>
+#include <string.h>
+
+/* ---- forward-mode dual numbers over the row's local variables ------------ */
+
+#define EA__DN 13
+typedef struct {
+  double v, d[EA__DN];
+} ea__dual_t;
+
+static ea__dual_t ea__dc(double v) {
+  ea__dual_t r;
+  memset(&r, 0, sizeof r);
+  r.v = v;
+  return r;
+}
+static ea__dual_t ea__dvar(double v, int i) {
+  ea__dual_t r = ea__dc(v);
+  r.d[i] = 1.0;
+  return r;
+}
+static ea__dual_t ea__dadd(ea__dual_t a, ea__dual_t b) {
+  a.v += b.v;
+  for (int i = 0; i < EA__DN; ++i)
+    a.d[i] += b.d[i];
+  return a;
+}
+static ea__dual_t ea__dsub(ea__dual_t a, ea__dual_t b) {
+  a.v -= b.v;
+  for (int i = 0; i < EA__DN; ++i)
+    a.d[i] -= b.d[i];
+  return a;
+}
+static ea__dual_t ea__dmul(ea__dual_t a, ea__dual_t b) {
+  ea__dual_t r;
+  r.v = a.v * b.v;
+  for (int i = 0; i < EA__DN; ++i)
+    r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+  return r;
+}
+static ea__dual_t ea__dscale(ea__dual_t a, double s) {
+  a.v *= s;
+  for (int i = 0; i < EA__DN; ++i)
+    a.d[i] *= s;
+  return a;
+}
+static ea__dual_t ea__daxpy(ea__dual_t y, double s, ea__dual_t x) { /* y + s x */
+  y.v += s * x.v;
+  for (int i = 0; i < EA__DN; ++i)
+    y.d[i] += s * x.d[i];
+  return y;
+}
+static ea__dual_t ea__ddiv(ea__dual_t a, ea__dual_t b) {
+  ea__dual_t r;
+  r.v = a.v / b.v;
+  for (int i = 0; i < EA__DN; ++i)
+    r.d[i] = (a.d[i] - r.v * b.d[i]) / b.v;
+  return r;
+}
+static ea__dual_t ea__dsqrt(ea__dual_t a) {
+  ea__dual_t r;
+  r.v = sqrt(a.v);
+  for (int i = 0; i < EA__DN; ++i)
+    r.d[i] = 0.5 * a.d[i] / r.v;
+  return r;
+}
+
+/* A tabulated field f at (L, a): f + f_L dL + f_a da. */
+static ea__dual_t ea__dfield(double f, double fL, double fa, ea__dual_t L, ea__dual_t a) {
+  ea__dual_t r;
+  r.v = f;
+  for (int i = 0; i < EA__DN; ++i)
+    r.d[i] = fL * L.d[i] + fa * a.d[i];
+  return r;
+}
+
+/* The model's fields at (L, a) as duals. */
+typedef struct {
+  ea__dual_t w2[EA_ROM_MAX_MODES], B[EA_ROM_MAX_MODES][2], C[EA_ROM_MAX_MODES][3],
+      tip[EA_ROM_MAX_MODES][2], dT[EA_ROM_MAX_MODES], dM[EA_ROM_MAX_MODES];
+} ea__drom_t;
+
+static void ea__drom(const ea_planner_t *pl, ea__dual_t L, ea__dual_t a, ea__drom_t *o) {
+  ea_rom_point_t v, dL, da;
+  ea_rom_table_eval(pl->rom, L.v, a.v, &v, &dL, &da);
+  for (int k = 0; k < pl->K; ++k) {
+    o->w2[k] = ea__dfield(v.omega2[k], dL.omega2[k], da.omega2[k], L, a);
+    for (int c = 0; c < 2; ++c) {
+      o->B[k][c] = ea__dfield(v.B[k][c], dL.B[k][c], da.B[k][c], L, a);
+      o->tip[k][c] = ea__dfield(v.tip[k][c], dL.tip[k][c], da.tip[k][c], L, a);
+    }
+    for (int c = 0; c < 3; ++c)
+      o->C[k][c] = ea__dfield(v.C[k][c], dL.C[k][c], da.C[k][c], L, a);
+    o->dT[k] = ea__dfield(v.dtension[k], dL.dtension[k], da.dtension[k], L, a);
+    o->dM[k] = ea__dfield(v.dtorque[k], dL.dtorque[k], da.dtorque[k], L, a);
+  }
+}
+
+/* Modal forcing of mode k: -B . a - v^T C v. */
+static ea__dual_t ea__dforce(const ea__drom_t *m, int k, const ea__dual_t v[2],
+                             const ea__dual_t a[2]) {
+  ea__dual_t f = ea__dadd(ea__dmul(m->B[k][0], a[0]), ea__dmul(m->B[k][1], a[1]));
+  f = ea__dadd(f, ea__dmul(m->C[k][0], ea__dmul(v[0], v[0])));
+  f = ea__dadd(f, ea__dscale(ea__dmul(m->C[k][1], ea__dmul(v[0], v[1])), 2.0));
+  f = ea__dadd(f, ea__dmul(m->C[k][2], ea__dmul(v[1], v[1])));
+  return ea__dscale(f, -1.0);
+}
+
+/* Modal acceleration: -omega^2 eta - 2 zeta omega eta' + F. */
+static ea__dual_t ea__dacc(const ea__drom_t *m, int k, double zeta, ea__dual_t eta, ea__dual_t etad,
+                           ea__dual_t F) {
+  ea__dual_t r = ea__dsub(F, ea__dmul(m->w2[k], eta));
+  if (zeta > 0) r = ea__dsub(r, ea__dscale(ea__dmul(ea__dsqrt(m->w2[k]), etad), 2 * zeta));
+  return r;
+}
+
+/* ---- the rows ---------------------------------------------------------- */
+
+static void ea__emit(const ea__dual_t *r, const int *col, int nloc, double *value, int *cols,
+                     double *vals, int *n) {
+  if (value) *value = r->v;
+  for (int i = 0; i < nloc; ++i) {
+    if (col[i] < 0) continue;
+    if (cols) cols[*n] = col[i];
+    if (vals) vals[*n] = r->d[i];
+    ++*n;
+  }
+}
+
+/* Hermite-Simpson defects of mode i over interval k (pos: 0, vel: 1). Local variables:
+ * 0 eta_k, 1 eta'_k, 2 eta_k+1, 3 eta'_k+1, 4..7 (q0, q1, v0, v1) of L_c, 8..11 of alpha,
+ * 12 t_f. */
+static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i, int vel,
+                          double *value, int *cols, double *vals) {
+  int col[EA__DN];
+  col[0] = EA__IE(pl, k, i);
+  col[1] = EA__IED(pl, k, i);
+  col[2] = EA__IE(pl, k + 1, i);
+  col[3] = EA__IED(pl, k + 1, i);
+  for (int c = 0; c < 2; ++c) {
+    col[4 + 4 * c] = EA__IQ(pl, k, c);
+    col[5 + 4 * c] = EA__IQ(pl, k + 1, c);
+    col[6 + 4 * c] = EA__IV(pl, k, c);
+    col[7 + 4 * c] = EA__IV(pl, k + 1, c);
+  }
+  col[12] = pl->has_tf ? EA__ITF(pl) : -1;
+  ea__dual_t loc[EA__DN];
+  for (int j = 0; j < EA__DN; ++j)
+    loc[j] = col[j] >= 0 ? ea__dvar(x[col[j]], j) : ea__dc(pl->tf_fixed);
+  const double ds = pl->s[k + 1] - pl->s[k];
+  const ea__dual_t h = ea__dscale(loc[12], ds), ih = ea__ddiv(ea__dc(1.0), h);
+  const ea__dual_t ih2 = ea__dmul(ih, ih);
+  /* the Hermite of each coordinate: ends and midpoint */
+  ea__dual_t q0[2], q1[2], v0[2], v1[2], a0[2], a1[2], qm[2], vm[2], am[2];
+  for (int c = 0; c < 2; ++c) {
+    q0[c] = loc[4 + 4 * c];
+    q1[c] = loc[5 + 4 * c];
+    v0[c] = loc[6 + 4 * c];
+    v1[c] = loc[7 + 4 * c];
+    const ea__dual_t dq = ea__dsub(q1[c], q0[c]);
+    /* a0 = 6 dq / h^2 - (4 v0 + 2 v1) / h, a1 = -6 dq / h^2 + (2 v0 + 4 v1) / h */
+    const ea__dual_t t6 = ea__dscale(ea__dmul(dq, ih2), 6.0);
+    a0[c] = ea__dsub(t6, ea__dmul(ea__daxpy(ea__dscale(v0[c], 4.0), 2.0, v1[c]), ih));
+    a1[c] =
+        ea__dadd(ea__dscale(t6, -1.0), ea__dmul(ea__daxpy(ea__dscale(v0[c], 2.0), 4.0, v1[c]), ih));
+    qm[c] = ea__dadd(ea__dscale(ea__dadd(q0[c], q1[c]), 0.5),
+                     ea__dscale(ea__dmul(h, ea__dsub(v0[c], v1[c])), 0.125));
+    vm[c] = ea__dsub(ea__dscale(ea__dmul(dq, ih), 1.5), ea__dscale(ea__dadd(v0[c], v1[c]), 0.25));
+    am[c] = ea__dscale(ea__dadd(a0[c], a1[c]), 0.5);
+  }
+  ea__drom_t m0, m1, mm;
+  ea__drom(pl, q0[0], q0[1], &m0);
+  ea__drom(pl, q1[0], q1[1], &m1);
+  ea__drom(pl, qm[0], qm[1], &mm);
+  const double zeta = pl->zeta[i];
+  const ea__dual_t e0 = loc[0], ed0 = loc[1], e1 = loc[2], ed1 = loc[3];
+  const ea__dual_t acc0 = ea__dacc(&m0, i, zeta, e0, ed0, ea__dforce(&m0, i, v0, a0));
+  const ea__dual_t acc1 = ea__dacc(&m1, i, zeta, e1, ed1, ea__dforce(&m1, i, v1, a1));
+  const ea__dual_t h8 = ea__dscale(h, 0.125), h6 = ea__dscale(h, 1.0 / 6.0);
+  const ea__dual_t em =
+      ea__dadd(ea__dscale(ea__dadd(e0, e1), 0.5), ea__dmul(h8, ea__dsub(ed0, ed1)));
+  const ea__dual_t edm =
+      ea__dadd(ea__dscale(ea__dadd(ed0, ed1), 0.5), ea__dmul(h8, ea__dsub(acc0, acc1)));
+  ea__dual_t r;
+  if (!vel) {
+    const ea__dual_t sum = ea__dadd(ea__daxpy(ed0, 4.0, edm), ed1);
+    r = ea__dsub(ea__dsub(e1, e0), ea__dmul(h6, sum));
+  } else {
+    const ea__dual_t accm = ea__dacc(&mm, i, zeta, em, edm, ea__dforce(&mm, i, vm, am));
+    const ea__dual_t sum = ea__dadd(ea__daxpy(acc0, 4.0, accm), acc1);
+    r = ea__dsub(ea__dsub(ed1, ed0), ea__dmul(h6, sum));
+  }
+  r = ea__dscale(r, pl->dyn_scale);
+  int n = 0;
+  ea__emit(&r, col, EA__DN, value, cols, vals, &n);
+  return n;
+}
+
+/* Rows at knot k: the tension or torque with the modal part, or the tip deviation.
+ * Local variables: 0 L_c, 1 alpha, 2 T or kappa0, 3.. eta_i. */
+static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k, double *value,
+                        int *cols, double *vals) {
+  const int K = pl->K;
+  int col[EA__DN];
+  const int nloc = 3 + K;
+  col[0] = EA__IQ(pl, k, 0);
+  col[1] = EA__IQ(pl, k, 1);
+  col[2] = kind == EA__ROW_DYN_TORQUE ? EA__IP(pl, k, 2)
+                                      : (kind == EA__ROW_DYN_TENSION ? EA__IP(pl, k, 0) : -1);
+  for (int i = 0; i < K; ++i)
+    col[3 + i] = EA__IE(pl, k, i);
+  ea__dual_t loc[EA__DN];
+  for (int j = 0; j < nloc; ++j)
+    loc[j] = col[j] >= 0 ? ea__dvar(x[col[j]], j) : ea__dc(0.0);
+  ea__drom_t m;
+  ea__drom(pl, loc[0], loc[1], &m);
+  ea__dual_t r;
+  if (kind == EA__ROW_DYN_DEVIATION) {
+    ea__dual_t dx = ea__dc(0.0), dy = ea__dc(0.0);
+    for (int i = 0; i < K; ++i) {
+      dx = ea__dadd(dx, ea__dmul(m.tip[i][0], loc[3 + i]));
+      dy = ea__dadd(dy, ea__dmul(m.tip[i][1], loc[3 + i]));
+    }
+    r = ea__dadd(ea__dmul(dx, dx), ea__dmul(dy, dy));
+  } else {
+    r = kind == EA__ROW_DYN_TORQUE ? ea__dscale(loc[2], pl->task.arm.EI) : loc[2];
+    for (int i = 0; i < K; ++i)
+      r = ea__dadd(r, ea__dmul(kind == EA__ROW_DYN_TORQUE ? m.dM[i] : m.dT[i], loc[3 + i]));
+  }
+  int n = 0;
+  ea__emit(&r, col, nloc, value, cols, vals, &n);
+  return n;
+}
+
+/* Residual amplitude at the goal: sum_i |tip_i|^2 (eta_i^2 + eta_i'^2 / omega_i^2) [m^2].
+ * Local variables: 0 L_c, 1 alpha, 2.. (eta_i, eta'_i). */
+static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, double *value, int *cols,
+                            double *vals) {
+  const int K = pl->K, k = pl->N - 1;
+  int col[EA__DN];
+  const int nloc = 2 + 2 * K;
+  col[0] = EA__IQ(pl, k, 0);
+  col[1] = EA__IQ(pl, k, 1);
+  for (int i = 0; i < K; ++i) {
+    col[2 + 2 * i] = EA__IE(pl, k, i);
+    col[3 + 2 * i] = EA__IED(pl, k, i);
+  }
+  ea__dual_t loc[EA__DN];
+  for (int j = 0; j < nloc; ++j)
+    loc[j] = ea__dvar(x[col[j]], j);
+  ea__drom_t m;
+  ea__drom(pl, loc[0], loc[1], &m);
+  ea__dual_t r = ea__dc(0.0);
+  for (int i = 0; i < K; ++i) {
+    const ea__dual_t t2 =
+        ea__dadd(ea__dmul(m.tip[i][0], m.tip[i][0]), ea__dmul(m.tip[i][1], m.tip[i][1]));
+    const ea__dual_t e = loc[2 + 2 * i], ed = loc[3 + 2 * i];
+    const ea__dual_t a2 = ea__dadd(ea__dmul(e, e), ea__ddiv(ea__dmul(ed, ed), m.w2[i]));
+    r = ea__dadd(r, ea__dmul(t2, a2));
+  }
+  r = ea__dscale(r, pl->dyn_term_scale);
+  int n = 0;
+  ea__emit(&r, col, nloc, value, cols, vals, &n);
+  return n;
+}
+
+int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
+                     int *cols, double *vals) {
+  switch ((ea__row_kind_t)r->kind) {
+  case EA__ROW_DYN_DEF_POS:
+    return ea__dyn_defect(pl, x, r->knot, r->coord, 0, value, cols, vals);
+  case EA__ROW_DYN_DEF_VEL:
+    return ea__dyn_defect(pl, x, r->knot, r->coord, 1, value, cols, vals);
+  case EA__ROW_DYN_TENSION:
+  case EA__ROW_DYN_TORQUE:
+  case EA__ROW_DYN_DEVIATION:
+    return ea__dyn_knot(pl, x, r->kind, r->knot, value, cols, vals);
+  case EA__ROW_DYN_TERMINAL:
+  case EA__ROW_OBJ_DYN:
+    return ea__dyn_terminal(pl, x, value, cols, vals);
+  default:
+    if (value) *value = 0.0;
+    return 0;
+  }
+}
+
+/* ---- build, guess, figures --------------------------------------------- */
+
+ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
+  const ea_task_t *t = &pl->task;
+  pl->rom = NULL;
+  pl->K = 0;
+  memset(&pl->dyn_info, 0, sizeof pl->dyn_info);
+  if (t->dynamics.modes <= 0) return EA_OK;
+  const double t0 = ea__plan_now();
+  double box[4];
+  ea__plan_box(pl, box);
+  /* grid: ~0.025 m in L_c and ~0.06 rad in alpha (test_rom: 1e-3 on omega^2 at the cell centres
+   * of a 12 x 12 grid over 0.3 m x 0.75 rad), 6..24 points */
+  int nL = t->dynamics.grid[0], na = t->dynamics.grid[1];
+  if (nL <= 0) nL = (int)ceil((box[1] - box[0]) / 0.025) + 1;
+  if (na <= 0) na = (int)ceil((box[3] - box[2]) / 0.06) + 1;
+  nL = nL < 6 ? 6 : nL > 24 ? 24 : nL;
+  na = na < 6 ? 6 : na > 24 ? 24 : na;
+  ea_rom_settings_t rs;
+  ea_rom_settings_default(&rs);
+  rs.modes = t->dynamics.modes;
+  char dir[1024];
+  const char *cache = ea_rom_cache_dir(dir, sizeof dir);
+  ea_rom_cache_info_t ci;
+  ea_error_t e = {0};
+  ea_status_t st =
+      ea_rom_table_cached(&t->arm, pl->tip_mass, &rs, box, nL, na, cache, &pl->rom, &ci, &e);
+  if (st)
+    return ea_error_set(err, st,
+                        "dynamics: the reduced model of the arm over L_c [%g, %g] m, "
+                        "alpha [%g, %g] rad: %s",
+                        box[0], box[1], box[2], box[3], e.msg);
+  pl->K = rs.modes;
+  for (int i = 0; i < EA_ROM_MAX_MODES; ++i)
+    pl->zeta[i] = 0.0;
+  pl->dyn_scale = 1.0;
+  pl->dyn_term_scale = 1e6; /* 1 mm -> 1 */
+  ea_plan_dyn_info_t *di = &pl->dyn_info;
+  di->built = 1;
+  ea_rom_table_info(pl->rom, &di->table);
+  di->cache_loaded = ci.loaded;
+  di->cache_saved = ci.saved;
+  snprintf(di->cache_path, sizeof di->cache_path, "%s", ci.path);
+  di->time_s = ea__plan_now() - t0;
+  return EA_OK;
+}
+
+/* Hermite value, rate, acceleration of coordinate c over interval k at fraction u. */
+static void ea__herm(const ea_planner_t *pl, const double *x, int k, int c, double u, double *q,
+                     double *v, double *a) {
+  const double tf = ea__plan_tf(pl, x), h = tf * (pl->s[k + 1] - pl->s[k]);
+  const double y0 = x[EA__IQ(pl, k, c)], y1 = x[EA__IQ(pl, k + 1, c)];
+  const double m0 = x[EA__IV(pl, k, c)] * h, m1 = x[EA__IV(pl, k + 1, c)] * h;
+  const double u2 = u * u, u3 = u2 * u;
+  *q = (2 * u3 - 3 * u2 + 1) * y0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * y1 +
+       (u3 - u2) * m1;
+  *v = ((6 * u2 - 6 * u) * y0 + (3 * u2 - 4 * u + 1) * m0 + (-6 * u2 + 6 * u) * y1 +
+        (3 * u2 - 2 * u) * m1) /
+       h;
+  *a = ((12 * u - 6) * y0 + (6 * u - 4) * m0 + (-12 * u + 6) * y1 + (6 * u - 2) * m1) / (h * h);
+}
+
+static void ea__dyn_rhs(const ea_planner_t *pl, const double *x, int k, double u, const double *z,
+                        double *dz) {
+  double q[2], v[2], a[2];
+  for (int c = 0; c < 2; ++c)
+    ea__herm(pl, x, k, c, u, &q[c], &v[c], &a[c]);
+  ea_rom_point_t p;
+  ea_rom_table_eval(pl->rom, q[0], q[1], &p, NULL, NULL);
+  for (int i = 0; i < pl->K; ++i) {
+    const double F =
+        -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
+        (p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1]);
+    dz[2 * i] = z[2 * i + 1];
+    dz[2 * i + 1] =
+        -p.omega2[i] * z[2 * i] - 2 * pl->zeta[i] * sqrt(p.omega2[i]) * z[2 * i + 1] + F;
+  }
+}
+
+void ea__plan_dyn_fill(const ea_planner_t *pl, double *x) {
+  if (!pl->rom) return;
+  const int K = pl->K, N = pl->N;
+  double z[2 * EA_ROM_MAX_MODES] = {0}, k1[2 * EA_ROM_MAX_MODES], k2[2 * EA_ROM_MAX_MODES],
+               k3[2 * EA_ROM_MAX_MODES], k4[2 * EA_ROM_MAX_MODES], zt[2 * EA_ROM_MAX_MODES];
+  const double tf = ea__plan_tf(pl, x);
+  for (int i = 0; i < K; ++i)
+    x[EA__IE(pl, 0, i)] = x[EA__IED(pl, 0, i)] = 0.0;
+  for (int k = 0; k + 1 < N; ++k) {
+    const double h = tf * (pl->s[k + 1] - pl->s[k]);
+    /* RK4 substeps of at most a twentieth of the highest mode's period */
+    ea_rom_point_t p;
+    ea_rom_table_eval(pl->rom, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], &p, NULL, NULL);
+    const double wmax = sqrt(p.omega2[K - 1]);
+    const int ns = (int)ceil(h * wmax / (2 * M_PI) * 20) + 1;
+    const double du = 1.0 / ns, dt = h * du;
+    for (int s = 0; s < ns; ++s) {
+      const double u = s * du;
+      ea__dyn_rhs(pl, x, k, u, z, k1);
+      for (int j = 0; j < 2 * K; ++j)
+        zt[j] = z[j] + 0.5 * dt * k1[j];
+      ea__dyn_rhs(pl, x, k, u + 0.5 * du, zt, k2);
+      for (int j = 0; j < 2 * K; ++j)
+        zt[j] = z[j] + 0.5 * dt * k2[j];
+      ea__dyn_rhs(pl, x, k, u + 0.5 * du, zt, k3);
+      for (int j = 0; j < 2 * K; ++j)
+        zt[j] = z[j] + dt * k3[j];
+      ea__dyn_rhs(pl, x, k, u + du, zt, k4);
+      for (int j = 0; j < 2 * K; ++j)
+        z[j] += dt / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
+    }
+    for (int i = 0; i < K; ++i) {
+      x[EA__IE(pl, k + 1, i)] = z[2 * i];
+      x[EA__IED(pl, k + 1, i)] = z[2 * i + 1];
+    }
+  }
+}
+
+void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info) {
+  info->predicted_residual_m = info->max_modal_deviation_m = NAN;
+  info->min_dynamic_tension_margin_N = NAN;
+  for (int i = 0; i < EA_ROM_MAX_MODES; ++i)
+    info->predicted_amplitude_m[i] = NAN;
+  info->time_dyn_model_s = pl->rom ? pl->dyn_info.time_s : 0.0;
+  if (!pl->rom) return;
+  const int K = pl->K, N = pl->N;
+  ea_rom_point_t p;
+  double res = 0.0;
+  ea_rom_table_eval(pl->rom, x[EA__IQ(pl, N - 1, 0)], x[EA__IQ(pl, N - 1, 1)], &p, NULL, NULL);
+  for (int i = 0; i < K; ++i) {
+    const double w = sqrt(p.omega2[i]);
+    const double a = hypot(x[EA__IE(pl, N - 1, i)], x[EA__IED(pl, N - 1, i)] / w) *
+                     hypot(p.tip[i][0], p.tip[i][1]);
+    info->predicted_amplitude_m[i] = a;
+    res += a;
+  }
+  info->predicted_residual_m = res;
+  double dev = 0.0, tm = INFINITY;
+  for (int k = 0; k < N; ++k) {
+    ea_rom_table_eval(pl->rom, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], &p, NULL, NULL);
+    double dx = 0, dy = 0, dT = 0;
+    for (int i = 0; i < K; ++i) {
+      dx += p.tip[i][0] * x[EA__IE(pl, k, i)];
+      dy += p.tip[i][1] * x[EA__IE(pl, k, i)];
+      dT += p.dtension[i] * x[EA__IE(pl, k, i)];
+    }
+    dev = fmax(dev, hypot(dx, dy));
+    tm = fmin(tm, x[EA__IP(pl, k, 0)] + dT - pl->task.limits.tension_min);
+  }
+  info->max_modal_deviation_m = dev;
+  info->min_dynamic_tension_margin_N = tm;
+}
+
+ea_status_t ea_planner_dyn_model(const ea_planner_t *pl, ea_plan_dyn_info_t *info) {
+  if (!pl || !info) return EA_ERR_ARG;
+  *info = pl->dyn_info;
+  return EA_OK;
+}
+
+const ea_rom_table_t *ea_planner_rom_table(const ea_planner_t *pl) {
+  return pl ? pl->rom : NULL;
+}
