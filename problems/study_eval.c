@@ -44,9 +44,8 @@ static void ea__extremum_msg(const ea_workspace_extremum_t *e, char *buf, size_t
     w += snprintf(buf + w, len - (size_t)w, " where it meets the %s", ea_ws_bound_name(e->bound2));
   if (w < 0 || (size_t)w >= len) return;
   if (e->at_end)
-    snprintf(buf + w, len - (size_t)w,
-             "; at the %s: the range, not the arm, bounds it (widen alpha_%s_deg)",
-             ea_ws_bound_name(e->at_end), e->at_end == EA_WS_ALPHA_MIN ? "min" : "max");
+    snprintf(buf + w, len - (size_t)w, "; at the %s: the range, not the arm, bounds it",
+             ea_ws_bound_name(e->at_end));
 }
 
 static void ea__eval_workspace(const ea_study_t *s, ea_shooter_t *sh, ea__rows_t *r) {
