@@ -123,7 +123,7 @@ static void ea__replace_ext2(const char *in, const char *ext, char *out, size_t 
  * where the command ran; the path as given when it cannot be resolved. */
 static void ea__relpath(const char *path, const char *from, char *out, size_t len) {
   snprintf(out, len, "%s", path);
-  char ap[PATH_MAX], dir[PATH_MAX], ad[PATH_MAX];
+  char ap[PATH_MAX], dir[PATH_MAX], ad[PATH_MAX], rel[2 * PATH_MAX];
   if (!realpath(path, ap)) return;
   const char *slash = strrchr(from, '/');
   if (slash)
@@ -138,15 +138,17 @@ static void ea__relpath(const char *path, const char *from, char *out, size_t le
     ++i;
   }
   if (!ad[i] && ap[i] == '/') last = i; /* ad is a prefix folder of ap */
-  if (!strcmp(ad, "/")) last = 0;
   size_t used = 0;
-  out[0] = '\0';
-  for (const char *c = ad + last; *c; ++c)
-    if (*c == '/' && used + 4 < len) {
-      memcpy(out + used, "../", 4);
-      used += 3;
-    }
-  snprintf(out + used, len - used, "%s", ap + last + 1);
+  if (strcmp(ad, "/")) /* one "../" per folder of ad below the common one */
+    for (const char *c = ad + last; *c; ++c)
+      if (*c == '/') {
+        memcpy(rel + used, "../", 3);
+        used += 3;
+      }
+  const size_t tail = strlen(ap + last + 1);
+  if (used + tail + 1 > len) return; /* too long: keep the path as given */
+  memcpy(rel + used, ap + last + 1, tail + 1);
+  memcpy(out, rel, used + tail + 1);
 }
 
 /* The summary's "spec" and "csv" entries relative to the summary. */
