@@ -1,11 +1,15 @@
-/* bench_study: batch-study speed. The Fig. 3 study (4 payload factors, 71
- * edge points each), a 1000-case study with FE frequencies (payload x EI x
- * hand mass, 2 configurations x 3 modes), the speed-up from 1 to 2 threads
- * and the cost of the fsync'd checkpoint journal. Medians, as a table.
+/* bench_study: batch-study speed. The Fig. 3 study (4 payload factors, the
+ * workspace region's metrics from 71 sampled cable angles, without and with
+ * the arm's limits; the error column is the largest change of any metric
+ * against 141 samples and a 1e-13 area tolerance), a 1000-case study with
+ * FE frequencies (payload x EI x hand mass, 2 configurations x 3 modes),
+ * the speed-up from 1 to 2 threads and the cost of the fsync'd checkpoint
+ * journal. Medians, as a table.
  * Usage: bench_study [repeats-of-the-1000-case-study (default 3)] */
 #include "ea_planner.h"
 
 #include <gsl/gsl_errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,7 +21,50 @@
 static const char *k_fig3 = "name: fig3\n"
                             "grid: {payload_factor: [0, 0.1, 0.25, 0.5]}\n"
                             "metrics:\n"
-                            "  workspace: {alpha_min_deg: -60, alpha_max_deg: 10, points: 71}\n";
+                            "  workspace: {alpha_min_deg: -60, alpha_max_deg: 10, points: 71,\n"
+                            "              limits: false}\n";
+
+static const char *k_fig3l = "name: fig3l\n"
+                             "grid: {payload_factor: [0, 0.1, 0.25, 0.5]}\n"
+                             "metrics:\n"
+                             "  workspace: {alpha_min_deg: -60, alpha_max_deg: 10, points: 71}\n";
+
+/* Largest change of area [m^2], reach, x_max, y_min [m] over the study's
+ * cases when the metrics are computed with 141 samples, 16 cable lengths
+ * per angle and an area tolerance of 1e-13 instead of the study's. */
+static double metric_error(const ea_study_t *s) {
+  double worst = 0;
+  for (long c = 0; c < s->n_cases; ++c) {
+    ea_arm_t arm;
+    double kg, g;
+    ea_shooter_t *sh = NULL;
+    if (ea_study_case_arm(s, c, &arm, &kg, &g, NULL) || ea_shooter_alloc(&arm, NULL, &sh, NULL))
+      return NAN;
+    ea_load_t ld = {ea_arm_tip_mass(&arm, kg)};
+    ea_shooter_set_load(sh, &ld);
+    ea_workspace_settings_t a, b;
+    ea_workspace_settings_default(&a);
+    a.alpha_min = s->workspace.alpha_min;
+    a.alpha_max = s->workspace.alpha_max;
+    a.limits = s->workspace.limits;
+    a.samples = s->workspace.points;
+    b = a;
+    b.samples = 141;
+    b.depth_samples = 16;
+    b.tol = 1e-13;
+    ea_workspace_metrics_t ma, mb;
+    if (ea_workspace_metrics(sh, &a, &ma, NULL) || ea_workspace_metrics(sh, &b, &mb, NULL)) {
+      ea_shooter_free(sh);
+      return NAN;
+    }
+    ea_shooter_free(sh);
+    worst = fmax(worst, fabs(ma.area - mb.area));
+    worst = fmax(worst, fabs(ma.reach.value - mb.reach.value));
+    worst = fmax(worst, fabs(ma.x_max.value - mb.x_max.value));
+    worst = fmax(worst, fabs(ma.y_min.value - mb.y_min.value));
+  }
+  return worst;
+}
 
 static const char *k_freq = "name: freq1000\n"
                             "grid:\n"
@@ -102,9 +149,10 @@ static const char *loadavg(void) {
 int main(int argc, char **argv) {
   gsl_set_error_handler_off(); /* every GSL return is checked */
   const int reps_big = argc > 1 ? atoi(argv[1]) : 3;
-  ea_study_t fig3, freq;
+  ea_study_t fig3, fig3l, freq;
   ea_error_t e = {0};
   if (ea_study_load_string("fig3.yaml", k_fig3, strlen(k_fig3), NULL, &fig3, &e) ||
+      ea_study_load_string("fig3l.yaml", k_fig3l, strlen(k_fig3l), NULL, &fig3l, &e) ||
       ea_study_load_string("freq1000.yaml", k_freq, strlen(k_freq), NULL, &freq, &e)) {
     fprintf(stderr, "bench_study: %s\n", e.msg);
     return 1;
@@ -117,11 +165,23 @@ int main(int argc, char **argv) {
   long failed = 0;
   double f1, f2, g1, g2, fcores, gcores;
   int same = pair_times(&fig3, 21, &f1, &f2, &failed, &fcores);
-  printf("| Fig. 3 (workspace, 71 points) | %ld | 1 | %.2f ms | %.2f ms | %ld failed |\n",
-         fig3.n_cases, 1e3 * f1, 1e3 * f1 / fig3.n_cases, failed);
-  printf("| Fig. 3 (workspace, 71 points) | %ld | 2 | %.2f ms | %.2f ms | speed-up %.2fx, "
-         "CPU/wall %.2f, CSV %s |\n",
+  const double err3 = metric_error(&fig3);
+  printf("| Fig. 3 (workspace, 71 samples, no limits) | %ld | 1 | %.2f ms | %.2f ms | %ld failed, "
+         "metrics within %.1e of 141 samples |\n",
+         fig3.n_cases, 1e3 * f1, 1e3 * f1 / fig3.n_cases, failed, err3);
+  printf("| Fig. 3 (workspace, 71 samples, no limits) | %ld | 2 | %.2f ms | %.2f ms | speed-up "
+         "%.2fx, CPU/wall %.2f, CSV %s |\n",
          fig3.n_cases, 1e3 * f2, 1e3 * f2 / fig3.n_cases, f1 / f2, fcores,
+         same ? "identical" : "DIFFERS");
+  double l1, l2, lcores;
+  same = pair_times(&fig3l, 5, &l1, &l2, &failed, &lcores);
+  const double err3l = metric_error(&fig3l);
+  printf("| Fig. 3 within the arm's limits | %ld | 1 | %.2f ms | %.2f ms | %ld failed, metrics "
+         "within %.1e of 141 samples |\n",
+         fig3l.n_cases, 1e3 * l1, 1e3 * l1 / fig3l.n_cases, failed, err3l);
+  printf("| Fig. 3 within the arm's limits | %ld | 2 | %.2f ms | %.2f ms | speed-up %.2fx, "
+         "CPU/wall %.2f, CSV %s |\n",
+         fig3l.n_cases, 1e3 * l2, 1e3 * l2 / fig3l.n_cases, l1 / l2, lcores,
          same ? "identical" : "DIFFERS");
   const double fc = time_study(&fig3, 2, ckpt, 21, NULL, NULL);
   printf("| Fig. 3 + fsync'd checkpoint | %ld | 2 | %.2f ms | %.2f ms | journal cost %.2f ms |\n",
@@ -152,6 +212,7 @@ int main(int argc, char **argv) {
          "(< 2 when other processes share the machine; load average %s)\n",
          f1 / f2, g1 / g2, loadavg());
   ea_study_free(&fig3);
+  ea_study_free(&fig3l);
   ea_study_free(&freq);
   return 0;
 }

@@ -380,25 +380,42 @@ static void ea__ws_prefix(FILE *fp, int k, const void *vctx) {
   fprintf(fp, "%.6g,%s,", c->gam[k / (2 * c->n)], (k / c->n) % 2 ? "inner" : "outer");
 }
 
+/* Where a workspace extremum sits, for the table. */
+static void ea__ws_where(const ea_workspace_extremum_t *e, char *buf, size_t len) {
+  int w = snprintf(buf, len, "alpha %.4g deg, %s", e->alpha / EA__DEG, ea_ws_bound_name(e->bound));
+  if (w > 0 && (size_t)w < len && e->bound2)
+    w += snprintf(buf + w, len - (size_t)w, " / %s", ea_ws_bound_name(e->bound2));
+  if (w > 0 && (size_t)w < len && e->at_end)
+    snprintf(buf + w, len - (size_t)w, " [%s: the range bounds it]", ea_ws_bound_name(e->at_end));
+}
+
 int ea__cli_workspace(int argc, char **argv) {
   const char *cmd = "workspace";
   if (ea__help_requested(argc, argv)) {
     printf("usage: elasticarm workspace [--payload-factors LIST] [options]\n"
            "Outer edge (T = 0, eq. 16) and inner edge (shortest cable) for each payload (Fig. "
-           "3).\n"
+           "3),\n"
+           "and the region's metrics (docs/statics.md): area, farthest reach from the shoulder,\n"
+           "largest x and lowest y of the tip, each to 1e-9, with the boundary that sets it.\n"
            "  --payload-factors L   list a,b,c or range start:step:stop (default "
            "0,0.1,0.25,0.5)\n"
-           "  --alpha-min-deg A     first cable angle (default -60)\n"
-           "  --alpha-max-deg A     last cable angle (default 10)\n"
-           "  --points N            cable angles per edge (default 71)\n"
+           "  --alpha-min-deg A     start of the cable-angle range (default -60)\n"
+           "  --alpha-max-deg A     end of the cable-angle range (default 10)\n"
+           "  --points N            cable angles per edge, and the region's samples (default 71)\n"
            "  --inner-length M      inner edge cable length (default: arm's minimum)\n"
-           "  --csv FILE            tidy CSV of every edge point ('-' = stdout)\n%s",
+           "  --no-limits           the region without the arm's limits (shoulder angle,\n"
+           "                        shoulder torque, tension, cable length): paper Fig. 3\n"
+           "  --csv FILE            tidy CSV of every edge point ('-' = stdout)\n%s"
+           "exit: 0 ok; 1 an edge point or a metric did not solve; 2 bad options, or an\n"
+           "empty or ill-defined region (inner cable beyond the outer edge, cable angles\n"
+           "where the outer edge does not bound the region)\n",
            ea__common_help);
     return EA_EXIT_OK;
   }
   ea__common_t c = {0};
   double amin = -60.0, amax = 10.0, inner = NAN;
   long npts = 71;
+  int no_limits = 0;
   double *gam = NULL;
   int ng = 0;
   for (int i = 1; i < argc; ++i) {
@@ -406,6 +423,10 @@ int ea__cli_workspace(int argc, char **argv) {
     if (r < 0) goto usage;
     if (r) continue;
     const char *a = argv[i], *v;
+    if (!strcmp(a, "--no-limits")) {
+      no_limits = 1;
+      continue;
+    }
     if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto usage;
     int bad;
     if (!strcmp(a, "--payload-factors")) {
@@ -448,18 +469,35 @@ int ea__cli_workspace(int argc, char **argv) {
   double *alpha = malloc((size_t)n * sizeof *alpha);
   ea_config_point_t *outer = calloc((size_t)n * ng, sizeof *outer);
   ea_config_point_t *inn = calloc((size_t)n * ng, sizeof *inn);
+  ea_workspace_metrics_t *met = calloc((size_t)ng, sizeof *met);
   ea_shooter_t *sh = NULL;
-  if (!alpha || !outer || !inn) {
+  if (!alpha || !outer || !inn || !met) {
     rc = EA_EXIT_FAIL;
     goto out;
   }
   for (int k = 0; k < n; ++k)
     alpha[k] = (amin + (amax - amin) * k / (n - 1)) * EA__DEG;
   if ((rc = ea__make_shooter(cmd, &arm, arm.m_hand, &sh))) goto out;
+  ea_workspace_settings_t wset;
+  ea_workspace_settings_default(&wset);
+  wset.alpha_min = amin * EA__DEG;
+  wset.alpha_max = amax * EA__DEG;
+  wset.inner_cable_length = inner;
+  wset.limits = !no_limits;
+  wset.samples = n;
   int failures = 0;
   for (int g = 0; g < ng; ++g) {
     ea_load_t load = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, gam[g]))};
     ea_shooter_set_load(sh, &load);
+    /* the metrics first: a region that is empty or ill-defined is an error
+       before anything is written */
+    ea_error_t me = {0};
+    const ea_status_t ms = ea_workspace_metrics(sh, &wset, &met[g], &me);
+    if (ms) {
+      fprintf(stderr, "elasticarm %s: error: payload factor %g: %s\n", cmd, gam[g], me.msg);
+      rc = ms == EA_ERR_INADMISSIBLE || ms == EA_ERR_ARG ? EA_EXIT_USAGE : EA_EXIT_FAIL;
+      goto out;
+    }
     if (ea_workspace_outer(sh, alpha, n, outer + (size_t)g * n)) ++failures;
     ea_workspace_inner(sh, inner, alpha, n, inn + (size_t)g * n);
   }
@@ -474,17 +512,35 @@ int ea__cli_workspace(int argc, char **argv) {
     ea_json_init(&j, stdout, 1);
     ea_json_obj_begin(&j, NULL);
     ea_json_num(&j, "inner_cable_length_m", inner);
+    ea_json_num(&j, "alpha_min_rad", wset.alpha_min);
+    ea_json_num(&j, "alpha_max_rad", wset.alpha_max);
+    ea_json_bool(&j, "limits", wset.limits);
     ea_json_arr_begin(&j, "payloads");
     for (int g = 0; g < ng; ++g) {
       const ea_config_point_t *o = outer + (size_t)g * n, *in = inn + (size_t)g * n;
-      double reach = 0;
-      for (int k = 0; k < n; ++k)
-        if (o[k].status == EA_OK) reach = fmax(reach, hypot(o[k].x, o[k].y));
+      const ea_workspace_metrics_t *m = &met[g];
       ea_json_obj_begin(&j, NULL);
       ea_json_num(&j, "payload_factor", gam[g]);
       ea_json_num(&j, "payload_kg", ea_arm_payload_from_factor(&arm, gam[g]));
-      ea_json_num(&j, "area_m2", ea_workspace_area(o, in, n));
-      ea_json_num(&j, "max_reach_m", reach);
+      ea_json_num(&j, "area_m2", m->area);
+      ea_json_num(&j, "area_error_m2", m->area_error);
+      const ea_workspace_extremum_t *ex[3] = {&m->reach, &m->x_max, &m->y_min};
+      static const char *const names[3] = {"max_reach", "x_max", "y_min"};
+      for (int q = 0; q < 3; ++q) {
+        ea_json_obj_begin(&j, names[q]);
+        ea_json_num(&j, "value_m", ex[q]->value);
+        ea_json_num(&j, "cable_angle_rad", ex[q]->alpha);
+        ea_json_num(&j, "cable_length_m", ex[q]->cable_length);
+        ea_json_vec(&j, "tip_m", (double[]){ex[q]->x, ex[q]->y}, 2);
+        ea_json_str(&j, "bound", ea_ws_bound_name(ex[q]->bound));
+        if (ex[q]->bound2) ea_json_str(&j, "bound2", ea_ws_bound_name(ex[q]->bound2));
+        ea_json_bool(&j, "at_range_end", ex[q]->at_end != EA_WS_NONE);
+        ea_json_obj_end(&j);
+      }
+      ea_json_arr_begin(&j, "region_bounds");
+      for (int k = EA_WS_OUTER; k < EA_WS_ALPHA_MIN; ++k)
+        if (m->bounds & (1u << k)) ea_json_str(&j, NULL, ea_ws_bound_name((ea_ws_bound_t)k));
+      ea_json_arr_end(&j);
       ea_json_arr_begin(&j, "outer");
       for (int k = 0; k < n; ++k)
         ea__json_point(&j, NULL, &o[k]);
@@ -499,17 +555,20 @@ int ea__cli_workspace(int argc, char **argv) {
     ea_json_obj_end(&j);
     ea_json_end(&j);
   } else if (!c.csv || strcmp(c.csv, "-")) {
-    printf("%-8s %-10s %-10s %-12s %-10s\n", "gamma", "area_m2", "reach_m", "alpha_deg",
-           "outer tip (x, y) m");
+    printf("region: cable angle %g to %g deg, inner cable %.4g m, %s\n", amin, amax, inner,
+           no_limits ? "no actuator limits (--no-limits)" : "within the arm's limits");
+    printf("%-7s %-14s %-14s %-14s %-14s\n", "gamma", "area_m2", "max_reach_m", "x_max_m",
+           "y_min_m");
+    for (int g = 0; g < ng; ++g)
+      printf("%-7.4g %-14.10f %-14.10f %-14.10f %-14.10f\n", gam[g], met[g].area,
+             met[g].reach.value, met[g].x_max.value, met[g].y_min.value);
     for (int g = 0; g < ng; ++g) {
-      const ea_config_point_t *o = outer + (size_t)g * n, *in = inn + (size_t)g * n;
-      double reach = 0;
-      for (int k = 0; k < n; ++k)
-        if (o[k].status == EA_OK) reach = fmax(reach, hypot(o[k].x, o[k].y));
-      for (int k = 0; k<n; k += (n - 1) / 4> 0 ? (n - 1) / 4 : 1)
-        printf("%-8.3g %-10.5f %-10.5f %-12.2f (%.5f, %.5f)%s\n", gam[g],
-               ea_workspace_area(o, in, n), reach, o[k].alpha / EA__DEG, o[k].x, o[k].y,
-               o[k].status ? "  (no solution)" : "");
+      char w1[300], w2[300], w3[300];
+      ea__ws_where(&met[g].reach, w1, sizeof w1);
+      ea__ws_where(&met[g].x_max, w2, sizeof w2);
+      ea__ws_where(&met[g].y_min, w3, sizeof w3);
+      printf("gamma %g: max_reach at %s\n          x_max at %s\n          y_min at %s\n", gam[g],
+             w1, w2, w3);
     }
   }
   if (c.figure) {
@@ -576,6 +635,7 @@ out:
   free(alpha);
   free(outer);
   free(inn);
+  free(met);
   free(gam);
   return rc;
 usage:

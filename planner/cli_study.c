@@ -5,6 +5,7 @@
 #include "study_plan_impl.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -20,45 +21,51 @@ static void ea__study_on_signal(int sig) {
 }
 
 static void ea__study_help(FILE *fp) {
-  fprintf(fp,
-          "usage: elasticarm study SPEC.yaml [options]\n"
-          "       elasticarm study payload (--payload-factors LIST | --payload-kg LIST)\n"
-          "                        [--metrics workspace,torque_map,path,frequencies,min_time]\n"
-          "                        [metric options] [options]\n"
-          "       elasticarm study merge OUT.csv SHARD.csv... [--summary OUT.json] [--cases N]\n\n"
-          "Batch study (docs/studies.md): for every case of the grid (full factorial,\n"
-          "first parameter slowest) only the metrics asked for; one tidy CSV row per case\n"
-          "and metric (case_id, parameters, metric, value, unit, status, message), a JSON\n"
-          "summary and figures. A failed case is recorded with its reason; the others run.\n\n"
-          "options:\n"
-          "  -o, --output FILE    CSV (default: the spec's outputs.csv, else NAME.csv;\n"
-          "                       with --shard: NAME.shardK-of-N.csv)\n"
-          "  --summary FILE       JSON summary (default: OUTPUT with .json)\n"
-          "  --figures PREFIX     figures PREFIX-workspace.svg, PREFIX-METRIC.svg\n"
-          "  --figure-format F    svg (default), png or pdf\n"
-          "  --threads N          worker threads (default: all cores); results identical\n"
-          "  --shard K/N          only cases with case_id %% N == K-1 (1 <= K <= N)\n"
-          "  --checkpoint FILE    resume journal (default: OUTPUT.journal); rerunning the\n"
-          "                       same command after an interruption skips finished cases\n"
-          "  --no-checkpoint      no journal (an interruption loses the run)\n"
-          "  --restart            discard an existing journal first\n"
-          "  --no-fsync           do not fsync the journal per case (faster, not\n"
-          "                       power-loss safe)\n"
-          "  --arm FILE           arm file when the spec names none\n"
-          "  --quiet              no progress or summary table\n\n"
-          "payload shorthand:\n"
-          "  --payload-factors L  list a,b,c or range start:step:stop (eq. 17)\n"
-          "  --payload-kg L       payload masses [kg]\n"
-          "  --metrics LIST       default workspace\n"
-          "  --alpha-min-deg A, --alpha-max-deg A, --points N   workspace edges\n"
-          "  --config L:A[,L:A]   frequencies at cable length L [m], angle A [deg]\n"
-          "  --modes N            frequencies per configuration (default 3)\n"
-          "  --path X0,Y0,X1,Y1   straight tip path for 'path'\n"
-          "  --task FILE          task for 'min_time'\n\n"
-          "merge: combines shard CSVs into exactly the single-run CSV (byte for byte);\n"
-          "  --cases N checks that all N cases are present.\n\n"
-          "exit: 0 study complete (failed cases are in the CSV), 1 interrupted or could\n"
-          "not run, 2 usage or input error\n");
+  fprintf(
+      fp,
+      "usage: elasticarm study SPEC.yaml [options]\n"
+      "       elasticarm study payload (--payload-factors LIST | --payload-kg LIST)\n"
+      "                        [--metrics workspace,torque_map,path,frequencies,min_time]\n"
+      "                        [metric options] [options]\n"
+      "       elasticarm study merge OUT.csv SHARD.csv... [--spec SPEC.yaml] [--summary OUT.json]\n"
+      "                        [--cases N]\n\n"
+      "Batch study (docs/studies.md): for every case of the grid (full factorial,\n"
+      "first parameter slowest) only the metrics asked for; one tidy CSV row per case\n"
+      "and metric (case_id, parameters, metric, value, unit, status, message), a JSON\n"
+      "summary and figures. A failed case is recorded with its reason; the others run.\n\n"
+      "options:\n"
+      "  -o, --output FILE    CSV (default: the spec's outputs.csv, else NAME.csv;\n"
+      "                       with --shard: NAME.shardK-of-N.csv); -o also moves the\n"
+      "                       summary and the figures the spec asks for next to it\n"
+      "  --summary FILE       JSON summary (default: OUTPUT with .json)\n"
+      "  --figures PREFIX     figures PREFIX-workspace.svg, PREFIX-METRIC.svg\n"
+      "  --figure-format F    svg (default), png or pdf\n"
+      "  --threads N          worker threads (default: all cores); results identical\n"
+      "  --shard K/N          only cases with case_id %% N == K-1 (1 <= K <= N)\n"
+      "  --checkpoint FILE    resume journal (default: OUTPUT.journal); rerunning the\n"
+      "                       same command after an interruption skips finished cases\n"
+      "  --no-checkpoint      no journal (an interruption loses the run)\n"
+      "  --restart            discard an existing journal first\n"
+      "  --no-fsync           do not fsync the journal per case (faster, not\n"
+      "                       power-loss safe)\n"
+      "  --arm FILE           arm file when the spec names none\n"
+      "  --quiet              no progress or summary table\n\n"
+      "payload shorthand:\n"
+      "  --payload-factors L  list a,b,c or range start:step:stop (eq. 17)\n"
+      "  --payload-kg L       payload masses [kg]\n"
+      "  --metrics LIST       default workspace\n"
+      "  --alpha-min-deg A, --alpha-max-deg A, --points N   workspace region\n"
+      "  --no-limits          workspace region without the arm's limits (paper Fig. 3)\n"
+      "  --config L:A[,L:A]   frequencies at cable length L [m], angle A [deg]\n"
+      "  --modes N            frequencies per configuration (default 3)\n"
+      "  --path X0,Y0,X1,Y1   straight tip path for 'path'\n"
+      "  --task FILE          task for 'min_time'\n\n"
+      "merge: combines shard CSVs into exactly the single-run CSV (byte for byte);\n"
+      "  shards of different specs (study_key column) are refused; --cases N checks\n"
+      "  that all N cases are present; --spec SPEC.yaml checks that the shards are\n"
+      "  that spec's and records it in the summary.\n\n"
+      "exit: 0 study complete (failed cases are in the CSV), 1 interrupted or could\n"
+      "not run, 2 usage or input error\n");
 }
 
 static int ea__read_file(const char *path, char **text, size_t *len) {
@@ -111,11 +118,53 @@ static void ea__replace_ext2(const char *in, const char *ext, char *out, size_t 
   snprintf(out, len, "%.*s%s", (int)stem, in, ext);
 }
 
+/* path as seen from the folder of the file `from` (both relative to the
+ * working directory or absolute), so that the summary does not depend on
+ * where the command ran; the path as given when it cannot be resolved. */
+static void ea__relpath(const char *path, const char *from, char *out, size_t len) {
+  snprintf(out, len, "%s", path);
+  char ap[PATH_MAX], dir[PATH_MAX], ad[PATH_MAX], rel[2 * PATH_MAX];
+  if (!realpath(path, ap)) return;
+  const char *slash = strrchr(from, '/');
+  if (slash)
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - from) + (slash == from), from);
+  else
+    snprintf(dir, sizeof dir, ".");
+  if (!realpath(dir, ad)) return;
+  /* common leading folders */
+  size_t i = 0, last = 0;
+  while (ap[i] && ad[i] && ap[i] == ad[i]) {
+    if (ap[i] == '/') last = i;
+    ++i;
+  }
+  if (!ad[i] && ap[i] == '/') last = i; /* ad is a prefix folder of ap */
+  size_t used = 0;
+  if (strcmp(ad, "/")) /* one "../" per folder of ad below the common one */
+    for (const char *c = ad + last; *c; ++c)
+      if (*c == '/') {
+        memcpy(rel + used, "../", 3);
+        used += 3;
+      }
+  const size_t tail = strlen(ap + last + 1);
+  if (used + tail + 1 > len) return; /* too long: keep the path as given */
+  memcpy(rel + used, ap + last + 1, tail + 1);
+  memcpy(out, rel, used + tail + 1);
+}
+
+/* The summary's "spec" and "csv" entries relative to the summary. */
+static void ea__summary_paths(const char *summary, const char *spec, const char *csv,
+                              char *spec_rel, char *csv_rel, size_t len) {
+  ea_error_t me = {0};
+  ea_mkdir_parents(summary, &me);
+  if (spec) ea__relpath(spec, summary, spec_rel, len);
+  if (csv) ea__relpath(csv, summary, csv_rel, len);
+}
+
 /* ---- merge ------------------------------------------------------------------- */
 
 static int ea__study_merge_cli(int argc, char **argv) {
   const char *cmd = "study merge";
-  const char *out = NULL, *summary = NULL;
+  const char *out = NULL, *summary = NULL, *spec = NULL, *arm_file = NULL;
   long cases = 0;
   const char **inputs = calloc((size_t)argc + 1, sizeof *inputs);
   int n = 0, rc = 0;
@@ -128,6 +177,10 @@ static int ea__study_merge_cli(int argc, char **argv) {
       return EA_EXIT_OK;
     } else if (!strcmp(a, "--summary")) {
       if (!(summary = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+    } else if (!strcmp(a, "--spec")) {
+      if (!(spec = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+    } else if (!strcmp(a, "--arm")) {
+      if (!(arm_file = ea__cli_value(cmd, argc, argv, &i))) goto usage;
     } else if (!strcmp(a, "--cases")) {
       const char *v = ea__cli_value(cmd, argc, argv, &i);
       if (!v || ea__cli_int(cmd, a, v, 1, 100000000L, &cases)) goto usage;
@@ -161,10 +214,48 @@ static int ea__study_merge_cli(int argc, char **argv) {
   char *merged = NULL;
   size_t mlen = 0;
   ea_error_t err = {0};
+  char spec_name[128] = "", spec_key[9] = "";
+  if (!rc && spec) {
+    /* the spec's key, as a run of it would compute it */
+    ea_study_t s;
+    ea_status_t st = ea_study_load(spec, arm_file ? arm_file : ea__cli_default_arm(), &s, &err);
+    ea__study_plan_t *plan = NULL;
+    if (!st && (s.metrics & EA_STUDY_M_MIN_TIME))
+      st = ea__study_plan_alloc(&s, ea__cli_default_arm(), &plan, &err);
+    if (st) {
+      rc = ea__cli_fail(cmd, st, &err);
+    } else {
+      ea_study_settings_t set;
+      ea_study_settings_default(&set);
+      set.min_time = plan ? ea__study_min_time : NULL;
+      set.min_time_key = ea__study_plan_key(plan);
+      ea_study_key(&s, &set, spec_key);
+      snprintf(spec_name, sizeof spec_name, "%s", s.name);
+      if (!cases) cases = s.n_cases;
+    }
+    ea__study_plan_free(plan);
+    if (!st) ea_study_free(&s);
+  }
   if (!rc) {
     ea_status_t st =
         ea_study_merge((const char *const *)texts, lens, inputs, n, cases, &merged, &mlen, &err);
     if (st) rc = ea__cli_fail(cmd, st, &err);
+  }
+  if (!rc && spec) {
+    ea__study_table_t t;
+    ea_status_t st = ea__study_table_parse(merged, mlen, out, &t, &err);
+    if (st) {
+      rc = ea__cli_fail(cmd, st, &err);
+    } else {
+      if (strcmp(t.study, spec_name) || strcmp(t.study_key, spec_key)) {
+        fprintf(stderr,
+                "elasticarm %s: error: the shards are study '%s' key %s, but %s gives study '%s' "
+                "key %s (another spec, or the spec, its arm or its task changed)\n",
+                cmd, t.study, t.study_key, spec, spec_name, spec_key);
+        rc = EA_EXIT_USAGE;
+      }
+      ea__study_table_free(&t);
+    }
   }
   if (!rc) rc = ea__write_text(cmd, out, merged, mlen);
   if (!rc) {
@@ -177,7 +268,10 @@ static int ea__study_merge_cli(int argc, char **argv) {
     if (summary) {
       ea_status_t st = ea__study_table_parse(merged, mlen, out, &t, &err);
       if (!st) {
-        ea__study_run_facts_t f = {.csv = out, .merged_inputs = n};
+        char spec_rel[1200], csv_rel[1200];
+        ea__summary_paths(summary, spec, out, spec_rel, csv_rel, sizeof spec_rel);
+        ea__study_run_facts_t f = {
+            .spec = spec ? spec_rel : NULL, .csv = csv_rel, .merged_inputs = n};
         st = ea__study_summary_write(&t, &f, summary, &err);
         ea__study_table_free(&t);
       }
@@ -217,7 +311,7 @@ typedef struct {
   int n_config;
   double cfg_L[EA_STUDY_MAX_CONFIGS], cfg_a[EA_STUDY_MAX_CONFIGS];
   double path[4];
-  int has_path;
+  int has_path, no_limits;
   const char *task;
 } ea__shorthand_t;
 
@@ -276,6 +370,10 @@ int ea__cli_study(int argc, char **argv) {
     }
     if (!strcmp(a, "--no-fsync")) {
       no_fsync = 1;
+      continue;
+    }
+    if (!strcmp(a, "--no-limits")) {
+      sh.no_limits = 1;
       continue;
     }
     if (a[0] != '-' || !a[1]) {
@@ -361,9 +459,10 @@ int ea__cli_study(int argc, char **argv) {
     ea__cli_usage_error(cmd, "no study spec (SPEC.yaml, 'payload' or 'merge')");
     goto done;
   }
-  if (!shorthand && (sh.gam || sh.kg || sh.metrics || sh.n_config || sh.has_path || sh.task)) {
-    ea__cli_usage_error(cmd, "--payload-factors, --metrics, --config, --path, --task belong to "
-                             "'elasticarm study payload'");
+  if (!shorthand &&
+      (sh.gam || sh.kg || sh.metrics || sh.n_config || sh.has_path || sh.task || sh.no_limits)) {
+    ea__cli_usage_error(cmd, "--payload-factors, --metrics, --config, --path, --task, --no-limits "
+                             "belong to 'elasticarm study payload'");
     goto done;
   }
 
@@ -389,6 +488,7 @@ int ea__cli_study(int argc, char **argv) {
     s.workspace.alpha_min = sh.amin * EA__DEG;
     s.workspace.alpha_max = sh.amax * EA__DEG;
     s.workspace.points = (int)sh.points;
+    s.workspace.limits = !sh.no_limits;
     s.freq.modes = (int)sh.modes;
     s.freq.n_config = sh.n_config;
     for (int k = 0; k < sh.n_config; ++k) {
@@ -433,8 +533,9 @@ int ea__cli_study(int argc, char **argv) {
     }
   }
 
-  /* outputs */
-  char out_buf[1100], sum_buf[1100], ck_buf[1200];
+  /* outputs: -o moves the summary and the spec's figures along with the CSV */
+  char out_buf[1100], sum_buf[1100], ck_buf[1200], fig_buf[1100];
+  const int out_given = out != NULL;
   if (!out) {
     if (s.out_csv[0] && shard_n == 1) {
       out = s.out_csv;
@@ -452,12 +553,19 @@ int ea__cli_study(int argc, char **argv) {
     }
   }
   const int to_stdout = !strcmp(out, "-");
-  if (!summary && s.out_summary[0] && shard_n == 1) summary = s.out_summary;
+  if (!summary && !out_given && s.out_summary[0] && shard_n == 1) summary = s.out_summary;
   if (!summary && !to_stdout) {
     ea__replace_ext2(out, ".json", sum_buf, sizeof sum_buf);
     summary = sum_buf;
   }
-  if (!figures && s.out_figures[0] && shard_n == 1) figures = s.out_figures;
+  if (!figures && s.out_figures[0] && shard_n == 1) {
+    if (out_given && !to_stdout) {
+      ea__replace_ext2(out, "", fig_buf, sizeof fig_buf);
+      figures = fig_buf;
+    } else {
+      figures = s.out_figures;
+    }
+  }
   if (!ckpt && !no_ckpt && !to_stdout) {
     snprintf(ck_buf, sizeof ck_buf, "%s.journal", out);
     ckpt = ck_buf;
@@ -492,6 +600,7 @@ int ea__cli_study(int argc, char **argv) {
   set.stop_request = &ea__study_stop;
   set.min_time = plan ? ea__study_min_time : NULL;
   set.min_time_data = plan;
+  set.min_time_key = ea__study_plan_key(plan);
   int tty = !quiet && isatty(STDERR_FILENO);
   set.progress = ea__progress;
   set.progress_data = &tty;
@@ -529,9 +638,11 @@ int ea__cli_study(int argc, char **argv) {
     if ((st = ea__study_table_parse(csv, csv_len, out, &t, &err))) rc = ea__cli_fail(cmd, st, &err);
   }
   if (!rc && summary) {
+    char spec_rel[1200], csv_rel[1200];
+    ea__summary_paths(summary, shorthand ? NULL : spec, out, spec_rel, csv_rel, sizeof spec_rel);
     ea__study_run_facts_t f = {.name = s.name,
-                               .spec = shorthand ? NULL : spec,
-                               .csv = out,
+                               .spec = shorthand ? NULL : spec_rel,
+                               .csv = csv_rel,
                                .info = &info,
                                .shard_k = shard_k,
                                .shard_n = shard_n};

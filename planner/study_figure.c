@@ -23,15 +23,17 @@ ea_status_t ea__study_table_parse(const char *text, size_t len, const char *name
   memset(t, 0, sizeof *t);
   const char *end = text + len;
   const char *e = memchr(text, '\n', len);
-  if (!e || strncmp(text, "case_id,", 8))
-    return ea_error_set(err, EA_ERR_INPUT, "%s:1:1: not a study CSV", name);
+  static const char head[] = "case_id,study,study_key,";
+  if (!e || strncmp(text, head, sizeof head - 1))
+    return ea_error_set(err, EA_ERR_INPUT, "%s:1:1: not a study CSV (no '%s...' header)", name,
+                        head);
   int fields = 1;
   for (const char *c = text; c < e; ++c)
     fields += *c == ',';
-  t->n_params = fields - 6;
+  t->n_params = fields - 8;
   if (t->n_params < 0 || t->n_params > EA_STUDY_NPARAM)
     return ea_error_set(err, EA_ERR_INPUT, "%s:1:1: unexpected header", name);
-  const char *p = text + 8;
+  const char *p = text + sizeof head - 1;
   for (int i = 0; i < t->n_params; ++i)
     p += ea__field(p, e, t->params[i], sizeof t->params[i]);
   long nl = 0;
@@ -53,6 +55,13 @@ ea_status_t ea__study_table_parse(const char *text, size_t len, const char *name
     if (x == buf || *x) {
       ea__study_table_free(t);
       return ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: bad case_id '%s'", name, line, buf);
+    }
+    char study[128], key[16];
+    q += ea__field(q, le, study, sizeof study);
+    q += ea__field(q, le, key, sizeof key);
+    if (t->n_rows == 0) {
+      snprintf(t->study, sizeof t->study, "%s", study);
+      snprintf(t->study_key, sizeof t->study_key, "%s", key);
     }
     for (int i = 0; i < t->n_params; ++i) {
       q += ea__field(q, le, buf, sizeof buf);
@@ -99,7 +108,11 @@ ea_status_t ea__study_summary_write(const ea__study_table_t *t, const ea__study_
   ea_json_t j;
   ea_json_init(&j, af.fp, 1);
   ea_json_obj_begin(&j, NULL);
-  if (f && f->name) ea_json_str(&j, "study", f->name);
+  if (f && f->name)
+    ea_json_str(&j, "study", f->name);
+  else if (t->study[0])
+    ea_json_str(&j, "study", t->study);
+  if (t->study_key[0]) ea_json_str(&j, "study_key", t->study_key);
   if (f && f->spec) ea_json_str(&j, "spec", f->spec);
   if (f && f->csv) ea_json_str(&j, "csv", f->csv);
   long cases = 0, last = -1, failed_cases = 0, failed_rows = 0;

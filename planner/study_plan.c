@@ -11,6 +11,7 @@
 
 struct ea__study_plan {
   ea_task_t task;
+  char key[128]; /* content key of the task and its arm file */
   pthread_mutex_t mu;
 };
 
@@ -19,21 +20,25 @@ ea_status_t ea__study_plan_alloc(const ea_study_t *s, const char *default_arm,
   *out = NULL;
   ea__study_plan_t *p = calloc(1, sizeof *p);
   if (!p) return ea_error_set(err, EA_ERR_NOMEM, "min_time: out of memory");
-  ea_error_t e = {0};
-  ea_status_t st = ea_task_load(s->min_time.task_file, default_arm, &p->task, &e);
+  ea_status_t st = ea_study_task_load(s, default_arm, &p->task, p->key, sizeof p->key, err);
   if (st) {
     free(p);
-    return ea_error_set(err, st, "min_time task: %s", e.msg);
+    return st;
   }
   if (p->task.objective != EA_TASK_MIN_TIME) {
     const ea_task_objective_t o = p->task.objective;
     free(p);
     return ea_error_set(err, EA_ERR_INPUT, "min_time task %s: objective is %s, not min_time",
-                        s->min_time.task_file, ea_task_objective_name(o));
+                        s->min_time.task_name[0] ? s->min_time.task_name : s->min_time.task_file,
+                        ea_task_objective_name(o));
   }
   pthread_mutex_init(&p->mu, NULL);
   *out = p;
   return EA_OK;
+}
+
+const char *ea__study_plan_key(const ea__study_plan_t *p) {
+  return p ? p->key : NULL;
 }
 
 void ea__study_plan_free(ea__study_plan_t *p) {

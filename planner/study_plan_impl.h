@@ -11,9 +11,12 @@
 /** State of the min_time callback: the study's task, loaded once. */
 typedef struct ea__study_plan ea__study_plan_t;
 
-/** Load the study's task (s->min_time.task_file). */
+/** Load the study's task (ea_study_task_load: the study's arm file, else
+ *  default_arm, when the task names none). */
 ea_status_t ea__study_plan_alloc(const ea_study_t *s, const char *default_arm,
                                  ea__study_plan_t **out, ea_error_t *err);
+/** Content key of the loaded task (for ea_study_settings_t.min_time_key). */
+const char *ea__study_plan_key(const ea__study_plan_t *p);
 void ea__study_plan_free(ea__study_plan_t *p);
 /** The ea_study_min_time_fn: copies the task, puts the case's arm and
  *  payload in, re-checks it (points inside the case's workspace), plans
@@ -36,6 +39,8 @@ typedef struct ea__study_row {
 } ea__study_row_t;
 
 typedef struct ea__study_table {
+  char study[128];    /**< study column of the first row ("" if no rows) */
+  char study_key[16]; /**< study_key column of the first row */
   int n_params;
   char params[EA_STUDY_NPARAM][32]; /**< parameter column names */
   long n_rows;
@@ -47,7 +52,8 @@ ea_status_t ea__study_table_parse(const char *text, size_t len, const char *name
                                   ea__study_table_t *t, ea_error_t *err);
 void ea__study_table_free(ea__study_table_t *t);
 
-/** Run facts for the summary (NULL members omitted). */
+/** Run facts for the summary (NULL members omitted). spec and csv as they
+ *  should appear (relative to the summary's folder). */
 typedef struct ea__study_run_facts {
   const char *name, *spec, *csv;
   const ea_study_info_t *info; /**< NULL for a merge */

@@ -48,16 +48,94 @@ typedef struct ea_config_point {
 
 /** Outer workspace edge (T = 0, eq. 16) at n cable angles (ascending or
  *  descending), warm-starting each from its neighbour. Points that fail keep
- *  their status; returns EA_OK if all converged. */
+ *  their status; returns EA_OK if all converged. Each solved point is
+ *  checked against the arm's limits except the tension margin (T = 0 is the
+ *  edge's definition): admissible = 0 with the reason when the shoulder
+ *  angle, the shoulder torque or the cable length is out of range. */
 ea_status_t ea_workspace_outer(ea_shooter_t *sh, const double *alpha, int n,
                                ea_config_point_t *out);
 /** Inner edge: the cable at length cable_length (default: the arm's
- *  cable_length_min) at n cable angles, with its statics. */
+ *  cable_length_min) at n cable angles, with its statics, each point checked
+ *  against every limit of the arm (ea_config_check_limits). Returns EA_OK if
+ *  all converged (EA_ERR_INADMISSIBLE where the cable is longer than the
+ *  outer edge). */
 ea_status_t ea_workspace_inner(ea_shooter_t *sh, double cable_length, const double *alpha, int n,
                                ea_config_point_t *out);
-/** Area [m^2] enclosed by the outer edge, the inner edge and the two rays at
- *  the extreme angles (shoelace formula on the closed polygon). */
-double ea_workspace_area(const ea_config_point_t *outer, const ea_config_point_t *inner, int n);
+
+/** Boundaries of the workspace region (ea_workspace_metrics). */
+typedef enum ea_ws_bound {
+  EA_WS_NONE = 0,
+  EA_WS_OUTER,        /**< outer edge, T = 0 (eq. 16) */
+  EA_WS_INNER,        /**< inner edge: the shortest cable */
+  EA_WS_CABLE_MAX,    /**< the spool's longest cable */
+  EA_WS_SHOULDER_MIN, /**< theta0 = shoulder_angle_min */
+  EA_WS_SHOULDER_MAX, /**< theta0 = shoulder_angle_max */
+  EA_WS_TORQUE_NEG,   /**< EI kappa0 = -shoulder_torque_max */
+  EA_WS_TORQUE_POS,   /**< EI kappa0 = +shoulder_torque_max */
+  EA_WS_TENSION_MAX,  /**< T = tension_max */
+  EA_WS_ALPHA_MIN,    /**< start of the cable-angle range */
+  EA_WS_ALPHA_MAX,    /**< end of the cable-angle range */
+  EA_WS_COUNT
+} ea_ws_bound_t;
+
+/** Description of a boundary ("outer edge (T = 0)", ...; never NULL). */
+const char *ea_ws_bound_name(ea_ws_bound_t b);
+
+/** What ea_workspace_metrics measures (docs/statics.md, "Workspace metrics"). */
+typedef struct ea_workspace_settings {
+  double alpha_min, alpha_max; /**< [rad] cable-angle range: a bound of the region
+                                    (default -60, 10 deg: the paper's Fig. 3) */
+  double inner_cable_length;   /**< [m] inner edge (<= 0: the arm's cable_length_min) */
+  int limits;                  /**< 1 (default): the arm's limits bound the region too
+                                    (shoulder angle range, |EI kappa0| <= torque max,
+                                    T <= tension max, cable length range); 0: only
+                                    T >= 0 and L_c >= the inner cable length */
+  int samples;                 /**< cable angles at which the region's structure (which
+                                    boundary bounds it) is sampled (default 71) */
+  int depth_samples;           /**< cable lengths sampled per angle for the limits (8) */
+  double tol;                  /**< [m^2] area tolerance (default 1e-10); extrema are
+                                    located to 1e-10 rad */
+} ea_workspace_settings_t;
+
+void ea_workspace_settings_default(ea_workspace_settings_t *s);
+
+/** An extremum of the region and where it is attained. */
+typedef struct ea_workspace_extremum {
+  double value;         /**< [m] */
+  double alpha;         /**< [rad] cable angle */
+  double cable_length;  /**< [m] */
+  double x, y;          /**< [m] tip */
+  ea_ws_bound_t bound;  /**< boundary of the cable-length interval it lies on */
+  ea_ws_bound_t bound2; /**< at a corner where two boundaries meet: the other one
+                             (bound < bound2); else EA_WS_NONE */
+  ea_ws_bound_t at_end; /**< EA_WS_ALPHA_MIN / _MAX when attained at an end of the
+                             cable-angle range (the range, not the arm, bounds it);
+                             else EA_WS_NONE */
+} ea_workspace_extremum_t;
+
+/** Metrics of the workspace region. */
+typedef struct ea_workspace_metrics {
+  double area;                   /**< [m^2] area of the region */
+  double area_error;             /**< [m^2] conservative quadrature error estimate */
+  ea_workspace_extremum_t reach; /**< max distance of the tip from the shoulder */
+  ea_workspace_extremum_t x_max; /**< largest tip x */
+  ea_workspace_extremum_t y_min; /**< lowest tip y */
+  unsigned bounds;               /**< bit (1u << ea_ws_bound_t) of every boundary that
+                                      bounds the region somewhere */
+  int pieces;                    /**< smooth pieces between structure changes */
+  long solves;                   /**< statics solves used */
+} ea_workspace_metrics_t;
+
+/** Area, reach, largest x and lowest y of the region of tip positions the
+ *  arm holds (T >= 0, L_c >= inner, alpha in the range, the arm's limits):
+ *  the area by quadrature in polar coordinates about the cable root on the
+ *  smooth pieces between structure changes (each located by a root find),
+ *  the extrema by Brent's method along the boundary curves. Errors:
+ *  EA_ERR_ARG (bad settings), EA_ERR_INADMISSIBLE (the region is empty, e.g.
+ *  an inner cable longer than the outer edge), EA_ERR_NOCONV (no statics
+ *  solution somewhere in the range, or the quadrature did not converge). */
+ea_status_t ea_workspace_metrics(ea_shooter_t *sh, const ea_workspace_settings_t *set,
+                                 ea_workspace_metrics_t *m, ea_error_t *err);
 
 /** Torque map: cells[i * n_len + j] at alpha[i], cable_length[j]. A cell
  *  beyond the outer edge (T would be < 0) has status EA_ERR_INADMISSIBLE and
@@ -297,7 +375,7 @@ const char *ea_study_param_name(ea_study_param_t p);
 
 /** Metrics (bit flags of ea_study_t.metrics). */
 enum {
-  EA_STUDY_M_WORKSPACE = 1u,   /**< outer/inner edge: max_reach, area, outer_x_max, ... */
+  EA_STUDY_M_WORKSPACE = 1u,   /**< region metrics: area, max_reach, x_max, y_min */
   EA_STUDY_M_TORQUE = 2u,      /**< torque map: shoulder torque and tension ranges */
   EA_STUDY_M_FREQUENCIES = 4u, /**< FE natural frequencies at given configurations */
   EA_STUDY_M_PATH = 8u,        /**< admissibility of a straight tip path */
@@ -318,7 +396,7 @@ typedef struct ea_study_axis {
  *  ea_study_set_axis() + fields + ea_study_check(). Owns the axis values
  *  and the torque-map grids: release with ea_study_free(). */
 typedef struct ea_study {
-  char name[128];
+  char name[128];     /**< letters, digits, '.', '_', '-' (a CSV column and file stem) */
   char file[512];     /**< spec file ("" when built in C) */
   char arm_file[512]; /**< arm file used ("" = built-in defaults) */
   ea_arm_t arm;       /**< base arm; grid parameters override it per case */
@@ -327,9 +405,11 @@ typedef struct ea_study {
   long n_cases;     /**< product of the axis sizes (set by ea_study_check) */
   unsigned metrics; /**< EA_STUDY_M_* flags */
   struct {
-    double alpha_min, alpha_max; /**< [rad] cable angle sweep of the edges (-60, 10 deg) */
-    int points;                  /**< edge points (default 71) */
+    double alpha_min, alpha_max; /**< [rad] cable-angle range of the region (-60, 10 deg) */
+    int points;                  /**< cable angles sampled (default 71; ea_workspace_metrics'
+                                      samples) */
     double inner_cable_length;   /**< [m] inner edge (<= 0: the arm's cable_length_min) */
+    int limits;                  /**< the arm's limits bound the region (default 1) */
   } workspace;
   struct {
     int n_len, n_alpha;   /**< grid sizes */
@@ -349,6 +429,9 @@ typedef struct ea_study {
   } path;
   struct {
     char task_file[512]; /**< task spec (resolved against the spec's folder) */
+    char task_name[512]; /**< as written in the spec (relative to it): the name used in
+                              messages and keys, so rows do not depend on the working
+                              directory ("" = task_file) */
   } min_time;
   char out_csv[512]; /**< outputs resolved against the spec's folder ("" = none) */
   char out_summary[512];
@@ -410,6 +493,9 @@ typedef struct ea_study_settings {
   const volatile sig_atomic_t *stop_request; /**< nonzero: finish running cases, stop */
   ea_study_min_time_fn min_time;             /**< NULL: min_time rows report EA_ERR_NOTIMPL */
   void *min_time_data;
+  const char *min_time_key; /**< content key of the task the callback plans (e.g. from
+                                 ea_study_task_load): part of the study key, so rows of
+                                 an edited task are never mixed with the old ones */
   ea_study_progress_fn progress;
   void *progress_data;
 } ea_study_settings_t;
@@ -432,9 +518,24 @@ typedef struct ea_study_info {
   double time_s;              /**< [s] wall time */
 } ea_study_info_t;
 
+/** Study key: CRC-32 (8 hex digits) of a canonical description of
+ *  everything that changes the rows (the arm's values, the grid, the metric
+ *  settings, the name, the min_time task's name and set->min_time_key).
+ *  Every CSV row carries it (column study_key); it keys the journal. */
+void ea_study_key(const ea_study_t *s, const ea_study_settings_t *set, char key[9]);
+
+/** Load the min_time task of a study for planning: relative to the spec,
+ *  default arm = the study's arm file (else default_arm), messages naming
+ *  the task as written in the spec (s->min_time.task_name). key (>= 32
+ *  bytes) receives a content key: CRC-32 and length of the task file and of
+ *  the arm file it uses ("task=XXXXXXXX/N arm=XXXXXXXX/N"). */
+ea_status_t ea_study_task_load(const ea_study_t *s, const char *default_arm, ea_task_t *task,
+                               char *key, size_t key_len, ea_error_t *err);
+
 /** Run (one shard of) a checked study. On EA_OK, *csv (malloc'd, caller
  *  frees; *csv_len bytes) holds the header and the shard's rows in case
- *  order. With a checkpoint journal every finished case is appended (one
+ *  order (columns case_id, study, study_key, the parameters, metric, value,
+ *  unit, status, message). With a checkpoint journal every finished case is appended (one
  *  write + fsync, CRC-32 per case); a rerun with the same study skips the
  *  cases found there, drops a torn tail, and refuses a journal of another
  *  study (EA_ERR_INPUT). A failed case is recorded in its rows. */
@@ -445,9 +546,11 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set, ch
 size_t ea_study_csv_header(const ea_study_t *s, char *buf, size_t len);
 
 /** Merge shard CSVs (texts[i] of lens[i] bytes, names[i] for messages)
- *  into the single-run CSV: same header required, rows ordered by case_id,
- *  each case from exactly one shard; case ids must be 0..n-1 without gaps
- *  (n = expect_cases when > 0). *out malloc'd. */
+ *  into the single-run CSV: same header and the same study and study_key
+ *  in every row required (shards of different specs, or of an edited spec
+ *  or task, are refused), rows ordered by case_id, each case from exactly
+ *  one shard; case ids must be 0..n-1 without gaps (n = expect_cases when
+ *  > 0). *out malloc'd. */
 ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const char *const *names,
                            int n, long expect_cases, char **out, size_t *out_len, ea_error_t *err);
 

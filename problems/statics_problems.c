@@ -54,8 +54,11 @@ static ea_status_t ea__alpha_sweep(ea_shooter_t *sh, ea_given_t g, double v, con
       continue;
     }
     ea__fill_point(&out[i], &sol);
-    out[i].admissible = 1;
-    out[i].reason[0] = '\0';
+    /* the arm's limits; on the outer edge T = 0 by definition, so without
+       the tension margin */
+    ea_actuators_t lim = ea_shooter_arm(sh)->act;
+    if (g == EA_GIVEN_TENSION) lim.tension_min = 0.0;
+    ea_config_check_limits(&out[i], &lim, 0.0);
     memcpy(guess, sol.p, sizeof guess);
     have = 1;
   }
@@ -72,28 +75,6 @@ ea_status_t ea_workspace_inner(ea_shooter_t *sh, double cable_length, const doub
   if (!sh) return EA_ERR_ARG;
   if (!(cable_length > 0)) cable_length = ea_shooter_arm(sh)->act.cable_length_min;
   return ea__alpha_sweep(sh, EA_GIVEN_CABLE_LENGTH, cable_length, alpha, n, out);
-}
-
-double ea_workspace_area(const ea_config_point_t *outer, const ea_config_point_t *inner, int n) {
-  /* Closed polygon: outer edge in order, then the inner edge reversed. */
-  double a = 0.0;
-  int m = 0;
-  double x0 = 0, y0 = 0, xp = 0, yp = 0;
-  for (int k = 0; k < 2 * n; ++k) {
-    const ea_config_point_t *pt = k < n ? &outer[k] : &inner[2 * n - 1 - k];
-    if (!isfinite(pt->x) || !isfinite(pt->y)) return NAN;
-    if (m == 0) {
-      x0 = pt->x;
-      y0 = pt->y;
-    } else {
-      a += xp * pt->y - pt->x * yp;
-    }
-    xp = pt->x;
-    yp = pt->y;
-    ++m;
-  }
-  a += xp * y0 - x0 * yp;
-  return 0.5 * fabs(a);
 }
 
 void ea_config_check_limits(ea_config_point_t *pt, const ea_actuators_t *lim, double tension_min) {

@@ -35,64 +35,57 @@ static void ea__row(ea__rows_t *r, const char *metric, double value, const char 
   if (st != EA_OK) ++r->failed;
 }
 
+/* Where an extremum is attained, for the row's message. */
+static void ea__extremum_msg(const ea_workspace_extremum_t *e, char *buf, size_t len) {
+  int w = snprintf(buf, len, "at alpha = %.6g deg, L_c = %.6g m, tip (%.6g, %.6g) m, on the %s",
+                   e->alpha / EA__DEG, e->cable_length, e->x, e->y, ea_ws_bound_name(e->bound));
+  if (w < 0 || (size_t)w >= len) return;
+  if (e->bound2)
+    w += snprintf(buf + w, len - (size_t)w, " where it meets the %s", ea_ws_bound_name(e->bound2));
+  if (w < 0 || (size_t)w >= len) return;
+  if (e->at_end)
+    snprintf(buf + w, len - (size_t)w, "; at the %s: the range, not the arm, bounds it",
+             ea_ws_bound_name(e->at_end));
+}
+
 static void ea__eval_workspace(const ea_study_t *s, ea_shooter_t *sh, ea__rows_t *r) {
-  const int n = s->workspace.points;
-  double *alpha = malloc((size_t)n * sizeof *alpha);
-  ea_config_point_t *outer = calloc((size_t)n, sizeof *outer);
-  ea_config_point_t *inner = calloc((size_t)n, sizeof *inner);
-  if (!alpha || !outer || !inner) {
-    const char *names[] = {"max_reach", "area", "outer_x_max", "outer_y_min"};
+  ea_workspace_settings_t ws;
+  ea_workspace_settings_default(&ws);
+  ws.alpha_min = s->workspace.alpha_min;
+  ws.alpha_max = s->workspace.alpha_max;
+  ws.inner_cable_length = s->workspace.inner_cable_length;
+  ws.limits = s->workspace.limits;
+  ws.samples = s->workspace.points;
+  ea_workspace_metrics_t m;
+  ea_error_t e = {0};
+  const ea_status_t st = ea_workspace_metrics(sh, &ws, &m, &e);
+  if (st) {
+    const char *names[] = {"area", "max_reach", "x_max", "y_min"};
+    const char *units[] = {"m^2", "m", "m", "m"};
     for (int i = 0; i < 4; ++i)
-      ea__row(r, names[i], NAN, "-", EA_ERR_NOMEM, "out of memory");
-    goto out;
+      ea__row(r, names[i], NAN, units[i], st, e.msg);
+    return;
   }
-  for (int k = 0; k < n; ++k)
-    alpha[k] =
-        s->workspace.alpha_min + (s->workspace.alpha_max - s->workspace.alpha_min) * k / (n - 1);
-  ea_workspace_outer(sh, alpha, n, outer);
-  ea_workspace_inner(sh, s->workspace.inner_cable_length, alpha, n, inner);
-  int bad_out = 0, bad_in = 0, first_bad = -1;
-  double reach = NAN, xmax = NAN, ymin = NAN;
-  for (int k = 0; k < n; ++k) {
-    if (outer[k].status != EA_OK) {
-      if (first_bad < 0) first_bad = k;
-      ++bad_out;
-      continue;
+  char msg[600], b[400] = "";
+  size_t used = 0;
+  for (int k = EA_WS_OUTER; k < EA_WS_ALPHA_MIN && used < sizeof b; ++k)
+    if (m.bounds & (1u << k)) {
+      const int w = snprintf(b + used, sizeof b - used, "%s%s", used ? ", " : "",
+                             ea_ws_bound_name((ea_ws_bound_t)k));
+      if (w < 0) break;
+      used += (size_t)w;
     }
-    const double d = hypot(outer[k].x, outer[k].y);
-    reach = isfinite(reach) ? fmax(reach, d) : d;
-    xmax = isfinite(xmax) ? fmax(xmax, outer[k].x) : outer[k].x;
-    ymin = isfinite(ymin) ? fmin(ymin, outer[k].y) : outer[k].y;
-  }
-  for (int k = 0; k < n; ++k)
-    bad_in += inner[k].status != EA_OK;
-  char msg[256] = "";
-  ea_status_t st = EA_OK;
-  if (bad_out) {
-    st = EA_ERR_NOCONV;
-    snprintf(msg, sizeof msg,
-             "%d of %d outer edge points without a T = 0 solution (first at "
-             "alpha = %.4g deg)",
-             bad_out, n, alpha[first_bad] / EA__DEG);
-  }
-  ea__row(r, "max_reach", reach, "m", st, msg);
-  double area = NAN;
-  ea_status_t sa = st;
-  char amsg[256];
-  snprintf(amsg, sizeof amsg, "%s", msg);
-  if (!bad_out && bad_in) {
-    sa = EA_ERR_NOCONV;
-    snprintf(amsg, sizeof amsg, "%d of %d inner edge points (L_c = %.4g m) without a solution",
-             bad_in, n, inner[0].cable_length);
-  }
-  if (sa == EA_OK) area = ea_workspace_area(outer, inner, n);
-  ea__row(r, "area", area, "m^2", sa, amsg);
-  ea__row(r, "outer_x_max", xmax, "m", st, msg);
-  ea__row(r, "outer_y_min", ymin, "m", st, msg);
-out:
-  free(alpha);
-  free(outer);
-  free(inner);
+  snprintf(
+      msg, sizeof msg, "alpha %.6g to %.6g deg, %s; bounded by the %s; quadrature error < %.1e m^2",
+      ws.alpha_min / EA__DEG, ws.alpha_max / EA__DEG,
+      ws.limits ? "within the arm's limits" : "no actuator limits", b, fmax(m.area_error, 1e-15));
+  ea__row(r, "area", m.area, "m^2", EA_OK, msg);
+  ea__extremum_msg(&m.reach, msg, sizeof msg);
+  ea__row(r, "max_reach", m.reach.value, "m", EA_OK, msg);
+  ea__extremum_msg(&m.x_max, msg, sizeof msg);
+  ea__row(r, "x_max", m.x_max.value, "m", EA_OK, msg);
+  ea__extremum_msg(&m.y_min, msg, sizeof msg);
+  ea__row(r, "y_min", m.y_min.value, "m", EA_OK, msg);
 }
 
 static void ea__eval_torque(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t *arm,
@@ -232,13 +225,13 @@ static void ea__eval_path(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t 
 }
 
 int ea__study_case_eval(const ea_study_t *s, long case_id, const ea_study_settings_t *set,
-                        ea__sbuf_t *b) {
+                        const char *ident, ea__sbuf_t *b) {
   ea__rows_t r;
   memset(&r, 0, sizeof r);
   r.b = b;
   double v[EA_STUDY_NPARAM];
   ea_study_case_values(s, case_id, v);
-  size_t used = (size_t)snprintf(r.prefix, sizeof r.prefix, "%ld,", case_id);
+  size_t used = (size_t)snprintf(r.prefix, sizeof r.prefix, "%ld,%s,", case_id, ident);
   for (int i = 0; i < s->n_axes && used < sizeof r.prefix; ++i)
     used += (size_t)snprintf(r.prefix + used, sizeof r.prefix - used, "%.10g,", v[i]);
 

@@ -19,7 +19,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#define EA__JOURNAL_MAGIC "#elasticarm-study-journal 1"
+#define EA__JOURNAL_MAGIC "#elasticarm-study-journal 2"
 
 void ea_study_settings_default(ea_study_settings_t *set) {
   memset(set, 0, sizeof *set);
@@ -46,6 +46,7 @@ typedef struct {
   long computed, done_total;
   double last_sync; /* time of the last journal fsync */
   int dirty;        /* journal written since the last fsync */
+  char ident[160];  /* "study,study_key" of every row */
 } ea__run_t;
 
 static double ea__now(void);
@@ -81,7 +82,7 @@ static void *ea__worker(void *arg) {
     if (j < 0) break;
     const long c = ea__case_of(r, j);
     ea__sbuf_t b = {0};
-    const int failed = ea__study_case_eval(r->s, c, r->set, &b);
+    const int failed = ea__study_case_eval(r->s, c, r->set, r->ident, &b);
     const size_t rows_len = b.len;
     char trailer[96];
     if (failed >= 0 && !b.oom) {
@@ -180,8 +181,9 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
     free(text);
     close(fd);
     return ea_error_set(err, EA_ERR_INPUT,
-                        ours ? "checkpoint %s belongs to another study (different grid, arm or "
-                               "metric settings); remove it or pass --restart"
+                        ours ? "checkpoint %s belongs to another study (different name, grid, "
+                               "arm, metric settings or min_time task content); remove it or pass "
+                               "--restart"
                              : "checkpoint %s is not a study journal; remove it or choose "
                                "another --checkpoint",
                         path);
@@ -282,8 +284,10 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
   info->cases_total = s->n_cases;
   info->cases_shard = r.n_shard;
   ea_status_t st = EA_OK;
-  ea__sbuf_t head = {0}, desc = {0};
-  char hdr[4096];
+  ea__sbuf_t head = {0};
+  char hdr[4096], key[9];
+  ea_study_key(s, &set, key);
+  snprintf(r.ident, sizeof r.ident, "%s,%s", s->name, key);
   const size_t hlen = ea_study_csv_header(s, hdr, sizeof hdr);
   if (!hlen || hlen >= sizeof hdr) {
     st = ea_error_set(err, EA_ERR_NOMEM, "study run: header");
@@ -297,15 +301,8 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
     goto out;
   }
   if (set.checkpoint && set.checkpoint[0]) {
-    ea__study_describe(s, &desc);
-    ea__sbuf_put(&desc, hdr, hlen);
-    if (desc.oom) {
-      st = ea_error_set(err, EA_ERR_NOMEM, "study run: out of memory");
-      goto out;
-    }
     char key_line[128];
-    snprintf(key_line, sizeof key_line, EA__JOURNAL_MAGIC " key=%08x cases=%ld\n",
-             (unsigned)ea__study_crc32(0, desc.s, desc.len), s->n_cases);
+    snprintf(key_line, sizeof key_line, EA__JOURNAL_MAGIC " key=%s cases=%ld\n", key, s->n_cases);
     if ((st = ea__journal_open(&r, key_line, info, err))) goto out;
     r.last_sync = ea__now();
   }
@@ -358,14 +355,14 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
   ea__sbuf_put(&head, hdr, hlen);
   for (long j = 0; j < r.n_shard; ++j) {
     ea__sbuf_put(&head, r.rows[j], r.rows_len[j]);
-    /* failed rows: the status field (n_axes + 4, 0-based) is not "ok";
+    /* failed rows: the status field (n_axes + 6, 0-based) is not "ok";
        the fields before the message hold no commas or quotes */
     int bad_case = 0;
     for (const char *p = r.rows[j]; p && *p;) {
       const char *e = strchr(p, '\n');
       if (!e) break;
       const char *f = p;
-      for (int k = 0; k < s->n_axes + 4 && f < e; ++k) {
+      for (int k = 0; k < s->n_axes + 6 && f < e; ++k) {
         const char *c = memchr(f, ',', (size_t)(e - f));
         f = c ? c + 1 : e;
       }
@@ -393,7 +390,6 @@ out:
   free(r.rows_len);
   free(r.todo);
   ea__sbuf_free(&head);
-  ea__sbuf_free(&desc);
   info->time_s = ea__now() - t0;
   info->status = st;
   return st;
@@ -422,6 +418,8 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const c
   size_t hlen = 0;
   ea_status_t st = EA_OK;
   ea__sbuf_t o = {0};
+  /* the study and study_key columns of the first row: every row must agree */
+  char ref_id[200] = "", ref_where[300] = "";
   for (int i = 0; i < n; ++i) {
     const char *t = texts[i], *nm = names && names[i] ? names[i] : "input";
     const size_t len = lens[i];
@@ -456,6 +454,29 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const c
       if (id < 0) {
         st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: row without a case_id", nm, line);
         goto out;
+      }
+      {
+        const char *c1 = memchr(t + q, ',', ll);
+        const char *c2 = c1 ? memchr(c1 + 1, ',', (size_t)(t + q + ll - c1 - 1)) : NULL;
+        const char *c3 = c2 ? memchr(c2 + 1, ',', (size_t)(t + q + ll - c2 - 1)) : NULL;
+        if (!c3 || (size_t)(c3 - c1) >= sizeof ref_id) {
+          st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: row without study and study_key", nm,
+                            line);
+          goto out;
+        }
+        const size_t il = (size_t)(c3 - c1 - 1);
+        if (!ref_id[0]) {
+          memcpy(ref_id, c1 + 1, il);
+          ref_id[il] = '\0';
+          snprintf(ref_where, sizeof ref_where, "%s:%ld", nm, line);
+        } else if (strlen(ref_id) != il || memcmp(ref_id, c1 + 1, il)) {
+          st = ea_error_set(err, EA_ERR_INPUT,
+                            "%s:%ld: row of study,study_key '%.*s' but %s has '%s': the shards "
+                            "come from different specs (or the spec, its arm or its min_time task "
+                            "changed between them) and cannot be merged",
+                            nm, line, (int)il, c1 + 1, ref_where, ref_id);
+          goto out;
+        }
       }
       if (id == prev) {
         g[ng - 1].len += ll + 1;

@@ -108,6 +108,7 @@ void ea_study_init(ea_study_t *s, const ea_arm_t *arm) {
   s->workspace.alpha_max = 10.0 * EA__DEG;
   s->workspace.points = 71;
   s->workspace.inner_cable_length = 0.0;
+  s->workspace.limits = 1;
   s->freq.modes = 3;
   s->freq.elements = EA_FE_DEFAULT_ELEMENTS;
   s->path.steps = 20;
@@ -222,6 +223,14 @@ ea_status_t ea_study_check(ea_study_t *s, ea_error_t *err) {
   if (!s) return ea_error_set(err, EA_ERR_ARG, "study: NULL");
   const char *f = s->file[0] ? s->file : "study";
   ea_error_t e = {0};
+  if (!s->name[0] || strlen(s->name) > 100 ||
+      strspn(s->name, "abcdefghijklmnopqrstuvwxyz"
+                      "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                      "0123456789._-") != strlen(s->name))
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "%s: study name '%s' must be 1 to 100 letters, digits, '.', '_' or '-' "
+                        "(it is a CSV column and the default output file name)",
+                        f, s->name);
   ea_status_t st = ea_arm_validate(&s->arm, &e);
   if (st) return ea_error_set(err, st, "%s: arm: %s", f, e.msg);
   int has_g = 0, has_kg = 0;
@@ -288,7 +297,7 @@ ea_status_t ea_study_check(ea_study_t *s, ea_error_t *err) {
 
 size_t ea_study_csv_header(const ea_study_t *s, char *buf, size_t len) {
   ea__sbuf_t b = {0};
-  ea__sbuf_printf(&b, "case_id");
+  ea__sbuf_printf(&b, "case_id,study,study_key");
   for (int i = 0; i < s->n_axes; ++i)
     ea__sbuf_printf(&b, ",%s", ea_study_param_name(s->axis[i].param));
   ea__sbuf_printf(&b, ",metric,value,unit,status,message\n");
@@ -305,10 +314,10 @@ static void ea__describe_vec(ea__sbuf_t *b, const char *name, const double *v, i
   ea__sbuf_printf(b, "\n");
 }
 
-void ea__study_describe(const ea_study_t *s, ea__sbuf_t *b) {
+void ea__study_describe(const ea_study_t *s, const ea_study_settings_t *set, ea__sbuf_t *b) {
   const ea_arm_t *a = &s->arm;
   const ea_actuators_t *l = &a->act;
-  ea__sbuf_printf(b, "format 1\n");
+  ea__sbuf_printf(b, "format 2\nname %s\n", s->name);
   ea__describe_vec(b, "arm",
                    (double[]){a->rho, a->m_hand, a->length, a->EI, a->x_c, a->y_c, a->g, a->EA,
                               a->GA_s, a->EA_cable, a->I_zz, a->I_hand},
@@ -327,8 +336,8 @@ void ea__study_describe(const ea_study_t *s, ea__sbuf_t *b) {
   if (s->metrics & EA_STUDY_M_WORKSPACE)
     ea__describe_vec(b, "workspace",
                      (double[]){s->workspace.alpha_min, s->workspace.alpha_max, s->workspace.points,
-                                s->workspace.inner_cable_length},
-                     4);
+                                s->workspace.inner_cable_length, s->workspace.limits},
+                     5);
   if (s->metrics & EA_STUDY_M_TORQUE) {
     ea__describe_vec(b, "torque_L", s->torque.cable_length, s->torque.n_len);
     ea__describe_vec(b, "torque_alpha", s->torque.alpha, s->torque.n_alpha);
@@ -343,7 +352,113 @@ void ea__study_describe(const ea_study_t *s, ea__sbuf_t *b) {
                      (double[]){s->path.start[0], s->path.start[1], s->path.goal[0],
                                 s->path.goal[1], s->path.steps},
                      5);
-  if (s->metrics & EA_STUDY_M_MIN_TIME) ea__sbuf_printf(b, "min_time %s\n", s->min_time.task_file);
+  /* the task by its name as written in the spec (not the resolved path, which
+     depends on the working directory) and by its content key */
+  if (s->metrics & EA_STUDY_M_MIN_TIME)
+    ea__sbuf_printf(b, "min_time %s\nmin_time_key %s\n",
+                    s->min_time.task_name[0] ? s->min_time.task_name : s->min_time.task_file,
+                    set && set->min_time ? (set->min_time_key ? set->min_time_key : "unknown")
+                                         : "no planner");
+  char hdr[4096];
+  const size_t hl = ea_study_csv_header(s, hdr, sizeof hdr);
+  ea__sbuf_put(b, hdr, hl < sizeof hdr ? hl : 0);
+}
+
+void ea_study_key(const ea_study_t *s, const ea_study_settings_t *set, char key[9]) {
+  ea__sbuf_t d = {0};
+  ea__study_describe(s, set, &d);
+  snprintf(key, 9, "%08x", d.oom ? 0u : (unsigned)ea__study_crc32(0, d.s, d.len));
+  ea__sbuf_free(&d);
+}
+
+/* A file's bytes (malloc'd); NULL on error. */
+static char *ea__slurp(const char *path, size_t *len) {
+  FILE *fp = fopen(path, "rb");
+  if (!fp) return NULL;
+  size_t cap = 4096, n = 0;
+  char *b = malloc(cap);
+  while (b) {
+    n += fread(b + n, 1, cap - n, fp);
+    if (n < cap) break;
+    char *nb = realloc(b, cap * 2);
+    if (!nb) {
+      free(b);
+      b = NULL;
+      break;
+    }
+    b = nb;
+    cap *= 2;
+  }
+  const int bad = ferror(fp);
+  fclose(fp);
+  if (bad) {
+    free(b);
+    return NULL;
+  }
+  *len = n;
+  return b;
+}
+
+/* Replace a leading "from" in a message position with "to". */
+static void ea__rename_where(char *where, size_t len, const char *from, const char *to) {
+  const size_t n = strlen(from);
+  if (!n || strncmp(where, from, n) || where[n] != ':') return;
+  const size_t nt = strlen(to), rest = strlen(where + n);
+  if (nt + rest + 1 > len) return; /* does not fit: keep the path */
+  memmove(where + nt, where + n, rest + 1);
+  memcpy(where, to, nt);
+}
+
+ea_status_t ea_study_task_load(const ea_study_t *s, const char *default_arm, ea_task_t *task,
+                               char *key, size_t key_len, ea_error_t *err) {
+  if (!s || !task || !key || key_len < 32)
+    return ea_error_set(err, EA_ERR_ARG, "study task: bad argument");
+  const char *path = s->min_time.task_file;
+  const char *name = s->min_time.task_name[0] ? s->min_time.task_name : path;
+  if (!path[0]) return ea_error_set(err, EA_ERR_INPUT, "min_time: no task file");
+  size_t n0 = 0, n1 = 0, na0 = 0, na1 = 0;
+  char *t0 = ea__slurp(path, &n0);
+  if (!t0) return ea_error_set(err, EA_ERR_IO, "min_time task %s: cannot read it", name);
+  ea_error_t e = {0};
+  ea_status_t st = ea_task_load(path, s->arm_file[0] ? s->arm_file : default_arm, task, &e);
+  char *t1 = ea__slurp(path, &n1);
+  char *a0 = NULL, *a1 = NULL;
+  if (!st && task->arm_file[0]) {
+    a0 = ea__slurp(task->arm_file, &na0);
+    a1 = ea__slurp(task->arm_file, &na1);
+  }
+  if (st) {
+    /* the message names the task as written in the spec */
+    char msg[sizeof e.msg];
+    snprintf(msg, sizeof msg, "%s", e.msg);
+    ea__rename_where(msg, sizeof msg, path, name);
+    st = ea_error_set(err, st, "min_time task: %s", msg);
+  } else if (!t1 || n0 != n1 || memcmp(t0, t1, n0)) {
+    st = ea_error_set(err, EA_ERR_IO, "min_time task %s changed while it was read", name);
+  } else if (task->arm_file[0] && (!a0 || !a1 || na0 != na1 || memcmp(a0, a1, na0))) {
+    st = ea_error_set(err, EA_ERR_IO,
+                      "min_time task %s: its arm file cannot be read or changed "
+                      "while it was read",
+                      name);
+  } else {
+    snprintf(key, key_len, "task=%08x/%zu arm=", (unsigned)ea__study_crc32(0, t0, n0), n0);
+    const size_t used = strlen(key);
+    if (a0)
+      snprintf(key + used, key_len - used, "%08x/%zu", (unsigned)ea__study_crc32(0, a0, na0), na0);
+    else
+      snprintf(key + used, key_len - used, "built-in");
+    ea__rename_where(task->start.where, sizeof task->start.where, path, name);
+    ea__rename_where(task->goal.where, sizeof task->goal.where, path, name);
+    for (int i = 0; i < task->n_via && i < EA_TASK_MAX_VIA; ++i)
+      ea__rename_where(task->via[i].where, sizeof task->via[i].where, path, name);
+    ea__rename_where(task->where_limits, sizeof task->where_limits, path, name);
+    ea__rename_where(task->where_objective, sizeof task->where_objective, path, name);
+  }
+  free(t0);
+  free(t1);
+  free(a0);
+  free(a1);
+  return st;
 }
 
 /* ---- YAML ------------------------------------------------------------------ */
@@ -459,8 +574,8 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
     if ((st = ea__metric_node(d, n, "workspace", &m, err))) return st;
     s->metrics |= EA_STUDY_M_WORKSPACE;
     if (m) {
-      static const char *const wk[] = {"alpha_min_deg", "alpha_max_deg", "points",
-                                       "inner_cable_length_m", NULL};
+      static const char *const wk[] = {"alpha_min_deg",        "alpha_max_deg", "points",
+                                       "inner_cable_length_m", "limits",        NULL};
       if ((st = ea__ymap_check_keys(d, m, wk, "metrics.workspace", err))) return st;
       double amin = s->workspace.alpha_min / EA__DEG, amax = s->workspace.alpha_max / EA__DEG;
       long pts = s->workspace.points;
@@ -468,7 +583,8 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
           (st = ea__ymap_double(d, m, "alpha_max_deg", 0, -180, 180, &amax, err)) ||
           (st = ea__ymap_int(d, m, "points", 0, 2, 100000, &pts, err)) ||
           (st = ea__ymap_double(d, m, "inner_cable_length_m", 0, 1e-6, 100,
-                                &s->workspace.inner_cable_length, err)))
+                                &s->workspace.inner_cable_length, err)) ||
+          (st = ea__ymap_bool(d, m, "limits", 0, &s->workspace.limits, err)))
         return st;
       if (!(amin < amax))
         return ea__yerr(d, ea__ymap_get(d, m, "alpha_max_deg"), err, EA_ERR_INPUT,
@@ -572,6 +688,7 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
     if ((st = ea__ymap_string(d, n, "task", 1, rel, sizeof rel, err))) return st;
     ea__resolve(from_file ? s->file : NULL, rel, s->min_time.task_file,
                 sizeof s->min_time.task_file);
+    snprintf(s->min_time.task_name, sizeof s->min_time.task_name, "%s", rel);
   }
   return EA_OK;
 }
