@@ -995,19 +995,17 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   for (int i = 0; i < pl->n; ++i)
     pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
   AddIpoptStrOption(pl->ip, "warm_start_init_point", warm ? "yes" : "no");
-  /* MUMPS ordering (docs/planner.md, bench_plan): SCOTCH gives fewer,
-   * larger fronts (numeric factorization 1.6 instead of 2.5 ms at 100
-   * knots) for an analysis of ~15 ms instead of AMD's ~2 ms, once per
-   * solve: it pays off over a cold solve's ~17 iterations (and a start from
-   * a previous plan's ~16), not over the few of a warm start. */
-  AddIpoptIntOption(pl->ip, "mumps_pivot_order", warm ? 0 : 3);
+  /* MUMPS ordering: AMD for every solve. SCOTCH gave fewer, larger fronts (numeric
+   * factorization 1.6 instead of 2.5 ms at 100 knots) but draws on a process-global random
+   * state: a plan depended on what the process had solved before (a study's CSV changed with
+   * the order of its cases, 1e-8 in durations, one Ipopt iteration more or less). AMD, AMF,
+   * PORD and METIS are deterministic; the whole cold solve took the same time with each. */
+  AddIpoptIntOption(pl->ip, "mumps_pivot_order", 0);
   if (replan || pl->refining) {
     /* After ea_planner_update (or bounds tightened for limits between knots) (docs/planner.md,
      * bench_plan): the shifted point is near, not at, the new optimum; mu_init 1e-6 with pushes
      * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
-     * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). SCOTCH: 5-16
-     * iterations pay for its analysis as in a cold solve. */
-    AddIpoptIntOption(pl->ip, "mumps_pivot_order", 3);
+     * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
     AddIpoptNumOption(pl->ip, "mu_init", 1e-6);
     AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-5);
     AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-5);
