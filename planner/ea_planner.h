@@ -361,7 +361,9 @@ ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp,
 
 /** Evaluate a trajectory at time t [s] (clamped to its span): quintic
  *  Hermite of value, rate and acceleration for cable length and base angle;
- *  theta0 quintic with accelerations from centred differences of its rates;
+ *  theta0 quintic with the accelerations of the cubic Hermite of theta0 and
+ *  its rate at the samples (the mean of both sides: equal for a planned,
+ *  C2 theta0, so the quintic is that cubic);
  *  tension and kappa0 cubic Hermite with centred-difference slopes. */
 ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t *q);
 
