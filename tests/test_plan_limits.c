@@ -255,6 +255,28 @@ static void test_shoulder_line(void) {
                "shoulder-limited line: not below the reference (grid 2.3e-5)");
 }
 
+/* A free-path 3-D task of the sweep (tests/test_plan_sweep.c, task 177)
+ * whose shoulder torque limit is active: between two knots the quasi-static
+ * torque at the interpolated (L_c, alpha) exceeded the limit by 2.5e-4
+ * (relative) before the planner checked it there (plan_between.c). */
+static void test_torque_between_knots(void) {
+  ea_task_t t;
+  ea_task_init(&t, NULL);
+  t.knots = 50;
+  t.payload_factor = 0.40616907473044639;
+  t.payload_kg = ea_arm_payload_from_factor(&t.arm, t.payload_factor);
+  t.start = ea_task_point_actuators(0.45425462421110224, 0.16635846292788914, 0.27343758315094857);
+  t.goal = ea_task_point_actuators(0.62848611368454277, -1.0754634883647793, 0.78531939170818177);
+  ea_error_t e = {0};
+  ea_status_t st = ea_task_check(&t, &e);
+  ea_test_true(st == EA_OK, e.msg);
+  if (st) return;
+  double d;
+  ea_chk_t c;
+  if (plan_and_check(&t, "free 3-D task, torque limit active", &d, &c)) return;
+  ea_test_true(c.usage[EA_CHK_TORQUE] > 0.999, "the shoulder torque limit is reached");
+}
+
 static void test_many_knots(void) {
   char path[1024];
   snprintf(path, sizeof path, "%s/problems/examples/paper-line.yaml", src_dir());
@@ -310,6 +332,7 @@ static void test_shortfall(void) {
 int main(void) {
   test_examples();
   test_shoulder_line();
+  test_torque_between_knots();
   test_many_knots();
   test_shortfall();
   return ea_test_summary("test_plan_limits");
