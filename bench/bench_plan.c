@@ -10,6 +10,7 @@
 #include "bench_util.h"
 #include "ea_planner.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -264,18 +265,33 @@ int main(int argc, char **argv) {
   sh.limits.shoulder_speed_max = 0.3;
   r = run(&sh, R, 0);
   print_row("line, shoulder speed 0.3 rad/s active", &r);
+  /* the arm's shoulder acceleration (8 rad/s^2) and speed bind */
+  ea_task_t sa = line;
+  sa.payload_kg = ea_arm_payload_from_factor(&line.arm, 0.25);
+  sa.start = ea_task_point_planar(0.25, -0.45, 0.0);
+  sa.goal = ea_task_point_planar(0.6, -0.3, 0.0);
+  if (ea_task_check(&sa, &e)) {
+    fprintf(stderr, "bench_plan: %s\n", e.msg);
+    return 1;
+  }
+  r = run(&sa, R, 0);
+  print_row("line (0.25,-0.45)-(0.6,-0.3), g 0.25", &r);
 
   header("scaling with the knot count (line, cold)");
-  const int ks[] = {25, 50, 100, 200, 400};
+  /* the paper line's minimum time at the nominal limits: D / v + v / a */
+  const double D = hypot(0.6 - 0.098, -0.2 + 0.006) - hypot(0.3 - 0.098, -0.2 + 0.006);
+  const double tmin =
+      D / line.limits.cable_speed_max + line.limits.cable_speed_max / line.limits.cable_accel_max;
+  const int ks[] = {25, 50, 100, 200, 400, 1000, 2000};
   for (size_t i = 0; i < sizeof ks / sizeof *ks; ++i) {
     ea_task_t t = line;
     t.knots = ks[i];
     char name[64];
     snprintf(name, sizeof name, "%d knots", ks[i]);
-    r = run(&t, ks[i] >= 200 ? (R < 3 ? R : 3) : R, 0);
+    r = run(&t, ks[i] >= 1000 ? 1 : ks[i] >= 200 ? (R < 3 ? R : 3) : R, 0);
     print_row(name, &r);
-    printf("%-34s %5s %5s %6s %9.2f  (per iteration)\n", "", "", "", "",
-           r.iters > 0 ? 1e3 * r.total / r.iters : 0.0);
+    printf("%-34s %5s %5s %6s %9.2f  (per iteration); t_f / (D/v + v/a) - 1 = %.2e\n", "", "", "",
+           "", r.iters > 0 ? 1e3 * r.total / r.iters : 0.0, r.dur / tmin - 1.0);
   }
   print_load("after");
   return 0;

@@ -163,10 +163,12 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, double cable_l
 /** Trajectory planner (docs/planner.md): a direct transcription of a task
  *  (ea_task_t) solved by Ipopt. Knots k = 0..N-1 at t_k = t_f s_k; per knot
  *  the actuator coordinates q = (L_c, alpha[, base]) and their rates (cubic
- *  Hermite between knots, as in the trajectory file) and the statics
- *  unknowns (T, theta0, kappa0) tied to q by the shooting residual
+ *  Hermite between knots, as in the trajectory file), the statics unknowns
+ *  (T, theta0, kappa0) tied to q by the shooting residual
  *  (kappa(L), x_L - x_c - L_c cos alpha, y_L - y_c - L_c sin alpha) = 0 with
- *  the exact sensitivities of ea_shoot() in the Jacobian. */
+ *  the exact sensitivities of ea_shoot() in the Jacobian, and theta0's rate
+ *  (theta0 a C2 cubic spline). Every limit holds between the knots too
+ *  (docs/planner.md, "Limits between the knots"). */
 typedef struct ea_planner ea_planner_t;
 
 /** Where a solve starts from. */
@@ -384,7 +386,9 @@ ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp,
 
 /** Evaluate a trajectory at time t [s] (clamped to its span): quintic
  *  Hermite of value, rate and acceleration for cable length and base angle;
- *  theta0 quintic with accelerations from centred differences of its rates;
+ *  theta0 quintic with the accelerations of the cubic Hermite of theta0 and
+ *  its rate at the samples (the mean of both sides: equal for a planned,
+ *  C2 theta0, so the quintic is that cubic);
  *  tension and kappa0 cubic Hermite with centred-difference slopes. */
 ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t *q);
 

@@ -159,9 +159,14 @@ static void ea__seg_q(const ea_planner_t *pl, int j, double sig, double *prev_ba
  * no limit is finite: the caller keeps its smoothstep). */
 #define EA__TOPP_M 400
 static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, double *sig,
-                       double *sigdot, const double *th_sig, const double *th, double th_vmax) {
-  const int M = EA__TOPP_M, nq = pl->nq;
-  double q[EA__TOPP_M + 1][3], b[EA__TOPP_M + 1], bf[EA__TOPP_M + 1], t[EA__TOPP_M + 1];
+                       double *sigdot, const double *th_sig, const double *th, double th_vmax,
+                       double th_amax) {
+  const int M = EA__TOPP_M, nq = pl->nq, nc = nq + (th != NULL);
+  double q[EA__TOPP_M + 1][4], b[EA__TOPP_M + 1], bf[EA__TOPP_M + 1], t[EA__TOPP_M + 1];
+  double vm[4], am[4];
+  for (int c = 0; c < nq; ++c)
+    vm[c] = pl->vmax[c], am[c] = pl->amax[c];
+  vm[3] = th_vmax, am[3] = th_amax;
   double pb = pl->nq == 3 ? ea__point(&pl->task, j)->base_angle : pl->base_fixed;
   const double ds = 1.0 / M;
   int any = 0;
@@ -170,27 +175,41 @@ static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, d
   if (!any) return 0.0;
   for (int i = 0; i <= M; ++i)
     ea__seg_q(pl, j, i * ds, &pb, q[i]);
-  /* theta0 (when given at the segment's knots, th_sig increasing from 0 to
-   * 1): its slope between knots caps the speed by th_vmax */
-  double thcap[EA__TOPP_M + 1];
-  for (int i = 0, kk = 0; i <= M; ++i) {
-    thcap[i] = 1e30;
-    if (!th) continue;
-    while (kk + 2 < nk && th_sig[kk + 1] < i * ds)
-      ++kk;
-    const double dsg = th_sig[kk + 1] - th_sig[kk];
-    const double slope = dsg > 0.0 ? (th[kk + 1] - th[kk]) / dsg : 0.0;
-    if (fabs(slope) > 0.0) thcap[i] = th_vmax * th_vmax / (slope * slope);
+  if (th) {
+    /* theta0 at the segment's knots (th_sig increasing from 0 to 1) as a
+     * 4th coordinate: the natural cubic spline through them in sig */
+    double *m2 = pl->wscr, *cp = pl->wscr + nk;
+    m2[0] = m2[nk - 1] = 0.0;
+    for (int k = 1; k + 1 < nk; ++k) {
+      const double h0 = th_sig[k] - th_sig[k - 1], h1 = th_sig[k + 1] - th_sig[k];
+      const double r = 6.0 * ((th[k + 1] - th[k]) / h1 - (th[k] - th[k - 1]) / h0);
+      const double den = 2.0 * (h0 + h1) - (k > 1 ? h0 * cp[k - 1] : 0.0);
+      cp[k] = h1 / den;
+      m2[k] = (r - (k > 1 ? h0 * m2[k - 1] : 0.0)) / den;
+    }
+    for (int k = nk - 3; k >= 1; --k)
+      m2[k] -= cp[k] * m2[k + 1];
+    for (int i = 0, k = 0; i <= M; ++i) {
+      const double sg = i * ds;
+      while (k + 2 < nk && th_sig[k + 1] < sg)
+        ++k;
+      const double h = th_sig[k + 1] - th_sig[k];
+      if (!(h > 0.0)) return 0.0;
+      const double a = (th_sig[k + 1] - sg) / h, bb = 1.0 - a;
+      q[i][3] = a * th[k] + bb * th[k + 1] +
+                ((a * a * a - a) * m2[k] + (bb * bb * bb - bb) * m2[k + 1]) * h * h / 6.0;
+    }
   }
   /* first and second derivatives wrt sig on the grid */
-  double d1[EA__TOPP_M + 1][3], d2[EA__TOPP_M + 1][3], cap[EA__TOPP_M + 1];
+  double d1[EA__TOPP_M + 1][4], d2[EA__TOPP_M + 1][4], cap[EA__TOPP_M + 1];
   for (int i = 0; i <= M; ++i) {
     const int a = i > 0 ? i - 1 : 0, z = i < M ? i + 1 : M, m = i == 0 ? 1 : i == M ? M - 1 : i;
-    cap[i] = thcap[i];
-    for (int c = 0; c < nq; ++c) {
+    cap[i] = 1e30;
+    for (int cc = 0; cc < nc; ++cc) {
+      const int c = cc < nq ? cc : 3;
       d1[i][c] = (q[z][c] - q[a][c]) / ((z - a) * ds);
       d2[i][c] = (q[m + 1][c] - 2.0 * q[m][c] + q[m - 1][c]) / (ds * ds);
-      const double v = pl->vmax[c], A = pl->amax[c];
+      const double v = vm[c], A = am[c];
       if (isfinite(v) && fabs(d1[i][c]) > 0.0) cap[i] = fmin(cap[i], v * v / (d1[i][c] * d1[i][c]));
       if (isfinite(A) && fabs(d1[i][c]) < 1e-9 && fabs(d2[i][c]) > 0.0)
         cap[i] = fmin(cap[i], A / fabs(d2[i][c]));
@@ -200,8 +219,9 @@ static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, d
 #define EA__ACC_RANGE(i, bb, lo, hi)                                                               \
   do {                                                                                             \
     lo = -1e30, hi = 1e30;                                                                         \
-    for (int c = 0; c < nq; ++c) {                                                                 \
-      const double A = pl->amax[c], g1 = d1[i][c];                                                 \
+    for (int cc = 0; cc < nc; ++cc) {                                                              \
+      const int c = cc < nq ? cc : 3;                                                              \
+      const double A = am[c], g1 = d1[i][c];                                                       \
       if (!isfinite(A) || fabs(g1) < 1e-9) continue;                                               \
       double r0 = (-A - d2[i][c] * (bb)) / g1, r1 = (A - d2[i][c] * (bb)) / g1;                    \
       if (r0 > r1) {                                                                               \
@@ -301,8 +321,9 @@ retry:
     double *u = pl->gscr + 2 * N; /* nk time fractions of the segment */
     for (int k = k0; k <= k1; ++k)
       u[k - k0] = (pl->s[k] - pl->s[k0]) / (pl->s[k1] - pl->s[k0]);
-    const double Tj = ea__topp(pl, j, nk, u, sigk + k0, sdn + k0, th_sig + k0,
-                               with_theta0 ? th + k0 : NULL, 0.9 * l->shoulder_speed_max);
+    const double Tj =
+        ea__topp(pl, j, nk, u, sigk + k0, sdn + k0, th_sig + k0, with_theta0 ? th + k0 : NULL,
+                 0.9 * pl->vmax[EA__C_TH], 0.9 * pl->amax[EA__C_TH]);
     if (!(Tj > 0.0)) {
       topp = 0;
       break;
@@ -363,6 +384,10 @@ retry:
                  sol.p[EA_P_THETA0] > arm->act.shoulder_angle_max)
           what = "shoulder angle range",
           by = fmax(arm->act.shoulder_angle_min - sol.p[2], sol.p[2] - arm->act.shoulder_angle_max);
+        else if (pl->fm && l->min_first_frequency_hz > 0.0 &&
+                 ea__plan_freq(pl, Lc, al, NULL) < l->min_first_frequency_hz)
+          what = "min_first_frequency_Hz",
+          by = l->min_first_frequency_hz - ea__plan_freq(pl, Lc, al, NULL);
         if (what)
           return ea_error_set(err, EA_ERR_INFEASIBLE,
                               "the prescribed path leaves the workspace for payload %.4g kg: "
@@ -391,10 +416,23 @@ retry:
         const double d = fabs(x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]);
         if (d / h > 0.9 * sm) tf *= d / h / (0.9 * sm);
       }
-    if (topp && tf > 1.05 * tf0) {
-      /* the timed guess breaks the shoulder speed limit: time it again with
-       * theta0 of these knots (linear in sig between them) under 90 % of the
-       * limit; if that is not enough either, the smoothstep */
+    /* the shoulder acceleration of the guess's theta0 spline at this timing */
+    double th_acc = 0.0;
+    if (topp && isfinite(pl->amax[EA__C_TH])) {
+      x[EA__ITF(pl)] = tf0;
+      ea__plan_theta0_rates(pl, x);
+      for (int k = 0; k + 1 < N; ++k) {
+        double a[2];
+        ea__plan_hermite_acc(x[EA__IP(pl, k, 1)], x[EA__IP(pl, k + 1, 1)], x[EA__IW(pl, k)],
+                             x[EA__IW(pl, k + 1)], tf0 * (pl->s[k + 1] - pl->s[k]), a, NULL);
+        th_acc = fmax(th_acc, fmax(fabs(a[0]), fabs(a[1])) / pl->amax[EA__C_TH]);
+      }
+    }
+    if (topp && (tf > 1.05 * tf0 || th_acc > 1.05)) {
+      /* the timed guess breaks the shoulder speed or acceleration limit:
+       * time it again with theta0 of these knots (a spline in sig) as a
+       * coordinate under 90 % of its limits; if that is not enough either,
+       * the smoothstep */
       if (!with_theta0) {
         for (int k = 0; k < N; ++k)
           th_sig[k] = sigk[k], th[k] = x[EA__IP(pl, k, 1)];

@@ -97,6 +97,7 @@ ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *
   ea_json_num(&j, "max_statics_residual", info->max_statics_residual);
   ea_json_num(&j, "max_violation", info->max_violation);
   ea_json_num(&j, "schedule_warp", info->schedule_warp);
+  ea_json_int(&j, "between_knots_resolves", info->between_passes);
   if (pl->fm) {
     const ea_plan_freq_model_info_t *fi = &pl->fm->info;
     ea_json_obj_begin(&j, "vibration");

@@ -861,6 +861,8 @@ ea_status_t ea__plan_tune(ea_planner_t *pl, double *w_best, ea_error_t *err);
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                                 ea_plan_info_t *info_out, ea_error_t *err);
 
+static ea_status_t ea__duration_probe(ea_planner_t *pl, ea_plan_info_t *info, ea_error_t *err);
+
 /* Most re-solves with tightened knot bounds for limits between the knots. */
 #define EA__BW_PASSES 4
 
@@ -872,6 +874,10 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
                                      ea_plan_info_t *info_out, ea_error_t *err) {
   ea_plan_info_t local, *info = info_out ? info_out : &local;
   ea_status_t st = ea__plan_solve_once(pl, start, prev, info, err);
+  if (st && !pl->has_tf && !pl->task.solver.derivative_test &&
+      (info->ipopt_status == Infeasible_Problem_Detected ||
+       info->ipopt_status == Restoration_Failed))
+    return ea__duration_probe(pl, info, err);
   if (st || pl->task.solver.derivative_test) return st;
   int iters = info->iterations, pass = 0;
   double tt = info->time_total_s, worst = -INFINITY;
@@ -921,6 +927,50 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
              info->duration_s, info->iterations, pass, info->min_tension_margin_N,
              info->peak_shoulder_torque_Nm);
   return ea_error_set(err, EA_OK, "%s", info->message);
+}
+
+/* A fixed-duration task Ipopt found (locally) infeasible: the real
+ * shortfall is the duration. The same task as min_time gives the shortest
+ * admissible duration under the same limits: longer than the task's ->
+ * infeasible by that much; not longer -> the task is feasible and the solver
+ * failed (EA_ERR_NOCONV). */
+static ea_status_t ea__duration_probe(ea_planner_t *pl, ea_plan_info_t *info, ea_error_t *err) {
+  ea_task_t t = pl->task;
+  const double want = t.duration_s;
+  t.objective = EA_TASK_MIN_TIME;
+  t.duration_s = NAN;
+  t.time_weight = NAN;
+  t.solver.tune_schedule = 0;
+  ea_planner_t *pr = NULL;
+  ea_plan_info_t pi;
+  ea_error_t e2 = {0};
+  ea_status_t st = ea_task_check(&t, &e2);
+  if (!st) st = ea_planner_alloc(&t, &pr, &e2);
+  if (!st) st = ea_planner_solve(pr, EA_PLAN_COLD, NULL, &pi, &e2);
+  ea_planner_free(pr);
+  info->time_total_s += st ? 0.0 : pi.time_total_s;
+  if (st == EA_ERR_INFEASIBLE) {
+    snprintf(info->message, sizeof info->message,
+             "the task is infeasible for any duration: the same task in minimum time: %.400s",
+             e2.msg);
+    info->status = EA_ERR_INFEASIBLE;
+  } else if (st) {
+    return ea_error_set(err, info->status, "%s", info->message); /* keep the first verdict */
+  } else if (pi.duration_s > want) {
+    snprintf(info->message, sizeof info->message,
+             "the task is infeasible: duration_s %.6g s is %.4g s shorter than the shortest "
+             "admissible duration %.6g s under the same limits (minimum-time plan, %d knots)",
+             want, pi.duration_s - want, pi.duration_s, pl->N);
+    info->status = EA_ERR_INFEASIBLE;
+  } else {
+    snprintf(info->message, sizeof info->message,
+             "the planner did not converge (Ipopt: %s after %d iterations); the task is "
+             "feasible: a minimum-time plan under the same limits takes %.6g s <= duration_s "
+             "%.6g s",
+             info->ipopt_status_name, info->iterations, pi.duration_s, want);
+    info->status = EA_ERR_NOCONV;
+  }
+  return ea_error_set(err, info->status, "%s", info->message);
 }
 
 ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
@@ -1105,7 +1155,12 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
              info->duration_s, info->iterations, info->min_tension_margin_N,
              info->peak_shoulder_torque_Nm);
   } else {
-    if (rs == Infeasible_Problem_Detected || rs == Restoration_Failed)
+    /* Only Ipopt's converged restoration phase (a local minimum of the
+     * constraint violation that is not zero) says "infeasible", and only
+     * with a violation well above the solver's tolerance; a failed
+     * restoration phase proves nothing (docs/planner.md). */
+    const int infeasible = rs == Infeasible_Problem_Detected && info->max_violation > tol_viol;
+    if (infeasible)
       info->status = EA_ERR_INFEASIBLE;
     else if (rs == Maximum_Iterations_Exceeded)
       info->status = EA_ERR_MAXITER;
@@ -1114,12 +1169,20 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
       info->status = EA_ERR_BACKEND;
     else
       info->status = EA_ERR_NOCONV;
-    snprintf(info->message, sizeof info->message,
-             "%s (Ipopt: %s after %d iterations); worst constraint at the last iterate: %s",
-             info->status == EA_ERR_INFEASIBLE ? "the task is infeasible"
-                                               : "the planner did not converge",
-             info->ipopt_status_name, info->iterations,
-             info->worst[0] ? info->worst : "none violated");
+    if (infeasible)
+      snprintf(info->message, sizeof info->message,
+               "the task is locally infeasible (Ipopt: %s after %d iterations); at the point of "
+               "least violation Ipopt found: %s",
+               info->ipopt_status_name, info->iterations, info->worst);
+    else
+      snprintf(info->message, sizeof info->message,
+               "the planner did not converge (Ipopt: %s after %d iterations%s); worst constraint "
+               "at the last iterate: %s",
+               info->ipopt_status_name, info->iterations,
+               rs == Restoration_Failed || rs == Infeasible_Problem_Detected
+                   ? "; not a proof that the task is infeasible"
+                   : "",
+               info->worst[0] ? info->worst : "none violated");
   }
   pl->cache_val = pl->cache_sens = 0;
   const double t1 = ea__plan_now();

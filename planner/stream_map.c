@@ -137,6 +137,24 @@ static double ea__fd(const ea_traj_t *tr, int i, int c) {
   return (d0 * h1 + d1 * h0) / (h0 + h1);
 }
 
+/* Acceleration at sample i of the cubic Hermite of columns (c, rate) on the
+ * adjacent intervals (docs/trajectory-format.md: theta0 follows the cubic
+ * Hermite of theta0 and its rate; a planned theta0 is a C2 spline, so both
+ * one-sided values agree and the quintic through them is that cubic). */
+static double ea__hermite_acc(const ea_traj_t *tr, int i, int c, int rate) {
+  double acc = 0.0;
+  int na = 0;
+  for (int j = i - 1; j <= i; ++j) {
+    if (j < 0 || j + 1 >= tr->n) continue;
+    const double h = EA_TRAJ_AT(tr, j + 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, j, EA_TRAJ_t);
+    const double d = (EA_TRAJ_AT(tr, j + 1, c) - EA_TRAJ_AT(tr, j, c)) / h;
+    const double v0 = EA_TRAJ_AT(tr, j, rate), v1 = EA_TRAJ_AT(tr, j + 1, rate);
+    acc += j == i ? (6.0 * d - 4.0 * v0 - 2.0 * v1) / h : (-6.0 * d + 2.0 * v0 + 4.0 * v1) / h;
+    ++na;
+  }
+  return na ? acc / na : 0.0;
+}
+
 /* Monotone slope (Fritsch-Butland) of column c at sample i: no overshoot of
  * the samples, so feed-forwards stay within the range of the plan's values. */
 static double ea__fd_monotone(const ea_traj_t *tr, int i, int c) {
@@ -164,7 +182,7 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
     q->cable_length_acc = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_acc);
     q->theta0 = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0);
     q->theta0_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0_rate);
-    q->theta0_acc = ea__fd(tr, i, EA_TRAJ_theta0_rate);
+    q->theta0_acc = ea__hermite_acc(tr, i, EA_TRAJ_theta0, EA_TRAJ_theta0_rate);
     q->base_angle = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle);
     q->base_angle_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle_rate);
     q->base_angle_acc = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle_acc);
@@ -191,9 +209,10 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
         &q->base_angle_rate, &q->base_angle_acc);
 #undef EA__Q
   ea__quintic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_theta0), EA_TRAJ_AT(tr, lo, EA_TRAJ_theta0_rate),
-              ea__fd(tr, lo, EA_TRAJ_theta0_rate), EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0),
-              EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0_rate), ea__fd(tr, hi, EA_TRAJ_theta0_rate),
-              &q->theta0, &q->theta0_rate, &q->theta0_acc);
+              ea__hermite_acc(tr, lo, EA_TRAJ_theta0, EA_TRAJ_theta0_rate),
+              EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0), EA_TRAJ_AT(tr, hi, EA_TRAJ_theta0_rate),
+              ea__hermite_acc(tr, hi, EA_TRAJ_theta0, EA_TRAJ_theta0_rate), &q->theta0,
+              &q->theta0_rate, &q->theta0_acc);
   q->tension =
       ea__cubic(h, s, EA_TRAJ_AT(tr, lo, EA_TRAJ_tension), ea__fd_monotone(tr, lo, EA_TRAJ_tension),
                 EA_TRAJ_AT(tr, hi, EA_TRAJ_tension), ea__fd_monotone(tr, hi, EA_TRAJ_tension));

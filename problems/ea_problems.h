@@ -242,7 +242,7 @@ typedef struct ea_task_limits {
                                       for (L_c, alpha) (INFINITY = off, default) */
   double resample_margin;        /**< [-] speed and acceleration limits are planned
                                       1 + margin times tighter, so that the streamer's
-                                      quintic resampling stays within them (default 0.005) */
+                                      quintic resampling stays within them (default 0) */
   int continuous_acceleration;   /**< 1 (default): the acceleration is continuous at the
                                       knots (the plan is a C2 cubic spline, which the
                                       streamer's quintic reproduces exactly); 0: the

@@ -1,9 +1,14 @@
 /* Plans are admissible under the streamer's resampling (docs/planner.md,
- * "Limits between the knots"): the paper line planned with the default
- * limits.resample_margin, resampled at 1 kHz by ea_stream_resample (quintic
- * Hermite of value, rate and acceleration, planner/stream_*.c, outside the
- * planner) passes ea_stream_check_limits at every setpoint without time
- * scaling; with resample_margin = 0 it does not (the check can fail). */
+ * "Limits between the knots"): plans resampled at 1 kHz by
+ * ea_stream_resample (quintic Hermite of value, rate and acceleration,
+ * planner/stream_*.c, outside the planner) pass ea_stream_check_limits (the
+ * arm's limits, shoulder speed and acceleration included) at every setpoint
+ * without time scaling and without any margin inside the limits (the
+ * default limits.resample_margin is 0): the paper line (30, 100, 200
+ * knots, min_time; min_effort) and the line (0.25, -0.45) -> (0.6, -0.3) at
+ * payload factor 0.25, where the shoulder limits bind. A plan whose
+ * acceleration jumps at the knots (continuous_acceleration off, no margin)
+ * is refused. */
 #include "ea_planner.h"
 #include "ea_test.h"
 
@@ -13,12 +18,15 @@
 
 /* Plan the paper line; resample at 1 kHz; returns the resample status and
  * the least admissible time scale. */
-static ea_status_t plan_resample(int knots, double margin, int c2, ea_task_objective_t obj,
-                                 double *scale) {
+static ea_status_t plan_resample_line(const double A[2], const double B[2], double gamma, int knots,
+                                      double margin, int c2, ea_task_objective_t obj,
+                                      double *scale) {
   ea_task_t t;
   ea_task_init(&t, NULL);
-  t.start = ea_task_point_planar(0.3, -0.2, 0.0);
-  t.goal = ea_task_point_planar(0.6, -0.2, 0.0);
+  t.payload_factor = gamma;
+  t.payload_kg = ea_arm_payload_from_factor(&t.arm, gamma);
+  t.start = ea_task_point_planar(A[0], A[1], 0.0);
+  t.goal = ea_task_point_planar(B[0], B[1], 0.0);
   t.path = EA_TASK_PATH_LINE;
   t.knots = knots;
   t.limits.resample_margin = margin;
@@ -56,6 +64,12 @@ static ea_status_t plan_resample(int knots, double margin, int c2, ea_task_objec
   return st;
 }
 
+static ea_status_t plan_resample(int knots, double margin, int c2, ea_task_objective_t obj,
+                                 double *scale) {
+  const double A[2] = {0.3, -0.2}, B[2] = {0.6, -0.2};
+  return plan_resample_line(A, B, 0.0, knots, margin, c2, obj, scale);
+}
+
 int main(void) {
   double s;
   const int ks[] = {30, 100, 200};
@@ -63,11 +77,16 @@ int main(void) {
     char what[128];
     snprintf(what, sizeof what, "paper line, %d knots, defaults: resampled at 1 kHz within limits",
              ks[i]);
-    ea_test_true(plan_resample(ks[i], 0.005, 1, EA_TASK_MIN_TIME, &s) == EA_OK, what);
+    ea_test_true(plan_resample(ks[i], 0.0, 1, EA_TASK_MIN_TIME, &s) == EA_OK, what);
     ea_test_abs(s, 1.0, 1e-12, "no time scaling needed");
   }
-  ea_test_true(plan_resample(100, 0.005, 1, EA_TASK_MIN_EFFORT, &s) == EA_OK,
+  ea_test_true(plan_resample(100, 0.0, 1, EA_TASK_MIN_EFFORT, &s) == EA_OK,
                "min_effort 1.4 s, defaults: within limits");
+  /* the shoulder limits bind (the old plan needed a time scale of 2.97) */
+  const double A2[2] = {0.25, -0.45}, B2[2] = {0.6, -0.3};
+  ea_test_true(plan_resample_line(A2, B2, 0.25, 100, 0.0, 1, EA_TASK_MIN_TIME, &s) == EA_OK,
+               "shoulder-limited line, defaults: resampled at 1 kHz within limits");
+  ea_test_abs(s, 1.0, 1e-12, "shoulder-limited line: no time scaling needed");
   /* the old plan (acceleration jumps at the knots, no margin): the quintic
    * exceeds the acceleration limit between the knots */
   ea_test_true(plan_resample(100, 0.0, 0, EA_TASK_MIN_TIME, &s) == EA_ERR_INADMISSIBLE,
