@@ -2,9 +2,12 @@
 #include "ea_planner.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define EA__TRAJ_NAME(name, header) header,
 static const char *const ea__traj_names[EA_TRAJ_NCOL] = {EA_TRAJ_COLUMNS(EA__TRAJ_NAME)};
@@ -77,17 +80,56 @@ static void ea__meta(ea_traj_t *tr, const char *line) {
   if (!strncmp(line, "# tip_mass_kg: ", 15)) tr->tip_mass_kg = strtod(line + 15, NULL);
 }
 
+/* Open path for reading only if it is a regular file: the open does not
+ * block (a FIFO without a writer would), and a directory or device is
+ * refused with a message naming the path. */
+static ea_status_t ea__open_regular(const char *path, FILE **fp, ea_error_t *err) {
+  const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat sb;
+  if (fstat(fd, &sb) != 0) {
+    const int e = errno;
+    close(fd);
+    return ea_error_set(err, EA_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
+  }
+  if (!S_ISREG(sb.st_mode)) {
+    close(fd);
+    const mode_t m = sb.st_mode;
+    return ea_error_set(err, EA_ERR_IO, "%s: is %s, not a regular file", path,
+                        S_ISDIR(m)    ? "a directory"
+                        : S_ISFIFO(m) ? "a FIFO (named pipe)"
+                        : S_ISCHR(m)  ? "a character device"
+                        : S_ISBLK(m)  ? "a block device"
+                        : S_ISSOCK(m) ? "a socket"
+                                      : "another kind of file");
+  }
+  const int fl = fcntl(fd, F_GETFL);
+  if (fl >= 0) fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
+  if (!(*fp = fdopen(fd, "r"))) {
+    const int e = errno;
+    close(fd);
+    return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(e));
+  }
+  return EA_OK;
+}
+
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
   memset(tr, 0, sizeof *tr);
-  FILE *fp = fopen(path, "r");
-  if (!fp) return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  FILE *fp = NULL;
+  ea_status_t st = ea__open_regular(path, &fp, err);
+  if (st) return st;
   char *line = NULL;
   size_t cap = 0;
   long lineno = 0;
   int cap_rows = 0, header_seen = 0, version_seen = 0;
-  ea_status_t st = EA_OK;
-  while (getline(&line, &cap, fp) != -1) {
+  ssize_t got;
+  while ((got = getline(&line, &cap, fp)) != -1) {
     ++lineno;
+    if (strlen(line) != (size_t)got) {
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%zu: NUL byte: not a text file", path, lineno,
+                        strlen(line) + 1);
+      break;
+    }
     if (line[0] == '#') {
       int ver;
       if (sscanf(line, "# elasticarm-trajectory %d", &ver) == 1) {
