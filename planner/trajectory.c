@@ -64,20 +64,37 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
   return ea_afile_commit(&f, err);
 }
 
-static void ea__meta(ea_traj_t *tr, const char *line) {
+/* A '#' metadata line; the masses must be finite numbers >= 0 (they set
+ * the tip load of a replayed or simulated plan). */
+static ea_status_t ea__meta(ea_traj_t *tr, const char *line, const char *path, long lineno,
+                            ea_error_t *err) {
   const char *v;
 #define EA__META_STR(key, field)                                                                   \
   if (!strncmp(line, "# " key ": ", strlen("# " key ": "))) {                                      \
     v = line + strlen("# " key ": ");                                                              \
     snprintf(tr->field, sizeof tr->field, "%.*s", (int)strcspn(v, "\r\n"), v);                     \
-    return;                                                                                        \
+    return EA_OK;                                                                                  \
   }
   EA__META_STR("arm_file", arm_file)
   EA__META_STR("task", task)
   EA__META_STR("status", status)
 #undef EA__META_STR
-  if (!strncmp(line, "# payload_kg: ", 14)) tr->payload_kg = strtod(line + 14, NULL);
-  if (!strncmp(line, "# tip_mass_kg: ", 15)) tr->tip_mass_kg = strtod(line + 15, NULL);
+  static const char *const keys[] = {"# payload_kg: ", "# tip_mass_kg: "};
+  double *dst[] = {&tr->payload_kg, &tr->tip_mass_kg};
+  for (int k = 0; k < 2; ++k) {
+    const size_t kl = strlen(keys[k]);
+    if (strncmp(line, keys[k], kl)) continue;
+    char *end;
+    errno = 0;
+    const double x = strtod(line + kl, &end);
+    if (end == line + kl || errno == ERANGE || !isfinite(x) || x < 0 ||
+        end[strspn(end, " \t\r\n")] != '\0')
+      return ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%zu: '%.*s': '%.*s' is not a finite mass >= 0",
+                          path, lineno, kl + 1, (int)kl - 4, keys[k] + 2,
+                          (int)strcspn(line + kl, "\r\n"), line + kl);
+    *dst[k] = x;
+  }
+  return EA_OK;
 }
 
 /* Open path for reading only if it is a regular file: the open does not
@@ -131,17 +148,22 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
       break;
     }
     if (line[0] == '#') {
-      int ver;
-      if (sscanf(line, "# elasticarm-trajectory %d", &ver) == 1) {
-        if (ver != EA_TRAJ_FORMAT_VERSION) {
-          st =
-              ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: trajectory format version %d, expected %d",
-                           path, lineno, ver, EA_TRAJ_FORMAT_VERSION);
+      static const char magic[] = "# elasticarm-trajectory ";
+      if (!strncmp(line, magic, sizeof magic - 1)) {
+        char *end;
+        errno = 0;
+        const long ver = strtol(line + sizeof magic - 1, &end, 10);
+        if (end == line + sizeof magic - 1 || errno == ERANGE || ver != EA_TRAJ_FORMAT_VERSION ||
+            end[strspn(end, " \t\r\n")] != '\0') {
+          st = ea_error_set(err, EA_ERR_INPUT,
+                            "%s:%ld:%zu: trajectory format version '%.*s', expected %d", path,
+                            lineno, sizeof magic, (int)strcspn(line + sizeof magic - 1, "\r\n"),
+                            line + sizeof magic - 1, EA_TRAJ_FORMAT_VERSION);
           break;
         }
         version_seen = 1;
       }
-      ea__meta(tr, line);
+      if ((st = ea__meta(tr, line, path, lineno, err))) break;
       continue;
     }
     if (line[0] == '\n' || line[0] == '\0') continue;

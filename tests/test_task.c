@@ -187,9 +187,84 @@ static void test_not_regular(void) {
   rmdir(dir);
 }
 
+/* Write text (len bytes) to dir/name; returns the path (static buffer). */
+static const char *write_file(const char *dir, const char *name, const char *text, size_t len) {
+  static char path[256];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "wb");
+  if (f) {
+    fwrite(text, 1, len, f);
+    fclose(f);
+  }
+  return path;
+}
+
+/* Trajectory reader: metadata masses must be finite and >= 0 (they set the
+ * tip load of `simulate` and `figure`; 'inf' was taken as a tip mass), the
+ * version a number, and a NUL byte is an error, each with line:column. */
+static void test_traj_meta(void) {
+  char dir[] = "/tmp/ea_test_traj_XXXXXX", head[1024] = "", body[4096], buf[1024];
+  if (!mkdtemp(dir)) {
+    ea_test_true(0, "mkdtemp");
+    return;
+  }
+  for (int c = 0; c < EA_TRAJ_NCOL; ++c)
+    snprintf(head + strlen(head), sizeof head - strlen(head), c ? ",%s" : "%s",
+             ea_traj_column_name(c));
+  char rows[512] = "";
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < EA_TRAJ_NCOL; ++c)
+      snprintf(rows + strlen(rows), sizeof rows - strlen(rows), c ? ",%d" : "%d", c == 0 ? r : 1);
+    strcat(rows, "\n");
+  }
+  static const struct {
+    const char *name, *meta, *want;
+    ea_status_t st;
+  } tcases[] = {
+      {"good", "# elasticarm-trajectory 1\n# tip_mass_kg: 0.23\n", "", EA_OK},
+      {"tip mass inf", "# elasticarm-trajectory 1\n# tip_mass_kg: inf\n",
+       "t.csv:2:16: 'tip_mass_kg': 'inf' is not a finite mass >= 0", EA_ERR_INPUT},
+      {"payload negative", "# elasticarm-trajectory 1\n# payload_kg: -0.5\n",
+       "t.csv:2:15: 'payload_kg': '-0.5' is not a finite mass >= 0", EA_ERR_INPUT},
+      {"payload text", "# elasticarm-trajectory 1\n# payload_kg: 0.1 kg\n",
+       "t.csv:2:15: 'payload_kg': '0.1 kg'", EA_ERR_INPUT},
+      {"version too large", "# elasticarm-trajectory 4294967297\n",
+       "t.csv:1:25: trajectory format version '4294967297', expected 1", EA_ERR_INPUT},
+  };
+  for (size_t i = 0; i < sizeof tcases / sizeof *tcases; ++i) {
+    snprintf(body, sizeof body, "%s%s\n%s", tcases[i].meta, head, rows);
+    const char *path = write_file(dir, "t.csv", body, strlen(body));
+    ea_traj_t tr;
+    ea_error_t e = {0};
+    const ea_status_t st = ea_traj_read(&tr, path, &e);
+    snprintf(buf, sizeof buf, "trajectory %s -> %s: %s", tcases[i].name, ea_status_name(st), e.msg);
+    ea_test_true(st == tcases[i].st && (st == EA_OK || strstr(e.msg, tcases[i].want)), buf);
+    if (st == EA_OK) {
+      ea_test_true(tr.n == 2 && tr.tip_mass_kg == 0.23, "good trajectory: 2 rows, tip mass 0.23");
+      ea_traj_free(&tr);
+    }
+  }
+  /* a NUL byte after the last value of the second data row, then junk: the
+     row's text ends at the NUL, so without the check the junk is ignored */
+  snprintf(body, sizeof body, "# elasticarm-trajectory 1\n%s\n%s", head, rows);
+  size_t len = strlen(body);
+  body[len - 1] = '\0';
+  memcpy(body + len, "junk\n", 6);
+  len += 5;
+  const char *path = write_file(dir, "t.csv", body, len);
+  ea_traj_t tr;
+  ea_error_t e = {0};
+  const ea_status_t st = ea_traj_read(&tr, path, &e);
+  snprintf(buf, sizeof buf, "trajectory NUL byte -> %s: %s", ea_status_name(st), e.msg);
+  ea_test_true(st == EA_ERR_INPUT && strstr(e.msg, "t.csv:4:") && strstr(e.msg, "NUL byte"), buf);
+  unlink(path);
+  rmdir(dir);
+}
+
 int main(void) {
   char buf[1024];
   test_depth_cap();
+  test_traj_meta();
   test_not_regular();
   for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
     const ea_case_t *c = &cases[i];
