@@ -1,7 +1,8 @@
 /* libFuzzer target for the task loader: any bytes must give EA_OK or an
  * error status with a message, never a crash, leak or undefined behaviour.
  * Build: cmake -DEA_FUZZ=ON -DCMAKE_C_COMPILER=clang; run:
- * ./fuzz_task -max_total_time=60 problems/examples */
+ * build-fuzz/fuzz_task -max_total_time=60 build-fuzz/corpus-fuzz_task fuzz/corpus/task
+ * (seeds: the example tasks without arm_file, and near misses). */
 #include "ea_problems.h"
 
 #include <stddef.h>

@@ -2,9 +2,12 @@
 #include "ea_planner.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define EA__TRAJ_NAME(name, header) header,
 static const char *const ea__traj_names[EA_TRAJ_NCOL] = {EA_TRAJ_COLUMNS(EA__TRAJ_NAME)};
@@ -61,45 +64,106 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
   return ea_afile_commit(&f, err);
 }
 
-static void ea__meta(ea_traj_t *tr, const char *line) {
+/* A '#' metadata line; the masses must be finite numbers >= 0 (they set
+ * the tip load of a replayed or simulated plan). */
+static ea_status_t ea__meta(ea_traj_t *tr, const char *line, const char *path, long lineno,
+                            ea_error_t *err) {
   const char *v;
 #define EA__META_STR(key, field)                                                                   \
   if (!strncmp(line, "# " key ": ", strlen("# " key ": "))) {                                      \
     v = line + strlen("# " key ": ");                                                              \
     snprintf(tr->field, sizeof tr->field, "%.*s", (int)strcspn(v, "\r\n"), v);                     \
-    return;                                                                                        \
+    return EA_OK;                                                                                  \
   }
   EA__META_STR("arm_file", arm_file)
   EA__META_STR("task", task)
   EA__META_STR("status", status)
 #undef EA__META_STR
-  if (!strncmp(line, "# payload_kg: ", 14)) tr->payload_kg = strtod(line + 14, NULL);
-  if (!strncmp(line, "# tip_mass_kg: ", 15)) tr->tip_mass_kg = strtod(line + 15, NULL);
+  static const char *const keys[] = {"# payload_kg: ", "# tip_mass_kg: "};
+  double *dst[] = {&tr->payload_kg, &tr->tip_mass_kg};
+  for (int k = 0; k < 2; ++k) {
+    const size_t kl = strlen(keys[k]);
+    if (strncmp(line, keys[k], kl)) continue;
+    char *end;
+    errno = 0;
+    const double x = strtod(line + kl, &end);
+    if (end == line + kl || errno == ERANGE || !isfinite(x) || x < 0 ||
+        end[strspn(end, " \t\r\n")] != '\0')
+      return ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%zu: '%.*s': '%.*s' is not a finite mass >= 0",
+                          path, lineno, kl + 1, (int)kl - 4, keys[k] + 2,
+                          (int)strcspn(line + kl, "\r\n"), line + kl);
+    *dst[k] = x;
+  }
+  return EA_OK;
+}
+
+/* Open path for reading only if it is a regular file: the open does not
+ * block (a FIFO without a writer would), and a directory or device is
+ * refused with a message naming the path. */
+static ea_status_t ea__open_regular(const char *path, FILE **fp, ea_error_t *err) {
+  const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat sb;
+  if (fstat(fd, &sb) != 0) {
+    const int e = errno;
+    close(fd);
+    return ea_error_set(err, EA_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
+  }
+  if (!S_ISREG(sb.st_mode)) {
+    close(fd);
+    const mode_t m = sb.st_mode;
+    return ea_error_set(err, EA_ERR_IO, "%s: is %s, not a regular file", path,
+                        S_ISDIR(m)    ? "a directory"
+                        : S_ISFIFO(m) ? "a FIFO (named pipe)"
+                        : S_ISCHR(m)  ? "a character device"
+                        : S_ISBLK(m)  ? "a block device"
+                        : S_ISSOCK(m) ? "a socket"
+                                      : "another kind of file");
+  }
+  const int fl = fcntl(fd, F_GETFL);
+  if (fl >= 0) fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
+  if (!(*fp = fdopen(fd, "r"))) {
+    const int e = errno;
+    close(fd);
+    return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(e));
+  }
+  return EA_OK;
 }
 
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
   memset(tr, 0, sizeof *tr);
-  FILE *fp = fopen(path, "r");
-  if (!fp) return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  FILE *fp = NULL;
+  ea_status_t st = ea__open_regular(path, &fp, err);
+  if (st) return st;
   char *line = NULL;
   size_t cap = 0;
   long lineno = 0;
   int cap_rows = 0, header_seen = 0, version_seen = 0;
-  ea_status_t st = EA_OK;
-  while (getline(&line, &cap, fp) != -1) {
+  ssize_t got;
+  while ((got = getline(&line, &cap, fp)) != -1) {
     ++lineno;
+    if (strlen(line) != (size_t)got) {
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:%zu: NUL byte: not a text file", path, lineno,
+                        strlen(line) + 1);
+      break;
+    }
     if (line[0] == '#') {
-      int ver;
-      if (sscanf(line, "# elasticarm-trajectory %d", &ver) == 1) {
-        if (ver != EA_TRAJ_FORMAT_VERSION) {
-          st =
-              ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: trajectory format version %d, expected %d",
-                           path, lineno, ver, EA_TRAJ_FORMAT_VERSION);
+      static const char magic[] = "# elasticarm-trajectory ";
+      if (!strncmp(line, magic, sizeof magic - 1)) {
+        char *end;
+        errno = 0;
+        const long ver = strtol(line + sizeof magic - 1, &end, 10);
+        if (end == line + sizeof magic - 1 || errno == ERANGE || ver != EA_TRAJ_FORMAT_VERSION ||
+            end[strspn(end, " \t\r\n")] != '\0') {
+          st = ea_error_set(err, EA_ERR_INPUT,
+                            "%s:%ld:%zu: trajectory format version '%.*s', expected %d", path,
+                            lineno, sizeof magic, (int)strcspn(line + sizeof magic - 1, "\r\n"),
+                            line + sizeof magic - 1, EA_TRAJ_FORMAT_VERSION);
           break;
         }
         version_seen = 1;
       }
-      ea__meta(tr, line);
+      if ((st = ea__meta(tr, line, path, lineno, err))) break;
       continue;
     }
     if (line[0] == '\n' || line[0] == '\0') continue;

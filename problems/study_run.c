@@ -503,7 +503,7 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const c
       q += ll + 1;
     }
   }
-  qsort(g, ng, sizeof *g, ea__group_cmp);
+  if (ng > 1) qsort(g, ng, sizeof *g, ea__group_cmp); /* g is NULL when no rows */
   for (size_t k = 1; k < ng; ++k)
     if (g[k].id == g[k - 1].id) {
       st = ea_error_set(err, EA_ERR_INPUT, "case %ld is in %s and in %s", g[k].id,

@@ -15,7 +15,12 @@ typedef struct ea__ydoc {
   char file[256];
 } ea__ydoc_t;
 
-/** Parse path (or, if text != NULL, the len bytes of text named path). */
+/** Deepest nesting of mappings and sequences a loaded document may have. */
+#define EA__YDOC_MAX_DEPTH 64
+
+/** Parse path (or, if text != NULL, the len bytes of text named path).
+ *  A path must name a regular file (a FIFO or directory is refused without
+ *  blocking); nesting deeper than EA__YDOC_MAX_DEPTH is an error. */
 ea_status_t ea__ydoc_load(ea__ydoc_t *d, const char *path, const char *text, size_t len,
                           ea_error_t *err);
 void ea__ydoc_free(ea__ydoc_t *d);

@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static char *slurp(const char *path, size_t *len) {
   FILE *f = fopen(path, "rb");
@@ -124,6 +126,51 @@ int main(void) {
   ea_test_true(ea_arm_load("/nonexistent/arm.yaml", &arm, &err) == EA_ERR_IO &&
                    strstr(err.msg, "/nonexistent/arm.yaml"),
                "missing file: EA_ERR_IO naming the file");
+
+  /* A FIFO or a directory is refused at once, naming the path (without the
+   * check the FIFO open blocks forever: the alarm makes that a failure). */
+  char dir[] = "/tmp/ea_test_arm_XXXXXX";
+  if (mkdtemp(dir)) {
+    char fifo[64], deep[64], buf[1024];
+    snprintf(fifo, sizeof fifo, "%s/arm.fifo", dir);
+    ea_test_true(mkfifo(fifo, 0600) == 0, "mkfifo");
+    alarm(20);
+    ea_status_t st = ea_arm_load(fifo, &arm, &err);
+    alarm(0);
+    snprintf(buf, sizeof buf, "FIFO -> %s: %s", ea_status_name(st), err.msg);
+    ea_test_true(st == EA_ERR_IO && strstr(err.msg, fifo) &&
+                     strstr(err.msg, "is a FIFO (named pipe), not a regular file"),
+                 buf);
+    st = ea_arm_load(dir, &arm, &err);
+    snprintf(buf, sizeof buf, "directory -> %s: %s", ea_status_name(st), err.msg);
+    ea_test_true(st == EA_ERR_IO && strstr(err.msg, dir) &&
+                     strstr(err.msg, "is a directory, not a regular file"),
+                 buf);
+    /* nesting beyond the cap in a file: refused at the 65th level */
+    snprintf(deep, sizeof deep, "%s/deep.yaml", dir);
+    FILE *f = fopen(deep, "w");
+    if (f) {
+      fputs("beam: ", f);
+      for (int i = 0; i < 1000; ++i)
+        fputs("{a: ", f);
+      fputs("1", f);
+      for (int i = 0; i < 1000; ++i)
+        fputc('}', f);
+      fputc('\n', f);
+      fclose(f);
+    }
+    st = ea_arm_load(deep, &arm, &err);
+    snprintf(buf, sizeof buf, "1000 levels -> %s: %s", ea_status_name(st), err.msg);
+    /* level 65 is the 64th '{a: ' (column 7 + 4 * 63) */
+    ea_test_true(st == EA_ERR_PARSE && strstr(err.msg, "deep.yaml:1:259: ") &&
+                     strstr(err.msg, "limit of 64 levels"),
+                 buf);
+    unlink(deep);
+    unlink(fifo);
+    rmdir(dir);
+  } else {
+    ea_test_true(0, "mkdtemp");
+  }
   free(good);
   return ea_test_summary("test_arm_file");
 }

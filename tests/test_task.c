@@ -1,5 +1,6 @@
 /* Task loader: good files load, and every bad input is rejected with
  * file:line:column and the key in the message (docs/task-format.md). */
+#include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_test.h"
 
@@ -7,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define OKTASK "start: {tip: [0.3, -0.2]}\ngoal: {tip: [0.6, -0.2]}\n"
 
@@ -78,8 +81,191 @@ static const ea_case_t cases[] = {
      "arm_file"},
 };
 
+/* A task whose start point is depth levels of flow sequences [[[...]]]
+ * (the root mapping is level 1). */
+static char *nested_task(int depth) {
+  const int n = depth - 1;
+  char *s = malloc((size_t)(2 * n) + 64);
+  if (!s) return NULL;
+  char *p = s + sprintf(s, "start: ");
+  memset(p, '[', (size_t)n);
+  memset(p + n, ']', (size_t)n);
+  strcpy(p + 2 * n, "\ngoal: {tip: [0.6, -0.2]}\n");
+  return s;
+}
+
+/* Nesting is capped at 64 levels, with the position of the first level too
+ * many: before the cap a 100k-level input took 23 s (quadratic in libyaml's
+ * scanner) and reached the loader. */
+static void test_depth_cap(void) {
+  char buf[1024];
+  static const int depths[] = {64, 65, 100000};
+  for (size_t i = 0; i < sizeof depths / sizeof *depths; ++i) {
+    char *text = nested_task(depths[i]);
+    ea_task_t t;
+    ea_error_t e = {0};
+    const ea_status_t st = ea_task_load_string("deep.yaml", text, strlen(text), NULL, &t, &e);
+    if (depths[i] <= 64) {
+      /* at the cap the document loads; the loader then rejects the value */
+      snprintf(buf, sizeof buf, "%d levels load, 'start' rejected -> %s: %s", depths[i],
+               ea_status_name(st), e.msg);
+      ea_test_true(st == EA_ERR_INPUT && strstr(e.msg, "deep.yaml:1:8: start must be a mapping"),
+                   buf);
+    } else {
+      /* level 65 is the 64th '[' (column 8 + 63) */
+      snprintf(buf, sizeof buf, "%d levels refused at the cap -> %s: %s", depths[i],
+               ea_status_name(st), e.msg);
+      ea_test_true(st == EA_ERR_PARSE && strstr(e.msg, "deep.yaml:1:71: ") &&
+                       strstr(e.msg, "deeper than the limit of 64 levels"),
+                   buf);
+    }
+    free(text);
+  }
+  /* block style and mappings count too */
+  char text[2048] = "start:\n  ";
+  for (int i = 0; i < 70; ++i)
+    strcat(text, "- ");
+  strcat(text, "x\ngoal: {tip: [0.6, -0.2]}\n");
+  ea_task_t t;
+  ea_error_t e = {0};
+  ea_status_t st = ea_task_load_string("deep.yaml", text, strlen(text), NULL, &t, &e);
+  snprintf(buf, sizeof buf, "70 block sequences refused -> %s: %s", ea_status_name(st), e.msg);
+  ea_test_true(st == EA_ERR_PARSE && strstr(e.msg, "deep.yaml:2:") && strstr(e.msg, "64 levels"),
+               buf);
+  strcpy(text, "start: ");
+  for (int i = 0; i < 70; ++i)
+    strcat(text, "{a: ");
+  strcat(text, "1");
+  for (int i = 0; i < 70; ++i)
+    strcat(text, "}");
+  strcat(text, "\n");
+  st = ea_task_load_string("deep.yaml", text, strlen(text), NULL, &t, &e);
+  snprintf(buf, sizeof buf, "70 flow mappings refused -> %s: %s", ea_status_name(st), e.msg);
+  ea_test_true(st == EA_ERR_PARSE && strstr(e.msg, "deep.yaml:1:") && strstr(e.msg, "64 levels"),
+               buf);
+}
+
+/* A FIFO or a directory given as input is refused at once with a message
+ * naming the path, by every loader that reads a path here (the arm file:
+ * test_arm_file). Without the check a FIFO with no writer blocks the open
+ * forever: the alarm turns that into a failure instead of a hang. */
+static void test_not_regular(void) {
+  char dir[] = "/tmp/ea_test_task_XXXXXX";
+  if (!mkdtemp(dir)) {
+    ea_test_true(0, "mkdtemp");
+    return;
+  }
+  char fifo[64], buf[1024];
+  snprintf(fifo, sizeof fifo, "%s/in.fifo", dir);
+  ea_test_true(mkfifo(fifo, 0600) == 0, "mkfifo");
+  const char *paths[] = {fifo, dir};
+  const char *kinds[] = {"is a FIFO (named pipe), not a regular file",
+                         "is a directory, not a regular file"};
+  for (int k = 0; k < 2; ++k) {
+    alarm(20);
+    ea_task_t t;
+    ea_error_t e = {0};
+    ea_status_t st = ea_task_load(paths[k], NULL, &t, &e);
+    snprintf(buf, sizeof buf, "task loader: %s -> %s: %s", k ? "directory" : "FIFO",
+             ea_status_name(st), e.msg);
+    ea_test_true(st == EA_ERR_IO && strstr(e.msg, paths[k]) && strstr(e.msg, kinds[k]), buf);
+
+    ea_study_t s;
+    st = ea_study_load(paths[k], NULL, &s, &e);
+    snprintf(buf, sizeof buf, "study spec loader: %s -> %s: %s", k ? "directory" : "FIFO",
+             ea_status_name(st), e.msg);
+    ea_test_true(st == EA_ERR_IO && strstr(e.msg, paths[k]) && strstr(e.msg, kinds[k]), buf);
+
+    ea_traj_t tr;
+    st = ea_traj_read(&tr, paths[k], &e);
+    snprintf(buf, sizeof buf, "trajectory reader: %s -> %s: %s", k ? "directory" : "FIFO",
+             ea_status_name(st), e.msg);
+    ea_test_true(st == EA_ERR_IO && strstr(e.msg, paths[k]) && strstr(e.msg, kinds[k]), buf);
+    alarm(0);
+  }
+  unlink(fifo);
+  rmdir(dir);
+}
+
+/* Write text (len bytes) to dir/name; returns the path (static buffer). */
+static const char *write_file(const char *dir, const char *name, const char *text, size_t len) {
+  static char path[256];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "wb");
+  if (f) {
+    fwrite(text, 1, len, f);
+    fclose(f);
+  }
+  return path;
+}
+
+/* Trajectory reader: metadata masses must be finite and >= 0 (they set the
+ * tip load of `simulate` and `figure`; 'inf' was taken as a tip mass), the
+ * version a number, and a NUL byte is an error, each with line:column. */
+static void test_traj_meta(void) {
+  char dir[] = "/tmp/ea_test_traj_XXXXXX", head[1024] = "", body[4096], buf[1024];
+  if (!mkdtemp(dir)) {
+    ea_test_true(0, "mkdtemp");
+    return;
+  }
+  for (int c = 0; c < EA_TRAJ_NCOL; ++c)
+    snprintf(head + strlen(head), sizeof head - strlen(head), c ? ",%s" : "%s",
+             ea_traj_column_name(c));
+  char rows[512] = "";
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < EA_TRAJ_NCOL; ++c)
+      snprintf(rows + strlen(rows), sizeof rows - strlen(rows), c ? ",%d" : "%d", c == 0 ? r : 1);
+    strcat(rows, "\n");
+  }
+  static const struct {
+    const char *name, *meta, *want;
+    ea_status_t st;
+  } tcases[] = {
+      {"good", "# elasticarm-trajectory 1\n# tip_mass_kg: 0.23\n", "", EA_OK},
+      {"tip mass inf", "# elasticarm-trajectory 1\n# tip_mass_kg: inf\n",
+       "t.csv:2:16: 'tip_mass_kg': 'inf' is not a finite mass >= 0", EA_ERR_INPUT},
+      {"payload negative", "# elasticarm-trajectory 1\n# payload_kg: -0.5\n",
+       "t.csv:2:15: 'payload_kg': '-0.5' is not a finite mass >= 0", EA_ERR_INPUT},
+      {"payload text", "# elasticarm-trajectory 1\n# payload_kg: 0.1 kg\n",
+       "t.csv:2:15: 'payload_kg': '0.1 kg'", EA_ERR_INPUT},
+      {"version too large", "# elasticarm-trajectory 4294967297\n",
+       "t.csv:1:25: trajectory format version '4294967297', expected 1", EA_ERR_INPUT},
+  };
+  for (size_t i = 0; i < sizeof tcases / sizeof *tcases; ++i) {
+    snprintf(body, sizeof body, "%s%s\n%s", tcases[i].meta, head, rows);
+    const char *path = write_file(dir, "t.csv", body, strlen(body));
+    ea_traj_t tr;
+    ea_error_t e = {0};
+    const ea_status_t st = ea_traj_read(&tr, path, &e);
+    snprintf(buf, sizeof buf, "trajectory %s -> %s: %s", tcases[i].name, ea_status_name(st), e.msg);
+    ea_test_true(st == tcases[i].st && (st == EA_OK || strstr(e.msg, tcases[i].want)), buf);
+    if (st == EA_OK) {
+      ea_test_true(tr.n == 2 && tr.tip_mass_kg == 0.23, "good trajectory: 2 rows, tip mass 0.23");
+      ea_traj_free(&tr);
+    }
+  }
+  /* a NUL byte after the last value of the second data row, then junk: the
+     row's text ends at the NUL, so without the check the junk is ignored */
+  snprintf(body, sizeof body, "# elasticarm-trajectory 1\n%s\n%s", head, rows);
+  size_t len = strlen(body);
+  body[len - 1] = '\0';
+  memcpy(body + len, "junk\n", 6);
+  len += 5;
+  const char *path = write_file(dir, "t.csv", body, len);
+  ea_traj_t tr;
+  ea_error_t e = {0};
+  const ea_status_t st = ea_traj_read(&tr, path, &e);
+  snprintf(buf, sizeof buf, "trajectory NUL byte -> %s: %s", ea_status_name(st), e.msg);
+  ea_test_true(st == EA_ERR_INPUT && strstr(e.msg, "t.csv:4:") && strstr(e.msg, "NUL byte"), buf);
+  unlink(path);
+  rmdir(dir);
+}
+
 int main(void) {
   char buf[1024];
+  test_depth_cap();
+  test_traj_meta();
+  test_not_regular();
   for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
     const ea_case_t *c = &cases[i];
     ea_task_t t;
