@@ -321,6 +321,12 @@ ea_status_t ea_planner_first_frequency(const ea_planner_t *pl, double cable_leng
 ea_status_t ea_planner_dyn_model(const ea_planner_t *pl, ea_plan_dyn_info_t *info);
 /** The planner's reduced-model table (NULL when the task has no dynamics); owned by pl. */
 const ea_rom_table_t *ea_planner_rom_table(const ea_planner_t *pl);
+/** A task with dynamics that ends at rest: hold the modal state at the goal at (eta_i,
+ *  eta_i') [sqrt(kg) m, sqrt(kg) m / s] (K values each; NULL = zeros) instead of zero. An
+ *  FE-in-the-loop refinement uses it to cancel what the reduced model misses: the next
+ *  ea_planner_solve (EA_PLAN_WARM from the last plan) plans for the new target. */
+ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
+                                          const double *eta_rate, ea_error_t *err);
 
 /* EA_PLAN_SECTION_END */
 

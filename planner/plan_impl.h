@@ -106,6 +106,7 @@ struct ea_planner {
   double dyn_scale;              /* defect rows are multiplied by this */
   double dyn_term_scale;         /* [1/m^2] the terminal amplitude row and objective piece */
   int ie0;                       /* index of the first modal variable */
+  double dyn_target[2 * EA_ROM_MAX_MODES]; /* terminal (eta, eta') when ending at rest */
   ea_plan_dyn_info_t dyn_info;
   int zero_end_acc; /* 1: acceleration 0 at start and goal (min_vibration) */
   /* objective */

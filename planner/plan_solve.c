@@ -298,8 +298,13 @@ static void ea__bounds(ea_planner_t *pl) {
     for (int k = 0; k < pl->N; ++k) {
       const int fix = k == 0 || (k == pl->N - 1 && rest_end);
       for (int i = 0; i < pl->K; ++i) {
-        pl->xl[EA__IE(pl, k, i)] = pl->xl[EA__IED(pl, k, i)] = fix ? 0.0 : -EA__IPINF;
-        pl->xu[EA__IE(pl, k, i)] = pl->xu[EA__IED(pl, k, i)] = fix ? 0.0 : EA__IPINF;
+        /* at the goal: the target (0, or what ea_planner_set_terminal_modes set) */
+        const double te = k ? pl->dyn_target[i] : 0.0,
+                     ted = k ? pl->dyn_target[EA_ROM_MAX_MODES + i] : 0.0;
+        pl->xl[EA__IE(pl, k, i)] = fix ? te : -EA__IPINF;
+        pl->xu[EA__IE(pl, k, i)] = fix ? te : EA__IPINF;
+        pl->xl[EA__IED(pl, k, i)] = fix ? ted : -EA__IPINF;
+        pl->xu[EA__IED(pl, k, i)] = fix ? ted : EA__IPINF;
       }
       /* stay on the model's table */
       pl->xl[EA__IQ(pl, k, 0)] = fmax(pl->xl[EA__IQ(pl, k, 0)], di->table.box[0]);
@@ -1205,4 +1210,24 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   }
   if (info->status) return ea_error_set(err, info->status, "%s", info->message);
   return ea_error_set(err, EA_OK, "%s", info->message);
+}
+
+ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
+                                          const double *eta_rate, ea_error_t *err) {
+  if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_set_terminal_modes: NULL planner");
+  if (!pl->rom || pl->task.dynamics.residual_m > 0 || pl->task.objective == EA_TASK_MIN_VIBRATION)
+    return ea_error_set(err, EA_ERR_ARG,
+                        "terminal modal targets need a task with dynamics that ends at rest "
+                        "(residual_m 0, not min_vibration)");
+  for (int i = 0; i < pl->K; ++i) {
+    const double e = eta ? eta[i] : 0.0, ed = eta_rate ? eta_rate[i] : 0.0;
+    if (!isfinite(e) || !isfinite(ed))
+      return ea_error_set(err, EA_ERR_ARG, "terminal modal target of mode %d is not finite", i + 1);
+    pl->dyn_target[i] = e;
+    pl->dyn_target[EA_ROM_MAX_MODES + i] = ed;
+  }
+  ea__bounds(pl);
+  if (ea__ipopt_create(pl))
+    return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
+  return EA_OK;
 }
