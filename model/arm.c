@@ -104,7 +104,7 @@ ea_status_t ea_arm_validate(const ea_arm_t *arm, ea_error_t *err) {
   EA__CHECK_LT(act.base_angle_min, act.base_angle_max);
   if (!(arm->act.cable_length_min > 0.0))
     return ea_error_set(err, EA_ERR_INPUT, "cable_length_min must be > 0");
-  return ea_error_set(err, EA_OK, "ok");
+  return EA_OK;
 }
 
 double ea_arm_payload_from_factor(const ea_arm_t *arm, double gamma) {

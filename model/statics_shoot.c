@@ -139,7 +139,7 @@ ea_status_t ea_shooter_alloc(const ea_arm_t *arm, const ea_shoot_settings_t *s, 
     }
   }
   *out = sh;
-  return ea_error_set(err, EA_OK, "ok");
+  return EA_OK;
 nomem:
   ea_shooter_free(sh);
   return ea_error_set(err, EA_ERR_NOMEM, "out of memory allocating the integrator");

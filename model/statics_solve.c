@@ -431,7 +431,7 @@ ea_status_t ea_statics_solve(ea_shooter_t *sh, const ea_statics_problem_t *prob,
                         sol->p[EA_P_TENSION]);
   }
   sol->status = EA_OK;
-  return ea_error_set(err, EA_OK, "ok");
+  return EA_OK;
 }
 
 ea_status_t ea_statics_edge(ea_shooter_t *sh, double alpha, const ea_statics_settings_t *s,

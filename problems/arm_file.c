@@ -111,7 +111,7 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
       return ea__yerr(d, ea__ymap_get(d, pairs[i].map, pairs[i].hi_key), err, EA_ERR_INPUT,
                       "%s: %s = %g must be below %s = %g (contradictory limits)", pairs[i].ctx,
                       pairs[i].lo_key, pairs[i].lo, pairs[i].hi_key, pairs[i].hi);
-  ea_error_t e2;
+  ea_error_t e2 = {0};
   if ((st = ea_arm_validate(arm, &e2)))
     return ea__yerr(d, act, err, st, "inconsistent arm data: %s", e2.msg);
   return EA_OK;
@@ -133,6 +133,5 @@ ea_status_t ea_arm_load(const char *path, ea_arm_t *arm, ea_error_t *err) {
   ea_status_t st = ea__ydoc_load(&d, path, NULL, 0, err);
   if (!st) st = ea__arm_from_doc(&d, arm, err);
   ea__ydoc_free(&d);
-  if (!st) ea_error_set(err, EA_OK, "ok");
   return st;
 }

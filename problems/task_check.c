@@ -206,7 +206,7 @@ static ea_status_t ea__check_point(ea_task_t *t, ea_shooter_t *sh, ea_task_point
   ea_statics_settings_default(&set);
   set.allow_negative_tension = 1;
   ea_statics_solution_t sol;
-  ea_error_t e2;
+  ea_error_t e2 = {0};
   ea_status_t st = ea_statics_solve(sh, &prob, &set, NULL, &sol, &e2);
   if (st)
     return ea_error_set(err, EA_ERR_INFEASIBLE,
@@ -312,7 +312,7 @@ ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
                    fabs(t->goal.base_angle - t->start.base_angle);
   if (d == 0.0 && t->n_via == 0 && t->objective == EA_TASK_MIN_TIME)
     return ea_error_set(err, EA_ERR_INPUT, "start and goal are the same point: nothing to plan");
-  return ea_error_set(err, EA_OK, "ok");
+  return EA_OK;
 }
 
 const char *ea_task_output_path(const ea_task_t *t, const char *rel, char *buf, size_t len) {

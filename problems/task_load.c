@@ -174,7 +174,7 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     snprintf(arm_path, sizeof arm_path, "%s", default_arm);
   }
   if (arm_path[0]) {
-    ea_error_t e2;
+    ea_error_t e2 = {0};
     if ((st = ea_arm_load(arm_path, &arm, &e2))) {
       yaml_node_t *an = ea__ymap_get(d, root, "arm_file");
       return ea__yerr(d, an ? an : root, err, st, "arm_file: %s", e2.msg);

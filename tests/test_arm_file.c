@@ -171,6 +171,33 @@ int main(void) {
   } else {
     ea_test_true(0, "mkdtemp");
   }
+
+  /* The error context is written only on failure (ea_status.h): a call that
+   * succeeds leaves the caller's message alone. */
+  {
+    ea_error_t keep;
+    memset(&keep, 0, sizeof keep);
+    keep.status = EA_ERR_NOTIMPL;
+    snprintf(keep.msg, sizeof keep.msg, "sentinel");
+    ea_error_t e = keep;
+    ea_arm_t a;
+    ea_shooter_t *sh = NULL;
+    ea_fe_model_t *fe = NULL;
+    ea_statics_solution_t sol;
+    ea_statics_problem_t pr = ea_statics_problem_cable(0.45, -0.4);
+    int ok = ea_arm_load(path, &a, &e) == EA_OK && ea_arm_validate(&a, &e) == EA_OK &&
+             ea_shooter_alloc(&a, NULL, &sh, &e) == EA_OK &&
+             ea_statics_solve(sh, &pr, NULL, NULL, &sol, &e) == EA_OK &&
+             ea_fe_model_alloc(&a, NULL, &fe, &e) == EA_OK;
+    ea_test_true(ok && e.status == keep.status && !strcmp(e.msg, "sentinel"),
+                 "successful calls leave the error context as it was");
+    ea_fe_model_free(fe);
+    ea_shooter_free(sh);
+    a.EI = -1.0;
+    ea_test_true(ea_arm_validate(&a, &e) == EA_ERR_INPUT && e.status == EA_ERR_INPUT &&
+                     strcmp(e.msg, "sentinel"),
+                 "a failed call writes its status and message");
+  }
   free(good);
   return ea_test_summary("test_arm_file");
 }

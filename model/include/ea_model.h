@@ -5,7 +5,7 @@
  *
  * The model knows nothing of files, tasks or solvers of the planner. It never
  * prints and never aborts: every call returns an ::ea_status_t and, where
- * useful, a message in the caller's ::ea_error_t.
+ * useful and only on failure, a message in the caller's ::ea_error_t.
  *
  * Units: SI everywhere, angles in radians. The plane of the arm has x
  * horizontal (away from the base axis) and y vertical (up); gravity is -y.
@@ -13,62 +13,13 @@
 #ifndef EA_MODEL_H
 #define EA_MODEL_H
 
+#include "ea_status.h"
+
 #include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ------------------------------------------------------------------------ */
-/* Status codes and error context                                           */
-/* ------------------------------------------------------------------------ */
-
-/** X-macro list of every status: name, message. 0 = OK. "Call was wrong"
- *  codes (bad argument, bad input) are kept apart from "solver did not
- *  converge" and "the answer is physically inadmissible". */
-#define EA_STATUS_LIST(X)                                                                          \
-  X(EA_OK, "ok")                                                                                   \
-  X(EA_ERR_ARG, "invalid argument")                                                                \
-  X(EA_ERR_NOMEM, "out of memory")                                                                 \
-  X(EA_ERR_IO, "input/output error")                                                               \
-  X(EA_ERR_PARSE, "syntax error in input")                                                         \
-  X(EA_ERR_INPUT, "invalid value in input")                                                        \
-  X(EA_ERR_NOCONV, "solver did not converge")                                                      \
-  X(EA_ERR_MAXITER, "iteration limit reached")                                                     \
-  X(EA_ERR_SINGULAR, "singular Jacobian")                                                          \
-  X(EA_ERR_INTEGRATION, "ODE integration failed")                                                  \
-  X(EA_ERR_INADMISSIBLE, "configuration is not admissible")                                        \
-  X(EA_ERR_INFEASIBLE, "problem is infeasible")                                                    \
-  X(EA_ERR_UNSTABLE, "configuration is unstable")                                                  \
-  X(EA_ERR_BACKEND, "numerical backend failed")                                                    \
-  X(EA_ERR_NET, "network or device error")                                                         \
-  X(EA_ERR_PROTOCOL, "protocol violation")                                                         \
-  X(EA_ERR_INTERRUPTED, "interrupted")                                                             \
-  X(EA_ERR_NOTIMPL, "not implemented")
-
-#define EA__STATUS_ENUM(name, msg) name,
-/** Status of every library call. */
-typedef enum ea_status { EA_STATUS_LIST(EA__STATUS_ENUM) EA_STATUS_COUNT } ea_status_t;
-#undef EA__STATUS_ENUM
-
-/** Static message for a status (never NULL). */
-const char *ea_strerror(ea_status_t status);
-/** Symbolic name of a status ("EA_ERR_NOCONV"); never NULL. */
-const char *ea_status_name(ea_status_t status);
-
-/** Error context filled by calls that can say more than a status code.
- *  Always optional: pass NULL when not wanted. */
-typedef struct ea_error {
-  ea_status_t status; /**< same as the return value of the call */
-  char msg[512];      /**< human-readable, with file:line:column where known */
-} ea_error_t;
-
-/** Set err (if not NULL) to status and a printf-style message; returns status. */
-ea_status_t ea_error_set(ea_error_t *err, ea_status_t status, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
 
 /* ------------------------------------------------------------------------ */
 /* Arm parameters (paper Tables 1 and 2, plus actuator data)                 */
@@ -153,7 +104,7 @@ typedef struct ea_shoot_settings {
   double atol;                /**< adaptive schemes: absolute tolerance */
 } ea_shoot_settings_t;
 
-/** Defaults chosen by bench/bench_statics (see README): rk8pd, 24 fixed steps. */
+/** Defaults chosen by bench/bench_statics (see README): rk8pd, 12 fixed steps. */
 void ea_shoot_settings_default(ea_shoot_settings_t *s);
 
 /** Indices of the shooting arguments p = (alpha, T, theta0, kappa0). */

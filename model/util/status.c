@@ -1,5 +1,5 @@
 /* Status codes, messages and the error context (see EA_STATUS_LIST). */
-#include "ea_model.h"
+#include "ea_status.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -20,7 +20,7 @@ const char *ea_status_name(ea_status_t status) {
 }
 
 ea_status_t ea_error_set(ea_error_t *err, ea_status_t status, const char *fmt, ...) {
-  if (err) {
+  if (err && status != EA_OK) { /* written only on failure */
     err->status = status;
     va_list ap;
     va_start(ap, fmt);
