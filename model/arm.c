@@ -1,9 +1,8 @@
 /* Arm parameters: the paper's Tables 1 and 2 and assumed actuator data. */
 #include "ea_model.h"
+#include "ea_util.h"
 
 #include <math.h>
-
-#define EA__DEG (M_PI / 180.0)
 
 void ea_arm_default(ea_arm_t *arm) {
   /* Table 1 */

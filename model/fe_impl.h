@@ -3,6 +3,7 @@
 #define EA_FE_IMPL_H
 
 #include "ea_model.h"
+#include "ea_util.h"
 
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_matrix.h>
@@ -119,8 +120,6 @@ ea_status_t ea__fe_newton_q(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t pha
  *  the position rows only. */
 ea_status_t ea__fe_relax_positions(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
                                    double value, int iters);
-/** Wall clock [s]. */
-double ea__fe_now(void);
 
 /* LAPACK (Fortran symbols; hidden string lengths passed as size_t). */
 void dgbtrf_(const int *m, const int *n, const int *kl, const int *ku, double *ab, const int *ldab,

@@ -475,7 +475,7 @@ ea_status_t ea_rom_table_build(ea_rom_t *r, const double box[4], int nL, int na,
     return ea_error_set(err, EA_ERR_ARG,
                         "reduced model table: grid %d x %d over [%g, %g] x [%g, %g]", nL, na,
                         box[0], box[1], box[2], box[3]);
-  const double t0 = ea__fe_now();
+  const double t0 = ea__mono_s();
   ea_rom_table_t *tb;
   ea_status_t st = ea__rom_table_new(r->set.modes, nL, na, box, &tb, err);
   if (st) return st;
@@ -524,7 +524,7 @@ done:
     ea_rom_table_free(tb);
     return st;
   }
-  tb->info.time_s = ea__fe_now() - t0;
+  tb->info.time_s = ea__mono_s() - t0;
   *out = tb;
   return EA_OK;
 }

@@ -15,7 +15,7 @@
 static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_phase_t phase,
                                       double *value, const double *tip, ea_fe_static_info_t *info,
                                       ea_error_t *err) {
-  const double t0 = ea__fe_now();
+  const double t0 = ea__mono_s();
   const int nf = m->nf, tx = nf - 3, ty = nf - 2; /* free indices of the tip x, y */
   ea_status_t st = EA_ERR_MAXITER;
   double eps = INFINITY, gtip = 0.0, eps_prev = INFINITY;
@@ -115,7 +115,7 @@ static ea_status_t ea__fe_newton_core(ea_fe_model_t *m, double *q, ea_fe_cable_p
     info->cable_length = l;
     info->cable_angle = atan2(q[m->nd - 2] - m->arm.y_c, q[m->nd - 3] - m->arm.x_c);
     info->theta0 = q[2];
-    info->time_s = ea__fe_now() - t0;
+    info->time_s = ea__mono_s() - t0;
   }
   if (st == EA_ERR_SINGULAR)
     return ea_error_set(err, st, "fe Newton: singular tangent at iteration %d", it);
@@ -191,7 +191,7 @@ ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh, const ea_stat
   if (ode->p[EA_P_TENSION] < 0.0)
     return ea_error_set(err, EA_ERR_INADMISSIBLE, "fe static: tension %g < 0",
                         ode->p[EA_P_TENSION]);
-  const double t0 = ea__fe_now();
+  const double t0 = ea__mono_s();
   ea_status_t st = ea_fe_model_set_load(m, ea_shooter_load(sh));
   if (st) return ea_error_set(err, st, "fe static: bad tip mass");
   /* sample the ODE centreline at the nodes (uniform in arclength) */
@@ -214,7 +214,7 @@ ea_status_t ea_fe_static_solve(ea_fe_model_t *m, ea_shooter_t *sh, const ea_stat
                           info, err);
   if (info) {
     info->tip_shift = hypot(info->tip[0] - x[n - 1], info->tip[1] - y[n - 1]);
-    info->time_s = ea__fe_now() - t0;
+    info->time_s = ea__mono_s() - t0;
   }
   if (st) return st;
   memcpy(m->q, m->qs, sizeof(double) * (size_t)m->nd);
@@ -240,7 +240,7 @@ ea_status_t ea_fe_static_continue(ea_fe_model_t *m, double theta0, ea_fe_cable_p
     return ea_error_set(err, EA_ERR_ARG, "fe continue: rest length %g <= 0", value);
   if (phase == EA_FE_CABLE_ACTIVE && !(value >= 0.0))
     return ea_error_set(err, EA_ERR_ARG, "fe continue: tension %g < 0", value);
-  const double t0 = ea__fe_now();
+  const double t0 = ea__mono_s();
   const int nd = m->nd;
   /* the start in the target's phase: an ACTIVE cable becomes PASSIVE keeping its tension */
   ea_fe_cable_phase_t ph = m->phase;
@@ -300,7 +300,7 @@ ea_status_t ea_fe_static_continue(ea_fe_model_t *m, double theta0, ea_fe_cable_p
   if (info) {
     *info = si;
     info->iterations = newton;
-    info->time_s = ea__fe_now() - t0;
+    info->time_s = ea__mono_s() - t0;
   }
   if (!(lb >= 1.0))
     return ea_error_set(err, st ? st : EA_ERR_NOCONV,

@@ -418,7 +418,7 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   ea_status_t st = ea_fe_sim_settings_validate(s, err);
   if (st) return info->status = st;
   if (tip && tip_rows < 0) return info->status = ea_error_set(err, EA_ERR_ARG, "tip_rows < 0");
-  const double wall0 = ea__fe_now();
+  const double wall0 = ea__mono_s();
   const int nd = m->nd;
   const double h = s->dt;
   const int nsteps = (int)ceil(s->t_end / h - 1e-9);
@@ -567,7 +567,7 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
     info->residual_rms = sqrt(sum2 / nres);
     info->residual_peak = peak;
   }
-  info->time_s = ea__fe_now() - wall0;
+  info->time_s = ea__mono_s() - wall0;
   info->status = st;
   m->modes_valid = 0;
   return st;

@@ -10,8 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define EA__DEG (M_PI / 180.0)
-
 typedef struct {
   ea__sbuf_t *b;
   char prefix[512]; /* "case_id,v1,v2," */
@@ -22,16 +20,9 @@ static void ea__row(ea__rows_t *r, const char *metric, double value, const char 
                     ea_status_t st, const char *msg) {
   ea__sbuf_printf(r->b, "%s%s,", r->prefix, metric);
   if (isfinite(value)) ea__sbuf_printf(r->b, "%.12g", value);
-  ea__sbuf_printf(r->b, ",%s,%s,\"", unit, st == EA_OK ? "ok" : ea_status_name(st));
-  for (const char *c = msg ? msg : ""; *c; ++c) {
-    if (*c == '"')
-      ea__sbuf_put(r->b, "\"\"", 2);
-    else if (*c == '\n' || *c == '\r')
-      ea__sbuf_put(r->b, " ", 1);
-    else
-      ea__sbuf_put(r->b, c, 1);
-  }
-  ea__sbuf_put(r->b, "\"\n", 2);
+  ea__sbuf_printf(r->b, ",%s,%s,", unit, st == EA_OK ? "ok" : ea_status_name(st));
+  ea__sbuf_csv_quote(r->b, msg);
+  ea__sbuf_put(r->b, "\n", 1);
   if (st != EA_OK) ++r->failed;
 }
 

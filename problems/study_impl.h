@@ -3,26 +3,9 @@
 #define EA_STUDY_IMPL_H
 
 #include "ea_problems.h"
+#include "ea_util.h"
 
 #include <stdint.h>
-
-/** A growable text buffer (never fails silently: oom sticks). */
-typedef struct ea__sbuf {
-  char *s;
-  size_t len, cap;
-  int oom;
-} ea__sbuf_t;
-
-void ea__sbuf_printf(ea__sbuf_t *b, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-void ea__sbuf_put(ea__sbuf_t *b, const char *text, size_t len);
-void ea__sbuf_free(ea__sbuf_t *b);
-
-/** CRC-32 (IEEE, zlib's): crc = 0 to start. */
-uint32_t ea__study_crc32(uint32_t crc, const void *buf, size_t len);
 
 /** Canonical description of everything that changes the rows (name, arm,
  *  axes, metric settings, the min_time task's name and content key, the CSV

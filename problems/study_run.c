@@ -16,7 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #define EA__JOURNAL_MAGIC "#elasticarm-study-journal 2"
@@ -48,8 +47,6 @@ typedef struct {
   int dirty;        /* journal written since the last fsync */
   char ident[160];  /* "study,study_key" of every row */
 } ea__run_t;
-
-static double ea__now(void);
 
 static long ea__case_of(const ea__run_t *r, long j) {
   return (long)(r->set->shard_k - 1) + j * r->set->shard_n;
@@ -87,7 +84,7 @@ static void *ea__worker(void *arg) {
     char trailer[96];
     if (failed >= 0 && !b.oom) {
       snprintf(trailer, sizeof trailer, "#case %ld %zu %08x\n", c, rows_len,
-               (unsigned)ea__study_crc32(0, b.s, rows_len));
+               (unsigned)ea_crc32(0, b.s, rows_len));
       ea__sbuf_put(&b, trailer, strlen(trailer));
     }
     pthread_mutex_lock(&r->mu);
@@ -102,7 +99,7 @@ static void *ea__worker(void *arg) {
         io = ea__write_all(r->fd, b.s, b.len);
         r->dirty = 1;
         if (!io && r->set->fsync) {
-          const double t = ea__now();
+          const double t = ea__mono_s();
           if (t - r->last_sync >= r->set->fsync_interval_s) {
             io = fsync(r->fd);
             r->last_sync = t;
@@ -202,7 +199,7 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
       *nl = '\0';
       const int ok = sscanf(text + pos, "#case %ld %zu %8x%c", &id, &bytes, &crc, &tail) == 3;
       *nl = '\n';
-      if (!ok || bytes != pos - block || ea__study_crc32(0, text + block, bytes) != (uint32_t)crc ||
+      if (!ok || bytes != pos - block || ea_crc32(0, text + block, bytes) != (uint32_t)crc ||
           id < 0 || id >= r->s->n_cases)
         break;
       /* every row of the block must belong to the case */
@@ -248,12 +245,6 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
   return EA_OK;
 }
 
-static double ea__now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in, char **csv,
                          size_t *csv_len, ea_study_info_t *info, ea_error_t *err) {
   ea_study_info_t dummy;
@@ -273,7 +264,7 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
   if (set.shard_n < 1 || set.shard_k < 1 || set.shard_k > set.shard_n)
     return info->status = ea_error_set(err, EA_ERR_ARG, "shard %d/%d: need 1 <= K <= N",
                                        set.shard_k, set.shard_n);
-  const double t0 = ea__now();
+  const double t0 = ea__mono_s();
   ea__run_t r;
   memset(&r, 0, sizeof r);
   r.s = s;
@@ -304,7 +295,7 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
     char key_line[128];
     snprintf(key_line, sizeof key_line, EA__JOURNAL_MAGIC " key=%s cases=%ld\n", key, s->n_cases);
     if ((st = ea__journal_open(&r, key_line, info, err))) goto out;
-    r.last_sync = ea__now();
+    r.last_sync = ea__mono_s();
   }
   for (long j = 0; j < r.n_shard; ++j)
     if (!r.rows[j]) r.todo[r.n_todo++] = j;
@@ -390,7 +381,7 @@ out:
   free(r.rows_len);
   free(r.todo);
   ea__sbuf_free(&head);
-  info->time_s = ea__now() - t0;
+  info->time_s = ea__mono_s() - t0;
   info->status = st;
   return st;
 }

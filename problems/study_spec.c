@@ -4,88 +4,15 @@
 #include "yaml_impl.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define EA__DEG (M_PI / 180.0)
 /** Most cases a study may have. */
 #define EA__STUDY_MAX_CASES 10000000L
 /** Most values of one axis or torque-map grid. */
 #define EA__STUDY_MAX_VALUES 100000
-
-/* ---- small helpers --------------------------------------------------------- */
-
-void ea__sbuf_put(ea__sbuf_t *b, const char *text, size_t len) {
-  if (b->oom) return;
-  if (b->len + len + 1 > b->cap) {
-    size_t cap = b->cap ? b->cap : 256;
-    while (cap < b->len + len + 1)
-      cap *= 2;
-    char *s = realloc(b->s, cap);
-    if (!s) {
-      b->oom = 1;
-      return;
-    }
-    b->s = s;
-    b->cap = cap;
-  }
-  memcpy(b->s + b->len, text, len);
-  b->len += len;
-  b->s[b->len] = '\0';
-}
-
-void ea__sbuf_printf(ea__sbuf_t *b, const char *fmt, ...) {
-  char tmp[1024];
-  va_list ap;
-  va_start(ap, fmt);
-  int n = vsnprintf(tmp, sizeof tmp, fmt, ap);
-  va_end(ap);
-  if (n < 0) return;
-  if ((size_t)n < sizeof tmp) {
-    ea__sbuf_put(b, tmp, (size_t)n);
-    return;
-  }
-  char *big = malloc((size_t)n + 1);
-  if (!big) {
-    b->oom = 1;
-    return;
-  }
-  va_start(ap, fmt);
-  vsnprintf(big, (size_t)n + 1, fmt, ap);
-  va_end(ap);
-  ea__sbuf_put(b, big, (size_t)n);
-  free(big);
-}
-
-void ea__sbuf_free(ea__sbuf_t *b) {
-  free(b->s);
-  memset(b, 0, sizeof *b);
-}
-
-static uint32_t ea__crc_table[256];
-static pthread_once_t ea__crc_once = PTHREAD_ONCE_INIT;
-
-static void ea__crc_init(void) {
-  for (uint32_t i = 0; i < 256; ++i) {
-    uint32_t c = i;
-    for (int k = 0; k < 8; ++k)
-      c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-    ea__crc_table[i] = c;
-  }
-}
-
-uint32_t ea__study_crc32(uint32_t crc, const void *buf, size_t len) {
-  pthread_once(&ea__crc_once, ea__crc_init);
-  const uint32_t *table = ea__crc_table;
-  const unsigned char *p = buf;
-  crc = ~crc;
-  for (size_t i = 0; i < len; ++i)
-    crc = table[(crc ^ p[i]) & 0xFFu] ^ (crc >> 8);
-  return ~crc;
-}
 
 static const char *const ea__param_names[EA_STUDY_NPARAM + 1] = {
     "payload_factor", "payload_kg",     "EI_Nm2", "rho_kg_per_m", "length_m", "hand_mass_kg",
@@ -367,7 +294,7 @@ void ea__study_describe(const ea_study_t *s, const ea_study_settings_t *set, ea_
 void ea_study_key(const ea_study_t *s, const ea_study_settings_t *set, char key[9]) {
   ea__sbuf_t d = {0};
   ea__study_describe(s, set, &d);
-  snprintf(key, 9, "%08x", d.oom ? 0u : (unsigned)ea__study_crc32(0, d.s, d.len));
+  snprintf(key, 9, "%08x", d.oom ? 0u : (unsigned)ea_crc32(0, d.s, d.len));
   ea__sbuf_free(&d);
 }
 
@@ -441,10 +368,10 @@ ea_status_t ea_study_task_load(const ea_study_t *s, const char *default_arm, ea_
                       "while it was read",
                       name);
   } else {
-    snprintf(key, key_len, "task=%08x/%zu arm=", (unsigned)ea__study_crc32(0, t0, n0), n0);
+    snprintf(key, key_len, "task=%08x/%zu arm=", (unsigned)ea_crc32(0, t0, n0), n0);
     const size_t used = strlen(key);
     if (a0)
-      snprintf(key + used, key_len - used, "%08x/%zu", (unsigned)ea__study_crc32(0, a0, na0), na0);
+      snprintf(key + used, key_len - used, "%08x/%zu", (unsigned)ea_crc32(0, a0, na0), na0);
     else
       snprintf(key + used, key_len - used, "built-in");
     ea__rename_where(task->start.where, sizeof task->start.where, path, name);

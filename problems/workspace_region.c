@@ -27,13 +27,13 @@
  * curves: the best quadrature node, then Brent's method on its neighbours.
  */
 #include "ea_problems.h"
+#include "ea_util.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define EA__DEG (M_PI / 180.0)
 #define EA__WS_MAXI 4 /* most admissible intervals per angle */
 #define EA__WS_MAXE (2 * EA__WS_MAXI)
 #define EA__WS_NC 5       /* limit constraints */

@@ -1,8 +1,7 @@
 /* Atomic output: temporary beside the target, fsync, rename. Temporaries
  * are named "<target>.tmp<pid>.XXXXXX"; opening a target removes the ones a
- * killed run left behind (afile_impl.h). */
-#include "afile_impl.h"
-#include "ea_planner.h"
+ * killed run left behind (ea__afile_clean_stale). */
+#include "ea_util.h"
 
 #include <dirent.h>
 #include <errno.h>

@@ -1,5 +1,5 @@
 /* A minimal JSON emitter: enough for summaries; strings are escaped. */
-#include "ea_planner.h"
+#include "ea_util.h"
 
 #include <math.h>
 

@@ -7,7 +7,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 /* ------------------------------------------------------------------------ */
@@ -18,12 +17,6 @@ static int ea__fe_help_requested(int argc, char **argv) {
   for (int i = 1; i < argc; ++i)
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
   return 0;
-}
-
-static double ea__fe_wall(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* How the FE static state is tied to the ODE solution. */
@@ -302,7 +295,7 @@ static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_ar
   const double alpha = o->adeg * EA__DEG;
   double guess[EA_NP];
   int have = 0, nfail = 0, nunstable = 0;
-  const double t0 = ea__fe_wall();
+  const double t0 = ea__mono_s();
   for (int k = 0; k < n; ++k) {
     ea__fe_point(m, sh, o->Ls[k], alpha, have ? guess : NULL, &pts[k]);
     if (pts[k].status && have) /* warm start failed: retry from the T = 0 edge */
@@ -314,7 +307,7 @@ static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_ar
     nfail += pts[k].status != EA_OK;
     nunstable += pts[k].status == EA_OK && !pts[k].modes.stable;
   }
-  const double wall = ea__fe_wall() - t0;
+  const double wall = ea__mono_s() - t0;
   /* relative changes between the shortest and the longest cable */
   int ks = -1, kl = -1;
   for (int k = 0; k < n; ++k)

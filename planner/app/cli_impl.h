@@ -4,6 +4,7 @@
 #define EA_CLI_IMPL_H
 
 #include "ea_planner.h"
+#include "ea_util.h"
 
 /** A subcommand: returns the process exit code (0 ok, 1 failure or not
  *  converged / inadmissible, 2 usage error). Prints only to stdout/stderr. */
@@ -83,7 +84,5 @@ typedef struct ea__cli_payload {
 } ea__cli_payload_t;
 /** Tip mass m_L for the payload option. */
 double ea__cli_tip_mass(const ea_arm_t *arm, const ea__cli_payload_t *p);
-
-#define EA__DEG (M_PI / 180.0)
 
 #endif

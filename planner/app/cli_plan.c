@@ -95,12 +95,6 @@ static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_plan_info_t *info, 
   return st;
 }
 
-static void ea__replace_ext(const char *in, const char *ext, char *out, size_t len) {
-  const char *dot = strrchr(in, '.'), *slash = strrchr(in, '/');
-  const size_t stem = (dot && (!slash || dot > slash)) ? (size_t)(dot - in) : strlen(in);
-  snprintf(out, len, "%.*s%s", (int)stem, in, ext);
-}
-
 int ea__cli_plan(int argc, char **argv) {
   const char *cmd = "plan";
   const char *task_path = NULL, *out = NULL, *summary = NULL, *figure = NULL;

@@ -98,9 +98,10 @@ static const char *ea__csv_point_header =
     "shoulder_torque_Nm,residual,status,admissible,reason";
 
 static void ea__csv_point(FILE *fp, const ea_config_point_t *p) {
-  fprintf(fp, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.3g,%s,%d,\"%s\"", p->cable_length,
+  fprintf(fp, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.3g,%s,%d,", p->cable_length,
           p->alpha, p->x, p->y, p->tension, p->theta0, p->kappa0, p->shoulder_torque, p->residual,
-          ea_status_name(p->status), p->admissible, p->reason);
+          ea_status_name(p->status), p->admissible);
+  ea__csv_quote(fp, p->reason);
 }
 
 /* Leading columns of row k of a points CSV. */

@@ -112,12 +112,6 @@ static int ea__write_text(const char *cmd, const char *path, const char *text, s
   return 0;
 }
 
-static void ea__replace_ext2(const char *in, const char *ext, char *out, size_t len) {
-  const char *dot = strrchr(in, '.'), *slash = strrchr(in, '/');
-  const size_t stem = (dot && (!slash || dot > slash)) ? (size_t)(dot - in) : strlen(in);
-  snprintf(out, len, "%.*s%s", (int)stem, in, ext);
-}
-
 /* path as seen from the folder of the file `from` (both relative to the
  * working directory or absolute), so that the summary does not depend on
  * where the command ran; the path as given when it cannot be resolved. */
@@ -261,7 +255,7 @@ static int ea__study_merge_cli(int argc, char **argv) {
   if (!rc) {
     char sbuf[1100];
     if (!summary && strcmp(out, "-")) {
-      ea__replace_ext2(out, ".json", sbuf, sizeof sbuf);
+      ea__replace_ext(out, ".json", sbuf, sizeof sbuf);
       summary = sbuf;
     }
     ea__study_table_t t;
@@ -542,7 +536,7 @@ int ea__cli_study(int argc, char **argv) {
     } else {
       char stem[600];
       if (s.out_csv[0])
-        ea__replace_ext2(s.out_csv, "", stem, sizeof stem);
+        ea__replace_ext(s.out_csv, "", stem, sizeof stem);
       else
         snprintf(stem, sizeof stem, "%.500s", s.name);
       if (shard_n > 1)
@@ -555,12 +549,12 @@ int ea__cli_study(int argc, char **argv) {
   const int to_stdout = !strcmp(out, "-");
   if (!summary && !out_given && s.out_summary[0] && shard_n == 1) summary = s.out_summary;
   if (!summary && !to_stdout) {
-    ea__replace_ext2(out, ".json", sum_buf, sizeof sum_buf);
+    ea__replace_ext(out, ".json", sum_buf, sizeof sum_buf);
     summary = sum_buf;
   }
   if (!figures && s.out_figures[0] && shard_n == 1) {
     if (out_given && !to_stdout) {
-      ea__replace_ext2(out, "", fig_buf, sizeof fig_buf);
+      ea__replace_ext(out, "", fig_buf, sizeof fig_buf);
       figures = fig_buf;
     } else {
       figures = s.out_figures;

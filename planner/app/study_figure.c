@@ -1,13 +1,12 @@
 /* Study results as a table: parsing the tidy CSV, the JSON summary, and the
  * figures (Fig. 3 overlay, each scalar metric against the swept parameter). */
+#include "ea_util.h"
 #include "study_plan_impl.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define EA__DEG (M_PI / 180.0)
 
 /* ---- parsing ---------------------------------------------------------------- */
 

@@ -1,7 +1,7 @@
 /**
  * @file ea_planner.h
- * @brief Planning and the outside world: trajectory files, atomic output,
- *        JSON, figures, the Ipopt/NLopt planner, the command streamer.
+ * @brief Planning and the outside world: trajectory files, figures, the
+ *        Ipopt/NLopt planner, the command streamer.
  */
 #ifndef EA_PLANNER_H
 #define EA_PLANNER_H
@@ -13,52 +13,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ------------------------------------------------------------------------ */
-/* Atomic output files: write to a temporary beside the target, rename on    */
-/* commit; an abort (or a crash) never leaves a half-written target.         */
-/* ------------------------------------------------------------------------ */
-
-typedef struct ea_afile {
-  FILE *fp;        /**< write here */
-  char path[1024]; /**< final path */
-  char tmp[1040];  /**< temporary path */
-} ea_afile_t;
-
-/** Create the missing parent directories of path (like mkdir -p dirname). */
-ea_status_t ea_mkdir_parents(const char *path, ea_error_t *err);
-/** Open a temporary file next to path ("-" means stdout, written directly). */
-ea_status_t ea_afile_open(ea_afile_t *f, const char *path, ea_error_t *err);
-/** Flush, fsync and rename onto the target. Closes f. */
-ea_status_t ea_afile_commit(ea_afile_t *f, ea_error_t *err);
-/** Close and remove the temporary. Safe on a closed or zeroed f. */
-void ea_afile_abort(ea_afile_t *f);
-
-/* ------------------------------------------------------------------------ */
-/* Minimal JSON emitter (numbers with 17 significant digits, NaN -> null)    */
-/* ------------------------------------------------------------------------ */
-
-typedef struct ea_json {
-  FILE *fp;
-  int depth;
-  int first[32]; /**< first element at this depth? */
-  int pretty;
-} ea_json_t;
-
-void ea_json_init(ea_json_t *j, FILE *fp, int pretty);
-void ea_json_obj_begin(ea_json_t *j, const char *key); /**< key NULL inside arrays / top */
-void ea_json_obj_end(ea_json_t *j);
-void ea_json_arr_begin(ea_json_t *j, const char *key);
-void ea_json_arr_end(ea_json_t *j);
-void ea_json_num(ea_json_t *j, const char *key, double v);
-void ea_json_int(ea_json_t *j, const char *key, long v);
-void ea_json_bool(ea_json_t *j, const char *key, int v);
-void ea_json_str(ea_json_t *j, const char *key, const char *v);
-void ea_json_null(ea_json_t *j, const char *key);
-/** Array of n numbers. */
-void ea_json_vec(ea_json_t *j, const char *key, const double *v, int n);
-/** Finish (newline). */
-void ea_json_end(ea_json_t *j);
 
 /* ------------------------------------------------------------------------ */
 /* Figures: gnuplot driven through a pipe (Debian gnuplot-nox).              */
@@ -499,10 +453,6 @@ typedef struct ea_frame {
   uint8_t reason;   /**< ::ea_nack_reason_t */
   double actual[4]; /**< controller's positions: spool 0, spool 1, shoulder, base [rad] */
 } ea_frame_t;
-
-/** CRC-32 (IEEE 802.3 / zlib: reflected 0xEDB88320, init and xorout
- *  0xFFFFFFFF); crc = 0 to start, pass the previous value to continue. */
-uint32_t ea_crc32(uint32_t crc, const void *buf, size_t len);
 
 /** Encode f into buf (cap bytes, >= EA_PROTO_FRAME_MAX is always enough);
  *  returns the frame's length or 0 if f->type is unknown or cap too small. */

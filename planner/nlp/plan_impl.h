@@ -3,6 +3,7 @@
 #define EA_PLAN_IMPL_H
 
 #include "ea_planner.h"
+#include "ea_util.h"
 
 #include <coin/IpStdCInterface.h>
 #include <gsl/gsl_interp2d.h>

@@ -4,6 +4,7 @@
 #define EA_STREAM_IMPL_H
 
 #include "ea_planner.h"
+#include "ea_util.h"
 
 #include <stddef.h>
 #include <stdint.h>

@@ -1,5 +1,6 @@
 /* Command streamer: transports (TCP, UDP, serial via termios, file) and the
- * monotonic clock. No printing; every failure is a status with a message. */
+ * sleep until a monotonic deadline (clock: model/util/clock.c). No printing; every failure is a
+ * status with a message. */
 #include "stream_impl.h"
 
 #include <errno.h>
@@ -17,12 +18,6 @@
 #include <unistd.h>
 
 /* ---- Time ---------------------------------------------------------------- */
-
-int64_t ea__mono_ns(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (int64_t)ts.tv_sec * 1000000000LL + ts.tv_nsec;
-}
 
 void ea__sleep_until_ns(int64_t t_ns, const volatile sig_atomic_t *stop) {
   struct timespec ts = {(time_t)(t_ns / 1000000000LL), (long)(t_ns % 1000000000LL)};

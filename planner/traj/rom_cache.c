@@ -4,6 +4,7 @@
  * differs (another arm, payload, box, ...) or that is damaged is ignored and rebuilt, never
  * used. Written atomically. */
 #include "ea_simulate.h"
+#include "ea_util.h"
 
 #include <errno.h>
 #include <stdio.h>

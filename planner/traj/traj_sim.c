@@ -3,11 +3,11 @@
  * residual vibration, tracking error and time to rest from the tip history. */
 #include "ea_simulate.h"
 #include "sim_impl.h"
+#include "ea_util.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 void ea_sim_settings_default(ea_sim_settings_t *s) {
   if (!s) return;
@@ -54,12 +54,6 @@ void ea_sim_history_free(ea_sim_history_t *h) {
   free(h->data);
   h->data = NULL;
   h->rows = 0;
-}
-
-static double ea__sim_wall(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 void ea_traj_planned_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, double xy[2]) {
@@ -248,7 +242,7 @@ ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double ti
     return info->status = ea_error_set(
                err, EA_ERR_ARG, "simulate: %.3g s at dt %g s is more than 2e7 steps", t_end, s->dt);
   info->tip_mass = tip_mass > 0 ? tip_mass : ea_arm_tip_mass(arm, fmax(tr->payload_kg, 0.0));
-  const double wall0 = ea__sim_wall();
+  const double wall0 = ea__mono_s();
 
   ea_shooter_t *sh = NULL;
   ea_fe_model_t *m = NULL, *mh = NULL;
@@ -398,7 +392,7 @@ ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double ti
     hist->rows = si.rows;
   }
 done:
-  info->wall_time_s = ea__sim_wall() - wall0;
+  info->wall_time_s = ea__mono_s() - wall0;
   info->status = st;
   free(qstart);
   ea__sim_drive_free(&drv);
