@@ -9,6 +9,7 @@
  * replanning rows) */
 #include "bench_util.h"
 #include "ea_planner.h"
+#include "ea_problems.h"
 
 #include <math.h>
 #include <stdio.h>

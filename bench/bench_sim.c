@@ -3,6 +3,8 @@
  * energy scheme at dt = 1/32 ms. Errors: the residual vibration peak (relative) and the
  * tip history (max over the run of |tip - tip_ref| at the coarse run's times); wall time
  * the median of 3 runs. Usage: bench_sim [reps]. */
+#include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_simulate.h"
 
 #include <math.h>

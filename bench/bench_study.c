@@ -7,6 +7,7 @@
  * journal. Medians, as a table.
  * Usage: bench_study [repeats-of-the-1000-case-study (default 3)] */
 #include "ea_planner.h"
+#include "ea_problems.h"
 
 #include <gsl/gsl_errno.h>
 #include <math.h>

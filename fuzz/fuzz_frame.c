@@ -6,7 +6,7 @@
  * frames than fit in the input and never holds more than its buffer.
  * EA_FUZZ_FRAME_SEEDS=DIR: write seed inputs (one frame of each type and a
  * stream of several) to DIR and exit (fuzz/corpus/frame was made so). */
-#include "ea_planner.h"
+#include "stream_wire_impl.h"
 
 #include <stdint.h>
 #include <stdio.h>

@@ -4,7 +4,7 @@
  * message and leaves no data; a trajectory read has at least 2 samples, all
  * finite, with strictly increasing time, and finite masses >= 0. Corpus: fuzz/corpus/traj (written
  * by `elasticarm plan`). */
-#include "ea_planner.h"
+#include "ea_traj.h"
 #include "fuzz_tmp.h"
 
 #include <math.h>

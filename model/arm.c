@@ -1,5 +1,5 @@
 /* Arm parameters: the paper's Tables 1 and 2 and assumed actuator data. */
-#include "ea_model.h"
+#include "ea_arm.h"
 #include "ea_util.h"
 
 #include <math.h>

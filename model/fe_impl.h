@@ -2,7 +2,7 @@
 #ifndef EA_FE_IMPL_H
 #define EA_FE_IMPL_H
 
-#include "ea_model.h"
+#include "ea_fe.h"
 #include "ea_util.h"
 
 #include <gsl/gsl_eigen.h>

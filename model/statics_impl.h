@@ -2,7 +2,7 @@
 #ifndef EA_STATICS_IMPL_H
 #define EA_STATICS_IMPL_H
 
-#include "ea_model.h"
+#include "ea_statics.h"
 
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_permutation.h>

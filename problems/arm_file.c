@@ -1,5 +1,5 @@
 /* Arm files: YAML -> ea_arm_t with positions in every error. */
-#include "ea_problems.h"
+#include "ea_arm_file.h"
 #include "yaml_impl.h"
 
 #include <math.h>

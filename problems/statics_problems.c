@@ -1,6 +1,6 @@
 /* The paper's statics problems: workspace edges (Fig. 3), shoulder torque
  * maps (sec. 2.3.2) and straight-path admissibility (Fig. 4, eqs. 18-20). */
-#include "ea_problems.h"
+#include "ea_workspace.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -2,7 +2,9 @@
 #ifndef EA_STUDY_IMPL_H
 #define EA_STUDY_IMPL_H
 
-#include "ea_problems.h"
+#include "ea_arm_file.h"
+#include "ea_study.h"
+#include "ea_workspace.h"
 #include "ea_util.h"
 
 #include <stdint.h>

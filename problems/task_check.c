@@ -1,6 +1,7 @@
 /* Task specs built in C: defaults, points, and the validation shared with
  * the YAML loader (limits, objective, workspace of every point). */
-#include "ea_problems.h"
+#include "ea_arm_file.h"
+#include "ea_task.h"
 
 #include <math.h>
 #include <stdio.h>

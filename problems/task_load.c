@@ -1,6 +1,8 @@
 /* Task specs: YAML -> ea_task_t with file:line:column in every error
  * (docs/task-format.md). The typed reader is problems/yaml_doc.c. */
-#include "ea_problems.h"
+#include "ea_arm_file.h"
+#include "ea_fe.h"
+#include "ea_task.h"
 #include "yaml_impl.h"
 
 #include <math.h>

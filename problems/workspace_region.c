@@ -26,7 +26,7 @@
  * moves along the ray from the root), so each is the maximum of smooth end
  * curves: the best quadrature node, then Brent's method on its neighbours.
  */
-#include "ea_problems.h"
+#include "ea_workspace.h"
 #include "ea_util.h"
 
 #include <math.h>

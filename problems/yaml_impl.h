@@ -5,7 +5,7 @@
 #ifndef EA_YAML_IMPL_H
 #define EA_YAML_IMPL_H
 
-#include "ea_model.h"
+#include "ea_status.h"
 
 #include <yaml.h>
 

@@ -16,6 +16,7 @@
 #define EA_PLAN_CHECK_H
 
 #include "ea_planner.h"
+#include "ea_problems.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -2,6 +2,8 @@
  * figures, atomic outputs. Values are checked against an independent
  * re-solve through the library with a different problem statement. */
 #include "ea_planner.h"
+#include "ea_problems.h"
+#include "figure_impl.h"
 #include "ea_test.h"
 #include "ea_test_cli.h"
 

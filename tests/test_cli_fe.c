@@ -6,6 +6,7 @@
  * and leftover files; simulate against a held trajectory (no vibration) and
  * a fast move (vibration). */
 #include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_test.h"
 #include "ea_test_cli.h"
 

@@ -14,6 +14,7 @@
  *    the shortfall against the closed form. */
 #include "ea_plan_check.h"
 #include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_test.h"
 
 #include <math.h>

@@ -10,6 +10,8 @@
  * acceleration jumps at the knots (continuous_acceleration off, no margin)
  * is refused. */
 #include "ea_planner.h"
+#include "ea_problems.h"
+#include "ea_stream.h"
 #include "ea_test.h"
 
 #include <math.h>

@@ -5,6 +5,7 @@
  * test_plan.c includes it for a short unit sweep. */
 #include "ea_plan_check.h"
 #include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_test.h"
 
 #include <math.h>

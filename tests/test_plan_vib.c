@@ -9,6 +9,8 @@
  *    the same duration;
  *  - Ipopt's derivative checker on a min_vibration task with the frequency
  *    and modal deflection limits (first order). */
+#include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_simulate.h"
 #include "ea_test.h"
 

@@ -8,6 +8,8 @@
  *  - what it predicts for a trajectory (modal states integrated along the plan) against the
  *    nonlinear FE transient: the residual vibration of the minimum-time paper line, the
  *    min_vibration paper line, and a small cable-length cycloid (linear regime). */
+#include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_simulate.h"
 #include "ea_test.h"
 

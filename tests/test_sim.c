@@ -11,6 +11,8 @@
  *  - a plan run on arms it was not planned for (hand mass x0.7..1.3, EI x0.9..1.1, payload
  *    0..0.1 kg): every run starts, and its final equilibrium matches an independent solve of
  *    the ODE statics under the same held inputs (shoulder angle, cable rest length). */
+#include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_simulate.h"
 #include "ea_test.h"
 

@@ -8,6 +8,8 @@
 #define TEST_STREAM_FIXTURE_H
 
 #include "ea_planner.h"
+#include "ea_problems.h"
+#include "ea_stream.h"
 
 #include <string.h>
 

@@ -9,8 +9,10 @@
  * lower bounds from the limits, failed cases recorded, spec errors with
  * file:line:column. */
 #include "ea_planner.h"
+#include "ea_problems.h"
 #include "ea_test.h"
 #include "study_plan_impl.h"
+#include "study_report_impl.h"
 
 #include <fcntl.h>
 #include <gsl/gsl_errno.h>

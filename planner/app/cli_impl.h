@@ -4,7 +4,11 @@
 #define EA_CLI_IMPL_H
 
 #include "ea_planner.h"
+#include "ea_problems.h"
+#include "ea_simulate.h"
+#include "ea_stream.h"
 #include "ea_util.h"
+#include "figure_impl.h"
 
 /** A subcommand: returns the process exit code (0 ok, 1 failure or not
  *  converged / inadmissible, 2 usage error). Prints only to stdout/stderr. */

@@ -3,6 +3,7 @@
  * summary + figures; threads, shards, checkpoint/resume; 'study merge'. */
 #include "cli_impl.h"
 #include "study_plan_impl.h"
+#include "study_report_impl.h"
 
 #include <errno.h>
 #include <limits.h>

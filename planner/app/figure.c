@@ -6,8 +6,8 @@
  * ours: a failed 'set output' would make it draw there) and its standard
  * error to a temporary file whose last line goes into the error message.
  * All figure code of the project goes through here. */
-#include "ea_planner.h"
 #include "ea_util.h"
+#include "figure_impl.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -1,7 +1,9 @@
 /* Study results as a table: parsing the tidy CSV, the JSON summary, and the
  * figures (Fig. 3 overlay, each scalar metric against the swept parameter). */
 #include "ea_util.h"
-#include "study_plan_impl.h"
+#include "ea_problems.h"
+#include "figure_impl.h"
+#include "study_report_impl.h"
 
 #include <math.h>
 #include <stdio.h>

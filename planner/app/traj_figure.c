@@ -3,7 +3,7 @@
  * edge T = 0, eq. 16; inner edge L_c = L_c,min), (b) actuator coordinates,
  * (c) tension and shoulder torque, (d) rates, over time. Used for plans
  * (ea_plan_figure) and for any trajectory file (elasticarm figure). */
-#include "ea_planner.h"
+#include "figure_impl.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -13,7 +13,8 @@
 #ifndef EA_SIMULATE_H
 #define EA_SIMULATE_H
 
-#include "ea_planner.h"
+#include "ea_fe.h"
+#include "ea_traj.h"
 
 #ifdef __cplusplus
 extern "C" {

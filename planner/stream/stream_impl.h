@@ -3,7 +3,7 @@
 #ifndef EA_STREAM_IMPL_H
 #define EA_STREAM_IMPL_H
 
-#include "ea_planner.h"
+#include "ctrl_sim_impl.h"
 #include "ea_util.h"
 
 #include <stddef.h>
@@ -59,13 +59,6 @@ double ea__get_f64(const uint8_t *p);
 
 /** Payload length of a frame type; -1 if the type is unknown. */
 int ea__frame_payload_len(uint8_t type);
-
-/* ---- Controller simulator on an already open fd (tests: pty master) ---- */
-
-/** Like ea_ctrl_open, but serve the byte stream fd (a serial line, a pty
- *  master); c takes ownership of fd. */
-ea_status_t ea__ctrl_open_fd(const ea_arm_t *arm, int fd, const ea_ctrl_settings_t *s,
-                             ea_ctrl_t **out, ea_error_t *err);
 
 /* ---- Setpoint helpers ---------------------------------------------------- */
 

@@ -4,7 +4,7 @@
 #ifndef EA_SIM_IMPL_H
 #define EA_SIM_IMPL_H
 
-#include "ea_planner.h"
+#include "ea_fe.h"
 
 /** Sampled drive: shoulder angle theta0 [rad] and the cable parameter of the
  *  chosen phase (passive: rest length L0 = L_c / (1 + T / EA_c), the moving

@@ -1,5 +1,6 @@
 /* Trajectory files, format version 1 (docs/trajectory-format.md). */
-#include "ea_planner.h"
+#include "ea_statics.h"
+#include "ea_traj.h"
 #include "ea_util.h"
 
 #include <errno.h>

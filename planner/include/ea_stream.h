@@ -1,0 +1,200 @@
+/**
+ * @file ea_stream.h
+ * @brief Command streamer (docs/streaming.md): a trajectory resampled at the
+ *        controller rate, mapped to motor setpoints, checked against every
+ *        limit, and sent with a handshake, ACKs and a controlled stop
+ *        (planner/stream/). The frame codec (docs/protocol.md) and the
+ *        controller simulator are private (stream_wire_impl.h, ctrl_sim_impl.h).
+ */
+#ifndef EA_STREAM_H
+#define EA_STREAM_H
+
+#include "ea_arm.h"
+#include "ea_traj.h"
+
+#include <signal.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Command streamer (docs/streaming.md) and its wire format (docs/protocol.md):
+ * trajectory -> actuator setpoints at the controller rate -> frames -> a
+ * transport (tcp, udp, serial, file) -> a controller (or controller-sim). */
+
+/** Version of the wire format (docs/protocol.md). */
+#define EA_PROTO_VERSION 1
+
+/** One actuator setpoint in motor coordinates (what goes on the wire). */
+typedef struct ea_setpoint {
+  double spool_pos[2];    /**< [rad] spool motor positions (both spools; equal) */
+  double spool_vel[2];    /**< [rad/s] */
+  double spool_acc[2];    /**< [rad/s^2] */
+  double shoulder_pos;    /**< [rad] shoulder motor = theta0 */
+  double shoulder_vel;    /**< [rad/s] */
+  double shoulder_acc;    /**< [rad/s^2] */
+  double base_pos;        /**< [rad] base motor */
+  double base_vel;        /**< [rad/s] */
+  double base_acc;        /**< [rad/s^2] */
+  double shoulder_torque; /**< [N m] feed-forward EI kappa0 */
+  double tension;         /**< [N] cable tension feed-forward */
+} ea_setpoint_t;
+
+/** Number of doubles of an ::ea_setpoint_t on the wire. */
+#define EA_SETPOINT_DOUBLES 14
+
+/** The same point in the trajectory's (joint) coordinates. */
+typedef struct ea_joint_state {
+  double cable_length, cable_length_rate, cable_length_acc; /**< [m], [m/s], [m/s^2] */
+  double theta0, theta0_rate, theta0_acc;                   /**< [rad], [rad/s], [rad/s^2] */
+  double base_angle, base_angle_rate, base_angle_acc;       /**< [rad], [rad/s], [rad/s^2] */
+  double tension;                                           /**< [N] */
+  double kappa0;                                            /**< [1/m] */
+} ea_joint_state_t;
+
+/** Joint state -> motor setpoint: spool = (L_c - zero_length) / radius *
+ *  gear_ratio (both spools), shoulder = theta0, base = base angle, torque
+ *  feed-forward EI kappa0, tension feed-forward T. */
+void ea_stream_map(const ea_arm_t *arm, const ea_joint_state_t *q, ea_setpoint_t *sp);
+/** Inverse of ea_stream_map (spool 0 is used for the cable length). */
+void ea_stream_unmap(const ea_arm_t *arm, const ea_setpoint_t *sp, ea_joint_state_t *q);
+
+/** Check one setpoint against every limit of the arm file (ranges, speeds,
+ *  accelerations, tension, shoulder torque; both spools must agree). tol is a
+ *  relative slack (e.g. 1e-9). On failure err->msg names the quantity, its
+ *  value and the bound; returns EA_ERR_INADMISSIBLE. */
+ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp, double tol,
+                                   ea_error_t *err);
+
+/** Evaluate a trajectory at time t [s] (clamped to its span): quintic
+ *  Hermite of value, rate and acceleration for cable length and base angle;
+ *  theta0 quintic with the accelerations of the cubic Hermite of theta0 and
+ *  its rate at the samples (the mean of both sides: equal for a planned,
+ *  C2 theta0, so the quintic is that cubic);
+ *  tension and kappa0 cubic Hermite with centred-difference slopes. */
+ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t *q);
+
+/** Resample tr at rate_hz: n = ceil(duration * rate) + 1 setpoints at
+ *  t_k = t_0 + min(k / rate, duration), mapped to motor coordinates and
+ *  checked against the arm's limits (tol relative slack). *out is malloc'd
+ *  (caller frees); on a limit violation err->msg names the sample and time. */
+ea_status_t ea_stream_resample(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz, double tol,
+                               ea_setpoint_t **out, int *n, ea_error_t *err);
+
+/** Same, with the trajectory played time_scale (>= 1) times slower: t_plan =
+ *  t / time_scale, rates / time_scale, accelerations / time_scale^2 (a
+ *  uniform time scaling keeps the path; the feed-forwards, quasi-static, are
+ *  unchanged). time_scale = 1 is ea_stream_resample. */
+ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                                      double time_scale, double tol, ea_setpoint_t **out, int *n,
+                                      ea_error_t *err);
+
+/** Smallest time scale s >= 1 for which ea_stream_resample_scaled(tr, arm,
+ *  rate_hz, s, tol) passes the limits check: the interpolant between the
+ *  plan's samples can exceed a speed or acceleration limit the plan meets
+ *  only at its samples (e.g. at bang-bang switches). EA_ERR_INADMISSIBLE if
+ *  a limit no time scaling changes fails (range, tension, torque). */
+ea_status_t ea_stream_min_time_scale(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                                     double tol, double *scale, ea_error_t *err);
+
+/** Controlled stop from sp (position, velocity, acceleration of each axis):
+ *  every axis follows v(s) = v0 h00(s) + T a0 h10(s) (cubic Hermite in
+ *  s = t / T to v = a = 0), all axes with one common duration T, the
+ *  shortest multiple of 1/rate_hz that keeps every |acceleration| within
+ *  margin * limit. Feed-forwards are held. Writes at most max setpoints
+ *  (the last at rest) to out; returns their number (>= 1), or -1 if max is
+ *  too small. */
+int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rate_hz, double margin,
+                        ea_setpoint_t *out, int max);
+
+/** Controller states reported in ACK/NACK. */
+typedef enum ea_ctrl_state {
+  EA_CTRL_IDLE = 0,     /**< no session */
+  EA_CTRL_READY = 1,    /**< session open, holding position */
+  EA_CTRL_RUNNING = 2,  /**< executing setpoints */
+  EA_CTRL_STOPPING = 3, /**< executing a controlled stop */
+  EA_CTRL_DONE = 4,     /**< session ended, at rest */
+  EA_CTRL_FAULT = 5     /**< stopped after a fault; needs a new session */
+} ea_ctrl_state_t;
+
+/** NACK reasons (also in ACK: 0). */
+typedef enum ea_nack_reason {
+  EA_NACK_NONE = 0,
+  EA_NACK_CRC = 1,        /**< bad CRC or malformed frame */
+  EA_NACK_SEQUENCE = 2,   /**< duplicate or out-of-order sequence number */
+  EA_NACK_LIMIT = 3,      /**< setpoint beyond the arm's limits */
+  EA_NACK_CONTINUITY = 4, /**< jump from the previous setpoint */
+  EA_NACK_OVERFLOW = 5,   /**< controller buffer full */
+  EA_NACK_STATE = 6,      /**< frame not allowed in this state */
+  EA_NACK_VERSION = 7     /**< unsupported protocol version */
+} ea_nack_reason_t;
+
+/* ---- Streamer ---------------------------------------------------------- */
+
+/** Streamer settings (ea_stream_settings_default fills them). */
+typedef struct ea_stream_settings {
+  double rate_hz;             /**< setpoint rate (default 1000) */
+  double limit_tol;           /**< relative slack of the limits check (default 1e-6) */
+  double stop_margin;         /**< stop ramp uses at most this fraction of the accel limits (0.9) */
+  double ack_timeout_s;       /**< outstanding frames without an ACK this long -> stop (0.1) */
+  double handshake_timeout_s; /**< wait for the HELLO answer (1.0) */
+  double end_timeout_s;       /**< wait for the END answer (1.0) */
+  double heartbeat_s;         /**< heartbeat period when no setpoint is due (0.1) */
+  double start_tol_cable;     /**< [m] handshake tolerance on L_c (1e-3) */
+  double start_tol_angle;     /**< [rad] handshake tolerance on theta0 and base (0.01) */
+  int realtime;               /**< 1: pace at rate_hz (default); 0: as fast as possible */
+  int wait_acks;              /**< 1: handshake and ACKs (default); 0: dry run (file:) */
+  const volatile sig_atomic_t *stop_request; /**< nonzero -> controlled stop (SIGINT) */
+} ea_stream_settings_t;
+
+void ea_stream_settings_default(ea_stream_settings_t *s);
+ea_status_t ea_stream_settings_validate(const ea_stream_settings_t *s, ea_error_t *err);
+
+/** Why the stream ended. */
+typedef enum ea_stream_end {
+  EA_STREAM_COMPLETE = 0,     /**< every setpoint sent and acknowledged */
+  EA_STREAM_REFUSED,          /**< handshake: controller not at the trajectory's start */
+  EA_STREAM_STOP_NACK,        /**< controller rejected a frame: controlled stop */
+  EA_STREAM_STOP_ACK_TIMEOUT, /**< acknowledgements stopped: controlled stop */
+  EA_STREAM_STOP_INTERRUPT,   /**< stop requested (SIGINT): controlled stop */
+  EA_STREAM_DISCONNECTED,     /**< link lost: the controller's watchdog must stop */
+  EA_STREAM_ERROR             /**< could not start (connect, handshake timeout) */
+} ea_stream_end_t;
+
+const char *ea_stream_end_name(ea_stream_end_t e);
+
+/** Summary of a stream. */
+typedef struct ea_stream_info {
+  ea_status_t status; /**< EA_OK only for EA_STREAM_COMPLETE */
+  ea_stream_end_t end;
+  int setpoints;              /**< setpoints of the resampled trajectory */
+  int frames_sent;            /**< setpoint frames written (stop ramp included) */
+  int stop_frames;            /**< of which stop ramp */
+  int frames_acked;           /**< setpoints the controller reported accepted */
+  int frames_late;            /**< sent more than half a period after their deadline */
+  int nacks;                  /**< NACK frames received */
+  int acks;                   /**< ACK frames received */
+  int ctrl_rejected;          /**< frames the controller reported rejected */
+  int ctrl_state;             /**< last reported ::ea_ctrl_state_t (-1 none) */
+  int nack_reason;            /**< reason of the first NACK */
+  int buffer_min, buffer_max; /**< controller buffer level seen in ACKs */
+  int ack_bad_frames;         /**< malformed frames received from the controller */
+  double jitter_p50_us, jitter_p99_us, jitter_max_us; /**< |send time - deadline| */
+  double ack_latency_max_ms; /**< longest wait for an outstanding frame's ACK */
+  double duration_s;         /**< wall time of the setpoint phase */
+} ea_stream_info_t;
+
+/** Stream setpoints sp[0..n-1] to the transport named by url
+ *  ("tcp://HOST:PORT", "udp://HOST:PORT", "serial:DEVICE[@BAUD]",
+ *  "file:PATH", "file:-" = stdout): handshake, paced sending, ACKs, and on
+ *  NACK / ACK timeout / stop request a controlled stop. Never prints.
+ * @param[out] info summary (always filled)
+ * @return EA_OK if complete; EA_ERR_INADMISSIBLE refused handshake;
+ *         EA_ERR_PROTOCOL NACK; EA_ERR_NET link; EA_ERR_INTERRUPTED stop request */
+ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, const char *url,
+                          const ea_stream_settings_t *s, ea_stream_info_t *info, ea_error_t *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* EA_STREAM_H */

@@ -1,0 +1,84 @@
+/**
+ * @file ea_traj.h
+ * @brief Trajectory files (docs/trajectory-format.md): the columns, the
+ *        in-memory trajectory, atomic writing and validated reading
+ *        (planner/traj/trajectory.c).
+ */
+#ifndef EA_TRAJ_H
+#define EA_TRAJ_H
+
+#include "ea_status.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------------ */
+/* Trajectory files (docs/trajectory-format.md), format version 1            */
+/* ------------------------------------------------------------------------ */
+
+#define EA_TRAJ_FORMAT_VERSION 1
+
+/** Columns of a trajectory, in file order. */
+#define EA_TRAJ_COLUMNS(X)                                                                         \
+  X(t, "t_s")                                                                                      \
+  X(cable_length, "cable_length_m")                                                                \
+  X(cable_angle, "cable_angle_rad")                                                                \
+  X(base_angle, "base_angle_rad")                                                                  \
+  X(cable_length_rate, "cable_length_rate_m_per_s")                                                \
+  X(cable_angle_rate, "cable_angle_rate_rad_per_s")                                                \
+  X(base_angle_rate, "base_angle_rate_rad_per_s")                                                  \
+  X(cable_length_acc, "cable_length_acc_m_per_s2")                                                 \
+  X(cable_angle_acc, "cable_angle_acc_rad_per_s2")                                                 \
+  X(base_angle_acc, "base_angle_acc_rad_per_s2")                                                   \
+  X(tension, "tension_N")                                                                          \
+  X(theta0, "theta0_rad")                                                                          \
+  X(theta0_rate, "theta0_rate_rad_per_s")                                                          \
+  X(kappa0, "kappa0_per_m")                                                                        \
+  X(shoulder_torque, "shoulder_torque_Nm")                                                         \
+  X(tip_x, "tip_x_m")                                                                              \
+  X(tip_y, "tip_y_m")                                                                              \
+  X(tip_z, "tip_z_m")
+
+#define EA__TRAJ_ENUM(name, header) EA_TRAJ_##name,
+enum { EA_TRAJ_COLUMNS(EA__TRAJ_ENUM) EA_TRAJ_NCOL };
+#undef EA__TRAJ_ENUM
+
+/** Header name of column c ("t_s", ...). */
+const char *ea_traj_column_name(int c);
+
+/** A trajectory: n samples of EA_TRAJ_NCOL columns, row-major, plus the
+ *  metadata the file carries. */
+typedef struct ea_traj {
+  int n;              /**< number of samples */
+  double *data;       /**< n x EA_TRAJ_NCOL, row-major; owned */
+  double payload_kg;  /**< [kg] payload m_p */
+  double tip_mass_kg; /**< [kg] m_L */
+  char arm_file[512]; /**< arm file the plan was made with ("" = defaults) */
+  char task[512];     /**< task name or file */
+  char status[64];    /**< planner status, e.g. "EA_OK" */
+} ea_traj_t;
+
+/** Value at sample i, column c. */
+#define EA_TRAJ_AT(tr, i, c) ((tr)->data[(size_t)(i)*EA_TRAJ_NCOL + (c)])
+
+/** Allocate n zeroed samples (frees previous data). */
+ea_status_t ea_traj_alloc(ea_traj_t *tr, int n);
+void ea_traj_free(ea_traj_t *tr);
+/** Fill the statics columns of sample i from a configuration p = (alpha, T,
+ *  theta0, kappa0) with tip state xL: tension, theta0, kappa0, shoulder
+ *  torque EI kappa0, and the tip in the base frame using the sample's base
+ *  angle. (Rates and the actuator columns are left alone.) */
+void ea_traj_set_statics(ea_traj_t *tr, int i, const double p[4], const double xL[4], double EI);
+/** Write atomically (CSV with '#' metadata lines). */
+ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err);
+/** Read and validate (header, version, monotonic time, finite values);
+ *  errors say file:line:column. */
+ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* EA_TRAJ_H */
