@@ -503,7 +503,7 @@ static ea_status_t ea__ws_phi(ea__ws_phi_ctx_t *c, double alpha, double *phi) {
     if (!st)
       st = ea__ws_end(w, c->s.kb, alpha, big->pe, big->hp[c->s.ia + 1] ? big->p[c->s.ia + 1] : NULL,
                       &L1, p1, &h1);
-    *phi = L1 - L0;
+    *phi = st ? NAN : L1 - L0; /* L1 is not set when the first end failed */
     return st;
   }
   const ea_ws_bound_t ka = c->s.ka, kb = c->s.kb;
