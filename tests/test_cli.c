@@ -9,6 +9,7 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -309,6 +310,84 @@ static void test_plan_outputs(const char *arm_path) {
   remove("test_cli_name.yaml");
 }
 
+/* A shell command line (its output in out); the exit code. */
+static int sh(const char *line) {
+  char cmd[4096];
+  snprintf(cmd, sizeof cmd, "%s 2>&1", line);
+  FILE *p = popen(cmd, "r");
+  if (!p) return -1;
+  const size_t n = fread(out, 1, sizeof out - 1, p);
+  out[n] = '\0';
+  const int rc = pclose(p);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+/* The default arm file: looked up in the documented order and named, with how it
+ * was found, by elasticarm --help (only the CLI knows it). */
+static void test_default_arm(const char *arm_path) {
+  char dir[] = "/tmp/ea_test_arm_lookup_XXXXXX", line[3000], want[PATH_MAX + 100], real_arm[PATH_MAX];
+  if (!mkdtemp(dir) || !realpath(arm_path, real_arm)) {
+    ea_test_true(0, "default arm: temporary folder");
+    return;
+  }
+  /* 1. $EA_ARM_FILE first; a missing file is then an error naming it */
+  snprintf(line, sizeof line, "cd %s && EA_ARM_FILE=/nonexistent/arm.yaml %s --help", dir, bin);
+  int rc = sh(line);
+  ea_test_true(rc == 0 && strstr(out, "  /nonexistent/arm.yaml\n  found as: $EA_ARM_FILE"),
+               "default arm: $EA_ARM_FILE first, said by --help");
+  snprintf(line, sizeof line,
+           "cd %s && EA_ARM_FILE=/nonexistent/arm.yaml %s statics --cable-length 0.45 "
+           "--cable-angle-deg -25",
+           dir, bin);
+  rc = sh(line);
+  ea_test_true(rc == 2 && strstr(out, "/nonexistent/arm.yaml"),
+               "default arm: an unreadable $EA_ARM_FILE is a usage error naming it");
+  /* 2. the build tree: <folder of the executable>/../data (this build is inside the
+   * source tree when that file is the source's arm file) */
+  char bdir[PATH_MAX], cand[PATH_MAX + 64], real_cand[PATH_MAX];
+  snprintf(bdir, sizeof bdir, "%s", bin);
+  char *slash = strrchr(bdir, '/');
+  if (slash) *slash = '\0';
+  snprintf(cand, sizeof cand, "%s/../data/elasticarm.yaml", slash ? bdir : ".");
+  if (realpath(cand, real_cand) && !strcmp(real_cand, real_arm)) {
+    snprintf(line, sizeof line, "cd %s && env -u EA_ARM_FILE %s --help", dir, bin);
+    rc = sh(line);
+    snprintf(want, sizeof want, "  %s\n  found as: data/ beside the folder of the executable",
+             real_arm);
+    ea_test_true(rc == 0 && strstr(out, want) != NULL,
+                 "default arm: a build tree finds the source's data/ (no ./data here)");
+  } else {
+    printf("(build folder not directly inside the source tree: build-tree lookup not tested)\n");
+  }
+  /* 3. ./data/elasticarm.yaml of the working directory before the executable's */
+  snprintf(line, sizeof line,
+           "mkdir -p %s/data && cp %s %s/data/ && cd %s && env -u EA_ARM_FILE %s --help", dir,
+           arm_path, dir, dir, bin);
+  rc = sh(line);
+  ea_test_true(rc == 0 && strstr(out, "  data/elasticarm.yaml\n  found as: ./data/ of the working "
+                                      "directory"),
+               "default arm: ./data/elasticarm.yaml of the working directory");
+  /* 4. an installed layout: PREFIX/bin/elasticarm finds PREFIX/share/elasticarm/ */
+  snprintf(line, sizeof line,
+           "mkdir -p %s/inst/bin %s/inst/share/elasticarm && cp %s %s/inst/bin/elasticarm && cp "
+           "%s %s/inst/share/elasticarm/ && cd %s/inst && env -u EA_ARM_FILE ./bin/elasticarm "
+           "--help",
+           dir, dir, bin, dir, arm_path, dir, dir);
+  rc = sh(line);
+  ea_test_true(rc == 0 && strstr(out, "/inst/share/elasticarm/elasticarm.yaml\n  found as: "
+                                      "share/elasticarm/ beside the folder of the executable"),
+               "default arm: an installed executable finds ../share/elasticarm/");
+  snprintf(line, sizeof line,
+           "cd %s/inst && env -u EA_ARM_FILE ./bin/elasticarm statics --cable-length 0.45 "
+           "--cable-angle-deg -25 --json",
+           dir);
+  rc = sh(line);
+  ea_test_true(rc == 0 && strstr(out, "\"status\": \"EA_OK\""),
+               "default arm: the installed executable solves with it");
+  snprintf(line, sizeof line, "rm -rf %s", dir);
+  sh(line);
+}
+
 int main(void) {
   char arm_path[1024];
   if (cli_setup(arm_path, sizeof arm_path)) return 1;
@@ -497,6 +576,7 @@ int main(void) {
     ea_test_true(rows == 7, "golden: 7 path steps compared");
     ea_test_abs(worst, 0.0, 1e-8, "golden: path vs independent scipy solution (worst rel.)");
   }
+  test_default_arm(arm_path);
   test_figures(arm_path);
   test_statics_checks(arm_path);
   test_plan_outputs(arm_path);

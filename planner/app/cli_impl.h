@@ -53,8 +53,14 @@ int ea__cli_list(const char *cmd, const char *flag, const char *text, double **o
 /** The value after flag argv[*i] (advances *i); NULL (and a message) if missing. */
 const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i);
 
-/** Default arm file: $EA_ARM_FILE, ./data/elasticarm.yaml, or the source tree's. */
+/** Default arm file, the first of: $EA_ARM_FILE; ./data/elasticarm.yaml;
+ *  <folder of the executable>/../share/elasticarm/elasticarm.yaml (installed);
+ *  <folder of the executable>/../data/elasticarm.yaml (a build tree inside the
+ *  source tree); the install location compiled in (EA_INSTALL_DATADIR). Only
+ *  the command-line tool knows it: the library takes arm files as arguments. */
 const char *ea__cli_default_arm(void);
+/** How ea__cli_default_arm() found it ("$EA_ARM_FILE", ...), for --help. */
+const char *ea__cli_default_arm_how(void);
 /** Load the arm file (path NULL = default). Prints errors; returns exit code. */
 int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm);
 

@@ -49,7 +49,7 @@ static int ea__common_opt(const char *cmd, int argc, char **argv, int *i, ea__co
 }
 
 static const char *ea__common_help =
-    "  --arm FILE            arm parameters (default data/elasticarm.yaml)\n"
+    "  --arm FILE            arm parameters (default: see elasticarm --help)\n"
     "  --payload-factor G    payload m_p = G (m_h + rho L) (eq. 17)\n"
     "  --payload-kg M        payload mass [kg]\n"
     "  --json                JSON on stdout\n"

@@ -3,6 +3,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -116,15 +117,63 @@ const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i) {
   return argv[*i];
 }
 
-const char *ea__cli_default_arm(void) {
+/* The folder of the running executable (from /proc/self/exe) into buf; 0 if unknown. */
+static int ea__exe_dir(char *buf, size_t len) {
+  char exe[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) return 0;
+  exe[n] = '\0';
+  char *slash = strrchr(exe, '/');
+  if (!slash) return 0;
+  *slash = '\0';
+  return snprintf(buf, len, "%s", exe[0] ? exe : "/") < (int)len;
+}
+
+static void ea__find_default_arm(char *path, size_t len, const char **how) {
   const char *e = getenv("EA_ARM_FILE");
-  if (e && *e) return e;
-  if (access("data/elasticarm.yaml", R_OK) == 0) return "data/elasticarm.yaml";
-#ifdef EA_DEFAULT_ARM_FILE
-  return EA_DEFAULT_ARM_FILE;
-#else
-  return "data/elasticarm.yaml";
-#endif
+  if (e && *e) {
+    snprintf(path, len, "%s", e);
+    *how = "$EA_ARM_FILE";
+    return;
+  }
+  if (access("data/elasticarm.yaml", R_OK) == 0) {
+    snprintf(path, len, "data/elasticarm.yaml");
+    *how = "./data/ of the working directory";
+    return;
+  }
+  char dir[PATH_MAX];
+  if (ea__exe_dir(dir, sizeof dir)) {
+    static const struct {
+      const char *rel, *how;
+    } near[] = {
+        {"/../share/elasticarm/elasticarm.yaml",
+         "share/elasticarm/ beside the folder of the executable (installed)"},
+        {"/../data/elasticarm.yaml", "data/ beside the folder of the executable (a build tree)"}};
+    for (size_t i = 0; i < sizeof near / sizeof *near; ++i) {
+      char p[PATH_MAX + 64], real[PATH_MAX];
+      if (snprintf(p, sizeof p, "%s%s", dir, near[i].rel) < (int)sizeof p && access(p, R_OK) == 0) {
+        snprintf(path, len, "%s", realpath(p, real) ? real : p);
+        *how = near[i].how;
+        return;
+      }
+    }
+  }
+  snprintf(path, len, "%s", EA_INSTALL_DATADIR "/elasticarm/elasticarm.yaml");
+  *how = "the install location";
+}
+
+static char ea__default_arm_path[PATH_MAX + 64];
+static const char *ea__default_arm_how; /* NULL until looked up (once per process) */
+
+const char *ea__cli_default_arm(void) {
+  if (!ea__default_arm_how)
+    ea__find_default_arm(ea__default_arm_path, sizeof ea__default_arm_path, &ea__default_arm_how);
+  return ea__default_arm_path;
+}
+
+const char *ea__cli_default_arm_how(void) {
+  ea__cli_default_arm();
+  return ea__default_arm_how;
 }
 
 int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm) {

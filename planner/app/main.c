@@ -35,6 +35,13 @@ static void ea__usage(FILE *fp) {
               "commands:\n");
   for (size_t i = 0; i < sizeof ea__cmds / sizeof *ea__cmds; ++i)
     fprintf(fp, "  %-14s %s\n", ea__cmds[i].name, ea__cmds[i].help);
+  fprintf(fp,
+          "\ndefault arm file (without --arm or a task's arm_file):\n  %s\n  found as: %s\n"
+          "  (looked up in order: $EA_ARM_FILE, ./data/elasticarm.yaml,\n"
+          "  <folder of the executable>/../share/elasticarm/elasticarm.yaml,\n"
+          "  <folder of the executable>/../data/elasticarm.yaml, %s)\n",
+          ea__cli_default_arm(), ea__cli_default_arm_how(),
+          EA_INSTALL_DATADIR "/elasticarm/elasticarm.yaml");
 }
 
 int main(int argc, char **argv) {
