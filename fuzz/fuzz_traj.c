@@ -15,7 +15,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   const char *path = ea__fuzz_tmp_write(".csv", data, size, NULL, 0);
-  ea_traj_t tr;
+  ea_traj_t tr = {0};
   ea_error_t err = {0};
   const ea_status_t st = ea_traj_read(&tr, path, &err);
   if (st != EA_OK) {

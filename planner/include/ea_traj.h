@@ -64,7 +64,9 @@ typedef struct ea_traj {
 /** Value at sample i, column c. */
 #define EA_TRAJ_AT(tr, i, c) ((tr)->data[(size_t)(i)*EA_TRAJ_NCOL + (c)])
 
-/** Allocate n zeroed samples (frees previous data). */
+/** Allocate n zeroed samples (frees previous data). Every ea_traj_t handed to
+ *  the library starts zeroed (ea_traj_t tr = {0};) and is released with
+ *  ea_traj_free; a call that fills it replaces (frees) what it held. */
 ea_status_t ea_traj_alloc(ea_traj_t *tr, int n);
 void ea_traj_free(ea_traj_t *tr);
 /** Fill the statics columns of sample i from a configuration p = (alpha, T,
@@ -75,7 +77,8 @@ void ea_traj_set_statics(ea_traj_t *tr, int i, const double p[4], const double x
 /** Write atomically (CSV with '#' metadata lines). */
 ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err);
 /** Read and validate (header, version, monotonic time, finite values);
- *  errors say file:line:column. */
+ *  errors say file:line:column. tr: zeroed, or a trajectory whose samples
+ *  are freed first. */
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err);
 
 #ifdef __cplusplus

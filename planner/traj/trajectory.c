@@ -133,6 +133,8 @@ static ea_status_t ea__open_regular(const char *path, FILE **fp, ea_error_t *err
 }
 
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
+  if (!tr || !path) return ea_error_set(err, EA_ERR_ARG, "ea_traj_read: NULL argument");
+  ea_traj_free(tr); /* a reused trajectory: its samples are replaced, not leaked */
   memset(tr, 0, sizeof *tr);
   FILE *fp = NULL;
   ea_status_t st = ea__open_regular(path, &fp, err);
