@@ -1,6 +1,5 @@
 /* CLI: stream (trajectory -> controller) and controller-sim (docs/streaming.md). */
 #include "cli_impl.h"
-#include "sim_impl.h"
 #include "stream_impl.h"
 
 #include <errno.h>
@@ -288,17 +287,15 @@ typedef struct {
   double t_first, duration; /* [s] setpoint time of the first row, span of the rows */
   double settle;
   int rows; /* tip rows written */
-  ea_fe_sim_info_t si;
+  ea_sim_info_t si;
   double start_static_tip[2];
-  double wall_s;
 } ea__ctrl_sim_t;
 
-/* Drive the FE transient with the logged setpoints: start at the static state of
- * the first row's actuator positions (ODE statics for the cable length and theta0,
- * FE static solve, then the equilibrium under the drive at t = 0, exactly as
- * `simulate` starts), theta0(t) and L0(t) = L_c(t) / (1 + T(t) / EA_c) from the
- * rows (the tension is the setpoint's feed-forward), hold the last row for the
- * settling time. Never prints. */
+/* The FE transient of the logged setpoints (in receive order, own stop last) as
+ * `simulate` runs a trajectory file (ea_traj_simulate): the rows become a trajectory
+ * (ea_stream_setpoints_traj: theta0 and the tension feed-forward drive a passive cable),
+ * held after the last row for the settling time; dt 1 ms, energy scheme, no damping.
+ * The tip history (t, x, y, theta) is written atomically to path. Never prints. */
 static ea_status_t ea__ctrl_simulate(const ea_arm_t *arm, const ea_ctrl_t *c, double tip_mass,
                                      long elements, double settle, const char *path,
                                      ea__ctrl_sim_t *r) {
@@ -310,106 +307,56 @@ static ea_status_t ea__ctrl_simulate(const ea_arm_t *arm, const ea_ctrl_t *c, do
   const ea_ctrl_log_row_t *log = ea_ctrl_log(c, &nlog);
   if (nlog < 1)
     return r->status = ea_error_set(err, EA_ERR_INPUT, "--simulate: no setpoint was accepted");
-  ea__sim_drive_t drv = {0};
-  ea_shooter_t *sh = NULL;
-  ea_fe_model_t *m = NULL;
-  double *tip = NULL;
+  ea_setpoint_t *sp = malloc(sizeof *sp * (size_t)nlog);
+  double *t = malloc(sizeof *t * (size_t)nlog);
+  ea_traj_t tr = {0};
+  ea_sim_history_t h = {0};
   ea_afile_t af = {0};
-  ea_status_t st = ea__sim_drive_alloc(&drv, nlog, 0, err);
-  /* 1. drive samples from the log rows, in receive order (own stop last) */
-  r->t_first = log[0].time_s;
-  int n = 0;
-  for (int i = 0; i < nlog && !st; ++i) {
-    const double t = log[i].time_s - r->t_first;
-    if (n && !(t > drv.t[n - 1])) {
-      ++r->skipped;
-      continue;
-    }
-    ea_joint_state_t q;
-    ea_stream_unmap(arm, &log[i].sp, &q);
-    st = ea__sim_drive_set(&drv, arm, n, t, q.cable_length, q.tension, q.theta0, err);
-    if (st) {
-      char pre[96];
-      snprintf(pre, sizeof pre, "--simulate: log row %d (seq %u): ", i + 1, (unsigned)log[i].seq);
-      ea__err_prefix(err, st, pre);
-    }
-    ++n;
+  ea_status_t st = (sp && t) ? EA_OK : ea_error_set(err, EA_ERR_NOMEM, "--simulate: %d rows", nlog);
+  for (int i = 0; !st && i < nlog; ++i) {
+    sp[i] = log[i].sp;
+    t[i] = log[i].time_s;
+  }
+  if (!st && (st = ea_stream_setpoints_traj(arm, tip_mass, sp, t, nlog, &tr, &r->skipped, err)))
+    ea__err_prefix(err, st, "--simulate: the log: ");
+  if (!st) {
+    r->t_first = EA_TRAJ_AT(&tr, 0, EA_TRAJ_t);
+    r->samples = tr.n;
+    r->duration = EA_TRAJ_AT(&tr, tr.n - 1, EA_TRAJ_t) - r->t_first;
+    if (!(r->duration + settle > 0))
+      st =
+          ea_error_set(err, EA_ERR_INPUT, "--simulate: one setpoint and --settle 0: nothing to do");
   }
   if (!st) {
-    drv.n = n;
-    ea__sim_drive_finish(&drv);
-    r->samples = n;
-    r->duration = drv.t[n - 1];
+    ea_sim_settings_t s;
+    ea_sim_settings_default(&s);
+    s.elements = (int)elements;
+    s.scheme = EA_FE_SCHEME_ENERGY;
+    s.dt = 1e-3;
+    s.settle = settle;
+    s.keep_history = 1;
+    if ((st = ea_traj_simulate(arm, &tr, tip_mass, &s, &h, &r->si, err)))
+      ea__err_prefix(err, st, "--simulate: ");
   }
-  const double t_end = r->duration + settle;
-  const double dt = 1e-3;
-  const int rows_cap = (int)ceil(t_end / dt - 1e-9) + 2;
-  if (!st && !(t_end > 0))
-    st = ea_error_set(err, EA_ERR_INPUT, "--simulate: one setpoint and --settle 0: nothing to do");
-  ea_fe_settings_t fs;
-  ea_fe_settings_default(&fs);
-  fs.elements = (int)elements;
-  ea_load_t load = {tip_mass};
-  if (!st) st = ea_shooter_alloc(arm, NULL, &sh, err);
-  if (!st) ea_shooter_set_load(sh, &load);
-  if (!st) st = ea_fe_model_alloc(arm, &fs, &m, err);
-  if (!st) st = ea_fe_model_set_load(m, &load);
-  if (!st && !(tip = malloc(sizeof(double) * 4 * (size_t)rows_cap)))
-    st = ea_error_set(err, EA_ERR_NOMEM, "--simulate: %d tip rows", rows_cap);
-  const double t_wall0 = (double)ea__mono_ns() * 1e-9;
-  /* 2. start: statics at the first row's cable length and shoulder angle */
-  if (!st) {
-    ea_joint_state_t q0;
-    ea_stream_unmap(arm, &log[0].sp, &q0);
-    ea_statics_problem_t pr = {{EA_GIVEN_CABLE_LENGTH, EA_GIVEN_THETA0},
-                               {q0.cable_length, q0.theta0}};
-    ea_statics_solution_t ode;
-    st = ea_statics_solve(sh, &pr, NULL, NULL, &ode, err);
-    if (st) {
-      char pre[160];
-      snprintf(pre, sizeof pre,
-               "--simulate: the first setpoint (L_c = %g m, theta0 = %g rad) "
-               "has no static solution: ",
-               q0.cable_length, q0.theta0);
-      ea__err_prefix(err, st, pre);
-    }
-    ea_fe_static_info_t fsi;
-    if (!st && (st = ea_fe_static_solve(m, sh, &ode, &fsi, err)))
-      ea__err_prefix(err, st, "--simulate: FE static solve at the start: ");
-    if (!st && (st = ea__sim_drive_start(m, &drv, NULL, &fsi, err)))
-      ea__err_prefix(err, st, "--simulate: FE equilibrium under the start drive: ");
-    if (!st) {
-      double t3[3];
-      ea_fe_tip(m, t3);
-      r->start_static_tip[0] = t3[0];
-      r->start_static_tip[1] = t3[1];
-    }
+  if (!st && h.rows > 0) {
+    r->start_static_tip[0] = h.data[1]; /* row 0: the start equilibrium under the drive */
+    r->start_static_tip[1] = h.data[2];
   }
-  /* 3. transient, residual vibration after the last setpoint */
-  if (!st) {
-    ea_fe_sim_settings_t ss;
-    ea_fe_sim_settings_default(&ss);
-    ss.dt = dt;
-    ss.t_end = t_end;
-    ss.t_motion_end = settle > 0 ? r->duration : -1.0;
-    st = ea_fe_simulate(m, &drv.drive, &ss, tip, rows_cap, &r->si, err);
-    if (st) ea__err_prefix(err, st, "--simulate: FE transient: ");
-  }
-  r->wall_s = (double)ea__mono_ns() * 1e-9 - t_wall0;
-  /* 4. tip history, atomically */
+  /* tip history, atomically */
   if (!st && !(st = ea_afile_open(&af, path, err))) {
     fprintf(af.fp, "t_s,tip_x_m,tip_y_m,tip_theta_rad\n");
-    for (int k = 0; k < r->si.rows; ++k)
-      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g\n", tip[4 * k] + r->t_first, tip[4 * k + 1],
-              tip[4 * k + 2], tip[4 * k + 3]);
+    for (int k = 0; k < h.rows; ++k) {
+      const double *v = h.data + 6 * k;
+      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g\n", v[0], v[1], v[2], v[3]);
+    }
     st = ea_afile_commit(&af, err);
-    if (!st) r->rows = r->si.rows;
+    if (!st) r->rows = h.rows;
   }
   ea_afile_abort(&af);
-  free(tip);
-  ea_fe_model_free(m);
-  ea_shooter_free(sh);
-  ea__sim_drive_free(&drv);
+  ea_sim_history_free(&h);
+  ea_traj_free(&tr);
+  free(t);
+  free(sp);
   return r->status = st;
 }
 
@@ -606,11 +553,11 @@ int ea__cli_controller_sim(int argc, char **argv) {
       ea_json_num(&j, "sim_settle_s", sim.settle);
       ea_json_int(&j, "sim_tip_rows", sim.rows);
       ea_json_int(&j, "sim_steps", sim.si.steps);
-      ea_json_num(&j, "sim_wall_time_s", sim.wall_s);
+      ea_json_num(&j, "sim_wall_time_s", sim.si.wall_time_s);
       ea_json_vec(&j, "sim_start_static_tip_m", sim.start_static_tip, have ? 2 : 0);
       ea_json_num(&j, "residual_vibration_rms_m", res ? sim.si.residual_rms : NAN);
       ea_json_num(&j, "residual_vibration_peak_m", res ? sim.si.residual_peak : NAN);
-      ea_json_vec(&j, "sim_final_static_tip_m", sim.si.tip_static, res ? 2 : 0);
+      ea_json_vec(&j, "sim_final_static_tip_m", sim.si.final_static_tip, res ? 2 : 0);
     }
     ea_json_obj_end(&j);
     ea_json_end(&j);
@@ -624,12 +571,13 @@ int ea__cli_controller_sim(int argc, char **argv) {
     if (sim.ran && sim.status == EA_OK) {
       printf("  FE transient of the %d accepted setpoints (%.4g s + %.4g s settling, %ld "
              "elements): %d tip rows -> %s, wall %.3f s\n",
-             sim.samples, sim.duration, sim.settle, sim_elements, sim.rows, sim_path, sim.wall_s);
+             sim.samples, sim.duration, sim.settle, sim_elements, sim.rows, sim_path,
+             sim.si.wall_time_s);
       if (sim.settle > 0)
         printf("  residual vibration after the last setpoint: rms %.4f mm, peak %.4f mm about "
                "the final equilibrium tip (%.6f, %.6f) m\n",
-               1e3 * sim.si.residual_rms, 1e3 * sim.si.residual_peak, sim.si.tip_static[0],
-               sim.si.tip_static[1]);
+               1e3 * sim.si.residual_rms, 1e3 * sim.si.residual_peak, sim.si.final_static_tip[0],
+               sim.si.final_static_tip[1]);
     }
   }
   if (sim.ran && sim.status)

@@ -59,6 +59,18 @@ void ea_stream_map(const ea_arm_t *arm, const ea_joint_state_t *q, ea_setpoint_t
 /** Inverse of ea_stream_map (spool 0 is used for the cable length). */
 void ea_stream_unmap(const ea_arm_t *arm, const ea_setpoint_t *sp, ea_joint_state_t *q);
 
+/** The trajectory that setpoints sp[0..n-1] at times t[i] [s] describe (e.g. what a
+ *  controller accepted), to simulate it (ea_traj_simulate): per row the joint values of
+ *  ea_stream_unmap (cable length, theta0, base angle with their rates and accelerations;
+ *  the tension and shoulder-torque feed-forwards), and the cable angle and the tip from the
+ *  statics of the row's cable length and shoulder angle for arm at tip mass tip_mass [kg],
+ *  warm-started along the rows (the cable angle's rate by centred differences). Rows whose time
+ * does not increase are left out (*skipped counts them; may be NULL). tr (zeroed or a trajectory)
+ * is replaced. EA_ERR_INADMISSIBLE naming the setpoint when a row has no static solution. */
+ea_status_t ea_stream_setpoints_traj(const ea_arm_t *arm, double tip_mass, const ea_setpoint_t *sp,
+                                     const double *t, int n, ea_traj_t *tr, int *skipped,
+                                     ea_error_t *err);
+
 /** Check one setpoint against every limit of the arm file (ranges, speeds,
  *  accelerations, tension, shoulder torque; both spools must agree). tol is a
  *  relative slack (e.g. 1e-9). On failure err->msg names the quantity, its

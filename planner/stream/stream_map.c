@@ -1,8 +1,10 @@
 /* Command streamer: actuator mapping, resampling at the controller rate
  * (quintic Hermite), the limits check, and the controlled-stop ramp. */
+#include "ea_statics.h"
 #include "stream_impl.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,6 +43,77 @@ void ea_stream_unmap(const ea_arm_t *arm, const ea_setpoint_t *sp, ea_joint_stat
   q->base_angle_acc = sp->base_acc;
   q->tension = sp->tension;
   q->kappa0 = sp->shoulder_torque / arm->EI;
+}
+
+ea_status_t ea_stream_setpoints_traj(const ea_arm_t *arm, double tip_mass, const ea_setpoint_t *sp,
+                                     const double *t, int n, ea_traj_t *tr, int *skipped,
+                                     ea_error_t *err) {
+  if (skipped) *skipped = 0;
+  if (!arm || !sp || !t || !tr || n < 1)
+    return ea_error_set(err, EA_ERR_ARG, "setpoints to a trajectory: no setpoints");
+  int m = 1; /* rows kept: times strictly increasing */
+  for (int i = 1, last = 0; i < n; ++i)
+    if (t[i] > t[last]) last = i, ++m;
+  ea_status_t st = ea_traj_alloc(tr, m);
+  if (st) return ea_error_set(err, st, "setpoints to a trajectory: %d rows", m);
+  ea_shooter_t *sh = NULL;
+  if ((st = ea_shooter_alloc(arm, NULL, &sh, err))) return st;
+  const ea_load_t load = {tip_mass};
+  ea_shooter_set_load(sh, &load);
+  double guess[EA_NP];
+  for (int i = 0, r = 0, last = -1; i < n && !st; ++i) {
+    if (last >= 0 && !(t[i] > t[last])) continue;
+    last = i;
+    ea_joint_state_t q;
+    ea_stream_unmap(arm, &sp[i], &q);
+    ea_statics_problem_t pr = {{EA_GIVEN_CABLE_LENGTH, EA_GIVEN_THETA0},
+                               {q.cable_length, q.theta0}};
+    ea_statics_solution_t sol;
+    ea_error_t e = {0};
+    st = ea_statics_solve(sh, &pr, NULL, r ? guess : NULL, &sol, &e);
+    if (st && r) st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, &e);
+    if (st) {
+      st = ea_error_set(err, EA_ERR_INADMISSIBLE,
+                        "setpoint %d (t = %g s): no static solution at cable length %g m, "
+                        "shoulder angle %g rad: %s",
+                        i + 1, t[i], q.cable_length, q.theta0, e.msg);
+      break;
+    }
+    memcpy(guess, sol.p, sizeof guess);
+    const double v[EA_TRAJ_NCOL] = {
+        [EA_TRAJ_t] = t[i],
+        [EA_TRAJ_cable_length] = q.cable_length,
+        [EA_TRAJ_cable_angle] = sol.p[EA_P_ALPHA],
+        [EA_TRAJ_base_angle] = q.base_angle,
+        [EA_TRAJ_cable_length_rate] = q.cable_length_rate,
+        [EA_TRAJ_base_angle_rate] = q.base_angle_rate,
+        [EA_TRAJ_cable_length_acc] = q.cable_length_acc,
+        [EA_TRAJ_base_angle_acc] = q.base_angle_acc,
+        [EA_TRAJ_theta0_rate] = q.theta0_rate,
+    };
+    memcpy(&EA_TRAJ_AT(tr, r, 0), v, sizeof v);
+    ea_traj_set_statics(tr, r, sol.p, sol.tip, arm->EI);
+    /* the drive is what the setpoints command: their feed-forwards */
+    EA_TRAJ_AT(tr, r, EA_TRAJ_tension) = q.tension;
+    EA_TRAJ_AT(tr, r, EA_TRAJ_theta0) = q.theta0;
+    EA_TRAJ_AT(tr, r, EA_TRAJ_kappa0) = q.kappa0;
+    EA_TRAJ_AT(tr, r, EA_TRAJ_shoulder_torque) = sp[i].shoulder_torque;
+    ++r;
+  }
+  ea_shooter_free(sh);
+  if (st) return st;
+  for (int r = 0; r < m; ++r) { /* the cable angle's rate: centred differences */
+    const int a = r ? r - 1 : 0, b = r < m - 1 ? r + 1 : m - 1;
+    EA_TRAJ_AT(tr, r, EA_TRAJ_cable_angle_rate) =
+        b > a ? (EA_TRAJ_AT(tr, b, EA_TRAJ_cable_angle) - EA_TRAJ_AT(tr, a, EA_TRAJ_cable_angle)) /
+                    (EA_TRAJ_AT(tr, b, EA_TRAJ_t) - EA_TRAJ_AT(tr, a, EA_TRAJ_t))
+              : 0.0;
+  }
+  if (skipped) *skipped = n - m;
+  tr->tip_mass_kg = tip_mass;
+  tr->payload_kg = tip_mass - arm->m_hand;
+  snprintf(tr->status, sizeof tr->status, "setpoints");
+  return EA_OK;
 }
 
 /* ---- Limits ---------------------------------------------------------------- */
