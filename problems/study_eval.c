@@ -141,35 +141,31 @@ static void ea__eval_freq(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t 
   for (int c = 0; c < s->freq.n_config; ++c) {
     char msg[700] = "", metric[64];
     ea_status_t st = mst;
-    ea_fe_modes_info_t mi;
-    memset(&mi, 0, sizeof mi);
+    ea_freq_point_t pt;
+    memset(&pt, 0, sizeof pt);
+    const ea_fe_modes_info_t *mi = &pt.modes;
     const double L = s->freq.cable_length[c], a = s->freq.alpha[c];
     if (st) {
       snprintf(msg, sizeof msg, "FE model: %s", e.msg);
     } else {
-      ea_statics_problem_t pr = ea_statics_problem_cable(L, a);
-      ea_statics_solution_t sol;
-      ea_error_t se = {0};
-      st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, &se);
-      if (st) {
+      st = ea_freq_point(sh, m, L, a, NULL, &pt);
+      const char *why = pt.err.msg[0] ? pt.err.msg : ea_strerror(st);
+      if (st && !strcmp(pt.stage, "statics")) {
         snprintf(msg, sizeof msg,
                  "configuration %d (L_c = %.4g m, alpha = %.4g deg) has no admissible statics "
                  "solution: %s",
-                 c + 1, L, a / EA__DEG, se.msg[0] ? se.msg : ea_strerror(st));
-      } else if ((st = ea_fe_static_solve(m, sh, &sol, NULL, &se))) {
-        snprintf(msg, sizeof msg, "configuration %d: FE statics: %s", c + 1,
-                 se.msg[0] ? se.msg : ea_strerror(st));
-      } else if ((st = ea_fe_modes(m, &mi, &se))) {
-        snprintf(msg, sizeof msg, "configuration %d: FE modes: %s", c + 1,
-                 se.msg[0] ? se.msg : ea_strerror(st));
-      } else if (mi.modes < s->freq.modes) {
+                 c + 1, L, a / EA__DEG, why);
+      } else if (st) {
+        snprintf(msg, sizeof msg, "configuration %d: FE %s: %s", c + 1,
+                 !strcmp(pt.stage, "modes") ? "modes" : "statics", why);
+      } else if (mi->modes < s->freq.modes) {
         st = EA_ERR_BACKEND;
-        snprintf(msg, sizeof msg, "configuration %d: only %d modes found", c + 1, mi.modes);
+        snprintf(msg, sizeof msg, "configuration %d: only %d modes found", c + 1, mi->modes);
       }
     }
     for (int k = 0; k < s->freq.modes; ++k) {
       snprintf(metric, sizeof metric, "frequency_c%d_mode%d", c + 1, k + 1);
-      ea__row(r, metric, st ? NAN : mi.freq_hz[k], "Hz", st, msg);
+      ea__row(r, metric, st ? NAN : mi->freq_hz[k], "Hz", st, msg);
     }
   }
   ea_fe_model_free(m);

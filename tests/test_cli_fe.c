@@ -77,9 +77,39 @@ static void write_text(const char *path, const char *text) {
   }
 }
 
+/* Out of memory is a failure (exit 1, "out of memory"), not a usage error: a
+ * sweep of 99,976 points (about 140 MB of results) under a 120 MB address-space
+ * limit. Skipped where the executable does not start under that limit (ASan). */
+static void test_out_of_memory(void) {
+  char cmd[4096];
+  snprintf(cmd, sizeof cmd, "ulimit -v 120000 && %s --version 2>&1", bin);
+  FILE *p = popen(cmd, "r");
+  char line[256] = "";
+  const int got = p && fgets(line, sizeof line, p) != NULL;
+  const int rc0 = p ? pclose(p) : -1;
+  if (!got || rc0 != 0 || !strstr(line, "elasticarm")) {
+    printf("(the executable does not start under a 120 MB limit here: out-of-memory check "
+           "skipped)\n");
+    return;
+  }
+  snprintf(cmd, sizeof cmd,
+           "ulimit -v 120000 && %s frequencies --sweep --cable-lengths 0.3:0.000004001:0.7 "
+           "--modes 1 2>&1",
+           bin);
+  p = popen(cmd, "r");
+  const size_t n = p ? fread(out, 1, sizeof out - 1, p) : 0;
+  out[n] = '\0';
+  const int st = p ? pclose(p) : -1;
+  const int rc = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  printf("  120 MB limit, 99976-point sweep -> exit %d: %.200s\n", rc, out);
+  ea_test_true(rc == 1 && strstr(out, "error: out of memory") != NULL,
+               "out of memory: exit 1 and said, not a usage error");
+}
+
 int main(void) {
   char arm_path[1024], args[3072];
   if (cli_setup(arm_path, sizeof arm_path)) return 1;
+  test_out_of_memory();
   ea_arm_t arm;
   if (ea_arm_load(arm_path, &arm, NULL)) {
     printf("cannot load %s\n", arm_path);

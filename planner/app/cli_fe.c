@@ -56,40 +56,6 @@ static int ea__fe_make(const char *cmd, const ea_arm_t *arm, double tip_mass, lo
   return rc;
 }
 
-/* One configuration: ODE statics (warm-started if guess), FE static solve,
- * natural frequencies. */
-typedef struct {
-  double cable_length, alpha; /**< requested [m], [rad] */
-  ea_statics_solution_t ode;
-  ea_fe_static_info_t fe;
-  ea_fe_modes_info_t modes;
-  ea_status_t status;
-  ea_error_t err;
-  const char *stage; /**< where it failed: "statics", "fe-static", "modes" */
-} ea__fe_point_t;
-
-static ea_status_t ea__fe_point(ea_fe_model_t *m, ea_shooter_t *sh, double Lc, double alpha,
-                                const double *guess, ea__fe_point_t *pt) {
-  memset(pt, 0, sizeof *pt);
-  pt->cable_length = Lc;
-  pt->alpha = alpha;
-  pt->fe.residual = pt->fe.tension = pt->fe.theta0 = NAN;
-  for (int k = 0; k < EA_FE_MAX_MODES; ++k)
-    pt->modes.freq_hz[k] = NAN;
-  ea_statics_problem_t pr = ea_statics_problem_cable(Lc, alpha);
-  pt->stage = "statics";
-  pt->status = ea_statics_solve(sh, &pr, NULL, guess, &pt->ode, &pt->err);
-  if (pt->status) return pt->status;
-  pt->stage = "fe-static";
-  pt->status = ea_fe_static_solve(m, sh, &pt->ode, &pt->fe, &pt->err);
-  if (pt->status) return pt->status;
-  pt->stage = "modes";
-  pt->status = ea_fe_modes(m, &pt->modes, &pt->err);
-  if (pt->status) return pt->status;
-  pt->stage = "";
-  return EA_OK;
-}
-
 /* Current FE nodal positions (x, y per node) into a data block, then a blank line. */
 static void ea__fe_plot_state(ea_plot_t *pl, const double *q, const double *phi, double scale,
                               int nodes) {
@@ -202,8 +168,8 @@ typedef struct {
 
 static int ea__freq_single(const char *cmd, const ea__freq_opts_t *o, const ea_arm_t *arm,
                            ea_shooter_t *sh, ea_fe_model_t *m) {
-  ea__fe_point_t pt;
-  ea__fe_point(m, sh, o->Lc, o->adeg * EA__DEG, NULL, &pt);
+  ea_freq_point_t pt;
+  ea_freq_point(sh, m, o->Lc, o->adeg * EA__DEG, NULL, &pt);
   const int ok = pt.status == EA_OK;
   const int nm = ok ? pt.modes.modes : 0;
   if (o->json) {
@@ -287,215 +253,235 @@ static int ea__freq_single(const char *cmd, const ea__freq_opts_t *o, const ea_a
   return EA_EXIT_OK;
 }
 
+/* A computed sweep and its summary: relative changes between the shortest and the
+ * longest converged cable. */
+typedef struct {
+  ea_freq_point_t *pts;
+  int n, nm, nfail, nunstable;
+  int ks, kl; /* shortest and longest converged lengths (-1: none) */
+  double shorten[EA_FE_MAX_MODES], lengthen[EA_FE_MAX_MODES];
+  double wall; /* [s] */
+} ea__sweep_t;
+
+static void ea__sweep_summarise(const ea__freq_opts_t *o, ea__sweep_t *w) {
+  w->ks = w->kl = -1;
+  w->nfail = w->nunstable = 0;
+  for (int k = 0; k < w->n; ++k) {
+    const ea_freq_point_t *p = &w->pts[k];
+    w->nfail += p->status != EA_OK;
+    if (p->status != EA_OK) continue;
+    w->nunstable += !p->modes.stable;
+    if (w->ks < 0 || o->Ls[k] < o->Ls[w->ks]) w->ks = k;
+    if (w->kl < 0 || o->Ls[k] > o->Ls[w->kl]) w->kl = k;
+  }
+  for (int i = 0; i < w->nm; ++i) {
+    w->shorten[i] = w->lengthen[i] = NAN;
+    if (w->ks >= 0 && w->kl >= 0 && w->ks != w->kl) {
+      const double fs = w->pts[w->ks].modes.freq_hz[i], fl = w->pts[w->kl].modes.freq_hz[i];
+      w->shorten[i] = (fs - fl) / fl;
+      w->lengthen[i] = (fl - fs) / fs;
+    }
+  }
+}
+
+static int ea__sweep_csv(const char *cmd, const char *path, const ea__sweep_t *w) {
+  ea_afile_t f;
+  ea_error_t err = {0};
+  if (ea_afile_open(&f, path, &err)) return ea__cli_fail(cmd, err.status, &err);
+  fprintf(f.fp, "cable_length_m");
+  for (int i = 0; i < w->nm; ++i)
+    fprintf(f.fp, ",f%d_Hz", i + 1);
+  fprintf(f.fp, ",stable,tension_N,theta0_rad,fe_iterations,fe_residual,status\n");
+  for (int k = 0; k < w->n; ++k) {
+    const ea_freq_point_t *p = &w->pts[k];
+    const int ok = p->status == EA_OK;
+    fprintf(f.fp, "%.9g", p->cable_length);
+    for (int i = 0; i < w->nm; ++i)
+      fprintf(f.fp, ",%.12g", ok ? p->modes.freq_hz[i] : NAN);
+    fprintf(f.fp, ",%d,%.12g,%.12g,%d,%.3g,%s\n", ok ? p->modes.stable : 0, p->fe.tension,
+            p->fe.theta0, p->fe.iterations, p->fe.residual, ea_status_name(p->status));
+  }
+  if (ea_afile_commit(&f, &err)) return ea__cli_fail(cmd, err.status, &err);
+  return 0;
+}
+
+static void ea__sweep_json(const ea__freq_opts_t *o, double tip_mass, const ea__sweep_t *w) {
+  ea_json_t j;
+  ea_json_init(&j, stdout, 1);
+  ea_json_obj_begin(&j, NULL);
+  ea_json_str(&j, "status", w->nfail ? "EA_ERR_NOCONV" : "EA_OK");
+  ea_json_num(&j, "cable_angle_rad", o->adeg * EA__DEG);
+  ea_json_num(&j, "tip_mass_kg", tip_mass);
+  ea_json_int(&j, "elements", o->elements);
+  ea_json_str(&j, "fe_hold", o->hold == EA__FE_HOLD_TIP ? "tip" : "tension");
+  ea_json_int(&j, "points", w->n);
+  ea_json_int(&j, "failed_points", w->nfail);
+  ea_json_int(&j, "unstable_points", w->nunstable);
+  ea_json_num(&j, "time_s", w->wall);
+  ea_json_vec(&j, "relative_change_shortening", w->shorten, w->nm);
+  ea_json_vec(&j, "relative_change_lengthening", w->lengthen, w->nm);
+  ea_json_arr_begin(&j, "sweep");
+  for (int k = 0; k < w->n; ++k) {
+    const ea_freq_point_t *p = &w->pts[k];
+    const int ok = p->status == EA_OK;
+    ea_json_obj_begin(&j, NULL);
+    ea_json_num(&j, "cable_length_m", p->cable_length);
+    ea_json_vec(&j, "frequencies_Hz", p->modes.freq_hz, ok ? p->modes.modes : 0);
+    if (ok)
+      ea_json_bool(&j, "stable", p->modes.stable);
+    else
+      ea_json_null(&j, "stable");
+    ea_json_num(&j, "tension_N", p->fe.tension);
+    ea_json_num(&j, "theta0_rad", p->fe.theta0);
+    ea_json_int(&j, "fe_iterations", p->fe.iterations);
+    ea_json_num(&j, "fe_residual", p->fe.residual);
+    ea_json_num(&j, "tip_shift_m", ok ? p->fe.tip_shift : NAN);
+    ea_json_str(&j, "status", ea_status_name(p->status));
+    if (!ok) ea_json_str(&j, "message", p->err.msg);
+    ea_json_obj_end(&j);
+  }
+  ea_json_arr_end(&j);
+  ea_json_obj_end(&j);
+  ea_json_end(&j);
+}
+
+static void ea__sweep_text(const ea__freq_opts_t *o, double tip_mass, const ea__sweep_t *w) {
+  static const double paper[3] = {0.55, 0.38, 0.12};
+  const int n = w->n, nm = w->nm;
+  printf("Fig. 5 sweep: %d cable lengths %.4f..%.4f m, alpha = %.2f deg, tip mass %.4g kg, "
+         "%ld elements\n",
+         n, o->Ls[0], o->Ls[n - 1], o->adeg, tip_mass, o->elements);
+  printf("%10s", "L_c [m]");
+  for (int i = 0; i < nm; ++i)
+    printf("   f%-2d [Hz]", i + 1);
+  printf(" %7s %10s %10s\n", "stable", "T [N]", "th0 [deg]");
+  const int every = n > 25 ? (n + 19) / 20 : 1;
+  for (int k = 0; k < n; ++k) {
+    if (k % every && k != n - 1 && w->pts[k].status == EA_OK) continue;
+    const ea_freq_point_t *p = &w->pts[k];
+    printf("%10.5f", p->cable_length);
+    if (p->status) {
+      printf("  %s: %s\n", p->stage, p->err.msg);
+      continue;
+    }
+    for (int i = 0; i < nm; ++i)
+      printf(" %10.5f", p->modes.freq_hz[i]);
+    printf(" %7s %10.4f %10.4f\n", p->modes.stable ? "yes" : "NO", p->fe.tension,
+           p->fe.theta0 / EA__DEG);
+  }
+  if (n > 25) printf("(every %d-th length shown; --csv for all)\n", every);
+  if (w->ks >= 0 && w->kl >= 0 && w->ks != w->kl) {
+    printf("relative change between L_c = %.4f m and %.4f m:\n", o->Ls[w->ks], o->Ls[w->kl]);
+    for (int i = 0; i < nm; ++i) {
+      printf("  mode %d: %.4f -> %.4f Hz: %+6.1f %% as the cable shortens, %+6.1f %% as it "
+             "lengthens",
+             i + 1, w->pts[w->kl].modes.freq_hz[i], w->pts[w->ks].modes.freq_hz[i],
+             100 * w->shorten[i], 100 * w->lengthen[i]);
+      if (i < 3)
+        printf("   (paper: %s %.0f %%)", i == 0 ? "shortening" : "lengthening", 100 * paper[i]);
+      printf("\n");
+    }
+  }
+  printf("%d points, %d failed, %d unstable, %.1f ms (%.2f ms per point)\n", n, w->nfail,
+         w->nunstable, 1e3 * w->wall, 1e3 * w->wall / n);
+}
+
+/* Fig. 5: frequencies against cable length, and typical mode shapes at the converged
+ * point nearest the middle of the sweep (recomputed there, so m holds its modes). */
+static int ea__sweep_figure(const char *cmd, const ea__freq_opts_t *o, const ea_arm_t *arm,
+                            ea_shooter_t *sh, ea_fe_model_t *m, const ea__sweep_t *w) {
+  const int n = w->n, nm = w->nm;
+  const double alpha = o->adeg * EA__DEG;
+  ea_plot_t *pl;
+  ea_error_t fe = {0};
+  if (ea_plot_open(&pl, o->figure, 1300, 600, &fe) == EA_OK) {
+    ea_plot_data_begin(pl, "freq");
+    for (int k = 0; k < n; ++k) {
+      double row[1 + EA_FE_MAX_MODES];
+      row[0] = w->pts[k].cable_length * 100.0;
+      for (int i = 0; i < nm; ++i)
+        row[1 + i] = w->pts[k].status == EA_OK ? w->pts[k].modes.freq_hz[i] : NAN;
+      ea_plot_data_row(pl, 1 + nm, row);
+    }
+    ea_plot_data_end(pl);
+    int kmid = n / 2, nshape = 0;
+    ea_freq_point_t mid;
+    mid.status = EA_ERR_ARG;
+    for (int d = 0; d <= n / 2 && mid.status; ++d)
+      for (int sgn = -1; sgn <= 1 && mid.status; sgn += 2) {
+        const int k = n / 2 + sgn * d;
+        if (k < 0 || k >= n || w->pts[k].status) continue;
+        kmid = k;
+        ea_freq_point(sh, m, o->Ls[k], alpha, w->pts[k].ode.p, &mid);
+      }
+    if (mid.status == EA_OK) {
+      ea__fe_plot_cable_block(pl, arm, mid.fe.tip[0], mid.fe.tip[1]);
+      nshape = ea__fe_plot_modes(pl, m, nm < 3 ? nm : 3, 0.06);
+    }
+    ea_plot_cmd(pl,
+                "set multiplot layout 1,2 title 'Natural frequencies vs cable length, "
+                "{/Symbol a} = %.1f deg (paper Fig. 5), %ld elements'",
+                o->adeg, o->elements);
+    ea_plot_cmd(pl,
+                "set xlabel 'cable length L_c [cm]'\nset ylabel 'frequency [Hz]'\n"
+                "set grid\nset key top center\nset logscale y\nset title 'first %d modes'",
+                nm);
+    char plot[2048];
+    int used = snprintf(plot, sizeof plot, "plot");
+    for (int i = 0; i < nm && used < (int)sizeof plot - 200; ++i)
+      used += snprintf(plot + used, sizeof plot - (size_t)used,
+                       "%s $freq u 1:%d w lp lw 2 pt 7 ps 0.4 lc rgb '%s' t 'mode %d'",
+                       i ? "," : "", i + 2, ea__fe_colors[i % 8], i + 1);
+    ea_plot_cmd(pl, "%s", plot);
+    ea_plot_cmd(pl, "unset logscale y\nset size ratio -1\nset xlabel 'x [m]'\n"
+                    "set ylabel 'y [m]'\nset key outside bottom center horizontal");
+    if (nshape > 0) {
+      ea_plot_cmd(pl, "set title 'typical mode shapes (60 mm), L_c = %.1f cm'", 100 * o->Ls[kmid]);
+      ea__fe_plot_modes_cmd(pl, nshape, mid.modes.freq_hz);
+    } else {
+      ea_plot_cmd(pl, "set title 'no converged configuration'\nplot NaN notitle");
+    }
+    ea_plot_cmd(pl, "unset multiplot");
+    fe.status = ea_plot_close(pl, &fe);
+  }
+  if (fe.status) {
+    fprintf(stderr, "elasticarm %s: figure: %s\n", cmd, fe.msg);
+    return EA_EXIT_FAIL;
+  }
+  return 0;
+}
+
+/* The sweep: compute (ea_freq_sweep), then the outputs asked for, then the first
+ * failed point, if any, on stderr (exit 1). */
 static int ea__freq_sweep(const char *cmd, const ea__freq_opts_t *o, const ea_arm_t *arm,
                           ea_shooter_t *sh, ea_fe_model_t *m) {
-  const int n = o->nL, nm = (int)o->modes;
-  ea__fe_point_t *pts = calloc((size_t)n, sizeof *pts);
-  if (!pts) return ea__cli_usage_error(cmd, "out of memory");
-  const double alpha = o->adeg * EA__DEG;
-  double guess[EA_NP];
-  int have = 0, nfail = 0, nunstable = 0;
+  ea__sweep_t w = {.n = o->nL, .nm = (int)o->modes};
+  if (!(w.pts = calloc((size_t)w.n, sizeof *w.pts))) {
+    fprintf(stderr, "elasticarm %s: error: out of memory (%d sweep points)\n", cmd, w.n);
+    return EA_EXIT_FAIL;
+  }
   const double t0 = ea__mono_s();
-  for (int k = 0; k < n; ++k) {
-    ea__fe_point(m, sh, o->Ls[k], alpha, have ? guess : NULL, &pts[k]);
-    if (pts[k].status && have) /* warm start failed: retry from the T = 0 edge */
-      ea__fe_point(m, sh, o->Ls[k], alpha, NULL, &pts[k]);
-    if (pts[k].ode.status == EA_OK) {
-      memcpy(guess, pts[k].ode.p, sizeof guess);
-      have = 1;
-    }
-    nfail += pts[k].status != EA_OK;
-    nunstable += pts[k].status == EA_OK && !pts[k].modes.stable;
-  }
-  const double wall = ea__mono_s() - t0;
-  /* relative changes between the shortest and the longest cable */
-  int ks = -1, kl = -1;
-  for (int k = 0; k < n; ++k)
-    if (pts[k].status == EA_OK) {
-      if (ks < 0 || o->Ls[k] < o->Ls[ks]) ks = k;
-      if (kl < 0 || o->Ls[k] > o->Ls[kl]) kl = k;
-    }
-  double shorten[EA_FE_MAX_MODES], lengthen[EA_FE_MAX_MODES];
-  for (int i = 0; i < nm; ++i) {
-    shorten[i] = lengthen[i] = NAN;
-    if (ks >= 0 && kl >= 0 && ks != kl) {
-      const double fs = pts[ks].modes.freq_hz[i], fl = pts[kl].modes.freq_hz[i];
-      shorten[i] = (fs - fl) / fl;
-      lengthen[i] = (fl - fs) / fs;
-    }
-  }
-  static const double paper[3] = {0.55, 0.38, 0.12};
-  int rc = EA_EXIT_OK;
-  if (o->csv) {
-    ea_afile_t f;
-    ea_error_t err = {0};
-    if (ea_afile_open(&f, o->csv, &err)) {
-      rc = ea__cli_fail(cmd, err.status, &err);
-    } else {
-      fprintf(f.fp, "cable_length_m");
-      for (int i = 0; i < nm; ++i)
-        fprintf(f.fp, ",f%d_Hz", i + 1);
-      fprintf(f.fp, ",stable,tension_N,theta0_rad,fe_iterations,fe_residual,status\n");
-      for (int k = 0; k < n; ++k) {
-        const ea__fe_point_t *p = &pts[k];
-        const int ok = p->status == EA_OK;
-        fprintf(f.fp, "%.9g", p->cable_length);
-        for (int i = 0; i < nm; ++i)
-          fprintf(f.fp, ",%.12g", ok ? p->modes.freq_hz[i] : NAN);
-        fprintf(f.fp, ",%d,%.12g,%.12g,%d,%.3g,%s\n", ok ? p->modes.stable : 0, p->fe.tension,
-                p->fe.theta0, p->fe.iterations, p->fe.residual, ea_status_name(p->status));
-      }
-      if (ea_afile_commit(&f, &err)) rc = ea__cli_fail(cmd, err.status, &err);
-    }
-  }
-  const int csv_stdout = o->csv && !strcmp(o->csv, "-");
-  if (o->json) {
-    ea_json_t j;
-    ea_json_init(&j, stdout, 1);
-    ea_json_obj_begin(&j, NULL);
-    ea_json_str(&j, "status", nfail ? "EA_ERR_NOCONV" : "EA_OK");
-    ea_json_num(&j, "cable_angle_rad", alpha);
-    ea_json_num(&j, "tip_mass_kg", ea_shooter_load(sh)->tip_mass);
-    ea_json_int(&j, "elements", o->elements);
-    ea_json_str(&j, "fe_hold", o->hold == EA__FE_HOLD_TIP ? "tip" : "tension");
-    ea_json_int(&j, "points", n);
-    ea_json_int(&j, "failed_points", nfail);
-    ea_json_int(&j, "unstable_points", nunstable);
-    ea_json_num(&j, "time_s", wall);
-    ea_json_vec(&j, "relative_change_shortening", shorten, nm);
-    ea_json_vec(&j, "relative_change_lengthening", lengthen, nm);
-    ea_json_arr_begin(&j, "sweep");
-    for (int k = 0; k < n; ++k) {
-      const ea__fe_point_t *p = &pts[k];
-      const int ok = p->status == EA_OK;
-      ea_json_obj_begin(&j, NULL);
-      ea_json_num(&j, "cable_length_m", p->cable_length);
-      ea_json_vec(&j, "frequencies_Hz", p->modes.freq_hz, ok ? p->modes.modes : 0);
-      if (ok)
-        ea_json_bool(&j, "stable", p->modes.stable);
-      else
-        ea_json_null(&j, "stable");
-      ea_json_num(&j, "tension_N", p->fe.tension);
-      ea_json_num(&j, "theta0_rad", p->fe.theta0);
-      ea_json_int(&j, "fe_iterations", p->fe.iterations);
-      ea_json_num(&j, "fe_residual", p->fe.residual);
-      ea_json_num(&j, "tip_shift_m", ok ? p->fe.tip_shift : NAN);
-      ea_json_str(&j, "status", ea_status_name(p->status));
-      if (!ok) ea_json_str(&j, "message", p->err.msg);
-      ea_json_obj_end(&j);
-    }
-    ea_json_arr_end(&j);
-    ea_json_obj_end(&j);
-    ea_json_end(&j);
-  } else if (!csv_stdout) {
-    printf("Fig. 5 sweep: %d cable lengths %.4f..%.4f m, alpha = %.2f deg, tip mass %.4g kg, "
-           "%ld elements\n",
-           n, o->Ls[0], o->Ls[n - 1], o->adeg, ea_shooter_load(sh)->tip_mass, o->elements);
-    printf("%10s", "L_c [m]");
-    for (int i = 0; i < nm; ++i)
-      printf("   f%-2d [Hz]", i + 1);
-    printf(" %7s %10s %10s\n", "stable", "T [N]", "th0 [deg]");
-    const int every = n > 25 ? (n + 19) / 20 : 1;
-    for (int k = 0; k < n; ++k) {
-      if (k % every && k != n - 1 && pts[k].status == EA_OK) continue;
-      const ea__fe_point_t *p = &pts[k];
-      printf("%10.5f", p->cable_length);
-      if (p->status) {
-        printf("  %s: %s\n", p->stage, p->err.msg);
-        continue;
-      }
-      for (int i = 0; i < nm; ++i)
-        printf(" %10.5f", p->modes.freq_hz[i]);
-      printf(" %7s %10.4f %10.4f\n", p->modes.stable ? "yes" : "NO", p->fe.tension,
-             p->fe.theta0 / EA__DEG);
-    }
-    if (n > 25) printf("(every %d-th length shown; --csv for all)\n", every);
-    if (ks >= 0 && kl >= 0 && ks != kl) {
-      printf("relative change between L_c = %.4f m and %.4f m:\n", o->Ls[ks], o->Ls[kl]);
-      for (int i = 0; i < nm; ++i) {
-        printf("  mode %d: %.4f -> %.4f Hz: %+6.1f %% as the cable shortens, %+6.1f %% as it "
-               "lengthens",
-               i + 1, pts[kl].modes.freq_hz[i], pts[ks].modes.freq_hz[i], 100 * shorten[i],
-               100 * lengthen[i]);
-        if (i < 3)
-          printf("   (paper: %s %.0f %%)", i == 0 ? "shortening" : "lengthening", 100 * paper[i]);
-        printf("\n");
-      }
-    }
-    printf("%d points, %d failed, %d unstable, %.1f ms (%.2f ms per point)\n", n, nfail, nunstable,
-           1e3 * wall, 1e3 * wall / n);
-  }
-  if (o->figure && !rc) {
-    ea_plot_t *pl;
-    ea_error_t fe = {0};
-    if (ea_plot_open(&pl, o->figure, 1300, 600, &fe) == EA_OK) {
-      ea_plot_data_begin(pl, "freq");
-      for (int k = 0; k < n; ++k) {
-        double row[1 + EA_FE_MAX_MODES];
-        row[0] = pts[k].cable_length * 100.0;
-        for (int i = 0; i < nm; ++i)
-          row[1 + i] = pts[k].status == EA_OK ? pts[k].modes.freq_hz[i] : NAN;
-        ea_plot_data_row(pl, 1 + nm, row);
-      }
-      ea_plot_data_end(pl);
-      /* typical mode shapes: at the middle of the sweep */
-      int kmid = n / 2, nshape = 0;
-      ea__fe_point_t mid;
-      mid.status = EA_ERR_ARG;
-      for (int d = 0; d <= n / 2 && mid.status; ++d)
-        for (int sgn = -1; sgn <= 1 && mid.status; sgn += 2) {
-          const int k = n / 2 + sgn * d;
-          if (k < 0 || k >= n || pts[k].status) continue;
-          kmid = k;
-          ea__fe_point(m, sh, o->Ls[k], alpha, pts[k].ode.p, &mid);
-        }
-      if (mid.status == EA_OK) {
-        ea__fe_plot_cable_block(pl, arm, mid.fe.tip[0], mid.fe.tip[1]);
-        nshape = ea__fe_plot_modes(pl, m, nm < 3 ? nm : 3, 0.06);
-      }
-      ea_plot_cmd(pl,
-                  "set multiplot layout 1,2 title 'Natural frequencies vs cable length, "
-                  "{/Symbol a} = %.1f deg (paper Fig. 5), %ld elements'",
-                  o->adeg, o->elements);
-      ea_plot_cmd(pl,
-                  "set xlabel 'cable length L_c [cm]'\nset ylabel 'frequency [Hz]'\n"
-                  "set grid\nset key top center\nset logscale y\nset title 'first %d modes'",
-                  nm);
-      char plot[2048];
-      int used = snprintf(plot, sizeof plot, "plot");
-      for (int i = 0; i < nm && used < (int)sizeof plot - 200; ++i)
-        used += snprintf(plot + used, sizeof plot - (size_t)used,
-                         "%s $freq u 1:%d w lp lw 2 pt 7 ps 0.4 lc rgb '%s' t 'mode %d'",
-                         i ? "," : "", i + 2, ea__fe_colors[i % 8], i + 1);
-      ea_plot_cmd(pl, "%s", plot);
-      ea_plot_cmd(pl, "unset logscale y\nset size ratio -1\nset xlabel 'x [m]'\n"
-                      "set ylabel 'y [m]'\nset key outside bottom center horizontal");
-      if (nshape > 0) {
-        ea_plot_cmd(pl, "set title 'typical mode shapes (60 mm), L_c = %.1f cm'",
-                    100 * o->Ls[kmid]);
-        ea__fe_plot_modes_cmd(pl, nshape, mid.modes.freq_hz);
-      } else {
-        ea_plot_cmd(pl, "set title 'no converged configuration'\nplot NaN notitle");
-      }
-      ea_plot_cmd(pl, "unset multiplot");
-      fe.status = ea_plot_close(pl, &fe);
-    }
-    if (fe.status) {
-      fprintf(stderr, "elasticarm %s: figure: %s\n", cmd, fe.msg);
-      rc = EA_EXIT_FAIL;
-    }
-  }
-  if (nfail && !rc) {
-    for (int k = 0; k < n; ++k)
-      if (pts[k].status) {
-        fprintf(stderr, "elasticarm %s: L_c = %.5f m: %s failed: %s\n", cmd, pts[k].cable_length,
-                pts[k].stage, pts[k].err.msg);
+  ea_freq_sweep(sh, m, o->Ls, w.n, o->adeg * EA__DEG, w.pts);
+  w.wall = ea__mono_s() - t0;
+  ea__sweep_summarise(o, &w);
+  const double tip_mass = ea_shooter_load(sh)->tip_mass;
+  int rc = o->csv ? ea__sweep_csv(cmd, o->csv, &w) : 0;
+  if (o->json)
+    ea__sweep_json(o, tip_mass, &w);
+  else if (!(o->csv && !strcmp(o->csv, "-")))
+    ea__sweep_text(o, tip_mass, &w);
+  if (o->figure && !rc) rc = ea__sweep_figure(cmd, o, arm, sh, m, &w);
+  if (w.nfail && !rc) {
+    for (int k = 0; k < w.n; ++k)
+      if (w.pts[k].status) {
+        fprintf(stderr, "elasticarm %s: L_c = %.5f m: %s failed: %s\n", cmd, w.pts[k].cable_length,
+                w.pts[k].stage, w.pts[k].err.msg);
         break;
       }
-    fprintf(stderr, "elasticarm %s: %d of %d sweep points failed\n", cmd, nfail, n);
+    fprintf(stderr, "elasticarm %s: %d of %d sweep points failed\n", cmd, w.nfail, w.n);
     rc = EA_EXIT_FAIL;
   }
-  free(pts);
+  free(w.pts);
   return rc;
 }
 
@@ -561,7 +547,10 @@ int ea__cli_frequencies(int argc, char **argv) {
     else {
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
     }
-    if (bad) goto done;
+    if (bad) {
+      rc = bad;
+      goto done;
+    }
   }
   if (o.sweep) {
     if (isfinite(o.Lc)) {
@@ -569,8 +558,9 @@ int ea__cli_frequencies(int argc, char **argv) {
       goto done;
     }
     if (!isfinite(o.adeg)) o.adeg = 0.0;
-    if (!o.Ls && ea__cli_list(cmd, "--cable-lengths", "0.254:0.00381:0.635", &o.Ls, &o.nL))
+    if (!o.Ls && (rc = ea__cli_list(cmd, "--cable-lengths", "0.254:0.00381:0.635", &o.Ls, &o.nL)))
       goto done;
+    rc = EA_EXIT_USAGE;
   } else {
     if (o.Ls || o.csv) {
       ea__cli_usage_error(cmd, "%s needs --sweep", o.Ls ? "--cable-lengths" : "--csv");
@@ -835,7 +825,7 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
       o->figure = v;
     else
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) return EA_EXIT_USAGE;
+    if (bad) return bad;
   }
   if (!o->traj_path) return ea__cli_usage_error(cmd, "give a trajectory file");
   if (o->rho_given && o->scheme != EA_FE_SCHEME_GENALPHA)

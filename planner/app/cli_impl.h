@@ -41,6 +41,10 @@ int ea__cli_usage_error(const char *cmd, const char *fmt, ...)
  *  (EA_EXIT_USAGE for EA_ERR_ARG/EA_ERR_INPUT/EA_ERR_PARSE/EA_ERR_IO). */
 int ea__cli_fail(const char *cmd, ea_status_t st, const ea_error_t *err);
 
+/** Print "elasticarm CMD: error: out of memory (what)"; returns EA_EXIT_FAIL (not a
+ *  usage error). */
+int ea__cli_oom(const char *cmd, const char *what);
+
 /** Parse a finite double option value: "--flag" named in the error. */
 int ea__cli_double(const char *cmd, const char *flag, const char *text, double lo, double hi,
                    double *out);
@@ -48,7 +52,8 @@ int ea__cli_double(const char *cmd, const char *flag, const char *text, double l
 int ea__cli_int(const char *cmd, const char *flag, const char *text, long lo, long hi, long *out);
 /** Parse "a,b" (two finite doubles). */
 int ea__cli_pair(const char *cmd, const char *flag, const char *text, double out[2]);
-/** Parse a list "a,b,c" or a range "start:step:stop" into a malloc'd array. */
+/** Parse a list "a,b,c" or a range "start:step:stop" into a malloc'd array. Returns 0,
+ *  EA_EXIT_USAGE (bad text) or EA_EXIT_FAIL (out of memory), having said which. */
 int ea__cli_list(const char *cmd, const char *flag, const char *text, double **out, int *n);
 /** The value after flag argv[*i] (advances *i); NULL (and a message) if missing. */
 const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i);

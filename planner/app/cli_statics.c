@@ -199,7 +199,7 @@ int ea__cli_statics(int argc, char **argv) {
       free(g);
     } else
       return ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) return EA_EXIT_USAGE;
+    if (bad) return bad;
   }
   ea_statics_problem_t prob;
   const int has_L = isfinite(Lc), has_a = isfinite(adeg), has_T = isfinite(T),
@@ -418,7 +418,7 @@ int ea__cli_workspace(int argc, char **argv) {
   long npts = 71;
   int no_limits = 0;
   double *gam = NULL;
-  int ng = 0;
+  int ng = 0, rc_usage = EA_EXIT_USAGE; /* (or EA_EXIT_FAIL: out of memory) */
   for (int i = 1; i < argc; ++i) {
     int r = ea__common_opt(cmd, argc, argv, &i, &c);
     if (r < 0) goto usage;
@@ -446,7 +446,10 @@ int ea__cli_workspace(int argc, char **argv) {
       bad = ea__cli_double(cmd, a, v, 1e-6, 100, &inner);
     else
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) goto usage;
+    if (bad) {
+      rc_usage = bad;
+      goto usage;
+    }
   }
   if (!(amin < amax)) {
     ea__cli_usage_error(cmd, "--alpha-min-deg %g must be below --alpha-max-deg %g", amin, amax);
@@ -641,7 +644,7 @@ out:
   return rc;
 usage:
   free(gam);
-  return EA_EXIT_USAGE;
+  return rc_usage;
 }
 
 /* ------------------------------------------------------------------------ */
@@ -662,7 +665,7 @@ int ea__cli_torque_map(int argc, char **argv) {
   }
   ea__common_t c = {0};
   double *Ls = NULL, *As = NULL;
-  int nL = 0, nA = 0, rc = 0;
+  int nL = 0, nA = 0, rc = 0, rc_usage = EA_EXIT_USAGE; /* (or EA_EXIT_FAIL: out of memory) */
   for (int i = 1; i < argc; ++i) {
     int r = ea__common_opt(cmd, argc, argv, &i, &c);
     if (r < 0) goto usage;
@@ -683,10 +686,15 @@ int ea__cli_torque_map(int argc, char **argv) {
           bad = ea__cli_usage_error(cmd, "%s: %g is not in [-180, 180]", a, As[k]);
     } else
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) goto usage;
+    if (bad) {
+      rc_usage = bad;
+      goto usage;
+    }
   }
-  if (!Ls && ea__cli_list(cmd, "--cable-lengths", "0.254:0.01:0.834", &Ls, &nL)) goto usage;
-  if (!As && ea__cli_list(cmd, "--cable-angles-deg", "-60:5:10", &As, &nA)) goto usage;
+  if (!Ls && (rc_usage = ea__cli_list(cmd, "--cable-lengths", "0.254:0.01:0.834", &Ls, &nL)))
+    goto usage;
+  if (!As && (rc_usage = ea__cli_list(cmd, "--cable-angles-deg", "-60:5:10", &As, &nA))) goto usage;
+  rc_usage = EA_EXIT_USAGE;
   if ((size_t)nL * (size_t)nA > 4000000u) {
     ea__cli_usage_error(cmd, "grid of %d x %d cells is too large", nL, nA);
     goto usage;
@@ -772,7 +780,7 @@ done:
 usage:
   free(Ls);
   free(As);
-  return EA_EXIT_USAGE;
+  return rc_usage;
 }
 
 /* ------------------------------------------------------------------------ */
@@ -820,7 +828,7 @@ int ea__cli_path(int argc, char **argv) {
       bad = ea__cli_int(cmd, a, v, 1, 100000, &steps);
     else
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) return EA_EXIT_USAGE;
+    if (bad) return bad;
   }
   ea_arm_t arm;
   int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);

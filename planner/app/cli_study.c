@@ -448,7 +448,10 @@ int ea__cli_study(int argc, char **argv) {
       sh.task = v;
     else
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) goto done;
+    if (bad) {
+      rc = bad;
+      goto done;
+    }
   }
   if (!spec) {
     ea__cli_usage_error(cmd, "no study spec (SPEC.yaml, 'payload' or 'merge')");

@@ -29,6 +29,11 @@ int ea__cli_fail(const char *cmd, ea_status_t st, const ea_error_t *err) {
   return EA_EXIT_FAIL;
 }
 
+int ea__cli_oom(const char *cmd, const char *what) {
+  fprintf(stderr, "elasticarm %s: error: out of memory (%s)\n", cmd, what);
+  return EA_EXIT_FAIL;
+}
+
 int ea__cli_double(const char *cmd, const char *flag, const char *text, double lo, double hi,
                    double *out) {
   char *end;
@@ -80,7 +85,7 @@ int ea__cli_list(const char *cmd, const char *flag, const char *text, double **o
                                  text);
     const int m = (int)floor((b - a) / st + 1e-9) + 1;
     double *v = malloc((size_t)m * sizeof *v);
-    if (!v) return ea__cli_usage_error(cmd, "out of memory");
+    if (!v) return ea__cli_oom(cmd, flag);
     for (int i = 0; i < m; ++i)
       v[i] = a + i * st;
     *out = v;
@@ -91,7 +96,7 @@ int ea__cli_list(const char *cmd, const char *flag, const char *text, double **o
   for (const char *c = text; *c; ++c)
     m += (*c == ',');
   double *v = malloc((size_t)m * sizeof *v);
-  if (!v) return ea__cli_usage_error(cmd, "out of memory");
+  if (!v) return ea__cli_oom(cmd, flag);
   const char *s = text;
   for (int i = 0; i < m; ++i) {
     char *end;

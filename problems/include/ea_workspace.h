@@ -155,6 +155,34 @@ ea_status_t ea_path_check_line_fe(ea_shooter_t *sh, ea_fe_model_t *fe, const dou
                                   const double tip1[2], int steps, const ea_actuators_t *lim,
                                   ea_config_point_t *out);
 
+/** Natural frequencies at one configuration (paper sec. 3.3): the statics of the
+ *  cable length and angle, the FE static equilibrium from it (ea_fe_static_solve;
+ *  the model's settings say whether the tip or the tension is held) and the modes
+ *  (ea_fe_modes). */
+typedef struct ea_freq_point {
+  double cable_length;       /**< [m] requested */
+  double alpha;              /**< [rad] requested cable angle */
+  ea_statics_solution_t ode; /**< the statics */
+  ea_fe_static_info_t fe;    /**< the FE static equilibrium (NAN fields before it) */
+  ea_fe_modes_info_t modes;  /**< frequencies (NAN before the modes) and stability */
+  ea_status_t status;        /**< EA_OK or the failed stage's status */
+  const char *stage;         /**< where it failed: "statics", "fe-static", "modes"; "" */
+  ea_error_t err;            /**< the failed stage's message */
+} ea_freq_point_t;
+
+/** One configuration: statics (warm start guess, NULL: continuation from the T = 0
+ *  edge), FE statics, modes. m and sh are made for the same arm and load; m holds
+ *  the FE state and its mode shapes afterwards. */
+ea_status_t ea_freq_point(ea_shooter_t *sh, ea_fe_model_t *m, double cable_length, double alpha,
+                          const double *guess, ea_freq_point_t *pt);
+
+/** Frequencies against cable length at one cable angle (the paper's Fig. 5): n points,
+ *  each warm-started from the previous converged statics (retried from the edge when
+ *  that fails). EA_OK when every point converged, else EA_ERR_NOCONV (the points say
+ *  which and why). */
+ea_status_t ea_freq_sweep(ea_shooter_t *sh, ea_fe_model_t *m, const double *cable_length, int n,
+                          double alpha, ea_freq_point_t *pts);
+
 #ifdef __cplusplus
 }
 #endif
