@@ -1,6 +1,8 @@
 /* CLI: frequencies (paper sec. 3.3, Fig. 5) and simulate (FE transient of a
- * trajectory). The FE model itself lives in model/fe_*.c (docs/fe.md); this
- * file only wires statics -> FE and writes tables, JSON, CSV and figures. */
+ * trajectory). The computations are library calls (ea_freq_point, ea_freq_sweep:
+ * problems/frequencies.c; ea_traj_read_any, ea_traj_fill_statics, ea_traj_simulate:
+ * planner/traj/); this file parses the options and writes the tables, JSON, CSV
+ * and figures. */
 #include "cli_impl.h"
 #include "ea_simulate.h"
 
@@ -645,95 +647,6 @@ static void ea__sim_help(void) {
          EA_FE_DEFAULT_ELEMENTS);
 }
 
-/* Read the simple CSV form; rows of (t, L_c, alpha) into tr (other columns 0). */
-static ea_status_t ea__sim_read_simple(const char *path, ea_traj_t *tr, ea_error_t *err) {
-  memset(tr, 0, sizeof *tr);
-  FILE *fp = fopen(path, "r");
-  if (!fp) return ea_error_set(err, EA_ERR_IO, "%s: cannot open", path);
-  char line[4096];
-  long lineno = 0;
-  int cap = 0, n = 0;
-  double *rows = NULL;
-  ea_status_t st = EA_OK;
-  while (fgets(line, sizeof line, fp)) {
-    ++lineno;
-    line[strcspn(line, "\r\n")] = '\0';
-    if (lineno == 1) {
-      if (strcmp(line, "t_s,cable_length_m,cable_angle_rad")) {
-        st = ea_error_set(err, EA_ERR_PARSE,
-                          "%s:1:1: header must be 't_s,cable_length_m,cable_angle_rad' (or a "
-                          "trajectory file starting with '# elasticarm-trajectory 1')",
-                          path);
-        break;
-      }
-      continue;
-    }
-    if (!line[0]) continue;
-    double v[3];
-    const char *s = line;
-    for (int c = 0; c < 3; ++c) {
-      char *end;
-      v[c] = strtod(s, &end);
-      const int sep_ok = c < 2 ? *end == ',' : *end == '\0';
-      if (end == s || !isfinite(v[c]) || !sep_ok) {
-        st = ea_error_set(err, EA_ERR_PARSE, "%s:%ld:%ld: expected a finite number%s", path, lineno,
-                          (long)(s - line) + 1, c < 2 ? " followed by ','" : " at the end");
-        break;
-      }
-      s = end + 1;
-    }
-    if (st) break;
-    if (n && !(v[0] > rows[3 * (n - 1)])) {
-      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: time %g does not increase", path, lineno,
-                        v[0]);
-      break;
-    }
-    if (!(v[1] > 0)) {
-      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld: cable length %g <= 0", path, lineno, v[1]);
-      break;
-    }
-    if (n == cap) {
-      cap = cap ? 2 * cap : 64;
-      double *r = realloc(rows, sizeof(double) * 3 * (size_t)cap);
-      if (!r) {
-        st = ea_error_set(err, EA_ERR_NOMEM, "out of memory");
-        break;
-      }
-      rows = r;
-    }
-    memcpy(rows + 3 * n++, v, sizeof v);
-  }
-  fclose(fp);
-  if (!st && n < 2)
-    st = ea_error_set(err, EA_ERR_INPUT, "%s: needs at least 2 samples, has %d", path, n);
-  if (!st && (st = ea_traj_alloc(tr, n))) ea_error_set(err, st, "out of memory");
-  if (!st) {
-    for (int i = 0; i < n; ++i) {
-      EA_TRAJ_AT(tr, i, EA_TRAJ_t) = rows[3 * i];
-      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length) = rows[3 * i + 1];
-      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle) = rows[3 * i + 2];
-    }
-    for (int i = 0; i < n; ++i) { /* rates by centred (end: one-sided) differences */
-      const int a = i ? i - 1 : 0, b = i < n - 1 ? i + 1 : n - 1;
-      const double dt = rows[3 * b] - rows[3 * a];
-      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_rate) = (rows[3 * b + 1] - rows[3 * a + 1]) / dt;
-      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle_rate) = (rows[3 * b + 2] - rows[3 * a + 2]) / dt;
-    }
-    snprintf(tr->status, sizeof tr->status, "simple-csv");
-  }
-  free(rows);
-  return st;
-}
-
-/* Is the file the simple CSV form (first line is not a '#' comment)? */
-static int ea__sim_is_simple(const char *path) {
-  FILE *fp = fopen(path, "r");
-  if (!fp) return 0;
-  const int c = fgetc(fp);
-  fclose(fp);
-  return c != '#' && c != EOF;
-}
-
 typedef struct {
   const char *traj_path, *arm_file, *out, *figure;
   ea__cli_payload_t payload;
@@ -993,6 +906,68 @@ static int ea__sim_figure(const char *cmd, const ea__sim_opts_t *o, const ea_sim
   return 0;
 }
 
+static void ea__sim_settings(const ea__sim_opts_t *o, ea_sim_settings_t *s) {
+  ea_sim_settings_default(s);
+  s->elements = (int)o->elements;
+  s->dt = o->dt;
+  s->settle = o->settle;
+  s->scheme = o->scheme;
+  s->rho_inf = o->rho_inf;
+  s->cable_active = o->active;
+  s->drive_fe = o->drive_fe;
+  s->rest_tolerance = o->tolerance;
+  s->keep_history = o->out || o->figure;
+  if (o->damping == 1) s->damping_ratio = o->zeta;
+  if (o->damping == 2) {
+    s->rayleigh_mass = o->rayleigh[0];
+    s->rayleigh_stiffness = o->rayleigh[1];
+  }
+}
+
+/* A simple CSV has only (t, L_c, alpha): its statics columns from the statics of
+ * this arm and tip mass (<= 0: the hand's). Returns 0 or the exit code. */
+static int ea__sim_fill_simple(const char *cmd, const ea_arm_t *arm, double tip_mass,
+                               ea_traj_t *tr) {
+  ea_error_t err = {0};
+  ea_shooter_t *sh = NULL;
+  const ea_load_t load = {tip_mass > 0 ? tip_mass : arm->m_hand};
+  ea_status_t st = ea_shooter_alloc(arm, NULL, &sh, &err);
+  if (!st) {
+    ea_shooter_set_load(sh, &load);
+    st = ea_traj_fill_statics(tr, sh, &err);
+  }
+  ea_shooter_free(sh);
+  return st ? ea__cli_fail(cmd, st == EA_ERR_NOMEM ? st : EA_ERR_INADMISSIBLE, &err) : 0;
+}
+
+/* Another arm or tip mass than the plan's: say that its start differs. */
+static void ea__sim_note_mismatch(const char *cmd, const ea_traj_t *tr, const ea_sim_info_t *si) {
+  if (si->start_tension_mismatch > 1e-4 * fmax(1.0, EA_TRAJ_AT(tr, 0, EA_TRAJ_tension)) ||
+      si->start_theta0_mismatch > 1e-4)
+    fprintf(stderr,
+            "elasticarm %s: note: this arm and tip mass (%.4g kg) are not the plan's: at the "
+            "start its statics differ from the trajectory's by %.3g N in T and %.3g rad in "
+            "theta0; the drive is the trajectory's, the arm settles where its own equilibrium "
+            "is\n",
+            cmd, si->tip_mass, si->start_tension_mismatch, si->start_theta0_mismatch);
+}
+
+/* The tip history as CSV, atomically ("-" = stdout). Returns 0 or the exit code. */
+static int ea__sim_write_history(const char *cmd, const char *path, const ea_sim_history_t *h) {
+  ea_afile_t af = {0};
+  ea_error_t err = {0};
+  if (ea_afile_open(&af, path, &err)) return ea__cli_fail(cmd, err.status, &err);
+  fprintf(af.fp, "t_s,tip_x_m,tip_y_m,tip_theta_rad,planned_tip_x_m,planned_tip_y_m\n");
+  for (int r = 0; r < h->rows; ++r) {
+    const double *v = h->data + 6 * r;
+    fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g\n", v[0], v[1], v[2], v[3], v[4], v[5]);
+  }
+  if (ea_afile_commit(&af, &err)) return ea__cli_fail(cmd, err.status, &err);
+  return 0;
+}
+
+/* simulate: read (a trajectory file or a simple CSV), the arm, the statics of a simple
+ * CSV, the library's simulation (ea_traj_simulate), then the outputs asked for. */
 int ea__cli_simulate(int argc, char **argv) {
   const char *cmd = "simulate";
   if (ea__fe_help_requested(argc, argv)) {
@@ -1004,94 +979,38 @@ int ea__cli_simulate(int argc, char **argv) {
   if (rc) return rc;
   ea_traj_t tr = {0};
   ea_error_t err = {0};
-  const int simple = ea__sim_is_simple(o.traj_path);
-  ea_status_t st =
-      simple ? ea__sim_read_simple(o.traj_path, &tr, &err) : ea_traj_read(&tr, o.traj_path, &err);
+  int simple = 0;
+  ea_status_t st = ea_traj_read_any(&tr, o.traj_path, &simple, &err);
   if (st) {
     ea_traj_free(&tr);
     return ea__cli_fail(cmd, st, &err) == EA_EXIT_FAIL ? EA_EXIT_FAIL : EA_EXIT_USAGE;
   }
   ea_arm_t arm;
   const char *arm_which = "";
-  if ((rc = ea__sim_arm(cmd, &o, &tr, &arm, &arm_which))) {
-    ea_traj_free(&tr);
-    return rc;
-  }
+  ea_sim_history_t h = {0};
+  if ((rc = ea__sim_arm(cmd, &o, &tr, &arm, &arm_which))) goto done;
   const char *arm_path =
       o.arm_file ? o.arm_file : (tr.arm_file[0] ? tr.arm_file : ea__cli_default_arm());
   ea_sim_settings_t s;
-  ea_sim_settings_default(&s);
-  s.elements = (int)o.elements;
-  s.dt = o.dt;
-  s.settle = o.settle;
-  s.scheme = o.scheme;
-  s.rho_inf = o.rho_inf;
-  s.cable_active = o.active;
-  s.drive_fe = o.drive_fe;
-  s.rest_tolerance = o.tolerance;
-  s.keep_history = o.out || o.figure;
-  if (o.damping == 1) s.damping_ratio = o.zeta;
-  if (o.damping == 2) {
-    s.rayleigh_mass = o.rayleigh[0];
-    s.rayleigh_stiffness = o.rayleigh[1];
-  }
+  ea__sim_settings(&o, &s);
   /* the tip mass: the arm's hand plus the trajectory's payload, or the flags' payload */
   const double tip_mass = o.payload.given ? ea__cli_tip_mass(&arm, &o.payload) : 0.0;
-  ea_sim_history_t h = {0};
+  if (simple && (rc = ea__sim_fill_simple(cmd, &arm, tip_mass, &tr))) goto done;
   ea_sim_info_t si;
-  ea_afile_t af = {0};
-  if (simple) {
-    ea_shooter_t *sh = NULL;
-    const ea_load_t load = {tip_mass > 0 ? tip_mass : arm.m_hand};
-    st = ea_shooter_alloc(&arm, NULL, &sh, &err);
-    if (!st) {
-      ea_shooter_set_load(sh, &load);
-      st = ea_traj_fill_statics(&tr, sh, &err);
-    }
-    ea_shooter_free(sh);
-    if (st) {
-      rc = ea__cli_fail(cmd, st == EA_ERR_NOMEM ? st : EA_ERR_INADMISSIBLE, &err);
-      goto done;
-    }
-  }
-  st = ea_traj_simulate(&arm, &tr, tip_mass, &s, &h, &si, &err);
-  if (st) {
+  if ((st = ea_traj_simulate(&arm, &tr, tip_mass, &s, &h, &si, &err))) {
     fprintf(stderr, "elasticarm %s: error: %s: %s\n", cmd, o.traj_path,
             err.msg[0] ? err.msg : ea_strerror(st));
     rc = (st == EA_ERR_ARG || st == EA_ERR_INPUT) ? EA_EXIT_USAGE : EA_EXIT_FAIL;
     goto done;
   }
-  if (!simple &&
-      (si.start_tension_mismatch > 1e-4 * fmax(1.0, EA_TRAJ_AT(&tr, 0, EA_TRAJ_tension)) ||
-       si.start_theta0_mismatch > 1e-4))
-    fprintf(stderr,
-            "elasticarm %s: note: this arm and tip mass (%.4g kg) are not the plan's: at the "
-            "start its statics differ from the trajectory's by %.3g N in T and %.3g rad in "
-            "theta0; the drive is the trajectory's, the arm settles where its own equilibrium "
-            "is\n",
-            cmd, si.tip_mass, si.start_tension_mismatch, si.start_theta0_mismatch);
-  if (o.out) {
-    if (ea_afile_open(&af, o.out, &err)) {
-      rc = ea__cli_fail(cmd, err.status, &err);
-      goto done;
-    }
-    fprintf(af.fp, "t_s,tip_x_m,tip_y_m,tip_theta_rad,planned_tip_x_m,planned_tip_y_m\n");
-    for (int r = 0; r < h.rows; ++r) {
-      const double *v = h.data + 6 * r;
-      fprintf(af.fp, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g\n", v[0], v[1], v[2], v[3], v[4], v[5]);
-    }
-    if (ea_afile_commit(&af, &err)) {
-      rc = ea__cli_fail(cmd, err.status, &err);
-      goto done;
-    }
-  }
+  if (!simple) ea__sim_note_mismatch(cmd, &tr, &si);
+  if (o.out && (rc = ea__sim_write_history(cmd, o.out, &h))) goto done;
   if (o.json)
     ea__sim_json(&o, &s, simple, tr.n, arm_path, &si);
   else if (!o.out || strcmp(o.out, "-"))
     ea__sim_text(&o, &s, simple, tr.n, arm_path, arm_which, &si);
   if (o.figure) rc = ea__sim_figure(cmd, &o, &s, &si, &h);
 done:
-  ea_afile_abort(&af);
   ea_sim_history_free(&h);
   ea_traj_free(&tr);
   return rc;

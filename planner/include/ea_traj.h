@@ -80,6 +80,14 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
  *  errors say file:line:column. tr: zeroed, or a trajectory whose samples
  *  are freed first. */
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err);
+/** Read the simple CSV form: the header 't_s,cable_length_m,cable_angle_rad', then one
+ *  row per sample (time increasing, cable length > 0, at least 2 rows); the rates of
+ *  L_c and alpha by centred differences (one-sided at the ends), every other column 0
+ *  (ea_traj_fill_statics, ea_simulate.h, fills the statics). Errors say file:line:column. */
+ea_status_t ea_traj_read_simple(ea_traj_t *tr, const char *path, ea_error_t *err);
+/** A trajectory file, or the simple CSV form when the first byte is not '#'
+ *  (*simple = 1 then; simple may be NULL). */
+ea_status_t ea_traj_read_any(ea_traj_t *tr, const char *path, int *simple, ea_error_t *err);
 
 #ifdef __cplusplus
 }

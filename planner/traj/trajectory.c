@@ -251,3 +251,97 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
   if (st) ea_traj_free(tr);
   return st;
 }
+
+/* The simple CSV form of a trajectory (ea_traj.h). */
+ea_status_t ea_traj_read_simple(ea_traj_t *tr, const char *path, ea_error_t *err) {
+  if (!tr || !path) return ea_error_set(err, EA_ERR_ARG, "ea_traj_read_simple: NULL argument");
+  ea_traj_free(tr);
+  memset(tr, 0, sizeof *tr);
+  FILE *fp = NULL;
+  ea_status_t st = ea__open_regular(path, &fp, err);
+  if (st) return st;
+  char line[4096];
+  long lineno = 0;
+  int cap = 0, n = 0;
+  double *rows = NULL;
+  while (fgets(line, sizeof line, fp)) {
+    ++lineno;
+    line[strcspn(line, "\r\n")] = '\0';
+    if (lineno == 1) {
+      if (strcmp(line, "t_s,cable_length_m,cable_angle_rad")) {
+        st = ea_error_set(err, EA_ERR_PARSE,
+                          "%s:1:1: header must be 't_s,cable_length_m,cable_angle_rad' (or a "
+                          "trajectory file starting with '# elasticarm-trajectory 1')",
+                          path);
+        break;
+      }
+      continue;
+    }
+    if (!line[0]) continue;
+    double v[3];
+    const char *s = line;
+    for (int c = 0; c < 3; ++c) {
+      char *end;
+      v[c] = strtod(s, &end);
+      const int sep_ok = c < 2 ? *end == ',' : *end == '\0';
+      if (end == s || !isfinite(v[c]) || !sep_ok) {
+        st = ea_error_set(err, EA_ERR_PARSE, "%s:%ld:%ld: expected a finite number%s", path, lineno,
+                          (long)(s - line) + 1, c < 2 ? " followed by ','" : " at the end");
+        break;
+      }
+      s = end + 1;
+    }
+    if (st) break;
+    if (n && !(v[0] > rows[3 * (n - 1)])) {
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld:1: time %g does not increase", path, lineno,
+                        v[0]);
+      break;
+    }
+    if (!(v[1] > 0)) {
+      st = ea_error_set(err, EA_ERR_INPUT, "%s:%ld: cable length %g <= 0", path, lineno, v[1]);
+      break;
+    }
+    if (n == cap) {
+      cap = cap ? 2 * cap : 64;
+      double *r = realloc(rows, sizeof(double) * 3 * (size_t)cap);
+      if (!r) {
+        st = ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+        break;
+      }
+      rows = r;
+    }
+    memcpy(rows + 3 * n++, v, sizeof v);
+  }
+  fclose(fp);
+  if (!st && n < 2)
+    st = ea_error_set(err, EA_ERR_INPUT, "%s: needs at least 2 samples, has %d", path, n);
+  if (!st && (st = ea_traj_alloc(tr, n))) ea_error_set(err, st, "out of memory");
+  if (!st) {
+    for (int i = 0; i < n; ++i) {
+      EA_TRAJ_AT(tr, i, EA_TRAJ_t) = rows[3 * i];
+      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length) = rows[3 * i + 1];
+      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle) = rows[3 * i + 2];
+    }
+    for (int i = 0; i < n; ++i) { /* rates by centred (end: one-sided) differences */
+      const int a = i ? i - 1 : 0, b = i < n - 1 ? i + 1 : n - 1;
+      const double dt = rows[3 * b] - rows[3 * a];
+      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_rate) = (rows[3 * b + 1] - rows[3 * a + 1]) / dt;
+      EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle_rate) = (rows[3 * b + 2] - rows[3 * a + 2]) / dt;
+    }
+    snprintf(tr->status, sizeof tr->status, "simple-csv");
+  }
+  free(rows);
+  return st;
+}
+
+ea_status_t ea_traj_read_any(ea_traj_t *tr, const char *path, int *simple, ea_error_t *err) {
+  if (!tr || !path) return ea_error_set(err, EA_ERR_ARG, "ea_traj_read_any: NULL argument");
+  FILE *fp = NULL;
+  ea_status_t st = ea__open_regular(path, &fp, err);
+  if (st) return st;
+  const int c = fgetc(fp);
+  fclose(fp);
+  const int s = c != '#' && c != EOF;
+  if (simple) *simple = s;
+  return s ? ea_traj_read_simple(tr, path, err) : ea_traj_read(tr, path, err);
+}
