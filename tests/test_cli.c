@@ -310,6 +310,34 @@ static void test_plan_outputs(const char *arm_path) {
   remove("test_cli_name.yaml");
 }
 
+/* Text from a user goes into gnuplot scripts quoted: a trajectory whose task
+ * name holds both quotes and a backslash, drawn to a path with a quote (before:
+ * the title's double quote ended gnuplot's string, exit 1, no figure). */
+static void test_figure_quotes(void) {
+  const char *src = getenv("EA_SOURCE_DIR");
+  char args[2048], line[512];
+  snprintf(args, sizeof args,
+           "plan %s/problems/examples/paper-line.yaml -o test_cli_q.csv --summary test_cli_q.json",
+           src);
+  int rc = run(args);
+  FILE *in = fopen("test_cli_q.csv", "r"), *o = fopen("test_cli_q2.csv", "w");
+  while (in && o && fgets(line, sizeof line, in))
+    fputs(!strncmp(line, "# task:", 7) ? "# task: it's a \"quoted\" task \\ name\n" : line, o);
+  if (in) fclose(in);
+  if (o) fclose(o);
+  remove("test_cli_q'.svg");
+  rc = rc ? rc : run("figure test_cli_q2.csv -o \"test_cli_q'.svg\"");
+  char svg[1 << 16];
+  slurp("test_cli_q'.svg", svg, sizeof svg);
+  ea_test_true(rc == 0 && strstr(svg, "quoted") != NULL,
+               "figure: a task name with quotes and a backslash, a path with a quote");
+  printf("  exit %d: %.300s\n", rc, out);
+  remove("test_cli_q.csv");
+  remove("test_cli_q2.csv");
+  remove("test_cli_q.json");
+  remove("test_cli_q'.svg");
+}
+
 /* A shell command line (its output in out); the exit code. */
 static int sh(const char *line) {
   char cmd[4096];
@@ -325,7 +353,8 @@ static int sh(const char *line) {
 /* The default arm file: looked up in the documented order and named, with how it
  * was found, by elasticarm --help (only the CLI knows it). */
 static void test_default_arm(const char *arm_path) {
-  char dir[] = "/tmp/ea_test_arm_lookup_XXXXXX", line[3000], want[PATH_MAX + 100], real_arm[PATH_MAX];
+  char dir[] = "/tmp/ea_test_arm_lookup_XXXXXX", line[3000], want[PATH_MAX + 100],
+       real_arm[PATH_MAX];
   if (!mkdtemp(dir) || !realpath(arm_path, real_arm)) {
     ea_test_true(0, "default arm: temporary folder");
     return;
@@ -577,6 +606,7 @@ int main(void) {
     ea_test_abs(worst, 0.0, 1e-8, "golden: path vs independent scipy solution (worst rel.)");
   }
   test_default_arm(arm_path);
+  test_figure_quotes();
   test_figures(arm_path);
   test_statics_checks(arm_path);
   test_plan_outputs(arm_path);

@@ -79,12 +79,32 @@ ea_status_t ea_plot_open(ea_plot_t **pp, const char *out_path, int width, int he
     fprintf(p->script, "set terminal %s size %gin,%gin\n", term, width / 100.0, height / 100.0);
   else
     fprintf(p->script, "set terminal %s size %d,%d\n", term, width, height);
-  fputs("set output '", p->script); /* single-quoted: a quote is written twice */
-  for (const char *c = p->tmp; *c; ++c)
-    fputs(*c == '\'' ? "''" : (char[]){*c, '\0'}, p->script);
-  fputs("'\nset grid\nset key box opaque\n", p->script);
+  char q[2 * sizeof p->tmp + 3];
+  fprintf(p->script, "set output %s\nset grid\nset key box opaque\n",
+          ea_plot_quote(p->tmp, q, sizeof q));
   *pp = p;
   return EA_OK;
+}
+
+const char *ea_plot_quote(const char *text, char *buf, size_t len) {
+  size_t o = 0;
+  if (len < 3) {
+    if (len) buf[0] = '\0';
+    return buf;
+  }
+  buf[o++] = '\'';
+  for (const char *c = text ? text : ""; *c && o + 3 < len; ++c) {
+    if (*c == '\'') {
+      if (o + 4 >= len) break;
+      buf[o++] = '\'';
+      buf[o++] = '\'';
+    } else {
+      buf[o++] = (*c == '\n' || *c == '\r') ? ' ' : *c;
+    }
+  }
+  buf[o++] = '\'';
+  buf[o] = '\0';
+  return buf;
 }
 
 void ea_plot_cmd(ea_plot_t *p, const char *fmt, ...) {

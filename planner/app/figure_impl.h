@@ -23,6 +23,11 @@ void ea_plot_cmd(ea_plot_t *p, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/** text as a single-quoted gnuplot string literal into buf (len bytes; truncated to
+ *  fit): a quote written twice, line breaks as spaces, anything else as it is (no
+ *  backslash escapes in single quotes); returns buf. Every text that comes from a
+ *  user (a path, a task name, a CSV's labels) goes into a script this way. */
+const char *ea_plot_quote(const char *text, char *buf, size_t len);
 /** Inline data block $name: begin, rows of n numbers (NaN -> blank line,
  *  which breaks a curve), end. */
 void ea_plot_data_begin(ea_plot_t *p, const char *name);

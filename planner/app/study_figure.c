@@ -318,7 +318,12 @@ out:
 static void ea__escape(const char *in, char *out, size_t len) {
   size_t o = 0;
   for (size_t i = 0; in[i] && o + 3 < len; ++i) {
-    if (in[i] == '_') out[o++] = '\\'; /* '\_': a literal _ in enhanced text */
+    if (in[i] == '\n' || in[i] == '\r') {
+      out[o++] = ' ';
+      continue;
+    }
+    if (in[i] == '_') out[o++] = '\\';  /* '\_': a literal _ in enhanced text */
+    if (in[i] == '\'') out[o++] = '\''; /* '': a quote inside a single-quoted string */
     out[o++] = in[i];
   }
   out[o] = '\0';

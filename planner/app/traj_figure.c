@@ -72,9 +72,11 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, double cable_l
   for (int k = 0; k < tr->n; ++k)
     ea_plot_data_row(p, EA_TRAJ_NCOL, &EA_TRAJ_AT(tr, k, 0));
   ea_plot_data_end(p);
-  ea_plot_cmd(p, "set multiplot layout 2,2 title \"%s  (duration %.4g s)\" noenhanced",
-              title ? title : "trajectory",
-              EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t));
+  char head[1100], quoted[2300];
+  snprintf(head, sizeof head, "%.1000s  (duration %.4g s)", title ? title : "trajectory",
+           EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t));
+  ea_plot_cmd(p, "set multiplot layout 2,2 title %s noenhanced",
+              ea_plot_quote(head, quoted, sizeof quoted));
   ea_plot_cmd(p, "set size ratio -1\nset xlabel 'reach x_L [m]'\nset ylabel 'height y_L [m]'");
   ea_plot_cmd(p, "set key below maxrows 3");
   ea_plot_cmd(p,
