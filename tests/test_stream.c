@@ -319,6 +319,53 @@ static ea_setpoint_t *g_sp;
 static int g_n;
 static fx_move_t g_move;
 
+/* A controlled stop longer than the streamer's ramp buffer (20 s of setpoints):
+ * an arm whose cable may accelerate at 1e-5 m/s^2, moving at 0.01 m/s, needs about
+ * 1.5 v / (0.9 a) = 1,700 s to stop. After the controller's NACK the stream must say
+ * that no controlled stop was sent (before: "controlled stop in 0 frames"). */
+static void test_stop_too_long(void) {
+  ea_arm_t slow = arm;
+  slow.act.cable_accel_max = 1e-5;
+  enum { N = 400 };
+  ea_setpoint_t sp[N];
+  for (int k = 0; k < N; ++k) {
+    ea_joint_state_t q = {0};
+    q.cable_length = 0.45 + 0.01 * k * 1e-3;
+    q.cable_length_rate = 0.01;
+    q.theta0 = 0.5 * (slow.act.shoulder_angle_min + slow.act.shoulder_angle_max);
+    q.base_angle = 0.5 * (slow.act.base_angle_min + slow.act.base_angle_max);
+    q.tension = 0.5 * (slow.act.tension_min + slow.act.tension_max);
+    ea_stream_map(&slow, &q, &sp[k]);
+  }
+  ea_ctrl_settings_t cs;
+  ea_ctrl_settings_default(&cs);
+  cs.fault = EA_FAULT_CORRUPT_EVERY;
+  cs.fault_arg = 100;
+  cs.timeout_s = 3.0;
+  sim_thread_t sim;
+  memset(&sim, 0, sizeof sim);
+  ea_error_t err = {0};
+  if (ea_ctrl_open(&slow, "127.0.0.1:0", &cs, &sim.c, &err)) {
+    ea_test_true(0, err.msg);
+    return;
+  }
+  pthread_t th;
+  pthread_create(&th, NULL, sim_main, &sim);
+  char url[64];
+  snprintf(url, sizeof url, "tcp://127.0.0.1:%d", ea_ctrl_port(sim.c));
+  ea_stream_settings_t ss;
+  ea_stream_settings_default(&ss);
+  ss.end_timeout_s = 0.3;
+  ea_stream_info_t info;
+  const ea_status_t st = ea_stream_run(&slow, sp, N, url, &ss, &info, &err);
+  pthread_join(th, NULL);
+  ea_ctrl_free(sim.c);
+  printf("stop too long: %s: %s\n", ea_stream_end_name(info.end), err.msg);
+  ea_test_true(st == EA_ERR_PROTOCOL && info.end == EA_STREAM_STOP_NACK && info.stop_frames == 0 &&
+                   strstr(err.msg, "no controlled stop") != NULL,
+               "a stop longer than the ramp buffer: none sent, and the message says so");
+}
+
 typedef struct {
   const char *name;
   int udp;
@@ -586,6 +633,7 @@ int main(void) {
   test_mapping();
   test_resample();
   test_stop_ramp();
+  test_stop_too_long();
 
   g_move = fx_default_move();
   ea_traj_t tr = {0};

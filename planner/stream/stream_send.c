@@ -157,6 +157,240 @@ static void ea__summarise(ea_stream_info_t *in, double *jit, int nj, double peri
   in->jitter_max_us = nj ? jit[nj - 1] : NAN;
 }
 
+/* Everything is checked before anything is sent. */
+static ea_status_t ea__check_all(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, double tol,
+                                 ea_error_t *err) {
+  for (int k = 0; k < n; ++k) {
+    ea_error_t e = {0};
+    if (ea_stream_check_limits(arm, &sp[k], tol, &e))
+      return ea_error_set(err, EA_ERR_INADMISSIBLE, "setpoint %d: %s; nothing sent", k, e.msg);
+  }
+  return EA_OK;
+}
+
+/* The controller's reported position (in its HELLO answer) is the trajectory's start? */
+static ea_status_t ea__check_start(const ea__sess_t *x, const ea_setpoint_t *sp0, ea_error_t *err) {
+  const ea_arm_t *arm = x->arm;
+  const ea_stream_settings_t *s = x->s;
+  ea_setpoint_t act = *sp0;
+  act.spool_pos[0] = x->last_ack.actual[0];
+  act.spool_pos[1] = x->last_ack.actual[1];
+  act.shoulder_pos = x->last_ack.actual[2];
+  act.base_pos = x->last_ack.actual[3];
+  ea_joint_state_t qa, qs;
+  ea_stream_unmap(arm, &act, &qa);
+  ea_stream_unmap(arm, sp0, &qs);
+  const double L1 = arm->act.spool_zero_length +
+                    x->last_ack.actual[1] * arm->act.spool_radius / arm->act.spool_gear_ratio;
+  const double dL = fmax(fabs(qa.cable_length - qs.cable_length), fabs(L1 - qs.cable_length));
+  const double dth = fabs(qa.theta0 - qs.theta0), db = fabs(qa.base_angle - qs.base_angle);
+  if (dL > s->start_tol_cable || dth > s->start_tol_angle || db > s->start_tol_angle)
+    return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                        "refused: controller is not at the trajectory's start: cable length "
+                        "%.6g m (start %.6g, tol %g), theta0 %.6g rad (start %.6g), base %.6g "
+                        "rad (start %.6g, tol %g); nothing sent",
+                        qa.cable_length, qs.cable_length, s->start_tol_cable, qa.theta0, qs.theta0,
+                        qa.base_angle, qs.base_angle, s->start_tol_angle);
+  return EA_OK;
+}
+
+/* HELLO and, with ACKs, its answer (resent over UDP) and the start check. On failure
+ * info->end says why; *refused = 1 when an END (refused) is due. */
+static ea_status_t ea__handshake(ea__sess_t *x, const ea_setpoint_t *sp, int n, const char *url,
+                                 int hb_ms, int *refused, ea_error_t *err) {
+  const ea_stream_settings_t *s = x->s;
+  ea_frame_t h;
+  memset(&h, 0, sizeof h);
+  h.type = EA_FRAME_HELLO;
+  h.rate_hz = (uint32_t)llround(s->rate_hz);
+  h.count = (uint32_t)n;
+  h.heartbeat_ms = (uint32_t)hb_ms;
+  h.sp = sp[0];
+  x->seq = (uint32_t)-1; /* HELLO is sequence number 0 */
+  ea_status_t st = ea__send(x, &h, err);
+  if (st || !x->acks_on) return st;
+  const int64_t t_end = ea__mono_ns() + (int64_t)(s->handshake_timeout_s * 1e9);
+  int64_t t_resend = ea__mono_ns() + (int64_t)hb_ms * 1000000;
+  while (!x->have_ack && !x->link_lost && ea__mono_ns() < t_end &&
+         !(s->stop_request && *s->stop_request)) {
+    ea__poll_in(x, 5);
+    if (x->tr.kind == EA__TR_UDP && !x->have_ack && ea__mono_ns() > t_resend) {
+      ea_frame_t hb = h; /* datagrams may be lost: repeat the HELLO itself */
+      const size_t len = ea_frame_encode(&hb, x->buf, sizeof x->buf);
+      if (ea__transport_send(&x->tr, x->buf, len, NULL)) x->link_lost = 1;
+      t_resend += (int64_t)hb_ms * 1000000;
+    }
+  }
+  if (s->stop_request && *s->stop_request) {
+    x->info->end = EA_STREAM_STOP_INTERRUPT;
+    return ea_error_set(err, EA_ERR_INTERRUPTED, "interrupted during the handshake");
+  }
+  if (!x->have_ack)
+    return ea_error_set(err, EA_ERR_NET, "%s: no answer to HELLO within %g s%s", url,
+                        s->handshake_timeout_s, x->link_lost ? " (link closed)" : "");
+  if (x->last_ack.type == EA_FRAME_NACK || x->last_ack.ack_seq != 0 ||
+      x->last_ack.state != EA_CTRL_READY) {
+    x->info->end = EA_STREAM_REFUSED;
+    *refused = 1;
+    return ea_error_set(
+        err, EA_ERR_PROTOCOL, "controller answered HELLO with %s (state %u, reason %u)",
+        x->last_ack.type == EA_FRAME_NACK ? "NACK" : "ACK", x->last_ack.state, x->last_ack.reason);
+  }
+  if ((st = ea__check_start(x, &sp[0], err))) {
+    x->info->end = EA_STREAM_REFUSED;
+    *refused = 1;
+  }
+  return st;
+}
+
+/* Pacing of the frames: slot k is due at t0 + k period. */
+typedef struct {
+  int64_t t0, period_ns;
+  double period_s;
+  double *jit; /* |send time - deadline| [us] of every paced frame */
+  int nj;
+} ea__pace_t;
+
+/* Send one setpoint frame in slot k (flags as given); 0 or nonzero if the link failed. */
+static int ea__send_slot(ea__sess_t *x, ea__pace_t *pc, long k, const ea_setpoint_t *sp,
+                         uint32_t flags, const volatile sig_atomic_t *stop) {
+  const int64_t deadline = pc->t0 + k * pc->period_ns;
+  if (x->s->realtime) ea__sleep_until_ns(deadline, stop);
+  ea_frame_t f;
+  memset(&f, 0, sizeof f);
+  f.type = EA_FRAME_SETPOINT;
+  f.time_us = (uint64_t)llround(k * pc->period_s * 1e6);
+  f.flags = flags;
+  f.sp = *sp;
+  const int64_t now = ea__mono_ns();
+  if (x->s->realtime) pc->jit[pc->nj++] = fabs((double)(now - deadline)) * 1e-3;
+  return ea__send(x, &f, NULL) != EA_OK;
+}
+
+/* The setpoints on absolute deadlines until the last or a reason to stop (info->end);
+ * returns the index of the last setpoint sent (-1: none). */
+static int ea__send_setpoints(ea__sess_t *x, ea__pace_t *pc, const ea_setpoint_t *sp, int n) {
+  const ea_stream_settings_t *s = x->s;
+  ea_stream_info_t *info = x->info;
+  int last_sent = -1;
+  info->end = EA_STREAM_COMPLETE;
+  for (long k = 0; k < n; ++k) {
+    if (s->realtime) ea__sleep_until_ns(pc->t0 + k * pc->period_ns, s->stop_request);
+    if (s->stop_request && *s->stop_request) {
+      info->end = EA_STREAM_STOP_INTERRUPT;
+      break;
+    }
+    if (ea__send_slot(x, pc, k, &sp[k], (k == n - 1) ? EA_SP_FLAG_LAST : 0, s->stop_request)) {
+      info->end = EA_STREAM_DISCONNECTED;
+      break;
+    }
+    ++info->frames_sent;
+    last_sent = (int)k;
+    ea__poll_in(x, 0);
+    if (x->link_lost) {
+      info->end = EA_STREAM_DISCONNECTED;
+      break;
+    }
+    if (x->nacked) {
+      info->end = EA_STREAM_STOP_NACK;
+      break;
+    }
+    if (ea__ack_overdue(x, ea__mono_ns())) {
+      info->end = EA_STREAM_STOP_ACK_TIMEOUT;
+      break;
+    }
+  }
+  return last_sent;
+}
+
+/* Controlled stop from setpoint from, its frames in the slots from *k on. Returns the
+ * ramp's length, or -1 if no ramp fits in ramp_cap setpoints (nothing sent); a ramp
+ * setpoint beyond the limits is never sent (*cut = 1). */
+static int ea__send_stop(ea__sess_t *x, ea__pace_t *pc, const ea_setpoint_t *from,
+                         ea_setpoint_t *ramp, int ramp_cap, long *k, int *cut) {
+  const ea_stream_settings_t *s = x->s;
+  const int m = ea_stream_stop_ramp(x->arm, from, s->rate_hz, s->stop_margin, ramp, ramp_cap);
+  *cut = 0;
+  for (int j = 0; j < m; ++j, ++*k) {
+    ea_error_t e = {0};
+    if (ea_stream_check_limits(x->arm, &ramp[j], s->limit_tol, &e)) { /* never beyond */
+      *cut = 1;
+      break;
+    }
+    const uint32_t flags = EA_SP_FLAG_STOP | (j == m - 1 ? EA_SP_FLAG_LAST : 0);
+    if (ea__send_slot(x, pc, *k, &ramp[j], flags, NULL)) break;
+    ++x->info->frames_sent;
+    ++x->info->stop_frames;
+    ea__poll_in(x, 0);
+    if (x->link_lost) break;
+  }
+  return m;
+}
+
+/* END (complete or stopped) in slot k and, with ACKs, its acknowledgement. */
+static void ea__send_end(ea__sess_t *x, const ea__pace_t *pc, long k, int hb_ms) {
+  const ea_stream_settings_t *s = x->s;
+  ea_stream_info_t *info = x->info;
+  if (x->link_lost) {
+    if (info->end == EA_STREAM_COMPLETE) info->end = EA_STREAM_DISCONNECTED;
+    return;
+  }
+  ea_frame_t f;
+  memset(&f, 0, sizeof f);
+  f.type = EA_FRAME_END;
+  f.time_us = (uint64_t)llround(k * pc->period_s * 1e6);
+  f.flags = info->end == EA_STREAM_COMPLETE ? EA_END_COMPLETE : EA_END_STOPPED;
+  f.count = (uint32_t)info->frames_sent;
+  if (ea__send(x, &f, NULL) != EA_OK || !x->acks_on) return;
+  const uint32_t end_seq = x->seq;
+  const int64_t t_end = ea__mono_ns() + (int64_t)(s->end_timeout_s * 1e9);
+  int64_t t_hb = ea__mono_ns() + (int64_t)hb_ms * 1000000;
+  while (x->acked_seq < end_seq && !x->link_lost && ea__mono_ns() < t_end) {
+    ea__poll_in(x, 2);
+    if (ea__mono_ns() > t_hb) {
+      ea_frame_t hb;
+      memset(&hb, 0, sizeof hb);
+      hb.type = EA_FRAME_HEARTBEAT;
+      ea__send(x, &hb, NULL);
+      t_hb += (int64_t)hb_ms * 1000000;
+    }
+  }
+  if (x->acked_seq < end_seq && info->end == EA_STREAM_COMPLETE)
+    info->end = x->link_lost ? EA_STREAM_DISCONNECTED : EA_STREAM_STOP_ACK_TIMEOUT;
+}
+
+/* The outcome: status and message from info->end; stop says how the controlled stop
+ * went ("controlled stop in N frames", or why there was none). */
+static ea_status_t ea__outcome(const ea__sess_t *x, const char *stop, ea_error_t *err) {
+  const ea_stream_info_t *info = x->info;
+  const int before = info->frames_sent - info->stop_frames;
+  switch (info->end) {
+  case EA_STREAM_COMPLETE:
+    if (x->acks_on && info->frames_acked != info->frames_sent)
+      return ea_error_set(err, EA_ERR_PROTOCOL, "controller accepted %d of %d setpoints",
+                          info->frames_acked, info->frames_sent);
+    return EA_OK;
+  case EA_STREAM_STOP_NACK:
+    return ea_error_set(err, EA_ERR_PROTOCOL,
+                        "controller rejected a frame (NACK reason %d) after %d setpoints: %s",
+                        info->nack_reason, before, stop);
+  case EA_STREAM_STOP_ACK_TIMEOUT:
+    return ea_error_set(err, EA_ERR_NET, "no acknowledgement for %g s after %d setpoints: %s",
+                        x->s->ack_timeout_s, before, stop);
+  case EA_STREAM_STOP_INTERRUPT:
+    return ea_error_set(err, EA_ERR_INTERRUPTED, "interrupted after %d setpoints: %s", before,
+                        stop);
+  case EA_STREAM_DISCONNECTED:
+    return ea_error_set(err, EA_ERR_NET,
+                        "link lost after %d setpoints: the controller's watchdog must stop the "
+                        "arm",
+                        info->frames_sent);
+  default:
+    return ea_error_set(err, EA_ERR_NET, "stream failed");
+  }
+}
+
+/* A session: check, open, handshake, setpoints, controlled stop, END, outcome. */
 ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, const char *url,
                           const ea_stream_settings_t *s_in, ea_stream_info_t *info,
                           ea_error_t *err) {
@@ -174,14 +408,7 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
     return info->status = ea_error_set(err, EA_ERR_ARG, "stream: no setpoints or no destination");
   if ((st = ea_stream_settings_validate(s, err))) return info->status = st;
   info->setpoints = n;
-
-  /* Everything is checked before anything is sent. */
-  for (int k = 0; k < n; ++k) {
-    ea_error_t e = {0};
-    if (ea_stream_check_limits(arm, &sp[k], s->limit_tol, &e))
-      return info->status =
-                 ea_error_set(err, EA_ERR_INADMISSIBLE, "setpoint %d: %s; nothing sent", k, e.msg);
-  }
+  if ((st = ea__check_all(arm, sp, n, s->limit_tol, err))) return info->status = st;
 
   ea__sess_t x;
   memset(&x, 0, sizeof x);
@@ -194,233 +421,54 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
   const int ramp_cap = (int)ceil(20.0 * s->rate_hz) + 16;
   x.send_cap = n + ramp_cap + 8;
   x.send_ns = calloc((size_t)x.send_cap, sizeof *x.send_ns);
-  double *jit = malloc((size_t)(n + ramp_cap) * sizeof *jit);
+  ea__pace_t pc = {0};
+  pc.jit = malloc((size_t)(n + ramp_cap) * sizeof *pc.jit);
   ea_setpoint_t *ramp = malloc((size_t)ramp_cap * sizeof *ramp);
-  if (!x.send_ns || !jit || !ramp) {
+  if (!x.send_ns || !pc.jit || !ramp) {
     free(x.send_ns);
-    free(jit);
+    free(pc.jit);
     free(ramp);
     return info->status = ea_error_set(err, EA_ERR_NOMEM, "stream: out of memory");
   }
-  int nj = 0;
-  if ((st = ea__transport_open(&x.tr, url, err))) goto out;
-  x.acks_on = s->wait_acks && x.tr.kind != EA__TR_FILE;
-
-  const double period_s = 1.0 / s->rate_hz;
-  const int64_t period_ns = (int64_t)llround(1e9 * period_s);
   const int hb_ms = (int)fmax(1.0, s->heartbeat_s * 1e3);
-
-  /* ---- Handshake ---------------------------------------------------------- */
-  {
-    ea_frame_t h;
-    memset(&h, 0, sizeof h);
-    h.type = EA_FRAME_HELLO;
-    h.rate_hz = (uint32_t)llround(s->rate_hz);
-    h.count = (uint32_t)n;
-    h.heartbeat_ms = (uint32_t)hb_ms;
-    h.sp = sp[0];
-    x.seq = (uint32_t)-1; /* HELLO is sequence number 0 */
-    if ((st = ea__send(&x, &h, err))) goto out;
-    if (x.acks_on) {
-      const int64_t t_end = ea__mono_ns() + (int64_t)(s->handshake_timeout_s * 1e9);
-      int64_t t_resend = ea__mono_ns() + (int64_t)hb_ms * 1000000;
-      while (!x.have_ack && !x.link_lost && ea__mono_ns() < t_end &&
-             !(s->stop_request && *s->stop_request)) {
-        ea__poll_in(&x, 5);
-        if (x.tr.kind == EA__TR_UDP && !x.have_ack && ea__mono_ns() > t_resend) {
-          ea_frame_t hb = h; /* datagrams may be lost: repeat the HELLO itself */
-          const size_t len = ea_frame_encode(&hb, x.buf, sizeof x.buf);
-          if (ea__transport_send(&x.tr, x.buf, len, NULL)) x.link_lost = 1;
-          t_resend += (int64_t)hb_ms * 1000000;
-        }
-      }
-      if (s->stop_request && *s->stop_request) {
-        info->end = EA_STREAM_STOP_INTERRUPT;
-        st = ea_error_set(err, EA_ERR_INTERRUPTED, "interrupted during the handshake");
-        goto out;
-      }
-      if (!x.have_ack) {
-        st = ea_error_set(err, EA_ERR_NET, "%s: no answer to HELLO within %g s%s", url,
-                          s->handshake_timeout_s, x.link_lost ? " (link closed)" : "");
-        goto out;
-      }
-      if (x.last_ack.type == EA_FRAME_NACK || x.last_ack.ack_seq != 0 ||
-          x.last_ack.state != EA_CTRL_READY) {
-        info->end = EA_STREAM_REFUSED;
-        st = ea_error_set(
-            err, EA_ERR_PROTOCOL, "controller answered HELLO with %s (state %u, reason %u)",
-            x.last_ack.type == EA_FRAME_NACK ? "NACK" : "ACK", x.last_ack.state, x.last_ack.reason);
-        goto out_end_refused;
-      }
-      /* The controller's reported position must be the trajectory's start. */
-      ea_setpoint_t act = sp[0];
-      act.spool_pos[0] = x.last_ack.actual[0];
-      act.spool_pos[1] = x.last_ack.actual[1];
-      act.shoulder_pos = x.last_ack.actual[2];
-      act.base_pos = x.last_ack.actual[3];
-      ea_joint_state_t qa, qs;
-      ea_stream_unmap(arm, &act, &qa);
-      ea_stream_unmap(arm, &sp[0], &qs);
-      const double L1 = arm->act.spool_zero_length +
-                        x.last_ack.actual[1] * arm->act.spool_radius / arm->act.spool_gear_ratio;
-      const double dL = fmax(fabs(qa.cable_length - qs.cable_length), fabs(L1 - qs.cable_length));
-      const double dth = fabs(qa.theta0 - qs.theta0), db = fabs(qa.base_angle - qs.base_angle);
-      if (dL > s->start_tol_cable || dth > s->start_tol_angle || db > s->start_tol_angle) {
-        info->end = EA_STREAM_REFUSED;
-        st = ea_error_set(err, EA_ERR_INADMISSIBLE,
-                          "refused: controller is not at the trajectory's start: cable length "
-                          "%.6g m (start %.6g, tol %g), theta0 %.6g rad (start %.6g), base %.6g "
-                          "rad (start %.6g, tol %g); nothing sent",
-                          qa.cable_length, qs.cable_length, s->start_tol_cable, qa.theta0,
-                          qs.theta0, qa.base_angle, qs.base_angle, s->start_tol_angle);
-        goto out_end_refused;
-      }
-    }
+  pc.period_s = 1.0 / s->rate_hz;
+  pc.period_ns = (int64_t)llround(1e9 * pc.period_s);
+  int refused = 0;
+  if (!(st = ea__transport_open(&x.tr, url, err))) {
+    x.acks_on = s->wait_acks && x.tr.kind != EA__TR_FILE;
+    st = ea__handshake(&x, sp, n, url, hb_ms, &refused, err);
   }
-
-  /* ---- Setpoints, paced on absolute deadlines -------------------------------- */
-  const int64_t t0 = ea__mono_ns() + 1000000; /* first deadline 1 ms from now */
-  long k = 0;                                 /* index of the next frame in the schedule */
-  int last_sent = -1;                         /* index into sp of the last setpoint sent */
-  info->end = EA_STREAM_COMPLETE;
-  for (; k < n; ++k) {
-    const int64_t deadline = t0 + k * period_ns;
-    if (s->realtime) ea__sleep_until_ns(deadline, s->stop_request);
-    if (s->stop_request && *s->stop_request) {
-      info->end = EA_STREAM_STOP_INTERRUPT;
-      break;
+  if (!st) {
+    pc.t0 = ea__mono_ns() + 1000000; /* first deadline 1 ms from now */
+    const int last_sent = ea__send_setpoints(&x, &pc, sp, n);
+    long k = last_sent + 1; /* the ramp's first frame takes the slot after the last one sent */
+    char stop[200] = "no controlled stop (nothing was sent)";
+    if (info->end != EA_STREAM_COMPLETE && info->end != EA_STREAM_DISCONNECTED && last_sent >= 0) {
+      int cut = 0;
+      const int m = ea__send_stop(&x, &pc, &sp[last_sent], ramp, ramp_cap, &k, &cut);
+      if (m < 0)
+        snprintf(stop, sizeof stop,
+                 "no controlled stop: it would take more than %d setpoints (%g s) at the arm's "
+                 "acceleration limits; the controller's own stop must act",
+                 ramp_cap, ramp_cap / s->rate_hz);
+      else if (cut)
+        snprintf(stop, sizeof stop,
+                 "controlled stop cut after %d of %d frames: a ramp setpoint was beyond the "
+                 "limits",
+                 info->stop_frames, m);
+      else
+        snprintf(stop, sizeof stop, "controlled stop in %d frames", info->stop_frames);
     }
-    ea_frame_t f;
-    memset(&f, 0, sizeof f);
-    f.type = EA_FRAME_SETPOINT;
-    f.time_us = (uint64_t)llround(k * period_s * 1e6);
-    f.flags = (k == n - 1) ? EA_SP_FLAG_LAST : 0;
-    f.sp = sp[k];
-    const int64_t now = ea__mono_ns();
-    if (s->realtime) jit[nj++] = fabs((double)(now - deadline)) * 1e-3;
-    if (ea__send(&x, &f, NULL)) {
-      info->end = EA_STREAM_DISCONNECTED;
-      break;
-    }
-    ++info->frames_sent;
-    last_sent = (int)k;
-    ea__poll_in(&x, 0);
-    if (x.link_lost) {
-      info->end = EA_STREAM_DISCONNECTED;
-      break;
-    }
-    if (x.nacked) {
-      info->end = EA_STREAM_STOP_NACK;
-      break;
-    }
-    if (ea__ack_overdue(&x, ea__mono_ns())) {
-      info->end = EA_STREAM_STOP_ACK_TIMEOUT;
-      break;
-    }
-  }
-  k = last_sent + 1; /* the ramp's first frame takes the slot after the last one sent */
-
-  /* ---- Controlled stop: ramp down from the last setpoint sent ----------------- */
-  if (info->end != EA_STREAM_COMPLETE && info->end != EA_STREAM_DISCONNECTED && last_sent >= 0) {
-    const int m =
-        ea_stream_stop_ramp(arm, &sp[last_sent], s->rate_hz, s->stop_margin, ramp, ramp_cap);
-    for (int j = 0; j < m; ++j, ++k) {
-      ea_error_t e = {0};
-      if (ea_stream_check_limits(arm, &ramp[j], s->limit_tol, &e)) break; /* never beyond */
-      const int64_t deadline = t0 + k * period_ns;
-      if (s->realtime) ea__sleep_until_ns(deadline, NULL);
-      ea_frame_t f;
-      memset(&f, 0, sizeof f);
-      f.type = EA_FRAME_SETPOINT;
-      f.time_us = (uint64_t)llround(k * period_s * 1e6);
-      f.flags = EA_SP_FLAG_STOP | (j == m - 1 ? EA_SP_FLAG_LAST : 0);
-      f.sp = ramp[j];
-      const int64_t now = ea__mono_ns();
-      if (s->realtime) jit[nj++] = fabs((double)(now - deadline)) * 1e-3;
-      if (ea__send(&x, &f, NULL)) break;
-      ++info->frames_sent;
-      ++info->stop_frames;
-      ea__poll_in(&x, 0);
-      if (x.link_lost) break;
-    }
-  }
-  info->duration_s = (ea__mono_ns() - t0) * 1e-9;
-
-  /* ---- END, then wait for its acknowledgement --------------------------------- */
-  if (!x.link_lost) {
-    ea_frame_t f;
-    memset(&f, 0, sizeof f);
-    f.type = EA_FRAME_END;
-    f.time_us = (uint64_t)llround(k * period_s * 1e6);
-    f.flags = info->end == EA_STREAM_COMPLETE ? EA_END_COMPLETE : EA_END_STOPPED;
-    f.count = (uint32_t)info->frames_sent;
-    if (ea__send(&x, &f, NULL) == EA_OK && x.acks_on) {
-      const uint32_t end_seq = x.seq;
-      const int64_t t_end = ea__mono_ns() + (int64_t)(s->end_timeout_s * 1e9);
-      int64_t t_hb = ea__mono_ns() + (int64_t)hb_ms * 1000000;
-      while (x.acked_seq < end_seq && !x.link_lost && ea__mono_ns() < t_end) {
-        ea__poll_in(&x, 2);
-        if (ea__mono_ns() > t_hb) {
-          ea_frame_t hb;
-          memset(&hb, 0, sizeof hb);
-          hb.type = EA_FRAME_HEARTBEAT;
-          ea__send(&x, &hb, NULL);
-          t_hb += (int64_t)hb_ms * 1000000;
-        }
-      }
-      if (x.acked_seq < end_seq && info->end == EA_STREAM_COMPLETE)
-        info->end = x.link_lost ? EA_STREAM_DISCONNECTED : EA_STREAM_STOP_ACK_TIMEOUT;
-    }
-  } else if (info->end == EA_STREAM_COMPLETE) {
-    info->end = EA_STREAM_DISCONNECTED;
-  }
-
-  switch (info->end) {
-  case EA_STREAM_COMPLETE:
-    if (x.acks_on && info->frames_acked != info->frames_sent)
-      st = ea_error_set(err, EA_ERR_PROTOCOL, "controller accepted %d of %d setpoints",
-                        info->frames_acked, info->frames_sent);
-    else
-      st = EA_OK;
-    break;
-  case EA_STREAM_STOP_NACK:
-    st = ea_error_set(err, EA_ERR_PROTOCOL,
-                      "controller rejected a frame (NACK reason %d) after %d setpoints: "
-                      "controlled stop in %d frames",
-                      info->nack_reason, info->frames_sent - info->stop_frames, info->stop_frames);
-    break;
-  case EA_STREAM_STOP_ACK_TIMEOUT:
-    st = ea_error_set(err, EA_ERR_NET,
-                      "no acknowledgement for %g s after %d setpoints: controlled stop in %d "
-                      "frames",
-                      s->ack_timeout_s, info->frames_sent - info->stop_frames, info->stop_frames);
-    break;
-  case EA_STREAM_STOP_INTERRUPT:
-    st = ea_error_set(err, EA_ERR_INTERRUPTED,
-                      "interrupted after %d setpoints: controlled stop in %d frames",
-                      info->frames_sent - info->stop_frames, info->stop_frames);
-    break;
-  case EA_STREAM_DISCONNECTED:
-    st = ea_error_set(err, EA_ERR_NET,
-                      "link lost after %d setpoints: the controller's watchdog must stop the "
-                      "arm",
-                      info->frames_sent);
-    break;
-  default:
-    st = ea_error_set(err, EA_ERR_NET, "stream failed");
-    break;
-  }
-  goto out;
-
-out_end_refused:
-  if (!x.link_lost) {
+    info->duration_s = (ea__mono_ns() - pc.t0) * 1e-9;
+    ea__send_end(&x, &pc, k, hb_ms);
+    st = ea__outcome(&x, stop, err);
+  } else if (refused && !x.link_lost) {
     ea_frame_t f;
     memset(&f, 0, sizeof f);
     f.type = EA_FRAME_END;
     f.flags = EA_END_REFUSED;
     ea__send(&x, &f, NULL);
   }
-out:
   if (x.tr.is_open) {
     ea_error_t e2 = {0};
     ea_status_t cst = ea__transport_close(&x.tr, 1, &e2);
@@ -429,9 +477,9 @@ out:
       if (err) *err = e2;
     }
   }
-  if (nj) ea__summarise(info, jit, nj, period_s * 1e6);
+  if (pc.nj) ea__summarise(info, pc.jit, pc.nj, pc.period_s * 1e6);
   free(x.send_ns);
-  free(jit);
+  free(pc.jit);
   free(ramp);
   info->status = st;
   if (st && err && err->status != st) ea_error_set(err, st, "%s", ea_strerror(st));
