@@ -1,5 +1,5 @@
 /* libFuzzer target for the streamer's frame decoder and stream parser
- * (planner/stream_frame.c). Build: cmake -DEA_FUZZ=ON with clang; run:
+ * (planner/stream/stream_frame.c). Build: cmake -DEA_FUZZ=ON with clang; run:
  *   build-fuzz/fuzz_frame -max_total_time=60 build-fuzz/corpus-fuzz_frame fuzz/corpus/frame
  * Invariants: no crash or sanitizer report; a frame that decodes re-encodes
  * to a frame that decodes to the same values; the parser never yields more

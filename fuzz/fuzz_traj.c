@@ -1,4 +1,4 @@
-/* libFuzzer target for the trajectory reader (planner/trajectory.c,
+/* libFuzzer target for the trajectory reader (planner/traj/trajectory.c,
  * ea_traj_read; docs/trajectory-format.md). The input is written to a
  * temporary file, since the reader takes a path. Invariants: an error has a
  * message and leaves no data; a trajectory read has at least 2 samples, all

@@ -1,7 +1,7 @@
 /* Plans are admissible under the streamer's resampling (docs/planner.md,
  * "Limits between the knots"): plans resampled at 1 kHz by
  * ea_stream_resample (quintic Hermite of value, rate and acceleration,
- * planner/stream_*.c, outside the planner) pass ea_stream_check_limits (the
+ * planner/stream/stream_*.c, outside the planner) pass ea_stream_check_limits (the
  * arm's limits, shoulder speed and acceleration included) at every setpoint
  * without time scaling and without any margin inside the limits (the
  * default limits.resample_margin is 0): the paper line (30, 100, 200

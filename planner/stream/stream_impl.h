@@ -1,4 +1,4 @@
-/* Private: command streamer internals shared by planner/stream_*.c, the
+/* Private: command streamer internals shared by planner/stream/stream_*.c, the
  * stream tests and the fuzz target. */
 #ifndef EA_STREAM_IMPL_H
 #define EA_STREAM_IMPL_H

@@ -1,4 +1,4 @@
-/* Drive of an FE transient from sampled joint commands (planner/sim_impl.h). */
+/* Drive of an FE transient from sampled joint commands (planner/traj/sim_impl.h). */
 #include "sim_impl.h"
 
 #include <math.h>

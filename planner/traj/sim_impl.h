@@ -1,6 +1,6 @@
 /* Private: drive of an FE transient from sampled joint commands, shared by
- * ea_traj_simulate (planner/traj_sim.c: a trajectory) and `controller-sim --simulate`
- * (planner/cli_stream.c: the setpoints the controller accepted). */
+ * ea_traj_simulate (planner/traj/traj_sim.c: a trajectory) and `controller-sim --simulate`
+ * (planner/app/cli_stream.c: the setpoints the controller accepted). */
 #ifndef EA_SIM_IMPL_H
 #define EA_SIM_IMPL_H
 
