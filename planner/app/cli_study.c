@@ -329,277 +329,263 @@ static int ea__parse_metrics(const char *cmd, const char *v, unsigned *m) {
   return 0;
 }
 
-int ea__cli_study(int argc, char **argv) {
-  const char *cmd = "study";
-  if (argc >= 2 && !strcmp(argv[1], "merge")) return ea__study_merge_cli(argc - 1, argv + 1);
-  const char *spec = NULL, *out = NULL, *summary = NULL, *figures = NULL, *fmt = "svg";
-  const char *ckpt = NULL, *arm_file = NULL;
-  int no_ckpt = 0, restart = 0, quiet = 0, shorthand = 0, no_fsync = 0;
-  long threads = 0, stop_after = 0;
-  int shard_k = 1, shard_n = 1;
+/* Options of `study` (not `study merge`). */
+typedef struct {
+  const char *spec, *out, *summary, *figures, *fmt, *ckpt, *arm_file;
+  int no_ckpt, restart, quiet, shorthand, no_fsync, out_given;
+  long threads, stop_after;
+  int shard_k, shard_n;
   ea__shorthand_t sh;
-  memset(&sh, 0, sizeof sh);
-  sh.amin = -60;
-  sh.amax = 10;
-  sh.points = 71;
-  sh.modes = 3;
-  int rc = EA_EXIT_USAGE;
+  char out_buf[1100], sum_buf[1100], ck_buf[1200], fig_buf[1100];
+} ea__study_opts_t;
+
+/* --config L:A[,L:A...]: frequency configurations of `study payload`. */
+static int ea__parse_configs(const char *cmd, const char *v, ea__shorthand_t *sh) {
+  char buf[512];
+  snprintf(buf, sizeof buf, "%s", v);
+  sh->n_config = 0;
+  for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    double L, A;
+    char tail;
+    if (sh->n_config >= EA_STUDY_MAX_CONFIGS || sscanf(tok, "%lf:%lf%c", &L, &A, &tail) != 2 ||
+        !(L > 0) || !isfinite(A))
+      return ea__cli_usage_error(cmd, "--config: '%s' is not L:A[,L:A...] (at most %d)", v,
+                                 EA_STUDY_MAX_CONFIGS);
+    sh->cfg_L[sh->n_config] = L;
+    sh->cfg_a[sh->n_config++] = A;
+  }
+  return 0;
+}
+
+/* One option with a value (argv[*i], value v); 0 or the exit code. */
+static int ea__study_opt(const char *cmd, const char *a, const char *v, ea__study_opts_t *o) {
+  ea__shorthand_t *sh = &o->sh;
+  if (!strcmp(a, "-o") || !strcmp(a, "--output"))
+    o->out = v;
+  else if (!strcmp(a, "--summary"))
+    o->summary = v;
+  else if (!strcmp(a, "--figures"))
+    o->figures = v;
+  else if (!strcmp(a, "--figure-format")) {
+    o->fmt = v;
+    if (strcmp(v, "svg") && strcmp(v, "png") && strcmp(v, "pdf"))
+      return ea__cli_usage_error(cmd, "--figure-format: '%s' is not svg, png or pdf", v);
+  } else if (!strcmp(a, "--threads"))
+    return ea__cli_int(cmd, a, v, 1, 1024, &o->threads);
+  else if (!strcmp(a, "--stop-after"))
+    return ea__cli_int(cmd, a, v, 1, 100000000L, &o->stop_after);
+  else if (!strcmp(a, "--shard")) {
+    char tail;
+    if (sscanf(v, "%d/%d%c", &o->shard_k, &o->shard_n, &tail) != 2 || o->shard_n < 1 ||
+        o->shard_k < 1 || o->shard_k > o->shard_n)
+      return ea__cli_usage_error(cmd, "--shard: '%s' is not K/N with 1 <= K <= N", v);
+  } else if (!strcmp(a, "--checkpoint"))
+    o->ckpt = v;
+  else if (!strcmp(a, "--arm"))
+    o->arm_file = v;
+  else if (!strcmp(a, "--payload-factors")) {
+    free(sh->gam);
+    return ea__cli_list(cmd, a, v, &sh->gam, &sh->ng);
+  } else if (!strcmp(a, "--payload-kg")) {
+    free(sh->kg);
+    return ea__cli_list(cmd, a, v, &sh->kg, &sh->nkg);
+  } else if (!strcmp(a, "--metrics"))
+    return ea__parse_metrics(cmd, v, &sh->metrics);
+  else if (!strcmp(a, "--alpha-min-deg"))
+    return ea__cli_double(cmd, a, v, -180, 180, &sh->amin);
+  else if (!strcmp(a, "--alpha-max-deg"))
+    return ea__cli_double(cmd, a, v, -180, 180, &sh->amax);
+  else if (!strcmp(a, "--points"))
+    return ea__cli_int(cmd, a, v, 2, 100000, &sh->points);
+  else if (!strcmp(a, "--modes"))
+    return ea__cli_int(cmd, a, v, 1, EA_FE_MAX_MODES, &sh->modes);
+  else if (!strcmp(a, "--config"))
+    return ea__parse_configs(cmd, v, sh);
+  else if (!strcmp(a, "--path")) {
+    char tail;
+    sh->has_path = 1;
+    if (sscanf(v, "%lf,%lf,%lf,%lf%c", &sh->path[0], &sh->path[1], &sh->path[2], &sh->path[3],
+               &tail) != 4)
+      return ea__cli_usage_error(cmd, "--path: '%s' is not X0,Y0,X1,Y1", v);
+  } else if (!strcmp(a, "--task"))
+    sh->task = v;
+  else
+    return ea__cli_usage_error(cmd, "unknown option '%s'", a);
+  return 0;
+}
+
+/* The options; 0, -1 (help printed: exit 0) or the exit code. */
+static int ea__study_parse(const char *cmd, int argc, char **argv, ea__study_opts_t *o) {
+  o->fmt = "svg";
+  o->shard_k = o->shard_n = 1;
+  o->sh.amin = -60;
+  o->sh.amax = 10;
+  o->sh.points = 71;
+  o->sh.modes = 3;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v = NULL;
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__study_help(stdout);
-      rc = EA_EXIT_OK;
-      goto done;
+      return -1;
     }
-    if (!strcmp(a, "--quiet")) {
-      quiet = 1;
-      continue;
-    }
-    if (!strcmp(a, "--no-checkpoint")) {
-      no_ckpt = 1;
-      continue;
-    }
-    if (!strcmp(a, "--restart")) {
-      restart = 1;
-      continue;
-    }
-    if (!strcmp(a, "--no-fsync")) {
-      no_fsync = 1;
-      continue;
-    }
-    if (!strcmp(a, "--no-limits")) {
-      sh.no_limits = 1;
+    int *flag = !strcmp(a, "--quiet")           ? &o->quiet
+                : !strcmp(a, "--no-checkpoint") ? &o->no_ckpt
+                : !strcmp(a, "--restart")       ? &o->restart
+                : !strcmp(a, "--no-fsync")      ? &o->no_fsync
+                : !strcmp(a, "--no-limits")     ? &o->sh.no_limits
+                                                : NULL;
+    if (flag) {
+      *flag = 1;
       continue;
     }
     if (a[0] != '-' || !a[1]) {
-      if (spec) {
-        ea__cli_usage_error(cmd, "more than one spec ('%s' and '%s')", spec, a);
-        goto done;
-      }
-      spec = a;
-      shorthand = !strcmp(a, "payload");
+      if (o->spec)
+        return ea__cli_usage_error(cmd, "more than one spec ('%s' and '%s')", o->spec, a);
+      o->spec = a;
+      o->shorthand = !strcmp(a, "payload");
       continue;
     }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto done;
-    int bad = 0;
-    if (!strcmp(a, "-o") || !strcmp(a, "--output"))
-      out = v;
-    else if (!strcmp(a, "--summary"))
-      summary = v;
-    else if (!strcmp(a, "--figures"))
-      figures = v;
-    else if (!strcmp(a, "--figure-format")) {
-      fmt = v;
-      if (strcmp(v, "svg") && strcmp(v, "png") && strcmp(v, "pdf"))
-        bad = ea__cli_usage_error(cmd, "--figure-format: '%s' is not svg, png or pdf", v);
-    } else if (!strcmp(a, "--threads"))
-      bad = ea__cli_int(cmd, a, v, 1, 1024, &threads);
-    else if (!strcmp(a, "--stop-after"))
-      bad = ea__cli_int(cmd, a, v, 1, 100000000L, &stop_after);
-    else if (!strcmp(a, "--shard")) {
-      char tail;
-      if (sscanf(v, "%d/%d%c", &shard_k, &shard_n, &tail) != 2 || shard_n < 1 || shard_k < 1 ||
-          shard_k > shard_n)
-        bad = ea__cli_usage_error(cmd, "--shard: '%s' is not K/N with 1 <= K <= N", v);
-    } else if (!strcmp(a, "--checkpoint"))
-      ckpt = v;
-    else if (!strcmp(a, "--arm"))
-      arm_file = v;
-    else if (!strcmp(a, "--payload-factors")) {
-      free(sh.gam);
-      bad = ea__cli_list(cmd, a, v, &sh.gam, &sh.ng);
-    } else if (!strcmp(a, "--payload-kg")) {
-      free(sh.kg);
-      bad = ea__cli_list(cmd, a, v, &sh.kg, &sh.nkg);
-    } else if (!strcmp(a, "--metrics"))
-      bad = ea__parse_metrics(cmd, v, &sh.metrics);
-    else if (!strcmp(a, "--alpha-min-deg"))
-      bad = ea__cli_double(cmd, a, v, -180, 180, &sh.amin);
-    else if (!strcmp(a, "--alpha-max-deg"))
-      bad = ea__cli_double(cmd, a, v, -180, 180, &sh.amax);
-    else if (!strcmp(a, "--points"))
-      bad = ea__cli_int(cmd, a, v, 2, 100000, &sh.points);
-    else if (!strcmp(a, "--modes"))
-      bad = ea__cli_int(cmd, a, v, 1, EA_FE_MAX_MODES, &sh.modes);
-    else if (!strcmp(a, "--config")) {
-      char buf[512];
-      snprintf(buf, sizeof buf, "%s", v);
-      sh.n_config = 0;
-      for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok && !bad;
-           tok = strtok_r(NULL, ",", &save)) {
-        double L, A;
-        char tail;
-        if (sh.n_config >= EA_STUDY_MAX_CONFIGS || sscanf(tok, "%lf:%lf%c", &L, &A, &tail) != 2 ||
-            !(L > 0) || !isfinite(A))
-          bad = ea__cli_usage_error(cmd, "--config: '%s' is not L:A[,L:A...] (at most %d)", v,
-                                    EA_STUDY_MAX_CONFIGS);
-        else {
-          sh.cfg_L[sh.n_config] = L;
-          sh.cfg_a[sh.n_config++] = A;
-        }
-      }
-    } else if (!strcmp(a, "--path")) {
-      char tail;
-      if (sscanf(v, "%lf,%lf,%lf,%lf%c", &sh.path[0], &sh.path[1], &sh.path[2], &sh.path[3],
-                 &tail) != 4)
-        bad = ea__cli_usage_error(cmd, "--path: '%s' is not X0,Y0,X1,Y1", v);
-      sh.has_path = 1;
-    } else if (!strcmp(a, "--task"))
-      sh.task = v;
-    else
-      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) {
-      rc = bad;
-      goto done;
-    }
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    const int bad = ea__study_opt(cmd, a, v, o);
+    if (bad) return bad;
   }
-  if (!spec) {
-    ea__cli_usage_error(cmd, "no study spec (SPEC.yaml, 'payload' or 'merge')");
-    goto done;
-  }
-  if (!shorthand &&
-      (sh.gam || sh.kg || sh.metrics || sh.n_config || sh.has_path || sh.task || sh.no_limits)) {
-    ea__cli_usage_error(cmd, "--payload-factors, --metrics, --config, --path, --task, --no-limits "
-                             "belong to 'elasticarm study payload'");
-    goto done;
-  }
+  if (!o->spec) return ea__cli_usage_error(cmd, "no study spec (SPEC.yaml, 'payload' or 'merge')");
+  const ea__shorthand_t *sh = &o->sh;
+  if (!o->shorthand && (sh->gam || sh->kg || sh->metrics || sh->n_config || sh->has_path ||
+                        sh->task || sh->no_limits))
+    return ea__cli_usage_error(cmd, "--payload-factors, --metrics, --config, --path, --task, "
+                                    "--no-limits belong to 'elasticarm study payload'");
+  return 0;
+}
 
-  ea_study_t s;
+/* The study of `study payload`: the arm, one payload axis, the metrics' settings.
+ * 0 (s to be freed) or the exit code (s freed). */
+static int ea__study_shorthand(const char *cmd, const ea__study_opts_t *o, ea_study_t *s) {
+  const ea__shorthand_t *sh = &o->sh;
+  ea_arm_t arm;
+  int rc = ea__cli_load_arm(cmd, o->arm_file, &arm);
+  if (rc) return rc;
+  if (!!sh->gam == !!sh->kg)
+    return ea__cli_usage_error(cmd, "study payload: give --payload-factors or --payload-kg");
+  ea_study_init(s, &arm);
   ea_error_t err = {0};
-  ea_status_t st;
-  if (shorthand) {
-    ea_arm_t arm;
-    if ((rc = ea__cli_load_arm(cmd, arm_file, &arm))) goto done;
-    rc = EA_EXIT_USAGE;
-    ea_study_init(&s, &arm);
-    snprintf(s.name, sizeof s.name, "payload");
-    snprintf(s.arm_file, sizeof s.arm_file, "%s", arm_file ? arm_file : ea__cli_default_arm());
-    if (!!sh.gam == !!sh.kg) {
-      ea__cli_usage_error(cmd, "study payload: give --payload-factors or --payload-kg");
-      goto done;
-    }
-    if (sh.gam)
-      st = ea_study_set_axis(&s, EA_STUDY_PAYLOAD_FACTOR, sh.gam, sh.ng, &err);
-    else
-      st = ea_study_set_axis(&s, EA_STUDY_PAYLOAD_KG, sh.kg, sh.nkg, &err);
-    s.metrics = sh.metrics ? sh.metrics : EA_STUDY_M_WORKSPACE;
-    s.workspace.alpha_min = sh.amin * EA__DEG;
-    s.workspace.alpha_max = sh.amax * EA__DEG;
-    s.workspace.points = (int)sh.points;
-    s.workspace.limits = !sh.no_limits;
-    s.freq.modes = (int)sh.modes;
-    s.freq.n_config = sh.n_config;
-    for (int k = 0; k < sh.n_config; ++k) {
-      s.freq.cable_length[k] = sh.cfg_L[k];
-      s.freq.alpha[k] = sh.cfg_a[k] * EA__DEG;
-    }
-    if (sh.has_path) {
-      s.path.start[0] = sh.path[0];
-      s.path.start[1] = sh.path[1];
-      s.path.goal[0] = sh.path[2];
-      s.path.goal[1] = sh.path[3];
-    } else if (s.metrics & EA_STUDY_M_PATH) {
-      /* the paper's line, eq. 18 */
-      s.path.start[0] = 0.3;
-      s.path.start[1] = -0.2;
-      s.path.goal[0] = 0.6;
-      s.path.goal[1] = -0.2;
-    }
-    if (sh.task) snprintf(s.min_time.task_file, sizeof s.min_time.task_file, "%s", sh.task);
-    if (!st && (s.metrics & EA_STUDY_M_TORQUE)) {
-      s.torque.n_len = 13;
-      s.torque.n_alpha = 8;
-      s.torque.cable_length = malloc(13 * sizeof(double));
-      s.torque.alpha = malloc(8 * sizeof(double));
-      if (!s.torque.cable_length || !s.torque.alpha) st = EA_ERR_NOMEM;
-      for (int k = 0; !st && k < 13; ++k)
-        s.torque.cable_length[k] = arm.act.cable_length_min + 0.05 * k;
-      for (int k = 0; !st && k < 8; ++k)
-        s.torque.alpha[k] = (-60.0 + 10.0 * k) * EA__DEG;
-    }
-    if (!st) st = ea_study_check(&s, &err);
-    if (st) {
-      rc = ea__cli_fail(cmd, st, &err);
-      ea_study_free(&s);
-      goto done;
-    }
-  } else {
-    st = ea_study_load(spec, arm_file ? arm_file : ea__cli_default_arm(), &s, &err);
-    if (st) {
-      rc = ea__cli_fail(cmd, st, &err);
-      goto done;
-    }
+  snprintf(s->name, sizeof s->name, "payload");
+  snprintf(s->arm_file, sizeof s->arm_file, "%s",
+           o->arm_file ? o->arm_file : ea__cli_default_arm());
+  ea_status_t st = sh->gam ? ea_study_set_axis(s, EA_STUDY_PAYLOAD_FACTOR, sh->gam, sh->ng, &err)
+                           : ea_study_set_axis(s, EA_STUDY_PAYLOAD_KG, sh->kg, sh->nkg, &err);
+  s->metrics = sh->metrics ? sh->metrics : EA_STUDY_M_WORKSPACE;
+  s->workspace.alpha_min = sh->amin * EA__DEG;
+  s->workspace.alpha_max = sh->amax * EA__DEG;
+  s->workspace.points = (int)sh->points;
+  s->workspace.limits = !sh->no_limits;
+  s->freq.modes = (int)sh->modes;
+  s->freq.n_config = sh->n_config;
+  for (int k = 0; k < sh->n_config; ++k) {
+    s->freq.cable_length[k] = sh->cfg_L[k];
+    s->freq.alpha[k] = sh->cfg_a[k] * EA__DEG;
   }
+  /* the path: given, or the paper's line (eq. 18) */
+  const double path[4] = {0.3, -0.2, 0.6, -0.2};
+  if (sh->has_path || (s->metrics & EA_STUDY_M_PATH)) {
+    const double *p = sh->has_path ? sh->path : path;
+    s->path.start[0] = p[0];
+    s->path.start[1] = p[1];
+    s->path.goal[0] = p[2];
+    s->path.goal[1] = p[3];
+  }
+  if (sh->task) snprintf(s->min_time.task_file, sizeof s->min_time.task_file, "%s", sh->task);
+  if (!st && (s->metrics & EA_STUDY_M_TORQUE)) {
+    s->torque.n_len = 13;
+    s->torque.n_alpha = 8;
+    s->torque.cable_length = malloc(13 * sizeof(double));
+    s->torque.alpha = malloc(8 * sizeof(double));
+    if (!s->torque.cable_length || !s->torque.alpha) st = EA_ERR_NOMEM;
+    for (int k = 0; !st && k < 13; ++k)
+      s->torque.cable_length[k] = arm.act.cable_length_min + 0.05 * k;
+    for (int k = 0; !st && k < 8; ++k)
+      s->torque.alpha[k] = (-60.0 + 10.0 * k) * EA__DEG;
+  }
+  if (!st) st = ea_study_check(s, &err);
+  if (st) {
+    ea_study_free(s);
+    return ea__cli_fail(cmd, st, &err);
+  }
+  return 0;
+}
 
-  /* outputs: -o moves the summary and the spec's figures along with the CSV */
-  char out_buf[1100], sum_buf[1100], ck_buf[1200], fig_buf[1100];
-  const int out_given = out != NULL;
-  if (!out) {
-    if (s.out_csv[0] && shard_n == 1) {
-      out = s.out_csv;
+/* Output paths: -o moves the summary and the spec's figures along with the CSV; the
+ * journal beside the CSV unless told otherwise. 0 or the exit code. */
+static int ea__study_paths(const char *cmd, const ea_study_t *s, ea__study_opts_t *o) {
+  o->out_given = o->out != NULL;
+  if (!o->out) {
+    if (s->out_csv[0] && o->shard_n == 1) {
+      o->out = s->out_csv;
     } else {
       char stem[600];
-      if (s.out_csv[0])
-        ea__replace_ext(s.out_csv, "", stem, sizeof stem);
+      if (s->out_csv[0])
+        ea__replace_ext(s->out_csv, "", stem, sizeof stem);
       else
-        snprintf(stem, sizeof stem, "%.500s", s.name);
-      if (shard_n > 1)
-        snprintf(out_buf, sizeof out_buf, "%.600s.shard%d-of-%d.csv", stem, shard_k, shard_n);
+        snprintf(stem, sizeof stem, "%.500s", s->name);
+      if (o->shard_n > 1)
+        snprintf(o->out_buf, sizeof o->out_buf, "%.600s.shard%d-of-%d.csv", stem, o->shard_k,
+                 o->shard_n);
       else
-        snprintf(out_buf, sizeof out_buf, "%.600s.csv", stem);
-      out = out_buf;
+        snprintf(o->out_buf, sizeof o->out_buf, "%.600s.csv", stem);
+      o->out = o->out_buf;
     }
   }
-  const int to_stdout = !strcmp(out, "-");
-  if (!summary && !out_given && s.out_summary[0] && shard_n == 1) summary = s.out_summary;
-  if (!summary && !to_stdout) {
-    ea__replace_ext(out, ".json", sum_buf, sizeof sum_buf);
-    summary = sum_buf;
+  const int to_stdout = !strcmp(o->out, "-");
+  if (!o->summary && !o->out_given && s->out_summary[0] && o->shard_n == 1)
+    o->summary = s->out_summary;
+  if (!o->summary && !to_stdout) {
+    ea__replace_ext(o->out, ".json", o->sum_buf, sizeof o->sum_buf);
+    o->summary = o->sum_buf;
   }
-  if (!figures && s.out_figures[0] && shard_n == 1) {
-    if (out_given && !to_stdout) {
-      ea__replace_ext(out, "", fig_buf, sizeof fig_buf);
-      figures = fig_buf;
+  if (!o->figures && s->out_figures[0] && o->shard_n == 1) {
+    if (o->out_given && !to_stdout) {
+      ea__replace_ext(o->out, "", o->fig_buf, sizeof o->fig_buf);
+      o->figures = o->fig_buf;
     } else {
-      figures = s.out_figures;
+      o->figures = s->out_figures;
     }
   }
-  if (!ckpt && !no_ckpt && !to_stdout) {
-    snprintf(ck_buf, sizeof ck_buf, "%s.journal", out);
-    ckpt = ck_buf;
+  if (!o->ckpt && !o->no_ckpt && !to_stdout) {
+    snprintf(o->ck_buf, sizeof o->ck_buf, "%s.journal", o->out);
+    o->ckpt = o->ck_buf;
   }
-  if (no_ckpt) ckpt = NULL;
-  if (ckpt) {
+  if (o->no_ckpt) o->ckpt = NULL;
+  if (o->ckpt) {
     ea_error_t me = {0};
-    if (ea_mkdir_parents(ckpt, &me)) {
-      rc = ea__cli_fail(cmd, me.status, &me);
-      ea_study_free(&s);
-      goto done;
-    }
-    if (restart) unlink(ckpt);
+    if (ea_mkdir_parents(o->ckpt, &me)) return ea__cli_fail(cmd, me.status, &me);
+    if (o->restart) unlink(o->ckpt);
   }
+  return 0;
+}
 
+/* Run the study (the min_time planner callback when asked for, Ctrl-C finishes the
+ * running cases). 0 with *csv, or the exit code. */
+static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const ea_study_t *s,
+                             char **csv, size_t *csv_len, ea_study_info_t *info) {
+  ea_error_t err = {0};
+  ea_status_t st;
   ea__study_plan_t *plan = NULL;
-  if (s.metrics & EA_STUDY_M_MIN_TIME) {
-    if ((st = ea__study_plan_alloc(&s, ea__cli_default_arm(), &plan, &err))) {
-      rc = ea__cli_fail(cmd, st, &err);
-      ea_study_free(&s);
-      goto done;
-    }
-  }
+  if ((s->metrics & EA_STUDY_M_MIN_TIME) &&
+      (st = ea__study_plan_alloc(s, ea__cli_default_arm(), &plan, &err)))
+    return ea__cli_fail(cmd, st, &err);
   ea_study_settings_t set;
   ea_study_settings_default(&set);
-  set.threads = (int)threads;
-  set.shard_k = shard_k;
-  set.shard_n = shard_n;
-  set.checkpoint = ckpt;
-  set.fsync = !no_fsync;
-  set.stop_after = stop_after;
+  set.threads = (int)o->threads;
+  set.shard_k = o->shard_k;
+  set.shard_n = o->shard_n;
+  set.checkpoint = o->ckpt;
+  set.fsync = !o->no_fsync;
+  set.stop_after = o->stop_after;
   set.stop_request = &ea__study_stop;
   set.min_time = plan ? ea__study_min_time : NULL;
   set.min_time_data = plan;
   set.min_time_key = ea__study_plan_key(plan);
-  int tty = !quiet && isatty(STDERR_FILENO);
+  int tty = !o->quiet && isatty(STDERR_FILENO);
   set.progress = ea__progress;
   set.progress_data = &tty;
   struct sigaction sa, old;
@@ -608,97 +594,133 @@ int ea__cli_study(int argc, char **argv) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, &old);
   sigaction(SIGTERM, &sa, NULL);
-
-  char *csv = NULL;
-  size_t csv_len = 0;
-  ea_study_info_t info;
-  st = ea_study_run(&s, &set, &csv, &csv_len, &info, &err);
+  st = ea_study_run(s, &set, csv, csv_len, info, &err);
   sigaction(SIGINT, &old, NULL);
   signal(SIGTERM, SIG_DFL);
   if (tty) fputc('\n', stderr);
   ea__study_plan_free(plan);
   if (st == EA_ERR_INTERRUPTED) {
     fprintf(stderr, "elasticarm study: interrupted: %s\n", err.msg);
-    if (ckpt) fprintf(stderr, "elasticarm study: checkpoint %s\n", ckpt);
-    rc = EA_EXIT_FAIL;
-    ea_study_free(&s);
-    goto done;
+    if (o->ckpt) fprintf(stderr, "elasticarm study: checkpoint %s\n", o->ckpt);
+    return EA_EXIT_FAIL;
   }
-  if (st) {
+  return st ? ea__cli_fail(cmd, st, &err) : 0;
+}
+
+/* The CSV, its summary and figures; the journal removed once they are written.
+ * 0 or the exit code; *nfig counts the figures. */
+static int ea__study_reports(const char *cmd, const ea__study_opts_t *o, const ea_study_t *s,
+                             const char *csv, size_t csv_len, const ea_study_info_t *info,
+                             ea__study_table_t *t, int *nfig) {
+  ea_error_t err = {0};
+  ea_status_t st;
+  int rc = ea__write_text(cmd, o->out, csv, csv_len);
+  if (!rc && (o->summary || o->figures) &&
+      (st = ea__study_table_parse(csv, csv_len, o->out, t, &err)))
     rc = ea__cli_fail(cmd, st, &err);
-    ea_study_free(&s);
+  if (!rc && o->summary) {
+    char spec_rel[1200], csv_rel[1200];
+    ea__summary_paths(o->summary, o->shorthand ? NULL : o->spec, o->out, spec_rel, csv_rel,
+                      sizeof spec_rel);
+    ea__study_run_facts_t f = {.name = s->name,
+                               .spec = o->shorthand ? NULL : spec_rel,
+                               .csv = csv_rel,
+                               .info = info,
+                               .shard_k = o->shard_k,
+                               .shard_n = o->shard_n};
+    if ((st = ea__study_summary_write(t, &f, o->summary, &err))) rc = ea__cli_fail(cmd, st, &err);
+  }
+  if (!rc && o->figures && (st = ea__study_figures(s, t, o->figures, o->fmt, nfig, &err))) {
+    fprintf(stderr, "elasticarm study: figure: %s\n", err.msg);
+    rc = EA_EXIT_FAIL;
+  }
+  if (!rc && o->ckpt) unlink(o->ckpt); /* the outputs are committed: the journal has served */
+  return rc;
+}
+
+/* Per metric: unit, rows ok and failed, range of the values. */
+static void ea__study_print_metrics(const ea__study_table_t *t) {
+  printf("%-30s %-6s %6s %6s %14s %14s\n", "metric", "unit", "ok", "failed", "min", "max");
+  char seen[64][64];
+  int ns = 0;
+  for (long i = 0; i < t->n_rows && ns < 64; ++i) {
+    int k = 0;
+    while (k < ns && strcmp(seen[k], t->rows[i].metric))
+      ++k;
+    if (k < ns) continue;
+    snprintf(seen[ns++], 64, "%s", t->rows[i].metric);
+    long ok = 0, bad = 0;
+    double lo = NAN, hi = NAN;
+    for (long q = 0; q < t->n_rows; ++q) {
+      if (strcmp(t->rows[q].metric, t->rows[i].metric)) continue;
+      if (!t->rows[q].ok) {
+        ++bad;
+        continue;
+      }
+      ++ok;
+      const double v = t->rows[q].value;
+      if (isfinite(v)) {
+        lo = isfinite(lo) ? fmin(lo, v) : v;
+        hi = isfinite(hi) ? fmax(hi, v) : v;
+      }
+    }
+    printf("%-30s %-6s %6ld %6ld %14.6g %14.6g\n", t->rows[i].metric, t->rows[i].unit, ok, bad, lo,
+           hi);
+  }
+}
+
+/* study SPEC.yaml | study payload [...]: parse, build or load, paths, run, reports. */
+int ea__cli_study(int argc, char **argv) {
+  const char *cmd = "study";
+  if (argc >= 2 && !strcmp(argv[1], "merge")) return ea__study_merge_cli(argc - 1, argv + 1);
+  ea__study_opts_t o;
+  memset(&o, 0, sizeof o);
+  int rc = ea__study_parse(cmd, argc, argv, &o);
+  ea_study_t s;
+  if (rc) {
+    rc = rc < 0 ? EA_EXIT_OK : rc;
     goto done;
   }
-  rc = ea__write_text(cmd, out, csv, csv_len);
-  ea__study_table_t t;
-  memset(&t, 0, sizeof t);
-  if (!rc && (summary || figures)) {
-    if ((st = ea__study_table_parse(csv, csv_len, out, &t, &err))) rc = ea__cli_fail(cmd, st, &err);
-  }
-  if (!rc && summary) {
-    char spec_rel[1200], csv_rel[1200];
-    ea__summary_paths(summary, shorthand ? NULL : spec, out, spec_rel, csv_rel, sizeof spec_rel);
-    ea__study_run_facts_t f = {.name = s.name,
-                               .spec = shorthand ? NULL : spec_rel,
-                               .csv = csv_rel,
-                               .info = &info,
-                               .shard_k = shard_k,
-                               .shard_n = shard_n};
-    if ((st = ea__study_summary_write(&t, &f, summary, &err))) rc = ea__cli_fail(cmd, st, &err);
-  }
-  int nfig = 0;
-  if (!rc && figures) {
-    if ((st = ea__study_figures(&s, &t, figures, fmt, &nfig, &err))) {
-      fprintf(stderr, "elasticarm study: figure: %s\n", err.msg);
-      rc = EA_EXIT_FAIL;
+  if (o.shorthand) {
+    if ((rc = ea__study_shorthand(cmd, &o, &s))) goto done;
+  } else {
+    ea_error_t err = {0};
+    ea_status_t st =
+        ea_study_load(o.spec, o.arm_file ? o.arm_file : ea__cli_default_arm(), &s, &err);
+    if (st) {
+      rc = ea__cli_fail(cmd, st, &err);
+      goto done;
     }
   }
-  if (!rc && ckpt) unlink(ckpt); /* the outputs are committed: the journal has served */
-  if (!quiet && !to_stdout) {
-    printf("study %s: %ld case(s)%s, %ld computed, %ld from the checkpoint, %ld with failures "
-           "(%ld rows), %d thread(s), %.3f s\n",
-           s.name, info.cases_shard, shard_n > 1 ? " in this shard" : "", info.cases_computed,
-           info.cases_skipped, info.cases_failed, info.rows_failed, info.threads, info.time_s);
-    if (info.journal_dropped_bytes)
-      printf("checkpoint: dropped a torn tail of %ld bytes\n", info.journal_dropped_bytes);
-    if (!rc) {
-      printf("%-30s %-6s %6s %6s %14s %14s\n", "metric", "unit", "ok", "failed", "min", "max");
-      char seen[64][64];
-      int ns = 0;
-      for (long i = 0; i < t.n_rows && ns < 64; ++i) {
-        int k = 0;
-        while (k < ns && strcmp(seen[k], t.rows[i].metric))
-          ++k;
-        if (k < ns) continue;
-        snprintf(seen[ns++], 64, "%s", t.rows[i].metric);
-        long ok = 0, bad = 0;
-        double lo = NAN, hi = NAN;
-        for (long q = 0; q < t.n_rows; ++q) {
-          if (strcmp(t.rows[q].metric, t.rows[i].metric)) continue;
-          if (!t.rows[q].ok) {
-            ++bad;
-            continue;
-          }
-          ++ok;
-          const double v = t.rows[q].value;
-          if (isfinite(v)) {
-            lo = isfinite(lo) ? fmin(lo, v) : v;
-            hi = isfinite(hi) ? fmax(hi, v) : v;
-          }
-        }
-        printf("%-30s %-6s %6ld %6ld %14.6g %14.6g\n", t.rows[i].metric, t.rows[i].unit, ok, bad,
-               lo, hi);
+  char *csv = NULL;
+  size_t csv_len = 0;
+  ea_study_info_t info;
+  ea__study_table_t t;
+  memset(&t, 0, sizeof t);
+  int nfig = 0;
+  if (!(rc = ea__study_paths(cmd, &s, &o)) &&
+      !(rc = ea__study_execute(cmd, &o, &s, &csv, &csv_len, &info))) {
+    rc = ea__study_reports(cmd, &o, &s, csv, csv_len, &info, &t, &nfig);
+    if (!o.quiet && strcmp(o.out, "-")) {
+      printf("study %s: %ld case(s)%s, %ld computed, %ld from the checkpoint, %ld with failures "
+             "(%ld rows), %d thread(s), %.3f s\n",
+             s.name, info.cases_shard, o.shard_n > 1 ? " in this shard" : "", info.cases_computed,
+             info.cases_skipped, info.cases_failed, info.rows_failed, info.threads, info.time_s);
+      if (info.journal_dropped_bytes)
+        printf("checkpoint: dropped a torn tail of %ld bytes\n", info.journal_dropped_bytes);
+      if (!rc) {
+        ea__study_print_metrics(&t);
+        printf("wrote %s%s%s", o.out, o.summary ? ", " : "", o.summary ? o.summary : "");
+        if (nfig) printf(", %d figure(s) %s-*.%s", nfig, o.figures, o.fmt);
+        printf("\n");
       }
-      printf("wrote %s%s%s", out, summary ? ", " : "", summary ? summary : "");
-      if (nfig) printf(", %d figure(s) %s-*.%s", nfig, figures, fmt);
-      printf("\n");
     }
   }
   ea__study_table_free(&t);
   free(csv);
   ea_study_free(&s);
 done:
-  free(sh.gam);
-  free(sh.kg);
+  free(o.sh.gam);
+  free(o.sh.kg);
   return rc;
 }
