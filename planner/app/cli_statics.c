@@ -390,6 +390,238 @@ static void ea__ws_where(const ea_workspace_extremum_t *e, char *buf, size_t len
     snprintf(buf + w, len - (size_t)w, " [%s: the range bounds it]", ea_ws_bound_name(e->at_end));
 }
 
+/* The workspace command: options, then per payload factor the region's metrics and
+ * both edges. */
+typedef struct {
+  ea__common_t c;
+  double amin, amax, inner; /* [deg], [deg], [m] */
+  long npts;
+  int no_limits;
+  double *gam; /* payload factors (owned) */
+  int ng;
+  /* results */
+  ea_arm_t arm;
+  int n; /* cable angles */
+  double *alpha;
+  ea_config_point_t *outer, *inn; /* ng x n each */
+  ea_workspace_metrics_t *met;    /* ng */
+  ea_workspace_settings_t wset;
+  ea_shooter_t *sh;
+  int failures; /* payloads with outer-edge points without a solution */
+} ea__ws_run_t;
+
+/* Options; 0 or the exit code. */
+static int ea__ws_parse(const char *cmd, int argc, char **argv, ea__ws_run_t *w) {
+  w->amin = -60.0;
+  w->amax = 10.0;
+  w->inner = NAN;
+  w->npts = 71;
+  for (int i = 1; i < argc; ++i) {
+    int r = ea__common_opt(cmd, argc, argv, &i, &w->c);
+    if (r < 0) return EA_EXIT_USAGE;
+    if (r) continue;
+    const char *a = argv[i], *v;
+    if (!strcmp(a, "--no-limits")) {
+      w->no_limits = 1;
+      continue;
+    }
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    int bad;
+    if (!strcmp(a, "--payload-factors")) {
+      free(w->gam);
+      bad = ea__cli_list(cmd, a, v, &w->gam, &w->ng);
+      for (int k = 0; !bad && k < w->ng; ++k)
+        if (!(w->gam[k] >= 0 && w->gam[k] <= 100))
+          bad = ea__cli_usage_error(cmd, "%s: payload factor %g is outside [0, 100]", a, w->gam[k]);
+    } else if (!strcmp(a, "--alpha-min-deg"))
+      bad = ea__cli_double(cmd, a, v, -180, 180, &w->amin);
+    else if (!strcmp(a, "--alpha-max-deg"))
+      bad = ea__cli_double(cmd, a, v, -180, 180, &w->amax);
+    else if (!strcmp(a, "--points"))
+      bad = ea__cli_int(cmd, a, v, 2, 100000, &w->npts);
+    else if (!strcmp(a, "--inner-length"))
+      bad = ea__cli_double(cmd, a, v, 1e-6, 100, &w->inner);
+    else
+      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
+    if (bad) return bad;
+  }
+  if (!(w->amin < w->amax))
+    return ea__cli_usage_error(cmd, "--alpha-min-deg %g must be below --alpha-max-deg %g", w->amin,
+                               w->amax);
+  if (!w->gam) {
+    static const double def[] = {0.0, 0.1, 0.25, 0.5};
+    w->ng = 4;
+    if (!(w->gam = malloc(sizeof def))) return ea__cli_oom(cmd, "payload factors");
+    memcpy(w->gam, def, sizeof def);
+  }
+  return 0;
+}
+
+/* Per payload: the metrics first (a region that is empty or ill-defined is an error
+ * before anything is written), then the outer and inner edges. 0 or the exit code. */
+static int ea__ws_compute(const char *cmd, ea__ws_run_t *w) {
+  int rc = ea__cli_load_arm(cmd, w->c.arm_file, &w->arm);
+  if (rc) return rc;
+  const ea_arm_t *arm = &w->arm;
+  if (!isfinite(w->inner)) w->inner = arm->act.cable_length_min;
+  const int n = w->n = (int)w->npts, ng = w->ng;
+  w->alpha = malloc((size_t)n * sizeof *w->alpha);
+  w->outer = calloc((size_t)n * ng, sizeof *w->outer);
+  w->inn = calloc((size_t)n * ng, sizeof *w->inn);
+  w->met = calloc((size_t)ng, sizeof *w->met);
+  if (!w->alpha || !w->outer || !w->inn || !w->met) return ea__cli_oom(cmd, "workspace edges");
+  for (int k = 0; k < n; ++k)
+    w->alpha[k] = (w->amin + (w->amax - w->amin) * k / (n - 1)) * EA__DEG;
+  if ((rc = ea__make_shooter(cmd, arm, arm->m_hand, &w->sh))) return rc;
+  ea_workspace_settings_default(&w->wset);
+  w->wset.alpha_min = w->amin * EA__DEG;
+  w->wset.alpha_max = w->amax * EA__DEG;
+  w->wset.inner_cable_length = w->inner;
+  w->wset.limits = !w->no_limits;
+  w->wset.samples = n;
+  for (int g = 0; g < ng; ++g) {
+    ea_load_t load = {ea_arm_tip_mass(arm, ea_arm_payload_from_factor(arm, w->gam[g]))};
+    ea_shooter_set_load(w->sh, &load);
+    ea_error_t me = {0};
+    const ea_status_t ms = ea_workspace_metrics(w->sh, &w->wset, &w->met[g], &me);
+    if (ms) {
+      fprintf(stderr, "elasticarm %s: error: payload factor %g: %s\n", cmd, w->gam[g], me.msg);
+      return ms == EA_ERR_INADMISSIBLE || ms == EA_ERR_ARG ? EA_EXIT_USAGE : EA_EXIT_FAIL;
+    }
+    if (ea_workspace_outer(w->sh, w->alpha, n, w->outer + (size_t)g * n)) ++w->failures;
+    ea_workspace_inner(w->sh, w->inner, w->alpha, n, w->inn + (size_t)g * n);
+  }
+  return 0;
+}
+
+static void ea__ws_json(const ea__ws_run_t *w) {
+  const int n = w->n;
+  ea_json_t j;
+  ea_json_init(&j, stdout, 1);
+  ea_json_obj_begin(&j, NULL);
+  ea_json_num(&j, "inner_cable_length_m", w->inner);
+  ea_json_num(&j, "alpha_min_rad", w->wset.alpha_min);
+  ea_json_num(&j, "alpha_max_rad", w->wset.alpha_max);
+  ea_json_bool(&j, "limits", w->wset.limits);
+  ea_json_arr_begin(&j, "payloads");
+  for (int g = 0; g < w->ng; ++g) {
+    const ea_config_point_t *o = w->outer + (size_t)g * n, *in = w->inn + (size_t)g * n;
+    const ea_workspace_metrics_t *m = &w->met[g];
+    ea_json_obj_begin(&j, NULL);
+    ea_json_num(&j, "payload_factor", w->gam[g]);
+    ea_json_num(&j, "payload_kg", ea_arm_payload_from_factor(&w->arm, w->gam[g]));
+    ea_json_num(&j, "area_m2", m->area);
+    ea_json_num(&j, "area_error_m2", m->area_error);
+    const ea_workspace_extremum_t *ex[3] = {&m->reach, &m->x_max, &m->y_min};
+    static const char *const names[3] = {"max_reach", "x_max", "y_min"};
+    for (int q = 0; q < 3; ++q) {
+      ea_json_obj_begin(&j, names[q]);
+      ea_json_num(&j, "value_m", ex[q]->value);
+      ea_json_num(&j, "cable_angle_rad", ex[q]->alpha);
+      ea_json_num(&j, "cable_length_m", ex[q]->cable_length);
+      ea_json_vec(&j, "tip_m", (double[]){ex[q]->x, ex[q]->y}, 2);
+      ea_json_str(&j, "bound", ea_ws_bound_name(ex[q]->bound));
+      if (ex[q]->bound2) ea_json_str(&j, "bound2", ea_ws_bound_name(ex[q]->bound2));
+      ea_json_bool(&j, "at_range_end", ex[q]->at_end != EA_WS_NONE);
+      ea_json_obj_end(&j);
+    }
+    ea_json_arr_begin(&j, "region_bounds");
+    for (int k = EA_WS_OUTER; k < EA_WS_ALPHA_MIN; ++k)
+      if (m->bounds & (1u << k)) ea_json_str(&j, NULL, ea_ws_bound_name((ea_ws_bound_t)k));
+    ea_json_arr_end(&j);
+    ea_json_arr_begin(&j, "outer");
+    for (int k = 0; k < n; ++k)
+      ea__json_point(&j, NULL, &o[k]);
+    ea_json_arr_end(&j);
+    ea_json_arr_begin(&j, "inner");
+    for (int k = 0; k < n; ++k)
+      ea__json_point(&j, NULL, &in[k]);
+    ea_json_arr_end(&j);
+    ea_json_obj_end(&j);
+  }
+  ea_json_arr_end(&j);
+  ea_json_obj_end(&j);
+  ea_json_end(&j);
+}
+
+static void ea__ws_text(const ea__ws_run_t *w) {
+  printf("region: cable angle %g to %g deg, inner cable %.4g m, %s\n", w->amin, w->amax, w->inner,
+         w->no_limits ? "no actuator limits (--no-limits)" : "within the arm's limits");
+  printf("%-7s %-14s %-14s %-14s %-14s\n", "gamma", "area_m2", "max_reach_m", "x_max_m", "y_min_m");
+  for (int g = 0; g < w->ng; ++g)
+    printf("%-7.4g %-14.10f %-14.10f %-14.10f %-14.10f\n", w->gam[g], w->met[g].area,
+           w->met[g].reach.value, w->met[g].x_max.value, w->met[g].y_min.value);
+  for (int g = 0; g < w->ng; ++g) {
+    char w1[300], w2[300], w3[300];
+    ea__ws_where(&w->met[g].reach, w1, sizeof w1);
+    ea__ws_where(&w->met[g].x_max, w2, sizeof w2);
+    ea__ws_where(&w->met[g].y_min, w3, sizeof w3);
+    printf("gamma %g: max_reach at %s\n          x_max at %s\n          y_min at %s\n", w->gam[g],
+           w1, w2, w3);
+  }
+}
+
+/* Fig. 3: the outer edges, the inner edge, the cable root and T = 0 shapes. 0 or the
+ * exit code. */
+static int ea__ws_figure(const char *cmd, ea__ws_run_t *w) {
+  const int n = w->n;
+  const ea_arm_t *arm = &w->arm;
+  ea_plot_t *pl;
+  ea_error_t fe = {0};
+  if (ea_plot_open(&pl, w->c.figure, 800, 650, &fe) == EA_OK) {
+    for (int g = 0; g < w->ng; ++g) {
+      char name[32];
+      snprintf(name, sizeof name, "outer%d", g);
+      ea_plot_data_begin(pl, name);
+      for (int k = 0; k < n; ++k) {
+        const ea_config_point_t *o = w->outer + (size_t)g * n + k;
+        const double row[2] = {o->status ? NAN : o->x, o->y};
+        ea_plot_data_row(pl, 2, row);
+      }
+      ea_plot_data_end(pl);
+    }
+    ea_plot_data_begin(pl, "inner");
+    for (int k = 0; k < n; ++k)
+      ea_plot_data_row(pl, 2,
+                       (double[]){arm->x_c + w->inner * cos(w->alpha[k]),
+                                  arm->y_c + w->inner * sin(w->alpha[k])});
+    ea_plot_data_end(pl);
+    ea_plot_data_begin(pl, "root");
+    ea_plot_data_row(pl, 2, (double[]){arm->x_c, arm->y_c});
+    ea_plot_data_end(pl);
+    ea_plot_data_begin(pl, "beams");
+    ea_load_t load0 = {ea_arm_tip_mass(arm, ea_arm_payload_from_factor(arm, w->gam[0]))};
+    ea_shooter_set_load(w->sh, &load0);
+    for (int k = 0; k<n; k += (n - 1) / 3> 0 ? (n - 1) / 3 : 1) {
+      const ea_config_point_t *o = w->outer + k;
+      if (o->status) continue;
+      ea__plot_beam(pl, w->sh, (double[]){o->alpha, o->tension, o->theta0, o->kappa0}, 61);
+    }
+    ea_plot_data_end(pl);
+    ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
+                    "set title 'Workspace for payload factors {/Symbol g} (Fig. 3)'\n"
+                    "set key outside right");
+    char plot[4096];
+    int used =
+        snprintf(plot, sizeof plot,
+                 "plot $beams w l lc rgb '#bbbbbb' t 'T = 0 shapes ({/Symbol g} = %g)'", w->gam[0]);
+    for (int g = 0; g < w->ng && used < (int)sizeof plot - 100; ++g)
+      used += snprintf(plot + used, sizeof plot - (size_t)used,
+                       ", $outer%d w l lw 2 t 'outer, {/Symbol g} = %g'", g, w->gam[g]);
+    snprintf(plot + used, sizeof plot - (size_t)used,
+             ", $inner w l lw 2 dt 2 lc rgb 'black' t 'inner, L_c = %.3f m', $root w p pt 7 "
+             "ps 1.5 lc rgb '#c0392b' t 'cable root'",
+             w->inner);
+    ea_plot_cmd(pl, "%s", plot);
+    fe.status = ea_plot_close(pl, &fe);
+  }
+  if (fe.status) {
+    fprintf(stderr, "elasticarm %s: figure: %s\n", cmd, fe.msg);
+    return EA_EXIT_FAIL;
+  }
+  return 0;
+}
+
 int ea__cli_workspace(int argc, char **argv) {
   const char *cmd = "workspace";
   if (ea__help_requested(argc, argv)) {
@@ -413,238 +645,34 @@ int ea__cli_workspace(int argc, char **argv) {
            ea__common_help);
     return EA_EXIT_OK;
   }
-  ea__common_t c = {0};
-  double amin = -60.0, amax = 10.0, inner = NAN;
-  long npts = 71;
-  int no_limits = 0;
-  double *gam = NULL;
-  int ng = 0, rc_usage = EA_EXIT_USAGE; /* (or EA_EXIT_FAIL: out of memory) */
-  for (int i = 1; i < argc; ++i) {
-    int r = ea__common_opt(cmd, argc, argv, &i, &c);
-    if (r < 0) goto usage;
-    if (r) continue;
-    const char *a = argv[i], *v;
-    if (!strcmp(a, "--no-limits")) {
-      no_limits = 1;
-      continue;
-    }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto usage;
-    int bad;
-    if (!strcmp(a, "--payload-factors")) {
-      free(gam);
-      bad = ea__cli_list(cmd, a, v, &gam, &ng);
-      for (int k = 0; !bad && k < ng; ++k)
-        if (!(gam[k] >= 0 && gam[k] <= 100))
-          bad = ea__cli_usage_error(cmd, "%s: payload factor %g is outside [0, 100]", a, gam[k]);
-    } else if (!strcmp(a, "--alpha-min-deg"))
-      bad = ea__cli_double(cmd, a, v, -180, 180, &amin);
-    else if (!strcmp(a, "--alpha-max-deg"))
-      bad = ea__cli_double(cmd, a, v, -180, 180, &amax);
-    else if (!strcmp(a, "--points"))
-      bad = ea__cli_int(cmd, a, v, 2, 100000, &npts);
-    else if (!strcmp(a, "--inner-length"))
-      bad = ea__cli_double(cmd, a, v, 1e-6, 100, &inner);
-    else
-      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) {
-      rc_usage = bad;
-      goto usage;
-    }
+  ea__ws_run_t w;
+  memset(&w, 0, sizeof w);
+  int rc = ea__ws_parse(cmd, argc, argv, &w);
+  if (!rc) rc = ea__ws_compute(cmd, &w);
+  if (!rc && w.c.csv) {
+    struct ea__ws_csv ctx = {w.gam, w.outer, w.inn, w.n};
+    rc = ea__write_points_csv(cmd, w.c.csv, "payload_factor,edge,", 2 * w.n * w.ng, ea__ws_point,
+                              ea__ws_prefix, &ctx);
   }
-  if (!(amin < amax)) {
-    ea__cli_usage_error(cmd, "--alpha-min-deg %g must be below --alpha-max-deg %g", amin, amax);
-    goto usage;
-  }
-  if (!gam) {
-    static const double def[] = {0.0, 0.1, 0.25, 0.5};
-    ng = 4;
-    gam = malloc(sizeof def);
-    if (!gam) return EA_EXIT_FAIL;
-    memcpy(gam, def, sizeof def);
-  }
-  ea_arm_t arm;
-  int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);
-  if (rc) {
-    free(gam);
-    return rc;
-  }
-  if (!isfinite(inner)) inner = arm.act.cable_length_min;
-  const int n = (int)npts;
-  double *alpha = malloc((size_t)n * sizeof *alpha);
-  ea_config_point_t *outer = calloc((size_t)n * ng, sizeof *outer);
-  ea_config_point_t *inn = calloc((size_t)n * ng, sizeof *inn);
-  ea_workspace_metrics_t *met = calloc((size_t)ng, sizeof *met);
-  ea_shooter_t *sh = NULL;
-  if (!alpha || !outer || !inn || !met) {
-    rc = EA_EXIT_FAIL;
-    goto out;
-  }
-  for (int k = 0; k < n; ++k)
-    alpha[k] = (amin + (amax - amin) * k / (n - 1)) * EA__DEG;
-  if ((rc = ea__make_shooter(cmd, &arm, arm.m_hand, &sh))) goto out;
-  ea_workspace_settings_t wset;
-  ea_workspace_settings_default(&wset);
-  wset.alpha_min = amin * EA__DEG;
-  wset.alpha_max = amax * EA__DEG;
-  wset.inner_cable_length = inner;
-  wset.limits = !no_limits;
-  wset.samples = n;
-  int failures = 0;
-  for (int g = 0; g < ng; ++g) {
-    ea_load_t load = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, gam[g]))};
-    ea_shooter_set_load(sh, &load);
-    /* the metrics first: a region that is empty or ill-defined is an error
-       before anything is written */
-    ea_error_t me = {0};
-    const ea_status_t ms = ea_workspace_metrics(sh, &wset, &met[g], &me);
-    if (ms) {
-      fprintf(stderr, "elasticarm %s: error: payload factor %g: %s\n", cmd, gam[g], me.msg);
-      rc = ms == EA_ERR_INADMISSIBLE || ms == EA_ERR_ARG ? EA_EXIT_USAGE : EA_EXIT_FAIL;
-      goto out;
-    }
-    if (ea_workspace_outer(sh, alpha, n, outer + (size_t)g * n)) ++failures;
-    ea_workspace_inner(sh, inner, alpha, n, inn + (size_t)g * n);
-  }
-  if (c.csv) {
-    struct ea__ws_csv ctx = {gam, outer, inn, n};
-    if ((rc = ea__write_points_csv(cmd, c.csv, "payload_factor,edge,", 2 * n * ng, ea__ws_point,
-                                   ea__ws_prefix, &ctx)))
-      goto out;
-  }
-  if (c.json) {
-    ea_json_t j;
-    ea_json_init(&j, stdout, 1);
-    ea_json_obj_begin(&j, NULL);
-    ea_json_num(&j, "inner_cable_length_m", inner);
-    ea_json_num(&j, "alpha_min_rad", wset.alpha_min);
-    ea_json_num(&j, "alpha_max_rad", wset.alpha_max);
-    ea_json_bool(&j, "limits", wset.limits);
-    ea_json_arr_begin(&j, "payloads");
-    for (int g = 0; g < ng; ++g) {
-      const ea_config_point_t *o = outer + (size_t)g * n, *in = inn + (size_t)g * n;
-      const ea_workspace_metrics_t *m = &met[g];
-      ea_json_obj_begin(&j, NULL);
-      ea_json_num(&j, "payload_factor", gam[g]);
-      ea_json_num(&j, "payload_kg", ea_arm_payload_from_factor(&arm, gam[g]));
-      ea_json_num(&j, "area_m2", m->area);
-      ea_json_num(&j, "area_error_m2", m->area_error);
-      const ea_workspace_extremum_t *ex[3] = {&m->reach, &m->x_max, &m->y_min};
-      static const char *const names[3] = {"max_reach", "x_max", "y_min"};
-      for (int q = 0; q < 3; ++q) {
-        ea_json_obj_begin(&j, names[q]);
-        ea_json_num(&j, "value_m", ex[q]->value);
-        ea_json_num(&j, "cable_angle_rad", ex[q]->alpha);
-        ea_json_num(&j, "cable_length_m", ex[q]->cable_length);
-        ea_json_vec(&j, "tip_m", (double[]){ex[q]->x, ex[q]->y}, 2);
-        ea_json_str(&j, "bound", ea_ws_bound_name(ex[q]->bound));
-        if (ex[q]->bound2) ea_json_str(&j, "bound2", ea_ws_bound_name(ex[q]->bound2));
-        ea_json_bool(&j, "at_range_end", ex[q]->at_end != EA_WS_NONE);
-        ea_json_obj_end(&j);
-      }
-      ea_json_arr_begin(&j, "region_bounds");
-      for (int k = EA_WS_OUTER; k < EA_WS_ALPHA_MIN; ++k)
-        if (m->bounds & (1u << k)) ea_json_str(&j, NULL, ea_ws_bound_name((ea_ws_bound_t)k));
-      ea_json_arr_end(&j);
-      ea_json_arr_begin(&j, "outer");
-      for (int k = 0; k < n; ++k)
-        ea__json_point(&j, NULL, &o[k]);
-      ea_json_arr_end(&j);
-      ea_json_arr_begin(&j, "inner");
-      for (int k = 0; k < n; ++k)
-        ea__json_point(&j, NULL, &in[k]);
-      ea_json_arr_end(&j);
-      ea_json_obj_end(&j);
-    }
-    ea_json_arr_end(&j);
-    ea_json_obj_end(&j);
-    ea_json_end(&j);
-  } else if (!c.csv || strcmp(c.csv, "-")) {
-    printf("region: cable angle %g to %g deg, inner cable %.4g m, %s\n", amin, amax, inner,
-           no_limits ? "no actuator limits (--no-limits)" : "within the arm's limits");
-    printf("%-7s %-14s %-14s %-14s %-14s\n", "gamma", "area_m2", "max_reach_m", "x_max_m",
-           "y_min_m");
-    for (int g = 0; g < ng; ++g)
-      printf("%-7.4g %-14.10f %-14.10f %-14.10f %-14.10f\n", gam[g], met[g].area,
-             met[g].reach.value, met[g].x_max.value, met[g].y_min.value);
-    for (int g = 0; g < ng; ++g) {
-      char w1[300], w2[300], w3[300];
-      ea__ws_where(&met[g].reach, w1, sizeof w1);
-      ea__ws_where(&met[g].x_max, w2, sizeof w2);
-      ea__ws_where(&met[g].y_min, w3, sizeof w3);
-      printf("gamma %g: max_reach at %s\n          x_max at %s\n          y_min at %s\n", gam[g],
-             w1, w2, w3);
-    }
-  }
-  if (c.figure) {
-    ea_plot_t *pl;
-    ea_error_t fe = {0};
-    if (ea_plot_open(&pl, c.figure, 800, 650, &fe) == EA_OK) {
-      for (int g = 0; g < ng; ++g) {
-        char name[32];
-        snprintf(name, sizeof name, "outer%d", g);
-        ea_plot_data_begin(pl, name);
-        for (int k = 0; k < n; ++k) {
-          const ea_config_point_t *o = outer + (size_t)g * n + k;
-          const double row[2] = {o->status ? NAN : o->x, o->y};
-          ea_plot_data_row(pl, 2, row);
-        }
-        ea_plot_data_end(pl);
-      }
-      ea_plot_data_begin(pl, "inner");
-      for (int k = 0; k < n; ++k)
-        ea_plot_data_row(
-            pl, 2, (double[]){arm.x_c + inner * cos(alpha[k]), arm.y_c + inner * sin(alpha[k])});
-      ea_plot_data_end(pl);
-      ea_plot_data_begin(pl, "root");
-      ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
-      ea_plot_data_end(pl);
-      ea_plot_data_begin(pl, "beams");
-      ea_load_t load0 = {ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, gam[0]))};
-      ea_shooter_set_load(sh, &load0);
-      for (int k = 0; k<n; k += (n - 1) / 3> 0 ? (n - 1) / 3 : 1) {
-        const ea_config_point_t *o = outer + k;
-        if (o->status) continue;
-        ea__plot_beam(pl, sh, (double[]){o->alpha, o->tension, o->theta0, o->kappa0}, 61);
-      }
-      ea_plot_data_end(pl);
-      ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
-                      "set title 'Workspace for payload factors {/Symbol g} (Fig. 3)'\n"
-                      "set key outside right");
-      char plot[4096];
-      int used =
-          snprintf(plot, sizeof plot,
-                   "plot $beams w l lc rgb '#bbbbbb' t 'T = 0 shapes ({/Symbol g} = %g)'", gam[0]);
-      for (int g = 0; g < ng && used < (int)sizeof plot - 100; ++g)
-        used += snprintf(plot + used, sizeof plot - (size_t)used,
-                         ", $outer%d w l lw 2 t 'outer, {/Symbol g} = %g'", g, gam[g]);
-      snprintf(plot + used, sizeof plot - (size_t)used,
-               ", $inner w l lw 2 dt 2 lc rgb 'black' t 'inner, L_c = %.3f m', $root w p pt 7 "
-               "ps 1.5 lc rgb '#c0392b' t 'cable root'",
-               inner);
-      ea_plot_cmd(pl, "%s", plot);
-      fe.status = ea_plot_close(pl, &fe);
-    }
-    if (fe.status) {
-      fprintf(stderr, "elasticarm workspace: figure: %s\n", fe.msg);
+  if (!rc) {
+    if (w.c.json)
+      ea__ws_json(&w);
+    else if (!w.c.csv || strcmp(w.c.csv, "-"))
+      ea__ws_text(&w);
+    if (w.c.figure) rc = ea__ws_figure(cmd, &w);
+    if (w.failures && !rc) {
+      fprintf(stderr, "elasticarm %s: %d payload(s) had edge points without a solution\n", cmd,
+              w.failures);
       rc = EA_EXIT_FAIL;
     }
   }
-  if (failures && !rc) {
-    fprintf(stderr, "elasticarm workspace: %d payload(s) had edge points without a solution\n",
-            failures);
-    rc = EA_EXIT_FAIL;
-  }
-out:
-  ea_shooter_free(sh);
-  free(alpha);
-  free(outer);
-  free(inn);
-  free(met);
-  free(gam);
+  ea_shooter_free(w.sh);
+  free(w.alpha);
+  free(w.outer);
+  free(w.inn);
+  free(w.met);
+  free(w.gam);
   return rc;
-usage:
-  free(gam);
-  return rc_usage;
 }
 
 /* ------------------------------------------------------------------------ */
