@@ -385,43 +385,50 @@ static int ea__parse_fault(const char *cmd, const char *v, ea_ctrl_settings_t *s
   return 0;
 }
 
-int ea__cli_controller_sim(int argc, char **argv) {
-  const char *cmd = "controller-sim", *listen_at = "127.0.0.1:0", *arm_file = NULL;
-  const char *log_path = NULL, *port_file = NULL, *sim_path = NULL;
+/* Options of controller-sim. */
+typedef struct {
+  const char *listen_at, *arm_file, *log_path, *port_file, *sim_path;
   ea_ctrl_settings_t s;
-  ea_ctrl_settings_default(&s);
-  int json = 0;
-  long sim_elements = EA_FE_DEFAULT_ELEMENTS;
-  double sim_payload = 0.0, sim_settle = 1.0;
+  int json;
+  long sim_elements;
+  double sim_payload, sim_settle;
+} ea__ctrl_opts_t;
+
+/* Options; 0, -1 (help printed: exit 0) or the exit code. */
+static int ea__ctrl_parse(const char *cmd, int argc, char **argv, ea__ctrl_opts_t *o) {
+  o->listen_at = "127.0.0.1:0";
+  ea_ctrl_settings_default(&o->s);
+  o->sim_elements = EA_FE_DEFAULT_ELEMENTS;
+  o->sim_settle = 1.0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v;
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       printf(ea__ctrl_help, EA_FE_DEFAULT_ELEMENTS);
-      return EA_EXIT_OK;
+      return -1;
     } else if (!strcmp(a, "--listen")) {
-      if (!(listen_at = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->listen_at = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--udp")) {
-      s.udp = 1;
+      o->s.udp = 1;
     } else if (!strcmp(a, "--arm")) {
-      if (!(arm_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->arm_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--log")) {
-      if (!(log_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->log_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--port-file")) {
-      if (!(port_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->port_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--max-frames")) {
       long n;
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_int(cmd, a, v, 1, 2000000000L, &n))
         return EA_EXIT_USAGE;
-      s.max_frames = (int)n;
+      o->s.max_frames = (int)n;
     } else if (!strcmp(a, "--timeout")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0.01, 86400, &s.timeout_s))
+          ea__cli_double(cmd, a, v, 0.01, 86400, &o->s.timeout_s))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--watchdog-ms")) {
       double ms;
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_double(cmd, a, v, 1, 60000, &ms))
         return EA_EXIT_USAGE;
-      s.watchdog_s = ms * 1e-3;
+      o->s.watchdog_s = ms * 1e-3;
     } else if (!strcmp(a, "--initial")) {
       double *vals = NULL;
       int nv = 0;
@@ -431,46 +438,47 @@ int ea__cli_controller_sim(int argc, char **argv) {
         free(vals);
         return ea__cli_usage_error(cmd, "--initial needs L_c,theta0,base (3 values)");
       }
-      memcpy(s.initial, vals, sizeof s.initial);
+      memcpy(o->s.initial, vals, sizeof o->s.initial);
       free(vals);
-      s.has_initial = 1;
+      o->s.has_initial = 1;
     } else if (!strcmp(a, "--fault")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__parse_fault(cmd, v, &s))
+      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__parse_fault(cmd, v, &o->s))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--json")) {
-      json = 1;
+      o->json = 1;
     } else if (!strcmp(a, "--simulate")) {
-      if (!(sim_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->sim_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--elements")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_int(cmd, a, v, 1, 512, &sim_elements))
+          ea__cli_int(cmd, a, v, 1, 512, &o->sim_elements))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--payload-kg")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0.0, 1e3, &sim_payload))
+          ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_payload))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--settle")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0.0, 1e3, &sim_settle))
+          ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_settle))
         return EA_EXIT_USAGE;
     } else {
       return ea__cli_usage_error(cmd, "unknown argument '%s'", a);
     }
   }
-  if (sim_path && json && !strcmp(sim_path, "-"))
+  if (o->sim_path && o->json && !strcmp(o->sim_path, "-"))
     return ea__cli_usage_error(cmd, "--json and --simulate - both want stdout");
-  ea_arm_t arm;
-  int rc = ea__cli_load_arm(cmd, arm_file, &arm);
-  if (rc) return rc;
-  ea__cli_install_stop();
-  s.stop_request = &ea__cli_stop;
+  return 0;
+}
+
+/* The controller on a serial line (serial:DEVICE[@BAUD]) or a socket (HOST:PORT, the
+ * bound port said on stderr and written to --port-file). 0 or the exit code. */
+static int ea__ctrl_start(const char *cmd, const ea__ctrl_opts_t *o, const ea_arm_t *arm,
+                          ea_ctrl_t **c) {
   ea_error_t err = {0};
-  ea_ctrl_t *c = NULL;
   ea_status_t st;
-  if (!strncmp(listen_at, "serial:", 7)) {
+  if (!strncmp(o->listen_at, "serial:", 7)) {
     char dev[512];
     long bps = 921600;
-    snprintf(dev, sizeof dev, "%s", listen_at + 7);
+    snprintf(dev, sizeof dev, "%s", o->listen_at + 7);
     char *at = strrchr(dev, '@');
     if (at) {
       *at = '\0';
@@ -484,30 +492,112 @@ int ea__cli_controller_sim(int argc, char **argv) {
     }
     st = ea__serial_setup(fd, bps, &err);
     if (!st)
-      st = ea__ctrl_open_fd(&arm, fd, &s, &c, &err);
+      st = ea__ctrl_open_fd(arm, fd, &o->s, c, &err);
     else
       close(fd);
     if (st) return ea__cli_fail(cmd, st, &err);
     fprintf(stderr, "elasticarm %s: serving %s\n", cmd, dev);
-  } else {
-    st = ea_ctrl_open(&arm, listen_at, &s, &c, &err);
-    if (st) return ea__cli_fail(cmd, st, &err);
-    fprintf(stderr, "elasticarm %s: listening on %s %s (port %d)\n", cmd, s.udp ? "udp" : "tcp",
-            listen_at, ea_ctrl_port(c));
-    if (port_file) {
-      ea_afile_t pf;
-      if (ea_afile_open(&pf, port_file, &err) == EA_OK) {
-        fprintf(pf.fp, "%d\n", ea_ctrl_port(c));
-        ea_afile_commit(&pf, &err);
-      }
+    return 0;
+  }
+  if ((st = ea_ctrl_open(arm, o->listen_at, &o->s, c, &err))) return ea__cli_fail(cmd, st, &err);
+  fprintf(stderr, "elasticarm %s: listening on %s %s (port %d)\n", cmd, o->s.udp ? "udp" : "tcp",
+          o->listen_at, ea_ctrl_port(*c));
+  if (o->port_file) {
+    ea_afile_t pf;
+    if (ea_afile_open(&pf, o->port_file, &err) == EA_OK) {
+      fprintf(pf.fp, "%d\n", ea_ctrl_port(*c));
+      ea_afile_commit(&pf, &err);
     }
   }
+  return 0;
+}
+
+/* The summary of the session (and of --simulate), as JSON or text. */
+static void ea__ctrl_report(const ea__ctrl_opts_t *o, ea_status_t st, const ea_error_t *err,
+                            const ea_ctrl_info_t *info, int logged, const ea__ctrl_sim_t *sim) {
+  if (o->json) {
+    ea_json_t j;
+    ea_json_init(&j, stdout, 1);
+    ea_json_obj_begin(&j, NULL);
+    ea_json_str(&j, "status", ea_status_name(st));
+    ea_json_str(&j, "message", st ? err->msg : "");
+    ea_json_int(&j, "sessions", info->sessions);
+    ea_json_int(&j, "accepted", info->accepted);
+    ea_json_int(&j, "rejected", info->rejected);
+    ea_json_int(&j, "rejected_crc", info->rejected_crc);
+    ea_json_int(&j, "rejected_sequence", info->rejected_seq);
+    ea_json_int(&j, "rejected_limit", info->rejected_limit);
+    ea_json_int(&j, "rejected_continuity", info->rejected_continuity);
+    ea_json_int(&j, "gaps", info->gaps);
+    ea_json_int(&j, "own_stop_frames", info->own_stop_frames);
+    ea_json_bool(&j, "end_received", info->end_received);
+    ea_json_int(&j, "end_reason", info->end_reason);
+    ea_json_int(&j, "final_state", info->final_state);
+    ea_json_int(&j, "max_buffer", info->max_buffer);
+    ea_json_int(&j, "logged", logged);
+    if (sim->ran) {
+      const int have = sim->status == EA_OK, res = have && sim->settle > 0;
+      ea_json_str(&j, "sim_status", ea_status_name(sim->status));
+      ea_json_str(&j, "sim_message", sim->status ? sim->err.msg : "");
+      ea_json_str(&j, "sim_tip_file", o->sim_path);
+      ea_json_int(&j, "sim_samples", sim->samples);
+      ea_json_int(&j, "sim_skipped", sim->skipped);
+      ea_json_int(&j, "o->sim_elements", (int)o->sim_elements);
+      ea_json_num(&j, "o->sim_payload_kg", o->sim_payload);
+      ea_json_num(&j, "sim_t_first_s", sim->t_first);
+      ea_json_num(&j, "sim_motion_duration_s", sim->duration);
+      ea_json_num(&j, "sim_settle_s", sim->settle);
+      ea_json_int(&j, "sim_tip_rows", sim->rows);
+      ea_json_int(&j, "sim_steps", sim->si.steps);
+      ea_json_num(&j, "sim_wall_time_s", sim->si.wall_time_s);
+      ea_json_vec(&j, "sim_start_static_tip_m", sim->start_static_tip, have ? 2 : 0);
+      ea_json_num(&j, "residual_vibration_rms_m", res ? sim->si.residual_rms : NAN);
+      ea_json_num(&j, "residual_vibration_peak_m", res ? sim->si.residual_peak : NAN);
+      ea_json_vec(&j, "sim_final_static_tip_m", sim->si.final_static_tip, res ? 2 : 0);
+    }
+    ea_json_obj_end(&j);
+    ea_json_end(&j);
+  } else {
+    printf("controller-sim: %s\n  sessions %d, accepted %d, rejected %d (crc %d, sequence %d, "
+           "limit %d, continuity %d), gaps %d, own stop %d, END %s, logged %d\n",
+           st ? err->msg : "clean session", info->sessions, info->accepted, info->rejected,
+           info->rejected_crc, info->rejected_seq, info->rejected_limit, info->rejected_continuity,
+           info->gaps, info->own_stop_frames, info->end_received ? "received" : "not received",
+           logged);
+    if (sim->ran && sim->status == EA_OK) {
+      printf("  FE transient of the %d accepted setpoints (%.4g s + %.4g s settling, %ld "
+             "elements): %d tip rows -> %s, wall %.3f s\n",
+             sim->samples, sim->duration, sim->settle, o->sim_elements, sim->rows, o->sim_path,
+             sim->si.wall_time_s);
+      if (sim->settle > 0)
+        printf("  residual vibration after the last setpoint: rms %.4f mm, peak %.4f mm about "
+               "the final equilibrium tip (%.6f, %.6f) m\n",
+               1e3 * sim->si.residual_rms, 1e3 * sim->si.residual_peak, sim->si.final_static_tip[0],
+               sim->si.final_static_tip[1]);
+    }
+  }
+}
+
+/* controller-sim: options, the arm, serve one session, the log, --simulate, summary. */
+int ea__cli_controller_sim(int argc, char **argv) {
+  const char *cmd = "controller-sim";
+  ea__ctrl_opts_t o;
+  memset(&o, 0, sizeof o);
+  int rc = ea__ctrl_parse(cmd, argc, argv, &o);
+  if (rc) return rc < 0 ? EA_EXIT_OK : rc;
+  ea_arm_t arm;
+  if ((rc = ea__cli_load_arm(cmd, o.arm_file, &arm))) return rc;
+  ea__cli_install_stop();
+  o.s.stop_request = &ea__cli_stop;
+  ea_ctrl_t *c = NULL;
+  if ((rc = ea__ctrl_start(cmd, &o, &arm, &c))) return rc;
+  ea_error_t err = {0};
   ea_ctrl_info_t info;
-  st = ea_ctrl_run(c, &info, &err);
+  const ea_status_t st = ea_ctrl_run(c, &info, &err);
   int rc_log = 0;
-  if (log_path) {
+  if (o.log_path) {
     ea_error_t e2 = {0};
-    if (ea_ctrl_log_write(c, log_path, &e2)) {
+    if (ea_ctrl_log_write(c, o.log_path, &e2)) {
       fprintf(stderr, "elasticarm %s: %s\n", cmd, e2.msg);
       rc_log = EA_EXIT_FAIL;
     }
@@ -516,70 +606,10 @@ int ea__cli_controller_sim(int argc, char **argv) {
   ea_ctrl_log(c, &logged);
   ea__ctrl_sim_t sim;
   memset(&sim, 0, sizeof sim);
-  if (sim_path)
-    ea__ctrl_simulate(&arm, c, ea_arm_tip_mass(&arm, sim_payload), sim_elements, sim_settle,
-                      sim_path, &sim);
-  if (json) {
-    ea_json_t j;
-    ea_json_init(&j, stdout, 1);
-    ea_json_obj_begin(&j, NULL);
-    ea_json_str(&j, "status", ea_status_name(st));
-    ea_json_str(&j, "message", st ? err.msg : "");
-    ea_json_int(&j, "sessions", info.sessions);
-    ea_json_int(&j, "accepted", info.accepted);
-    ea_json_int(&j, "rejected", info.rejected);
-    ea_json_int(&j, "rejected_crc", info.rejected_crc);
-    ea_json_int(&j, "rejected_sequence", info.rejected_seq);
-    ea_json_int(&j, "rejected_limit", info.rejected_limit);
-    ea_json_int(&j, "rejected_continuity", info.rejected_continuity);
-    ea_json_int(&j, "gaps", info.gaps);
-    ea_json_int(&j, "own_stop_frames", info.own_stop_frames);
-    ea_json_bool(&j, "end_received", info.end_received);
-    ea_json_int(&j, "end_reason", info.end_reason);
-    ea_json_int(&j, "final_state", info.final_state);
-    ea_json_int(&j, "max_buffer", info.max_buffer);
-    ea_json_int(&j, "logged", logged);
-    if (sim.ran) {
-      const int have = sim.status == EA_OK, res = have && sim.settle > 0;
-      ea_json_str(&j, "sim_status", ea_status_name(sim.status));
-      ea_json_str(&j, "sim_message", sim.status ? sim.err.msg : "");
-      ea_json_str(&j, "sim_tip_file", sim_path);
-      ea_json_int(&j, "sim_samples", sim.samples);
-      ea_json_int(&j, "sim_skipped", sim.skipped);
-      ea_json_int(&j, "sim_elements", (int)sim_elements);
-      ea_json_num(&j, "sim_payload_kg", sim_payload);
-      ea_json_num(&j, "sim_t_first_s", sim.t_first);
-      ea_json_num(&j, "sim_motion_duration_s", sim.duration);
-      ea_json_num(&j, "sim_settle_s", sim.settle);
-      ea_json_int(&j, "sim_tip_rows", sim.rows);
-      ea_json_int(&j, "sim_steps", sim.si.steps);
-      ea_json_num(&j, "sim_wall_time_s", sim.si.wall_time_s);
-      ea_json_vec(&j, "sim_start_static_tip_m", sim.start_static_tip, have ? 2 : 0);
-      ea_json_num(&j, "residual_vibration_rms_m", res ? sim.si.residual_rms : NAN);
-      ea_json_num(&j, "residual_vibration_peak_m", res ? sim.si.residual_peak : NAN);
-      ea_json_vec(&j, "sim_final_static_tip_m", sim.si.final_static_tip, res ? 2 : 0);
-    }
-    ea_json_obj_end(&j);
-    ea_json_end(&j);
-  } else {
-    printf("controller-sim: %s\n  sessions %d, accepted %d, rejected %d (crc %d, sequence %d, "
-           "limit %d, continuity %d), gaps %d, own stop %d, END %s, logged %d\n",
-           st ? err.msg : "clean session", info.sessions, info.accepted, info.rejected,
-           info.rejected_crc, info.rejected_seq, info.rejected_limit, info.rejected_continuity,
-           info.gaps, info.own_stop_frames, info.end_received ? "received" : "not received",
-           logged);
-    if (sim.ran && sim.status == EA_OK) {
-      printf("  FE transient of the %d accepted setpoints (%.4g s + %.4g s settling, %ld "
-             "elements): %d tip rows -> %s, wall %.3f s\n",
-             sim.samples, sim.duration, sim.settle, sim_elements, sim.rows, sim_path,
-             sim.si.wall_time_s);
-      if (sim.settle > 0)
-        printf("  residual vibration after the last setpoint: rms %.4f mm, peak %.4f mm about "
-               "the final equilibrium tip (%.6f, %.6f) m\n",
-               1e3 * sim.si.residual_rms, 1e3 * sim.si.residual_peak, sim.si.final_static_tip[0],
-               sim.si.final_static_tip[1]);
-    }
-  }
+  if (o.sim_path)
+    ea__ctrl_simulate(&arm, c, ea_arm_tip_mass(&arm, o.sim_payload), o.sim_elements, o.sim_settle,
+                      o.sim_path, &sim);
+  ea__ctrl_report(&o, st, &err, &info, logged, &sim);
   if (sim.ran && sim.status)
     fprintf(stderr, "elasticarm %s: %s\n", cmd,
             sim.err.msg[0] ? sim.err.msg : ea_strerror(sim.status));
