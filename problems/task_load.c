@@ -150,17 +150,11 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dyna
   return EA_OK;
 }
 
-static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_task_t *t,
-                                     ea_error_t *err) {
-  yaml_node_t *root, *n;
-  ea_status_t st = ea__ydoc_root_map(d, &root, err);
-  if (st) return st;
-  static const char *const top[] = {"name",  "arm_file", "payload_kg", "payload_factor", "start",
-                                    "goal",  "via",      "path",       "objective",      "limits",
-                                    "knots", "solver",   "outputs",    "dynamics",       NULL};
-  if ((st = ea__ymap_check_keys(d, root, top, "the task file", err))) return st;
-
-  /* The arm first: limits default to its values. */
+/* The arm first (the task's arm_file, relative to the task file; else default_arm;
+ * else the built-in values): the limits default to its values. Initialises t. */
+static ea_status_t ea__task_arm(ea__ydoc_t *d, yaml_node_t *root, const char *default_arm,
+                                ea_task_t *t, ea_error_t *err) {
+  ea_status_t st;
   char arm_rel[512] = "";
   if ((st = ea__ymap_string(d, root, "arm_file", 0, arm_rel, sizeof arm_rel, err))) return st;
   ea_arm_t arm;
@@ -193,9 +187,13 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
   snprintf(t->name, sizeof t->name, "%.100s", base ? base + 1 : d->file);
   char *dot = strrchr(t->name, '.');
   if (dot) *dot = '\0';
-  if ((st = ea__ymap_string(d, root, "name", 0, t->name, sizeof t->name, err))) return st;
+  return EA_OK;
+}
 
-  /* Payload: kg or factor (eq. 17), not both. */
+/* Payload: kg or factor (eq. 17), not both. */
+static ea_status_t ea__task_payload(ea__ydoc_t *d, yaml_node_t *root, ea_task_t *t,
+                                    ea_error_t *err) {
+  ea_status_t st;
   yaml_node_t *pk = ea__ymap_get(d, root, "payload_kg"),
               *pf = ea__ymap_get(d, root, "payload_factor");
   if (pk && pf)
@@ -209,6 +207,14 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     t->payload_kg = ea_arm_payload_from_factor(&t->arm, t->payload_factor);
   }
 
+  return EA_OK;
+}
+
+/* Start, goal and the via points. */
+static ea_status_t ea__task_points(ea__ydoc_t *d, yaml_node_t *root, ea_task_t *t,
+                                   ea_error_t *err) {
+  yaml_node_t *n;
+  ea_status_t st;
   if (!(n = ea__ymap_get(d, root, "start")))
     return ea__yerr(d, root, err, EA_ERR_INPUT, "missing required key 'start'");
   if ((st = ea__load_point(d, n, "start", &t->start, err))) return st;
@@ -230,6 +236,12 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     t->n_via = cnt;
   }
 
+  return EA_OK;
+}
+
+/* The path constraint, consistent with the via points. */
+static ea_status_t ea__task_path(ea__ydoc_t *d, yaml_node_t *root, ea_task_t *t, ea_error_t *err) {
+  ea_status_t st;
   static const char *const paths[] = {"free", "line", "polyline", NULL};
   int iv = (int)t->path;
   if ((st = ea__ymap_enum(d, root, "path", 0, paths, &iv, err))) return st;
@@ -242,6 +254,15 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
     return ea__yerr(d, ea__ymap_get(d, root, "path"), err, EA_ERR_INPUT,
                     "key 'path': 'polyline' needs via points (or use 'line')");
 
+  return EA_OK;
+}
+
+/* The objective: a name, or {type, duration_s | time_weight}. */
+static ea_status_t ea__task_objective(ea__ydoc_t *d, yaml_node_t *root, ea_task_t *t,
+                                      ea_error_t *err) {
+  yaml_node_t *n;
+  ea_status_t st;
+  int iv;
   static const char *const objs[] = {"min_time", "min_effort", "min_jerk", "min_vibration", NULL};
   n = ea__ymap_get(d, root, "objective");
   if (n && n->type == YAML_SCALAR_NODE) {
@@ -279,6 +300,14 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
   }
   if (n) ea__ynode_where(d, n, t->where_objective, sizeof t->where_objective);
 
+  return EA_OK;
+}
+
+/* Limits, knots, solver, dynamics and outputs. */
+static ea_status_t ea__task_settings(ea__ydoc_t *d, yaml_node_t *root, ea_task_t *t,
+                                     ea_error_t *err) {
+  yaml_node_t *n;
+  ea_status_t st;
   if ((st = ea__ymap_map(d, root, "limits", 0, &n, err))) return st;
   if (n) {
     if ((st = ea__load_limits(d, n, &t->limits, err))) return st;
@@ -311,6 +340,24 @@ static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_
       return ea__yerr(d, ea__ymap_get(d, n, "figure"), err, EA_ERR_INPUT,
                       "key 'figure': '%s' must end in .svg, .png or .pdf", fig);
   }
+  return EA_OK;
+}
+
+static ea_status_t ea__task_from_doc(ea__ydoc_t *d, const char *default_arm, ea_task_t *t,
+                                     ea_error_t *err) {
+  yaml_node_t *root;
+  ea_status_t st = ea__ydoc_root_map(d, &root, err);
+  if (st) return st;
+  static const char *const top[] = {"name",  "arm_file", "payload_kg", "payload_factor", "start",
+                                    "goal",  "via",      "path",       "objective",      "limits",
+                                    "knots", "solver",   "outputs",    "dynamics",       NULL};
+  if ((st = ea__ymap_check_keys(d, root, top, "the task file", err))) return st;
+  if ((st = ea__task_arm(d, root, default_arm, t, err))) return st;
+  if ((st = ea__ymap_string(d, root, "name", 0, t->name, sizeof t->name, err))) return st;
+  if ((st = ea__task_payload(d, root, t, err)) || (st = ea__task_points(d, root, t, err)) ||
+      (st = ea__task_path(d, root, t, err)) || (st = ea__task_objective(d, root, t, err)) ||
+      (st = ea__task_settings(d, root, t, err)))
+    return st;
   return ea_task_check(t, err);
 }
 
