@@ -460,162 +460,193 @@ static void ea__ctrl_drop_link(ea_ctrl_t *c) {
   c->have_peer = 0;
 }
 
-ea_status_t ea_ctrl_run(ea_ctrl_t *c, ea_ctrl_info_t *info, ea_error_t *err) {
-  if (!c) return ea_error_set(err, EA_ERR_ARG, "controller-sim: NULL");
+/* How a session ended. */
+typedef struct {
+  int done, link_lost, dropped, timed_out, interrupted, watchdog;
+} ea__ctrl_end_t;
+
+/* TCP: accept one connection, until the timeout or a stop request. */
+static void ea__ctrl_accept(ea_ctrl_t *c, ea__ctrl_end_t *e) {
+  const ea_ctrl_settings_t *s = &c->s;
+  const int64_t t_idle = ea__mono_ns(), timeout_ns = (int64_t)(s->timeout_s * 1e9);
+  while (c->fd < 0) {
+    if (s->stop_request && *s->stop_request) {
+      e->interrupted = 1;
+      return;
+    }
+    struct pollfd pf = {c->listen_fd, POLLIN, 0};
+    if (poll(&pf, 1, 20) > 0) {
+      c->fd = accept(c->listen_fd, NULL, NULL);
+      if (c->fd >= 0) {
+        const int one = 1; /* small ACKs go out at once (no Nagle + delayed-ACK stall) */
+        setsockopt(c->fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+        return;
+      }
+    }
+    if (ea__mono_ns() - t_idle > timeout_ns) {
+      e->timed_out = 1;
+      return;
+    }
+  }
+}
+
+/* Read what arrived (UDP: from the session's peer only): bytes, 0 for nothing to do,
+ * -1 for a lost link. */
+static ssize_t ea__ctrl_read(ea_ctrl_t *c, uint8_t *rb, size_t cap) {
+  ssize_t k;
+  if (c->kind == EA__TR_UDP) {
+    struct sockaddr_storage from;
+    socklen_t fl = sizeof from;
+    k = recvfrom(c->fd, rb, cap, 0, (struct sockaddr *)&from, &fl);
+    if (k > 0) {
+      if (!c->have_peer) {
+        memcpy(&c->peer, &from, fl);
+        c->peer_len = fl;
+        c->have_peer = 1;
+      } else if (fl != c->peer_len || memcmp(&from, &c->peer, fl)) {
+        return 0; /* one session at a time: ignore other senders */
+      }
+    }
+  } else {
+    k = read(c->fd, rb, cap);
+  }
+  if (k < 0 && (errno == EINTR || errno == EAGAIN)) return 0;
+  if (k <= 0) return c->kind != EA__TR_UDP ? -1 : 0;
+  return k;
+}
+
+/* Feed k bytes to the parser and handle every frame (a bad one: NACK). */
+static void ea__ctrl_feed(ea_ctrl_t *c, const uint8_t *rb, size_t k, ea__ctrl_end_t *e) {
+  size_t off = 0;
+  while (off < k && !e->done) {
+    off += ea_frame_parser_feed(&c->parser, rb + off, k - off);
+    ea_frame_t f;
+    int pr;
+    while (!e->done && (pr = ea_frame_parser_next(&c->parser, &f)) != 0) {
+      if (pr < 0) {
+        ea__ctrl_reject(c, c->last_seq, EA_NACK_CRC);
+        continue;
+      }
+      const int r2 = ea__ctrl_frame(c, &f);
+      if (r2 == 1) e->done = 1;
+      if (r2 == 2) e->done = e->dropped = 1;
+    }
+  }
+}
+
+/* The session: frames until END, a drop, a lost link, the timeout or a stop request;
+ * the watchdog stops the arm when the streamer goes silent while it moves. */
+static void ea__ctrl_session(ea_ctrl_t *c, ea__ctrl_end_t *e) {
   const ea_ctrl_settings_t *s = &c->s;
   const int64_t timeout_ns = (int64_t)(s->timeout_s * 1e9);
   int64_t t_idle = ea__mono_ns();
-  ea_status_t st = EA_OK;
-  int done = 0, link_lost = 0, dropped = 0, timed_out = 0, interrupted = 0, watchdog = 0;
-
-  /* Accept one connection (TCP). */
-  if (c->kind == EA__TR_TCP) {
-    while (c->fd < 0) {
-      if (s->stop_request && *s->stop_request) {
-        interrupted = 1;
-        break;
-      }
-      struct pollfd pf = {c->listen_fd, POLLIN, 0};
-      const int r = poll(&pf, 1, 20);
-      if (r > 0) {
-        c->fd = accept(c->listen_fd, NULL, NULL);
-        if (c->fd >= 0) {
-          const int one = 1; /* small ACKs go out at once (no Nagle + delayed-ACK stall) */
-          setsockopt(c->fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-          break;
-        }
-      }
-      if (ea__mono_ns() - t_idle > timeout_ns) {
-        timed_out = 1;
-        break;
-      }
-    }
-  }
-  t_idle = ea__mono_ns();
   uint8_t rb[4096];
-  while (!done && c->fd >= 0 && !timed_out && !interrupted) {
+  while (!e->done && c->fd >= 0 && !e->timed_out && !e->interrupted) {
     if (s->stop_request && *s->stop_request) {
-      interrupted = 1;
+      e->interrupted = 1;
       break;
     }
     const int64_t now0 = ea__mono_ns();
     ea__ctrl_flush_pending(c, now0);
     if ((c->state == EA_CTRL_RUNNING || c->state == EA_CTRL_STOPPING) &&
         (now0 - c->last_frame_ns) * 1e-9 > s->watchdog_s) {
-      /* The streamer went silent while the arm moves: stop on our own. */
-      watchdog = 1;
+      e->watchdog = 1;
       ea__ctrl_own_stop(c);
       c->state = EA_CTRL_FAULT;
     }
     if (now0 - t_idle > timeout_ns) {
-      timed_out = 1;
+      e->timed_out = 1;
       break;
     }
     struct pollfd pf = {c->fd, POLLIN, 0};
     const int r = poll(&pf, 1, 1);
     if (r < 0 && errno != EINTR) {
-      link_lost = 1;
+      e->link_lost = 1;
       break;
     }
     if (r <= 0) continue;
-    ssize_t k;
-    if (c->kind == EA__TR_UDP) {
-      struct sockaddr_storage from;
-      socklen_t fl = sizeof from;
-      k = recvfrom(c->fd, rb, sizeof rb, 0, (struct sockaddr *)&from, &fl);
-      if (k > 0) {
-        if (!c->have_peer) {
-          memcpy(&c->peer, &from, fl);
-          c->peer_len = fl;
-          c->have_peer = 1;
-        } else if (fl != c->peer_len || memcmp(&from, &c->peer, fl)) {
-          continue; /* one session at a time: ignore other senders */
-        }
-      }
-    } else {
-      k = read(c->fd, rb, sizeof rb);
-    }
-    if (k < 0 && (errno == EINTR || errno == EAGAIN)) continue;
-    if (k <= 0 && c->kind != EA__TR_UDP) {
-      link_lost = 1;
+    const ssize_t k = ea__ctrl_read(c, rb, sizeof rb);
+    if (k < 0) {
+      e->link_lost = 1;
       break;
     }
-    if (k <= 0) continue;
+    if (k == 0) continue;
     t_idle = ea__mono_ns();
-    size_t off = 0;
-    while (off < (size_t)k && !done) {
-      off += ea_frame_parser_feed(&c->parser, rb + off, (size_t)k - off);
-      ea_frame_t f;
-      int pr;
-      while (!done && (pr = ea_frame_parser_next(&c->parser, &f)) != 0) {
-        if (pr < 0) {
-          ea__ctrl_reject(c, c->last_seq, EA_NACK_CRC);
-          continue;
-        }
-        const int r2 = ea__ctrl_frame(c, &f);
-        if (r2 == 1) done = 1;
-        if (r2 == 2) {
-          done = dropped = 1;
-        }
-      }
-    }
+    ea__ctrl_feed(c, rb, (size_t)k, e);
   }
-  /* Deliver the delayed ACKs (the END answer among them) before closing: wait
-   * until each is due (at most 2 s in all), then flush it. Bounded by the
-   * queue's own due times, not by a window from now, so a descheduled
-   * simulator still delivers every ACK it owes. */
-  if (done && !dropped) {
-    const int64_t cap = ea__mono_ns() + 2000000000;
-    while (c->pend_n) {
-      const int64_t now = ea__mono_ns();
-      if (now >= cap) {
-        ea__ctrl_flush_pending(c, INT64_MAX); /* give up waiting: send them now */
-        break;
-      }
-      ea__ctrl_flush_pending(c, now);
-      struct timespec ts = {0, 200000};
-      nanosleep(&ts, NULL);
+}
+
+/* Deliver the delayed ACKs (the END answer among them) before closing: wait until
+ * each is due (at most 2 s in all), then flush it. Bounded by the queue's own due
+ * times, not by a window from now, so a descheduled simulator still delivers every
+ * ACK it owes. */
+static void ea__ctrl_drain(ea_ctrl_t *c) {
+  const int64_t cap = ea__mono_ns() + 2000000000;
+  while (c->pend_n) {
+    const int64_t now = ea__mono_ns();
+    if (now >= cap) {
+      ea__ctrl_flush_pending(c, INT64_MAX); /* give up waiting: send them now */
+      break;
     }
+    ea__ctrl_flush_pending(c, now);
+    struct timespec ts = {0, 200000};
+    nanosleep(&ts, NULL);
   }
-  if (dropped || link_lost || timed_out || interrupted) {
+}
+
+/* The session's outcome as a status and message. */
+static ea_status_t ea__ctrl_outcome(const ea_ctrl_t *c, const ea__ctrl_end_t *e, ea_error_t *err) {
+  const ea_ctrl_settings_t *s = &c->s;
+  const ea_ctrl_info_t *in = &c->info;
+  if (e->interrupted) return ea_error_set(err, EA_ERR_INTERRUPTED, "controller-sim interrupted");
+  if (e->dropped && s->fault == EA_FAULT_DROP_AFTER)
+    return ea_error_set(err, EA_ERR_NET,
+                        "fault injected: link dropped after %d setpoints; own "
+                        "stop in %d setpoints",
+                        in->accepted, in->own_stop_frames);
+  if (e->dropped)
+    return ea_error_set(err, EA_ERR_NET, "--max-frames %d reached; own stop in %d setpoints",
+                        s->max_frames, in->own_stop_frames);
+  if (e->timed_out && !in->sessions)
+    return ea_error_set(err, EA_ERR_NET, "no session within %g s", s->timeout_s);
+  if (e->timed_out)
+    return ea_error_set(err, EA_ERR_NET, "no frame for %g s; own stop in %d setpoints",
+                        s->timeout_s, in->own_stop_frames);
+  if (e->link_lost)
+    return ea_error_set(err, EA_ERR_NET, "link lost after %d setpoints; own stop in %d setpoints",
+                        in->accepted, in->own_stop_frames);
+  if (e->watchdog)
+    return ea_error_set(err, EA_ERR_NET,
+                        "watchdog: no frame for %g s while moving; own stop in "
+                        "%d setpoints",
+                        s->watchdog_s, in->own_stop_frames);
+  if (in->rejected)
+    return ea_error_set(err, EA_ERR_PROTOCOL,
+                        "%d frames rejected (crc %d, sequence %d, limit %d, "
+                        "continuity %d)",
+                        in->rejected, in->rejected_crc, in->rejected_seq, in->rejected_limit,
+                        in->rejected_continuity);
+  if (in->end_received && in->end_reason != EA_END_COMPLETE)
+    return ea_error_set(err, EA_ERR_INTERRUPTED, "stream ended early (END reason %u)",
+                        (unsigned)in->end_reason);
+  return EA_OK;
+}
+
+/* One session: accept (TCP), serve, drain the ACKs, own stop when it did not end
+ * cleanly, outcome. */
+ea_status_t ea_ctrl_run(ea_ctrl_t *c, ea_ctrl_info_t *info, ea_error_t *err) {
+  if (!c) return ea_error_set(err, EA_ERR_ARG, "controller-sim: NULL");
+  ea__ctrl_end_t e = {0};
+  if (c->kind == EA__TR_TCP) ea__ctrl_accept(c, &e);
+  ea__ctrl_session(c, &e);
+  if (e.done && !e.dropped) ea__ctrl_drain(c);
+  if (e.dropped || e.link_lost || e.timed_out || e.interrupted) {
     ea__ctrl_own_stop(c);
     if (c->state != EA_CTRL_IDLE) c->state = EA_CTRL_FAULT;
   }
   ea__ctrl_drop_link(c);
   c->info.final_state = c->state;
-
-  if (interrupted)
-    st = ea_error_set(err, EA_ERR_INTERRUPTED, "controller-sim interrupted");
-  else if (dropped && s->fault == EA_FAULT_DROP_AFTER)
-    st = ea_error_set(err, EA_ERR_NET,
-                      "fault injected: link dropped after %d setpoints; own "
-                      "stop in %d setpoints",
-                      c->info.accepted, c->info.own_stop_frames);
-  else if (dropped)
-    st = ea_error_set(err, EA_ERR_NET, "--max-frames %d reached; own stop in %d setpoints",
-                      s->max_frames, c->info.own_stop_frames);
-  else if (timed_out && !c->info.sessions)
-    st = ea_error_set(err, EA_ERR_NET, "no session within %g s", s->timeout_s);
-  else if (timed_out)
-    st = ea_error_set(err, EA_ERR_NET, "no frame for %g s; own stop in %d setpoints", s->timeout_s,
-                      c->info.own_stop_frames);
-  else if (link_lost)
-    st = ea_error_set(err, EA_ERR_NET, "link lost after %d setpoints; own stop in %d setpoints",
-                      c->info.accepted, c->info.own_stop_frames);
-  else if (watchdog)
-    st = ea_error_set(err, EA_ERR_NET,
-                      "watchdog: no frame for %g s while moving; own stop in "
-                      "%d setpoints",
-                      s->watchdog_s, c->info.own_stop_frames);
-  else if (c->info.rejected)
-    st = ea_error_set(err, EA_ERR_PROTOCOL,
-                      "%d frames rejected (crc %d, sequence %d, limit %d, "
-                      "continuity %d)",
-                      c->info.rejected, c->info.rejected_crc, c->info.rejected_seq,
-                      c->info.rejected_limit, c->info.rejected_continuity);
-  else if (c->info.end_received && c->info.end_reason != EA_END_COMPLETE)
-    st = ea_error_set(err, EA_ERR_INTERRUPTED, "stream ended early (END reason %u)",
-                      (unsigned)c->info.end_reason);
+  const ea_status_t st = ea__ctrl_outcome(c, &e, err);
   c->info.status = st;
   if (info) *info = c->info;
   return st;
