@@ -266,6 +266,40 @@ typedef struct ea_task_solver {
                               sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
 } ea_task_solver_t;
 
+/** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */
+typedef enum ea_task_refine_method {
+  EA_TASK_REFINE_NEWTON = 0, /**< Newton steps on the fitted residual modal state (Broyden) */
+  EA_TASK_REFINE_BOBYQA,     /**< NLopt BOBYQA on the fitted residual modal energy */
+  EA_TASK_REFINE_COBYLA,     /**< NLopt COBYLA, same objective */
+  EA_TASK_REFINE_SBPLX       /**< NLopt Sbplx, same objective */
+} ea_task_refine_method_t;
+
+/** Most FE transients a refinement may spend. */
+#define EA_TASK_REFINE_MAX_EVALUATIONS 100
+
+/** FE-in-the-loop refinement of a plan that arrives at rest (task key dynamics.refine,
+ *  docs/task-format.md): the terminal modal targets are adjusted until the residual vibration
+ *  measured by the nonlinear FE transient is below tolerance_m. */
+typedef struct ea_task_refine {
+  int enabled;                    /**< 1: refine after the plan (key present, or plan --refine) */
+  ea_task_refine_method_t method; /**< default EA_TASK_REFINE_NEWTON */
+  double tolerance_m;  /**< [m] stop when the FE residual peak is at most this (default 5e-5) */
+  int max_evaluations; /**< FE transients, the unrefined plan's included (default 20) */
+  double max_time_s;   /**< [s] wall-time cap, checked before each evaluation (default 10) */
+  int modes;           /**< modes whose terminal targets are adjusted, 1..dynamics.modes
+                            (default 1) */
+  double fe_dt_s;      /**< [s] FE time step of the evaluations (default 2e-3) */
+  double settle_s;     /**< [s] FE time simulated after the motion (default 3) */
+  double max_duration_change; /**< [-] a candidate whose duration differs from the unrefined
+                                   plan's by more than this fraction is rejected (default 0.02) */
+  unsigned long seed;         /**< seed of NLopt's random numbers (default 1) */
+} ea_task_refine_t;
+
+/** Defaults of the refinement (disabled). */
+void ea_task_refine_default(ea_task_refine_t *r);
+/** Name of a refinement method ("newton", "bobyqa", "cobyla", "sbplx"). */
+const char *ea_task_refine_method_name(ea_task_refine_method_t m);
+
 /** Dynamics of a plan (docs/task-format.md, "dynamics"): plan with the reduced dynamic model
  *  of the arm (model/fe_rom.c) so that it arrives at rest. */
 typedef struct ea_task_dynamics {
@@ -275,6 +309,7 @@ typedef struct ea_task_dynamics {
   double max_tip_deviation_m; /**< [m] modal tip deviation from the quasi-static tip during the
                                    motion, at the knots (INFINITY = off, default) */
   int grid[2];                /**< table grid (L_c, alpha) points (0 = from the box, default) */
+  ea_task_refine_t refine;    /**< FE-in-the-loop refinement (off by default) */
 } ea_task_dynamics_t;
 
 /** A task spec. Plain data, no owned memory. */
