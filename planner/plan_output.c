@@ -167,7 +167,6 @@ ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_
   ea_json_num(&j, "peak_shoulder_torque_Nm", info->peak_shoulder_torque_Nm);
   ea_json_num(&j, "max_statics_residual", info->max_statics_residual);
   ea_json_num(&j, "max_violation", info->max_violation);
-  ea_json_num(&j, "schedule_warp", info->schedule_warp);
   ea_json_int(&j, "between_knots_resolves", info->between_passes);
   if (pl->fm) {
     const ea_plan_freq_model_info_t *fi = &pl->fm->info;
@@ -202,7 +201,6 @@ ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_
   ea_json_num(&j, "statics_jacobians", info->time_statics_s);
   ea_json_num(&j, "ipopt", info->time_ipopt_s);
   ea_json_num(&j, "rest", info->time_rest_s);
-  ea_json_num(&j, "schedule_tuning", info->time_tune_s);
   ea_json_obj_end(&j);
   if (refine) ea__refine_json(&j, refine);
   ea_json_obj_end(&j);

@@ -3,7 +3,10 @@
  * s(u) = u - w sin(2 pi u) / (2 pi), u = k / (N - 1); w > 0 packs knots
  * towards the start and the goal, where minimum-time plans switch between
  * acceleration and speed limits. BOBYQA minimises the planned duration over
- * w in [-0.8, 0.8], each evaluation a warm-started plan. */
+ * w in [-0.8, 0.8], each evaluation a warm-started plan.
+ * It did not earn its keep (docs/planner.md, "Schedule tuning (removed)": -0.002 % of
+ * duration at 100 knots for 1 s of tuning): the task key and the CLI flag are gone; this file
+ * and the solver's call go with the solver's rewrite. */
 #include "plan_impl.h"
 
 #include <math.h>
