@@ -468,11 +468,12 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
   if (plan_info) *plan_info = R.held_info;
   snprintf(info->message, sizeof info->message,
            "refinement (%s): FE residual peak %.4g mm -> %.4g mm (tolerance %.4g mm%s) in %d "
-           "evaluations, %.3g s; duration %.6g s -> %.6g s; stopped: %s",
+           "evaluation%s, %.3g s; duration %.6g s -> %.6g s; stopped: %s",
            ea_task_refine_method_name(R.s.method), 1e3 * info->residual_peak_before_m,
            1e3 * info->residual_peak_m, 1e3 * R.s.tolerance_m,
-           info->converged ? ", reached" : ", NOT reached", info->n_evals, info->time_s,
-           info->duration_before_s, info->duration_s, info->stop_reason);
+           info->converged ? ", reached" : ", NOT reached", info->n_evals,
+           info->n_evals == 1 ? "" : "s", info->time_s, info->duration_before_s, info->duration_s,
+           info->stop_reason);
   ea_traj_free(&R.tr);
   return ea_error_set(err, EA_OK, "%s", info->message);
 }
