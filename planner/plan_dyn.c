@@ -297,6 +297,15 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
   case EA__ROW_DYN_TERMINAL:
   case EA__ROW_OBJ_DYN:
     return ea__dyn_terminal(pl, x, value, cols, vals);
+  case EA__ROW_DYN_REST: { /* linear: x - target (a row, not a bound: the guess keeps its
+                            * integrated terminal state and the dynamics their consistency) */
+    const int i = r->coord % pl->K, d = r->coord >= pl->K;
+    const int col = d ? EA__IED(pl, pl->N - 1, i) : EA__IE(pl, pl->N - 1, i);
+    if (value) *value = x[col] - pl->dyn_target[d ? EA_ROM_MAX_MODES + i : i];
+    if (cols) cols[0] = col;
+    if (vals) vals[0] = 1.0;
+    return 1;
+  }
   default:
     if (value) *value = 0.0;
     return 0;

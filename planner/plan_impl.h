@@ -31,7 +31,8 @@ typedef enum ea__row_kind {
   EA__ROW_DYN_TORQUE,        /* shoulder torque with the modal part at a knot */
   EA__ROW_DYN_DEVIATION,     /* squared modal tip deviation at a knot */
   EA__ROW_DYN_TERMINAL,      /* squared residual amplitude at the goal */
-  EA__ROW_OBJ_DYN,           /* objective piece: the same (min_vibration with dynamics) */
+  EA__ROW_DYN_REST, /* the goal's modal state = its target (coord i < K: eta_i, else eta'_i) */
+  EA__ROW_OBJ_DYN,  /* objective piece: the same (min_vibration with dynamics) */
   EA__ROW_KIND_COUNT
 } ea__row_kind_t;
 
@@ -39,6 +40,8 @@ typedef enum ea__row_kind {
  *  0 L_c, 1 alpha, 2 base, and the shoulder angle theta0 (its values are
  *  statics variables, its rates variables of their own). */
 #define EA__C_TH 3
+
+typedef struct ea__pp ea__pp_t;
 
 typedef struct ea__row {
   unsigned char kind, coord; /* coord: coordinate (EA__C_TH = theta0) or normal index */
@@ -148,7 +151,13 @@ struct ea_planner {
   double t_statics, t_callbacks, t_start, max_time;
   int iter;
   int refining; /* 1: re-solve after bounds were tightened for limits between knots */
+  /* the prescribed path in the path coordinate (plan_path.c; NULL: knots only) */
+  struct ea__pp *pp;
+  int pp_off; /* 1: solve with the knot transcription (a fallback) */
 };
+
+/** Ipopt's infinity (nlp_lower/upper_bound_inf). */
+#define EA__IPINF 1e19
 
 /* Variable indices. */
 #define EA__IQ(pl, k, c) ((k) * (pl)->nb + (c))
@@ -233,6 +242,19 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
 /** The model's predicted residual and modal figures of a plan x into info. */
 void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info);
+/** The path transcription (plan_path.c): does the task qualify (line/polyline, no frequency
+ *  model, exact Hessian)? */
+int ea__pp_supported(const ea_planner_t *pl);
+/** Build it (after the knot planner's rows, bounds and Hessian structure). */
+ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err);
+void ea__pp_free(struct ea__pp *pp);
+/** After ea_planner_update: the path moved: statics splines and bounds again. */
+ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err);
+/** A solve in the path coordinate: guess (start), Ipopt; pl->x gets the plan in the knot
+ *  layout (expanded), pl->g its rows; *rs, *obj, *iters Ipopt's. */
+ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                         ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
+                         int *iters, ea_error_t *err);
 /** The (L_c, alpha) box the task's path covers, with a margin (plan_vib.c). */
 void ea__plan_box(const ea_planner_t *pl, double box[4]);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */

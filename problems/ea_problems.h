@@ -249,6 +249,13 @@ typedef struct ea_task_limits {
                                       cubic Hermite's acceleration may jump at the knots */
 } ea_task_limits_t;
 
+/** Which transcription plans a task (docs/planner.md, "Transcriptions"). */
+typedef enum ea_task_transcription {
+  EA_TASK_TRANSCRIPTION_AUTO = 0, /**< the path coordinate for line/polyline paths, else knots */
+  EA_TASK_TRANSCRIPTION_KNOTS,    /**< knots with the statics shooting rows (every task) */
+  EA_TASK_TRANSCRIPTION_PATH      /**< the path coordinate (line/polyline; else refused) */
+} ea_task_transcription_t;
+
 /** Solver options of a task. */
 typedef struct ea_task_solver {
   int max_iter;          /**< Ipopt iterations (default 500) */
@@ -264,6 +271,7 @@ typedef struct ea_task_solver {
                               every row but without the statics curvature; 1 "exact":
                               with it (second-order statics by differences of the exact
                               sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
+  ea_task_transcription_t transcription; /**< "auto" (default), "knots" or "path" */
 } ea_task_solver_t;
 
 /** Dynamics of a plan (docs/task-format.md, "dynamics"): plan with the reduced dynamic model

@@ -99,7 +99,8 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
                                    ea_error_t *err) {
   static const char *const keys[] = {
       "max_iter",    "tol",           "constr_viol_tol", "max_time_s", "derivative_test",
-      "print_level", "tune_schedule", "regularization",  "hessian",    NULL};
+      "print_level", "tune_schedule", "regularization",  "hessian",    "transcription",
+      NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
   if (st) return st;
   long v = s->max_iter;
@@ -120,6 +121,10 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   int h = s->hessian_exact;
   if ((st = ea__ymap_enum(d, n, "hessian", 0, hess, &h, err))) return st;
   s->hessian_exact = h;
+  static const char *const trans[] = {"auto", "knots", "path", NULL};
+  int tr = (int)s->transcription;
+  if ((st = ea__ymap_enum(d, n, "transcription", 0, trans, &tr, err))) return st;
+  s->transcription = (ea_task_transcription_t)tr;
   return EA_OK;
 }
 
