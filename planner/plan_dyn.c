@@ -18,6 +18,7 @@
 #include "plan_impl.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* ---- forward-mode dual numbers over the row's local variables ------------ */
@@ -146,6 +147,69 @@ static void ea__emit(const ea__dual_t *r, const int *col, int nloc, double *valu
   }
 }
 
+/* The defect rows' work, cached per interval: the Hermite of (L_c, alpha) and the model's
+ * fields at the ends and the midpoint, by the values of the interval's 9 trajectory variables
+ * (the same for every mode; the Hessian's differences perturb one variable at a time), and the
+ * pos and vel defects of each mode by those plus its 4 modal variables. */
+typedef struct {
+  int valid;
+  double key[9];
+  ea__dual_t h, v0[2], v1[2], a0[2], a1[2], vm[2], am[2];
+  ea__drom_t m0, m1, mm;
+} ea__dyn_icache_t;
+
+typedef struct {
+  int valid;
+  double key[EA__DN];
+  ea__dual_t pos, vel;
+} ea__dyn_mcache_t;
+
+struct ea__dyn_cache {
+  ea__dyn_icache_t *ic; /* N - 1 */
+  ea__dyn_mcache_t *mc; /* (N - 1) K */
+};
+
+void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
+  if (!c) return;
+  free(c->ic);
+  free(c->mc);
+  free(c);
+}
+
+static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, int k, const double *xv,
+                                                const ea__dual_t *loc) {
+  ea__dyn_icache_t *ic = &pl->dync->ic[k];
+  if (ic->valid && !memcmp(ic->key, xv + 4, sizeof ic->key)) return ic;
+  const double ds = pl->s[k + 1] - pl->s[k];
+  const ea__dual_t h = ea__dscale(loc[12], ds), ih = ea__ddiv(ea__dc(1.0), h);
+  const ea__dual_t ih2 = ea__dmul(ih, ih);
+  ea__dual_t q0[2], q1[2], qm[2];
+  for (int c = 0; c < 2; ++c) {
+    q0[c] = loc[4 + 4 * c];
+    q1[c] = loc[5 + 4 * c];
+    ic->v0[c] = loc[6 + 4 * c];
+    ic->v1[c] = loc[7 + 4 * c];
+    const ea__dual_t dq = ea__dsub(q1[c], q0[c]);
+    /* a0 = 6 dq / h^2 - (4 v0 + 2 v1) / h, a1 = -6 dq / h^2 + (2 v0 + 4 v1) / h */
+    const ea__dual_t t6 = ea__dscale(ea__dmul(dq, ih2), 6.0);
+    ic->a0[c] = ea__dsub(t6, ea__dmul(ea__daxpy(ea__dscale(ic->v0[c], 4.0), 2.0, ic->v1[c]), ih));
+    ic->a1[c] = ea__dadd(ea__dscale(t6, -1.0),
+                         ea__dmul(ea__daxpy(ea__dscale(ic->v0[c], 2.0), 4.0, ic->v1[c]), ih));
+    qm[c] = ea__dadd(ea__dscale(ea__dadd(q0[c], q1[c]), 0.5),
+                     ea__dscale(ea__dmul(h, ea__dsub(ic->v0[c], ic->v1[c])), 0.125));
+    ic->vm[c] = ea__dsub(ea__dscale(ea__dmul(dq, ih), 1.5),
+                         ea__dscale(ea__dadd(ic->v0[c], ic->v1[c]), 0.25));
+    ic->am[c] = ea__dscale(ea__dadd(ic->a0[c], ic->a1[c]), 0.5);
+  }
+  ic->h = h;
+  ea__drom(pl, q0[0], q0[1], &ic->m0);
+  ea__drom(pl, q1[0], q1[1], &ic->m1);
+  ea__drom(pl, qm[0], qm[1], &ic->mm);
+  memcpy(ic->key, xv + 4, sizeof ic->key);
+  ic->valid = 1;
+  return ic;
+}
+
 /* Hermite-Simpson defects of mode i over interval k (pos: 0, vel: 1). Local variables:
  * 0 eta_k, 1 eta'_k, 2 eta_k+1, 3 eta'_k+1, 4..7 (q0, q1, v0, v1) of L_c, 8..11 of alpha,
  * 12 t_f. */
@@ -163,55 +227,37 @@ static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i,
     col[7 + 4 * c] = EA__IV(pl, k + 1, c);
   }
   col[12] = pl->has_tf ? EA__ITF(pl) : -1;
-  ea__dual_t loc[EA__DN];
+  double xv[EA__DN];
   for (int j = 0; j < EA__DN; ++j)
-    loc[j] = col[j] >= 0 ? ea__dvar(x[col[j]], j) : ea__dc(pl->tf_fixed);
-  const double ds = pl->s[k + 1] - pl->s[k];
-  const ea__dual_t h = ea__dscale(loc[12], ds), ih = ea__ddiv(ea__dc(1.0), h);
-  const ea__dual_t ih2 = ea__dmul(ih, ih);
-  /* the Hermite of each coordinate: ends and midpoint */
-  ea__dual_t q0[2], q1[2], v0[2], v1[2], a0[2], a1[2], qm[2], vm[2], am[2];
-  for (int c = 0; c < 2; ++c) {
-    q0[c] = loc[4 + 4 * c];
-    q1[c] = loc[5 + 4 * c];
-    v0[c] = loc[6 + 4 * c];
-    v1[c] = loc[7 + 4 * c];
-    const ea__dual_t dq = ea__dsub(q1[c], q0[c]);
-    /* a0 = 6 dq / h^2 - (4 v0 + 2 v1) / h, a1 = -6 dq / h^2 + (2 v0 + 4 v1) / h */
-    const ea__dual_t t6 = ea__dscale(ea__dmul(dq, ih2), 6.0);
-    a0[c] = ea__dsub(t6, ea__dmul(ea__daxpy(ea__dscale(v0[c], 4.0), 2.0, v1[c]), ih));
-    a1[c] =
-        ea__dadd(ea__dscale(t6, -1.0), ea__dmul(ea__daxpy(ea__dscale(v0[c], 2.0), 4.0, v1[c]), ih));
-    qm[c] = ea__dadd(ea__dscale(ea__dadd(q0[c], q1[c]), 0.5),
-                     ea__dscale(ea__dmul(h, ea__dsub(v0[c], v1[c])), 0.125));
-    vm[c] = ea__dsub(ea__dscale(ea__dmul(dq, ih), 1.5), ea__dscale(ea__dadd(v0[c], v1[c]), 0.25));
-    am[c] = ea__dscale(ea__dadd(a0[c], a1[c]), 0.5);
+    xv[j] = col[j] >= 0 ? x[col[j]] : pl->tf_fixed;
+  ea__dyn_mcache_t *mc = &pl->dync->mc[k * pl->K + i];
+  if (!mc->valid || memcmp(mc->key, xv, sizeof mc->key)) {
+    ea__dual_t loc[EA__DN];
+    for (int j = 0; j < EA__DN; ++j)
+      loc[j] = col[j] >= 0 ? ea__dvar(xv[j], j) : ea__dc(xv[j]);
+    const ea__dyn_icache_t *ic = ea__dyn_interval(pl, k, xv, loc);
+    const double zeta = pl->zeta[i];
+    const ea__dual_t e0 = loc[0], ed0 = loc[1], e1 = loc[2], ed1 = loc[3];
+    const ea__dual_t acc0 =
+        ea__dacc(&ic->m0, i, zeta, e0, ed0, ea__dforce(&ic->m0, i, ic->v0, ic->a0));
+    const ea__dual_t acc1 =
+        ea__dacc(&ic->m1, i, zeta, e1, ed1, ea__dforce(&ic->m1, i, ic->v1, ic->a1));
+    const ea__dual_t h8 = ea__dscale(ic->h, 0.125), h6 = ea__dscale(ic->h, 1.0 / 6.0);
+    const ea__dual_t em =
+        ea__dadd(ea__dscale(ea__dadd(e0, e1), 0.5), ea__dmul(h8, ea__dsub(ed0, ed1)));
+    const ea__dual_t edm =
+        ea__dadd(ea__dscale(ea__dadd(ed0, ed1), 0.5), ea__dmul(h8, ea__dsub(acc0, acc1)));
+    const ea__dual_t sp = ea__dadd(ea__daxpy(ed0, 4.0, edm), ed1);
+    mc->pos = ea__dscale(ea__dsub(ea__dsub(e1, e0), ea__dmul(h6, sp)), pl->dyn_scale);
+    const ea__dual_t accm =
+        ea__dacc(&ic->mm, i, zeta, em, edm, ea__dforce(&ic->mm, i, ic->vm, ic->am));
+    const ea__dual_t sv = ea__dadd(ea__daxpy(acc0, 4.0, accm), acc1);
+    mc->vel = ea__dscale(ea__dsub(ea__dsub(ed1, ed0), ea__dmul(h6, sv)), pl->dyn_scale);
+    memcpy(mc->key, xv, sizeof mc->key);
+    mc->valid = 1;
   }
-  ea__drom_t m0, m1, mm;
-  ea__drom(pl, q0[0], q0[1], &m0);
-  ea__drom(pl, q1[0], q1[1], &m1);
-  ea__drom(pl, qm[0], qm[1], &mm);
-  const double zeta = pl->zeta[i];
-  const ea__dual_t e0 = loc[0], ed0 = loc[1], e1 = loc[2], ed1 = loc[3];
-  const ea__dual_t acc0 = ea__dacc(&m0, i, zeta, e0, ed0, ea__dforce(&m0, i, v0, a0));
-  const ea__dual_t acc1 = ea__dacc(&m1, i, zeta, e1, ed1, ea__dforce(&m1, i, v1, a1));
-  const ea__dual_t h8 = ea__dscale(h, 0.125), h6 = ea__dscale(h, 1.0 / 6.0);
-  const ea__dual_t em =
-      ea__dadd(ea__dscale(ea__dadd(e0, e1), 0.5), ea__dmul(h8, ea__dsub(ed0, ed1)));
-  const ea__dual_t edm =
-      ea__dadd(ea__dscale(ea__dadd(ed0, ed1), 0.5), ea__dmul(h8, ea__dsub(acc0, acc1)));
-  ea__dual_t r;
-  if (!vel) {
-    const ea__dual_t sum = ea__dadd(ea__daxpy(ed0, 4.0, edm), ed1);
-    r = ea__dsub(ea__dsub(e1, e0), ea__dmul(h6, sum));
-  } else {
-    const ea__dual_t accm = ea__dacc(&mm, i, zeta, em, edm, ea__dforce(&mm, i, vm, am));
-    const ea__dual_t sum = ea__dadd(ea__daxpy(acc0, 4.0, accm), acc1);
-    r = ea__dsub(ea__dsub(ed1, ed0), ea__dmul(h6, sum));
-  }
-  r = ea__dscale(r, pl->dyn_scale);
   int n = 0;
-  ea__emit(&r, col, EA__DN, value, cols, vals, &n);
+  ea__emit(vel ? &mc->vel : &mc->pos, col, EA__DN, value, cols, vals, &n);
   return n;
 }
 
@@ -345,6 +391,14 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
                         "alpha [%g, %g] rad: %s",
                         box[0], box[1], box[2], box[3], e.msg);
   pl->K = rs.modes;
+  pl->dync = calloc(1, sizeof *pl->dync);
+  if (pl->dync) {
+    pl->dync->ic = calloc((size_t)(pl->N > 1 ? pl->N - 1 : 1), sizeof *pl->dync->ic);
+    pl->dync->mc =
+        calloc((size_t)(pl->N > 1 ? pl->N - 1 : 1) * (size_t)pl->K, sizeof *pl->dync->mc);
+  }
+  if (!pl->dync || !pl->dync->ic || !pl->dync->mc)
+    return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");
   for (int i = 0; i < EA_ROM_MAX_MODES; ++i)
     pl->zeta[i] = 0.0;
   pl->dyn_scale = 1.0;

@@ -111,7 +111,8 @@ struct ea_planner {
   int ie0;                       /* index of the first modal variable */
   double dyn_target[2 * EA_ROM_MAX_MODES]; /* terminal (eta, eta') when ending at rest */
   ea_plan_dyn_info_t dyn_info;
-  int zero_end_acc; /* 1: acceleration 0 at start and goal (min_vibration) */
+  struct ea__dyn_cache *dync; /* the defect rows' work per interval (plan_dyn.c) */
+  int zero_end_acc;           /* 1: acceleration 0 at start and goal (min_vibration) */
   /* objective */
   int n_terms;
   ea__plan_term_t terms[EA__MAX_TERMS];
@@ -192,6 +193,26 @@ int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double
  *  returns the entry count (<= EA__ROW_MAX). Statics rows read the cached sensitivities. */
 int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                       int *cols, double *vals);
+/** Does the Lagrangian Hessian take the row's curvature? Not the statics rows (their own
+ *  blocks, plan_hess.c) nor the linear rest rows. (Leaving out the modal defects' curvature
+ *  was tried: 60 % less work per iteration, but a payload-0.5 at-rest plan no longer
+ *  converged in 500 iterations.) */
+static inline int ea__plan_row_curved(const ea__row_t *r) {
+  return r->kind > EA__ROW_STATICS_Y && r->kind != EA__ROW_DYN_REST;
+}
+/** A row evaluation (the knot transcription's ea__plan_row_eval, or the path one's). */
+typedef int (*ea__rowfn)(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
+                         int *cols, double *vals);
+/** Most rows the Hessian differences together (an interval's modal defects). */
+#define EA__HGROUP_MAX (2 * EA_ROM_MAX_MODES)
+/** Rows r.. that the Hessian differences together (>= 1). */
+int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
+/** Central differences of the exact gradients of g rows (rows[0..g-1], weights w) over the
+ *  union of their variables (xx: a scratch copy of x), added as w 0.5 (H + H^T) at each row's
+ *  Hessian positions hpos[r]. */
+void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                            const ea__row_t *rows, const double *w, int g, const int *const *hpos,
+                            double *values);
 /** Hessian setup (structure, positions) and values (lower triangle). */
 ea_status_t ea__plan_hess_setup(ea_planner_t *pl);
 ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double obj_factor,
@@ -235,6 +256,7 @@ int ea__plan_between(ea_planner_t *pl, const double *x, double *worst, char *msg
 /** The reduced dynamic model for a task with dynamics (pl->rom; NULL otherwise): the box of
  *  the task, the table from the cache or built (plan_dyn.c). */
 ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err);
+void ea__plan_dyn_cache_free(struct ea__dyn_cache *c);
 /** Rows of the dynamic kinds; same contract as ea__plan_row_eval. */
 int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                      int *cols, double *vals);

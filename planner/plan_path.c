@@ -417,6 +417,7 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
   int cols[EA__ROW_MAX];
   size_t cap = 1;
   for (int r = 0; r < nr; ++r) {
+    if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
     const size_t nc = (size_t)ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
     cap += nc * (nc + 1) / 2;
   }
@@ -428,6 +429,7 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
   }
   size_t nk = 0;
   for (int r = 0; r < nr; ++r) {
+    if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
     const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
@@ -453,6 +455,7 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
   int p = 0;
   for (int r = 0; r < nr; ++r) {
     pp->hpos_start[r] = p;
+    if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
     const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
@@ -469,29 +472,22 @@ static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
   ea__pp_t *pp = pl->pp;
   memset(values, 0, (size_t)pp->nnz_h * sizeof *values);
   memcpy(pp->xx, x, (size_t)pp->n * sizeof *x);
-  const int nr = ea__pp_npieces(pl);
-  int cols[EA__ROW_MAX];
-  double gp[EA__ROW_MAX], gm[EA__ROW_MAX], Hl[EA__ROW_MAX][EA__ROW_MAX];
-  for (int r = 0; r < nr; ++r) {
-    const double w = r < pp->m ? lambda[r] : sigma * pl->oweight[r - pp->m];
-    if (w == 0.0) continue;
-    const ea__row_t *row = ea__pp_hrow(pl, r);
-    const int nc = ea__pp_row(pl, x, row, NULL, cols, NULL);
-    for (int a = 0; a < nc; ++a) {
-      const int v = cols[a];
-      const double d = 1e-6 * fmax(1.0, fabs(x[v]));
-      pp->xx[v] = x[v] + d;
-      ea__pp_row(pl, pp->xx, row, NULL, NULL, gp);
-      pp->xx[v] = x[v] - d;
-      ea__pp_row(pl, pp->xx, row, NULL, NULL, gm);
-      pp->xx[v] = x[v];
-      for (int b = 0; b < nc; ++b)
-        Hl[a][b] = (gp[b] - gm[b]) / (2.0 * d);
+  for (int r = 0; r < pp->m;) {
+    const int g = ea__plan_hess_group_len(pp->rows, r, pp->m);
+    if (ea__plan_row_curved(&pp->rows[r])) {
+      const int *hp[EA__HGROUP_MAX];
+      for (int q = 0; q < g; ++q)
+        hp[q] = pp->hpos + pp->hpos_start[r + q];
+      ea__plan_hess_fd_group(pl, ea__pp_row, x, pp->xx, &pp->rows[r], lambda + r, g, hp, values);
     }
-    int p = pp->hpos_start[r];
-    for (int a = 0; a < nc; ++a)
-      for (int b = 0; b <= a; ++b)
-        values[pp->hpos[p++]] += w * 0.5 * (Hl[a][b] + Hl[b][a]);
+    r += g;
+  }
+  for (int o = 0; o < pl->n_orows; ++o) {
+    const ea__row_t *row = &pl->orows[o];
+    const double w = sigma * pl->oweight[o];
+    if (!ea__plan_row_curved(row)) continue;
+    const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
+    ea__plan_hess_fd_group(pl, ea__pp_row, x, pp->xx, row, &w, 1, hp, values);
   }
   ea__pp_expand(pl, x);
 }

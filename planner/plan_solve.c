@@ -11,7 +11,6 @@
 #include <string.h>
 #include <unistd.h>
 
-
 const ea_task_t *ea_planner_task(const ea_planner_t *pl) {
   return &pl->task;
 }
@@ -22,6 +21,7 @@ void ea_planner_free(ea_planner_t *pl) {
   ea__plan_hess_free(pl);
   ea__plan_freq_free(pl->fm);
   ea_rom_table_free(pl->rom);
+  ea__plan_dyn_cache_free(pl->dync);
   ea__pp_free(pl->pp);
   ea_shooter_free(pl->sh);
   free(pl->s);
