@@ -43,6 +43,10 @@ typedef enum ea__row_kind {
 
 typedef struct ea__pp ea__pp_t;
 
+/** Most models of a robust plan (the nominal arm and four corners), and modal coordinates. */
+#define EA__DYN_MAX_MODELS 5
+#define EA__DYN_MAX (EA__DYN_MAX_MODELS * EA_ROM_MAX_MODES)
+
 typedef struct ea__row {
   unsigned char kind, coord; /* coord: coordinate (EA__C_TH = theta0) or normal index */
   int knot;                  /* knot (or first knot of the interval) */
@@ -103,13 +107,16 @@ struct ea_planner {
   /* frequency model (NULL when the task needs none) */
   ea__freq_model_t *fm;
   /* reduced dynamic model (NULL when the task has no dynamics; plan_dyn.c) */
-  ea_rom_table_t *rom;
-  int K;                         /* modes */
-  double zeta[EA_ROM_MAX_MODES]; /* modal damping ratios */
-  double dyn_scale;              /* defect rows are multiplied by this */
-  double dyn_term_scale;         /* [1/m^2] the terminal amplitude row and objective piece */
-  int ie0;                       /* index of the first modal variable */
-  double dyn_target[2 * EA_ROM_MAX_MODES]; /* terminal (eta, eta') when ending at rest */
+  ea_rom_table_t *rom;                      /* the nominal model's (roms[0]) */
+  ea_rom_table_t *roms[EA__DYN_MAX_MODELS]; /* per model: nominal, then the robust corners */
+  int M;                                    /* models */
+  int Kper;                                 /* modes per model */
+  int K;                                    /* modal coordinates: M Kper (model-major) */
+  double zeta[EA__DYN_MAX];                 /* modal damping ratios */
+  double dyn_scale;                         /* defect rows are multiplied by this */
+  double dyn_term_scale;              /* [1/m^2] the terminal amplitude row and objective piece */
+  int ie0;                            /* index of the first modal variable */
+  double dyn_target[2 * EA__DYN_MAX]; /* terminal (eta, eta') when ending at rest */
   ea_plan_dyn_info_t dyn_info;
   struct ea__dyn_cache *dync; /* the defect rows' work per interval (plan_dyn.c) */
   int zero_end_acc;           /* 1: acceleration 0 at start and goal (min_vibration) */
@@ -204,7 +211,7 @@ static inline int ea__plan_row_curved(const ea__row_t *r) {
 typedef int (*ea__rowfn)(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                          int *cols, double *vals);
 /** Most rows the Hessian differences together (an interval's modal defects). */
-#define EA__HGROUP_MAX (2 * EA_ROM_MAX_MODES)
+#define EA__HGROUP_MAX (2 * EA__DYN_MAX)
 /** Rows r.. that the Hessian differences together (>= 1). */
 int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
 /** Central differences of the exact gradients of g rows (rows[0..g-1], weights w) over the

@@ -333,7 +333,8 @@ const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *
     snprintf(buf, len, "residual vibration at the goal (dynamics.residual_m)");
     break;
   case EA__ROW_DYN_REST:
-    snprintf(buf, len, "mode %d at rest at the goal", r->coord % pl->K + 1);
+    snprintf(buf, len, "mode %d of model %d at rest at the goal", r->coord % pl->K % pl->Kper + 1,
+             r->coord % pl->K / pl->Kper + 1);
     break;
   default:
     snprintf(buf, len, "constraint");

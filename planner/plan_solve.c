@@ -20,7 +20,8 @@ void ea_planner_free(ea_planner_t *pl) {
   if (pl->ip) FreeIpoptProblem(pl->ip);
   ea__plan_hess_free(pl);
   ea__plan_freq_free(pl->fm);
-  ea_rom_table_free(pl->rom);
+  for (int j = 0; j < EA__DYN_MAX_MODELS; ++j)
+    ea_rom_table_free(pl->roms[j]);
   ea__plan_dyn_cache_free(pl->dync);
   ea__pp_free(pl->pp);
   ea_shooter_free(pl->sh);
@@ -222,21 +223,31 @@ static int ea__build_rows(ea_planner_t *pl) {
         ea__add_row(pl, &i, EA__ROW_DYN_DEF_POS, k, m, 0.0, 0.0);
         ea__add_row(pl, &i, EA__ROW_DYN_DEF_VEL, k, m, 0.0, 0.0);
       }
-    for (int k = 1; k + 1 < N; ++k) {
-      ea__add_row(pl, &i, EA__ROW_DYN_TENSION, k, 0, t->limits.tension_min + ct,
-                  t->limits.tension_max - ct);
-      const double tq = t->limits.shoulder_torque_max - ct;
-      ea__add_row(pl, &i, EA__ROW_DYN_TORQUE, k, 0, -tq, tq);
-      const double d = t->dynamics.max_tip_deviation_m;
-      if (isfinite(d)) ea__add_row(pl, &i, EA__ROW_DYN_DEVIATION, k, 0, -EA__IPINF, d * d);
+    for (int j = 0; j < pl->M; ++j) /* each model: tension, torque, deviation */
+      for (int k = 1; k + 1 < N; ++k) {
+        ea__add_row(pl, &i, EA__ROW_DYN_TENSION, k, j, t->limits.tension_min + ct,
+                    t->limits.tension_max - ct);
+        const double tq = t->limits.shoulder_torque_max - ct;
+        ea__add_row(pl, &i, EA__ROW_DYN_TORQUE, k, j, -tq, tq);
+        const double d = t->dynamics.max_tip_deviation_m;
+        if (isfinite(d)) ea__add_row(pl, &i, EA__ROW_DYN_DEVIATION, k, j, -EA__IPINF, d * d);
+      }
+    /* at the goal: the nominal model at rest (or within residual_m); the robust corners
+     * within robust_residual_m */
+    const double r = t->dynamics.residual_m, rr = t->dynamics.robust_residual_m;
+    if (t->objective != EA_TASK_MIN_VIBRATION) {
+      if (r > 0)
+        ea__add_row(pl, &i, EA__ROW_DYN_TERMINAL, N - 1, 0, -EA__IPINF,
+                    pl->dyn_term_scale * r * r / pl->Kper);
+      else
+        for (int m = 0; m < pl->Kper; ++m) {
+          ea__add_row(pl, &i, EA__ROW_DYN_REST, N - 1, m, 0.0, 0.0);
+          ea__add_row(pl, &i, EA__ROW_DYN_REST, N - 1, pl->K + m, 0.0, 0.0);
+        }
+      for (int j = 1; j < pl->M; ++j)
+        ea__add_row(pl, &i, EA__ROW_DYN_TERMINAL, N - 1, j, -EA__IPINF,
+                    pl->dyn_term_scale * rr * rr / pl->Kper);
     }
-    const double r = t->dynamics.residual_m;
-    if (r > 0 && t->objective != EA_TASK_MIN_VIBRATION)
-      ea__add_row(pl, &i, EA__ROW_DYN_TERMINAL, N - 1, 0, -EA__IPINF,
-                  pl->dyn_term_scale * r * r / pl->K);
-    if (!(r > 0) && t->objective != EA_TASK_MIN_VIBRATION)
-      for (int m = 0; m < 2 * pl->K; ++m)
-        ea__add_row(pl, &i, EA__ROW_DYN_REST, N - 1, m, 0.0, 0.0);
   }
   return i;
 }
@@ -524,8 +535,10 @@ static const char *ea__struct_differs(const ea_planner_t *pl, const ea_task_t *t
       t->dynamics.grid[1] != o->dynamics.grid[1] ||
       (t->dynamics.residual_m > 0) != (o->dynamics.residual_m > 0) ||
       isfinite(t->dynamics.max_tip_deviation_m) != isfinite(o->dynamics.max_tip_deviation_m) ||
+      t->dynamics.robust_tip_mass != o->dynamics.robust_tip_mass ||
+      t->dynamics.robust_EI != o->dynamics.robust_EI ||
       (t->dynamics.modes && t->payload_kg != o->payload_kg))
-    return "dynamics (modes, grid, residual or deviation limit, payload)";
+    return "dynamics (modes, grid, residual or deviation limit, robust models, payload)";
   if (t->base_moves != o->base_moves) return "base motion (base variables)";
   if (isnan(t->duration_s) != isnan(o->duration_s)) return "free/fixed duration";
   if (t->limits.continuous_acceleration != o->limits.continuous_acceleration)
@@ -1246,12 +1259,12 @@ ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
     return ea_error_set(err, EA_ERR_ARG,
                         "terminal modal targets need a task with dynamics that ends at rest "
                         "(residual_m 0, not min_vibration)");
-  for (int i = 0; i < pl->K; ++i) {
+  for (int i = 0; i < pl->Kper; ++i) { /* the nominal model's modes */
     const double e = eta ? eta[i] : 0.0, ed = eta_rate ? eta_rate[i] : 0.0;
     if (!isfinite(e) || !isfinite(ed))
       return ea_error_set(err, EA_ERR_ARG, "terminal modal target of mode %d is not finite", i + 1);
     pl->dyn_target[i] = e;
-    pl->dyn_target[EA_ROM_MAX_MODES + i] = ed;
+    pl->dyn_target[EA__DYN_MAX + i] = ed;
   }
   ea__bounds(pl);
   if (ea__ipopt_create(pl))

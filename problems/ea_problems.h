@@ -283,6 +283,11 @@ typedef struct ea_task_dynamics {
   double max_tip_deviation_m; /**< [m] modal tip deviation from the quasi-static tip during the
                                    motion, at the knots (INFINITY = off, default) */
   int grid[2];                /**< table grid (L_c, alpha) points (0 = from the box, default) */
+  double robust_tip_mass;     /**< [-] robust rest: the plan also at rest for the tip mass
+                                   m (1 +- this) ... (0 = off, default) */
+  double robust_EI;           /**< [-] ... and EI (1 +- this): the four corners as models */
+  double robust_residual_m;   /**< [m] allowed residual amplitude at each corner (the
+                                   model's; default 5e-4) */
 } ea_task_dynamics_t;
 
 /** A task spec. Plain data, no owned memory. */

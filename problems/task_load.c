@@ -130,7 +130,8 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
 
 static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dynamics_t *dy,
                                      ea_error_t *err) {
-  static const char *const keys[] = {"modes", "residual_m", "max_tip_deviation_m", "grid", NULL};
+  static const char *const keys[] = {"modes", "residual_m", "max_tip_deviation_m",
+                                     "grid",  "robust",     NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics", err);
   if (st) return st;
   long v = 2;
@@ -140,6 +141,17 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dyna
   if ((st = ea__ymap_double(d, n, "max_tip_deviation_m", 0, 1e-6, 10.0, &dy->max_tip_deviation_m,
                             err)))
     return st;
+  yaml_node_t *rb = NULL;
+  if ((st = ea__ymap_map(d, n, "robust", 0, &rb, err))) return st;
+  if (rb) {
+    static const char *const rkeys[] = {"tip_mass", "EI", "residual_m", NULL};
+    if ((st = ea__ymap_check_keys(d, rb, rkeys, "dynamics.robust", err))) return st;
+    if ((st = ea__ymap_double(d, rb, "tip_mass", 0, 0.0, 0.5, &dy->robust_tip_mass, err)))
+      return st;
+    if ((st = ea__ymap_double(d, rb, "EI", 0, 0.0, 0.5, &dy->robust_EI, err))) return st;
+    if ((st = ea__ymap_double(d, rb, "residual_m", 0, 1e-6, 1.0, &dy->robust_residual_m, err)))
+      return st;
+  }
   double gv[2] = {0, 0};
   int have = 0;
   if ((st = ea__ymap_vec(d, n, "grid", 0, 2, gv, &have, err))) return st;
