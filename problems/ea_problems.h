@@ -249,6 +249,13 @@ typedef struct ea_task_limits {
                                       cubic Hermite's acceleration may jump at the knots */
 } ea_task_limits_t;
 
+/** Which transcription plans a task (docs/planner.md, "Transcriptions"). */
+typedef enum ea_task_transcription {
+  EA_TASK_TRANSCRIPTION_AUTO = 0, /**< the path coordinate for line/polyline paths, else knots */
+  EA_TASK_TRANSCRIPTION_KNOTS,    /**< knots with the statics shooting rows (every task) */
+  EA_TASK_TRANSCRIPTION_PATH      /**< the path coordinate (line/polyline; else refused) */
+} ea_task_transcription_t;
+
 /** Solver options of a task. */
 typedef struct ea_task_solver {
   int max_iter;          /**< Ipopt iterations (default 500) */
@@ -264,6 +271,7 @@ typedef struct ea_task_solver {
                               every row but without the statics curvature; 1 "exact":
                               with it (second-order statics by differences of the exact
                               sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
+  ea_task_transcription_t transcription; /**< "auto" (default), "knots" or "path" */
 } ea_task_solver_t;
 
 /** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */
@@ -309,6 +317,11 @@ typedef struct ea_task_dynamics {
   double max_tip_deviation_m; /**< [m] modal tip deviation from the quasi-static tip during the
                                    motion, at the knots (INFINITY = off, default) */
   int grid[2];                /**< table grid (L_c, alpha) points (0 = from the box, default) */
+  double robust_tip_mass;     /**< [-] robust rest: the plan also at rest for the tip mass
+                                   m (1 +- this) ... (0 = off, default) */
+  double robust_EI;           /**< [-] ... and EI (1 +- this): the four corners as models */
+  double robust_residual_m;   /**< [m] allowed residual amplitude at each corner (the
+                                   model's; default 5e-4) */
   ea_task_refine_t refine;    /**< FE-in-the-loop refinement (off by default) */
 } ea_task_dynamics_t;
 

@@ -49,6 +49,7 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->dynamics.modes = 0;
   t->dynamics.residual_m = 0.0;
   t->dynamics.max_tip_deviation_m = INFINITY;
+  t->dynamics.robust_residual_m = 5e-4;
   ea_task_refine_default(&t->dynamics.refine);
   t->knots = 100;
   t->solver.max_iter = 500;

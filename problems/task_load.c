@@ -97,15 +97,10 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
 
 static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver_t *s,
                                    ea_error_t *err) {
-  static const char *const keys[] = {"max_iter",
-                                     "tol",
-                                     "constr_viol_tol",
-                                     "max_time_s",
-                                     "derivative_test",
-                                     "print_level",
-                                     "regularization",
-                                     "hessian",
-                                     NULL};
+  static const char *const keys[] = {
+      "max_iter",        "tol",         "constr_viol_tol", "max_time_s",
+      "derivative_test", "print_level", "regularization",  "hessian",
+      "transcription",   NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
   if (st) return st;
   long v = s->max_iter;
@@ -125,6 +120,10 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   int h = s->hessian_exact;
   if ((st = ea__ymap_enum(d, n, "hessian", 0, hess, &h, err))) return st;
   s->hessian_exact = h;
+  static const char *const trans[] = {"auto", "knots", "path", NULL};
+  int tr = (int)s->transcription;
+  if ((st = ea__ymap_enum(d, n, "transcription", 0, trans, &tr, err))) return st;
+  s->transcription = (ea_task_transcription_t)tr;
   return EA_OK;
 }
 
@@ -168,8 +167,8 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
 
 static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dynamics_t *dy,
                                      ea_error_t *err) {
-  static const char *const keys[] = {"modes", "residual_m", "max_tip_deviation_m",
-                                     "grid",  "refine",     NULL};
+  static const char *const keys[] = {
+      "modes", "residual_m", "max_tip_deviation_m", "grid", "robust", "refine", NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics", err);
   if (st) return st;
   long v = 2;
@@ -179,6 +178,17 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dyna
   if ((st = ea__ymap_double(d, n, "max_tip_deviation_m", 0, 1e-6, 10.0, &dy->max_tip_deviation_m,
                             err)))
     return st;
+  yaml_node_t *rb = NULL;
+  if ((st = ea__ymap_map(d, n, "robust", 0, &rb, err))) return st;
+  if (rb) {
+    static const char *const rkeys[] = {"tip_mass", "EI", "residual_m", NULL};
+    if ((st = ea__ymap_check_keys(d, rb, rkeys, "dynamics.robust", err))) return st;
+    if ((st = ea__ymap_double(d, rb, "tip_mass", 0, 0.0, 0.5, &dy->robust_tip_mass, err)))
+      return st;
+    if ((st = ea__ymap_double(d, rb, "EI", 0, 0.0, 0.5, &dy->robust_EI, err))) return st;
+    if ((st = ea__ymap_double(d, rb, "residual_m", 0, 1e-6, 1.0, &dy->robust_residual_m, err)))
+      return st;
+  }
   double gv[2] = {0, 0};
   int have = 0;
   if ((st = ea__ymap_vec(d, n, "grid", 0, 2, gv, &have, err))) return st;
