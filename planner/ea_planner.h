@@ -206,8 +206,6 @@ typedef struct ea_plan_info {
   double time_statics_s;  /**< [s] shooting with sensitivities inside Ipopt's callbacks */
   double time_ipopt_s;    /**< [s] Ipopt itself (linear algebra, line search), callbacks excluded */
   double time_rest_s;     /**< [s] other callback work and post-processing */
-  double time_tune_s;     /**< [s] NLopt schedule tuning (0 when off) */
-  double schedule_warp;   /**< knot-time warp parameter used (0 = uniform) */
   int between_passes;     /**< re-solves with knot bounds tightened because a limit was
                                exceeded between the knots (docs/planner.md) */
   double time_freq_model_s;      /**< [s] building the FE frequency model (ea_planner_alloc;

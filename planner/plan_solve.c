@@ -881,7 +881,6 @@ static int ea__kkt_ok(ea_planner_t *pl, const double *x) {
 /* Solve                                                                    */
 /* ---------------------------------------------------------------------- */
 
-ea_status_t ea__plan_tune(ea_planner_t *pl, double *w_best, ea_error_t *err);
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                                 ea_plan_info_t *info_out, ea_error_t *err);
 
@@ -964,7 +963,6 @@ static ea_status_t ea__duration_probe(ea_planner_t *pl, ea_plan_info_t *info, ea
   t.objective = EA_TASK_MIN_TIME;
   t.duration_s = NAN;
   t.time_weight = NAN;
-  t.solver.tune_schedule = 0;
   ea_planner_t *pr = NULL;
   ea_plan_info_t pi;
   ea_error_t e2 = {0};
@@ -1000,22 +998,7 @@ static ea_status_t ea__duration_probe(ea_planner_t *pl, ea_plan_info_t *info, ea
 ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                              ea_plan_info_t *info_out, ea_error_t *err) {
   if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_solve: NULL planner");
-  if (!pl->task.solver.tune_schedule || !pl->has_tf)
-    return ea__solve_checked(pl, start, prev, info_out, err);
-  /* NLopt over the knot time distribution, then the final plan. */
-  const double t0 = ea__plan_now();
-  ea_status_t st = ea__plan_solve_once(pl, start, prev, info_out, err);
-  if (st) return st;
-  double w = 0.0;
-  st = ea__plan_tune(pl, &w, err);
-  const double tt = ea__plan_now() - t0;
-  if (st) return st;
-  ea__plan_schedule(pl, w);
-  ea_plan_info_t local, *info = info_out ? info_out : &local;
-  st = ea__solve_checked(pl, EA_PLAN_WARM, NULL, info, err);
-  info->time_tune_s = tt;
-  info->schedule_warp = w;
-  return st;
+  return ea__solve_checked(pl, start, prev, info_out, err);
 }
 
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,

@@ -264,7 +264,6 @@ typedef struct ea_task_solver {
   double max_time_s;     /**< wall-clock limit (default 60) */
   int derivative_test;   /**< run Ipopt's derivative checker: 1 first-order, 2 second-order */
   int print_level;       /**< Ipopt print level (default 0 = silent) */
-  int tune_schedule;     /**< NLopt: tune the knot time distribution (min_time only) */
   double regularization; /**< weight of the acceleration-energy term added to min_time
                               (default 1e-4; 0 = pure minimum time) */
   int hessian_exact;     /**< Hessian of the Lagrangian: 2 "partial" (default): exact for

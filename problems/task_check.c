@@ -58,7 +58,6 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->solver.max_time_s = 60.0;
   t->solver.derivative_test = 0;
   t->solver.print_level = 0;
-  t->solver.tune_schedule = 0;
   t->solver.regularization = 1e-4;
   t->solver.hessian_exact = 2;
   t->start = ea_task_point_planar(NAN, NAN, 0.0);
