@@ -218,9 +218,13 @@ typedef struct ea_plan_info {
   double predicted_residual_m; /**< [m] the model's residual tip amplitude after the
                                     motion: sum_i of the modes' amplitudes */
   double predicted_amplitude_m[EA_ROM_MAX_MODES]; /**< [m] per mode (nominal model) */
-  double predicted_residual_worst_m;              /**< [m] the largest over the models (robust) */
-  double max_modal_deviation_m;                   /**< [m] max over the knots of the modal tip
-                                                       deviation from the quasi-static tip */
+  double predicted_time_to_rest_s;     /**< [s] after the motion until the model's residual bound
+                                            (sum of the modes' damped envelopes) stays within 1 mm,
+                                            with the arm file's modal damping ratios (INFINITY:
+                                            undamped and above 1 mm; 0: within from the start) */
+  double predicted_residual_worst_m;   /**< [m] the largest over the models (robust) */
+  double max_modal_deviation_m;        /**< [m] max over the knots of the modal tip
+                                            deviation from the quasi-static tip */
   double min_dynamic_tension_margin_N; /**< [N] min over the knots of T + modal part - min */
   char message[512];                   /**< human-readable outcome */
 } ea_plan_info_t;

@@ -428,8 +428,12 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   }
   if (!pl->dync || !pl->dync->ic || !pl->dync->mc)
     return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");
-  for (int i = 0; i < EA__DYN_MAX; ++i)
-    pl->zeta[i] = 0.0;
+  /* each model's mode mi damped by the arm file's measured ratio of mode mi + 1 (modes beyond
+   * the measured ones, and an arm without damping: undamped, the worst case) */
+  for (int i = 0; i < EA__DYN_MAX; ++i) {
+    const int mi = i % pl->Kper;
+    pl->zeta[i] = i < pl->K && mi < t->arm.n_damping ? t->arm.damping_ratio[mi] : 0.0;
+  }
   pl->dyn_scale = 1.0;
   pl->dyn_term_scale = 1e6; /* 1 mm -> 1 */
   di->built = 1;
@@ -514,7 +518,39 @@ void ea__plan_dyn_fill(const ea_planner_t *pl, double *x) {
   }
 }
 
+/* "at rest": the tip within 1 mm of the final equilibrium (ea_sim_settings_t's default) */
+#define EA__REST_TOL 1e-3
+
+/* First time after which sum_i A_i e^{-d_i t} <= tol (a bound of the model's tip residual):
+ * 0 when it starts below, INFINITY when an undamped mode keeps it above, else by bisection
+ * (the bound decreases monotonically). */
+static double ea__rest_time(const double *A, const double *d, int n, double tol) {
+  double a0 = 0.0, ainf = 0.0, tmax = 0.0;
+  for (int i = 0; i < n; ++i) {
+    a0 += A[i];
+    if (!(d[i] > 0))
+      ainf += A[i];
+    else if (A[i] > 0)
+      tmax = fmax(tmax, log(n * A[i] / tol) / d[i]);
+  }
+  if (a0 <= tol) return 0.0;
+  if (ainf > tol) return INFINITY;
+  double lo = 0.0, hi = fmax(tmax, 0.0);
+  for (int it = 0; it < 200 && hi - lo > 1e-9 * (1.0 + hi); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    double s = 0.0;
+    for (int i = 0; i < n; ++i)
+      s += A[i] * exp(-d[i] * mid);
+    if (s > tol)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return hi;
+}
+
 void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info) {
+  info->predicted_time_to_rest_s = NAN;
   info->predicted_residual_m = info->max_modal_deviation_m = NAN;
   info->predicted_residual_worst_m = info->min_dynamic_tension_margin_N = NAN;
   for (int i = 0; i < EA_ROM_MAX_MODES; ++i)
@@ -523,6 +559,7 @@ void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t 
   if (!pl->rom) return;
   const int N = pl->N, Kp = pl->Kper;
   double dev = 0.0, tm = INFINITY, worst = 0.0;
+  double amp[EA_ROM_MAX_MODES], decay[EA_ROM_MAX_MODES]; /* nominal: envelope A e^{-decay t} */
   for (int j = 0; j < pl->M; ++j) {
     ea_rom_point_t p;
     double res = 0.0;
@@ -533,10 +570,20 @@ void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t 
       const double w = sqrt(p.omega2[mi]);
       const double a = hypot(x[EA__IE(pl, N - 1, i)], x[EA__IED(pl, N - 1, i)] / w) *
                        hypot(p.tip[mi][0], p.tip[mi][1]);
-      if (j == 0) info->predicted_amplitude_m[mi] = a;
+      if (j == 0) {
+        info->predicted_amplitude_m[mi] = a;
+        /* damped free vibration eta = e^{-z w t} (c cos w_d t + s sin w_d t): its envelope */
+        const double z = pl->zeta[i], wd = w * sqrt(1.0 - z * z);
+        const double e0 = x[EA__IE(pl, N - 1, i)], ed0 = x[EA__IED(pl, N - 1, i)];
+        amp[mi] = hypot(e0, (ed0 + z * w * e0) / wd) * hypot(p.tip[mi][0], p.tip[mi][1]);
+        decay[mi] = z * w;
+      }
       res += a;
     }
-    if (j == 0) info->predicted_residual_m = res;
+    if (j == 0) {
+      info->predicted_residual_m = res;
+      info->predicted_time_to_rest_s = ea__rest_time(amp, decay, Kp, EA__REST_TOL);
+    }
     worst = fmax(worst, res);
     for (int k = 0; k < N; ++k) {
       ea_rom_table_eval(pl->roms[j], x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], &p, NULL, NULL);

@@ -130,6 +130,37 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
   ea_json_obj_end(j);
 }
 
+/* The reduced dynamic model and what it predicts (task key dynamics). */
+static void ea__summary_dynamics(ea_json_t *j, const ea_planner_t *pl, const ea_plan_info_t *info) {
+  const ea_task_t *t = &pl->task;
+  ea_plan_dyn_info_t di;
+  if (ea_planner_dyn_model(pl, &di) != EA_OK || !di.built) return;
+  ea_json_obj_begin(j, "dynamics");
+  ea_json_int(j, "modes", t->dynamics.modes);
+  ea_json_int(j, "models", di.models);
+  ea_json_vec(j, "model_tip_mass_kg", di.model_tip_mass, di.models);
+  ea_json_vec(j, "model_EI_Nm2", di.model_EI, di.models);
+  ea_json_vec(j, "damping_ratios", t->arm.damping_ratio, t->arm.n_damping);
+  ea_json_num(j, "residual_bound_m", t->dynamics.residual_m);
+  ea_json_num(j, "predicted_residual_m", info->predicted_residual_m);
+  ea_json_vec(j, "predicted_amplitude_m", info->predicted_amplitude_m, t->dynamics.modes);
+  ea_json_num(j, "predicted_residual_worst_m", info->predicted_residual_worst_m);
+  if (isfinite(info->predicted_time_to_rest_s))
+    ea_json_num(j, "predicted_time_to_rest_s", info->predicted_time_to_rest_s);
+  else
+    ea_json_null(j, "predicted_time_to_rest_s");
+  ea_json_num(j, "max_modal_deviation_m", info->max_modal_deviation_m);
+  ea_json_num(j, "min_dynamic_tension_margin_N", info->min_dynamic_tension_margin_N);
+  ea_json_arr_begin(j, "grid");
+  ea_json_int(j, NULL, di.table.n_cable_length);
+  ea_json_int(j, NULL, di.table.n_cable_angle);
+  ea_json_arr_end(j);
+  ea_json_int(j, "grid_extrapolated_points", di.table.n_extrapolated);
+  ea_json_bool(j, "model_from_cache", di.cache_loaded);
+  ea_json_num(j, "model_time_s", di.time_s);
+  ea_json_obj_end(j);
+}
+
 ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *info,
                                   const char *path, ea_error_t *err) {
   return ea_plan_summary_write_refined(pl, info, NULL, path, err);
@@ -181,6 +212,7 @@ ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_
     ea_json_obj_end(&j);
   }
   if (info->status != EA_OK) ea_json_str(&j, "worst_constraint", info->worst);
+  if (isfinite(info->predicted_residual_m)) ea__summary_dynamics(&j, pl, info);
   ea_json_obj_begin(&j, "problem");
   ea_json_int(&j, "variables", info->n_var);
   ea_json_int(&j, "constraints", info->n_con);
