@@ -5,11 +5,16 @@
  * what features cost (path rows, base variables); scaling from 25 to 400
  * knots. Medians over repetitions; the load average is printed before and
  * after (the machine is shared).
- * usage: bench_plan [REPEATS] [replan] (default 5; "replan": only the
- * replanning rows) */
+ * Refinement against the FE transient (docs/planner.md): each method on the
+ * at-rest paper line (payload 0) and the payload-0.5 line to (0.5, -0.2), from
+ * a fresh cold plan: evaluations, wall time, FE residual before/after (the
+ * loop's FE settings, and an independent transient at dt 0.25 ms).
+ * usage: bench_plan [REPEATS] [replan|refine] (default 5; "replan": only the
+ * replanning rows; "refine": only the refinement rows) */
 #include "bench_util.h"
 #include "ea_planner.h"
 #include "ea_problems.h"
+#include "ea_refine.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -162,9 +167,75 @@ static void header(const char *title) {
          "iters", "total ms", "guess", "statics", "ipopt", "rest", "t_f [s]");
 }
 
+/* One refinement row: cold at-rest plan, refinement with method m and tolerance tol, then
+ * the returned plan's FE residual at dt 0.25 ms (12 elements, undamped, 3 s). */
+static void refine_row(const char *name, const ea_task_t *t, ea_task_refine_method_t m,
+                       double tol) {
+  ea_planner_t *pl = NULL;
+  ea_error_t e = {0};
+  ea_plan_info_t info;
+  ea_refine_info_t *ri = calloc(1, sizeof *ri);
+  ea_traj_t tr;
+  memset(&tr, 0, sizeof tr);
+  ea_task_refine_t s = t->dynamics.refine;
+  s.method = m;
+  s.tolerance_m = tol;
+  ea_sim_settings_t ss;
+  ea_sim_settings_default(&ss);
+  ss.dt = 2.5e-4;
+  ea_sim_info_t si;
+  si.residual_peak = NAN;
+  if (!ri || ea_planner_alloc(t, &pl, &e) || ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e) ||
+      ea_plan_refine(pl, &s, &info, ri, &e) || ea_planner_trajectory(pl, &tr, &e) ||
+      ea_traj_simulate(&t->arm, &tr, -1.0, &ss, NULL, &si, &e)) {
+    printf("%-22s %-7s %8.3f FAILED: %s\n", name, ea_task_refine_method_name(m), 1e3 * tol, e.msg);
+  } else {
+    printf("%-22s %-7s %8.3f %5d %8.2f %8.2f %8.2f %9.4f %9.4f %9.4f %+8.3f %s\n", name,
+           ea_task_refine_method_name(m), 1e3 * tol, ri->n_evals, ri->time_s, ri->time_plan_s,
+           ri->time_fe_s, 1e3 * ri->residual_peak_before_m, 1e3 * ri->residual_peak_m,
+           1e3 * si.residual_peak, 100.0 * (ri->duration_s / ri->duration_before_s - 1.0),
+           ri->stop_reason);
+  }
+  ea_traj_free(&tr);
+  ea_planner_free(pl);
+  free(ri);
+}
+
+static int refine_rows(const ea_task_t *line) {
+  ea_task_t t[2];
+  const char *nm[2] = {"paper line, payload 0", "payload 0.5, (0.5,-0.2)"};
+  ea_error_t e;
+  for (int i = 0; i < 2; ++i) {
+    t[i] = *line;
+    t[i].dynamics.modes = 2;
+    t[i].dynamics.residual_m = 0.0;
+  }
+  t[1].payload_kg = ea_arm_payload_from_factor(&line->arm, 0.5);
+  t[1].goal = ea_task_point_planar(0.5, -0.2, 0.0);
+  for (int i = 0; i < 2; ++i)
+    if (ea_task_check(&t[i], &e)) {
+      fprintf(stderr, "bench_plan: %s\n", e.msg);
+      return 1;
+    }
+  printf("\nrefinement against the FE transient (100 knots, dynamics modes 2; loop FE: 12 "
+         "elements, genalpha, dt 2 ms, 3 s)\nresidual = FE residual peak [mm]: before, after "
+         "(loop), after (independent, dt 0.25 ms); dt_f = duration change\n");
+  printf("%-22s %-7s %8s %5s %8s %8s %8s %9s %9s %9s %8s %s\n", "case", "method", "tol mm", "evals",
+         "time s", "plan s", "FE s", "before", "after", "dt.25ms", "dt_f %", "stop");
+  const ea_task_refine_method_t ms[4] = {EA_TASK_REFINE_NEWTON, EA_TASK_REFINE_BOBYQA,
+                                         EA_TASK_REFINE_COBYLA, EA_TASK_REFINE_SBPLX};
+  const double tols[2] = {5e-5, 1e-5};
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 4; ++j)
+        refine_row(nm[i], &t[i], ms[j], tols[k]);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   const int R = argc > 1 ? atoi(argv[1]) : 5;
   const int only_replan = argc > 2 && !strcmp(argv[2], "replan");
+  const int only_refine = argc > 2 && !strcmp(argv[2], "refine");
   ea_task_t line;
   ea_task_init(&line, NULL);
   line.start = ea_task_point_planar(0.3, -0.2, 0.0); /* eq. 18, beta = 0 */
@@ -182,6 +253,11 @@ int main(int argc, char **argv) {
          "ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
   row_t r;
+  if (only_refine) {
+    const int rc = refine_rows(&line);
+    print_load("after");
+    return rc;
+  }
   if (!only_replan) {
     header("paper line, 100 knots");
     r = run(&line, R, 0);
@@ -294,6 +370,7 @@ int main(int argc, char **argv) {
     printf("%-34s %5s %5s %6s %9.2f  (per iteration); t_f / (D/v + v/a) - 1 = %.2e\n", "", "", "",
            "", r.iters > 0 ? 1e3 * r.total / r.iters : 0.0, r.dur / tmin - 1.0);
   }
+  if (refine_rows(&line)) return 1;
   print_load("after");
   return 0;
 }

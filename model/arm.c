@@ -39,6 +39,9 @@ void ea_arm_default(ea_arm_t *arm) {
   a->base_accel_max = 3.0;
   a->base_angle_min = -180.0 * EA__DEG;
   a->base_angle_max = 180.0 * EA__DEG;
+  arm->n_damping = 0; /* the paper gives no damping: undamped, the worst case */
+  for (int i = 0; i < EA_ARM_MAX_DAMPED_MODES; ++i)
+    arm->damping_ratio[i] = 0.0;
 }
 
 #define EA__CHECK_POS(field)                                                                       \
@@ -103,6 +106,14 @@ ea_status_t ea_arm_validate(const ea_arm_t *arm, ea_error_t *err) {
   EA__CHECK_LT(act.base_angle_min, act.base_angle_max);
   if (!(arm->act.cable_length_min > 0.0))
     return ea_error_set(err, EA_ERR_INPUT, "cable_length_min must be > 0");
+  if (arm->n_damping < 0 || arm->n_damping > EA_ARM_MAX_DAMPED_MODES)
+    return ea_error_set(err, EA_ERR_INPUT, "n_damping = %d: must be in [0, %d]", arm->n_damping,
+                        EA_ARM_MAX_DAMPED_MODES);
+  for (int i = 0; i < arm->n_damping; ++i)
+    if (!(arm->damping_ratio[i] >= 0.0 && arm->damping_ratio[i] < 1.0))
+      return ea_error_set(err, EA_ERR_INPUT,
+                          "damping_ratio[%d] = %g: must be in [0, 1) (an underdamped mode)", i,
+                          arm->damping_ratio[i]);
   return EA_OK;
 }
 

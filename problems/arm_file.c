@@ -32,11 +32,37 @@ static ea_status_t ea__read_fields(ea__ydoc_t *d, yaml_node_t *map, const char *
   return EA_OK;
 }
 
+/* Optional damping: {modal_ratios: [zeta_1, ...]}: measured modal damping ratios, mode 1 first,
+ * each in [0, 1). */
+static ea_status_t ea__read_damping(ea__ydoc_t *d, yaml_node_t *root, ea_arm_t *arm,
+                                    ea_error_t *err) {
+  yaml_node_t *dm = NULL;
+  ea_status_t st = ea__ymap_map(d, root, "damping", 0, &dm, err);
+  if (st || !dm) return st;
+  static const char *const keys[] = {"modal_ratios", NULL};
+  if ((st = ea__ymap_check_keys(d, dm, keys, "damping", err))) return st;
+  int n = 0;
+  if ((st = ea__ymap_vec(d, dm, "modal_ratios", 1, -EA_ARM_MAX_DAMPED_MODES, arm->damping_ratio, &n,
+                         err)))
+    return st;
+  yaml_node_t *seq = ea__ymap_get(d, dm, "modal_ratios");
+  for (int i = 0; i < n; ++i)
+    if (!(arm->damping_ratio[i] >= 0.0 && arm->damping_ratio[i] < 1.0))
+      return ea__yerr(d, yaml_document_get_node(&d->doc, seq->data.sequence.items.start[i]), err,
+                      EA_ERR_INPUT,
+                      "damping.modal_ratios[%d] = %g: must be in [0, 1) (an underdamped mode: "
+                      "0.02 is 2 %% of critical)",
+                      i, arm->damping_ratio[i]);
+  arm->n_damping = n;
+  return EA_OK;
+}
+
 static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *err) {
   yaml_node_t *root, *beam, *hand, *cable, *act, *spool, *ten, *sho, *base;
   ea_status_t st = ea__ydoc_root_map(d, &root, err);
   if (st) return st;
-  static const char *const top[] = {"beam", "hand", "cable", "gravity_m_per_s2", "actuators", NULL};
+  static const char *const top[] = {"beam",      "hand",    "cable", "gravity_m_per_s2",
+                                    "actuators", "damping", NULL};
   if ((st = ea__ymap_check_keys(d, root, top, "the arm file", err))) return st;
   ea_arm_default(arm);
   if ((st = ea__ymap_map(d, root, "beam", 1, &beam, err))) return st;
@@ -111,6 +137,7 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
       return ea__yerr(d, ea__ymap_get(d, pairs[i].map, pairs[i].hi_key), err, EA_ERR_INPUT,
                       "%s: %s = %g must be below %s = %g (contradictory limits)", pairs[i].ctx,
                       pairs[i].lo_key, pairs[i].lo, pairs[i].hi_key, pairs[i].hi);
+  if ((st = ea__read_damping(d, root, arm, err))) return st;
   ea_error_t e2 = {0};
   if ((st = ea_arm_validate(arm, &e2)))
     return ea__yerr(d, act, err, st, "inconsistent arm data: %s", e2.msg);

@@ -50,6 +50,8 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->dynamics.modes = 0;
   t->dynamics.residual_m = 0.0;
   t->dynamics.max_tip_deviation_m = INFINITY;
+  t->dynamics.robust_residual_m = 5e-4;
+  ea_task_refine_default(&t->dynamics.refine);
   t->knots = 100;
   t->solver.max_iter = 500;
   t->solver.tol = 1e-8;
@@ -57,7 +59,6 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->solver.max_time_s = 60.0;
   t->solver.derivative_test = 0;
   t->solver.print_level = 0;
-  t->solver.tune_schedule = 0;
   t->solver.regularization = 1e-4;
   t->solver.hessian_exact = 2;
   t->start = ea_task_point_planar(NAN, NAN, 0.0);
@@ -239,6 +240,71 @@ static ea_status_t ea__check_point(ea_task_t *t, ea_shooter_t *sh, ea_task_point
   return EA_OK;
 }
 
+static const char *const ea__refine_names[] = {"newton", "bobyqa", "cobyla", "sbplx"};
+
+const char *ea_task_refine_method_name(ea_task_refine_method_t m) {
+  return ((int)m >= 0 && m <= EA_TASK_REFINE_SBPLX) ? ea__refine_names[m] : "unknown";
+}
+
+void ea_task_refine_default(ea_task_refine_t *r) {
+  memset(r, 0, sizeof *r);
+  r->method = EA_TASK_REFINE_NEWTON;
+  r->tolerance_m = 5e-5;
+  r->max_evaluations = 20;
+  r->max_time_s = 10.0;
+  r->modes = 1;
+  r->fe_dt_s = 2e-3;
+  r->settle_s = 3.0;
+  r->max_duration_change = 0.02;
+  r->seed = 1;
+}
+
+/* dynamics.refine: only for a plan that ends at rest in the reduced model. */
+static ea_status_t ea__check_refine(const ea_task_t *t, ea_error_t *err) {
+  const ea_task_refine_t *r = &t->dynamics.refine;
+  if (!r->enabled) return EA_OK;
+  if (t->dynamics.modes < 1)
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine needs the reduced dynamic model: dynamics.modes >= 1 "
+                        "(the task has none)");
+  if (t->dynamics.residual_m > 0.0)
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine needs a plan that ends at rest: dynamics.residual_m 0 "
+                        "(got %g m)",
+                        t->dynamics.residual_m);
+  if (t->objective == EA_TASK_MIN_VIBRATION)
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine is not for objective min_vibration (its plan does not "
+                        "end at rest in the model)");
+  if ((int)r->method < 0 || r->method > EA_TASK_REFINE_SBPLX)
+    return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine: unknown method %d", (int)r->method);
+  if (r->modes < 1 || r->modes > t->dynamics.modes)
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine.modes = %d: must be in [1, dynamics.modes = %d]", r->modes,
+                        t->dynamics.modes);
+  if (!(r->tolerance_m > 0.0 && r->tolerance_m <= 1.0))
+    return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine.tolerance_m = %g: must be in (0, 1] m",
+                        r->tolerance_m);
+  if (r->max_evaluations < 1 || r->max_evaluations > EA_TASK_REFINE_MAX_EVALUATIONS)
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine.max_evaluations = %d: must be in [1, %d]",
+                        r->max_evaluations, EA_TASK_REFINE_MAX_EVALUATIONS);
+  if (!(r->max_time_s > 0.0 && r->max_time_s <= 1e5))
+    return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine.max_time_s = %g: must be in (0, 1e5] s",
+                        r->max_time_s);
+  if (!(r->fe_dt_s >= 1e-5 && r->fe_dt_s <= 1e-2))
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine.fe_dt_s = %g: must be in [1e-5, 1e-2] s", r->fe_dt_s);
+  if (!(r->settle_s >= 0.5 && r->settle_s <= 100.0))
+    return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine.settle_s = %g: must be in [0.5, 100] s",
+                        r->settle_s);
+  if (!(r->max_duration_change >= 0.0 && r->max_duration_change <= 1.0))
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine.max_duration_change = %g: must be in [0, 1]",
+                        r->max_duration_change);
+  return EA_OK;
+}
+
 ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
   if (!t) return ea_error_set(err, EA_ERR_ARG, "ea_task_check: NULL task");
   ea_status_t st = ea_arm_validate(&t->arm, err);
@@ -290,6 +356,7 @@ ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
       !(t->solver.max_time_s > 0) || !(t->solver.regularization >= 0) ||
       !isfinite(t->solver.regularization))
     return ea_error_set(err, EA_ERR_INPUT, "solver options out of range");
+  if ((st = ea__check_refine(t, err))) return st;
 
   ea_shooter_t *sh = NULL;
   if ((st = ea_shooter_alloc(&t->arm, NULL, &sh, err))) return st;

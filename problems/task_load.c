@@ -100,8 +100,9 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
 static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver_t *s,
                                    ea_error_t *err) {
   static const char *const keys[] = {
-      "max_iter",    "tol",           "constr_viol_tol", "max_time_s", "derivative_test",
-      "print_level", "tune_schedule", "regularization",  "hessian",    NULL};
+      "max_iter",        "tol",         "constr_viol_tol", "max_time_s",
+      "derivative_test", "print_level", "regularization",  "hessian",
+      "transcription",   NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
   if (st) return st;
   long v = s->max_iter;
@@ -117,17 +118,59 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   if ((st = ea__ymap_double(d, n, "regularization", 0, 0.0, 1e6, &s->regularization, err)))
     return st;
   if ((st = ea__ymap_bool(d, n, "derivative_test", 0, &s->derivative_test, err))) return st;
-  if ((st = ea__ymap_bool(d, n, "tune_schedule", 0, &s->tune_schedule, err))) return st;
   static const char *const hess[] = {"limited-memory", "exact", "partial", NULL};
   int h = s->hessian_exact;
   if ((st = ea__ymap_enum(d, n, "hessian", 0, hess, &h, err))) return st;
   s->hessian_exact = h;
+  static const char *const trans[] = {"auto", "knots", "path", NULL};
+  int tr = (int)s->transcription;
+  if ((st = ea__ymap_enum(d, n, "transcription", 0, trans, &tr, err))) return st;
+  s->transcription = (ea_task_transcription_t)tr;
+  return EA_OK;
+}
+
+/* dynamics.refine: true/false, or a mapping of settings (present = enabled). */
+static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refine_t *r,
+                                   ea_error_t *err) {
+  yaml_node_t *n = ea__ymap_get(d, dyn, "refine");
+  if (!n) return EA_OK;
+  if (n->type == YAML_SCALAR_NODE) return ea__ymap_bool(d, dyn, "refine", 0, &r->enabled, err);
+  if (n->type != YAML_MAPPING_NODE)
+    return ea__yerr(d, n, err, EA_ERR_INPUT, "key 'refine' must be true, false or a mapping");
+  static const char *const keys[] = {
+      "method",  "tolerance_m", "max_evaluations",     "max_time_s", "modes",
+      "fe_dt_s", "settle_s",    "max_duration_change", "seed",       NULL};
+  ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics.refine", err);
+  if (st) return st;
+  r->enabled = 1;
+  static const char *const methods[] = {"newton", "bobyqa", "cobyla", "sbplx", NULL};
+  int m = (int)r->method;
+  if ((st = ea__ymap_enum(d, n, "method", 0, methods, &m, err))) return st;
+  r->method = (ea_task_refine_method_t)m;
+  if ((st = ea__ymap_double(d, n, "tolerance_m", 0, 1e-9, 1.0, &r->tolerance_m, err))) return st;
+  long v = r->max_evaluations;
+  if ((st = ea__ymap_int(d, n, "max_evaluations", 0, 1, EA_TASK_REFINE_MAX_EVALUATIONS, &v, err)))
+    return st;
+  r->max_evaluations = (int)v;
+  if ((st = ea__ymap_double(d, n, "max_time_s", 0, 1e-3, 1e5, &r->max_time_s, err))) return st;
+  v = r->modes;
+  if ((st = ea__ymap_int(d, n, "modes", 0, 1, EA_ROM_MAX_MODES, &v, err))) return st;
+  r->modes = (int)v;
+  if ((st = ea__ymap_double(d, n, "fe_dt_s", 0, 1e-5, 1e-2, &r->fe_dt_s, err))) return st;
+  if ((st = ea__ymap_double(d, n, "settle_s", 0, 0.5, 100.0, &r->settle_s, err))) return st;
+  if ((st =
+           ea__ymap_double(d, n, "max_duration_change", 0, 0.0, 1.0, &r->max_duration_change, err)))
+    return st;
+  v = (long)r->seed;
+  if ((st = ea__ymap_int(d, n, "seed", 0, 0, 2147483647L, &v, err))) return st;
+  r->seed = (unsigned long)v;
   return EA_OK;
 }
 
 static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dynamics_t *dy,
                                      ea_error_t *err) {
-  static const char *const keys[] = {"modes", "residual_m", "max_tip_deviation_m", "grid", NULL};
+  static const char *const keys[] = {
+      "modes", "residual_m", "max_tip_deviation_m", "grid", "robust", "refine", NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics", err);
   if (st) return st;
   long v = 2;
@@ -137,6 +180,17 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dyna
   if ((st = ea__ymap_double(d, n, "max_tip_deviation_m", 0, 1e-6, 10.0, &dy->max_tip_deviation_m,
                             err)))
     return st;
+  yaml_node_t *rb = NULL;
+  if ((st = ea__ymap_map(d, n, "robust", 0, &rb, err))) return st;
+  if (rb) {
+    static const char *const rkeys[] = {"tip_mass", "EI", "residual_m", NULL};
+    if ((st = ea__ymap_check_keys(d, rb, rkeys, "dynamics.robust", err))) return st;
+    if ((st = ea__ymap_double(d, rb, "tip_mass", 0, 0.0, 0.5, &dy->robust_tip_mass, err)))
+      return st;
+    if ((st = ea__ymap_double(d, rb, "EI", 0, 0.0, 0.5, &dy->robust_EI, err))) return st;
+    if ((st = ea__ymap_double(d, rb, "residual_m", 0, 1e-6, 1.0, &dy->robust_residual_m, err)))
+      return st;
+  }
   double gv[2] = {0, 0};
   int have = 0;
   if ((st = ea__ymap_vec(d, n, "grid", 0, 2, gv, &have, err))) return st;
@@ -147,6 +201,15 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dyna
                         "key 'grid': %g points: must be a whole number in [4, 64]", gv[i]);
       dy->grid[i] = (int)gv[i];
     }
+  if ((st = ea__load_refine(d, n, &dy->refine, err))) return st;
+  if (dy->refine.enabled && dy->refine.modes > dy->modes)
+    return ea__yerr(d, ea__ymap_get(d, n, "refine"), err, EA_ERR_INPUT,
+                    "key 'refine': modes = %d: at most dynamics.modes = %d", dy->refine.modes,
+                    dy->modes);
+  if (dy->refine.enabled && dy->residual_m > 0.0)
+    return ea__yerr(d, ea__ymap_get(d, n, "refine"), err, EA_ERR_INPUT,
+                    "key 'refine' needs a plan that ends at rest: residual_m 0 (got %g m)",
+                    dy->residual_m);
   return EA_OK;
 }
 

@@ -102,6 +102,36 @@ int main(void) {
                "contradictory limits (tension max below min)");
   expect_error(good, "    radius_m: 0.015", "    radius_m: 0.015\n    radius_m: 0.02",
                "duplicate key 'radius_m'", NULL, "duplicate key");
+  /* optional measured modal damping ratios */
+  ea_test_true(arm.n_damping == 0, "no damping key: undamped");
+  {
+    char *d = subst(good, "gravity_m_per_s2: 9.81",
+                    "gravity_m_per_s2: 9.81\n"
+                    "damping:\n  modal_ratios: [0.02, 0.015]");
+    ea_arm_t ad;
+    ea_test_true(d && ea_arm_load_string("arm.yaml", d, strlen(d), &ad, &err) == EA_OK &&
+                     ad.n_damping == 2 && ad.damping_ratio[0] == 0.02 &&
+                     ad.damping_ratio[1] == 0.015,
+                 "damping.modal_ratios: two measured ratios");
+    free(d);
+  }
+  char dpos[64]; /* the value 1.5: two lines below the gravity key, column 24 */
+  {
+    int gl = 1;
+    for (const char *c = good; *c && c < strstr(good, "gravity_m_per_s2"); ++c)
+      gl += *c == '\n';
+    snprintf(dpos, sizeof dpos, "arm.yaml:%d:24:", gl + 2);
+  }
+  expect_error(good, "gravity_m_per_s2: 9.81",
+               "gravity_m_per_s2: 9.81\ndamping:\n  modal_ratios: [0.02, 1.5]", dpos,
+               "damping.modal_ratios[1] = 1.5: must be in [0, 1)",
+               "damping ratio above critical, at the value's line:column");
+  expect_error(good, "gravity_m_per_s2: 9.81",
+               "gravity_m_per_s2: 9.81\ndamping:\n  modal_ratios: [0.1, 0.1, 0.1, 0.1, 0.1, "
+               "0.1, 0.1]",
+               "modal_ratios", "1 to 6 numbers, not 7", "more damping ratios than modes kept");
+  expect_error(good, "gravity_m_per_s2: 9.81", "gravity_m_per_s2: 9.81\ndamping:\n  zeta: [0.02]",
+               "unknown key 'zeta'", NULL, "damping: unknown key");
   {
     const char *seq = "- 1\n- 2\n";
     ea_status_t st = ea_arm_load_string("arm.yaml", seq, strlen(seq), &arm, &err);

@@ -45,6 +45,9 @@ typedef struct ea_actuators {
 } ea_actuators_t;
 
 /** Arm parameters. Tables 1 and 2 of the paper. */
+/** Most measured modal damping ratios an arm file may give. */
+#define EA_ARM_MAX_DAMPED_MODES 6
+
 typedef struct ea_arm {
   /* Table 1 */
   double rho;    /**< [kg/m] beam mass per unit length */
@@ -61,6 +64,10 @@ typedef struct ea_arm {
   double I_zz;        /**< [kg m] rotary inertia per unit length */
   double I_hand;      /**< [kg m^2] rotary inertia I_L of hand (+ payload) */
   ea_actuators_t act; /**< actuator data */
+  /* Damping (optional arm-file key damping.modal_ratios; not in the paper) */
+  int n_damping; /**< measured modal damping ratios given (0: undamped, the default) */
+  double damping_ratio[EA_ARM_MAX_DAMPED_MODES]; /**< zeta of modes 1..n_damping at rest, in
+                                                      [0, 1); modes beyond: undamped */
 } ea_arm_t;
 
 /** Fill arm with the paper's values (Tables 1, 2) and the assumed actuator

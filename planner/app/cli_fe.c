@@ -793,8 +793,8 @@ static void ea__sim_json(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
   ea_json_str(&j, "drive", s->drive_fe ? "fe" : "plan");
   ea_json_num(&j, "rayleigh_mass_per_s", si->rayleigh_mass);
   ea_json_num(&j, "rayleigh_stiffness_s", si->rayleigh_stiffness); /* strain-rate b */
-  if (s->damping_ratio > 0) {
-    ea_json_num(&j, "damping_ratio", s->damping_ratio);
+  if (si->damping_ratio > 0) {
+    ea_json_num(&j, "damping_ratio", si->damping_ratio);
     ea_json_vec(&j, "start_frequencies_Hz", si->start_freq_hz, 2);
     ea_json_vec(&j, "modal_damping_ratios", si->modal_damping,
                 si->n_modal_damping < 3 ? si->n_modal_damping : 3);
@@ -842,7 +842,7 @@ static void ea__sim_text(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
          s->drive_fe ? "FE statics" : "trajectory");
   if (si->rayleigh_mass > 0 || si->rayleigh_stiffness > 0)
     printf("damping      mass a = %.4g 1/s, strain-rate b = %.4g s%s\n", si->rayleigh_mass,
-           si->rayleigh_stiffness, s->damping_ratio > 0 ? " (ratio at mode 1)" : "");
+           si->rayleigh_stiffness, si->damping_ratio > 0 ? " (ratio at mode 1)" : "");
   if (si->n_modal_damping > 0)
     printf("             modal damping ratios at the start: %.4f %.4f %.4f\n", si->modal_damping[0],
            si->n_modal_damping > 1 ? si->modal_damping[1] : NAN,

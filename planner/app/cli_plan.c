@@ -1,5 +1,6 @@
 /* elasticarm plan: task spec -> trajectory file + JSON summary (+ figure). */
 #include "cli_impl.h"
+#include "ea_refine.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -10,7 +11,7 @@
 
 static void ea__plan_help(FILE *fp) {
   fprintf(fp, "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
-              "                       [--figure OUT.svg|png|pdf] [--knots N] [--tune-schedule]\n"
+              "                       [--figure OUT.svg|png|pdf] [--knots N] [--refine]\n"
               "                       [--derivative-test] [--print-level N] [--quiet]\n\n"
               "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
               "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
@@ -30,7 +31,10 @@ static void ea__plan_help(FILE *fp) {
               "  --json             print the JSON summary on stdout (also for a failed plan)\n"
               "  --figure FILE      tip path and beam shapes in the workspace, time histories\n"
               "  --knots N          override the task's knot count\n"
-              "  --tune-schedule    tune the knot time distribution with NLopt (min_time)\n"
+              "  --refine           refine the at-rest plan against the FE transient (a task\n"
+              "                     with dynamics; the settings of dynamics.refine, else its\n"
+              "                     defaults; docs/planner.md): the written plan is the refined\n"
+              "                     one, the summary's \"refine\" object lists every evaluation\n"
               "  --derivative-test  run Ipopt's first-order derivative checker\n"
               "  --print-level N    Ipopt output (0 = silent)\n"
               "  --quiet            no progress line\n\n"
@@ -59,8 +63,9 @@ static void ea__cat(const char *path) {
 /* Write the converged plan: trajectory and summary to temporaries, then
  * rename the trajectory, then the summary. On failure nothing of this run
  * is left (the caller then treats the plan as failed). */
-static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_plan_info_t *info, const char *out,
-                                  const char *summary, ea_error_t *err) {
+static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_plan_info_t *info,
+                                  const ea_refine_info_t *ref, const char *out, const char *summary,
+                                  ea_error_t *err) {
   char ttmp[1100] = "", stmp[1100] = "";
   ea_traj_t tr;
   memset(&tr, 0, sizeof tr);
@@ -73,7 +78,7 @@ static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_plan_info_t *info, 
   }
   if (!st && summary) {
     snprintf(stmp, sizeof stmp, "%s.tmp%ld.json", summary, (long)getpid());
-    st = ea_plan_summary_write(pl, info, stmp, err);
+    st = ea_plan_summary_write_refined(pl, info, ref, stmp, err);
     if (st) stmp[0] = '\0';
   }
   if (!st && to_stdout) st = ea_traj_write(&tr, "-", err);
@@ -98,7 +103,7 @@ static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_plan_info_t *info, 
 int ea__cli_plan(int argc, char **argv) {
   const char *cmd = "plan";
   const char *task_path = NULL, *out = NULL, *summary = NULL, *figure = NULL;
-  int json = 0, quiet = 0, dtest = 0, tune = 0;
+  int json = 0, quiet = 0, dtest = 0, refine = 0;
   long knots = 0, plevel = -1;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
@@ -117,8 +122,8 @@ int ea__cli_plan(int argc, char **argv) {
       quiet = 1;
     } else if (!strcmp(a, "--derivative-test")) {
       dtest = 1;
-    } else if (!strcmp(a, "--tune-schedule")) {
-      tune = 1;
+    } else if (!strcmp(a, "--refine")) {
+      refine = 1;
     } else if (!strcmp(a, "--knots")) {
       const char *v = ea__cli_value(cmd, argc, argv, &i);
       if (!v || ea__cli_int(cmd, a, v, 3, 4000, &knots)) return EA_EXIT_USAGE;
@@ -145,7 +150,7 @@ int ea__cli_plan(int argc, char **argv) {
   if (st) return ea__cli_fail(cmd, st, &err);
   if (knots) task.knots = (int)knots;
   if (dtest) task.solver.derivative_test = 1;
-  if (tune) task.solver.tune_schedule = 1;
+  if (refine) task.dynamics.refine.enabled = 1;
   if (plevel >= 0) task.solver.print_level = (int)plevel;
   if ((st = ea_task_check(&task, &err))) return ea__cli_fail(cmd, st, &err);
 
@@ -184,8 +189,32 @@ int ea__cli_plan(int argc, char **argv) {
   if ((st = ea_planner_alloc(&task, &pl, &err))) return ea__cli_fail(cmd, st, &err);
   ea_plan_info_t info;
   st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &err);
+  ea_refine_info_t *ref = NULL;
+  if (!st && task.dynamics.refine.enabled) {
+    /* The summary describes the written (refined) plan; iterations and solve times stay
+     * those of the at-rest plan, the refinement's are in its own object. */
+    if (!quiet && !json && strcmp(out, "-")) printf("%s\n", info.message);
+    ref = calloc(1, sizeof *ref);
+    ea_plan_info_t rinfo;
+    const ea_status_t rst = ref ? ea_plan_refine(pl, NULL, &rinfo, ref, &err) : EA_ERR_NOMEM;
+    if (rst) {
+      st = info.status = rst;
+      snprintf(info.message, sizeof info.message, "refinement failed: %.480s",
+               ref ? ref->message : "out of memory");
+    } else {
+      const ea_plan_info_t cold = info;
+      info = rinfo;
+      info.iterations = cold.iterations;
+      info.time_total_s = cold.time_total_s;
+      info.time_guess_s = cold.time_guess_s;
+      info.time_statics_s = cold.time_statics_s;
+      info.time_ipopt_s = cold.time_ipopt_s;
+      info.time_rest_s = cold.time_rest_s;
+      info.between_passes = cold.between_passes;
+    }
+  }
   ea_error_t werr = {0};
-  ea_status_t wst = st ? EA_OK : ea__plan_write(pl, &info, out, summary, &werr);
+  ea_status_t wst = st ? EA_OK : ea__plan_write(pl, &info, ref, out, summary, &werr);
   if (st || wst) {
     /* Failed: no trajectory or figure of an earlier run stays beside the
      * failure summary. */
@@ -207,12 +236,13 @@ int ea__cli_plan(int argc, char **argv) {
     int wrote = 0;
     if (summary) {
       ea_error_t e2 = {0};
-      if (ea_plan_summary_write(pl, &info, summary, &e2))
+      if (ea_plan_summary_write_refined(pl, &info, ref, summary, &e2))
         fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
       else
         wrote = 1;
     }
     if (json && wrote) ea__cat(summary);
+    free(ref);
     ea_planner_free(pl);
     return EA_EXIT_FAIL;
   }
@@ -223,7 +253,7 @@ int ea__cli_plan(int argc, char **argv) {
   if (json && summary) {
     ea__cat(summary);
   } else if (!quiet && strcmp(out, "-")) {
-    printf("%s\n", info.message);
+    printf("%s\n", ref ? ref->message : info.message);
     printf("wrote %s%s%s%s%s\n", out, summary ? ", " : "", summary ? summary : "",
            figure && !rc ? ", " : "", figure && !rc ? figure : "");
     printf("time: %.2f ms total (guess %.2f, statics Jacobians %.2f, Ipopt %.2f, rest %.2f); "
@@ -232,6 +262,12 @@ int ea__cli_plan(int argc, char **argv) {
            1e3 * info.time_ipopt_s, 1e3 * info.time_rest_s, info.n_var, info.n_con);
     if (info.deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info.deriv_errors);
   }
+  if (ref && !ref->converged)
+    fprintf(stderr,
+            "elasticarm plan: warning: the refinement did not reach its tolerance (%s); the "
+            "written plan is the best one evaluated\n",
+            ref->stop_reason);
+  free(ref);
   ea_planner_free(pl);
   return rc;
 }

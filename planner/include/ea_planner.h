@@ -61,8 +61,6 @@ typedef struct ea_plan_info {
   double time_statics_s;  /**< [s] shooting with sensitivities inside Ipopt's callbacks */
   double time_ipopt_s;    /**< [s] Ipopt itself (linear algebra, line search), callbacks excluded */
   double time_rest_s;     /**< [s] other callback work and post-processing */
-  double time_tune_s;     /**< [s] NLopt schedule tuning (0 when off) */
-  double schedule_warp;   /**< knot-time warp parameter used (0 = uniform) */
   int between_passes;     /**< re-solves with knot bounds tightened because a limit was
                                exceeded between the knots (docs/planner.md) */
   double time_freq_model_s;      /**< [s] building the FE frequency model (ea_planner_alloc;
@@ -74,9 +72,14 @@ typedef struct ea_plan_info {
   double time_dyn_model_s;     /**< [s] reduced-model table: built or loaded */
   double predicted_residual_m; /**< [m] the model's residual tip amplitude after the
                                     motion: sum_i of the modes' amplitudes */
-  double predicted_amplitude_m[EA_ROM_MAX_MODES]; /**< [m] per mode */
-  double max_modal_deviation_m;                   /**< [m] max over the knots of the modal tip
-                                                       deviation from the quasi-static tip */
+  double predicted_amplitude_m[EA_ROM_MAX_MODES]; /**< [m] per mode (nominal model) */
+  double predicted_time_to_rest_s;     /**< [s] after the motion until the model's residual bound
+                                            (sum of the modes' damped envelopes) stays within 1 mm,
+                                            with the arm file's modal damping ratios (INFINITY:
+                                            undamped and above 1 mm; 0: within from the start) */
+  double predicted_residual_worst_m;   /**< [m] the largest over the models (robust) */
+  double max_modal_deviation_m;        /**< [m] max over the knots of the modal tip
+                                            deviation from the quasi-static tip */
   double min_dynamic_tension_margin_N; /**< [N] min over the knots of T + modal part - min */
   char message[512];                   /**< human-readable outcome */
 } ea_plan_info_t;
@@ -84,6 +87,9 @@ typedef struct ea_plan_info {
 /** The reduced dynamic model of a planner (task key dynamics). */
 typedef struct ea_plan_dyn_info {
   int built;                 /**< 1 if the task has dynamics */
+  int models;                /**< 1, or 5 with dynamics.robust (nominal + four corners) */
+  double model_tip_mass[5];  /**< [kg] each model's tip mass */
+  double model_EI[5];        /**< [N m^2] each model's EI */
   ea_rom_table_info_t table; /**< grid, box, extrapolated points, build time */
   int cache_loaded;          /**< 1: the table came from the cache */
   int cache_saved;           /**< 1: it was built and saved */

@@ -33,7 +33,10 @@ typedef struct ea_sim_settings {
   int drive_fe;              /**< 0: theta0 and T from the file (default); 1: re-solved by FE
                                   statics holding the planned tip at every sample */
   double damping_ratio;      /**< zeta at the first mode of the start state, by strain-rate
-                                  damping (0 = undamped, default) */
+                                  damping (0 = undamped; default NAN: the arm file's measured
+                                  ratio of mode 1, damping.modal_ratios, undamped without one;
+                                  the strain-rate damping then gives the higher modes their
+                                  own ratios, reported in ea_sim_info_t.modal_damping) */
   double rayleigh_mass;      /**< [1/s] explicit mass damping a (used when damping_ratio = 0) */
   double rayleigh_stiffness; /**< [s] explicit strain-rate damping b (idem) */
   double rest_tolerance;     /**< [m] "at rest": |tip - final equilibrium| stays below this
@@ -50,6 +53,7 @@ ea_status_t ea_sim_settings_validate(const ea_sim_settings_t *s, ea_error_t *err
 typedef struct ea_sim_info {
   ea_status_t status;
   double tip_mass;       /**< [kg] m_L simulated */
+  double damping_ratio;  /**< zeta at mode 1 used (the settings' or the arm file's) */
   double duration;       /**< [s] the motion (last sample time - first) */
   double simulated_time; /**< [s] motion + settle, as stepped */
   int steps, newton_iterations, max_step_iterations;

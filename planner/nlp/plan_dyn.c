@@ -18,6 +18,7 @@
 #include "plan_impl.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* ---- forward-mode dual numbers over the row's local variables ------------ */
@@ -99,10 +100,11 @@ typedef struct {
       tip[EA_ROM_MAX_MODES][2], dT[EA_ROM_MAX_MODES], dM[EA_ROM_MAX_MODES];
 } ea__drom_t;
 
-static void ea__drom(const ea_planner_t *pl, ea__dual_t L, ea__dual_t a, ea__drom_t *o) {
+/* The fields of model j (its table, its pl->Kper modes). */
+static void ea__drom(const ea_planner_t *pl, int j, ea__dual_t L, ea__dual_t a, ea__drom_t *o) {
   ea_rom_point_t v, dL, da;
-  ea_rom_table_eval(pl->rom, L.v, a.v, &v, &dL, &da);
-  for (int k = 0; k < pl->K; ++k) {
+  ea_rom_table_eval(pl->roms[j], L.v, a.v, &v, &dL, &da);
+  for (int k = 0; k < pl->Kper; ++k) {
     o->w2[k] = ea__dfield(v.omega2[k], dL.omega2[k], da.omega2[k], L, a);
     for (int c = 0; c < 2; ++c) {
       o->B[k][c] = ea__dfield(v.B[k][c], dL.B[k][c], da.B[k][c], L, a);
@@ -146,6 +148,69 @@ static void ea__emit(const ea__dual_t *r, const int *col, int nloc, double *valu
   }
 }
 
+/* The defect rows' work, cached per interval: the Hermite of (L_c, alpha) and the model's
+ * fields at the ends and the midpoint, by the values of the interval's 9 trajectory variables
+ * (the same for every mode; the Hessian's differences perturb one variable at a time), and the
+ * pos and vel defects of each mode by those plus its 4 modal variables. */
+typedef struct {
+  int valid;
+  double key[9];
+  ea__dual_t h, v0[2], v1[2], a0[2], a1[2], vm[2], am[2];
+  ea__drom_t m0, m1, mm;
+} ea__dyn_icache_t;
+
+typedef struct {
+  int valid;
+  double key[EA__DN];
+  ea__dual_t pos, vel;
+} ea__dyn_mcache_t;
+
+struct ea__dyn_cache {
+  ea__dyn_icache_t *ic; /* (N - 1) M: per interval and model */
+  ea__dyn_mcache_t *mc; /* (N - 1) K: per interval and modal coordinate */
+};
+
+void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
+  if (!c) return;
+  free(c->ic);
+  free(c->mc);
+  free(c);
+}
+
+static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, int k, int j,
+                                                const double *xv, const ea__dual_t *loc) {
+  ea__dyn_icache_t *ic = &pl->dync->ic[k * pl->M + j];
+  if (ic->valid && !memcmp(ic->key, xv + 4, sizeof ic->key)) return ic;
+  const double ds = pl->s[k + 1] - pl->s[k];
+  const ea__dual_t h = ea__dscale(loc[12], ds), ih = ea__ddiv(ea__dc(1.0), h);
+  const ea__dual_t ih2 = ea__dmul(ih, ih);
+  ea__dual_t q0[2], q1[2], qm[2];
+  for (int c = 0; c < 2; ++c) {
+    q0[c] = loc[4 + 4 * c];
+    q1[c] = loc[5 + 4 * c];
+    ic->v0[c] = loc[6 + 4 * c];
+    ic->v1[c] = loc[7 + 4 * c];
+    const ea__dual_t dq = ea__dsub(q1[c], q0[c]);
+    /* a0 = 6 dq / h^2 - (4 v0 + 2 v1) / h, a1 = -6 dq / h^2 + (2 v0 + 4 v1) / h */
+    const ea__dual_t t6 = ea__dscale(ea__dmul(dq, ih2), 6.0);
+    ic->a0[c] = ea__dsub(t6, ea__dmul(ea__daxpy(ea__dscale(ic->v0[c], 4.0), 2.0, ic->v1[c]), ih));
+    ic->a1[c] = ea__dadd(ea__dscale(t6, -1.0),
+                         ea__dmul(ea__daxpy(ea__dscale(ic->v0[c], 2.0), 4.0, ic->v1[c]), ih));
+    qm[c] = ea__dadd(ea__dscale(ea__dadd(q0[c], q1[c]), 0.5),
+                     ea__dscale(ea__dmul(h, ea__dsub(ic->v0[c], ic->v1[c])), 0.125));
+    ic->vm[c] = ea__dsub(ea__dscale(ea__dmul(dq, ih), 1.5),
+                         ea__dscale(ea__dadd(ic->v0[c], ic->v1[c]), 0.25));
+    ic->am[c] = ea__dscale(ea__dadd(ic->a0[c], ic->a1[c]), 0.5);
+  }
+  ic->h = h;
+  ea__drom(pl, j, q0[0], q0[1], &ic->m0);
+  ea__drom(pl, j, q1[0], q1[1], &ic->m1);
+  ea__drom(pl, j, qm[0], qm[1], &ic->mm);
+  memcpy(ic->key, xv + 4, sizeof ic->key);
+  ic->valid = 1;
+  return ic;
+}
+
 /* Hermite-Simpson defects of mode i over interval k (pos: 0, vel: 1). Local variables:
  * 0 eta_k, 1 eta'_k, 2 eta_k+1, 3 eta'_k+1, 4..7 (q0, q1, v0, v1) of L_c, 8..11 of alpha,
  * 12 t_f. */
@@ -163,63 +228,47 @@ static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i,
     col[7 + 4 * c] = EA__IV(pl, k + 1, c);
   }
   col[12] = pl->has_tf ? EA__ITF(pl) : -1;
-  ea__dual_t loc[EA__DN];
+  double xv[EA__DN];
   for (int j = 0; j < EA__DN; ++j)
-    loc[j] = col[j] >= 0 ? ea__dvar(x[col[j]], j) : ea__dc(pl->tf_fixed);
-  const double ds = pl->s[k + 1] - pl->s[k];
-  const ea__dual_t h = ea__dscale(loc[12], ds), ih = ea__ddiv(ea__dc(1.0), h);
-  const ea__dual_t ih2 = ea__dmul(ih, ih);
-  /* the Hermite of each coordinate: ends and midpoint */
-  ea__dual_t q0[2], q1[2], v0[2], v1[2], a0[2], a1[2], qm[2], vm[2], am[2];
-  for (int c = 0; c < 2; ++c) {
-    q0[c] = loc[4 + 4 * c];
-    q1[c] = loc[5 + 4 * c];
-    v0[c] = loc[6 + 4 * c];
-    v1[c] = loc[7 + 4 * c];
-    const ea__dual_t dq = ea__dsub(q1[c], q0[c]);
-    /* a0 = 6 dq / h^2 - (4 v0 + 2 v1) / h, a1 = -6 dq / h^2 + (2 v0 + 4 v1) / h */
-    const ea__dual_t t6 = ea__dscale(ea__dmul(dq, ih2), 6.0);
-    a0[c] = ea__dsub(t6, ea__dmul(ea__daxpy(ea__dscale(v0[c], 4.0), 2.0, v1[c]), ih));
-    a1[c] =
-        ea__dadd(ea__dscale(t6, -1.0), ea__dmul(ea__daxpy(ea__dscale(v0[c], 2.0), 4.0, v1[c]), ih));
-    qm[c] = ea__dadd(ea__dscale(ea__dadd(q0[c], q1[c]), 0.5),
-                     ea__dscale(ea__dmul(h, ea__dsub(v0[c], v1[c])), 0.125));
-    vm[c] = ea__dsub(ea__dscale(ea__dmul(dq, ih), 1.5), ea__dscale(ea__dadd(v0[c], v1[c]), 0.25));
-    am[c] = ea__dscale(ea__dadd(a0[c], a1[c]), 0.5);
+    xv[j] = col[j] >= 0 ? x[col[j]] : pl->tf_fixed;
+  ea__dyn_mcache_t *mc = &pl->dync->mc[k * pl->K + i];
+  if (!mc->valid || memcmp(mc->key, xv, sizeof mc->key)) {
+    ea__dual_t loc[EA__DN];
+    for (int j = 0; j < EA__DN; ++j)
+      loc[j] = col[j] >= 0 ? ea__dvar(xv[j], j) : ea__dc(xv[j]);
+    /* modal coordinate i: mode mi of model j */
+    const int j = i / pl->Kper, mi = i % pl->Kper;
+    const ea__dyn_icache_t *ic = ea__dyn_interval(pl, k, j, xv, loc);
+    const double zeta = pl->zeta[i];
+    const ea__dual_t e0 = loc[0], ed0 = loc[1], e1 = loc[2], ed1 = loc[3];
+    const ea__dual_t acc0 =
+        ea__dacc(&ic->m0, mi, zeta, e0, ed0, ea__dforce(&ic->m0, mi, ic->v0, ic->a0));
+    const ea__dual_t acc1 =
+        ea__dacc(&ic->m1, mi, zeta, e1, ed1, ea__dforce(&ic->m1, mi, ic->v1, ic->a1));
+    const ea__dual_t h8 = ea__dscale(ic->h, 0.125), h6 = ea__dscale(ic->h, 1.0 / 6.0);
+    const ea__dual_t em =
+        ea__dadd(ea__dscale(ea__dadd(e0, e1), 0.5), ea__dmul(h8, ea__dsub(ed0, ed1)));
+    const ea__dual_t edm =
+        ea__dadd(ea__dscale(ea__dadd(ed0, ed1), 0.5), ea__dmul(h8, ea__dsub(acc0, acc1)));
+    const ea__dual_t sp = ea__dadd(ea__daxpy(ed0, 4.0, edm), ed1);
+    mc->pos = ea__dscale(ea__dsub(ea__dsub(e1, e0), ea__dmul(h6, sp)), pl->dyn_scale);
+    const ea__dual_t accm =
+        ea__dacc(&ic->mm, mi, zeta, em, edm, ea__dforce(&ic->mm, mi, ic->vm, ic->am));
+    const ea__dual_t sv = ea__dadd(ea__daxpy(acc0, 4.0, accm), acc1);
+    mc->vel = ea__dscale(ea__dsub(ea__dsub(ed1, ed0), ea__dmul(h6, sv)), pl->dyn_scale);
+    memcpy(mc->key, xv, sizeof mc->key);
+    mc->valid = 1;
   }
-  ea__drom_t m0, m1, mm;
-  ea__drom(pl, q0[0], q0[1], &m0);
-  ea__drom(pl, q1[0], q1[1], &m1);
-  ea__drom(pl, qm[0], qm[1], &mm);
-  const double zeta = pl->zeta[i];
-  const ea__dual_t e0 = loc[0], ed0 = loc[1], e1 = loc[2], ed1 = loc[3];
-  const ea__dual_t acc0 = ea__dacc(&m0, i, zeta, e0, ed0, ea__dforce(&m0, i, v0, a0));
-  const ea__dual_t acc1 = ea__dacc(&m1, i, zeta, e1, ed1, ea__dforce(&m1, i, v1, a1));
-  const ea__dual_t h8 = ea__dscale(h, 0.125), h6 = ea__dscale(h, 1.0 / 6.0);
-  const ea__dual_t em =
-      ea__dadd(ea__dscale(ea__dadd(e0, e1), 0.5), ea__dmul(h8, ea__dsub(ed0, ed1)));
-  const ea__dual_t edm =
-      ea__dadd(ea__dscale(ea__dadd(ed0, ed1), 0.5), ea__dmul(h8, ea__dsub(acc0, acc1)));
-  ea__dual_t r;
-  if (!vel) {
-    const ea__dual_t sum = ea__dadd(ea__daxpy(ed0, 4.0, edm), ed1);
-    r = ea__dsub(ea__dsub(e1, e0), ea__dmul(h6, sum));
-  } else {
-    const ea__dual_t accm = ea__dacc(&mm, i, zeta, em, edm, ea__dforce(&mm, i, vm, am));
-    const ea__dual_t sum = ea__dadd(ea__daxpy(acc0, 4.0, accm), acc1);
-    r = ea__dsub(ea__dsub(ed1, ed0), ea__dmul(h6, sum));
-  }
-  r = ea__dscale(r, pl->dyn_scale);
   int n = 0;
-  ea__emit(&r, col, EA__DN, value, cols, vals, &n);
+  ea__emit(vel ? &mc->vel : &mc->pos, col, EA__DN, value, cols, vals, &n);
   return n;
 }
 
-/* Rows at knot k: the tension or torque with the modal part, or the tip deviation.
- * Local variables: 0 L_c, 1 alpha, 2 T or kappa0, 3.. eta_i. */
-static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k, double *value,
-                        int *cols, double *vals) {
-  const int K = pl->K;
+/* Rows at knot k for model j: the tension or torque with the modal part, or the tip
+ * deviation. Local variables: 0 L_c, 1 alpha, 2 T or kappa0, 3.. eta of the model's modes. */
+static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k, int j,
+                        double *value, int *cols, double *vals) {
+  const int K = pl->Kper;
   int col[EA__DN];
   const int nloc = 3 + K;
   col[0] = EA__IQ(pl, k, 0);
@@ -227,12 +276,12 @@ static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k
   col[2] = kind == EA__ROW_DYN_TORQUE ? EA__IP(pl, k, 2)
                                       : (kind == EA__ROW_DYN_TENSION ? EA__IP(pl, k, 0) : -1);
   for (int i = 0; i < K; ++i)
-    col[3 + i] = EA__IE(pl, k, i);
+    col[3 + i] = EA__IE(pl, k, j * K + i);
   ea__dual_t loc[EA__DN];
-  for (int j = 0; j < nloc; ++j)
-    loc[j] = col[j] >= 0 ? ea__dvar(x[col[j]], j) : ea__dc(0.0);
+  for (int q = 0; q < nloc; ++q)
+    loc[q] = col[q] >= 0 ? ea__dvar(x[col[q]], q) : ea__dc(0.0);
   ea__drom_t m;
-  ea__drom(pl, loc[0], loc[1], &m);
+  ea__drom(pl, j, loc[0], loc[1], &m);
   ea__dual_t r;
   if (kind == EA__ROW_DYN_DEVIATION) {
     ea__dual_t dx = ea__dc(0.0), dy = ea__dc(0.0);
@@ -251,24 +300,24 @@ static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k
   return n;
 }
 
-/* Residual amplitude at the goal: sum_i |tip_i|^2 (eta_i^2 + eta_i'^2 / omega_i^2) [m^2].
- * Local variables: 0 L_c, 1 alpha, 2.. (eta_i, eta'_i). */
-static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, double *value, int *cols,
-                            double *vals) {
-  const int K = pl->K, k = pl->N - 1;
+/* Residual amplitude of model j at the goal: sum_i |tip_i|^2 (eta_i^2 + eta_i'^2 / omega_i^2)
+ * [m^2] (scaled). Local variables: 0 L_c, 1 alpha, 2.. (eta_i, eta'_i) of the model. */
+static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, double *value,
+                            int *cols, double *vals) {
+  const int K = pl->Kper, k = pl->N - 1;
   int col[EA__DN];
   const int nloc = 2 + 2 * K;
   col[0] = EA__IQ(pl, k, 0);
   col[1] = EA__IQ(pl, k, 1);
   for (int i = 0; i < K; ++i) {
-    col[2 + 2 * i] = EA__IE(pl, k, i);
-    col[3 + 2 * i] = EA__IED(pl, k, i);
+    col[2 + 2 * i] = EA__IE(pl, k, j * K + i);
+    col[3 + 2 * i] = EA__IED(pl, k, j * K + i);
   }
   ea__dual_t loc[EA__DN];
-  for (int j = 0; j < nloc; ++j)
-    loc[j] = ea__dvar(x[col[j]], j);
+  for (int q = 0; q < nloc; ++q)
+    loc[q] = ea__dvar(x[col[q]], q);
   ea__drom_t m;
-  ea__drom(pl, loc[0], loc[1], &m);
+  ea__drom(pl, j, loc[0], loc[1], &m);
   ea__dual_t r = ea__dc(0.0);
   for (int i = 0; i < K; ++i) {
     const ea__dual_t t2 =
@@ -293,10 +342,22 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
   case EA__ROW_DYN_TENSION:
   case EA__ROW_DYN_TORQUE:
   case EA__ROW_DYN_DEVIATION:
-    return ea__dyn_knot(pl, x, r->kind, r->knot, value, cols, vals);
+    return ea__dyn_knot(pl, x, r->kind, r->knot, r->coord, value, cols, vals);
   case EA__ROW_DYN_TERMINAL:
   case EA__ROW_OBJ_DYN:
-    return ea__dyn_terminal(pl, x, value, cols, vals);
+    return ea__dyn_terminal(pl, x, r->coord, value, cols, vals);
+  case EA__ROW_DYN_REST: { /* linear: x - target (a row, not a bound: the guess keeps its
+                            * integrated terminal state and the dynamics their consistency) */
+    const int i = r->coord % pl->K, d = r->coord >= pl->K;
+    const int col = d ? EA__IED(pl, pl->N - 1, i) : EA__IE(pl, pl->N - 1, i);
+    /* scaled so that Ipopt's gradient-based scaling holds it at its largest gradient (100):
+     * at-rest paper line 116/65/194 -> 65/47/44 Ipopt iterations at payload 0/0.25/0.5 */
+    const double sc = 100.0;
+    if (value) *value = sc * (x[col] - pl->dyn_target[d ? EA__DYN_MAX + i : i]);
+    if (cols) cols[0] = col;
+    if (vals) vals[0] = sc;
+    return 1;
+  }
   default:
     if (value) *value = 0.0;
     return 0;
@@ -308,7 +369,7 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
 ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   const ea_task_t *t = &pl->task;
   pl->rom = NULL;
-  pl->K = 0;
+  pl->K = pl->Kper = pl->M = 0;
   memset(&pl->dyn_info, 0, sizeof pl->dyn_info);
   if (t->dynamics.modes <= 0) return EA_OK;
   const double t0 = ea__plan_now();
@@ -326,26 +387,57 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   rs.modes = t->dynamics.modes;
   char dir[1024];
   const char *cache = ea_rom_cache_dir(dir, sizeof dir);
-  ea_rom_cache_info_t ci;
-  ea_error_t e = {0};
-  ea_status_t st =
-      ea_rom_table_cached(&t->arm, pl->tip_mass, &rs, box, nL, na, cache, &pl->rom, &ci, &e);
-  if (st)
-    return ea_error_set(err, st,
-                        "dynamics: the reduced model of the arm over L_c [%g, %g] m, "
-                        "alpha [%g, %g] rad: %s",
-                        box[0], box[1], box[2], box[3], e.msg);
-  pl->K = rs.modes;
-  for (int i = 0; i < EA_ROM_MAX_MODES; ++i)
-    pl->zeta[i] = 0.0;
+  /* the models: the nominal arm, and with a robust key the four corners of tip mass
+   * m (1 +- e_m) and EI (1 +- e_EI) */
+  const double em = t->dynamics.robust_tip_mass, eE = t->dynamics.robust_EI;
+  const int robust = em > 0 || eE > 0;
+  pl->M = robust ? 5 : 1;
+  pl->Kper = rs.modes;
+  pl->K = pl->M * pl->Kper;
+  ea_plan_dyn_info_t *di = &pl->dyn_info;
+  for (int j = 0; j < pl->M; ++j) {
+    ea_arm_t arm = t->arm;
+    double tm = pl->tip_mass;
+    if (j > 0) {
+      tm *= 1.0 + ((j - 1) & 1 ? em : -em);
+      arm.EI *= 1.0 + ((j - 1) & 2 ? eE : -eE);
+    }
+    ea_rom_cache_info_t ci;
+    ea_error_t e = {0};
+    ea_status_t st = ea_rom_table_cached(&arm, tm, &rs, box, nL, na, cache, &pl->roms[j], &ci, &e);
+    if (st)
+      return ea_error_set(err, st,
+                          "dynamics: the reduced model of the arm%s over L_c [%g, %g] m, "
+                          "alpha [%g, %g] rad: %s",
+                          j ? " (a robust corner)" : "", box[0], box[1], box[2], box[3], e.msg);
+    di->model_tip_mass[j] = tm;
+    di->model_EI[j] = arm.EI;
+    if (j == 0) {
+      di->cache_loaded = ci.loaded;
+      di->cache_saved = ci.saved;
+      snprintf(di->cache_path, sizeof di->cache_path, "%s", ci.path);
+    }
+  }
+  pl->rom = pl->roms[0];
+  di->models = pl->M;
+  pl->dync = calloc(1, sizeof *pl->dync);
+  const size_t ni = (size_t)(pl->N > 1 ? pl->N - 1 : 1);
+  if (pl->dync) {
+    pl->dync->ic = calloc(ni * (size_t)pl->M, sizeof *pl->dync->ic);
+    pl->dync->mc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->mc);
+  }
+  if (!pl->dync || !pl->dync->ic || !pl->dync->mc)
+    return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");
+  /* each model's mode mi damped by the arm file's measured ratio of mode mi + 1 (modes beyond
+   * the measured ones, and an arm without damping: undamped, the worst case) */
+  for (int i = 0; i < EA__DYN_MAX; ++i) {
+    const int mi = i % pl->Kper;
+    pl->zeta[i] = i < pl->K && mi < t->arm.n_damping ? t->arm.damping_ratio[mi] : 0.0;
+  }
   pl->dyn_scale = 1.0;
   pl->dyn_term_scale = 1e6; /* 1 mm -> 1 */
-  ea_plan_dyn_info_t *di = &pl->dyn_info;
   di->built = 1;
   ea_rom_table_info(pl->rom, &di->table);
-  di->cache_loaded = ci.loaded;
-  di->cache_saved = ci.saved;
-  snprintf(di->cache_path, sizeof di->cache_path, "%s", ci.path);
   di->time_s = ea__plan_now() - t0;
   return EA_OK;
 }
@@ -370,32 +462,38 @@ static void ea__dyn_rhs(const ea_planner_t *pl, const double *x, int k, double u
   double q[2], v[2], a[2];
   for (int c = 0; c < 2; ++c)
     ea__herm(pl, x, k, c, u, &q[c], &v[c], &a[c]);
-  ea_rom_point_t p;
-  ea_rom_table_eval(pl->rom, q[0], q[1], &p, NULL, NULL);
-  for (int i = 0; i < pl->K; ++i) {
-    const double F =
-        -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
-        (p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1]);
-    dz[2 * i] = z[2 * i + 1];
-    dz[2 * i + 1] =
-        -p.omega2[i] * z[2 * i] - 2 * pl->zeta[i] * sqrt(p.omega2[i]) * z[2 * i + 1] + F;
+  for (int j = 0; j < pl->M; ++j) {
+    ea_rom_point_t p;
+    ea_rom_table_eval(pl->roms[j], q[0], q[1], &p, NULL, NULL);
+    for (int mi = 0; mi < pl->Kper; ++mi) {
+      const int i = j * pl->Kper + mi;
+      const double F =
+          -(p.B[mi][0] * a[0] + p.B[mi][1] * a[1]) -
+          (p.C[mi][0] * v[0] * v[0] + 2 * p.C[mi][1] * v[0] * v[1] + p.C[mi][2] * v[1] * v[1]);
+      dz[2 * i] = z[2 * i + 1];
+      dz[2 * i + 1] =
+          -p.omega2[mi] * z[2 * i] - 2 * pl->zeta[i] * sqrt(p.omega2[mi]) * z[2 * i + 1] + F;
+    }
   }
 }
 
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x) {
   if (!pl->rom) return;
   const int K = pl->K, N = pl->N;
-  double z[2 * EA_ROM_MAX_MODES] = {0}, k1[2 * EA_ROM_MAX_MODES], k2[2 * EA_ROM_MAX_MODES],
-               k3[2 * EA_ROM_MAX_MODES], k4[2 * EA_ROM_MAX_MODES], zt[2 * EA_ROM_MAX_MODES];
+  double z[2 * EA__DYN_MAX] = {0}, k1[2 * EA__DYN_MAX], k2[2 * EA__DYN_MAX], k3[2 * EA__DYN_MAX],
+               k4[2 * EA__DYN_MAX], zt[2 * EA__DYN_MAX];
   const double tf = ea__plan_tf(pl, x);
   for (int i = 0; i < K; ++i)
     x[EA__IE(pl, 0, i)] = x[EA__IED(pl, 0, i)] = 0.0;
   for (int k = 0; k + 1 < N; ++k) {
     const double h = tf * (pl->s[k + 1] - pl->s[k]);
     /* RK4 substeps of at most a twentieth of the highest mode's period */
-    ea_rom_point_t p;
-    ea_rom_table_eval(pl->rom, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], &p, NULL, NULL);
-    const double wmax = sqrt(p.omega2[K - 1]);
+    double wmax = 0.0;
+    for (int j = 0; j < pl->M; ++j) {
+      ea_rom_point_t p;
+      ea_rom_table_eval(pl->roms[j], x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], &p, NULL, NULL);
+      wmax = fmax(wmax, sqrt(p.omega2[pl->Kper - 1]));
+    }
     const int ns = (int)ceil(h * wmax / (2 * M_PI) * 20) + 1;
     const double du = 1.0 / ns, dt = h * du;
     for (int s = 0; s < ns; ++s) {
@@ -420,37 +518,87 @@ void ea__plan_dyn_fill(const ea_planner_t *pl, double *x) {
   }
 }
 
+/* "at rest": the tip within 1 mm of the final equilibrium (ea_sim_settings_t's default) */
+#define EA__REST_TOL 1e-3
+
+/* First time after which sum_i A_i e^{-d_i t} <= tol (a bound of the model's tip residual):
+ * 0 when it starts below, INFINITY when an undamped mode keeps it above, else by bisection
+ * (the bound decreases monotonically). */
+static double ea__rest_time(const double *A, const double *d, int n, double tol) {
+  double a0 = 0.0, ainf = 0.0, tmax = 0.0;
+  for (int i = 0; i < n; ++i) {
+    a0 += A[i];
+    if (!(d[i] > 0))
+      ainf += A[i];
+    else if (A[i] > 0)
+      tmax = fmax(tmax, log(n * A[i] / tol) / d[i]);
+  }
+  if (a0 <= tol) return 0.0;
+  if (ainf > tol) return INFINITY;
+  double lo = 0.0, hi = fmax(tmax, 0.0);
+  for (int it = 0; it < 200 && hi - lo > 1e-9 * (1.0 + hi); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    double s = 0.0;
+    for (int i = 0; i < n; ++i)
+      s += A[i] * exp(-d[i] * mid);
+    if (s > tol)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return hi;
+}
+
 void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info) {
+  info->predicted_time_to_rest_s = NAN;
   info->predicted_residual_m = info->max_modal_deviation_m = NAN;
-  info->min_dynamic_tension_margin_N = NAN;
+  info->predicted_residual_worst_m = info->min_dynamic_tension_margin_N = NAN;
   for (int i = 0; i < EA_ROM_MAX_MODES; ++i)
     info->predicted_amplitude_m[i] = NAN;
   info->time_dyn_model_s = pl->rom ? pl->dyn_info.time_s : 0.0;
   if (!pl->rom) return;
-  const int K = pl->K, N = pl->N;
-  ea_rom_point_t p;
-  double res = 0.0;
-  ea_rom_table_eval(pl->rom, x[EA__IQ(pl, N - 1, 0)], x[EA__IQ(pl, N - 1, 1)], &p, NULL, NULL);
-  for (int i = 0; i < K; ++i) {
-    const double w = sqrt(p.omega2[i]);
-    const double a = hypot(x[EA__IE(pl, N - 1, i)], x[EA__IED(pl, N - 1, i)] / w) *
-                     hypot(p.tip[i][0], p.tip[i][1]);
-    info->predicted_amplitude_m[i] = a;
-    res += a;
-  }
-  info->predicted_residual_m = res;
-  double dev = 0.0, tm = INFINITY;
-  for (int k = 0; k < N; ++k) {
-    ea_rom_table_eval(pl->rom, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], &p, NULL, NULL);
-    double dx = 0, dy = 0, dT = 0;
-    for (int i = 0; i < K; ++i) {
-      dx += p.tip[i][0] * x[EA__IE(pl, k, i)];
-      dy += p.tip[i][1] * x[EA__IE(pl, k, i)];
-      dT += p.dtension[i] * x[EA__IE(pl, k, i)];
+  const int N = pl->N, Kp = pl->Kper;
+  double dev = 0.0, tm = INFINITY, worst = 0.0;
+  double amp[EA_ROM_MAX_MODES], decay[EA_ROM_MAX_MODES]; /* nominal: envelope A e^{-decay t} */
+  for (int j = 0; j < pl->M; ++j) {
+    ea_rom_point_t p;
+    double res = 0.0;
+    ea_rom_table_eval(pl->roms[j], x[EA__IQ(pl, N - 1, 0)], x[EA__IQ(pl, N - 1, 1)], &p, NULL,
+                      NULL);
+    for (int mi = 0; mi < Kp; ++mi) {
+      const int i = j * Kp + mi;
+      const double w = sqrt(p.omega2[mi]);
+      const double a = hypot(x[EA__IE(pl, N - 1, i)], x[EA__IED(pl, N - 1, i)] / w) *
+                       hypot(p.tip[mi][0], p.tip[mi][1]);
+      if (j == 0) {
+        info->predicted_amplitude_m[mi] = a;
+        /* damped free vibration eta = e^{-z w t} (c cos w_d t + s sin w_d t): its envelope */
+        const double z = pl->zeta[i], wd = w * sqrt(1.0 - z * z);
+        const double e0 = x[EA__IE(pl, N - 1, i)], ed0 = x[EA__IED(pl, N - 1, i)];
+        amp[mi] = hypot(e0, (ed0 + z * w * e0) / wd) * hypot(p.tip[mi][0], p.tip[mi][1]);
+        decay[mi] = z * w;
+      }
+      res += a;
     }
-    dev = fmax(dev, hypot(dx, dy));
-    tm = fmin(tm, x[EA__IP(pl, k, 0)] + dT - pl->task.limits.tension_min);
+    if (j == 0) {
+      info->predicted_residual_m = res;
+      info->predicted_time_to_rest_s = ea__rest_time(amp, decay, Kp, EA__REST_TOL);
+    }
+    worst = fmax(worst, res);
+    for (int k = 0; k < N; ++k) {
+      ea_rom_table_eval(pl->roms[j], x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], &p, NULL, NULL);
+      double dx = 0, dy = 0, dT = 0;
+      for (int mi = 0; mi < Kp; ++mi) {
+        const double e = x[EA__IE(pl, k, j * Kp + mi)];
+        dx += p.tip[mi][0] * e;
+        dy += p.tip[mi][1] * e;
+        dT += p.dtension[mi] * e;
+      }
+      dev = fmax(dev, hypot(dx, dy));
+      tm = fmin(tm, x[EA__IP(pl, k, 0)] + dT - pl->task.limits.tension_min);
+    }
   }
+  info->predicted_residual_worst_m = worst;
   info->max_modal_deviation_m = dev;
   info->min_dynamic_tension_margin_N = tm;
 }

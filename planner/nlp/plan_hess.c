@@ -116,7 +116,7 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
   size_t cap = (size_t)15 * N + 1;
   for (int r = 0; r < nr; ++r) {
     const ea__row_t *row = ea__hrow(pl, r);
-    if (row->kind <= EA__ROW_STATICS_Y) continue;
+    if (!ea__plan_row_curved(row)) continue;
     const size_t nc = (size_t)ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
     cap += nc * (nc + 1) / 2;
   }
@@ -138,7 +138,7 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
   size_t npos = 0;
   for (int r = 0; r < nr; ++r) {
     const ea__row_t *row = ea__hrow(pl, r);
-    if (row->kind <= EA__ROW_STATICS_Y) continue;
+    if (!ea__plan_row_curved(row)) continue;
     const int nc = ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
@@ -172,7 +172,7 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
   for (int r = 0; r < nr; ++r) {
     pl->hpos_start[r] = p;
     const ea__row_t *row = ea__hrow(pl, r);
-    if (row->kind <= EA__ROW_STATICS_Y) continue;
+    if (!ea__plan_row_curved(row)) continue;
     const int nc = ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
@@ -181,6 +181,58 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
   pl->hpos_start[nr] = p;
   free(keys);
   return EA_OK;
+}
+
+int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr) {
+  const int k0 = rows[r].kind;
+  if (k0 != EA__ROW_DYN_DEF_POS && k0 != EA__ROW_DYN_DEF_VEL) return 1;
+  int g = 1;
+  while (r + g < nr &&
+         (rows[r + g].kind == EA__ROW_DYN_DEF_POS || rows[r + g].kind == EA__ROW_DYN_DEF_VEL) &&
+         rows[r + g].knot == rows[r].knot && g < EA__HGROUP_MAX)
+    ++g;
+  return g;
+}
+
+void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                            const ea__row_t *rows, const double *w, int g, const int *const *hpos,
+                            double *values) {
+  int cols[EA__HGROUP_MAX][EA__ROW_MAX], nc[EA__HGROUP_MAX];
+  double Hl[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
+  double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
+  int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
+  for (int r = 0; r < g; ++r) {
+    nc[r] = w[r] != 0.0 ? fn(pl, x, &rows[r], NULL, cols[r], NULL) : 0;
+    for (int a = 0; a < nc[r]; ++a) {
+      int seen = 0;
+      for (int u = 0; u < nu && !seen; ++u)
+        seen = uni[u] == cols[r][a];
+      if (!seen) uni[nu++] = cols[r][a];
+    }
+  }
+  for (int u = 0; u < nu; ++u) {
+    const int v = uni[u];
+    const double d = 1e-6 * fmax(1.0, fabs(x[v]));
+    for (int sgn = 0; sgn < 2; ++sgn) {
+      xx[v] = x[v] + (sgn ? -d : d);
+      for (int r = 0; r < g; ++r) {
+        int a = 0;
+        while (a < nc[r] && cols[r][a] != v)
+          ++a;
+        if (a == nc[r]) continue;
+        fn(pl, xx, &rows[r], NULL, NULL, sgn ? gm : gp);
+        for (int b = 0; b < nc[r]; ++b)
+          Hl[r][a][b] = sgn ? (Hl[r][a][b] - gm[b]) / (2.0 * d) : gp[b];
+      }
+    }
+    xx[v] = x[v];
+  }
+  for (int r = 0; r < g; ++r) {
+    const int *p = hpos[r];
+    for (int a = 0; a < nc[r]; ++a)
+      for (int b = 0; b <= a; ++b)
+        values[*p++] += w[r] * 0.5 * (Hl[r][a][b] + Hl[r][b][a]);
+  }
 }
 
 ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma,
@@ -225,32 +277,28 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
   }
   pl->t_statics += ea__plan_now() - t0;
   (void)arm;
-  /* Local rows and objective pieces. */
+  /* Local rows and objective pieces (the modal defects of an interval together: they share
+   * its trajectory variables and, in plan_dyn.c, their work). */
   memcpy(pl->xx, x, (size_t)pl->n * sizeof *x);
-  const int nr = pl->m + pl->n_orows;
-  int cols[EA__ROW_MAX];
-  double gp[EA__ROW_MAX], gm[EA__ROW_MAX], Hl[EA__ROW_MAX][EA__ROW_MAX];
-  for (int r = 0; r < nr; ++r) {
-    const ea__row_t *row = ea__hrow(pl, r);
-    if (row->kind <= EA__ROW_STATICS_Y) continue;
-    const double w = r < pl->m ? lambda[r] : sigma * pl->oweight[r - pl->m];
-    if (w == 0.0) continue;
-    const int nc = ea__plan_row_eval(pl, x, row, NULL, cols, NULL);
-    for (int a = 0; a < nc; ++a) {
-      const int v = cols[a];
-      const double d = 1e-6 * fmax(1.0, fabs(x[v]));
-      pl->xx[v] = x[v] + d;
-      ea__plan_row_eval(pl, pl->xx, row, NULL, NULL, gp);
-      pl->xx[v] = x[v] - d;
-      ea__plan_row_eval(pl, pl->xx, row, NULL, NULL, gm);
-      pl->xx[v] = x[v];
-      for (int b = 0; b < nc; ++b)
-        Hl[a][b] = (gp[b] - gm[b]) / (2.0 * d);
+  for (int r = 0; r < pl->m;) {
+    const int g = ea__plan_hess_group_len(pl->rows, r, pl->m);
+    const ea__row_t *row = &pl->rows[r];
+    if (!ea__plan_row_curved(row)) {
+      r += g;
+      continue;
     }
-    int p = pl->hpos_start[r];
-    for (int a = 0; a < nc; ++a)
-      for (int b = 0; b <= a; ++b)
-        values[pl->hpos[p++]] += w * 0.5 * (Hl[a][b] + Hl[b][a]);
+    const int *hp[EA__HGROUP_MAX];
+    for (int q = 0; q < g; ++q)
+      hp[q] = pl->hpos + pl->hpos_start[r + q];
+    ea__plan_hess_fd_group(pl, ea__plan_row_eval, x, pl->xx, row, lambda + r, g, hp, values);
+    r += g;
+  }
+  for (int o = 0; o < pl->n_orows; ++o) {
+    const ea__row_t *row = &pl->orows[o];
+    const double w = sigma * pl->oweight[o];
+    if (!ea__plan_row_curved(row)) continue;
+    const int *hp[1] = {pl->hpos + pl->hpos_start[pl->m + o]};
+    ea__plan_hess_fd_group(pl, ea__plan_row_eval, x, pl->xx, row, &w, 1, hp, values);
   }
   return EA_OK;
 }

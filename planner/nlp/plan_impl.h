@@ -32,7 +32,8 @@ typedef enum ea__row_kind {
   EA__ROW_DYN_TORQUE,        /* shoulder torque with the modal part at a knot */
   EA__ROW_DYN_DEVIATION,     /* squared modal tip deviation at a knot */
   EA__ROW_DYN_TERMINAL,      /* squared residual amplitude at the goal */
-  EA__ROW_OBJ_DYN,           /* objective piece: the same (min_vibration with dynamics) */
+  EA__ROW_DYN_REST, /* the goal's modal state = its target (coord i < K: eta_i, else eta'_i) */
+  EA__ROW_OBJ_DYN,  /* objective piece: the same (min_vibration with dynamics) */
   EA__ROW_KIND_COUNT
 } ea__row_kind_t;
 
@@ -40,6 +41,12 @@ typedef enum ea__row_kind {
  *  0 L_c, 1 alpha, 2 base, and the shoulder angle theta0 (its values are
  *  statics variables, its rates variables of their own). */
 #define EA__C_TH 3
+
+typedef struct ea__pp ea__pp_t;
+
+/** Most models of a robust plan (the nominal arm and four corners), and modal coordinates. */
+#define EA__DYN_MAX_MODELS 5
+#define EA__DYN_MAX (EA__DYN_MAX_MODELS * EA_ROM_MAX_MODES)
 
 typedef struct ea__row {
   unsigned char kind, coord; /* coord: coordinate (EA__C_TH = theta0) or normal index */
@@ -101,15 +108,19 @@ struct ea_planner {
   /* frequency model (NULL when the task needs none) */
   ea__freq_model_t *fm;
   /* reduced dynamic model (NULL when the task has no dynamics; plan_dyn.c) */
-  ea_rom_table_t *rom;
-  int K;                         /* modes */
-  double zeta[EA_ROM_MAX_MODES]; /* modal damping ratios */
-  double dyn_scale;              /* defect rows are multiplied by this */
-  double dyn_term_scale;         /* [1/m^2] the terminal amplitude row and objective piece */
-  int ie0;                       /* index of the first modal variable */
-  double dyn_target[2 * EA_ROM_MAX_MODES]; /* terminal (eta, eta') when ending at rest */
+  ea_rom_table_t *rom;                      /* the nominal model's (roms[0]) */
+  ea_rom_table_t *roms[EA__DYN_MAX_MODELS]; /* per model: nominal, then the robust corners */
+  int M;                                    /* models */
+  int Kper;                                 /* modes per model */
+  int K;                                    /* modal coordinates: M Kper (model-major) */
+  double zeta[EA__DYN_MAX];                 /* modal damping ratios */
+  double dyn_scale;                         /* defect rows are multiplied by this */
+  double dyn_term_scale;              /* [1/m^2] the terminal amplitude row and objective piece */
+  int ie0;                            /* index of the first modal variable */
+  double dyn_target[2 * EA__DYN_MAX]; /* terminal (eta, eta') when ending at rest */
   ea_plan_dyn_info_t dyn_info;
-  int zero_end_acc; /* 1: acceleration 0 at start and goal (min_vibration) */
+  struct ea__dyn_cache *dync; /* the defect rows' work per interval (plan_dyn.c) */
+  int zero_end_acc;           /* 1: acceleration 0 at start and goal (min_vibration) */
   /* objective */
   int n_terms;
   ea__plan_term_t terms[EA__MAX_TERMS];
@@ -149,7 +160,13 @@ struct ea_planner {
   double t_statics, t_callbacks, t_start, max_time;
   int iter;
   int refining; /* 1: re-solve after bounds were tightened for limits between knots */
+  /* the prescribed path in the path coordinate (plan_path.c; NULL: knots only) */
+  struct ea__pp *pp;
+  int pp_off; /* 1: solve with the knot transcription (a fallback) */
 };
+
+/** Ipopt's infinity (nlp_lower/upper_bound_inf). */
+#define EA__IPINF 1e19
 
 /* Variable indices. */
 #define EA__IQ(pl, k, c) ((k) * (pl)->nb + (c))
@@ -184,6 +201,26 @@ int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double
  *  returns the entry count (<= EA__ROW_MAX). Statics rows read the cached sensitivities. */
 int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                       int *cols, double *vals);
+/** Does the Lagrangian Hessian take the row's curvature? Not the statics rows (their own
+ *  blocks, plan_hess.c) nor the linear rest rows. (Leaving out the modal defects' curvature
+ *  was tried: 60 % less work per iteration, but a payload-0.5 at-rest plan no longer
+ *  converged in 500 iterations.) */
+static inline int ea__plan_row_curved(const ea__row_t *r) {
+  return r->kind > EA__ROW_STATICS_Y && r->kind != EA__ROW_DYN_REST;
+}
+/** A row evaluation (the knot transcription's ea__plan_row_eval, or the path one's). */
+typedef int (*ea__rowfn)(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
+                         int *cols, double *vals);
+/** Most rows the Hessian differences together (an interval's modal defects). */
+#define EA__HGROUP_MAX (2 * EA__DYN_MAX)
+/** Rows r.. that the Hessian differences together (>= 1). */
+int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
+/** Central differences of the exact gradients of g rows (rows[0..g-1], weights w) over the
+ *  union of their variables (xx: a scratch copy of x), added as w 0.5 (H + H^T) at each row's
+ *  Hessian positions hpos[r]. */
+void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                            const ea__row_t *rows, const double *w, int g, const int *const *hpos,
+                            double *values);
 /** Hessian setup (structure, positions) and values (lower triangle). */
 ea_status_t ea__plan_hess_setup(ea_planner_t *pl);
 ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double obj_factor,
@@ -227,6 +264,7 @@ int ea__plan_between(ea_planner_t *pl, const double *x, double *worst, char *msg
 /** The reduced dynamic model for a task with dynamics (pl->rom; NULL otherwise): the box of
  *  the task, the table from the cache or built (plan_dyn.c). */
 ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err);
+void ea__plan_dyn_cache_free(struct ea__dyn_cache *c);
 /** Rows of the dynamic kinds; same contract as ea__plan_row_eval. */
 int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                      int *cols, double *vals);
@@ -234,6 +272,19 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
 /** The model's predicted residual and modal figures of a plan x into info. */
 void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info);
+/** The path transcription (plan_path.c): does the task qualify (line/polyline, no frequency
+ *  model, exact Hessian)? */
+int ea__pp_supported(const ea_planner_t *pl);
+/** Build it (after the knot planner's rows, bounds and Hessian structure). */
+ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err);
+void ea__pp_free(struct ea__pp *pp);
+/** After ea_planner_update: the path moved: statics splines and bounds again. */
+ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err);
+/** A solve in the path coordinate: guess (start), Ipopt; pl->x gets the plan in the knot
+ *  layout (expanded), pl->g its rows; *rs, *obj, *iters Ipopt's. */
+ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                         ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
+                         int *iters, ea_error_t *err);
 /** The (L_c, alpha) box the task's path covers, with a margin (plan_vib.c). */
 void ea__plan_box(const ea_planner_t *pl, double box[4]);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */

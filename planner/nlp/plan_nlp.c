@@ -239,6 +239,7 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
   case EA__ROW_DYN_TORQUE:
   case EA__ROW_DYN_DEVIATION:
   case EA__ROW_DYN_TERMINAL:
+  case EA__ROW_DYN_REST:
   case EA__ROW_OBJ_DYN:
     return ea__plan_dyn_row(pl, x, r, value, cols, vals);
   default:
@@ -330,6 +331,10 @@ const char *ea__plan_row_name(const ea_planner_t *pl, const ea__row_t *r, char *
     break;
   case EA__ROW_DYN_TERMINAL:
     snprintf(buf, len, "residual vibration at the goal (dynamics.residual_m)");
+    break;
+  case EA__ROW_DYN_REST:
+    snprintf(buf, len, "mode %d of model %d at rest at the goal", r->coord % pl->K % pl->Kper + 1,
+             r->coord % pl->K / pl->Kper + 1);
     break;
   default:
     snprintf(buf, len, "constraint");

@@ -1,6 +1,7 @@
 /* Output of a plan: the trajectory file (every column filled), the JSON
  * summary and the figure (tip path, beam shapes in the workspace, time
  * histories). */
+#include "ea_refine.h"
 #include "plan_impl.h"
 
 #include <math.h>
@@ -65,8 +66,109 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
   return ea_error_set(err, EA_OK, "ok");
 }
 
+/* The "refine" object: settings, outcome and every evaluation. */
+static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
+  const ea_task_refine_t *s = &r->settings;
+  ea_json_obj_begin(j, "refine");
+  ea_json_str(j, "status", ea_status_name(r->status));
+  ea_json_str(j, "message", r->message);
+  ea_json_str(j, "method", ea_task_refine_method_name(s->method));
+  ea_json_bool(j, "converged", r->converged);
+  ea_json_str(j, "stop_reason", r->stop_reason);
+  ea_json_num(j, "tolerance_m", s->tolerance_m);
+  ea_json_int(j, "max_evaluations", s->max_evaluations);
+  ea_json_num(j, "max_time_s", s->max_time_s);
+  ea_json_int(j, "modes_adjusted", s->modes);
+  ea_json_int(j, "model_modes", r->model_modes);
+  ea_json_num(j, "max_duration_change", s->max_duration_change);
+  ea_json_int(j, "seed", (long)s->seed);
+  ea_json_obj_begin(j, "fe");
+  ea_json_int(j, "elements", r->fe.elements);
+  ea_json_str(j, "scheme", r->fe.scheme == EA_FE_SCHEME_GENALPHA ? "genalpha" : "energy");
+  ea_json_num(j, "rho_inf", r->fe.rho_inf);
+  ea_json_num(j, "dt_s", r->fe.dt);
+  ea_json_num(j, "settle_s", r->fe.settle);
+  ea_json_num(j, "damping_ratio", r->fe.damping_ratio);
+  ea_json_obj_end(j);
+  ea_json_int(j, "evaluations", r->n_evals);
+  ea_json_int(j, "returned_evaluation", r->returned);
+  ea_json_num(j, "duration_before_s", r->duration_before_s);
+  ea_json_num(j, "residual_peak_before_m", r->residual_peak_before_m);
+  ea_json_num(j, "residual_rms_before_m", r->residual_rms_before_m);
+  ea_json_num(j, "duration_s", r->duration_s);
+  ea_json_num(j, "residual_peak_m", r->residual_peak_m);
+  ea_json_num(j, "residual_rms_m", r->residual_rms_m);
+  ea_json_vec(j, "terminal_eta_sqrtkg_m", r->eta, r->model_modes);
+  ea_json_vec(j, "terminal_eta_rate_sqrtkg_m_per_s", r->eta_rate, r->model_modes);
+  ea_json_num(j, "time_s", r->time_s);
+  ea_json_num(j, "time_plan_s", r->time_plan_s);
+  ea_json_num(j, "time_fe_s", r->time_fe_s);
+  if (s->method != EA_TASK_REFINE_NEWTON) ea_json_int(j, "nlopt_result", r->nlopt_result);
+  ea_json_arr_begin(j, "evaluation_log");
+  for (int i = 0; i < r->n_evals; ++i) {
+    const ea_refine_eval_t *e = &r->evals[i];
+    ea_json_obj_begin(j, NULL);
+    ea_json_int(j, "index", i);
+    ea_json_vec(j, "params_m", e->params_m, r->n_params);
+    ea_json_vec(j, "eta_sqrtkg_m", e->eta, r->model_modes);
+    ea_json_vec(j, "eta_rate_sqrtkg_m_per_s", e->eta_rate, r->model_modes);
+    ea_json_str(j, "plan_status", ea_status_name(e->plan_status));
+    ea_json_int(j, "plan_iterations", e->plan_iterations);
+    ea_json_num(j, "plan_time_s", e->plan_time_s);
+    ea_json_num(j, "duration_s", e->duration_s);
+    ea_json_str(j, "fe_status", ea_status_name(e->fe_status));
+    ea_json_num(j, "residual_peak_m", e->residual_peak_m);
+    ea_json_num(j, "residual_rms_m", e->residual_rms_m);
+    ea_json_vec(j, "fitted_m", e->fitted_m, 2 * r->model_modes);
+    ea_json_num(j, "fe_time_s", e->fe_time_s);
+    ea_json_num(j, "elapsed_s", e->elapsed_s);
+    ea_json_bool(j, "accepted", e->accepted);
+    ea_json_bool(j, "final_replan", e->final_resolve);
+    ea_json_obj_end(j);
+  }
+  ea_json_arr_end(j);
+  ea_json_obj_end(j);
+}
+
+/* The reduced dynamic model and what it predicts (task key dynamics). */
+static void ea__summary_dynamics(ea_json_t *j, const ea_planner_t *pl, const ea_plan_info_t *info) {
+  const ea_task_t *t = &pl->task;
+  ea_plan_dyn_info_t di;
+  if (ea_planner_dyn_model(pl, &di) != EA_OK || !di.built) return;
+  ea_json_obj_begin(j, "dynamics");
+  ea_json_int(j, "modes", t->dynamics.modes);
+  ea_json_int(j, "models", di.models);
+  ea_json_vec(j, "model_tip_mass_kg", di.model_tip_mass, di.models);
+  ea_json_vec(j, "model_EI_Nm2", di.model_EI, di.models);
+  ea_json_vec(j, "damping_ratios", t->arm.damping_ratio, t->arm.n_damping);
+  ea_json_num(j, "residual_bound_m", t->dynamics.residual_m);
+  ea_json_num(j, "predicted_residual_m", info->predicted_residual_m);
+  ea_json_vec(j, "predicted_amplitude_m", info->predicted_amplitude_m, t->dynamics.modes);
+  ea_json_num(j, "predicted_residual_worst_m", info->predicted_residual_worst_m);
+  if (isfinite(info->predicted_time_to_rest_s))
+    ea_json_num(j, "predicted_time_to_rest_s", info->predicted_time_to_rest_s);
+  else
+    ea_json_null(j, "predicted_time_to_rest_s");
+  ea_json_num(j, "max_modal_deviation_m", info->max_modal_deviation_m);
+  ea_json_num(j, "min_dynamic_tension_margin_N", info->min_dynamic_tension_margin_N);
+  ea_json_arr_begin(j, "grid");
+  ea_json_int(j, NULL, di.table.n_cable_length);
+  ea_json_int(j, NULL, di.table.n_cable_angle);
+  ea_json_arr_end(j);
+  ea_json_int(j, "grid_extrapolated_points", di.table.n_extrapolated);
+  ea_json_bool(j, "model_from_cache", di.cache_loaded);
+  ea_json_num(j, "model_time_s", di.time_s);
+  ea_json_obj_end(j);
+}
+
 ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *info,
                                   const char *path, ea_error_t *err) {
+  return ea_plan_summary_write_refined(pl, info, NULL, path, err);
+}
+
+ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_info_t *info,
+                                          const ea_refine_info_t *refine, const char *path,
+                                          ea_error_t *err) {
   if (!pl || !info || !path) return ea_error_set(err, EA_ERR_ARG, "summary: NULL argument");
   const ea_task_t *t = &pl->task;
   ea_afile_t f;
@@ -96,7 +198,6 @@ ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *
   ea_json_num(&j, "peak_shoulder_torque_Nm", info->peak_shoulder_torque_Nm);
   ea_json_num(&j, "max_statics_residual", info->max_statics_residual);
   ea_json_num(&j, "max_violation", info->max_violation);
-  ea_json_num(&j, "schedule_warp", info->schedule_warp);
   ea_json_int(&j, "between_knots_resolves", info->between_passes);
   if (pl->fm) {
     const ea_plan_freq_model_info_t *fi = &pl->fm->info;
@@ -111,6 +212,7 @@ ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *
     ea_json_obj_end(&j);
   }
   if (info->status != EA_OK) ea_json_str(&j, "worst_constraint", info->worst);
+  if (isfinite(info->predicted_residual_m)) ea__summary_dynamics(&j, pl, info);
   ea_json_obj_begin(&j, "problem");
   ea_json_int(&j, "variables", info->n_var);
   ea_json_int(&j, "constraints", info->n_con);
@@ -131,8 +233,8 @@ ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *
   ea_json_num(&j, "statics_jacobians", info->time_statics_s);
   ea_json_num(&j, "ipopt", info->time_ipopt_s);
   ea_json_num(&j, "rest", info->time_rest_s);
-  ea_json_num(&j, "schedule_tuning", info->time_tune_s);
   ea_json_obj_end(&j);
+  if (refine) ea__refine_json(&j, refine);
   ea_json_obj_end(&j);
   ea_json_end(&j);
   return ea_afile_commit(&f, err);

@@ -11,8 +11,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#define EA__IPINF 1e19
-
 const ea_task_t *ea_planner_task(const ea_planner_t *pl) {
   return &pl->task;
 }
@@ -22,7 +20,10 @@ void ea_planner_free(ea_planner_t *pl) {
   if (pl->ip) FreeIpoptProblem(pl->ip);
   ea__plan_hess_free(pl);
   ea__plan_freq_free(pl->fm);
-  ea_rom_table_free(pl->rom);
+  for (int j = 0; j < EA__DYN_MAX_MODELS; ++j)
+    ea_rom_table_free(pl->roms[j]);
+  ea__plan_dyn_cache_free(pl->dync);
+  ea__pp_free(pl->pp);
   ea_shooter_free(pl->sh);
   free(pl->s);
   free(pl->seg_of_knot);
@@ -222,18 +223,31 @@ static int ea__build_rows(ea_planner_t *pl) {
         ea__add_row(pl, &i, EA__ROW_DYN_DEF_POS, k, m, 0.0, 0.0);
         ea__add_row(pl, &i, EA__ROW_DYN_DEF_VEL, k, m, 0.0, 0.0);
       }
-    for (int k = 1; k + 1 < N; ++k) {
-      ea__add_row(pl, &i, EA__ROW_DYN_TENSION, k, 0, t->limits.tension_min + ct,
-                  t->limits.tension_max - ct);
-      const double tq = t->limits.shoulder_torque_max - ct;
-      ea__add_row(pl, &i, EA__ROW_DYN_TORQUE, k, 0, -tq, tq);
-      const double d = t->dynamics.max_tip_deviation_m;
-      if (isfinite(d)) ea__add_row(pl, &i, EA__ROW_DYN_DEVIATION, k, 0, -EA__IPINF, d * d);
+    for (int j = 0; j < pl->M; ++j) /* each model: tension, torque, deviation */
+      for (int k = 1; k + 1 < N; ++k) {
+        ea__add_row(pl, &i, EA__ROW_DYN_TENSION, k, j, t->limits.tension_min + ct,
+                    t->limits.tension_max - ct);
+        const double tq = t->limits.shoulder_torque_max - ct;
+        ea__add_row(pl, &i, EA__ROW_DYN_TORQUE, k, j, -tq, tq);
+        const double d = t->dynamics.max_tip_deviation_m;
+        if (isfinite(d)) ea__add_row(pl, &i, EA__ROW_DYN_DEVIATION, k, j, -EA__IPINF, d * d);
+      }
+    /* at the goal: the nominal model at rest (or within residual_m); the robust corners
+     * within robust_residual_m */
+    const double r = t->dynamics.residual_m, rr = t->dynamics.robust_residual_m;
+    if (t->objective != EA_TASK_MIN_VIBRATION) {
+      if (r > 0)
+        ea__add_row(pl, &i, EA__ROW_DYN_TERMINAL, N - 1, 0, -EA__IPINF,
+                    pl->dyn_term_scale * r * r / pl->Kper);
+      else
+        for (int m = 0; m < pl->Kper; ++m) {
+          ea__add_row(pl, &i, EA__ROW_DYN_REST, N - 1, m, 0.0, 0.0);
+          ea__add_row(pl, &i, EA__ROW_DYN_REST, N - 1, pl->K + m, 0.0, 0.0);
+        }
+      for (int j = 1; j < pl->M; ++j)
+        ea__add_row(pl, &i, EA__ROW_DYN_TERMINAL, N - 1, j, -EA__IPINF,
+                    pl->dyn_term_scale * rr * rr / pl->Kper);
     }
-    const double r = t->dynamics.residual_m;
-    if (r > 0 && t->objective != EA_TASK_MIN_VIBRATION)
-      ea__add_row(pl, &i, EA__ROW_DYN_TERMINAL, N - 1, 0, -EA__IPINF,
-                  pl->dyn_term_scale * r * r / pl->K);
   }
   return i;
 }
@@ -296,15 +310,12 @@ static void ea__bounds(ea_planner_t *pl) {
     const ea_plan_dyn_info_t *di = &pl->dyn_info;
     const int rest_end = !(t->dynamics.residual_m > 0) && t->objective != EA_TASK_MIN_VIBRATION;
     for (int k = 0; k < pl->N; ++k) {
-      const int fix = k == 0 || (k == pl->N - 1 && rest_end);
+      /* rest at the start (bounds); at the goal the rows EA__ROW_DYN_REST hold the target */
+      const int fix = k == 0;
+      (void)rest_end;
       for (int i = 0; i < pl->K; ++i) {
-        /* at the goal: the target (0, or what ea_planner_set_terminal_modes set) */
-        const double te = k ? pl->dyn_target[i] : 0.0,
-                     ted = k ? pl->dyn_target[EA_ROM_MAX_MODES + i] : 0.0;
-        pl->xl[EA__IE(pl, k, i)] = fix ? te : -EA__IPINF;
-        pl->xu[EA__IE(pl, k, i)] = fix ? te : EA__IPINF;
-        pl->xl[EA__IED(pl, k, i)] = fix ? ted : -EA__IPINF;
-        pl->xu[EA__IED(pl, k, i)] = fix ? ted : EA__IPINF;
+        pl->xl[EA__IE(pl, k, i)] = pl->xl[EA__IED(pl, k, i)] = fix ? 0.0 : -EA__IPINF;
+        pl->xu[EA__IE(pl, k, i)] = pl->xu[EA__IED(pl, k, i)] = fix ? 0.0 : EA__IPINF;
       }
       /* stay on the model's table */
       pl->xl[EA__IQ(pl, k, 0)] = fmax(pl->xl[EA__IQ(pl, k, 0)], di->table.box[0]);
@@ -485,6 +496,10 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   if (!pl->kkt_r || !pl->jval || !pl->x0) goto nomem;
   pl->hess_exact = t->solver.hessian_exact;
   if (pl->hess_exact && ea__plan_hess_setup(pl)) goto nomem;
+  if (pl->hess_exact && ea__pp_supported(pl) && (st = ea__pp_alloc(pl, err))) {
+    ea_planner_free(pl);
+    return st;
+  }
   if (ea__ipopt_create(pl)) {
     ea_planner_free(pl);
     return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
@@ -520,8 +535,10 @@ static const char *ea__struct_differs(const ea_planner_t *pl, const ea_task_t *t
       t->dynamics.grid[1] != o->dynamics.grid[1] ||
       (t->dynamics.residual_m > 0) != (o->dynamics.residual_m > 0) ||
       isfinite(t->dynamics.max_tip_deviation_m) != isfinite(o->dynamics.max_tip_deviation_m) ||
+      t->dynamics.robust_tip_mass != o->dynamics.robust_tip_mass ||
+      t->dynamics.robust_EI != o->dynamics.robust_EI ||
       (t->dynamics.modes && t->payload_kg != o->payload_kg))
-    return "dynamics (modes, grid, residual or deviation limit, payload)";
+    return "dynamics (modes, grid, residual or deviation limit, robust models, payload)";
   if (t->base_moves != o->base_moves) return "base motion (base variables)";
   if (isnan(t->duration_s) != isnan(o->duration_s)) return "free/fixed duration";
   if (t->limits.continuous_acceleration != o->limits.continuous_acceleration)
@@ -571,6 +588,8 @@ ea_status_t ea_planner_update(ea_planner_t *pl, const ea_task_t *task, ea_error_
       if (pl->task.objective == EA_TASK_MIN_TIME) pl->oweight[i] = pl->task.solver.regularization;
   if (pl->tip_mass != tip_mass) memset(pl->kvalid, 0, (size_t)pl->N);
   pl->cache_val = pl->cache_sens = 0;
+  ea_status_t st = ea__pp_update(pl, err);
+  if (st) return st;
   if (ea__ipopt_create(pl))
     return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
   if (pl->have_solution) pl->updated = 1;
@@ -862,7 +881,6 @@ static int ea__kkt_ok(ea_planner_t *pl, const double *x) {
 /* Solve                                                                    */
 /* ---------------------------------------------------------------------- */
 
-ea_status_t ea__plan_tune(ea_planner_t *pl, double *w_best, ea_error_t *err);
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                                 ea_plan_info_t *info_out, ea_error_t *err);
 
@@ -945,7 +963,6 @@ static ea_status_t ea__duration_probe(ea_planner_t *pl, ea_plan_info_t *info, ea
   t.objective = EA_TASK_MIN_TIME;
   t.duration_s = NAN;
   t.time_weight = NAN;
-  t.solver.tune_schedule = 0;
   ea_planner_t *pr = NULL;
   ea_plan_info_t pi;
   ea_error_t e2 = {0};
@@ -981,22 +998,7 @@ static ea_status_t ea__duration_probe(ea_planner_t *pl, ea_plan_info_t *info, ea
 ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                              ea_plan_info_t *info_out, ea_error_t *err) {
   if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_solve: NULL planner");
-  if (!pl->task.solver.tune_schedule || !pl->has_tf)
-    return ea__solve_checked(pl, start, prev, info_out, err);
-  /* NLopt over the knot time distribution, then the final plan. */
-  const double t0 = ea__plan_now();
-  ea_status_t st = ea__plan_solve_once(pl, start, prev, info_out, err);
-  if (st) return st;
-  double w = 0.0;
-  st = ea__plan_tune(pl, &w, err);
-  const double tt = ea__plan_now() - t0;
-  if (st) return st;
-  ea__plan_schedule(pl, w);
-  ea_plan_info_t local, *info = info_out ? info_out : &local;
-  st = ea__solve_checked(pl, EA_PLAN_WARM, NULL, info, err);
-  info->time_tune_s = tt;
-  info->schedule_warp = w;
-  return st;
+  return ea__solve_checked(pl, start, prev, info_out, err);
 }
 
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
@@ -1019,8 +1021,29 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   pl->cache_val = pl->cache_sens = 0;
 
   ea_status_t st = EA_OK;
+  const int path_mode = pl->pp && !pl->pp_off;
   const int warm = start == EA_PLAN_WARM && pl->have_solution;
   const int replan = warm && pl->updated;
+  char tmpl[64] = "";
+  double obj = 0.0, ti = 0.0, t_ipopt = 0.0;
+  int iters = 0;
+  enum ApplicationReturnStatus rs = Internal_Error;
+  if (path_mode) {
+    /* the prescribed path in the path coordinate (plan_path.c): its own guess and Ipopt
+     * problem; pl->x gets the plan in the knot layout */
+    ti = ea__plan_now();
+    st = ea__pp_solve(pl, start, prev, info, &rs, &obj, &iters, err);
+    t_ipopt = ea__plan_now() - ti;
+    if (st) {
+      info->status = st;
+      snprintf(info->message, sizeof info->message, "%s", err ? err->msg : ea_strerror(st));
+      info->time_total_s = ea__plan_now() - t0;
+      pl->info = NULL;
+      return st;
+    }
+    goto solved_path;
+  }
+
   if (warm) {
     memcpy(pl->x, pl->x_sol, (size_t)pl->n * sizeof *pl->x);
     memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
@@ -1082,7 +1105,6 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   int mono = !warm && !pl->rom &&
              (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
-  char tmpl[64] = "";
   if (pl->task.solver.derivative_test) {
     snprintf(tmpl, sizeof tmpl, "/tmp/ea_dercheck_XXXXXX");
     const int fd = mkstemp(tmpl);
@@ -1098,10 +1120,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
     AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);
   }
-  double obj = 0.0;
-  int iters = 0;
-  const double ti = ea__plan_now();
-  enum ApplicationReturnStatus rs;
+  ti = ea__plan_now();
   if (warm && !pl->task.solver.derivative_test && ea__kkt_ok(pl, pl->x)) {
     rs = Solve_Succeeded; /* the start is the solution: no Ipopt iteration */
     for (int i = 0; i < pl->n_terms; ++i)
@@ -1122,7 +1141,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
       AddIpoptNumOption(pl->ip, "mu_init", 0.1);
     }
   }
-  const double t_ipopt = ea__plan_now() - ti;
+  t_ipopt = ea__plan_now() - ti;
   if (pl->task.solver.derivative_test) {
     AddIpoptStrOption(pl->ip, "derivative_test", "none");
     if (tmpl[0]) {
@@ -1130,6 +1149,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
       remove(tmpl);
     }
   }
+solved_path:
   info->ipopt_status = (int)rs;
   snprintf(info->ipopt_status_name, sizeof info->ipopt_status_name, "%s", ea__ipopt_name(rs));
   info->iterations = iters;
@@ -1137,15 +1157,18 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   const double tp = ea__plan_now();
   const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
   if (solved) {
-    ea__polish(pl, pl->x);
-    ea__plan_theta0_rates(pl, pl->x); /* the spline of the polished theta0 */
+    if (!path_mode) { /* path mode: theta0 and its rates are the path spline's (1e-9) */
+      ea__polish(pl, pl->x);
+      ea__plan_theta0_rates(pl, pl->x); /* the spline of the polished theta0 */
+    }
   }
   ea__stats(pl, pl->x, info);
   ea__plan_vib_stats(pl, pl->x, info);
   ea__plan_dyn_stats(pl, pl->x, info);
   info->time_freq_model_s = pl->fm ? pl->fm->info.time_s : 0.0;
   const double tol_viol = 1e-6;
-  if (solved && info->max_violation <= tol_viol && info->max_statics_residual <= 1e-9) {
+  if (solved && info->max_violation <= tol_viol &&
+      info->max_statics_residual <= (path_mode ? 1e-8 : 1e-9)) {
     info->status = EA_OK;
     memcpy(pl->x_sol, pl->x, (size_t)pl->n * sizeof *pl->x);
     memcpy(pl->mult_g_sol, pl->mult_g, (size_t)pl->m * sizeof *pl->x);
@@ -1219,12 +1242,12 @@ ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
     return ea_error_set(err, EA_ERR_ARG,
                         "terminal modal targets need a task with dynamics that ends at rest "
                         "(residual_m 0, not min_vibration)");
-  for (int i = 0; i < pl->K; ++i) {
+  for (int i = 0; i < pl->Kper; ++i) { /* the nominal model's modes */
     const double e = eta ? eta[i] : 0.0, ed = eta_rate ? eta_rate[i] : 0.0;
     if (!isfinite(e) || !isfinite(ed))
       return ea_error_set(err, EA_ERR_ARG, "terminal modal target of mode %d is not finite", i + 1);
     pl->dyn_target[i] = e;
-    pl->dyn_target[EA_ROM_MAX_MODES + i] = ed;
+    pl->dyn_target[EA__DYN_MAX + i] = ed;
   }
   ea__bounds(pl);
   if (ea__ipopt_create(pl))

@@ -17,6 +17,7 @@ void ea_sim_settings_default(ea_sim_settings_t *s) {
   s->dt = 1e-3;
   s->rho_inf = 0.9;
   s->settle = 3.0;
+  s->damping_ratio = NAN; /* the arm's measured ratio of mode 1 (undamped without one) */
   s->rest_tolerance = 1e-3;
 }
 
@@ -29,7 +30,7 @@ ea_status_t ea_sim_settings_validate(const ea_sim_settings_t *s, ea_error_t *err
     return ea_error_set(err, EA_ERR_ARG, "simulate: dt = %g s: must be in [1e-6, 0.1]", s->dt);
   if (!(s->settle >= 0.0 && s->settle <= 1e4))
     return ea_error_set(err, EA_ERR_ARG, "simulate: settle = %g s: must be in [0, 1e4]", s->settle);
-  if (!(s->damping_ratio >= 0.0 && s->damping_ratio <= 1.0))
+  if (!isnan(s->damping_ratio) && !(s->damping_ratio >= 0.0 && s->damping_ratio <= 1.0))
     return ea_error_set(err, EA_ERR_ARG, "simulate: damping ratio = %g: must be in [0, 1]",
                         s->damping_ratio);
   if (!(s->rayleigh_mass >= 0.0) || !(s->rayleigh_stiffness >= 0.0) ||
@@ -216,9 +217,27 @@ static void ea__sim_measure(const ea_traj_t *tr, const ea_arm_t *arm, const doub
     info->time_to_rest = tip[4 * (last_out + 1)];
 }
 
+static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
+                                     const ea_sim_settings_t *s, ea_sim_history_t *hist,
+                                     ea_sim_info_t *info, ea_error_t *err);
+
 ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
                              const ea_sim_settings_t *s, ea_sim_history_t *hist,
                              ea_sim_info_t *info, ea_error_t *err) {
+  if (!arm || !s || !isnan(s->damping_ratio))
+    return ea__traj_simulate(arm, tr, tip_mass, s, hist, info, err);
+  /* damping ratio NAN: the arm file's measured ratio of mode 1, unless Rayleigh coefficients
+   * are given */
+  ea_sim_settings_t r = *s;
+  r.damping_ratio = 0.0;
+  if (arm->n_damping > 0 && !(s->rayleigh_mass > 0) && !(s->rayleigh_stiffness > 0))
+    r.damping_ratio = arm->damping_ratio[0];
+  return ea__traj_simulate(arm, tr, tip_mass, &r, hist, info, err);
+}
+
+static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
+                                     const ea_sim_settings_t *s, ea_sim_history_t *hist,
+                                     ea_sim_info_t *info, ea_error_t *err) {
   ea_sim_info_t loc;
   if (!info) info = &loc;
   memset(info, 0, sizeof *info);
@@ -242,6 +261,7 @@ ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double ti
     return info->status = ea_error_set(
                err, EA_ERR_ARG, "simulate: %.3g s at dt %g s is more than 2e7 steps", t_end, s->dt);
   info->tip_mass = tip_mass > 0 ? tip_mass : ea_arm_tip_mass(arm, fmax(tr->payload_kg, 0.0));
+  info->damping_ratio = s->damping_ratio;
   const double wall0 = ea__mono_s();
 
   ea_shooter_t *sh = NULL;

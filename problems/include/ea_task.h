@@ -92,6 +92,13 @@ typedef struct ea_task_limits {
                                       cubic Hermite's acceleration may jump at the knots */
 } ea_task_limits_t;
 
+/** Which transcription plans a task (docs/planner.md, "Transcriptions"). */
+typedef enum ea_task_transcription {
+  EA_TASK_TRANSCRIPTION_AUTO = 0, /**< the path coordinate for line/polyline paths, else knots */
+  EA_TASK_TRANSCRIPTION_KNOTS,    /**< knots with the statics shooting rows (every task) */
+  EA_TASK_TRANSCRIPTION_PATH      /**< the path coordinate (line/polyline; else refused) */
+} ea_task_transcription_t;
+
 /** Solver options of a task. */
 typedef struct ea_task_solver {
   int max_iter;          /**< Ipopt iterations (default 500) */
@@ -100,14 +107,48 @@ typedef struct ea_task_solver {
   double max_time_s;     /**< wall-clock limit (default 60) */
   int derivative_test;   /**< run Ipopt's derivative checker: 1 first-order, 2 second-order */
   int print_level;       /**< Ipopt print level (default 0 = silent) */
-  int tune_schedule;     /**< NLopt: tune the knot time distribution (min_time only) */
   double regularization; /**< weight of the acceleration-energy term added to min_time
                               (default 1e-4; 0 = pure minimum time) */
   int hessian_exact;     /**< Hessian of the Lagrangian: 2 "partial" (default): exact for
                               every row but without the statics curvature; 1 "exact":
                               with it (second-order statics by differences of the exact
                               sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
+  ea_task_transcription_t transcription; /**< "auto" (default), "knots" or "path" */
 } ea_task_solver_t;
+
+/** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */
+typedef enum ea_task_refine_method {
+  EA_TASK_REFINE_NEWTON = 0, /**< Newton steps on the fitted residual modal state (Broyden) */
+  EA_TASK_REFINE_BOBYQA,     /**< NLopt BOBYQA on the fitted residual modal energy */
+  EA_TASK_REFINE_COBYLA,     /**< NLopt COBYLA, same objective */
+  EA_TASK_REFINE_SBPLX       /**< NLopt Sbplx, same objective */
+} ea_task_refine_method_t;
+
+/** Most FE transients a refinement may spend. */
+#define EA_TASK_REFINE_MAX_EVALUATIONS 100
+
+/** FE-in-the-loop refinement of a plan that arrives at rest (task key dynamics.refine,
+ *  docs/task-format.md): the terminal modal targets are adjusted until the residual vibration
+ *  measured by the nonlinear FE transient is below tolerance_m. */
+typedef struct ea_task_refine {
+  int enabled;                    /**< 1: refine after the plan (key present, or plan --refine) */
+  ea_task_refine_method_t method; /**< default EA_TASK_REFINE_NEWTON */
+  double tolerance_m;  /**< [m] stop when the FE residual peak is at most this (default 5e-5) */
+  int max_evaluations; /**< FE transients, the unrefined plan's included (default 20) */
+  double max_time_s;   /**< [s] wall-time cap, checked before each evaluation (default 10) */
+  int modes;           /**< modes whose terminal targets are adjusted, 1..dynamics.modes
+                            (default 1) */
+  double fe_dt_s;      /**< [s] FE time step of the evaluations (default 2e-3) */
+  double settle_s;     /**< [s] FE time simulated after the motion (default 3) */
+  double max_duration_change; /**< [-] a candidate whose duration differs from the unrefined
+                                   plan's by more than this fraction is rejected (default 0.02) */
+  unsigned long seed;         /**< seed of NLopt's random numbers (default 1) */
+} ea_task_refine_t;
+
+/** Defaults of the refinement (disabled). */
+void ea_task_refine_default(ea_task_refine_t *r);
+/** Name of a refinement method ("newton", "bobyqa", "cobyla", "sbplx"). */
+const char *ea_task_refine_method_name(ea_task_refine_method_t m);
 
 /** Dynamics of a plan (docs/task-format.md, "dynamics"): plan with the reduced dynamic model
  *  of the arm (model/fe_rom.c) so that it arrives at rest. */
@@ -118,6 +159,12 @@ typedef struct ea_task_dynamics {
   double max_tip_deviation_m; /**< [m] modal tip deviation from the quasi-static tip during the
                                    motion, at the knots (INFINITY = off, default) */
   int grid[2];                /**< table grid (L_c, alpha) points (0 = from the box, default) */
+  double robust_tip_mass;     /**< [-] robust rest: the plan also at rest for the tip mass
+                                   m (1 +- this) ... (0 = off, default) */
+  double robust_EI;           /**< [-] ... and EI (1 +- this): the four corners as models */
+  double robust_residual_m;   /**< [m] allowed residual amplitude at each corner (the
+                                   model's; default 5e-4) */
+  ea_task_refine_t refine;    /**< FE-in-the-loop refinement (off by default) */
 } ea_task_dynamics_t;
 
 /** A task spec. Plain data, no owned memory. */

@@ -1,0 +1,962 @@
+/* Prescribed paths in the path coordinate (docs/planner.md, "Transcriptions"): on a line or
+ * polyline the statics along the path do not depend on the timing, so they are computed once
+ * along the path coordinate sigma (arc length of the tip path in the base frame) and the NLP
+ * keeps per knot only sigma_k and the rates of the cubic Hermites (L_c, alpha[, base],
+ * theta0), plus t_f and the modal states of a task with dynamics. No shooting inside Ipopt.
+ *
+ * It is a reduced space of the knot transcription (plan_nlp.c): its knot-layout vector x_k is
+ * a function of the path vector x_s (L_c, alpha, base = the path's geometry at sigma_k,
+ * (T, theta0, kappa0) = the path's statics splines at sigma_k, everything else copied), and
+ * every row but the statics and path rows (which hold identically) is the knot transcription's
+ * own row evaluated at x_k, its Jacobian mapped by the chain rule. The feasible set is the knot
+ * transcription's (the knots on the path, the C2 splines through them), so the plans agree.
+ *
+ * The statics splines: cubic Hermite in sigma of (T, theta0, kappa0) with the exact slopes
+ * (implicit differentiation of the shooting residual), samples doubled until the interpolant
+ * built on every other sample misses the skipped samples by < 16 tol (its own error is ~16x
+ * smaller, O(h^4)): theta0 within 1e-9 rad, T within 1e-9 (1 + T) N. */
+#include "plan_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <stdio.h>
+#include <string.h>
+
+#define EA__PP_TOL 1e-9
+#define EA__PP_MAXS 4096
+
+struct ea__pp {
+  int nc;  /* coordinates with a rate per knot: nq + 1 (theta0 last) */
+  int nbp; /* path variables per knot: 1 + nc */
+  int n, m, nnz, nnz_h, itf, ie0;
+  /* path: cumulative sigma at the segment starts, total */
+  double sig0[EA_TASK_MAX_VIA + 2], S;
+  double bref[EA_TASK_MAX_VIA + 1]; /* base angle at each segment's start (unwrap reference) */
+  /* statics splines: ns samples sorted in sigma; per sample p = (T, theta0, kappa0), dp/dsigma */
+  int ns, soff[EA_TASK_MAX_VIA + 2]; /* samples; segment j's are soff[j] .. soff[j + 1] - 1 */
+  double *ssig, *sp, *sdp;
+  double spline_err;       /* estimated max error (theta0 [rad]; T relative) */
+  ea_status_t path_status; /* the path's statics (EA_ERR_INFEASIBLE: it leaves the workspace) */
+  char path_msg[512];
+  /* knot-layout map: for index i of x_k: path index (-1: none) and kind */
+  int *kidx;
+  unsigned char *kkind; /* 0 copy, 1 q (coordinate kc), 2 statics (j) */
+  unsigned char *kcoord;
+  int *kknot;
+  double *xk, *xs_last; /* expanded vector, the path vector it was expanded from */
+  double *dq;           /* N x (3 + 3): dq/dsigma (L, alpha, base), dp/dsigma (T, theta0, kappa0) */
+  /* NLP */
+  ea__row_t *rows;
+  int *rmap; /* knot planner's row of each row */
+  double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
+  double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol, *x0;
+  int have_solution;
+  int *irow, *jcol;
+  int *hirow, *hjcol, *hpos_start, *hpos;
+  ea__row_t *orows;
+  double *oweight;
+  int n_orows;
+  double *gk, *xx; /* knot-layout gradient scratch; perturbed path vector */
+  IpoptProblem ip;
+  int iter;
+};
+
+/* ---- path geometry ------------------------------------------------------ */
+
+/* Segment of sigma (the last one whose start is <= sigma). */
+static int ea__pp_seg(const ea_planner_t *pl, double sig) {
+  const ea__pp_t *pp = pl->pp;
+  int j = 0;
+  while (j + 1 < pl->n_seg && sig >= pp->sig0[j + 1])
+    ++j;
+  return j;
+}
+
+/* Actuator coordinates (L_c, alpha, base) at sigma on segment j and their derivatives. */
+static void ea__pp_q(const ea_planner_t *pl, int j, double sig, double q[3], double dq[3]) {
+  const ea__pp_t *pp = pl->pp;
+  const ea_arm_t *arm = &pl->task.arm;
+  const double u = sig - pp->sig0[j];
+  const double *A = pl->segA[j], *D = pl->segD[j];
+  const double P[3] = {A[0] + u * D[0], A[1] + u * D[1], A[2] + u * D[2]};
+  double X, dX, b, db;
+  if (pl->nq == 3) {
+    X = hypot(P[0], P[1]);
+    dX = X > 1e-12 ? (P[0] * D[0] + P[1] * D[1]) / X : 0.0;
+    b = X > 1e-12 ? atan2(P[1], P[0]) : pp->bref[j];
+    while (b - pp->bref[j] > M_PI)
+      b -= 2 * M_PI;
+    while (b - pp->bref[j] < -M_PI)
+      b += 2 * M_PI;
+    db = X > 1e-12 ? (P[0] * D[1] - P[1] * D[0]) / (X * X) : 0.0;
+  } else {
+    const double cb = cos(pl->base_fixed), sb = sin(pl->base_fixed);
+    X = P[0] * cb + P[1] * sb;
+    dX = D[0] * cb + D[1] * sb;
+    b = pl->base_fixed;
+    db = 0.0;
+  }
+  const double du = X - arm->x_c, dw = P[2] - arm->y_c;
+  const double L = hypot(du, dw);
+  q[0] = L;
+  q[1] = atan2(dw, du);
+  q[2] = b;
+  dq[0] = (du * dX + dw * D[2]) / L;
+  dq[1] = (du * D[2] - dw * dX) / (L * L);
+  dq[2] = db;
+}
+
+/* Path coordinate of actuator coordinates q on segment j: the tip projected on the segment. */
+static double ea__pp_sigma_of(const ea_planner_t *pl, int j, const double q[3]) {
+  const double b = pl->nq == 3 ? q[2] : pl->base_fixed;
+  double P[3];
+  ea__plan_tip3(pl, q[0], q[1], b, P, NULL);
+  const double *A = pl->segA[j], *D = pl->segD[j];
+  const double u = (P[0] - A[0]) * D[0] + (P[1] - A[1]) * D[1] + (P[2] - A[2]) * D[2];
+  return pl->pp->sig0[j] + fmin(fmax(u, 0.0), pl->segLen[j]);
+}
+
+/* ---- statics along the path --------------------------------------------- */
+
+/* Statics at sigma (warm-started from guess, which is updated) and its slopes dp/dsigma of
+ * (T, theta0, kappa0) by implicit differentiation of the knot rows
+ * (kappa(L), x_L - x_c - L cos alpha, y_L - y_c - L sin alpha) = 0 at fixed alpha. */
+static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, double guess[EA_NP],
+                                  int *have, double p[3], double dp[3], ea_error_t *err) {
+  double q[3], dq[3];
+  ea__pp_q(pl, j, sig, q, dq);
+  ea_statics_problem_t pr = ea_statics_problem_cable(q[0], q[1]);
+  ea_statics_solution_t sol;
+  ea_error_t e = {0};
+  ea_status_t st = ea_statics_solve(pl->sh, &pr, NULL, *have ? guess : NULL, &sol, &e);
+  if (st && *have) st = ea_statics_solve(pl->sh, &pr, NULL, NULL, &sol, &e);
+  if (st)
+    return ea_error_set(err, st == EA_ERR_INADMISSIBLE ? EA_ERR_INFEASIBLE : st,
+                        "the path leaves the workspace at L_c = %.6g m, alpha = %.6g rad: %s", q[0],
+                        q[1], e.msg);
+  memcpy(guess, sol.p, sizeof(double) * EA_NP);
+  *have = 1;
+  double xL[EA_NX], S[EA_NX * EA_NP];
+  if ((st = ea_shoot(pl->sh, sol.p, xL, S))) return ea_error_set(err, st, "shooting failed");
+  /* G_u du + G_L dL + G_a da = 0, u = (T, theta0, kappa0) */
+  const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
+  const double ca = cos(q[1]), sa = sin(q[1]);
+  double A[3][3], b[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      A[r][c] = S[xi[r] * EA_NP + 1 + c];
+    const double gL = r == 0 ? 0.0 : (r == 1 ? -ca : -sa);
+    const double ga =
+        S[xi[r] * EA_NP + EA_P_ALPHA] + (r == 0 ? 0.0 : (r == 1 ? q[0] * sa : -q[0] * ca));
+    b[r] = -(gL * dq[0] + ga * dq[1]);
+  }
+  /* Cramer (3 x 3) */
+  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  if (!(fabs(det) > 0)) return ea_error_set(err, EA_ERR_SINGULAR, "statics slope: singular");
+  for (int c = 0; c < 3; ++c) {
+    double M[3][3];
+    memcpy(M, A, sizeof M);
+    for (int r = 0; r < 3; ++r)
+      M[r][c] = b[r];
+    dp[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+             M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+            det;
+  }
+  p[0] = sol.p[EA_P_TENSION];
+  p[1] = sol.p[EA_P_THETA0];
+  p[2] = sol.p[EA_P_KAPPA0];
+  return EA_OK;
+}
+
+static double ea__herm(double h, double y0, double d0, double y1, double d1, double u, double *dy) {
+  const double u2 = u * u, u3 = u2 * u;
+  if (dy)
+    *dy = ((6 * u2 - 6 * u) * y0 + (3 * u2 - 4 * u + 1) * h * d0 + (-6 * u2 + 6 * u) * y1 +
+           (3 * u2 - 2 * u) * h * d1) /
+          h;
+  return (2 * u3 - 3 * u2 + 1) * y0 + (u3 - 2 * u2 + u) * h * d0 + (-2 * u3 + 3 * u2) * y1 +
+         (u3 - u2) * h * d1;
+}
+
+/* The statics splines of segment j at sigma: p (T, theta0, kappa0) and dp/dsigma (each
+ * segment has its own samples: at a corner the slopes differ). */
+static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], double dp[3]) {
+  int lo = pp->soff[j], hi = pp->soff[j + 1] - 1;
+  if (sig <= pp->ssig[lo])
+    hi = lo + 1;
+  else if (sig >= pp->ssig[hi])
+    lo = hi - 1;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (pp->ssig[mid] <= sig)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  const double h = pp->ssig[hi] - pp->ssig[lo], u = (sig - pp->ssig[lo]) / h;
+  for (int c = 0; c < 3; ++c)
+    p[c] = ea__herm(h, pp->sp[3 * lo + c], pp->sdp[3 * lo + c], pp->sp[3 * hi + c],
+                    pp->sdp[3 * hi + c], u, &dp[c]);
+}
+
+/* Build the statics splines of every segment (samples doubled until the error estimate is
+ * below EA__PP_TOL); also checks the path's admissibility (tension, torque, shoulder range)
+ * at the samples and the spline's extrema between them. */
+static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  const ea_task_t *t = &pl->task;
+  int n = 0;
+  double err_est = 0.0;
+  double guess[EA_NP];
+  int have = 0;
+  for (int j = 0; j < pl->n_seg; ++j) {
+    const double a = pp->sig0[j], len = pl->segLen[j];
+    pp->soff[j] = n;
+    int m = 8; /* intervals */
+    for (;;) {
+      if (n + m + 1 > EA__PP_MAXS)
+        return ea_error_set(err, EA_ERR_NOCONV,
+                            "path statics: more than %d samples for 1e-9 (segment %d)", EA__PP_MAXS,
+                            j + 1);
+      int hv = have;
+      double gs[EA_NP];
+      memcpy(gs, guess, sizeof gs);
+      double worst = 0.0;
+      for (int i = 0; i <= m; ++i) {
+        const double s = a + len * i / m;
+        pp->ssig[n + i] = s;
+        ea_status_t st =
+            ea__pp_statics(pl, j, s, gs, &hv, pp->sp + 3 * (n + i), pp->sdp + 3 * (n + i), err);
+        if (st) return st;
+      }
+      /* the interpolant on every other sample at the skipped ones */
+      for (int i = 1; i < m; i += 2) {
+        const int i0 = n + i - 1, i1 = n + i + 1;
+        const double h = pp->ssig[i1] - pp->ssig[i0];
+        for (int c = 0; c < 3; ++c) {
+          const double y = ea__herm(h, pp->sp[3 * i0 + c], pp->sdp[3 * i0 + c], pp->sp[3 * i1 + c],
+                                    pp->sdp[3 * i1 + c], 0.5, NULL);
+          const double scale =
+              c == 0 ? 1.0 + fabs(pp->sp[3 * (n + i)]) : (c == 1 ? 1.0 : 1.0 / pl->task.arm.length);
+          worst = fmax(worst, fabs(y - pp->sp[3 * (n + i) + c]) / scale);
+        }
+      }
+      if (worst < 16 * EA__PP_TOL || len < 1e-12) {
+        err_est = fmax(err_est, worst / 16);
+        memcpy(guess, gs, sizeof guess);
+        have = hv;
+        break;
+      }
+      m *= 2;
+    }
+    n += m + 1;
+  }
+  pp->ns = n;
+  pp->soff[pl->n_seg] = n;
+  pp->spline_err = err_est;
+  /* admissibility along the path */
+  const ea_task_limits_t *l = &t->limits;
+  for (int j = 0; j < pl->n_seg; ++j)
+    for (int i = pp->soff[j]; i + 1 < pp->soff[j + 1]; ++i)
+      for (int q = 0; q <= 8; ++q) {
+        const double s = pp->ssig[i] + (pp->ssig[i + 1] - pp->ssig[i]) * q / 8.0;
+        double p[3], dp[3];
+        ea__pp_spline(pp, j, s, p, dp);
+        const char *why = NULL;
+        double v = 0, bnd = 0;
+        if (p[0] < l->tension_min)
+          why = "tension below tension_min", v = p[0], bnd = l->tension_min;
+        else if (p[0] > l->tension_max)
+          why = "tension above tension_max", v = p[0], bnd = l->tension_max;
+        else if (fabs(t->arm.EI * p[2]) > l->shoulder_torque_max)
+          why = "shoulder torque above its limit", v = t->arm.EI * p[2],
+          bnd = l->shoulder_torque_max;
+        else if (p[1] < t->arm.act.shoulder_angle_min || p[1] > t->arm.act.shoulder_angle_max)
+          why = "shoulder angle outside its range", v = p[1],
+          bnd = p[1] < t->arm.act.shoulder_angle_min ? t->arm.act.shoulder_angle_min
+                                                     : t->arm.act.shoulder_angle_max;
+        if (why)
+          return ea_error_set(err, EA_ERR_INFEASIBLE,
+                              "the path leaves the workspace at %.4g m along it: %s (%.6g, limit "
+                              "%.6g)",
+                              s, why, v, bnd);
+      }
+  return EA_OK;
+}
+
+/* ---- layouts --------------------------------------------------------------- */
+
+#define EA__PS(pp, k) ((k) * (pp)->nbp)
+#define EA__PR(pp, k, c) ((k) * (pp)->nbp + 1 + (c)) /* c: 0..nq-1, nq = theta0 */
+
+/* Expand knot k of the path vector into pp->xk (and the slopes into pp->dq). */
+static void ea__pp_expand_knot(const ea_planner_t *pl, const double *xs, int k) {
+  ea__pp_t *pp = pl->pp;
+  double *xk = pp->xk;
+  const double sig = xs[EA__PS(pp, k)];
+  const int sg = pl->seg_of_knot[k] >= 0 ? pl->seg_of_knot[k] : ea__pp_seg(pl, sig);
+  double q[3], dq[3], p[3], dp[3];
+  ea__pp_q(pl, sg, sig, q, dq);
+  ea__pp_spline(pp, sg, sig, p, dp);
+  double *d = pp->dq + 6 * k;
+  for (int c = 0; c < pl->nq; ++c) {
+    xk[EA__IQ(pl, k, c)] = q[c];
+    xk[EA__IV(pl, k, c)] = xs[EA__PR(pp, k, c)];
+  }
+  for (int c = 0; c < 3; ++c) {
+    d[c] = dq[c];
+    d[3 + c] = dp[c];
+    xk[EA__IP(pl, k, c)] = p[c];
+  }
+  xk[EA__IW(pl, k)] = xs[EA__PR(pp, k, pl->nq)];
+  for (int i = 0; i < 2 * pl->K; ++i)
+    xk[pl->ie0 + 2 * pl->K * k + i] = xs[pp->ie0 + 2 * pl->K * k + i];
+  memcpy(pp->xs_last + EA__PS(pp, k), xs + EA__PS(pp, k), sizeof(double) * (size_t)pp->nbp);
+  for (int i = 0; i < 2 * pl->K; ++i)
+    pp->xs_last[pp->ie0 + 2 * pl->K * k + i] = xs[pp->ie0 + 2 * pl->K * k + i];
+}
+
+static int ea__pp_knot_dirty(const ea__pp_t *pp, const ea_planner_t *pl, const double *xs, int k) {
+  if (memcmp(pp->xs_last + EA__PS(pp, k), xs + EA__PS(pp, k), sizeof(double) * (size_t)pp->nbp))
+    return 1;
+  for (int i = 0; i < 2 * pl->K; ++i)
+    if (pp->xs_last[pp->ie0 + 2 * pl->K * k + i] != xs[pp->ie0 + 2 * pl->K * k + i]) return 1;
+  return 0;
+}
+
+/* Make pp->xk the expansion of xs (only knots whose variables changed; t_f always). */
+static void ea__pp_expand(const ea_planner_t *pl, const double *xs) {
+  ea__pp_t *pp = pl->pp;
+  for (int k = 0; k < pl->N; ++k)
+    if (ea__pp_knot_dirty(pp, pl, xs, k)) ea__pp_expand_knot(pl, xs, k);
+  if (pl->has_tf) pp->xk[EA__ITF(pl)] = xs[pp->itf];
+}
+
+/* One row at the path vector: the knot row at the expansion, its entries mapped (entries on
+ * the same path variable summed, in the order of first appearance). */
+static int ea__pp_row(const ea_planner_t *pl, const double *xs, const ea__row_t *r, double *value,
+                      int *cols, double *vals) {
+  ea__pp_t *pp = pl->pp;
+  /* only the knots the row can touch (k - 1 .. k + 1) and t_f */
+  for (int k = r->knot > 0 ? r->knot - 1 : 0; k <= r->knot + 1 && k < pl->N; ++k)
+    if (ea__pp_knot_dirty(pp, pl, xs, k)) ea__pp_expand_knot(pl, xs, k);
+  if (pl->has_tf) pp->xk[EA__ITF(pl)] = xs[pp->itf];
+  int kc[EA__ROW_MAX], lc[EA__ROW_MAX];
+  double kv[EA__ROW_MAX], lv[EA__ROW_MAX];
+  const int nk = ea__plan_row_eval(pl, pp->xk, r, value, kc, kv);
+  int n = 0;
+  for (int e = 0; e < nk; ++e) {
+    const int i = kc[e], col = pp->kidx[i];
+    if (col < 0) continue;
+    double f = 1.0;
+    if (pp->kkind[i] == 1)
+      f = pp->dq[6 * pp->kknot[i] + pp->kcoord[i]];
+    else if (pp->kkind[i] == 2)
+      f = pp->dq[6 * pp->kknot[i] + 3 + pp->kcoord[i]];
+    int q = 0;
+    while (q < n && lc[q] != col)
+      ++q;
+    if (q == n) {
+      lc[n] = col;
+      lv[n++] = 0.0;
+    }
+    lv[q] += kv[e] * f;
+  }
+  if (cols) memcpy(cols, lc, sizeof(int) * (size_t)n);
+  if (vals) memcpy(vals, lv, sizeof(double) * (size_t)n);
+  return n;
+}
+
+/* ---- the NLP --------------------------------------------------------------- */
+
+static int ea__pp_cmp64(const void *a, const void *b) {
+  const long long x = *(const long long *)a, y = *(const long long *)b;
+  return x < y ? -1 : x > y;
+}
+
+static int ea__pp_pos(const long long *keys, int n, long long k) {
+  int lo = 0, hi = n - 1;
+  while (lo <= hi) {
+    const int mid = (lo + hi) / 2;
+    if (keys[mid] < k)
+      lo = mid + 1;
+    else if (keys[mid] > k)
+      hi = mid - 1;
+    else
+      return mid;
+  }
+  return -1;
+}
+
+static long long ea__pp_key(const ea__pp_t *pp, int i, int j) {
+  if (i < j) {
+    const int t = i;
+    i = j;
+    j = t;
+  }
+  return (long long)i * pp->n + j;
+}
+
+static const ea__row_t *ea__pp_hrow(const ea_planner_t *pl, int r) {
+  return r < pl->pp->m ? &pl->pp->rows[r] : &pl->orows[r - pl->pp->m];
+}
+
+/* Hessian pieces: the rows and the objective pieces. */
+static int ea__pp_npieces(const ea_planner_t *pl) {
+  return pl->pp->m + pl->n_orows;
+}
+
+/* Structure of the Lagrangian's Hessian: every pair of a row's (or objective piece's)
+ * entries. */
+static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
+  const int nr = ea__pp_npieces(pl);
+  int cols[EA__ROW_MAX];
+  size_t cap = 1;
+  for (int r = 0; r < nr; ++r) {
+    if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
+    const size_t nc = (size_t)ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
+    cap += nc * (nc + 1) / 2;
+  }
+  long long *keys = malloc(cap * sizeof *keys);
+  pp->hpos_start = calloc((size_t)nr + 1, sizeof *pp->hpos_start);
+  if (!keys || !pp->hpos_start) {
+    free(keys);
+    return EA_ERR_NOMEM;
+  }
+  size_t nk = 0;
+  for (int r = 0; r < nr; ++r) {
+    if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
+    const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
+    for (int a = 0; a < nc; ++a)
+      for (int b = 0; b <= a; ++b)
+        keys[nk++] = ea__pp_key(pp, cols[a], cols[b]);
+  }
+  const size_t npos = nk;
+  qsort(keys, nk, sizeof *keys, ea__pp_cmp64);
+  size_t u = 0;
+  for (size_t q = 0; q < nk; ++q)
+    if (u == 0 || keys[q] != keys[u - 1]) keys[u++] = keys[q];
+  pp->nnz_h = (int)u;
+  pp->hirow = calloc(u + 1, sizeof *pp->hirow);
+  pp->hjcol = calloc(u + 1, sizeof *pp->hjcol);
+  pp->hpos = calloc(npos + 1, sizeof *pp->hpos);
+  if (!pp->hirow || !pp->hjcol || !pp->hpos) {
+    free(keys);
+    return EA_ERR_NOMEM;
+  }
+  for (size_t q = 0; q < u; ++q) {
+    pp->hirow[q] = (int)(keys[q] / pp->n);
+    pp->hjcol[q] = (int)(keys[q] % pp->n);
+  }
+  int p = 0;
+  for (int r = 0; r < nr; ++r) {
+    pp->hpos_start[r] = p;
+    if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
+    const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
+    for (int a = 0; a < nc; ++a)
+      for (int b = 0; b <= a; ++b)
+        pp->hpos[p++] = ea__pp_pos(keys, pp->nnz_h, ea__pp_key(pp, cols[a], cols[b]));
+  }
+  pp->hpos_start[nr] = p;
+  free(keys);
+  return EA_OK;
+}
+
+/* Hessian values: central differences of each row's exact gradient. */
+static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
+                               const double *lambda, double *values) {
+  ea__pp_t *pp = pl->pp;
+  memset(values, 0, (size_t)pp->nnz_h * sizeof *values);
+  memcpy(pp->xx, x, (size_t)pp->n * sizeof *x);
+  for (int r = 0; r < pp->m;) {
+    const int g = ea__plan_hess_group_len(pp->rows, r, pp->m);
+    if (ea__plan_row_curved(&pp->rows[r])) {
+      const int *hp[EA__HGROUP_MAX];
+      for (int q = 0; q < g; ++q)
+        hp[q] = pp->hpos + pp->hpos_start[r + q];
+      ea__plan_hess_fd_group(pl, ea__pp_row, x, pp->xx, &pp->rows[r], lambda + r, g, hp, values);
+    }
+    r += g;
+  }
+  for (int o = 0; o < pl->n_orows; ++o) {
+    const ea__row_t *row = &pl->orows[o];
+    const double w = sigma * pl->oweight[o];
+    if (!ea__plan_row_curved(row)) continue;
+    const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
+    ea__plan_hess_fd_group(pl, ea__pp_row, x, pp->xx, row, &w, 1, hp, values);
+  }
+  ea__pp_expand(pl, x);
+}
+
+static Bool ea__pp_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  (void)n, (void)new_x;
+  const double t0 = ea__plan_now();
+  ea__pp_expand(pl, x);
+  double v = 0.0;
+  for (int i = 0; i < pl->n_terms; ++i)
+    v += pl->terms[i].weight * pl->terms[i].value(pl, pl->pp->xk);
+  *f = v;
+  pl->t_callbacks += ea__plan_now() - t0;
+  return isfinite(v);
+}
+
+static Bool ea__pp_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  ea__pp_t *pp = pl->pp;
+  (void)new_x;
+  const double t0 = ea__plan_now();
+  ea__pp_expand(pl, x);
+  memset(pp->gk, 0, (size_t)pl->n * sizeof *pp->gk);
+  for (int i = 0; i < pl->n_terms; ++i)
+    pl->terms[i].grad(pl, pp->xk, pl->terms[i].weight, pp->gk);
+  memset(g, 0, (size_t)n * sizeof *g);
+  for (int i = 0; i < pl->n; ++i) {
+    if (pp->gk[i] == 0.0 || pp->kidx[i] < 0) continue;
+    double f = 1.0;
+    if (pp->kkind[i] == 1)
+      f = pp->dq[6 * pp->kknot[i] + pp->kcoord[i]];
+    else if (pp->kkind[i] == 2)
+      f = pp->dq[6 * pp->kknot[i] + 3 + pp->kcoord[i]];
+    g[pp->kidx[i]] += pp->gk[i] * f;
+  }
+  pl->t_callbacks += ea__plan_now() - t0;
+  return TRUE;
+}
+
+static Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  (void)n, (void)new_x, (void)m;
+  const double t0 = ea__plan_now();
+  for (int i = 0; i < pl->pp->m; ++i)
+    ea__pp_row(pl, x, &pl->pp->rows[i], &g[i], NULL, NULL);
+  if (pl->info) pl->info->evals_g++;
+  pl->t_callbacks += ea__plan_now() - t0;
+  return TRUE;
+}
+
+static Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow,
+                          Index *jCol, Number *values, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  ea__pp_t *pp = pl->pp;
+  (void)n, (void)new_x, (void)m, (void)nele;
+  if (!values) {
+    memcpy(iRow, pp->irow, (size_t)pp->nnz * sizeof *iRow);
+    memcpy(jCol, pp->jcol, (size_t)pp->nnz * sizeof *jCol);
+    return TRUE;
+  }
+  const double t0 = ea__plan_now();
+  int nz = 0;
+  for (int i = 0; i < pp->m; ++i)
+    nz += ea__pp_row(pl, x, &pp->rows[i], NULL, NULL, values + nz);
+  if (pl->info) pl->info->evals_jac++;
+  pl->t_callbacks += ea__plan_now() - t0;
+  return TRUE;
+}
+
+static Bool ea__pp_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *lambda,
+                        Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
+                        UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  ea__pp_t *pp = pl->pp;
+  (void)n, (void)new_x, (void)m, (void)new_lambda, (void)nele;
+  if (!values) {
+    memcpy(iRow, pp->hirow, (size_t)pp->nnz_h * sizeof *iRow);
+    memcpy(jCol, pp->hjcol, (size_t)pp->nnz_h * sizeof *jCol);
+    return TRUE;
+  }
+  const double t0 = ea__plan_now();
+  ea__pp_hess_values(pl, x, of, lambda, values);
+  pl->t_callbacks += ea__plan_now() - t0;
+  return TRUE;
+}
+
+static Bool ea__pp_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
+                           Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
+                           Index ls, UserDataPtr ud) {
+  ea_planner_t *pl = ud;
+  (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
+  (void)alpha_du, (void)alpha_pr, (void)ls;
+  pl->pp->iter = iter;
+  return ea__plan_now() - pl->t_start < pl->max_time ? TRUE : FALSE;
+}
+
+void ea__pp_free(ea__pp_t *pp) {
+  if (!pp) return;
+  if (pp->ip) FreeIpoptProblem(pp->ip);
+  free(pp->ssig);
+  free(pp->sp);
+  free(pp->sdp);
+  free(pp->kidx);
+  free(pp->kkind);
+  free(pp->kcoord);
+  free(pp->kknot);
+  free(pp->xk);
+  free(pp->xs_last);
+  free(pp->dq);
+  free(pp->rows);
+  free(pp->rmap);
+  free(pp->x);
+  free(pp->xl);
+  free(pp->xu);
+  free(pp->gl);
+  free(pp->gu);
+  free(pp->g);
+  free(pp->mult_g);
+  free(pp->mult_xl);
+  free(pp->mult_xu);
+  free(pp->x_sol);
+  free(pp->mult_g_sol);
+  free(pp->mult_xl_sol);
+  free(pp->mult_xu_sol);
+  free(pp->x0);
+  free(pp->irow);
+  free(pp->jcol);
+  free(pp->hirow);
+  free(pp->hjcol);
+  free(pp->hpos_start);
+  free(pp->hpos);
+  free(pp->gk);
+  free(pp->xx);
+  free(pp);
+}
+
+int ea__pp_supported(const ea_planner_t *pl) {
+  const ea_task_t *t = &pl->task;
+  if (t->solver.transcription == EA_TASK_TRANSCRIPTION_KNOTS) return 0;
+  if (t->path == EA_TASK_PATH_FREE) return 0;
+  /* the frequency-model rows and the f1-weighted min_vibration stay with the knots */
+  if (pl->fm) return 0;
+  if (t->solver.derivative_test) return 0;
+  for (int j = 0; j < pl->n_seg; ++j)
+    if (!(pl->segLen[j] > 1e-9)) return 0;
+  return 1;
+}
+
+/* Path-vector bounds from the knot planner's (rates, t_f, modal copied; sigma within its
+ * knot's segment, pinned at the points). */
+static void ea__pp_bounds(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
+  for (int k = 0; k < pl->N; ++k) {
+    const int sg = pl->seg_of_knot[k];
+    double lo, hi;
+    if (sg >= 0) {
+      lo = pp->sig0[sg];
+      hi = pp->sig0[sg] + pl->segLen[sg];
+    } else { /* a point: pinned */
+      int j = 0;
+      while (j < pl->task.n_via + 2 && pl->via_knot[j] != k)
+        ++j;
+      lo = hi = j == 0 ? 0.0 : (j >= pl->task.n_via + 1 ? pp->S : pp->sig0[j]);
+    }
+    pp->xl[EA__PS(pp, k)] = lo;
+    pp->xu[EA__PS(pp, k)] = hi;
+    for (int c = 0; c < pl->nq; ++c) {
+      pp->xl[EA__PR(pp, k, c)] = pl->xl[EA__IV(pl, k, c)];
+      pp->xu[EA__PR(pp, k, c)] = pl->xu[EA__IV(pl, k, c)];
+    }
+    pp->xl[EA__PR(pp, k, pl->nq)] = pl->xl[EA__IW(pl, k)];
+    pp->xu[EA__PR(pp, k, pl->nq)] = pl->xu[EA__IW(pl, k)];
+    for (int i = 0; i < 2 * pl->K; ++i) {
+      pp->xl[pp->ie0 + 2 * pl->K * k + i] = pl->xl[pl->ie0 + 2 * pl->K * k + i];
+      pp->xu[pp->ie0 + 2 * pl->K * k + i] = pl->xu[pl->ie0 + 2 * pl->K * k + i];
+    }
+  }
+  if (pl->has_tf) {
+    pp->xl[pp->itf] = pl->xl[EA__ITF(pl)];
+    pp->xu[pp->itf] = pl->xu[EA__ITF(pl)];
+  }
+  for (int i = 0; i < pp->m; ++i) { /* the knot planner's rows: their (tightened) bounds */
+    pp->gl[i] = pl->gl[pp->rmap[i]];
+    pp->gu[i] = pl->gu[pp->rmap[i]];
+  }
+}
+
+/* The path's cumulative sigma and the base references (after ea__plan_segments). */
+static void ea__pp_path(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
+  const ea_task_t *t = &pl->task;
+  double s = 0.0;
+  for (int j = 0; j < pl->n_seg; ++j) {
+    pp->sig0[j] = s;
+    s += pl->segLen[j];
+    const ea_task_point_t *a = j == 0 ? &t->start : &t->via[j - 1];
+    pp->bref[j] = a->base_angle;
+  }
+  pp->sig0[pl->n_seg] = s;
+  pp->S = s;
+}
+
+ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
+  ea__pp_t *pp = calloc(1, sizeof *pp);
+  if (!pp) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  pl->pp = pp;
+  const int N = pl->N, K = pl->K;
+  pp->nc = pl->nq + 1;
+  pp->nbp = 1 + pp->nc;
+  pp->itf = N * pp->nbp;
+  pp->ie0 = pp->itf + pl->has_tf;
+  pp->n = pp->ie0 + 2 * K * N;
+  pp->ssig = malloc(sizeof(double) * EA__PP_MAXS);
+  pp->sp = malloc(sizeof(double) * 3 * EA__PP_MAXS);
+  pp->sdp = malloc(sizeof(double) * 3 * EA__PP_MAXS);
+  const size_t nk = (size_t)pl->n, n = (size_t)pp->n;
+  pp->kidx = malloc(sizeof(int) * nk);
+  pp->kkind = calloc(nk, 1);
+  pp->kcoord = calloc(nk, 1);
+  pp->kknot = calloc(nk, sizeof(int));
+  pp->xk = calloc(nk, sizeof(double));
+  pp->gk = calloc(nk, sizeof(double));
+  pp->xs_last = malloc(sizeof(double) * n);
+  pp->dq = calloc((size_t)N * 6, sizeof(double));
+  /* rows: the knot planner's, without the statics and path rows */
+  pp->rows = malloc(sizeof(ea__row_t) * (size_t)pl->m);
+  pp->rmap = malloc(sizeof(int) * (size_t)pl->m);
+  pp->gl = malloc(sizeof(double) * (size_t)pl->m);
+  pp->gu = malloc(sizeof(double) * (size_t)pl->m);
+  double **arr[] = {&pp->x,     &pp->xl,          &pp->xu,          &pp->mult_xl, &pp->mult_xu,
+                    &pp->x_sol, &pp->mult_xl_sol, &pp->mult_xu_sol, &pp->x0,      &pp->xx};
+  for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
+    *arr[i] = calloc(n, sizeof(double));
+  if (!pp->ssig || !pp->sp || !pp->sdp || !pp->kidx || !pp->kkind || !pp->kcoord || !pp->kknot ||
+      !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->rows || !pp->rmap || !pp->gl || !pp->gu)
+    return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
+    if (!*arr[i]) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  /* map of the knot layout */
+  for (size_t i = 0; i < nk; ++i)
+    pp->kidx[i] = -1;
+  for (int k = 0; k < N; ++k) {
+    for (int c = 0; c < pl->nq; ++c) {
+      const int iq = EA__IQ(pl, k, c);
+      pp->kidx[iq] = EA__PS(pp, k);
+      pp->kkind[iq] = 1;
+      pp->kcoord[iq] = (unsigned char)c;
+      pp->kknot[iq] = k;
+      pp->kidx[EA__IV(pl, k, c)] = EA__PR(pp, k, c);
+    }
+    for (int j = 0; j < 3; ++j) {
+      const int ip = EA__IP(pl, k, j);
+      pp->kidx[ip] = EA__PS(pp, k);
+      pp->kkind[ip] = 2;
+      pp->kcoord[ip] = (unsigned char)j;
+      pp->kknot[ip] = k;
+    }
+    pp->kidx[EA__IW(pl, k)] = EA__PR(pp, k, pl->nq);
+    for (int i = 0; i < 2 * K; ++i)
+      pp->kidx[pl->ie0 + 2 * K * k + i] = pp->ie0 + 2 * K * k + i;
+  }
+  if (pl->has_tf) pp->kidx[EA__ITF(pl)] = pp->itf;
+  int m = 0;
+  for (int i = 0; i < pl->m; ++i) {
+    const int kind = pl->rows[i].kind;
+    if (kind <= EA__ROW_STATICS_Y || kind == EA__ROW_PATH_NORMAL || kind == EA__ROW_PATH_PROGRESS)
+      continue;
+    pp->rmap[m] = i;
+    pp->rows[m++] = pl->rows[i];
+  }
+  pp->m = m;
+  pp->g = calloc((size_t)m + 1, sizeof(double));
+  pp->mult_g = calloc((size_t)m + 1, sizeof(double));
+  pp->mult_g_sol = calloc((size_t)m + 1, sizeof(double));
+  if (!pp->g || !pp->mult_g || !pp->mult_g_sol)
+    return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  ea__pp_path(pl);
+  ea_error_t e = {0};
+  pp->path_status = ea__pp_build_splines(pl, &e);
+  snprintf(pp->path_msg, sizeof pp->path_msg, "%s", e.msg);
+  if (pp->path_status && pp->path_status != EA_ERR_INFEASIBLE)
+    return ea_error_set(err, pp->path_status, "%s", e.msg);
+  if (pp->path_status) { /* a flat spline for the structure: the error comes at the solve */
+    for (int j = 0; j < pl->n_seg; ++j) {
+      pp->soff[j] = 2 * j;
+      pp->ssig[2 * j] = pp->sig0[j];
+      pp->ssig[2 * j + 1] = pp->sig0[j] + fmax(pl->segLen[j], 1e-9);
+    }
+    pp->ns = pp->soff[pl->n_seg] = 2 * pl->n_seg;
+    memset(pp->sp, 0, sizeof(double) * 3 * (size_t)pp->ns);
+    memset(pp->sdp, 0, sizeof(double) * 3 * (size_t)pp->ns);
+  }
+  ea__pp_bounds(pl);
+  /* a feasible-looking x for the structure: the midpoints of the bounds */
+  for (size_t i = 0; i < n; ++i)
+    pp->x[i] = isfinite(pp->xl[i]) && isfinite(pp->xu[i]) && pp->xu[i] < 1e19
+                   ? 0.5 * (pp->xl[i] + pp->xu[i])
+                   : 0.0;
+  if (pl->has_tf) pp->x[pp->itf] = 1.0;
+  memset(pp->xs_last, 0xff, sizeof(double) * n); /* NaN: every knot dirty */
+  pp->nnz = 0;
+  int cols[EA__ROW_MAX];
+  for (int i = 0; i < m; ++i)
+    pp->nnz += ea__pp_row(pl, pp->x, &pp->rows[i], NULL, cols, NULL);
+  pp->irow = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
+  pp->jcol = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
+  if (!pp->irow || !pp->jcol) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  int nz = 0;
+  for (int i = 0; i < m; ++i) {
+    const int c = ea__pp_row(pl, pp->x, &pp->rows[i], NULL, cols, NULL);
+    for (int j = 0; j < c; ++j) {
+      pp->irow[nz + j] = i;
+      pp->jcol[nz + j] = cols[j];
+    }
+    nz += c;
+  }
+  if (ea__pp_hess_setup(pl)) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  return EA_OK;
+}
+
+/* ---- solve -------------------------------------------------------------------- */
+
+/* The knot-layout vector xk (a guess or a previous plan) in the path layout. */
+static void ea__pp_reduce(ea_planner_t *pl, const double *xk, double *xs) {
+  ea__pp_t *pp = pl->pp;
+  for (int k = 0; k < pl->N; ++k) {
+    const int sg = pl->seg_of_knot[k];
+    double q[3] = {0, 0, pl->base_fixed};
+    for (int c = 0; c < pl->nq; ++c)
+      q[c] = xk[EA__IQ(pl, k, c)];
+    xs[EA__PS(pp, k)] = sg >= 0 ? ea__pp_sigma_of(pl, sg, q) : pp->xl[EA__PS(pp, k)];
+    for (int c = 0; c < pl->nq; ++c)
+      xs[EA__PR(pp, k, c)] = xk[EA__IV(pl, k, c)];
+    xs[EA__PR(pp, k, pl->nq)] = xk[EA__IW(pl, k)];
+    for (int i = 0; i < 2 * pl->K; ++i)
+      xs[pp->ie0 + 2 * pl->K * k + i] = xk[pl->ie0 + 2 * pl->K * k + i];
+  }
+  if (pl->has_tf) xs[pp->itf] = xk[EA__ITF(pl)];
+}
+
+static ea_status_t ea__pp_ipopt(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
+  const ea_task_t *t = &pl->task;
+  if (pp->ip) FreeIpoptProblem(pp->ip);
+  pp->ip =
+      CreateIpoptProblem(pp->n, pp->xl, pp->xu, pp->m, pp->gl, pp->gu, pp->nnz, pp->nnz_h, 0,
+                         ea__pp_cb_f, ea__pp_cb_g, ea__pp_cb_grad_f, ea__pp_cb_jac, ea__pp_cb_h);
+  if (!pp->ip) return EA_ERR_BACKEND;
+  AddIpoptStrOption(pp->ip, "sb", "yes");
+  AddIpoptIntOption(pp->ip, "print_level", t->solver.print_level);
+  if (t->solver.print_level >= 5) AddIpoptStrOption(pp->ip, "print_timing_statistics", "yes");
+  AddIpoptStrOption(pp->ip, "linear_solver", "mumps");
+  AddIpoptIntOption(pp->ip, "mumps_permuting_scaling", 0);
+  AddIpoptIntOption(pp->ip, "mumps_pivot_order", 0); /* deterministic (plan_solve.c) */
+  AddIpoptStrOption(pp->ip, "hessian_approximation", "exact");
+  AddIpoptNumOption(pp->ip, "tol", t->solver.tol);
+  AddIpoptNumOption(pp->ip, "constr_viol_tol", t->solver.constr_tol);
+  AddIpoptNumOption(pp->ip, "acceptable_tol", fmax(1e-4, t->solver.tol));
+  AddIpoptIntOption(pp->ip, "acceptable_iter", 8);
+  AddIpoptNumOption(pp->ip, "acceptable_constr_viol_tol", fmax(1e-9, t->solver.constr_tol));
+  AddIpoptNumOption(pp->ip, "acceptable_obj_change_tol", 1e-8);
+  AddIpoptIntOption(pp->ip, "max_iter", t->solver.max_iter);
+  AddIpoptNumOption(pp->ip, "bound_relax_factor", 0.0);
+  /* the knots near a pinned point have sigma within 1e-2 of its bound: the default push
+   * (1e-2) would move them by more than their distance (EA_PP_DEBUG: from 2.9e-4 to 4.6
+   * of infeasibility; 19 -> 14 iterations on the paper line) */
+  AddIpoptNumOption(pp->ip, "bound_push", 1e-6);
+  AddIpoptNumOption(pp->ip, "bound_frac", 1e-6);
+  SetIntermediateCallback(pp->ip, ea__pp_cb_iter);
+  return EA_OK;
+}
+
+ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err) {
+  if (!pl->pp) return EA_OK;
+  ea__pp_t *pp = pl->pp;
+  ea__pp_path(pl);
+  ea_error_t e = {0};
+  pp->path_status = ea__pp_build_splines(pl, &e);
+  snprintf(pp->path_msg, sizeof pp->path_msg, "%s", e.msg);
+  if (pp->path_status && pp->path_status != EA_ERR_INFEASIBLE)
+    return ea_error_set(err, pp->path_status, "%s", e.msg);
+  memset(pl->pp->xs_last, 0xff, sizeof(double) * (size_t)pl->pp->n);
+  ea__pp_bounds(pl);
+  return EA_OK;
+}
+
+ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                         ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
+                         int *iters, ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  const double t0 = ea__plan_now();
+  if (pp->path_status)
+    return ea_error_set(err, pp->path_status, "infeasible task: %s", pp->path_msg);
+  const int warm = start == EA_PLAN_WARM && pp->have_solution;
+  const int replan = warm && pl->updated;
+  ea__pp_bounds(pl);
+  ea_status_t st = EA_OK;
+  if (warm) {
+    memcpy(pp->x, pp->x_sol, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
+    memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
+    if (replan) { /* the path moved: the knots keep their fraction of it */
+      const double S_old = pp->x_sol[EA__PS(pp, pl->N - 1)];
+      for (int k = 0; k < pl->N; ++k)
+        if (S_old > 0) pp->x[EA__PS(pp, k)] *= pp->S / S_old;
+    }
+  } else {
+    if (start == EA_PLAN_FROM_TRAJ)
+      st = ea__plan_guess_traj(pl, prev, pl->x, err);
+    else
+      st = ea__plan_guess(pl, pl->x, info, err);
+    if (st) return st;
+    ea__plan_dyn_fill(pl, pl->x);
+    ea__pp_reduce(pl, pl->x, pp->x);
+  }
+  info->time_guess_s = ea__plan_now() - t0;
+  for (int i = 0; i < pp->n; ++i)
+    pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
+  if ((st = ea__pp_ipopt(pl)))
+    return ea_error_set(err, st, "Ipopt: cannot create the path problem");
+  AddIpoptStrOption(pp->ip, "warm_start_init_point", warm ? "yes" : "no");
+  if (replan || pl->refining) {
+    AddIpoptNumOption(pp->ip, "mu_init", 1e-6);
+    AddIpoptNumOption(pp->ip, "warm_start_bound_push", 1e-5);
+    AddIpoptNumOption(pp->ip, "warm_start_mult_bound_push", 1e-5);
+    AddIpoptNumOption(pp->ip, "warm_start_slack_bound_push", 1e-5);
+  } else if (warm) {
+    AddIpoptNumOption(pp->ip, "mu_init", 1e-7);
+    AddIpoptNumOption(pp->ip, "warm_start_bound_push", 1e-9);
+    AddIpoptNumOption(pp->ip, "warm_start_mult_bound_push", 1e-9);
+    AddIpoptNumOption(pp->ip, "warm_start_slack_bound_push", 1e-9);
+  } else {
+    AddIpoptNumOption(pp->ip, "mu_init", 0.1);
+  }
+  int mono = !warm && !pl->rom &&
+             (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+  if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
+  *iters = 0;
+  for (;;) {
+    AddIpoptStrOption(pp->ip, "mu_strategy", mono ? "monotone" : "adaptive");
+    if (mono) AddIpoptNumOption(pp->ip, "mu_init", 1e-4);
+    pp->iter = 0;
+    *rs = IpoptSolve(pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl, pp->mult_xu, pl);
+    *iters += pp->iter;
+    if (!mono || *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level ||
+        *rs == User_Requested_Stop)
+      break;
+    mono = 0;
+    memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
+    AddIpoptNumOption(pp->ip, "mu_init", 0.1);
+  }
+  const int solved = *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level;
+  if (solved) {
+    memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
+    memcpy(pp->mult_xl_sol, pp->mult_xl, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_xu_sol, pp->mult_xu, (size_t)pp->n * sizeof *pp->x);
+    pp->have_solution = 1;
+  }
+  /* the plan in the knot layout; the knot planner's rows at it (statics rows: the splines'
+   * 1e-9, path rows exact) */
+  memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
+  ea__pp_expand(pl, pp->x);
+  memcpy(pl->x, pp->xk, (size_t)pl->n * sizeof *pl->x);
+  memset(pl->mult_g, 0, (size_t)pl->m * sizeof *pl->mult_g);
+  memset(pl->mult_xl, 0, (size_t)pl->n * sizeof *pl->mult_xl);
+  memset(pl->mult_xu, 0, (size_t)pl->n * sizeof *pl->mult_xu);
+  pl->cache_val = pl->cache_sens = 0;
+  return ea__plan_eval_g(pl, pl->x, pl->g);
+}

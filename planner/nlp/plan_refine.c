@@ -1,0 +1,479 @@
+/* FE-in-the-loop refinement of a plan that arrives at rest (docs/planner.md, "Refinement
+ * against the FE transient"). Only the planner's public API is used.
+ *
+ * Parameters: for each adjusted mode i the tip amplitudes (a_i, b_i) [m] of the free
+ * vibration a_i cos(w_i t) + b_i sin(w_i t) (along the mode's tip direction u_i, t from the end
+ * of the motion) that the reduced model predicts after the motion from the terminal targets
+ *   eta_i = a_i / |tip_i|,  eta_i' = b_i w_i / |tip_i|
+ * (tip_i, w_i: the model's tip displacement per unit eta_i and frequency at the goal). Each
+ * evaluation re-plans warm with those targets (ea_planner_set_terminal_modes) and runs the FE
+ * transient of the plan (ea_traj_simulate); the FE tip residual after the motion is fitted,
+ * by linear least squares, with the free vibration of every model mode,
+ *   r(t) = sum_i u_i (A_i cos w_i t + B_i sin w_i t),
+ * and (A_i, B_i) are the "fitted" amplitudes. The model says that targets add their own
+ * vibration to what the arm does: (A, B) moves by (a, b), so the step -(A, B) cancels it
+ * (Jacobian I); the FE's answer differs by a few percent (nonlinearity), which the Newton
+ * method's Broyden update learns. The NLopt methods minimise |(A_i, B_i)|^2 over the adjusted
+ * modes from that first step. Every method stops at the first FE residual peak within the
+ * tolerance. */
+#include "ea_refine.h"
+
+#include <math.h>
+#include <nlopt.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#define EA__RP (2 * EA_ROM_MAX_MODES) /* most parameters */
+
+static double ea__rnow(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct {
+  ea_planner_t *pl;
+  const ea_task_t *task;
+  ea_refine_info_t *info;
+  ea_task_refine_t s;
+  int K, m, n;                   /* model modes, adjusted modes, parameters (2 m) */
+  double w[EA_ROM_MAX_MODES];    /* [rad/s] model frequencies at the goal */
+  double tipn[EA_ROM_MAX_MODES]; /* |tip_i| [m per unit eta] */
+  double u[EA_ROM_MAX_MODES][2]; /* tip directions */
+  double t0;                     /* start of the refinement */
+  double last_eval_s;            /* wall time of the last evaluation */
+  int held;                      /* evaluation whose plan the planner holds (-1: unknown) */
+  ea_plan_info_t held_info;      /* its solve info */
+  ea_traj_t tr;                  /* scratch trajectory */
+  int best;                      /* accepted evaluation of least residual peak (-1: none) */
+  const char *stop;              /* why the search stopped (NULL: not yet) */
+  nlopt_opt opt;                 /* NLopt run (NULL: Newton) */
+  double nl_scale;               /* [m] NLopt variable unit */
+  double nl_z0[EA__RP];          /* NLopt variables are (z - z0) / nl_scale */
+  double penalty;                /* NLopt objective of a rejected candidate */
+} ea__refine_t;
+
+/* Solve the n x n system A x = b (row-major A, destroyed) by Gaussian elimination with
+ * partial pivoting; 0 on success, 1 if singular. */
+static int ea__rsolve(int n, double *A, double *b, double *x) {
+  for (int c = 0; c < n; ++c) {
+    int p = c;
+    for (int r = c + 1; r < n; ++r)
+      if (fabs(A[r * n + c]) > fabs(A[p * n + c])) p = r;
+    if (!(fabs(A[p * n + c]) > 1e-300)) return 1;
+    if (p != c) {
+      for (int j = 0; j < n; ++j) {
+        const double t = A[c * n + j];
+        A[c * n + j] = A[p * n + j];
+        A[p * n + j] = t;
+      }
+      const double t = b[c];
+      b[c] = b[p];
+      b[p] = t;
+    }
+    for (int r = c + 1; r < n; ++r) {
+      const double f = A[r * n + c] / A[c * n + c];
+      for (int j = c; j < n; ++j)
+        A[r * n + j] -= f * A[c * n + j];
+      b[r] -= f * b[c];
+    }
+  }
+  for (int r = n - 1; r >= 0; --r) {
+    double v = b[r];
+    for (int j = r + 1; j < n; ++j)
+      v -= A[r * n + j] * x[j];
+    x[r] = v / A[r * n + r];
+  }
+  return 0;
+}
+
+/* Fit the FE residual after the motion (history rows t >= duration, about the final
+ * equilibrium) with the K model modes: out[2i] (cos), out[2i+1] (sin) [m]. */
+static int ea__refine_fit(const ea__refine_t *R, const ea_sim_history_t *h, const ea_sim_info_t *si,
+                          double *out) {
+  const int np = 2 * R->K;
+  double N[EA__RP * EA__RP] = {0}, rhs[EA__RP] = {0};
+  int rows = 0;
+  for (int r = 0; r < h->rows; ++r) {
+    const double *row = h->data + 6 * (size_t)r;
+    if (row[0] < si->duration) continue;
+    const double tau = row[0] - si->duration;
+    for (int d = 0; d < 2; ++d) {
+      double a[EA__RP];
+      for (int i = 0; i < R->K; ++i) {
+        a[2 * i] = R->u[i][d] * cos(R->w[i] * tau);
+        a[2 * i + 1] = R->u[i][d] * sin(R->w[i] * tau);
+      }
+      const double y = row[1 + d] - si->final_static_tip[d];
+      for (int p = 0; p < np; ++p) {
+        rhs[p] += a[p] * y;
+        for (int q = 0; q < np; ++q)
+          N[p * np + q] += a[p] * a[q];
+      }
+    }
+    ++rows;
+  }
+  if (rows < 2 * np) return 1;
+  return ea__rsolve(np, N, rhs, out);
+}
+
+/* Norm of the fitted amplitudes of the adjusted modes [m]. */
+static double ea__rnorm(const ea__refine_t *R, const double *fit) {
+  double s = 0.0;
+  for (int p = 0; p < R->n; ++p)
+    s += fit[p] * fit[p];
+  return sqrt(s);
+}
+
+/* Is the search over before the next evaluation? Sets R->stop. */
+static int ea__refine_budget(ea__refine_t *R) {
+  if (R->stop) return 1;
+  if (R->info->n_evals >= R->s.max_evaluations) {
+    R->stop = "max_evaluations";
+    return 1;
+  }
+  if (ea__rnow() - R->t0 + R->last_eval_s > R->s.max_time_s) {
+    R->stop = "max_time";
+    return 1;
+  }
+  return 0;
+}
+
+/* One evaluation at parameters z (n values): re-plan warm with the targets, FE transient, fit.
+ * Appends to info->evals; returns its index (-1: no room). */
+static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) {
+  ea_refine_info_t *info = R->info;
+  if (info->n_evals >= EA_TASK_REFINE_MAX_EVALUATIONS + 1) return -1;
+  const int idx = info->n_evals++;
+  ea_refine_eval_t *e = &info->evals[idx];
+  memset(e, 0, sizeof *e);
+  e->final_resolve = final_resolve;
+  e->duration_s = e->residual_peak_m = e->residual_rms_m = NAN;
+  e->fe_status = EA_ERR_ARG;
+  for (int p = 0; p < EA__RP; ++p)
+    e->fitted_m[p] = NAN;
+  const double te = ea__rnow();
+  for (int i = 0; i < R->m; ++i) {
+    e->params_m[2 * i] = z[2 * i];
+    e->params_m[2 * i + 1] = z[2 * i + 1];
+    e->eta[i] = z[2 * i] / R->tipn[i];
+    e->eta_rate[i] = z[2 * i + 1] * R->w[i] / R->tipn[i];
+  }
+  ea_error_t err = {0};
+  ea_plan_info_t pi;
+  memset(&pi, 0, sizeof pi);
+  ea_status_t st = ea_planner_set_terminal_modes(R->pl, e->eta, e->eta_rate, &err);
+  if (!st) st = ea_planner_solve(R->pl, EA_PLAN_WARM, NULL, &pi, &err);
+  e->plan_status = st;
+  e->plan_iterations = pi.iterations;
+  e->plan_time_s = ea__rnow() - te;
+  info->time_plan_s += e->plan_time_s;
+  if (st) {
+    R->held = -1; /* a failed solve: what the planner holds is not known */
+  } else {
+    R->held = idx;
+    R->held_info = pi;
+    e->duration_s = pi.duration_s;
+    st = ea_planner_trajectory(R->pl, &R->tr, &err);
+  }
+  if (!st) {
+    const double tf = ea__rnow();
+    ea_sim_history_t h = {0, NULL};
+    ea_sim_info_t si;
+    e->fe_status = ea_traj_simulate(&R->task->arm, &R->tr, -1.0, &info->fe, &h, &si, &err);
+    if (!e->fe_status) {
+      e->residual_peak_m = si.residual_peak;
+      e->residual_rms_m = si.residual_rms;
+      if (ea__refine_fit(R, &h, &si, e->fitted_m))
+        for (int p = 0; p < EA__RP; ++p)
+          e->fitted_m[p] = NAN;
+    }
+    ea_sim_history_free(&h);
+    e->fe_time_s = ea__rnow() - tf;
+    info->time_fe_s += e->fe_time_s;
+  }
+  const double d0 = info->duration_before_s;
+  e->accepted = !e->plan_status && !e->fe_status && isfinite(e->residual_peak_m) &&
+                isfinite(e->fitted_m[0]) &&
+                (idx == 0 || fabs(e->duration_s - d0) <= R->s.max_duration_change * d0);
+  e->elapsed_s = ea__rnow() - R->t0;
+  R->last_eval_s = ea__rnow() - te;
+  if (e->accepted && !final_resolve &&
+      (R->best < 0 || e->residual_peak_m < info->evals[R->best].residual_peak_m))
+    R->best = idx;
+  if (e->accepted && e->residual_peak_m <= R->s.tolerance_m && !R->stop) R->stop = "tolerance";
+  return idx;
+}
+
+/* ---- Newton on the fitted amplitudes, Jacobian by Broyden updates ---------------------- */
+
+static void ea__refine_newton(ea__refine_t *R) {
+  const int n = R->n;
+  double J[EA__RP * EA__RP] = {0};
+  for (int p = 0; p < n; ++p)
+    J[p * n + p] = 1.0;
+  double lambda = 1.0;
+  int from = R->best; /* the point the next step starts from */
+  while (!ea__refine_budget(R)) {
+    const ea_refine_eval_t *b = &R->info->evals[from];
+    double A[EA__RP * EA__RP], rhs[EA__RP], dz[EA__RP], z[EA__RP];
+    memcpy(A, J, sizeof A);
+    for (int p = 0; p < n; ++p)
+      rhs[p] = -b->fitted_m[p];
+    if (ea__rsolve(n, A, rhs, dz)) { /* singular update: start over from I */
+      memset(J, 0, sizeof J);
+      for (int p = 0; p < n; ++p) {
+        J[p * n + p] = 1.0;
+        dz[p] = -b->fitted_m[p];
+      }
+    }
+    /* at most 4 x the fitted amplitude per step (the model's scale) */
+    double len = 0.0;
+    for (int p = 0; p < n; ++p)
+      len += dz[p] * dz[p];
+    len = sqrt(len);
+    const double cap = 4.0 * ea__rnorm(R, b->fitted_m);
+    const double f = lambda * (len > cap ? cap / len : 1.0);
+    for (int p = 0; p < n; ++p)
+      z[p] = b->params_m[p] + f * dz[p];
+    if (f * len < 1e-3 * R->s.tolerance_m) {
+      R->stop = "no_progress";
+      break;
+    }
+    const int idx = ea__refine_eval(R, z, 0);
+    if (idx < 0) break;
+    const ea_refine_eval_t *e = &R->info->evals[idx];
+    if (e->accepted) { /* Broyden: J += (dr - J dz) dz^T / |dz|^2 over this step */
+      double s[EA__RP], dr[EA__RP], ss = 0.0;
+      for (int p = 0; p < n; ++p) {
+        s[p] = e->params_m[p] - b->params_m[p];
+        dr[p] = e->fitted_m[p] - b->fitted_m[p];
+        ss += s[p] * s[p];
+      }
+      for (int p = 0; p < n && ss > 0.0; ++p) {
+        double Js = 0.0;
+        for (int q = 0; q < n; ++q)
+          Js += J[p * n + q] * s[q];
+        for (int q = 0; q < n; ++q)
+          J[p * n + q] += (dr[p] - Js) * s[q] / ss;
+      }
+    }
+    if (R->best == idx) {
+      from = idx;
+      lambda = 1.0;
+    } else {
+      lambda *= 0.5; /* no better: a shorter step from the best point */
+    }
+  }
+}
+
+/* ---- NLopt on the fitted modal energy ------------------------------------------------------ */
+
+static double ea__refine_nlopt_f(unsigned n, const double *x, double *grad, void *data) {
+  ea__refine_t *R = data;
+  (void)grad;
+  if (ea__refine_budget(R)) {
+    nlopt_force_stop(R->opt);
+    return R->penalty;
+  }
+  double z[EA__RP];
+  for (unsigned p = 0; p < n; ++p)
+    z[p] = R->nl_z0[p] + R->nl_scale * x[p];
+  const int idx = ea__refine_eval(R, z, 0);
+  if (idx < 0) {
+    nlopt_force_stop(R->opt);
+    return R->penalty;
+  }
+  const ea_refine_eval_t *e = &R->info->evals[idx];
+  if (R->stop) nlopt_force_stop(R->opt);
+  if (!e->accepted) return R->penalty;
+  const double r = ea__rnorm(R, e->fitted_m) / R->nl_scale;
+  return r * r;
+}
+
+static void ea__refine_nlopt(ea__refine_t *R) {
+  static const nlopt_algorithm algs[] = {NLOPT_LN_BOBYQA, NLOPT_LN_BOBYQA, NLOPT_LN_COBYLA,
+                                         NLOPT_LN_SBPLX};
+  const int n = R->n;
+  const ea_refine_eval_t *e0 = &R->info->evals[R->best];
+  const double r0 = ea__rnorm(R, e0->fitted_m);
+  /* variables in units of the tolerance, from the first Newton step z0 = -fit */
+  R->nl_scale = R->s.tolerance_m;
+  for (int p = 0; p < n; ++p)
+    R->nl_z0[p] = e0->params_m[p] - e0->fitted_m[p];
+  const double r0u = r0 / R->nl_scale;
+  R->penalty = 100.0 * (r0u * r0u + 1.0);
+  double x[EA__RP] = {0}, lb[EA__RP], ub[EA__RP], step[EA__RP];
+  for (int p = 0; p < n; ++p) {
+    const double box = fmax(4.0 * r0u, 10.0);
+    lb[p] = -box;
+    ub[p] = box;
+    step[p] = fmax(0.1 * r0u, 0.25);
+  }
+  R->opt = nlopt_create(algs[R->s.method], (unsigned)n);
+  if (!R->opt) {
+    R->stop = "failed";
+    return;
+  }
+  nlopt_srand(R->s.seed);
+  nlopt_set_lower_bounds(R->opt, lb);
+  nlopt_set_upper_bounds(R->opt, ub);
+  nlopt_set_min_objective(R->opt, ea__refine_nlopt_f, R);
+  nlopt_set_initial_step(R->opt, step);
+  nlopt_set_xtol_abs1(R->opt, 1e-3);
+  nlopt_set_maxeval(R->opt, R->s.max_evaluations); /* the budget check stops it first */
+  double f = 0.0;
+  const nlopt_result res = nlopt_optimize(R->opt, x, &f);
+  R->info->nlopt_result = (int)res;
+  nlopt_destroy(R->opt);
+  R->opt = NULL;
+  if (!R->stop) R->stop = "optimizer";
+}
+
+/* ---- driver ------------------------------------------------------------------------------ */
+
+ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_info_t *plan_info,
+                           ea_refine_info_t *info, ea_error_t *err) {
+  if (!pl || !info) return ea_error_set(err, EA_ERR_ARG, "ea_plan_refine: NULL argument");
+  memset(info, 0, sizeof *info);
+  info->status = EA_ERR_ARG;
+  snprintf(info->stop_reason, sizeof info->stop_reason, "failed");
+  const ea_task_t *task = ea_planner_task(pl);
+  const ea_rom_table_t *tb = ea_planner_rom_table(pl);
+  ea__refine_t R;
+  memset(&R, 0, sizeof R);
+  R.pl = pl;
+  R.task = task;
+  R.info = info;
+  R.s = s ? *s : task->dynamics.refine;
+  R.s.enabled = 1;
+  R.held = R.best = -1;
+  info->settings = R.s;
+  if (!tb || task->dynamics.modes < 1) {
+    snprintf(info->message, sizeof info->message,
+             "refinement needs a task with dynamics (dynamics.modes >= 1)");
+    return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
+  }
+  if (task->dynamics.residual_m > 0.0 || task->objective == EA_TASK_MIN_VIBRATION ||
+      R.s.modes < 1 || R.s.modes > task->dynamics.modes) {
+    snprintf(info->message, sizeof info->message,
+             "refinement needs a plan that ends at rest (dynamics.residual_m 0, not "
+             "min_vibration) and 1 <= refine.modes <= dynamics.modes = %d (got %d)",
+             task->dynamics.modes, R.s.modes);
+    return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
+  }
+  if (!(R.s.tolerance_m > 0.0) || R.s.max_evaluations < 1 ||
+      R.s.max_evaluations > EA_TASK_REFINE_MAX_EVALUATIONS || !(R.s.max_time_s > 0.0) ||
+      !(R.s.fe_dt_s > 0.0) || !(R.s.settle_s > 0.0) || !(R.s.max_duration_change >= 0.0) ||
+      (int)R.s.method < 0 || R.s.method > EA_TASK_REFINE_SBPLX) {
+    snprintf(info->message, sizeof info->message,
+             "refinement settings out of range (docs/task-format.md, dynamics.refine)");
+    return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
+  }
+  R.t0 = ea__rnow();
+  R.K = task->dynamics.modes;
+  R.m = R.s.modes;
+  R.n = 2 * R.m;
+  info->model_modes = R.K;
+  info->n_params = R.n;
+  ea_sim_settings_default(&info->fe);
+  info->fe.elements = EA_FE_DEFAULT_ELEMENTS;
+  info->fe.scheme = EA_FE_SCHEME_GENALPHA;
+  info->fe.dt = R.s.fe_dt_s;
+  info->fe.settle = R.s.settle_s;
+  info->fe.damping_ratio = 0.0;
+  info->fe.keep_history = 1;
+  ea_status_t st = ea_sim_settings_validate(&info->fe, err);
+  if (st) {
+    snprintf(info->message, sizeof info->message, "%s", err ? err->msg : "FE settings");
+    return st;
+  }
+
+  /* the model at the goal (the last knot is pinned there): frequencies and tip directions */
+  ea_rom_point_t v;
+  ea_rom_table_eval(tb, task->goal.cable_length, task->goal.cable_angle, &v, NULL, NULL);
+  for (int i = 0; i < R.K; ++i) {
+    R.w[i] = sqrt(fmax(v.omega2[i], 0.0));
+    R.tipn[i] = hypot(v.tip[i][0], v.tip[i][1]);
+    if (!(R.w[i] > 0.0) || !(R.tipn[i] > 0.0)) {
+      info->status = EA_ERR_UNSTABLE;
+      snprintf(info->message, sizeof info->message,
+               "the reduced model at the goal has mode %d with frequency %g rad/s and tip "
+               "displacement %g m per unit: cannot refine",
+               i + 1, R.w[i], R.tipn[i]);
+      return ea_error_set(err, info->status, "%s", info->message);
+    }
+    R.u[i][0] = v.tip[i][0] / R.tipn[i];
+    R.u[i][1] = v.tip[i][1] / R.tipn[i];
+  }
+
+  /* evaluation 0: the at-rest plan (targets zero; no iteration if the planner holds it) */
+  const double zero[EA__RP] = {0};
+  memset(&R.tr, 0, sizeof R.tr);
+  const int i0 = ea__refine_eval(&R, zero, 0);
+  const ea_refine_eval_t *e0 = &info->evals[i0];
+  info->duration_before_s = e0->duration_s;
+  if (!e0->accepted) {
+    info->status =
+        e0->plan_status ? e0->plan_status : (e0->fe_status ? e0->fe_status : EA_ERR_SINGULAR);
+    snprintf(info->message, sizeof info->message,
+             "the at-rest plan %s (%s): nothing to refine against",
+             e0->plan_status ? "could not be planned" : "has no FE residual",
+             ea_status_name(info->status));
+    ea_traj_free(&R.tr);
+    return ea_error_set(err, info->status, "%s", info->message);
+  }
+  info->residual_peak_before_m = e0->residual_peak_m;
+  info->residual_rms_before_m = e0->residual_rms_m;
+
+  if (!R.stop) {
+    if (R.s.method == EA_TASK_REFINE_NEWTON)
+      ea__refine_newton(&R);
+    else
+      ea__refine_nlopt(&R);
+  }
+  if (!R.stop) R.stop = "no_progress";
+
+  /* the planner must hold the best plan: re-plan it if a later candidate was planned */
+  st = EA_OK;
+  int ret = R.best;
+  if (R.held != R.best) {
+    const int bi = R.best;
+    const int idx = ea__refine_eval(&R, info->evals[bi].params_m, 1);
+    const ea_refine_eval_t *e = idx >= 0 ? &info->evals[idx] : NULL;
+    if (!e || e->plan_status) {
+      st = e ? e->plan_status : EA_ERR_NOMEM;
+      info->status = st;
+      snprintf(info->message, sizeof info->message,
+               "re-planning the best candidate (evaluation %d) failed: %s", bi, ea_status_name(st));
+      ea_traj_free(&R.tr);
+      return ea_error_set(err, st, "%s", info->message);
+    }
+    ret = idx;
+  }
+  const ea_refine_eval_t *er = &info->evals[ret];
+  info->returned = ret;
+  info->duration_s = er->duration_s;
+  info->residual_peak_m = er->residual_peak_m;
+  info->residual_rms_m = er->residual_rms_m;
+  for (int i = 0; i < R.K; ++i) {
+    info->eta[i] = er->eta[i];
+    info->eta_rate[i] = er->eta_rate[i];
+  }
+  info->converged = er->accepted && er->residual_peak_m <= R.s.tolerance_m;
+  snprintf(info->stop_reason, sizeof info->stop_reason, "%s", R.stop);
+  info->time_s = ea__rnow() - R.t0;
+  info->status = EA_OK;
+  if (plan_info) *plan_info = R.held_info;
+  snprintf(info->message, sizeof info->message,
+           "refinement (%s): FE residual peak %.4g mm -> %.4g mm (tolerance %.4g mm%s) in %d "
+           "evaluation%s, %.3g s; duration %.6g s -> %.6g s; stopped: %s",
+           ea_task_refine_method_name(R.s.method), 1e3 * info->residual_peak_before_m,
+           1e3 * info->residual_peak_m, 1e3 * R.s.tolerance_m,
+           info->converged ? ", reached" : ", NOT reached", info->n_evals,
+           info->n_evals == 1 ? "" : "s", info->time_s, info->duration_before_s, info->duration_s,
+           info->stop_reason);
+  ea_traj_free(&R.tr);
+  return ea_error_set(err, EA_OK, "%s", info->message);
+}
