@@ -237,8 +237,8 @@ static void ea__verify_json(ea_json_t *j, const ea_plan_verify_t *v) {
   ea_json_num(j, "rest_tolerance_m", s->rest_tolerance);
   /* after the motion (0: within the tolerance when the motion ends); null: not within it by
    * the end of the settling time */
-  ea__num_or_null(j, "measured_time_to_rest_s",
-                  ok ? fmax(0.0, si->time_to_rest - si->duration) : NAN);
+  const double rest = si->time_to_rest - si->duration; /* NAN stays NAN (fmax would drop it) */
+  ea__num_or_null(j, "measured_time_to_rest_s", ok && isfinite(rest) ? (rest > 0 ? rest : 0) : NAN);
   ea__num_or_null(j, "predicted_residual_m", v->predicted_residual_m);
   ea__num_or_null(j, "predicted_time_to_rest_s", v->predicted_time_to_rest_s);
   ea__num_or_null(j, "max_tracking_error_m", ok ? si->max_tracking_error : NAN);

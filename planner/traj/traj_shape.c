@@ -235,11 +235,16 @@ static ea_status_t ea__check_verdict(ea_traj_limits_check_t *c, double tol, ea_e
                       w == EA_TRAJ_LIMIT_BASE_ANGLE;
     const int below = range ? c->value[w] < c->bound[w]
                             : w == EA_TRAJ_LIMIT_TENSION_MIN || w == EA_TRAJ_LIMIT_FIRST_FREQUENCY;
+    if (range || below)
+      return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                          "%s: %.9g %s at t = %.6g s is %s the bound %.9g %s (by %.3g %% of %s)",
+                          ea__lim_names[w], c->value[w], ea__lim_units[w], c->time_s[w],
+                          below ? "below" : "above", c->bound[w], ea__lim_units[w],
+                          100.0 * c->excess[w], range ? "the range" : "the bound");
     return ea_error_set(err, EA_ERR_INADMISSIBLE,
-                        "%s: %.9g %s at t = %.6g s is %s the limit %.9g %s (relative excess "
-                        "%.3g)",
-                        ea__lim_names[w], c->value[w], ea__lim_units[w], c->time_s[w],
-                        below ? "below" : "above", c->bound[w], ea__lim_units[w], c->excess[w]);
+                        "%s: |%.9g| %s at t = %.6g s exceeds the limit %.9g %s by %.3g %%",
+                        ea__lim_names[w], c->value[w], ea__lim_units[w], c->time_s[w], c->bound[w],
+                        ea__lim_units[w], 100.0 * c->excess[w]);
   }
   return EA_OK;
 }
@@ -413,9 +418,10 @@ static const int ea__vc[3] = {EA_TRAJ_cable_length_rate, EA_TRAJ_cable_angle_rat
 static const int ea__ac[3] = {EA_TRAJ_cable_length_acc, EA_TRAJ_cable_angle_acc,
                               EA_TRAJ_base_angle_acc};
 
-/* Value, rate and acceleration (the mean of the one-sided ones) at u of A1 q + A2 D. */
+/* Value, rate and acceleration at u of A1 q + A2 D; the acceleration is that of the interval
+ * on side (-1 before u, +1 after it; 0: the mean of both, as the planner writes a jump). */
 static void ea__shaped_at(const ea__pw_t *in, const ea__pw_t *echo, double A1, double A2, double u,
-                          double out[3]) {
+                          int side, double out[3]) {
   double q1, v1, a1, q2, v2, a2, qm, vm, am, qe, ve, ae;
   ea__pw_eval(in, u, -1, &qm, &vm, &am);
   ea__pw_eval(in, u, +1, &q1, &v1, &a1);
@@ -423,7 +429,8 @@ static void ea__shaped_at(const ea__pw_t *in, const ea__pw_t *echo, double A1, d
   ea__pw_eval(echo, u, +1, &q2, &v2, &a2);
   out[0] = A1 * q1 + A2 * q2;
   out[1] = A1 * v1 + A2 * v2;
-  out[2] = 0.5 * (A1 * (a1 + am) + A2 * (a2 + ae));
+  const double after = A1 * a1 + A2 * a2, before = A1 * am + A2 * ae;
+  out[2] = side > 0 ? after : side < 0 ? before : 0.5 * (after + before);
   (void)qm, (void)vm, (void)qe, (void)ve;
 }
 
@@ -619,7 +626,7 @@ static ea_status_t ea__shape_rows(const ea_traj_t *in, ea__shape_ws_t *w, int nu
     const ea__pw_t pecho = {n, w->m, w->yin[c], w->vecho[c]};
     for (int k = 0; k < nu; ++k) {
       double r[3];
-      ea__shaped_at(&pin, &pecho, A1, A2, w->u[k], r);
+      ea__shaped_at(&pin, &pecho, A1, A2, w->u[k], k == 0 ? 1 : k == nu - 1 ? -1 : 0, r);
       EA_TRAJ_AT(out, k, ea__qc[c]) = r[0];
       EA_TRAJ_AT(out, k, ea__vc[c]) = r[1];
       EA_TRAJ_AT(out, k, ea__ac[c]) = r[2];
@@ -716,7 +723,13 @@ ea_status_t ea_traj_shape_zv(const ea_task_t *task, const ea_traj_t *in,
       if (st) {
         char why[sizeof e.msg];
         snprintf(why, sizeof why, "%s", e.msg);
-        ea_error_set(err, st, "ZV shaping: the shaped trajectory breaks a limit: %.400s", why);
+        double drop = 0.0; /* the largest fall of the half period between two samples */
+        for (int k = 1; k < n; ++k)
+          drop = fmax(drop, w.tau[k - 1] - w.tau[k]);
+        ea_error_set(err, st, "ZV shaping: the shaped trajectory breaks a limit: %.300s%s", why,
+                     drop > 1e-6 ? " (the half period shrinks along this motion, which speeds "
+                                   "the echo up)"
+                                 : "");
       }
     }
   }
