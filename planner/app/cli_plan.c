@@ -357,8 +357,8 @@ int ea__cli_plan(int argc, char **argv) {
     int wrote = 0;
     if (summary) {
       ea_error_t e2 = {0};
-      if (ea_plan_summary_write_ex(pl, &info, ref, shp && shp->samples_in ? shp : NULL, NULL,
-                                   summary, &e2))
+      if (ea_plan_summary_write_ex(pl, &info, ref, shp && shp->status ? shp : NULL, NULL, summary,
+                                   &e2))
         fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
       else
         wrote = 1;

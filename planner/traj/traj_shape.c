@@ -24,9 +24,8 @@ static void ea__herm(double h, double s, double q0, double v0, double q1, double
   *a = (2.0 * c2 + 6.0 * c3 * s) / (h * h);
 }
 
-/* Points s in (0, 1) where the cubic Hermite's rate (r = 0) or acceleration... the
- * extrema of its value (roots of the quadratic rate, up to 2) and of its rate (the
- * vertex, 1): out gets them, returns how many. */
+/* Points s in (0, 1) of the cubic Hermite's extrema: of its value (the roots of its
+ * quadratic rate, up to 2) and of its rate (the vertex, 1). Returns how many, in out. */
 static int ea__herm_extrema(double h, double q0, double v0, double q1, double v1, double out[3]) {
   const double d = q1 - q0, c2 = 3.0 * d - h * (2.0 * v0 + v1), c3 = -2.0 * d + h * (v0 + v1);
   /* h q'(s) = h v0 + 2 c2 s + 3 c3 s^2 */
@@ -580,8 +579,8 @@ static ea_status_t ea__shape_zeta(const ea_task_t *task, const ea_shape_settings
 
 /* The frequency limits of the task at the output's samples. */
 static ea_status_t ea__shape_freq_limits(const ea_task_t *task, const ea_traj_t *out,
-                                         const ea_shape_settings_t *s, ea__shape_ws_t *w,
-                                         ea_traj_limits_check_t *c, ea_error_t *err) {
+                                         const ea_shape_settings_t *s, ea_traj_limits_check_t *c,
+                                         ea_error_t *err) {
   const ea_task_limits_t *l = &task->limits;
   const int fmin_on = l->min_first_frequency_hz > 0.0,
             defl_on = isfinite(l->max_modal_deflection_m);
@@ -604,7 +603,6 @@ static ea_status_t ea__shape_freq_limits(const ea_task_t *task, const ea_traj_t 
                    l->max_modal_deflection_m, t);
     }
   }
-  (void)w;
   free(f);
   return st;
 }
@@ -717,7 +715,7 @@ ea_status_t ea_traj_shape_zv(const ea_task_t *task, const ea_traj_t *in,
     info->duration_s = EA_TRAJ_AT(out, out->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(out, 0, EA_TRAJ_t);
     info->max_path_deviation_m = ea__path_deviation(task, out);
     st = ea__check_run(task, out, s->check_rate_hz, &info->check, err);
-    if (!st) st = ea__shape_freq_limits(task, out, s, &w, &info->check, err);
+    if (!st) st = ea__shape_freq_limits(task, out, s, &info->check, err);
     if (!st) {
       st = ea__check_verdict(&info->check, s->limit_tol, err);
       if (st) {
