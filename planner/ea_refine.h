@@ -8,7 +8,9 @@
  * residual with ea_traj_simulate(), fits the free vibration of the model's modes to the FE
  * tip history, and moves the goal's modal targets (ea_planner_set_terminal_modes) to cancel
  * it; every candidate is re-planned warm by the planner, so every limit of the task still
- * holds on it. Never prints.
+ * holds on it. With dynamics.robust the same for each robust corner (docs/planner.md, "Robust
+ * rest"): its FE arm's residual, its centre (ea_planner_set_terminal_modes_model). Never
+ * prints.
  */
 #ifndef EA_REFINE_H
 #define EA_REFINE_H
@@ -104,12 +106,13 @@ typedef struct ea_refine_info {
  *  must have dynamics that end at rest (dynamics.modes >= 1, residual_m 0, not
  *  min_vibration). Evaluation 0 is the at-rest plan (terminal targets zero, re-planned warm:
  *  no iteration when the planner already holds it); then the method of s moves the targets
- *  of the first s->modes modes until the FE residual peak is at most s->tolerance_m, or
- *  s->max_evaluations FE transients were spent, or the next evaluation would pass
- *  s->max_time_s. The planner is left holding the evaluated plan of least FE residual peak
- *  among the accepted ones (re-planned once more if it is not the last one planned, and then
- *  measured again: info->evals[info->returned]); that plan passed every check of
- *  ea_planner_solve.
+ *  of the first s->modes modes of every model (the nominal; with dynamics.robust also the
+ *  four corners' centres) until the FE residual peak is at most s->tolerance_m at the
+ *  nominal arm and at most robust residual_m + s->tolerance_m at each corner arm (score
+ *  <= 1), or s->max_evaluations evaluations were spent, or the next evaluation would pass
+ *  s->max_time_s. The planner is left holding the evaluated plan of least score among the
+ *  accepted ones (re-planned once more if it is not the last one planned, and then measured
+ *  again: info->evals[info->returned]); that plan passed every check of ea_planner_solve.
  * @param s settings (NULL: the task's dynamics.refine; its enabled flag is ignored)
  * @param plan_info the returned plan's solve info (may be NULL)
  * @return EA_OK when the planner holds a refined (or the unrefined) plan, also if the
