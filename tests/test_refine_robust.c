@@ -106,6 +106,12 @@ int main(void) {
         !ea_planner_trajectory(pl, &tr, &e)) {
       fe_corners(&tr_, &tr, rest);
       rest_dur = pi.duration_s;
+      /* a planner without robust models has no corner to set */
+      const double c[2] = {1e-3, 0.0};
+      const ea_status_t sc = ea_planner_set_terminal_modes_model(pl, 1, c, c, &e);
+      printf("  %s\n", e.msg);
+      ea_test_true(sc == EA_ERR_ARG && strstr(e.msg, "model 1"),
+                   "corner target on a non-robust planner: EA_ERR_ARG naming the model");
     } else {
       printf("paper-line-rest: %s\n", e.msg);
     }
@@ -131,6 +137,17 @@ int main(void) {
   ea_error_t e = {0};
   ea_status_t st = ea_planner_alloc(&t, &pl, &e);
   if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pi, &e);
+  if (!st) {
+    const double bad[1] = {NAN};
+    ea_status_t sb = ea_planner_set_terminal_modes_model(pl, 5, NULL, NULL, &e);
+    printf("  %s\n", e.msg);
+    ea_test_true(sb == EA_ERR_ARG && strstr(e.msg, "model 5"),
+                 "corner target of model 5 (of 5 models 0..4): EA_ERR_ARG");
+    sb = ea_planner_set_terminal_modes_model(pl, 2, bad, NULL, &e);
+    printf("  %s\n", e.msg);
+    ea_test_true(sb == EA_ERR_ARG && strstr(e.msg, "not finite"),
+                 "corner target NaN: EA_ERR_ARG (not finite)");
+  }
   double unref[5] = {NAN, NAN, NAN, NAN, NAN}, unref_dur = NAN;
   if (!st) st = ea_planner_trajectory(pl, &tr, &e);
   if (!st) {
@@ -161,6 +178,22 @@ int main(void) {
     snprintf(what, sizeof what, "robust refinement converged (%s, %d evaluations, %.2f s)",
              ri->stop_reason, ri->n_evals, ri->time_s);
     ea_test_true(ri->status == EA_OK && ri->converged && ri->models == 5, what);
+    /* the planner's own corner states: within robust residual_m of their centres (the rows),
+     * not of zero (the centres moved) */
+    const ea_refine_eval_t *er = &ri->evals[ri->returned];
+    double about = 0.0, from0 = 0.0;
+    for (int j = 1; j < 5; ++j) {
+      const double *z = er->params_m + 2 * j, *p = er->predicted_m + 2 * j;
+      about = fmax(about, hypot(p[0] - z[0], p[1] - z[1]));
+      from0 = fmax(from0, hypot(p[0], p[1]));
+    }
+    snprintf(what, sizeof what,
+             "returned plan: every corner model's state within %.4f mm of its centre (largest "
+             "%.4f mm); from zero up to %.4f mm",
+             1e3 * t.dynamics.robust_residual_m, 1e3 * about, 1e3 * from0);
+    ea_test_true(about <= t.dynamics.robust_residual_m * (1.0 + 1e-6) &&
+                     from0 > t.dynamics.robust_residual_m,
+                 what);
     const double w = write_read_check(&t, &tr, &back);
     snprintf(what, sizeof what,
              "every limit held by the written robust refined trajectory at 1 kHz (worst relative "
