@@ -270,6 +270,11 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
                      int *cols, double *vals);
 /** Modal states of x integrated along its (L_c, alpha) from rest (a guess). */
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
+/** For the refinement (plan_refine.c): model j's table (0 the nominal, 1..4 the robust
+ *  corners; NULL: none) and the held plan's modal state of model j at the goal (Kper values
+ *  each; 1: no held plan). */
+const ea_rom_table_t *ea__plan_rom_model(const ea_planner_t *pl, int j);
+int ea__plan_dyn_terminal(const ea_planner_t *pl, int j, double *eta, double *eta_rate);
 /** The model's predicted residual and modal figures of a plan x into info. */
 void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info);
 /** The path transcription (plan_path.c): does the task qualify (line/polyline, no frequency

@@ -99,8 +99,17 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
   ea_json_num(j, "duration_s", r->duration_s);
   ea_json_num(j, "residual_peak_m", r->residual_peak_m);
   ea_json_num(j, "residual_rms_m", r->residual_rms_m);
-  ea_json_vec(j, "terminal_eta_sqrtkg_m", r->eta, r->model_modes);
-  ea_json_vec(j, "terminal_eta_rate_sqrtkg_m_per_s", r->eta_rate, r->model_modes);
+  ea_json_vec(j, "terminal_eta_sqrtkg_m", r->eta, r->model_modes * r->models);
+  ea_json_vec(j, "terminal_eta_rate_sqrtkg_m_per_s", r->eta_rate, r->model_modes * r->models);
+  /* per model: 0 the nominal, 1..4 the robust corners (FE at each model's arm) */
+  ea_json_int(j, "models", r->models);
+  ea_json_vec(j, "model_tip_mass_kg", r->model_tip_mass_kg, r->models);
+  ea_json_vec(j, "model_EI_Nm2", r->model_EI_Nm2, r->models);
+  ea_json_vec(j, "model_allowed_residual_peak_m", r->allowed_m, r->models);
+  ea_json_vec(j, "model_residual_peak_before_m", r->model_residual_peak_before_m, r->models);
+  ea_json_vec(j, "model_residual_peak_m", r->model_residual_peak_m, r->models);
+  ea_json_num(j, "score_before", r->score_before);
+  ea_json_num(j, "score", r->score);
   ea_json_num(j, "time_s", r->time_s);
   ea_json_num(j, "time_plan_s", r->time_plan_s);
   ea_json_num(j, "time_fe_s", r->time_fe_s);
@@ -111,8 +120,8 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
     ea_json_obj_begin(j, NULL);
     ea_json_int(j, "index", i);
     ea_json_vec(j, "params_m", e->params_m, r->n_params);
-    ea_json_vec(j, "eta_sqrtkg_m", e->eta, r->model_modes);
-    ea_json_vec(j, "eta_rate_sqrtkg_m_per_s", e->eta_rate, r->model_modes);
+    ea_json_vec(j, "eta_sqrtkg_m", e->eta, r->model_modes * r->models);
+    ea_json_vec(j, "eta_rate_sqrtkg_m_per_s", e->eta_rate, r->model_modes * r->models);
     ea_json_str(j, "plan_status", ea_status_name(e->plan_status));
     ea_json_int(j, "plan_iterations", e->plan_iterations);
     ea_json_num(j, "plan_time_s", e->plan_time_s);
@@ -120,7 +129,11 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
     ea_json_str(j, "fe_status", ea_status_name(e->fe_status));
     ea_json_num(j, "residual_peak_m", e->residual_peak_m);
     ea_json_num(j, "residual_rms_m", e->residual_rms_m);
-    ea_json_vec(j, "fitted_m", e->fitted_m, 2 * r->model_modes);
+    ea_json_vec(j, "model_residual_peak_m", e->model_residual_peak_m, r->models);
+    ea_json_vec(j, "model_residual_rms_m", e->model_residual_rms_m, r->models);
+    ea_json_num(j, "score", e->score);
+    ea_json_vec(j, "fitted_m", e->fitted_m, 2 * r->model_modes * r->models);
+    ea_json_vec(j, "predicted_m", e->predicted_m, 2 * r->model_modes * r->models);
     ea_json_num(j, "fe_time_s", e->fe_time_s);
     ea_json_num(j, "elapsed_s", e->elapsed_s);
     ea_json_bool(j, "accepted", e->accepted);

@@ -1242,18 +1242,37 @@ solved_path:
 
 ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
                                           const double *eta_rate, ea_error_t *err) {
+  return ea_planner_set_terminal_modes_model(pl, 0, eta, eta_rate, err);
+}
+
+ea_status_t ea_planner_set_terminal_modes_model(ea_planner_t *pl, int model, const double *eta,
+                                                const double *eta_rate, ea_error_t *err) {
   if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_set_terminal_modes: NULL planner");
-  if (!pl->rom || pl->task.dynamics.residual_m > 0 || pl->task.objective == EA_TASK_MIN_VIBRATION)
+  if (model == 0 &&
+      (!pl->rom || pl->task.dynamics.residual_m > 0 || pl->task.objective == EA_TASK_MIN_VIBRATION))
     return ea_error_set(err, EA_ERR_ARG,
                         "terminal modal targets need a task with dynamics that ends at rest "
                         "(residual_m 0, not min_vibration)");
-  for (int i = 0; i < pl->Kper; ++i) { /* the nominal model's modes */
+  if (model != 0 &&
+      (!pl->rom || model < 1 || model >= pl->M || pl->task.objective == EA_TASK_MIN_VIBRATION))
+    return ea_error_set(err, EA_ERR_ARG,
+                        "terminal target of model %d: the task has %d model%s (robust corners "
+                        "1..4 need dynamics.robust, not min_vibration)",
+                        model, pl->M, pl->M == 1 ? "" : "s");
+  for (int i = 0; i < pl->Kper; ++i) { /* the model's modes */
     const double e = eta ? eta[i] : 0.0, ed = eta_rate ? eta_rate[i] : 0.0;
     if (!isfinite(e) || !isfinite(ed))
-      return ea_error_set(err, EA_ERR_ARG, "terminal modal target of mode %d is not finite", i + 1);
-    pl->dyn_target[i] = e;
-    pl->dyn_target[EA__DYN_MAX + i] = ed;
+      return ea_error_set(err, EA_ERR_ARG,
+                          "terminal modal target of mode %d (model %d) is not "
+                          "finite",
+                          i + 1, model);
   }
+  for (int i = 0; i < pl->Kper; ++i) {
+    const int c = model * pl->Kper + i;
+    pl->dyn_target[c] = eta ? eta[i] : 0.0;
+    pl->dyn_target[EA__DYN_MAX + c] = eta_rate ? eta_rate[i] : 0.0;
+  }
+  if (model > 0) return EA_OK; /* a corner's centre is in its row's value only */
   ea__bounds(pl);
   if (ea__ipopt_create(pl))
     return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
