@@ -298,6 +298,8 @@ void ea__plan_schedule(ea_planner_t *pl, double w);
 /* Hessian sparsity (plan_hess.c): the key of entry (max(i, j), min(i, j)) of an n-column
  * matrix; the sorted unique keys as triplets (irow, jcol calloc'd; keys sorted in place);
  * the position of a key among nnz sorted ones (-1: absent). */
+/* Ipopt's mu_init and warm-start pushes for a cold, warm or updated start (plan_solve.c). */
+void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated);
 int64_t ea__hkey(int n, int i, int j);
 ea_status_t ea__hpattern(int64_t *keys, size_t nk, int n, int *nnz, int **irow, int **jcol);
 int ea__hpos(const int64_t *keys, int nnz, int64_t k);

@@ -877,19 +877,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   if ((st = ea__pp_ipopt(pl)))
     return ea_error_set(err, st, "Ipopt: cannot create the path problem");
   AddIpoptStrOption(pp->ip, "warm_start_init_point", warm ? "yes" : "no");
-  if (replan || pl->refining) {
-    AddIpoptNumOption(pp->ip, "mu_init", 1e-6);
-    AddIpoptNumOption(pp->ip, "warm_start_bound_push", 1e-5);
-    AddIpoptNumOption(pp->ip, "warm_start_mult_bound_push", 1e-5);
-    AddIpoptNumOption(pp->ip, "warm_start_slack_bound_push", 1e-5);
-  } else if (warm) {
-    AddIpoptNumOption(pp->ip, "mu_init", 1e-7);
-    AddIpoptNumOption(pp->ip, "warm_start_bound_push", 1e-9);
-    AddIpoptNumOption(pp->ip, "warm_start_mult_bound_push", 1e-9);
-    AddIpoptNumOption(pp->ip, "warm_start_slack_bound_push", 1e-9);
-  } else {
-    AddIpoptNumOption(pp->ip, "mu_init", 0.1);
-  }
+  ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
   int mono = !warm && !pl->rom &&
              (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);

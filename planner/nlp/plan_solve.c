@@ -1001,6 +1001,20 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
   return ea__solve_checked(pl, start, prev, info_out, err);
 }
 
+/* The barrier's start and the warm-start pushes for both transcriptions. After an update
+ * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
+ * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
+ * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
+ * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
+void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
+  const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
+  AddIpoptNumOption(ip, "mu_init", mu);
+  if (!warm && !updated) return;
+  AddIpoptNumOption(ip, "warm_start_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
+}
+
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                                 ea_plan_info_t *info_out, ea_error_t *err) {
   ea_plan_info_t local, *info = info_out ? info_out : &local;
@@ -1079,23 +1093,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
    * the order of its cases, 1e-8 in durations, one Ipopt iteration more or less). AMD, AMF,
    * PORD and METIS are deterministic; the whole cold solve took the same time with each. */
   AddIpoptIntOption(pl->ip, "mumps_pivot_order", 0);
-  if (replan || pl->refining) {
-    /* After ea_planner_update (or bounds tightened for limits between knots) (docs/planner.md,
-     * bench_plan): the shifted point is near, not at, the new optimum; mu_init 1e-6 with pushes
-     * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
-     * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
-    AddIpoptNumOption(pl->ip, "mu_init", 1e-6);
-    AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-5);
-    AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-5);
-    AddIpoptNumOption(pl->ip, "warm_start_slack_bound_push", 1e-5);
-  } else if (warm) {
-    AddIpoptNumOption(pl->ip, "mu_init", 1e-7);
-    AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-9);
-    AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-9);
-    AddIpoptNumOption(pl->ip, "warm_start_slack_bound_push", 1e-9);
-  } else {
-    AddIpoptNumOption(pl->ip, "mu_init", 0.1);
-  }
+  ea__ipopt_start_options(pl->ip, warm, replan || pl->refining);
   /* Barrier strategy: from a near-optimal start (a cold guess timed along
    * its path, or a previous plan) the monotone strategy with mu_init 1e-4
    * needs about one linear solve per iteration instead of the adaptive
