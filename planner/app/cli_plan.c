@@ -246,7 +246,7 @@ int ea__cli_plan(int argc, char **argv) {
     ea_planner_free(pl);
     return EA_EXIT_FAIL;
   }
-  if (figure && (st = ea_plan_figure(pl, figure, &err))) {
+  if (figure && (st = ea_plan_figure(pl, &info, figure, &err))) {
     fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
     rc = EA_EXIT_FAIL;
   }
