@@ -68,11 +68,11 @@ ea_status_t ea_workspace_figure(const ea_arm_t *arm, ea_shooter_t *sh, const dou
   ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset key outside "
                   "right top");
   ea_plot_cmd(pl,
-              "set title \"Workspace regions for payload factors {/Symbol g} (Fig. 3): T >= 0, "
-              "L_c >= %.3f m, {/Symbol a} from %.0f to %.0f deg\\n%s\"",
+              "set title \"Workspace regions for payload factors {/Symbol g} (Fig. 3)\\n"
+              "T >= 0, L_c >= %.3f m, {/Symbol a} from %.0f to %.0f deg\\n%s\"",
               inner_length, amin / EA__DEG, amax / EA__DEG,
               !limits  ? "without the arm's actuator limits"
-              : marked ? "the arm's limits cut the region where the outer edge is marked x"
+              : marked ? "the arm's limits cut a region where its outer edge is marked x"
                        : "the arm's limits hold on the whole outer edge");
   ea_plot_cmd(pl, "%s", plot);
   return ea_plot_close(pl, err);
@@ -137,7 +137,10 @@ ea_status_t ea_torque_map_figure(const double *Ls, int nL, const double *As, int
   ea_plot_cmd(pl,
               "set title \"Shoulder torque map, tip mass %.3g kg (white: outside the workspace, "
               "T < 0)\\nlimits of the arm file: |EI {/Symbol k}_0| <= %g N m%s\"",
-              tip_mass, tmax, n_torque || n_other ? "" : "; no cell past a limit");
+              tip_mass, tmax,
+              n_torque  ? ""
+              : n_other ? " (no cell past it)"
+                        : "; no cell past a limit");
   char plot[1024];
   int used = snprintf(plot, sizeof plot, "plot $map u 1:2:3 w image notitle");
   if (n_torque)
@@ -146,11 +149,25 @@ ea_status_t ea_torque_map_figure(const double *Ls, int nL, const double *As, int
                      "lc rgb '#e41a1c' t 'hatched: past the shoulder torque limit "
                      "(|EI {/Symbol k}_0| > %g N m)'",
                      tmax);
-  if (n_other)
+  if (n_other) {
+    /* which other limits the crossed cells are past */
+    int tlo = 0, thi = 0, len = 0, sh = 0;
+    for (size_t k = 0; k < (size_t)nL * nA; ++k) {
+      const ea_config_point_t *c = &cells[k];
+      if (c->status != EA_OK || c->admissible || fabs(c->shoulder_torque) > tmax) continue;
+      tlo |= c->tension < lim->tension_min;
+      thi |= c->tension > lim->tension_max;
+      len |= c->cable_length < lim->cable_length_min || c->cable_length > lim->cable_length_max;
+      sh |= c->theta0 < lim->shoulder_angle_min || c->theta0 > lim->shoulder_angle_max;
+    }
+    char what[256];
+    snprintf(what, sizeof what, "%s%s%s%s", tlo ? ", T < T_{min}" : "", thi ? ", T > T_{max}" : "",
+             len ? ", cable length out of range" : "", sh ? ", shoulder angle out of range" : "");
     snprintf(plot + used, sizeof plot - (size_t)used,
-             ", $other u 1:2 w p pt 2 ps 1 lc rgb '#e41a1c' t 'x: past another limit (tension "
-             "%g to %g N, cable length, shoulder angle)'",
-             lim->tension_min, lim->tension_max);
+             ", $other u 1:2 w p pt 2 ps 1.5 lw 2 lc rgb '#e41a1c' t 'x: past another limit "
+             "(%s)'",
+             what[0] ? what + 2 : "tension, cable length or shoulder angle");
+  }
   ea_plot_cmd(pl, "%s", plot);
   return ea_plot_close(pl, err);
 }
