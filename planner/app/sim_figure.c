@@ -50,8 +50,8 @@ ea_status_t ea_sim_figure(const ea_sim_history_t *h, const ea_sim_info_t *si,
   /* (a): equal scale; the window at least 0.4 times as tall as wide (and as wide
    * as tall), at least 10 mm, with a 5 % margin */
   const double w = x1 - x0, ht = y1 - y0, big = fmax(fmax(w, ht), 0.01);
-  ea__widen(&x0, &x1, fmax(w, 0.4 * big));
-  ea__widen(&y0, &y1, fmax(ht, 0.4 * big));
+  ea__widen(&x0, &x1, fmax(w, w >= ht ? big : 0.4 * big));
+  ea__widen(&y0, &y1, fmax(ht, w >= ht ? 0.4 * big : big));
   const double mx = 0.05 * (x1 - x0), my = 0.05 * (y1 - y0);
   const double t_end_motion = h->data[0] + si->duration;
   const double pw = settle ? 1.0 / 3.0 : 0.5; /* panel width; 0.9 high under the title */
@@ -115,7 +115,7 @@ ea_status_t ea_sim_figure(const ea_sim_history_t *h, const ea_sim_info_t *si,
     }
     ea_plot_cmd(pl,
                 "plot $sim u 1:($9 > 0 ? $9 : NaN) w l lw 1.5 lc rgb '%s' t 'distance', "
-                "%.17g w l dt 2 lw 1.5 lc rgb '#444444' t 'rest tolerance %.3g mm'%s",
+                "%.9g w l dt 2 lw 1.5 lc rgb '#444444' t 'rest tolerance %.3g mm'%s",
                 ea_plot_colour(0), tol, tol, rest_term);
   }
   ea_plot_cmd(pl, "unset multiplot");

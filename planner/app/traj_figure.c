@@ -46,7 +46,7 @@ static int ea__limit_term(char *buf, size_t len, int used, double limit, double 
                           const char *text) {
   if (used < 0 || (size_t)used >= len || !ea__limit_near(limit, lo, hi)) return used;
   return used + snprintf(buf + used, len - (size_t)used,
-                         ", %.17g w l dt 2 lw 1.5 lc rgb '#444444' t '%s'", limit, text);
+                         ", %.9g w l dt 2 lw 1.5 lc rgb '#444444' t '%s'", limit, text);
 }
 
 /* The workspace panel's data: the closed region of the load (cable angles covering
@@ -318,7 +318,7 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, const ea_traj_
                     EA_TRAJ_NCOL + 1 + i, ea_plot_colour(i), i + 1);
     if (o.f1_min_hz > 0)
       snprintf(plot + u, sizeof plot - (size_t)u,
-               ", %.17g w l dt 2 lw 1.5 lc rgb '#444444' t 'f_{1,min}'", o.f1_min_hz);
+               ", %.9g w l dt 2 lw 1.5 lc rgb '#444444' t 'f_{1,min}'", o.f1_min_hz);
   } else {
     ea__col_range(tr, EA_TRAJ_cable_angle_acc, 1.0 / EA__DEG, &lo, &hi);
     if (base) {
