@@ -66,7 +66,6 @@ static int ea__make_shooter(const char *cmd, const ea_arm_t *arm, double tip_mas
   return 0;
 }
 
-/* Beam centreline of p into a data block: x y per row, then a blank line. */
 static void ea__json_point(ea_json_t *j, const char *key, const ea_config_point_t *p) {
   ea_json_obj_begin(j, key);
   ea_json_num(j, "cable_length_m", p->cable_length);

@@ -51,14 +51,15 @@ ea_status_t ea_workspace_figure(const ea_arm_t *arm, ea_shooter_t *sh, const dou
     }
     ea_plot_data_end(pl);
     used += snprintf(plot + used, sizeof plot - (size_t)used,
-                     ", $%s w p pt 2 ps 0.7 lc rgb '%s' %s", name, ea_plot_colour(g),
-                     marked++ ? "notitle" : "t 'outer edge past an arm limit (x)'");
+                     ", $%s w p pt 2 ps 0.7 lc rgb '%s' %s", name, ea_plot_colour(g), "notitle");
+    ++marked;
   }
   ea_plot_data_begin(pl, "root");
   ea_plot_data_row(pl, 2, (double[]){arm->x_c, arm->y_c});
   ea_plot_data_end(pl);
   snprintf(plot + used, sizeof plot - (size_t)used,
-           ", $root w p pt 7 ps 1.5 lc rgb '#c0392b' t 'cable root'");
+           ", $root w p pt 7 ps 1.5 lc rgb '#c0392b' t 'cable root'%s",
+           marked ? ", NaN w p pt 2 lc rgb 'black' t 'outer edge past an arm limit (x)'" : "");
   double amin = INFINITY, amax = -INFINITY;
   for (int k = 0; k < n; ++k)
     if (isfinite(outer[k].alpha)) {

@@ -372,8 +372,8 @@ static ea_status_t ea__fig_workspace(const ea_study_t *s, const char *path, ea_e
             ea_plot_data_row(pl, 2, (double[]){outer[k].x, outer[k].y});
         ea_plot_data_end(pl);
         used += (size_t)snprintf(plot + used, cap - used, ", $%s w p pt 2 ps 0.6 lc rgb '%s' %s",
-                                 name, ea_plot_colour(drawn),
-                                 marked++ ? "notitle" : "t 'outer edge past an arm limit (x)'");
+                                 name, ea_plot_colour(drawn), "notitle");
+        ++marked;
       }
     }
     if (arm.x_c != root0[0] || arm.y_c != root0[1]) roots = 1;
@@ -405,8 +405,9 @@ static ea_status_t ea__fig_workspace(const ea_study_t *s, const char *path, ea_e
                                               "is marked x"
                                             : "the arm's limits hold on every outer edge")
                                   : "without the arm's actuator limits");
-  ea_plot_cmd(pl, "%s, $root w p pt 7 ps 1.5 lc rgb '#c0392b' t 'cable root%s'", plot,
-              roots ? "s" : "");
+  ea_plot_cmd(pl, "%s, $root w p pt 7 ps 1.5 lc rgb '#c0392b' t 'cable root%s'%s", plot,
+              roots ? "s" : "",
+              marked ? ", NaN w p pt 2 lc rgb 'black' t 'outer edge past an arm limit (x)'" : "");
   st = ea_plot_close(pl, err);
   pl = NULL;
 out:
