@@ -241,8 +241,8 @@ static int ea__freq_single(const char *cmd, const ea__freq_opts_t *o, const ea_a
                       "set key outside bottom center horizontal\nset grid");
       ea_plot_cmd(
           pl,
-          "set title 'FE static shape and mode shapes (tip amplitude %.0f mm), L_c = %.3f m, "
-          "{/Symbol a} = %.1f deg, T = %.2f N, %s'",
+          "set title \"FE static shape and mode shapes (tip amplitude %.0f mm)\\nL_c = %.3f m, "
+          "{/Symbol a} = %.1f deg, T = %.2f N, %s\"",
           scale * 1e3, o->Lc, o->adeg, pt.fe.tension, pt.modes.stable ? "stable" : "UNSTABLE");
       ea__fe_plot_modes_cmd(pl, nplot, pt.modes.freq_hz);
       fe.status = ea_plot_close(pl, &fe);
