@@ -383,8 +383,11 @@ int ea__cli_plan(int argc, char **argv) {
       ea_shooter_set_load(sh, &load);
       char title[700];
       snprintf(title, sizeof title, "%s, ZV-shaped (tip mass %.3g kg)", task.name, load.tip_mass);
-      st = ea_traj_figure(&ft, sh, task.limits.cable_length_min, task.limits.tension_min, title,
-                          figure, &err);
+      ea_traj_figure_opts_t o;
+      ea_traj_figure_opts_default(&o, &task.arm);
+      o.title = title;
+      ea_traj_figure_opts_limits(&o, &task.limits); /* which the shaping held */
+      st = ea_traj_figure(&ft, sh, &o, figure, &err);
     }
     ea_shooter_free(sh);
     ea_traj_free(&ft);
@@ -392,7 +395,7 @@ int ea__cli_plan(int argc, char **argv) {
       fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
       rc = EA_EXIT_FAIL;
     }
-  } else if (figure && (st = ea_plan_figure(pl, figure, &err))) {
+  } else if (figure && (st = ea_plan_figure(pl, &info, figure, &err))) {
     fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
     rc = EA_EXIT_FAIL;
   }
