@@ -1,8 +1,8 @@
 # The test "install": `cmake --install` into a fresh prefix, then an outside
 # build of docs/example_api.c against it both ways a C user would, with plain
-# -std=c11: pkg-config (`cc -std=c11 example_api.c $(pkg-config --cflags
-# --libs elasticarm)`) and a CMake project with find_package(elasticarm);
-# each program is run (example_api exits non-zero on a wrong answer). Also:
+# -std=c11: pkg-config (the README's line, `cc -std=c11 example_api.c
+# $(pkg-config --cflags --libs elasticarm) -lm`) and a CMake project with
+# find_package(elasticarm) (tests/install/CMakeLists.txt); each program is run (example_api exits non-zero on a wrong answer). Also:
 # every installed header compiles with -std=c11 -Wpedantic -Werror as
 # <elasticarm/ea_*.h>, the header's EA_VERSION_STRING equals the library's
 # ea_version() and project()'s version, and the installed CLI, run from a
@@ -72,7 +72,7 @@ run("pkg-config" ${PKG_CONFIG} --cflags --libs elasticarm)
 separate_arguments(pc UNIX_COMMAND "${OUT}")
 set(warn -Wall -Wextra -Wpedantic -Werror)
 run("cc example_api.c (pkg-config)" ${CC} -std=c11 ${warn} ${EXTRA} -o ${WORK}/example_api_pc
-  ${SRC}/docs/example_api.c ${pc})
+  ${SRC}/docs/example_api.c ${pc} -lm) # the example calls libm itself
 run("example_api (pkg-config)" ${WORK}/example_api_pc)
 run("cc all_headers.c (pkg-config)" ${CC} -std=c11 ${warn} ${EXTRA} -o ${WORK}/all_headers_pc
   ${EA_ALL_HEADERS} ${pc})
