@@ -1,7 +1,7 @@
 /* The README's C API example, built with the project (target example_api)
  * and, by the test "install", against the installed library with plain
  * `cc -std=c11` through pkg-config and through find_package. The README shows
- * this file from its first #include on (docs/regenerate.sh checks it). */
+ * this file from its first include line on (docs/regenerate.sh checks it). */
 
 #include "ea_model.h" /* model/: statics and FE */
 #include <math.h>

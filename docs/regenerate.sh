@@ -285,12 +285,30 @@ pub "plan paper-line.yaml; stream --to file:" docs/streaming.md '`problems/examp
   "$(calc %.3f "$dur")"
 pub "stream paper-line.csv --to file: (setpoints)" docs/streaming.md 'streams at 1 kHz as planned ({} setpoints' "$line_sp"
 
+# --- README.md's C example is docs/example_api.c from its first #include on
+# (the file is the one compiled and run by the tests example_api and install).
+readme_c() { awk '/^## The C API/ { s = 1 } s && /^```c$/ { p = 1; next } p && /^```$/ { exit } p' README.md; }
+sed -n '/^#include/,$p' docs/example_api.c >"$R/example_api.body.c"
+readme_c >"$R/readme_example.c"
+if ! cmp -s "$R/example_api.body.c" "$R/readme_example.c"; then
+  if [ $mode = write ]; then
+    awk -v body="$R/example_api.body.c" '
+      /^## The C API/ { s = 1 }
+      s == 1 && /^```c$/ { print; while ((getline l < body) > 0) print l; skip = 1; s = 2; next }
+      skip && /^```$/ { skip = 0 }
+      !skip { print }' README.md >"$R/rewrite.tmp"
+    cat "$R/rewrite.tmp" >README.md
+  fi
+  echo "README.md: the C example differs from docs/example_api.c (diff $R/readme_example.c $R/example_api.body.c)" >>"$FAILS"
+fi
+echo "README.md: C example    <- docs/example_api.c (built and run by ctest -R 'example_api|install')" >>"$R/table.txt"
+
 # ---------------------------------------------------------------- verdict
 rm -f "$R/rewrite.tmp"
 nfail=$(grep -c . "$FAILS" || true)
 case $mode in
 write)
-  echo "== rewritten: $nfail published numbers updated (git diff README.md docs/)"
+  echo "== rewritten: $nfail published numbers (or the C example) updated (git diff README.md docs/)"
   cat "$FAILS"
   ;;
 print)
@@ -300,7 +318,7 @@ print)
 check)
   if [ "$nfail" -gt 0 ]; then
     cat "$FAILS"
-    echo "== $nfail published numbers differ from the regenerated ones (--write to update)"
+    echo "== $nfail published numbers (or the C example) differ from the regenerated ones (--write to update)"
     exit 1
   fi
   echo "== every checked number in README.md and docs/ matches its command"
