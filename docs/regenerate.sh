@@ -124,6 +124,11 @@ wait "$ctrl" || {
   exit 1
 }
 run stream-line "$EA" stream "$R/paper-line.csv" --to "file:$R/paper-line.frames"
+# docs/studies.md: the design study, and min_time of the paper line for two payloads.
+run study-design "$EA" study problems/examples/studies/design.yaml -o "$R/design.csv" --threads 1 \
+  --no-checkpoint --quiet
+run study-line "$EA" study payload --payload-factors 0,0.25 --metrics min_time \
+  --task problems/examples/paper-line.yaml -o "$R/study-line.csv" --threads 1 --no-checkpoint --quiet
 if [ $figures = 1 ] && [ $nofig = 0 ]; then
   echo "== figures (docs/figures/make.sh)"
   B="$EA" sh docs/figures/make.sh
@@ -284,6 +289,32 @@ line_sp=$(awk '/setpoints .* at 1000 Hz/ { print $2 }' "$R/stream-line.out")
 pub "plan paper-line.yaml; stream --to file:" docs/streaming.md '`problems/examples/paper-line.yaml` plan ({} s)' \
   "$(calc %.3f "$dur")"
 pub "stream paper-line.csv --to file: (setpoints)" docs/streaming.md 'streams at 1 kHz as planned ({} setpoints' "$line_sp"
+
+# --- docs/studies.md: min_time in a study; the design study's table and areas
+# study CSV -> the value of METRIC for payload factor G and EI E (case order)
+sval() {
+  awk -F, -v m="$2" -v g="$3" -v e="$4" '
+    NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["metric"] == m && $c["payload_factor"] + 0 == g + 0 && (e == "" || $c["EI_Nm2"] + 0 == e + 0) {
+      print $c["value"]; exit }' "$1"
+}
+l0=$(sval "$R/study-line.csv" min_time_duration 0 "")
+l1=$(sval "$R/study-line.csv" min_time_duration 0.25 "")
+cf=$(awk '/^PASS: paper line: duration vs closed form/ { sub(/.*want /, ""); print $1 + 0 }' "$R/test_plan.out")
+[ "$(calc %.4f "$l0")" = "$(calc %.4f "$l1")" ] || echo "docs/studies.md: the paper line's min_time differs between payloads 0 and 0.25 ($l0, $l1 s)" >>"$FAILS"
+pub "study payload --metrics min_time --task paper-line.yaml; test_plan (closed form)" docs/studies.md \
+  'same {} s, {} % above' "$(calc %.4f "$l0")" "$(calc %.3f "($l0/$cf-1)*100")"
+pub "tests/test_plan (closed form D/v + v/a)" docs/studies.md '{} s (`tests/test_plan`' "$(calc %.4f "$cf")"
+for g in 0 0.25 0.5; do
+  pub "study design.yaml (min_time_duration)" docs/studies.md "| $g | {} s | {} s | {} s |" \
+    "$(calc %.4f "$(sval "$R/design.csv" min_time_duration $g 0.6)")" \
+    "$(calc %.4f "$(sval "$R/design.csv" min_time_duration $g 0.705)")" \
+    "$(calc %.4f "$(sval "$R/design.csv" min_time_duration $g 0.8)")"
+done
+pub "study design.yaml (area, payload factor 0)" docs/studies.md 'area {} to {} m^2 at payload factor 0,' \
+  "$(calc %.4f "$(sval "$R/design.csv" area 0 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0 0.8)")"
+pub "study design.yaml (area, payload factor 0.5)" docs/studies.md '{} to {} m^2 at 0.5.' \
+  "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.8)")"
 
 # --- README.md's C example is docs/example_api.c from its first #include on
 # (the file is the one compiled and run by the tests example_api and install).
