@@ -23,6 +23,7 @@
 # published text on one line of FILE, with {} where a checked number stands
 # (in order, VALUE... formatted with the published digits) and {*} for a
 # number that is not checked. The template must match exactly one line.
+# shellcheck disable=SC2046,SC2016 # number lists are split on purpose; templates hold backquotes
 set -eu
 cd "$(dirname "$0")/.."
 B=${B:-build}
@@ -39,11 +40,11 @@ for a in "$@"; do
   --figures) figures=1 ;;
   --no-figures) nofig=1 ;;
   -h | --help)
-    sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'
+    awk 'NR > 1 && /^# shellcheck/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"
     exit 0
     ;;
   *)
-    echo "regenerate.sh: unknown option '$a' (--check, --print, --write, --figures)" >&2
+    echo "regenerate.sh: unknown option '$a' (--check, --print, --write, --figures, --no-figures)" >&2
     exit 2
     ;;
   esac

@@ -11,7 +11,7 @@
 # them faster); otherwise THREADS (default 4) per task. EA=... overrides the
 # command (e.g. EA="apptainer exec elasticarm.sif elasticarm").
 set -eu
-[ $# -ge 1 ] || { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 EA=${EA:-elasticarm}
 spec=$1
 target=${2:-30}
