@@ -49,7 +49,8 @@ for a in "$@"; do
     ;;
   esac
 done
-for x in "$EA" "$B/bench/bench_statics" "$B/tests/test_statics" "$B/tests/test_plan"; do
+for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/tests/test_statics" \
+  "$B/tests/test_plan" "$B/tests/test_fe"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -97,6 +98,9 @@ done
 run bench_statics "$B/bench/bench_statics" 1
 run test_statics "$B/tests/test_statics"
 run test_plan "$B/tests/test_plan"
+# docs/fe.md: the FE tests and the mesh convergence table (times vary).
+run test_fe "$B/tests/test_fe"
+run bench_fe "$B/bench/bench_fe"
 # docs/streaming.md: the smooth plan streamed to the controller simulator,
 # which simulates what it accepted; the trajectory file simulated alike.
 run plan-smooth "$EA" plan problems/examples/paper-line-smooth.yaml -o "$R/paper-line-smooth.csv"
@@ -316,6 +320,17 @@ pub "study design.yaml (area, payload factor 0)" docs/studies.md 'area {} to {} 
   "$(calc %.4f "$(sval "$R/design.csv" area 0 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0 0.8)")"
 pub "study design.yaml (area, payload factor 0.5)" docs/studies.md '{} to {} m^2 at 0.5.' \
   "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.8)")"
+
+# --- docs/fe.md: the test count and the mesh convergence table
+nfe=$(awk '/^test_fe: [0-9]+ checks, 0 failed/ { print $2 }' "$R/test_fe.out")
+pub "tests/test_fe (checks)" docs/fe.md 'Tests (`build/tests/test_fe`, {} checks pass):' "$nfe"
+for lc in 0.254 0.400 0.635; do
+  for ne in 6 8 10 12 16; do
+    set -- $(awk -F' *[|] *' -v a="$lc" -v b="$ne" '/^## Mesh convergence/ { s = 1 } /^## Assembly/ { s = 0 }
+      s && $2 == a && $3 == b { print $4, $5, $6, $7, $8, $9; exit }' "$R/bench_fe.out")
+    pub "bench/bench_fe (mesh convergence)" docs/fe.md "| $lc | $ne | {} | {} | {} | {} | {} | {} |" "$@"
+  done
+done
 
 # --- README.md's C example is docs/example_api.c from its first #include on
 # (the file is the one compiled and run by the tests example_api and install).
