@@ -98,6 +98,10 @@ done
 run bench_statics "$B/bench/bench_statics" 1
 run test_statics "$B/tests/test_statics"
 run test_plan "$B/tests/test_plan"
+# docs/planner.md: the paper line with many knots (~35 s in all).
+for n in 1000 2000 3000 4000; do
+  run "plan-knots-$n" "$EA" plan problems/examples/paper-line.yaml --knots "$n" -o "$R/paper-line-k$n.csv"
+done
 # docs/fe.md: the FE tests and the mesh convergence table (times vary).
 run test_fe "$B/tests/test_fe"
 run bench_fe "$B/bench/bench_fe"
@@ -320,6 +324,18 @@ pub "study design.yaml (area, payload factor 0)" docs/studies.md 'area {} to {} 
   "$(calc %.4f "$(sval "$R/design.csv" area 0 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0 0.8)")"
 pub "study design.yaml (area, payload factor 0.5)" docs/studies.md '{} to {} m^2 at 0.5.' \
   "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.8)")"
+
+# --- docs/planner.md: knot counts
+kd() { calc %.5f "$(jnum "$R/paper-line-k$1.json" duration_s)"; }
+ki() { jnum "$R/paper-line-k$1.json" iterations; }
+pub "plan paper-line.yaml --knots 1000 (duration_s, iterations)" docs/planner.md \
+  '`elasticarm plan --knots N`: 1000 knots {} s in {} iterations, 2000' "$(kd 1000)" "$(ki 1000)"
+pub "plan paper-line.yaml --knots 2000, 3000, 4000 (duration_s, iterations)" docs/planner.md \
+  'knots {} s ({}), 3000 ({}), 4000 ({}) iterations; the closed form is' \
+  "$(kd 2000)" "$(ki 2000)" "$(ki 3000)" "$(ki 4000)"
+
+pub "plan paper-line.yaml (iterations)" docs/planner.md 'Ipopt needs {} iterations (36 with the' \
+  "$(jnum "$R/paper-line.json" iterations)"
 
 # --- docs/fe.md: the test count and the mesh convergence table
 nfe=$(awk '/^test_fe: [0-9]+ checks, 0 failed/ { print $2 }' "$R/test_fe.out")
