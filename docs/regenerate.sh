@@ -16,8 +16,9 @@
 # another). Every command's output goes to out/regen/ (NAME.cmd holds the
 # command, NAME.out / NAME.err its output). Only deterministic numbers are
 # checked: timings and jitter depend on the machine, so the bench tables'
-# time columns are matched as "any number" ({*} below) and regenerated into
-# out/regen/ only (bench_plan, bench_stream: run them by hand, see README).
+# time columns and the times quoted in the text are matched as "any number"
+# ({*} below) or not at all (their outputs stay in out/regen/); bench_stream
+# (jitter only) is not run. About 2 minutes on 2 cores.
 #
 # Each check is `pub SOURCE FILE 'TEMPLATE' VALUE...`: TEMPLATE is the
 # published text on one line of FILE, with {} where a checked number stands
@@ -49,7 +50,7 @@ for a in "$@"; do
     ;;
   esac
 done
-for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/tests/test_statics" \
+for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
   "$B/tests/test_plan" "$B/tests/test_fe"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
@@ -98,6 +99,8 @@ done
 run bench_statics "$B/bench/bench_statics" 1
 run test_statics "$B/tests/test_statics"
 run test_plan "$B/tests/test_plan"
+# README.md: the planner's iteration counts (bench_plan, ~70 s; times vary).
+run bench_plan "$B/bench/bench_plan"
 # docs/planner.md: the paper line with many knots (~35 s in all).
 for n in 1000 2000 3000 4000; do
   run "plan-knots-$n" "$EA" plan problems/examples/paper-line.yaml --knots "$n" -o "$R/paper-line-k$n.csv"
@@ -324,6 +327,28 @@ pub "study design.yaml (area, payload factor 0)" docs/studies.md 'area {} to {} 
   "$(calc %.4f "$(sval "$R/design.csv" area 0 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0 0.8)")"
 pub "study design.yaml (area, payload factor 0.5)" docs/studies.md '{} to {} m^2 at 0.5.' \
   "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.8)")"
+
+# --- README.md: bench_plan's iteration counts (column "iters" of the row named CASE;
+# the N-th such row with a second argument)
+iters() {
+  awk -v c="$1" -v n="${2:-1}" 'index($0, c) == 1 && substr($0, length(c) + 1, 1) ~ /[ ]/ && ++k == n {
+    for (i = 1; i <= NF; i++) if ($i ~ /^[0-9]+$/ && $(i + 1) ~ /^[0-9]+$/ && $(i + 2) ~ /^[0-9]+$/) { print $(i + 2); exit } }' \
+    "$R/bench_plan.out"
+}
+pub "bench/bench_plan (cold, partial Hessian (default))" README.md 'in {*} ms with {} Ipopt iterations,' \
+  "$(iters "cold, partial Hessian (default)")"
+pub "bench/bench_plan (warm (previous solution); same task from a plan file)" README.md \
+  'task takes {} iteration ({*} ms), and replanning from a previous plan file {} iterations' \
+  "$(iters "warm (previous solution)")" "$(iters "same task")"
+for c in "goal moved 1 mm" "goal moved 5 mm" "goal moved 20 mm" "start moved 5 mm" "payload +5 %"; do
+  bc=$c
+  [ "$c" = "payload +5 %" ] && bc="payload +5 % (factor 0.2 -> 0.21)"
+  pub "bench/bench_plan (replanning a live planner)" README.md "| $c | {} | {} |" \
+    "$(iters "$bc: replan")" "$(iters "$bc: cold")"
+done
+pub "bench/bench_plan (scaling with the knot count)" README.md \
+  'the knot count: {} / {} / {} / {} / {} iterations,' "$(iters "25 knots")" "$(iters "50 knots")" \
+  "$(iters "100 knots")" "$(iters "200 knots")" "$(iters "400 knots")"
 
 # --- docs/planner.md: knot counts
 kd() { calc %.5f "$(jnum "$R/paper-line-k$1.json" duration_s)"; }
