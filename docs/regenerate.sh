@@ -362,6 +362,18 @@ pub "plan paper-line.yaml --knots 2000, 3000, 4000 (duration_s, iterations)" doc
 pub "plan paper-line.yaml (iterations)" docs/planner.md 'Ipopt needs {} iterations (36 with the' \
   "$(jnum "$R/paper-line.json" iterations)"
 
+# --- README.md: the FE model's checks (tests/test_fe)
+tang=$(awk '/max\|K_fd - K\| \/ max\|K\| = / { sub(/.*max\|K\| = /, ""); v = $1 + 0; if (v > m) m = v } END { print m }' "$R/test_fe.out")
+drift=$(awk '/^energy: E0 = .* ratio / { sub(/.* ratio /, ""); print $1 + 0; exit }' "$R/test_fe.out")
+zeta=$(awk '/mode 1: measured zeta / { sub(/.*measured zeta /, ""); print $1; exit }' "$R/test_fe.out")
+fosc=$(awk '/^zero crossings .* eigen-solver/ { sub(/.*Hz \(/, ""); print $1; exit }' "$R/test_fe.out")
+pub "tests/test_fe (analytic tangent vs central differences, largest)" README.md \
+  '(checked against central differences to {}),' "$(sci %.0e "$tang")"
+pub "tests/test_fe (energy scheme drift / oscillation energy)" README.md 'the discrete gradient; drift {} of the' \
+  "$(sci %.1e "$drift")"
+pub "tests/test_fe (mode 1 release, measured zeta)" README.md '(requested 0.02, measured {}).' "$zeta"
+pub "tests/test_fe (free oscillation vs eigen-solver)" README.md "first frequency ({} %)." "$fosc"
+
 # --- docs/fe.md: the test count and the mesh convergence table
 nfe=$(awk '/^test_fe: [0-9]+ checks, 0 failed/ { print $2 }' "$R/test_fe.out")
 pub "tests/test_fe (checks)" docs/fe.md 'Tests (`build/tests/test_fe`, {} checks pass):' "$nfe"
