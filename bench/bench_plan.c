@@ -8,9 +8,11 @@
  * Refinement against the FE transient (docs/planner.md): each method on the
  * at-rest paper line (payload 0) and the payload-0.5 line to (0.5, -0.2), from
  * a fresh cold plan: evaluations, wall time, FE residual before/after (the
- * loop's FE settings, and an independent transient at dt 0.25 ms).
- * usage: bench_plan [REPEATS] [replan|refine] (default 5; "replan": only the
- * replanning rows; "refine": only the refinement rows) */
+ * loop's FE settings, and an independent transient at dt 0.25 ms); the robust
+ * refinement of the robust paper line (nominal and four corner arms).
+ * usage: bench_plan [REPEATS] [replan|refine|robust] (default 5; "replan": only the
+ * replanning rows; "refine": the refinement rows, robust ones included; "robust":
+ * only the robust refinement rows) */
 #include "bench_util.h"
 #include "ea_planner.h"
 #include "ea_problems.h"
@@ -201,6 +203,85 @@ static void refine_row(const char *name, const ea_task_t *t, ea_task_refine_meth
   free(ri);
 }
 
+/* One robust refinement row: cold robust plan, refinement with method m, then the returned
+ * plan's FE residual at the four corner arms at dt 0.25 ms (the arm's hand mass and EI
+ * changed; 12 elements, undamped, 3 s). */
+static void robust_row(const char *name, const ea_task_t *t, ea_task_refine_method_t m) {
+  ea_planner_t *pl = NULL;
+  ea_error_t e = {0};
+  ea_plan_info_t info;
+  ea_refine_info_t *ri = calloc(1, sizeof *ri);
+  ea_traj_t tr;
+  memset(&tr, 0, sizeof tr);
+  ea_task_refine_t s = t->dynamics.refine;
+  s.method = m;
+  ea_sim_settings_t ss;
+  ea_sim_settings_default(&ss);
+  ss.dt = 2.5e-4;
+  double worst = 0.0;
+  ea_status_t st = ri ? EA_OK : EA_ERR_NOMEM;
+  if (!st) st = ea_planner_alloc(t, &pl, &e);
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+  if (!st) st = ea_plan_refine(pl, &s, &info, ri, &e);
+  if (!st) st = ea_planner_trajectory(pl, &tr, &e);
+  for (int c = 1; c <= 4 && !st; ++c) {
+    ea_arm_t arm = t->arm;
+    arm.m_hand *= 1.0 + ((c - 1) & 1 ? t->dynamics.robust_tip_mass : -t->dynamics.robust_tip_mass);
+    arm.EI *= 1.0 + ((c - 1) & 2 ? t->dynamics.robust_EI : -t->dynamics.robust_EI);
+    ea_sim_info_t si;
+    st = ea_traj_simulate(&arm, &tr, -1.0, &ss, NULL, &si, &e);
+    worst = fmax(worst, si.residual_peak);
+  }
+  if (st) {
+    printf("%-24s %-7s FAILED: %s\n", name, ea_task_refine_method_name(m), e.msg);
+  } else {
+    double c0 = 0.0, c1 = 0.0;
+    for (int j = 1; j < ri->models; ++j) {
+      c0 = fmax(c0, ri->model_residual_peak_before_m[j]);
+      c1 = fmax(c1, ri->model_residual_peak_m[j]);
+    }
+    printf("%-24s %-7s %5d %7.2f %7.2f %7.2f %7.4f %7.4f %8.4f %8.4f %8.4f %8.4f %8.4f %s\n", name,
+           ea_task_refine_method_name(m), ri->n_evals, ri->time_s, ri->time_plan_s, ri->time_fe_s,
+           ri->duration_before_s, ri->duration_s, 1e3 * ri->residual_peak_before_m,
+           1e3 * ri->residual_peak_m, 1e3 * c0, 1e3 * c1, 1e3 * worst, ri->stop_reason);
+  }
+  ea_traj_free(&tr);
+  ea_planner_free(pl);
+  free(ri);
+}
+
+static int robust_rows(const ea_task_t *line) {
+  ea_task_t t[2];
+  const char *nm[2] = {"robust, residual 0.5 mm", "robust, residual 0.4 mm"};
+  ea_error_t e;
+  for (int i = 0; i < 2; ++i) {
+    t[i] = *line;
+    t[i].dynamics.modes = 1;
+    t[i].dynamics.residual_m = 0.0;
+    t[i].dynamics.robust_tip_mass = 0.2;
+    t[i].dynamics.robust_EI = 0.05;
+    t[i].dynamics.robust_residual_m = i ? 4e-4 : 5e-4;
+    if (ea_task_check(&t[i], &e)) {
+      fprintf(stderr, "bench_plan: %s\n", e.msg);
+      return 1;
+    }
+  }
+  printf("\nrobust refinement (paper line, 100 knots, 1 mode, corners tip mass +-20 %%, EI +-5 %%; "
+         "FE at the nominal and the 4 corner arms per evaluation: 12 elements, genalpha, dt 2 "
+         "ms, 3 s; tolerance 0.05 mm, 10 s cap)\nresidual = FE residual peak [mm]: nominal "
+         "before/after (loop), worst corner before/after (loop), worst corner after (independent, "
+         "dt 0.25 ms, hand mass and EI changed)\n");
+  printf("%-24s %-7s %5s %7s %7s %7s %7s %7s %8s %8s %8s %8s %8s %s\n", "case", "method", "evals",
+         "time s", "plan s", "FE s", "t_f0 s", "t_f s", "nom. 0", "nom.", "corn. 0", "corn.",
+         "c dt.25", "stop");
+  const ea_task_refine_method_t ms[3] = {EA_TASK_REFINE_NEWTON, EA_TASK_REFINE_BOBYQA,
+                                         EA_TASK_REFINE_COBYLA};
+  for (int j = 0; j < 3; ++j)
+    robust_row(nm[0], &t[0], ms[j]);
+  robust_row(nm[1], &t[1], EA_TASK_REFINE_NEWTON);
+  return 0;
+}
+
 static int refine_rows(const ea_task_t *line) {
   ea_task_t t[2];
   const char *nm[2] = {"paper line, payload 0", "payload 0.5, (0.5,-0.2)"};
@@ -236,6 +317,7 @@ int main(int argc, char **argv) {
   const int R = argc > 1 ? atoi(argv[1]) : 5;
   const int only_replan = argc > 2 && !strcmp(argv[2], "replan");
   const int only_refine = argc > 2 && !strcmp(argv[2], "refine");
+  const int only_robust = argc > 2 && !strcmp(argv[2], "robust");
   ea_task_t line;
   ea_task_init(&line, NULL);
   line.start = ea_task_point_planar(0.3, -0.2, 0.0); /* eq. 18, beta = 0 */
@@ -253,8 +335,13 @@ int main(int argc, char **argv) {
          "ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
   row_t r;
+  if (only_robust) {
+    const int rc = robust_rows(&line);
+    print_load("after");
+    return rc;
+  }
   if (only_refine) {
-    const int rc = refine_rows(&line);
+    const int rc = refine_rows(&line) || robust_rows(&line);
     print_load("after");
     return rc;
   }
@@ -370,7 +457,7 @@ int main(int argc, char **argv) {
     printf("%-34s %5s %5s %6s %9.2f  (per iteration); t_f / (D/v + v/a) - 1 = %.2e\n", "", "", "",
            "", r.iters > 0 ? 1e3 * r.total / r.iters : 0.0, r.dur / tmin - 1.0);
   }
-  if (refine_rows(&line)) return 1;
+  if (refine_rows(&line) || robust_rows(&line)) return 1;
   print_load("after");
   return 0;
 }

@@ -241,8 +241,8 @@ static int ea__freq_single(const char *cmd, const ea__freq_opts_t *o, const ea_a
                       "set key outside bottom center horizontal\nset grid");
       ea_plot_cmd(
           pl,
-          "set title 'FE static shape and mode shapes (tip amplitude %.0f mm), L_c = %.3f m, "
-          "{/Symbol a} = %.1f deg, T = %.2f N, %s'",
+          "set title \"FE static shape and mode shapes (tip amplitude %.0f mm)\\nL_c = %.3f m, "
+          "{/Symbol a} = %.1f deg, T = %.2f N, %s\"",
           scale * 1e3, o->Lc, o->adeg, pt.fe.tension, pt.modes.stable ? "stable" : "UNSTABLE");
       ea__fe_plot_modes_cmd(pl, nplot, pt.modes.freq_hz);
       fe.status = ea_plot_close(pl, &fe);
@@ -641,7 +641,8 @@ static void ea__sim_help(void) {
          "  -o FILE                   tip history CSV: t_s, tip_x_m, tip_y_m, tip_theta_rad,\n"
          "                            planned_tip_x_m, planned_tip_y_m ('-' = stdout)\n"
          "  --json                    JSON summary on stdout\n"
-         "  --figure OUT              planned vs simulated tip path, tip error vs time\n\n"
+         "  --figure OUT              planned vs simulated tip path, deviation from the planned\n"
+         "                            tip and approach to rest over time\n\n"
          "exit: 0 ok, 1 start outside the workspace / FE not converged,\n"
          "      2 usage or input error (missing or malformed trajectory)\n",
          EA_FE_DEFAULT_ELEMENTS);
@@ -873,33 +874,8 @@ static void ea__sim_text(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
 
 static int ea__sim_figure(const char *cmd, const ea__sim_opts_t *o, const ea_sim_settings_t *s,
                           const ea_sim_info_t *si, const ea_sim_history_t *h) {
-  ea_plot_t *pl;
   ea_error_t fe = {0};
-  if (ea_plot_open(&pl, o->figure, 1300, 600, &fe) == EA_OK) {
-    ea_plot_data_begin(pl, "sim");
-    for (int r = 0; r < h->rows; ++r) {
-      const double *v = h->data + 6 * r;
-      ea_plot_data_row(
-          pl, 6, (double[]){v[0], v[1], v[2], v[4], v[5], 1e3 * hypot(v[1] - v[4], v[2] - v[5])});
-    }
-    ea_plot_data_end(pl);
-    const double t_end_motion = h->rows ? h->data[0] + si->duration : si->duration;
-    ea_plot_cmd(pl, "set multiplot layout 1,2 title 'FE transient (%s cable, dt = %g s)'",
-                s->cable_active ? "active" : "passive", s->dt);
-    ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
-                    "set key top left\nset title 'tip path'");
-    ea_plot_cmd(pl, "plot $sim u 4:5 w l lw 3 lc rgb '#999999' t 'planned (quasi-static)', "
-                    "$sim u 2:3 w l lw 1.5 lc rgb '#1f77b4' t 'FE simulation'");
-    ea_plot_cmd(pl,
-                "set size noratio\nset xlabel 't [s]'\nset ylabel '|tip - planned| [mm]'\n"
-                "set key top right\nset title 'tip error (motion ends at %.3g s)'\n"
-                "set arrow from %.9g, graph 0 to %.9g, graph 1 nohead dt 2 lc rgb 'black'",
-                t_end_motion, t_end_motion, t_end_motion);
-    ea_plot_cmd(pl, "plot $sim u 1:6 w l lw 1.5 lc rgb '#d62728' t 'FE - plan'");
-    ea_plot_cmd(pl, "unset multiplot");
-    fe.status = ea_plot_close(pl, &fe);
-  }
-  if (fe.status) {
+  if (ea_sim_figure(h, si, s, o->figure, &fe)) { /* sim_figure.c */
     fprintf(stderr, "elasticarm %s: figure: %s\n", cmd, fe.msg);
     return EA_EXIT_FAIL;
   }

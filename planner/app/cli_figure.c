@@ -13,7 +13,9 @@ int ea__cli_figure(int argc, char **argv) {
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       printf("usage: elasticarm figure TRAJ.csv -o OUT.(svg|png|pdf) [--arm FILE]\n"
              "Draws a trajectory file (docs/trajectory-format.md): tip path and beam shapes\n"
-             "in the workspace of its load, actuator coordinates, tension and torque, rates.\n"
+             "in the workspace region of its load; cable length, angles, tension, shoulder\n"
+             "torque, cable speed, angular rates and cable acceleration over time, with the\n"
+             "arm file's limits near the data dashed.\n"
              "The arm is --arm, else the file's '# arm_file:' if readable, else the default.\n");
       return EA_EXIT_OK;
     }
@@ -50,7 +52,10 @@ int ea__cli_figure(int argc, char **argv) {
     char title[700];
     snprintf(title, sizeof title, "%s (tip mass %.3g kg)", tr.task[0] ? tr.task : traj,
              load.tip_mass);
-    st = ea_traj_figure(&tr, sh, arm.act.cable_length_min, arm.act.tension_min, title, out, &err);
+    ea_traj_figure_opts_t fo;
+    ea_traj_figure_opts_default(&fo, &arm); /* the arm file's limits */
+    fo.title = title;
+    st = ea_traj_figure(&tr, sh, &fo, out, &err);
     if (st)
       rc = ea__cli_fail(cmd, st, &err);
     else

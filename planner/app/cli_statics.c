@@ -66,17 +66,6 @@ static int ea__make_shooter(const char *cmd, const ea_arm_t *arm, double tip_mas
   return 0;
 }
 
-/* Beam centreline of p into a data block: x y per row, then a blank line. */
-static void ea__plot_beam(ea_plot_t *pl, ea_shooter_t *sh, const double p[EA_NP], int n) {
-  double xs[101], ys[101];
-  if (n > 101) n = 101;
-  if (ea_shoot_shape(sh, p, n, NULL, NULL, NULL, xs, ys) != EA_OK) return;
-  for (int i = 0; i < n; ++i)
-    ea_plot_data_row(pl, 2, (double[]){xs[i], ys[i]});
-  const double nan = NAN;
-  ea_plot_data_row(pl, 1, &nan);
-}
-
 static void ea__json_point(ea_json_t *j, const char *key, const ea_config_point_t *p) {
   ea_json_obj_begin(j, key);
   ea_json_num(j, "cable_length_m", p->cable_length);
@@ -326,7 +315,7 @@ int ea__cli_statics(int argc, char **argv) {
     ea_error_t fe = {0};
     if (ea_plot_open(&pl, c.figure, 700, 650, &fe) == EA_OK) {
       ea_plot_data_begin(pl, "beam");
-      ea__plot_beam(pl, sh, sol.p, 81);
+      ea_plot_beam(pl, sh, sol.p, 81);
       ea_plot_data_end(pl);
       ea_plot_data_begin(pl, "cable");
       ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
@@ -561,61 +550,11 @@ static void ea__ws_text(const ea__ws_run_t *w) {
   }
 }
 
-/* Fig. 3: the outer edges, the inner edge, the cable root and T = 0 shapes. 0 or the
- * exit code. */
+/* Fig. 3 (statics_figure.c). 0 or the exit code. */
 static int ea__ws_figure(const char *cmd, ea__ws_run_t *w) {
-  const int n = w->n;
-  const ea_arm_t *arm = &w->arm;
-  ea_plot_t *pl;
   ea_error_t fe = {0};
-  if (ea_plot_open(&pl, w->c.figure, 800, 650, &fe) == EA_OK) {
-    for (int g = 0; g < w->ng; ++g) {
-      char name[32];
-      snprintf(name, sizeof name, "outer%d", g);
-      ea_plot_data_begin(pl, name);
-      for (int k = 0; k < n; ++k) {
-        const ea_config_point_t *o = w->outer + (size_t)g * n + k;
-        const double row[2] = {o->status ? NAN : o->x, o->y};
-        ea_plot_data_row(pl, 2, row);
-      }
-      ea_plot_data_end(pl);
-    }
-    ea_plot_data_begin(pl, "inner");
-    for (int k = 0; k < n; ++k)
-      ea_plot_data_row(pl, 2,
-                       (double[]){arm->x_c + w->inner * cos(w->alpha[k]),
-                                  arm->y_c + w->inner * sin(w->alpha[k])});
-    ea_plot_data_end(pl);
-    ea_plot_data_begin(pl, "root");
-    ea_plot_data_row(pl, 2, (double[]){arm->x_c, arm->y_c});
-    ea_plot_data_end(pl);
-    ea_plot_data_begin(pl, "beams");
-    ea_load_t load0 = {ea_arm_tip_mass(arm, ea_arm_payload_from_factor(arm, w->gam[0]))};
-    ea_shooter_set_load(w->sh, &load0);
-    for (int k = 0; k<n; k += (n - 1) / 3> 0 ? (n - 1) / 3 : 1) {
-      const ea_config_point_t *o = w->outer + k;
-      if (o->status) continue;
-      ea__plot_beam(pl, w->sh, (double[]){o->alpha, o->tension, o->theta0, o->kappa0}, 61);
-    }
-    ea_plot_data_end(pl);
-    ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
-                    "set title 'Workspace for payload factors {/Symbol g} (Fig. 3)'\n"
-                    "set key outside right");
-    char plot[4096];
-    int used =
-        snprintf(plot, sizeof plot,
-                 "plot $beams w l lc rgb '#bbbbbb' t 'T = 0 shapes ({/Symbol g} = %g)'", w->gam[0]);
-    for (int g = 0; g < w->ng && used < (int)sizeof plot - 100; ++g)
-      used += snprintf(plot + used, sizeof plot - (size_t)used,
-                       ", $outer%d w l lw 2 t 'outer, {/Symbol g} = %g'", g, w->gam[g]);
-    snprintf(plot + used, sizeof plot - (size_t)used,
-             ", $inner w l lw 2 dt 2 lc rgb 'black' t 'inner, L_c = %.3f m', $root w p pt 7 "
-             "ps 1.5 lc rgb '#c0392b' t 'cable root'",
-             w->inner);
-    ea_plot_cmd(pl, "%s", plot);
-    fe.status = ea_plot_close(pl, &fe);
-  }
-  if (fe.status) {
+  if (ea_workspace_figure(&w->arm, w->sh, w->gam, w->ng, w->outer, w->n, w->inner, !w->no_limits,
+                          w->c.figure, &fe)) {
     fprintf(stderr, "elasticarm %s: figure: %s\n", cmd, fe.msg);
     return EA_EXIT_FAIL;
   }
@@ -770,31 +709,9 @@ int ea__cli_torque_map(int argc, char **argv) {
     ea_json_end(&j);
   }
   if (c.figure && !rc) {
-    ea_plot_t *pl;
     ea_error_t fe = {0};
-    if (ea_plot_open(&pl, c.figure, 850, 650, &fe) == EA_OK) {
-      {
-        ea_plot_cmd(pl, "$map << EOD");
-        for (int i = 0; i < nA; ++i) {
-          for (int jx = 0; jx < nL; ++jx) {
-            const ea_config_point_t *p = &cells[(size_t)i * nL + jx];
-            if (p->status == EA_OK)
-              ea_plot_cmd(pl, "%.9g %.9g %.9g", Ls[jx], As[i] / EA__DEG, p->shoulder_torque);
-            else
-              ea_plot_cmd(pl, "%.9g %.9g NaN", Ls[jx], As[i] / EA__DEG);
-          }
-          ea_plot_cmd(pl, "%s", "");
-        }
-        ea_plot_cmd(pl, "EOD");
-        ea_plot_cmd(pl, "set view map\nset xlabel 'cable length L_c [m]'\nset ylabel 'cable "
-                        "angle {/Symbol a} [deg]'\nset cblabel 'shoulder torque EI {/Symbol "
-                        "k}_0 [N m]'\nset title 'Shoulder torque map (blank: outside the "
-                        "workspace)'\nset palette rgb 33,13,10\nunset key");
-        ea_plot_cmd(pl, "plot $map u 1:2:3 w image");
-        fe.status = ea_plot_close(pl, &fe);
-      }
-    }
-    if (fe.status) {
+    if (ea_torque_map_figure(Ls, nL, As, nA, cells, &arm.act, ea_shooter_load(sh)->tip_mass,
+                             c.figure, &fe)) {
       fprintf(stderr, "elasticarm torque-map: figure: %s\n", fe.msg);
       rc = EA_EXIT_FAIL;
     }
@@ -942,8 +859,8 @@ int ea__cli_path(int argc, char **argv) {
       ea_plot_data_begin(pl, "beams");
       for (int k = 0; k < n; ++k)
         if (pts[k].status == EA_OK || pts[k].status == EA_ERR_INADMISSIBLE)
-          ea__plot_beam(pl, sh,
-                        (double[]){pts[k].alpha, pts[k].tension, pts[k].theta0, pts[k].kappa0}, 61);
+          ea_plot_beam(pl, sh,
+                       (double[]){pts[k].alpha, pts[k].tension, pts[k].theta0, pts[k].kappa0}, 61);
       ea_plot_data_end(pl);
       ea_plot_data_begin(pl, "cables");
       for (int k = 0; k < n; ++k) {

@@ -10,6 +10,7 @@
 #include "figure_impl.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <spawn.h>
 #include <stdarg.h>
@@ -213,4 +214,82 @@ ea_status_t ea_plot_close(ea_plot_t *p, ea_error_t *err) {
   free(p->buf);
   free(p);
   return st;
+}
+
+const char *ea_plot_enh(const char *text, char *buf, size_t len) {
+  size_t o = 0;
+  if (!len) return buf;
+  for (const char *c = text ? text : ""; *c && o + 3 < len; ++c) {
+    if (*c == '\n' || *c == '\r') {
+      buf[o++] = ' ';
+      continue;
+    }
+    if (strchr("_^{}@&~", *c)) buf[o++] = '\\'; /* a literal in enhanced text */
+    if (*c == '\'') buf[o++] = '\'';            /* '' inside a single-quoted string */
+    buf[o++] = *c;
+  }
+  buf[o] = '\0';
+  return buf;
+}
+
+void ea_plot_palette_viridis(ea_plot_t *p) {
+  /* matplotlib's viridis at 0, 1/8, ..., 1 */
+  ea_plot_cmd(p, "set palette defined (0 '#440154', 1 '#472c7a', 2 '#3b518b', 3 '#2c718e', "
+                 "4 '#21908d', 5 '#27ad81', 6 '#5cc863', 7 '#aadc32', 8 '#fde725')  # viridis");
+}
+
+const char *ea_plot_colour(int i) {
+  static const char *const c[EA_PLOT_NCOLOURS] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7",
+                                                  "#e69f00", "#56b4e9", "#000000", "#882255"};
+  return c[((i % EA_PLOT_NCOLOURS) + EA_PLOT_NCOLOURS) % EA_PLOT_NCOLOURS];
+}
+
+const char *ea_plot_style(int i, int points, char *buf, size_t len) {
+  static const int pt[] = {7, 5, 9, 11, 13}; /* filled circle, square, triangles, diamond */
+  const int k = i / EA_PLOT_NCOLOURS;
+  if (points)
+    snprintf(buf, len, "lc rgb '%s' dt %d pt %d", ea_plot_colour(i), 1 + k % 5, pt[k % 5]);
+  else
+    snprintf(buf, len, "lc rgb '%s' dt %d", ea_plot_colour(i), 1 + k % 5);
+  return buf;
+}
+
+void ea_plot_beam(ea_plot_t *p, ea_shooter_t *sh, const double params[EA_NP], int n) {
+  double xs[101], ys[101];
+  if (n > 101) n = 101;
+  if (ea_shoot_shape(sh, params, n, NULL, NULL, NULL, xs, ys) != EA_OK) return;
+  for (int i = 0; i < n; ++i)
+    ea_plot_data_row(p, 2, (double[]){xs[i], ys[i]});
+  const double nan = NAN;
+  ea_plot_data_row(p, 1, &nan);
+}
+
+int ea_plot_region(ea_plot_t *p, const char *name, const ea_arm_t *arm,
+                   const ea_config_point_t *outer, int n, double inner_length) {
+  int first = -1, last = -1;
+  for (int k = 0; k < n; ++k)
+    if (outer[k].status == EA_OK) {
+      if (first < 0) first = k;
+      last = k;
+    }
+  if (first < 0) return 0;
+  int rows = 0;
+  ea_plot_data_begin(p, name);
+  for (int k = first; k <= last; ++k)
+    if (outer[k].status == EA_OK) {
+      ea_plot_data_row(p, 2, (double[]){outer[k].x, outer[k].y});
+      ++rows;
+    }
+  /* the inner edge from the last solved angle back to the first: the cable at
+   * inner_length, a straight line from the root (the sides lie along it) */
+  for (int k = last; k >= first; --k) {
+    if (outer[k].status != EA_OK) continue;
+    const double a = outer[k].alpha;
+    ea_plot_data_row(
+        p, 2, (double[]){arm->x_c + inner_length * cos(a), arm->y_c + inner_length * sin(a)});
+    ++rows;
+  }
+  ea_plot_data_row(p, 2, (double[]){outer[first].x, outer[first].y});
+  ea_plot_data_end(p);
+  return rows + 1;
 }

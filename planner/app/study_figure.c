@@ -221,118 +221,216 @@ ea_status_t ea__study_summary_write(const ea__study_table_t *t, const ea__study_
 
 /* ---- figures -------------------------------------------------------------------- */
 
+/* How a parameter is read in a figure: a symbol for the keys ("EI"), a description
+ * for an axis ("flexural rigidity EI") and its unit ("" for none), by its CSV column
+ * name (ea_study_param_name). An unknown column: its name (escaped), no unit. */
+typedef struct {
+  const char *symbol, *what, *unit;
+} ea__param_label_t;
+
+static ea__param_label_t ea__param_label(const char *column) {
+  static const ea__param_label_t known[EA_STUDY_NPARAM] = {
+      [EA_STUDY_PAYLOAD_FACTOR] = {"{/Symbol g}", "payload factor {/Symbol g}", ""},
+      [EA_STUDY_PAYLOAD_KG] = {"m_p", "payload m_p", "kg"},
+      [EA_STUDY_EI] = {"EI", "flexural rigidity EI", "N m^2"},
+      [EA_STUDY_RHO] = {"{/Symbol r}", "beam mass per length {/Symbol r}", "kg/m"},
+      [EA_STUDY_LENGTH] = {"L", "beam length L", "m"},
+      [EA_STUDY_HAND_MASS] = {"m_h", "hand mass m_h", "kg"},
+      [EA_STUDY_CABLE_ROOT_X] = {"x_c", "cable root x_c", "m"},
+      [EA_STUDY_CABLE_ROOT_Y] = {"y_c", "cable root y_c", "m"},
+  };
+  for (int p = 0; p < EA_STUDY_NPARAM; ++p)
+    if (!strcmp(column, ea_study_param_name((ea_study_param_t)p)) && known[p].symbol)
+      return known[p];
+  return (ea__param_label_t){NULL, NULL, ""};
+}
+
+/* "symbol = value unit" of a parameter (by its column name) into buf at *used. */
+static void ea__param_text(const char *column, double v, char *buf, size_t len, size_t *used) {
+  const ea__param_label_t l = ea__param_label(column);
+  char esc[96];
+  if (*used >= len) return;
+  const int w = snprintf(buf + *used, len - *used, "%s%s = %g%s%s", *used ? ", " : "",
+                         l.symbol ? l.symbol : ea_plot_enh(column, esc, sizeof esc), v,
+                         l.unit[0] ? " " : "", l.unit);
+  if (w > 0) *used += (size_t)w;
+}
+
+/* An axis label "what [unit]" of a parameter column ([-] for a pure number). */
+static void ea__param_axis(const char *column, char *buf, size_t len) {
+  const ea__param_label_t l = ea__param_label(column);
+  char esc[96];
+  snprintf(buf, len, "%s [%s]", l.what ? l.what : ea_plot_enh(column, esc, sizeof esc),
+           l.unit[0] ? l.unit : "-");
+}
+
+/* A metric's description for an axis and a title (without the unit): the known
+ * metrics of ea_study_run by name, a natural frequency with its configuration (from
+ * the study, when there is one), else the name with spaces for underscores. */
+static void ea__metric_text(const ea_study_t *s, const char *metric, char *buf, size_t len) {
+  static const char *const known[][2] = {
+      {"area", "workspace area"},
+      {"max_reach", "farthest reach from the shoulder"},
+      {"x_max", "largest tip x in the workspace"},
+      {"y_min", "lowest tip y in the workspace"},
+      {"torque_min", "lowest shoulder torque over the map"},
+      {"torque_max", "highest shoulder torque over the map"},
+      {"tension_min", "lowest cable tension over the map"},
+      {"tension_max", "highest cable tension over the map"},
+      {"path_admissible", "straight path admissible (1 yes, 0 no)"},
+      {"path_tension_min", "lowest cable tension along the path"},
+      {"path_torque_max_abs", "largest |shoulder torque| along the path"},
+      {"min_time_duration", "minimum-time duration"},
+  };
+  for (size_t i = 0; i < sizeof known / sizeof known[0]; ++i)
+    if (!strcmp(metric, known[i][0])) {
+      snprintf(buf, len, "%s", known[i][1]);
+      return;
+    }
+  int c, m;
+  char tail;
+  if (sscanf(metric, "frequency_c%d_mode%d%c", &c, &m, &tail) == 2) {
+    if (s && c >= 1 && c <= s->freq.n_config)
+      snprintf(buf, len, "frequency of mode %d at L_c = %g m, {/Symbol a} = %g deg", m,
+               s->freq.cable_length[c - 1], s->freq.alpha[c - 1] / EA__DEG);
+    else
+      snprintf(buf, len, "frequency of mode %d at configuration %d", m, c);
+    return;
+  }
+  char esc[160];
+  ea_plot_enh(metric, esc, sizeof esc);
+  size_t o = 0;
+  for (size_t i = 0; esc[i] && o + 1 < len; ++i) {
+    if (esc[i] == '\\' && esc[i + 1] == '_') continue; /* "\_" -> " " */
+    buf[o++] = esc[i] == '_' ? ' ' : esc[i];
+  }
+  buf[o] = '\0';
+}
+
+/* Key text of a case: every swept parameter with its unit ("{/Symbol g} = 0.25, EI =
+ * 0.705 N m^2"); an axis with one value only when it is the only axis. */
 static void ea__case_label(const ea_study_t *s, long c, char *buf, size_t len) {
   double v[EA_STUDY_NPARAM];
   ea_study_case_values(s, c, v);
   size_t used = 0;
   buf[0] = '\0';
-  for (int i = 0; i < s->n_axes && used < len; ++i) {
+  for (int i = 0; i < s->n_axes; ++i) {
     if (s->axis[i].n < 2 && s->n_axes > 1) continue;
-    int w = snprintf(buf + used, len - used, "%s%s = %g", used ? ", " : "",
-                     s->axis[i].param == EA_STUDY_PAYLOAD_FACTOR
-                         ? "{/Symbol g}"
-                         : ea_study_param_name(s->axis[i].param),
-                     v[i]);
-    if (w < 0) break;
-    used += (size_t)w;
+    ea__param_text(ea_study_param_name(s->axis[i].param), v[i], buf, len, &used);
   }
-  /* gnuplot enhanced text: escape underscores */
-  char tmp[256];
-  size_t o = 0;
-  for (size_t i = 0; buf[i] && o + 3 < sizeof tmp; ++i) {
-    if (buf[i] == '_') tmp[o++] = '\\';
-    tmp[o++] = buf[i];
-  }
-  tmp[o] = '\0';
-  if (snprintf(buf, len, "%s", tmp) < 0) buf[0] = '\0';
 }
 
+/* The workspace region of every case, closed (outer edge, the sides along the cable,
+ * inner edge), each in its own style; with the arm's limits, the outer-edge points
+ * past one marked. */
 static ea_status_t ea__fig_workspace(const ea_study_t *s, const char *path, ea_error_t *err) {
   const int n = s->workspace.points;
-  long pick[8];
-  int np = 0;
-  if (s->n_cases <= 8)
-    for (long c = 0; c < s->n_cases; ++c)
-      pick[np++] = c;
-  else
-    for (int k = 0; k < 8; ++k)
-      pick[np++] = (long)((double)k * (s->n_cases - 1) / 7.0 + 0.5);
   double *alpha = malloc((size_t)n * sizeof *alpha);
   ea_config_point_t *outer = calloc((size_t)n, sizeof *outer);
-  ea_config_point_t *inner = calloc((size_t)n, sizeof *inner);
+  const size_t cap = 2048 + (size_t)s->n_cases * 400;
+  char *plot = malloc(cap);
   ea_plot_t *pl = NULL;
   ea_status_t st = EA_OK;
-  if (!alpha || !outer || !inner) {
+  if (!alpha || !outer || !plot) {
     st = ea_error_set(err, EA_ERR_NOMEM, "figure: out of memory");
     goto out;
   }
   for (int k = 0; k < n; ++k)
     alpha[k] =
         s->workspace.alpha_min + (s->workspace.alpha_max - s->workspace.alpha_min) * k / (n - 1);
-  if ((st = ea_plot_open(&pl, path, 850, 650, err))) goto out;
-  char plot[8192];
-  int used = snprintf(plot, sizeof plot, "plot ");
-  for (int q = 0; q < np; ++q) {
+  if ((st = ea_plot_open(&pl, path, 1000, 700, err))) goto out;
+  size_t used = (size_t)snprintf(plot, cap, "plot ");
+  int drawn = 0, marked = 0, roots = 0;
+  double root0[2] = {s->arm.x_c, s->arm.y_c};
+  for (long c = 0; c < s->n_cases; ++c) {
     ea_arm_t arm;
     double kg, g;
     ea_shooter_t *sh = NULL;
-    if (ea_study_case_arm(s, pick[q], &arm, &kg, &g, NULL) ||
-        ea_shooter_alloc(&arm, NULL, &sh, NULL))
+    if (ea_study_case_arm(s, c, &arm, &kg, &g, NULL) || ea_shooter_alloc(&arm, NULL, &sh, NULL))
       continue;
     ea_load_t load = {ea_arm_tip_mass(&arm, kg)};
     ea_shooter_set_load(sh, &load);
     ea_workspace_outer(sh, alpha, n, outer);
-    ea_workspace_inner(sh, s->workspace.inner_cable_length, alpha, n, inner);
     ea_shooter_free(sh);
-    char name[32], label[200];
-    snprintf(name, sizeof name, "ws%d", q);
-    ea_plot_data_begin(pl, name);
-    for (int k = 0; k < n; ++k)
-      ea_plot_data_row(pl, 2, (double[]){outer[k].status ? NAN : outer[k].x, outer[k].y});
-    ea_plot_data_row(pl, 1, (double[]){NAN});
-    for (int k = n - 1; k >= 0; --k)
-      ea_plot_data_row(pl, 2, (double[]){inner[k].status ? NAN : inner[k].x, inner[k].y});
-    ea_plot_data_end(pl);
-    ea__case_label(s, pick[q], label, sizeof label);
-    if (used < (int)sizeof plot - 300)
-      used += snprintf(plot + used, sizeof plot - (size_t)used, "%s$ws%d w l lw 2 lc %d t '%s'",
-                       q ? ", " : "", q, q + 1, label);
+    const double inner = s->workspace.inner_cable_length > 0 ? s->workspace.inner_cable_length
+                                                             : arm.act.cable_length_min;
+    char name[32], label[300], style[96];
+    snprintf(name, sizeof name, "ws%ld", c);
+    if (!ea_plot_region(pl, name, &arm, outer, n, inner)) continue;
+    ea__case_label(s, c, label, sizeof label);
+    used += (size_t)snprintf(plot + used, cap - used, "%s$%s w l lw 2 %s t '%s'", drawn ? ", " : "",
+                             name, ea_plot_style(drawn, 0, style, sizeof style), label);
+    if (s->workspace.limits) {
+      int past = 0;
+      for (int k = 0; k < n; ++k)
+        past += outer[k].status == EA_OK && !outer[k].admissible;
+      if (past) {
+        snprintf(name, sizeof name, "past%ld", c);
+        ea_plot_data_begin(pl, name);
+        for (int k = 0; k < n; ++k)
+          if (outer[k].status == EA_OK && !outer[k].admissible)
+            ea_plot_data_row(pl, 2, (double[]){outer[k].x, outer[k].y});
+        ea_plot_data_end(pl);
+        used += (size_t)snprintf(plot + used, cap - used, ", $%s w p pt 2 ps 0.6 lc rgb '%s' %s",
+                                 name, ea_plot_colour(drawn), "notitle");
+        ++marked;
+      }
+    }
+    if (arm.x_c != root0[0] || arm.y_c != root0[1]) roots = 1;
+    ++drawn;
+  }
+  if (!drawn) {
+    ea_plot_discard(pl);
+    pl = NULL;
+    st = ea_error_set(err, EA_ERR_NOCONV, "%s: no case has a workspace edge to draw", path);
+    goto out;
   }
   ea_plot_data_begin(pl, "root");
-  ea_plot_data_row(pl, 2, (double[]){s->arm.x_c, s->arm.y_c});
+  for (long c = 0; c < s->n_cases; ++c) {
+    ea_arm_t arm;
+    double kg, g;
+    if (!ea_study_case_arm(s, c, &arm, &kg, &g, NULL))
+      ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
+  }
   ea_plot_data_end(pl);
   ea_plot_cmd(pl,
               "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
-              "set key outside right\n"
-              "set title 'Workspace: outer edge (T = 0) and inner edge, %.0f to %.0f deg'",
-              s->workspace.alpha_min / EA__DEG, s->workspace.alpha_max / EA__DEG);
-  ea_plot_cmd(pl, "%s, $root w p pt 7 ps 1.5 lc rgb '#c0392b' t 'cable root'", plot);
+              "set key outside right top\n"
+              "set title \"Workspace regions of %ld case%s%s\\nouter edge (T = 0), inner edge, "
+              "sides at {/Symbol a} = %.0f and %.0f deg\\n%s\"",
+              s->n_cases, s->n_cases == 1 ? "" : "s",
+              drawn > EA_PLOT_NSTYLES ? " (styles repeat after 40)" : "",
+              s->workspace.alpha_min / EA__DEG, s->workspace.alpha_max / EA__DEG,
+              s->workspace.limits ? (marked ? "the arm's limits cut a region where its outer edge "
+                                              "is marked x"
+                                            : "the arm's limits hold on every outer edge")
+                                  : "without the arm's actuator limits");
+  ea_plot_cmd(pl, "%s, $root w p pt 7 ps 1.5 lc rgb '#c0392b' t 'cable root%s'%s", plot,
+              roots ? "s" : "",
+              marked ? ", NaN w p pt 2 lc rgb 'black' t 'outer edge past an arm limit (x)'" : "");
   st = ea_plot_close(pl, err);
+  pl = NULL;
 out:
+  ea_plot_discard(pl);
   free(alpha);
   free(outer);
-  free(inner);
+  free(plot);
   return st;
 }
 
-static void ea__escape(const char *in, char *out, size_t len) {
-  size_t o = 0;
-  for (size_t i = 0; in[i] && o + 3 < len; ++i) {
-    if (in[i] == '\n' || in[i] == '\r') {
-      out[o++] = ' ';
-      continue;
-    }
-    if (in[i] == '_') out[o++] = '\\';  /* '\_': a literal _ in enhanced text */
-    if (in[i] == '\'') out[o++] = '\''; /* '': a quote inside a single-quoted string */
-    out[o++] = in[i];
-  }
-  out[o] = '\0';
+/* Is row r in group key (every parameter but xp equal)? */
+static int ea__in_group(const ea__study_table_t *t, const ea__study_row_t *r, const double *key,
+                        int xp) {
+  for (int p = 0; p < t->n_params; ++p)
+    if (p != xp && key[p] != r->param[p]) return 0;
+  return 1;
 }
 
-/* One figure per metric: x = the first parameter with more than one value,
- * one curve per combination of the other parameters (at most 12). */
-static ea_status_t ea__fig_metric(const ea__study_table_t *t, const char *metric, const char *path,
-                                  ea_error_t *err) {
+/* One figure per metric: x = the first parameter with more than one value, one
+ * curve per combination of the other parameters (every one, each in its own style;
+ * the key says which values, with units). */
+static ea_status_t ea__fig_metric(const ea_study_t *s, const ea__study_table_t *t,
+                                  const char *metric, const char *path, ea_error_t *err) {
   int xp = -1;
   for (int p = 0; p < t->n_params && xp < 0; ++p)
     for (long i = 1; i < t->n_rows; ++i)
@@ -341,8 +439,9 @@ static ea_status_t ea__fig_metric(const ea__study_table_t *t, const char *metric
         break;
       }
   if (xp < 0) return EA_OK; /* one case: nothing to plot against */
-  /* groups: distinct values of the other parameters */
-  double key[12][EA_STUDY_NPARAM];
+  /* groups: distinct values of the other parameters, in order of appearance */
+  double(*key)[EA_STUDY_NPARAM] = malloc((size_t)(t->n_rows + 1) * sizeof *key);
+  if (!key) return ea_error_set(err, EA_ERR_NOMEM, "figure: out of memory");
   int ng = 0;
   const char *unit = "";
   for (long i = 0; i < t->n_rows; ++i) {
@@ -350,57 +449,58 @@ static ea_status_t ea__fig_metric(const ea__study_table_t *t, const char *metric
     if (strcmp(r->metric, metric)) continue;
     unit = r->unit;
     int g = 0;
-    for (; g < ng; ++g) {
-      int same = 1;
-      for (int p = 0; p < t->n_params; ++p)
-        if (p != xp && key[g][p] != r->param[p]) same = 0;
-      if (same) break;
-    }
-    if (g == ng && ng < 12) {
-      memcpy(key[ng], r->param, sizeof key[ng]);
-      ++ng;
-    }
+    while (g < ng && !ea__in_group(t, r, key[g], xp))
+      ++g;
+    if (g == ng) memcpy(key[ng++], r->param, sizeof key[0]);
   }
-  ea_plot_t *pl;
-  ea_status_t st = ea_plot_open(&pl, path, 800, 550, err);
-  if (st) return st;
-  char plot[6000];
-  int used = snprintf(plot, sizeof plot, "plot ");
+  /* which other parameters vary (those name a curve) */
+  int varies[EA_STUDY_NPARAM] = {0};
+  for (int g = 1; g < ng; ++g)
+    for (int p = 0; p < t->n_params; ++p)
+      varies[p] |= p != xp && key[g][p] != key[0][p];
+  const size_t cap = 1024 + (size_t)ng * 400;
+  char *plot = malloc(cap);
+  ea_plot_t *pl = NULL;
+  ea_status_t st = plot ? ea_plot_open(&pl, path, 950, 600, err)
+                        : ea_error_set(err, EA_ERR_NOMEM, "figure: out of memory");
+  if (st) {
+    free(plot);
+    free(key);
+    return st;
+  }
+  size_t used = (size_t)snprintf(plot, cap, "plot ");
   for (int g = 0; g < ng; ++g) {
-    char name[16];
+    char name[24];
     snprintf(name, sizeof name, "m%d", g);
     ea_plot_data_begin(pl, name);
     for (long i = 0; i < t->n_rows; ++i) {
       const ea__study_row_t *r = &t->rows[i];
-      if (strcmp(r->metric, metric)) continue;
-      int same = 1;
-      for (int p = 0; p < t->n_params; ++p)
-        if (p != xp && key[g][p] != r->param[p]) same = 0;
-      if (!same) continue;
-      ea_plot_data_row(pl, 2, (double[]){r->param[xp], r->ok ? r->value : NAN});
+      if (!strcmp(r->metric, metric) && ea__in_group(t, r, key[g], xp))
+        ea_plot_data_row(pl, 2, (double[]){r->param[xp], r->ok ? r->value : NAN});
     }
     ea_plot_data_end(pl);
-    char label[300] = "", esc[300];
+    char label[400] = "", style[96];
     size_t lu = 0;
     for (int p = 0; p < t->n_params; ++p)
-      if (p != xp && lu < sizeof label) {
-        int w = snprintf(label + lu, sizeof label - lu, "%s%s = %g", lu ? ", " : "", t->params[p],
-                         key[g][p]);
-        if (w > 0) lu += (size_t)w;
-      }
-    ea__escape(label[0] ? label : metric, esc, sizeof esc);
-    if (used < (int)sizeof plot - 400)
-      used += snprintf(plot + used, sizeof plot - (size_t)used, "%s$m%d w lp lw 2 pt 7 t '%s'",
-                       g ? ", " : "", g, esc);
+      if (varies[p]) ea__param_text(t->params[p], key[g][p], label, sizeof label, &lu);
+    if (!label[0]) ea__metric_text(s, metric, label, sizeof label);
+    used += (size_t)snprintf(plot + used, cap - used, "%s$%s w lp lw 2 %s t '%s'", g ? ", " : "",
+                             name, ea_plot_style(g, 1, style, sizeof style), label);
   }
-  char xl[80], ml[160];
-  ea__escape(t->params[xp], xl, sizeof xl);
-  ea__escape(metric, ml, sizeof ml);
+  char xl[160], ml[200], uq[40];
+  ea__param_axis(t->params[xp], xl, sizeof xl);
+  ea__metric_text(s, metric, ml, sizeof ml);
+  ea_plot_enh(strcmp(unit, "-") ? unit : "", uq, sizeof uq);
+  for (char *c = strstr(uq, "\\^"); c; c = strstr(c, "\\^")) /* m^2: a superscript */
+    memmove(c, c + 1, strlen(c));
   ea_plot_cmd(pl,
-              "set grid\nset xlabel '%s'\nset ylabel '%s [%s]'\nset title '%s against %s'\n"
-              "set key outside right",
-              xl, ml, unit, ml, xl);
+              "set grid\nset xlabel '%s'\nset ylabel '%s [%s]'\nset title '%s%s'\n"
+              "set key outside right top",
+              xl, ml, uq[0] ? uq : "-", ml,
+              ng > EA_PLOT_NSTYLES ? " (styles repeat after 40 curves)" : "");
   ea_plot_cmd(pl, "%s", plot);
+  free(plot);
+  free(key);
   return ea_plot_close(pl, err);
 }
 
@@ -421,7 +521,7 @@ ea_status_t ea__study_figures(const ea_study_t *s, const ea__study_table_t *t, c
     if (!strncmp(names[m], "torque_map_cells", 16) || !strcmp(names[m], "case")) continue;
     if (snprintf(path, sizeof path, "%s-%s.%s", prefix, names[m], ext) >= (int)sizeof path)
       return ea_error_set(err, EA_ERR_ARG, "figure prefix too long");
-    if ((st = ea__fig_metric(t, names[m], path, err))) return st;
+    if ((st = ea__fig_metric(s, t, names[m], path, err))) return st;
     ++*n_written;
   }
   return EA_OK;

@@ -46,11 +46,11 @@ typedef struct ea__study_run_facts {
 ea_status_t ea__study_summary_write(const ea__study_table_t *t, const ea__study_run_facts_t *f,
                                     const char *path, ea_error_t *err);
 
-/** Figures: PREFIX-workspace.EXT (Fig. 3 overlay of outer and inner edges
- *  for up to 8 cases spread over the grid; needs the study) and
- *  PREFIX-METRIC.EXT for every scalar metric against the swept parameter
- *  (one curve per combination of the other parameters). *n_written counts
- *  the figures. */
+/** Figures: PREFIX-workspace.EXT (Fig. 3: the closed workspace region of
+ *  every case; needs the study) and PREFIX-METRIC.EXT for every scalar metric
+ *  against the swept parameter (one curve per combination of the other
+ *  parameters, every one drawn, labelled with units). *n_written counts the
+ *  figures. */
 ea_status_t ea__study_figures(const ea_study_t *s, const ea__study_table_t *t, const char *prefix,
                               const char *ext, int *n_written, ea_error_t *err);
 

@@ -185,6 +185,13 @@ const ea_rom_table_t *ea_planner_rom_table(const ea_planner_t *pl);
  *  ea_planner_solve (EA_PLAN_WARM from the last plan) plans for the new target. */
 ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
                                           const double *eta_rate, ea_error_t *err);
+/** The same for model `model` of a robust plan (dynamics.robust; 0 = the nominal, as
+ *  ea_planner_set_terminal_modes; 1..4 = the corners in ea_plan_dyn_info_t's order): a
+ *  corner's terminal row becomes "modal state within robust residual_m of (eta, eta_rate)"
+ *  (K values each; NULL = zeros, the default). EA_ERR_ARG for a model the planner does not
+ *  have or a target that is not finite. */
+ea_status_t ea_planner_set_terminal_modes_model(ea_planner_t *pl, int model, const double *eta,
+                                                const double *eta_rate, ea_error_t *err);
 
 #ifdef __cplusplus
 }

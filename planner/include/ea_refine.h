@@ -8,7 +8,9 @@
  * residual with ea_traj_simulate(), fits the free vibration of the model's modes to the FE
  * tip history, and moves the goal's modal targets (ea_planner_set_terminal_modes) to cancel
  * it; every candidate is re-planned warm by the planner, so every limit of the task still
- * holds on it. Never prints.
+ * holds on it. With dynamics.robust the same for each robust corner (docs/planner.md, "Robust
+ * rest"): its FE arm's residual, its centre (ea_planner_set_terminal_modes_model). Never
+ * prints.
  */
 #ifndef EA_REFINE_H
 #define EA_REFINE_H
@@ -20,68 +22,98 @@
 extern "C" {
 #endif
 
-/** One evaluation of a refinement: a candidate re-planned and its FE transient. */
+/** Most models a refinement adjusts: the nominal and, with dynamics.robust, the four corners. */
+#define EA_REFINE_MAX_MODELS 5
+/** Most parameters: 2 per adjusted mode and model. */
+#define EA_REFINE_MAX_PARAMS (2 * EA_REFINE_MAX_MODELS * EA_ROM_MAX_MODES)
+
+/** One evaluation of a refinement: a candidate re-planned and its FE transients. Per-model
+ *  arrays are model-major: model j (0 the nominal, 1..4 the robust corners in the order of
+ *  ea_plan_dyn_info_t) at j x (values per model). */
 typedef struct ea_refine_eval {
-  double params_m[2 * EA_ROM_MAX_MODES]; /**< [m] the parameters: per adjusted mode i the tip
-                                              amplitudes (a_i, b_i) of the free vibration
-                                              a_i cos + b_i sin the model predicts after the
-                                              motion from the targets below */
-  double eta[EA_ROM_MAX_MODES];          /**< [sqrt(kg) m] terminal modal targets */
-  double eta_rate[EA_ROM_MAX_MODES];     /**< [sqrt(kg) m / s] */
-  ea_status_t plan_status;               /**< the warm re-plan (EA_OK: every limit holds) */
-  int plan_iterations;                   /**< Ipopt iterations of the re-plan */
-  double plan_time_s;                    /**< [s] wall time of the re-plan */
-  double duration_s;                     /**< [s] the candidate's duration (NAN: no plan) */
-  ea_status_t fe_status;                 /**< the FE transient (EA_ERR_ARG: not run) */
-  double residual_peak_m;                /**< [m] FE: peak |tip - final equilibrium| after the
-                                              motion (NAN: not measured) */
-  double residual_rms_m;                 /**< [m] FE: its RMS */
-  double fitted_m[2 * EA_ROM_MAX_MODES]; /**< [m] (a_i, b_i) of every model mode fitted to the
-                                              FE residual (cos, sin about the end of the
-                                              motion, along the mode's tip direction) */
-  double fe_time_s;                      /**< [s] wall time of the FE transient */
-  double elapsed_s;                      /**< [s] since the refinement started, at the end */
-  int accepted;                          /**< 1: planned, duration within bounds, FE measured */
-  int final_resolve;                     /**< 1: the re-plan of the best candidate at the end */
+  double params_m[EA_REFINE_MAX_PARAMS]; /**< [m] the parameters, 2 x settings.modes per model:
+                                              per adjusted mode i the tip amplitudes (a_i, b_i)
+                                              of the free vibration a_i cos + b_i sin the model
+                                              predicts after the motion from its target (the
+                                              nominal's terminal state, a corner's centre) */
+  double eta[EA_REFINE_MAX_MODELS * EA_ROM_MAX_MODES];      /**< [sqrt(kg) m] the targets, K per
+                                                                 model */
+  double eta_rate[EA_REFINE_MAX_MODELS * EA_ROM_MAX_MODES]; /**< [sqrt(kg) m / s] */
+  ea_status_t plan_status; /**< the warm re-plan (EA_OK: every limit holds) */
+  int plan_iterations;     /**< Ipopt iterations of the re-plan */
+  double plan_time_s;      /**< [s] wall time of the re-plan */
+  double duration_s;       /**< [s] the candidate's duration (NAN: no plan) */
+  ea_status_t fe_status;   /**< the FE transients (EA_ERR_ARG: not run; else the first failure) */
+  double residual_peak_m;  /**< [m] FE at the nominal arm: peak |tip - final equilibrium| after
+                                the motion (NAN: not measured) */
+  double residual_rms_m;   /**< [m] FE at the nominal arm: its RMS */
+  double model_residual_peak_m[EA_REFINE_MAX_MODELS]; /**< [m] the same at each model's arm
+                                                           (0: the nominal arm) */
+  double model_residual_rms_m[EA_REFINE_MAX_MODELS];  /**< [m] */
+  double fitted_m[EA_REFINE_MAX_PARAMS];    /**< [m] (a_i, b_i) of every mode of model j fitted to
+                                                 the FE residual of model j's arm (cos, sin about
+                                                 the end of the motion, along the mode's tip
+                                                 direction), 2 K per model */
+  double predicted_m[EA_REFINE_MAX_PARAMS]; /**< [m] (a_i, b_i) of model j's own modal state at
+                                                 the goal in the plan, 2 K per model */
+  double score;     /**< max over the models of model_residual_peak_m / allowed_m (ea_refine_info_t;
+                         <= 1: every model within its bound) */
+  double fe_time_s; /**< [s] wall time of the FE transients */
+  double elapsed_s; /**< [s] since the refinement started, at the end */
+  int accepted;     /**< 1: planned, duration within bounds, FE measured at every model's arm */
+  int final_resolve; /**< 1: the re-plan of the best candidate at the end */
 } ea_refine_eval_t;
 
 /** What a refinement did. */
 typedef struct ea_refine_info {
   ea_status_t status;        /**< EA_OK: the planner holds the returned plan */
-  int converged;             /**< 1: its FE residual peak is within the tolerance */
+  int converged;             /**< 1: every model's FE residual peak within its bound */
   char stop_reason[32];      /**< "tolerance", "max_evaluations", "max_time", "no_progress",
                                   "optimizer" (NLopt stopped by itself), "failed" */
   ea_task_refine_t settings; /**< as used */
   ea_sim_settings_t fe;      /**< FE settings of every evaluation */
   int model_modes;           /**< K of the reduced model */
-  int n_params;              /**< 2 x settings.modes */
-  int n_evals;               /**< evaluations, the unrefined plan's (index 0) included */
+  int models;                /**< models refined: 1, or 5 with dynamics.robust */
+  double model_tip_mass_kg[EA_REFINE_MAX_MODELS]; /**< [kg] each model's (and its FE arm's) tip
+                                                       mass */
+  double model_EI_Nm2[EA_REFINE_MAX_MODELS];      /**< [N m^2] each model's EI */
+  double allowed_m[EA_REFINE_MAX_MODELS]; /**< [m] bound of each model's FE residual peak: the
+                                               nominal settings.tolerance_m, a corner robust
+                                               residual_m + tolerance_m */
+  int n_params;                           /**< models x 2 x settings.modes */
+  int n_evals; /**< evaluations, the unrefined plan's (index 0) included */
   ea_refine_eval_t evals[EA_TASK_REFINE_MAX_EVALUATIONS + 1];
   int returned;                  /**< index of the evaluation whose plan the planner holds */
   double duration_before_s;      /**< [s] the unrefined at-rest plan */
-  double residual_peak_before_m; /**< [m] its FE residual peak */
+  double residual_peak_before_m; /**< [m] its FE residual peak (nominal arm) */
   double residual_rms_before_m;
-  double duration_s;      /**< [s] the returned plan */
-  double residual_peak_m; /**< [m] its FE residual peak */
+  double model_residual_peak_before_m[EA_REFINE_MAX_MODELS]; /**< [m] per model's arm */
+  double score_before;                                       /**< its score */
+  double duration_s;                                         /**< [s] the returned plan */
+  double residual_peak_m; /**< [m] its FE residual peak (nominal arm) */
   double residual_rms_m;
-  double eta[EA_ROM_MAX_MODES], eta_rate[EA_ROM_MAX_MODES]; /**< its terminal targets */
-  double time_s;                                            /**< [s] wall time of the refinement */
-  double time_plan_s;                                       /**< [s] of it in re-plans */
-  double time_fe_s;                                         /**< [s] of it in FE transients */
-  int nlopt_result;                                         /**< NLopt's return code (0: Newton) */
-  char message[512];                                        /**< human-readable outcome */
+  double model_residual_peak_m[EA_REFINE_MAX_MODELS]; /**< [m] per model's arm */
+  double score;                                       /**< its score */
+  double eta[EA_REFINE_MAX_MODELS * EA_ROM_MAX_MODES],
+      eta_rate[EA_REFINE_MAX_MODELS * EA_ROM_MAX_MODES]; /**< its targets, K per model */
+  double time_s;                                         /**< [s] wall time of the refinement */
+  double time_plan_s;                                    /**< [s] of it in re-plans */
+  double time_fe_s;                                      /**< [s] of it in FE transients */
+  int nlopt_result;                                      /**< NLopt's return code (0: Newton) */
+  char message[512];                                     /**< human-readable outcome */
 } ea_refine_info_t;
 
 /** Refine the planner's plan against the nonlinear FE transient (docs/planner.md). The task
  *  must have dynamics that end at rest (dynamics.modes >= 1, residual_m 0, not
  *  min_vibration). Evaluation 0 is the at-rest plan (terminal targets zero, re-planned warm:
  *  no iteration when the planner already holds it); then the method of s moves the targets
- *  of the first s->modes modes until the FE residual peak is at most s->tolerance_m, or
- *  s->max_evaluations FE transients were spent, or the next evaluation would pass
- *  s->max_time_s. The planner is left holding the evaluated plan of least FE residual peak
- *  among the accepted ones (re-planned once more if it is not the last one planned, and then
- *  measured again: info->evals[info->returned]); that plan passed every check of
- *  ea_planner_solve.
+ *  of the first s->modes modes of every model (the nominal; with dynamics.robust also the
+ *  four corners' centres) until the FE residual peak is at most s->tolerance_m at the
+ *  nominal arm and at most robust residual_m + s->tolerance_m at each corner arm (score
+ *  <= 1), or s->max_evaluations evaluations were spent, or the next evaluation would pass
+ *  s->max_time_s. The planner is left holding the evaluated plan of least score among the
+ *  accepted ones (re-planned once more if it is not the last one planned, and then measured
+ *  again: info->evals[info->returned]); that plan passed every check of ea_planner_solve.
  * @param s settings (NULL: the task's dynamics.refine; its enabled flag is ignored)
  * @param plan_info the returned plan's solve info (may be NULL)
  * @return EA_OK when the planner holds a refined (or the unrefined) plan, also if the

@@ -14,6 +14,7 @@
 #define EA_SIMULATE_H
 
 #include "ea_fe.h"
+#include "ea_task.h"
 #include "ea_traj.h"
 
 #ifdef __cplusplus
@@ -147,6 +148,153 @@ const char *ea_rom_cache_dir(char *buf, size_t len);
 ea_status_t ea_rom_table_cached(const ea_arm_t *arm, double tip_mass, const ea_rom_settings_t *s,
                                 const double box[4], int nL, int na, const char *cache_dir,
                                 ea_rom_table_t **out, ea_rom_cache_info_t *info, ea_error_t *err);
+
+/* ------------------------------------------------------------------------ */
+/* A trajectory against the limits of its task (planner/traj/traj_shape.c)  */
+/* ------------------------------------------------------------------------ */
+
+/** The limits ea_traj_check_limits checks, in this order. */
+typedef enum ea_traj_limit {
+  EA_TRAJ_LIMIT_CABLE_LENGTH = 0, /**< L_c in [cable_length_min, cable_length_max] */
+  EA_TRAJ_LIMIT_CABLE_SPEED,      /**< |dL_c/dt| <= cable_speed_max */
+  EA_TRAJ_LIMIT_CABLE_ACCEL,      /**< |d2L_c/dt2| <= cable_accel_max */
+  EA_TRAJ_LIMIT_ANGLE_SPEED,      /**< |dalpha/dt| <= cable_angle_speed_max (if finite) */
+  EA_TRAJ_LIMIT_ANGLE_ACCEL,      /**< |d2alpha/dt2| <= cable_angle_accel_max (if finite) */
+  EA_TRAJ_LIMIT_TENSION_MIN,      /**< T >= tension_min */
+  EA_TRAJ_LIMIT_TENSION_MAX,      /**< T <= tension_max */
+  EA_TRAJ_LIMIT_TORQUE,           /**< |EI kappa0| <= shoulder_torque_max */
+  EA_TRAJ_LIMIT_SHOULDER_ANGLE,   /**< theta0 in the arm's shoulder range */
+  EA_TRAJ_LIMIT_SHOULDER_SPEED,   /**< |dtheta0/dt| <= shoulder_speed_max (if finite) */
+  EA_TRAJ_LIMIT_SHOULDER_ACCEL,   /**< |d2theta0/dt2| <= the arm's shoulder_accel_max */
+  EA_TRAJ_LIMIT_BASE_ANGLE,       /**< base in the arm's base range */
+  EA_TRAJ_LIMIT_BASE_SPEED,       /**< |base rate| <= base_speed_max */
+  EA_TRAJ_LIMIT_BASE_ACCEL,       /**< |base acceleration| <= base_accel_max */
+  EA_TRAJ_LIMIT_FIRST_FREQUENCY,  /**< f1 >= min_first_frequency_Hz (ea_traj_shape_zv only) */
+  EA_TRAJ_LIMIT_MODAL_DEFLECTION, /**< acc / omega1^2 <= max_modal_deflection_m (idem) */
+  EA_TRAJ_LIMIT_COUNT
+} ea_traj_limit_t;
+
+/** Name of a limit ("cable acceleration", ...). */
+const char *ea_traj_limit_name(ea_traj_limit_t i);
+
+/** What ea_traj_check_limits found. Relative excess: |value| / limit - 1 for magnitudes,
+ *  (T_min - T) / T_min, and the distance outside a range over its width: <= 0 held. */
+typedef struct ea_traj_limits_check {
+  int samples;                        /**< points checked */
+  int statics_failures;               /**< samples without a static solution with T > 0 */
+  double first_failure_s;             /**< [s] time of the first such sample (NAN: none) */
+  double excess[EA_TRAJ_LIMIT_COUNT]; /**< worst relative excess (-INFINITY: not checked) */
+  double value[EA_TRAJ_LIMIT_COUNT];  /**< the value there (SI) */
+  double bound[EA_TRAJ_LIMIT_COUNT];  /**< the bound it is compared with (SI) */
+  double time_s[EA_TRAJ_LIMIT_COUNT]; /**< [s] where */
+  int worst;                          /**< the limit of the largest excess */
+  double min_tension_margin_N;        /**< [N] min of T - tension_min */
+  double peak_shoulder_torque_Nm;     /**< [N m] max |EI kappa0| */
+  double max_theta0_deviation_rad;    /**< [rad] |theta0 interpolant - statics theta0| */
+} ea_traj_limits_check_t;
+
+/** Check trajectory tr against every limit of task (checked; its arm, payload and limits)
+ *  with the file's interpolant (docs/trajectory-format.md), between the samples too: on every
+ *  interval the cubic Hermites of L_c, alpha, base and theta0 at both ends, at the extrema of
+ *  each value and rate, and at rate_hz (at least 4 points per interval), the tension and
+ *  torque from the statics solved at the interpolated (L_c, alpha) (warm-started along the
+ *  samples). A limit is broken when its relative excess is above tol (e.g. 1e-9).
+ *  @return EA_OK when every limit holds; EA_ERR_INADMISSIBLE naming the worst limit, its
+ *          value, bound and time (or the first time without a static solution). */
+ea_status_t ea_traj_check_limits(const ea_task_t *task, const ea_traj_t *tr, double rate_hz,
+                                 double tol, ea_traj_limits_check_t *out, ea_error_t *err);
+
+/* ------------------------------------------------------------------------ */
+/* Zero-vibration input shaping (planner/traj/traj_shape.c)                  */
+/* ------------------------------------------------------------------------ */
+
+/** Settings of ea_traj_shape_zv. */
+typedef struct ea_shape_settings {
+  double damping_ratio; /**< zeta of the shaper, [0, 1) (default NAN: the arm file's
+                             damping.modal_ratios[0], 0 without one) */
+  int elements;         /**< FE elements of the first frequency (default EA_FE_DEFAULT_ELEMENTS) */
+  double check_rate_hz; /**< [Hz] samples per second of the limits check (default 1000) */
+  double limit_tol;     /**< relative slack of the limits check (default 1e-9) */
+} ea_shape_settings_t;
+
+void ea_shape_settings_default(ea_shape_settings_t *s);
+
+/** What ea_traj_shape_zv did. Frequencies are those of the input's samples. */
+typedef struct ea_shape_info {
+  ea_status_t status;
+  char message[512];
+  double damping_ratio; /**< zeta used */
+  double amplitude[2];  /**< impulse amplitudes 1 / (1 + K), K / (1 + K) */
+  double f1_start_hz, f1_goal_hz, f1_min_hz, f1_max_hz;         /**< [Hz] FE first frequency */
+  double delay_start_s, delay_goal_s, delay_min_s, delay_max_s; /**< [s] 1 / (2 f_d) */
+  double duration_in_s;                                         /**< [s] the input's duration */
+  double duration_s;                                            /**< [s] the shaped trajectory's */
+  int samples_in, samples;      /**< rows of the input and of the output */
+  int echo_samples_merged;      /**< echo times m_k left out: within 1e-3 of the shortest input
+                                     interval of an input sample, which stands for both */
+  double max_merge_s;           /**< [s] the largest such distance */
+  double max_path_deviation_m;  /**< [m] largest distance of a sample's tip from the task's
+                                     line or polyline (NAN: free path) */
+  ea_traj_limits_check_t check; /**< the shaped trajectory against the task's limits */
+  double time_s;                /**< [s] wall time */
+} ea_shape_info_t;
+
+/** Zero-vibration (ZV) input shaping of a rest-to-rest trajectory whose delay follows the
+ *  first natural frequency along the motion (docs/planner.md, "ZV-shaped plans"). Each input
+ *  sample k (time t_k, actuator coordinates q_k) is echoed at m_k = t_k + tau_k, tau_k =
+ *  1 / (2 f1_k sqrt(1 - zeta^2)), f1_k the FE first frequency (passive cable, the task's tip
+ *  mass) at (L_c, alpha)_k; the echo D(t) is the C2 cubic spline through (m_k, q_k) with rest
+ *  at both ends; the shaped command is A1 q(t) + A2 D(t) (q: the input's cubic Hermite, both
+ *  held at their end values outside their spans), A1 = 1 / (1 + K), A2 = K / (1 + K), K =
+ *  exp(-zeta pi / sqrt(1 - zeta^2)), sampled at the union of the t_k and m_k with the exact
+ *  values, rates and accelerations, so the file's cubic Hermite is the shaped command exactly
+ *  (an m_k within 1e-3 of the shortest input interval of some t_k is left out: near it the
+ *  file's cubic approximates the echo's breakpoint). Its statics columns
+ *  (T, theta0, kappa0, torque, tip) come from the statics at every sample, theta0's rate from
+ *  the C2 spline through them with rest at both ends. The result is checked against every
+ *  limit of task (ea_traj_check_limits; with min_first_frequency_Hz or max_modal_deflection_m
+ *  also those, at the samples) and refused if it breaks one.
+ * @param task the task of the plan (checked: arm, payload, limits, path)
+ * @param in   the plan: at rest at both ends
+ * @param s    settings (NULL = defaults)
+ * @param[out] out  the shaped trajectory (ea_traj_t rules of ea_traj.h); freed on failure
+ * @param[out] info what was done, the limits check (may be NULL)
+ * @return EA_OK; EA_ERR_ARG (input not at rest at its ends, not the task's payload);
+ *         EA_ERR_NOCONV/EA_ERR_UNSTABLE (no FE frequency at a sample); EA_ERR_INADMISSIBLE
+ *         (the shaped trajectory breaks a limit or leaves the workspace: err says which,
+ *         where, by how much). */
+ea_status_t ea_traj_shape_zv(const ea_task_t *task, const ea_traj_t *in,
+                             const ea_shape_settings_t *s, ea_traj_t *out, ea_shape_info_t *info,
+                             ea_error_t *err);
+
+/* ------------------------------------------------------------------------ */
+/* A plan's summary with what was measured (planner/nlp/plan_output.c)       */
+/* ------------------------------------------------------------------------ */
+
+/** `plan --verify`: the FE transient (ea_traj_simulate) of the written trajectory beside what
+ *  the planner's reduced model predicted for it. */
+typedef struct ea_plan_verify {
+  ea_status_t status;              /**< of ea_traj_simulate */
+  char message[512];               /**< its error, or "" */
+  ea_sim_settings_t settings;      /**< used */
+  ea_sim_info_t sim;               /**< measured */
+  double predicted_residual_m;     /**< [m] the model's residual amplitude (sum over the modes,
+                                        undamped) for the written trajectory; NAN: no model
+                                        (a quasi-static plan) */
+  double predicted_time_to_rest_s; /**< [s] after the motion (ea_plan_info_t); NAN: none,
+                                        INFINITY: never */
+} ea_plan_verify_t;
+
+struct ea_planner;
+struct ea_plan_info;
+struct ea_refine_info;
+/** The JSON summary of ea_plan_summary_write_refined (refine NULL: none) with a "shape" object
+ *  (shape not NULL: the ZV shaping of the written trajectory, its limits check) and a "verify"
+ *  object (verify not NULL: measured FE residual beside the prediction). Atomic. */
+ea_status_t ea_plan_summary_write_ex(const struct ea_planner *pl, const struct ea_plan_info *info,
+                                     const struct ea_refine_info *refine,
+                                     const ea_shape_info_t *shape, const ea_plan_verify_t *verify,
+                                     const char *path, ea_error_t *err);
 
 #ifdef __cplusplus
 }

@@ -9,8 +9,10 @@
  *  - EA__ROW_DYN_TENSION:  T_k + sum_i dT_i(q_k) eta_i,k within the tension limits;
  *  - EA__ROW_DYN_TORQUE:   EI kappa0_k + sum_i dM_i(q_k) eta_i,k within the torque limit;
  *  - EA__ROW_DYN_DEVIATION: |sum_i tip_i(q_k) eta_i,k|^2 <= max_tip_deviation^2;
- *  - EA__ROW_DYN_TERMINAL: sum_i |tip_i|^2 (eta_i^2 + eta_i'^2 / omega_i^2) <= residual^2 / K
- *    at the goal (when residual_m > 0; else the terminal state is fixed at zero by bounds).
+ *  - EA__ROW_DYN_TERMINAL: sum_i |tip_i|^2 (e_i^2 + e_i'^2 / omega_i^2) <= residual^2 / K
+ *    at the goal, e = (eta, eta') - the model's target centre (zero unless set), for the
+ *    nominal model when residual_m > 0 (else EA__ROW_DYN_REST holds its state at its target)
+ *    and for each robust corner (robust residual_m).
  * Each row is a small function of <= 13 variables; its gradient is exact by forward-mode
  * differentiation (ea__dual_t) through the Hermite and the table's exact interpolant
  * derivatives. */
@@ -300,8 +302,9 @@ static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k
   return n;
 }
 
-/* Residual amplitude of model j at the goal: sum_i |tip_i|^2 (eta_i^2 + eta_i'^2 / omega_i^2)
- * [m^2] (scaled). Local variables: 0 L_c, 1 alpha, 2.. (eta_i, eta'_i) of the model. */
+/* Residual amplitude of model j at the goal: sum_i |tip_i|^2 (e_i^2 + e_i'^2 / omega_i^2)
+ * [m^2] (scaled), e_i = eta_i - c_i, e_i' = eta_i' - c_i' about the model's target centre c
+ * (zero unless set). Local variables: 0 L_c, 1 alpha, 2.. (eta_i, eta'_i) of the model. */
 static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, double *value,
                             int *cols, double *vals) {
   const int K = pl->Kper, k = pl->N - 1;
@@ -322,7 +325,10 @@ static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, doub
   for (int i = 0; i < K; ++i) {
     const ea__dual_t t2 =
         ea__dadd(ea__dmul(m.tip[i][0], m.tip[i][0]), ea__dmul(m.tip[i][1], m.tip[i][1]));
-    const ea__dual_t e = loc[2 + 2 * i], ed = loc[3 + 2 * i];
+    /* about the model's target centre (zero unless set: ea_planner_set_terminal_modes_model) */
+    const int ci = j * K + i;
+    const ea__dual_t e = ea__dsub(loc[2 + 2 * i], ea__dc(pl->dyn_target[ci]));
+    const ea__dual_t ed = ea__dsub(loc[3 + 2 * i], ea__dc(pl->dyn_target[EA__DYN_MAX + ci]));
     const ea__dual_t a2 = ea__dadd(ea__dmul(e, e), ea__ddiv(ea__dmul(ed, ed), m.w2[i]));
     r = ea__dadd(r, ea__dmul(t2, a2));
   }
@@ -611,4 +617,17 @@ ea_status_t ea_planner_dyn_model(const ea_planner_t *pl, ea_plan_dyn_info_t *inf
 
 const ea_rom_table_t *ea_planner_rom_table(const ea_planner_t *pl) {
   return pl ? pl->rom : NULL;
+}
+
+const ea_rom_table_t *ea__plan_rom_model(const ea_planner_t *pl, int j) {
+  return pl && j >= 0 && j < pl->M ? pl->roms[j] : NULL;
+}
+
+int ea__plan_dyn_terminal(const ea_planner_t *pl, int j, double *eta, double *eta_rate) {
+  if (!pl || !pl->rom || !pl->have_solution || j < 0 || j >= pl->M) return 1;
+  for (int mi = 0; mi < pl->Kper; ++mi) {
+    eta[mi] = pl->x_sol[EA__IE(pl, pl->N - 1, j * pl->Kper + mi)];
+    eta_rate[mi] = pl->x_sol[EA__IED(pl, pl->N - 1, j * pl->Kper + mi)];
+  }
+  return 0;
 }

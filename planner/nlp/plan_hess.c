@@ -22,16 +22,20 @@ static int ea__cmp64(const void *a, const void *b) {
   return x < y ? -1 : x > y;
 }
 
-static int64_t ea__key(const ea_planner_t *pl, int i, int j) {
+int64_t ea__hkey(int n, int i, int j) {
   if (i < j) {
     const int t = i;
     i = j;
     j = t;
   }
-  return (int64_t)i * pl->n + j;
+  return (int64_t)i * n + j;
 }
 
-static int ea__pos(const int64_t *keys, int n, int64_t k) {
+static int64_t ea__key(const ea_planner_t *pl, int i, int j) {
+  return ea__hkey(pl->n, i, j);
+}
+
+int ea__hpos(const int64_t *keys, int n, int64_t k) {
   int lo = 0, hi = n - 1;
   while (lo <= hi) {
     const int mid = (lo + hi) / 2;
@@ -43,6 +47,22 @@ static int ea__pos(const int64_t *keys, int n, int64_t k) {
       return mid;
   }
   return -1;
+}
+
+ea_status_t ea__hpattern(int64_t *keys, size_t nk, int n, int *nnz, int **irow, int **jcol) {
+  qsort(keys, nk, sizeof *keys, ea__cmp64);
+  size_t u = 0;
+  for (size_t q = 0; q < nk; ++q)
+    if (u == 0 || keys[q] != keys[u - 1]) keys[u++] = keys[q];
+  *nnz = (int)u;
+  *irow = calloc(u + 1, sizeof **irow);
+  *jcol = calloc(u + 1, sizeof **jcol);
+  if (!*irow || !*jcol) return EA_ERR_NOMEM;
+  for (size_t q = 0; q < u; ++q) {
+    (*irow)[q] = (int)(keys[q] / n);
+    (*jcol)[q] = (int)(keys[q] % n);
+  }
+  return EA_OK;
 }
 
 static void ea__stat_vars(const ea_planner_t *pl, int k, int v[5]) {
@@ -145,28 +165,18 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
         keys[nk++] = ea__key(pl, cols[a], cols[b]);
     npos += (size_t)nc * (nc + 1) / 2;
   }
-  qsort(keys, nk, sizeof *keys, ea__cmp64);
-  size_t u = 0;
-  for (size_t q = 0; q < nk; ++q)
-    if (u == 0 || keys[q] != keys[u - 1]) keys[u++] = keys[q];
-  pl->nnz_h = (int)u;
-  pl->hirow = calloc(u + 1, sizeof *pl->hirow);
-  pl->hjcol = calloc(u + 1, sizeof *pl->hjcol);
+  ea_status_t st = ea__hpattern(keys, nk, pl->n, &pl->nnz_h, &pl->hirow, &pl->hjcol);
   pl->hpos = calloc(npos + 1, sizeof *pl->hpos);
-  if (!pl->hirow || !pl->hjcol || !pl->hpos) {
+  if (st || !pl->hpos) {
     free(keys);
     return EA_ERR_NOMEM;
-  }
-  for (size_t q = 0; q < u; ++q) {
-    pl->hirow[q] = (int)(keys[q] / pl->n);
-    pl->hjcol[q] = (int)(keys[q] % pl->n);
   }
   for (int k = 0; k < N; ++k) {
     int v[5], e = 0;
     ea__stat_vars(pl, k, v);
     for (int a = 0; a < 5; ++a)
       for (int b = 0; b <= a; ++b)
-        pl->hpos_stat[15 * k + e++] = ea__pos(keys, pl->nnz_h, ea__key(pl, v[a], v[b]));
+        pl->hpos_stat[15 * k + e++] = ea__hpos(keys, pl->nnz_h, ea__key(pl, v[a], v[b]));
   }
   int p = 0;
   for (int r = 0; r < nr; ++r) {
@@ -176,7 +186,7 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
     const int nc = ea__plan_row_eval(pl, pl->x, row, NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
-        pl->hpos[p++] = ea__pos(keys, pl->nnz_h, ea__key(pl, cols[a], cols[b]));
+        pl->hpos[p++] = ea__hpos(keys, pl->nnz_h, ea__key(pl, cols[a], cols[b]));
   }
   pl->hpos_start[nr] = p;
   free(keys);

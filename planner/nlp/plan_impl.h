@@ -8,6 +8,7 @@
 #include <coin/IpStdCInterface.h>
 #include <gsl/gsl_interp2d.h>
 #include <gsl/gsl_spline2d.h>
+#include <stdint.h>
 
 /** Kinds of constraint rows (and of the variable bounds, for reports). */
 typedef enum ea__row_kind {
@@ -270,6 +271,11 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
                      int *cols, double *vals);
 /** Modal states of x integrated along its (L_c, alpha) from rest (a guess). */
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
+/** For the refinement (plan_refine.c): model j's table (0 the nominal, 1..4 the robust
+ *  corners; NULL: none) and the held plan's modal state of model j at the goal (Kper values
+ *  each; 1: no held plan). */
+const ea_rom_table_t *ea__plan_rom_model(const ea_planner_t *pl, int j);
+int ea__plan_dyn_terminal(const ea_planner_t *pl, int j, double *eta, double *eta_rate);
 /** The model's predicted residual and modal figures of a plan x into info. */
 void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info);
 /** The path transcription (plan_path.c): does the task qualify (line/polyline, no frequency
@@ -289,6 +295,14 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
 void ea__plan_box(const ea_planner_t *pl, double box[4]);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
 void ea__plan_schedule(ea_planner_t *pl, double w);
+/* Hessian sparsity (plan_hess.c): the key of entry (max(i, j), min(i, j)) of an n-column
+ * matrix; the sorted unique keys as triplets (irow, jcol calloc'd; keys sorted in place);
+ * the position of a key among nnz sorted ones (-1: absent). */
+/* Ipopt's mu_init and warm-start pushes for a cold, warm or updated start (plan_solve.c). */
+void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated);
+int64_t ea__hkey(int n, int i, int j);
+ea_status_t ea__hpattern(int64_t *keys, size_t nk, int n, int *nnz, int **irow, int **jcol);
+int ea__hpos(const int64_t *keys, int nnz, int64_t k);
 /** Build the frequency model when the task needs it (pl->fm; NULL otherwise). */
 ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err);
 void ea__plan_freq_free(ea__freq_model_t *fm);

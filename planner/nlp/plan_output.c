@@ -2,6 +2,7 @@
  * summary and the figure (tip path, beam shapes in the workspace, time
  * histories). */
 #include "ea_refine.h"
+#include "ea_simulate.h"
 #include "plan_impl.h"
 
 #include <math.h>
@@ -98,8 +99,17 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
   ea_json_num(j, "duration_s", r->duration_s);
   ea_json_num(j, "residual_peak_m", r->residual_peak_m);
   ea_json_num(j, "residual_rms_m", r->residual_rms_m);
-  ea_json_vec(j, "terminal_eta_sqrtkg_m", r->eta, r->model_modes);
-  ea_json_vec(j, "terminal_eta_rate_sqrtkg_m_per_s", r->eta_rate, r->model_modes);
+  ea_json_vec(j, "terminal_eta_sqrtkg_m", r->eta, r->model_modes * r->models);
+  ea_json_vec(j, "terminal_eta_rate_sqrtkg_m_per_s", r->eta_rate, r->model_modes * r->models);
+  /* per model: 0 the nominal, 1..4 the robust corners (FE at each model's arm) */
+  ea_json_int(j, "models", r->models);
+  ea_json_vec(j, "model_tip_mass_kg", r->model_tip_mass_kg, r->models);
+  ea_json_vec(j, "model_EI_Nm2", r->model_EI_Nm2, r->models);
+  ea_json_vec(j, "model_allowed_residual_peak_m", r->allowed_m, r->models);
+  ea_json_vec(j, "model_residual_peak_before_m", r->model_residual_peak_before_m, r->models);
+  ea_json_vec(j, "model_residual_peak_m", r->model_residual_peak_m, r->models);
+  ea_json_num(j, "score_before", r->score_before);
+  ea_json_num(j, "score", r->score);
   ea_json_num(j, "time_s", r->time_s);
   ea_json_num(j, "time_plan_s", r->time_plan_s);
   ea_json_num(j, "time_fe_s", r->time_fe_s);
@@ -110,8 +120,8 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
     ea_json_obj_begin(j, NULL);
     ea_json_int(j, "index", i);
     ea_json_vec(j, "params_m", e->params_m, r->n_params);
-    ea_json_vec(j, "eta_sqrtkg_m", e->eta, r->model_modes);
-    ea_json_vec(j, "eta_rate_sqrtkg_m_per_s", e->eta_rate, r->model_modes);
+    ea_json_vec(j, "eta_sqrtkg_m", e->eta, r->model_modes * r->models);
+    ea_json_vec(j, "eta_rate_sqrtkg_m_per_s", e->eta_rate, r->model_modes * r->models);
     ea_json_str(j, "plan_status", ea_status_name(e->plan_status));
     ea_json_int(j, "plan_iterations", e->plan_iterations);
     ea_json_num(j, "plan_time_s", e->plan_time_s);
@@ -119,7 +129,11 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
     ea_json_str(j, "fe_status", ea_status_name(e->fe_status));
     ea_json_num(j, "residual_peak_m", e->residual_peak_m);
     ea_json_num(j, "residual_rms_m", e->residual_rms_m);
-    ea_json_vec(j, "fitted_m", e->fitted_m, 2 * r->model_modes);
+    ea_json_vec(j, "model_residual_peak_m", e->model_residual_peak_m, r->models);
+    ea_json_vec(j, "model_residual_rms_m", e->model_residual_rms_m, r->models);
+    ea_json_num(j, "score", e->score);
+    ea_json_vec(j, "fitted_m", e->fitted_m, 2 * r->model_modes * r->models);
+    ea_json_vec(j, "predicted_m", e->predicted_m, 2 * r->model_modes * r->models);
     ea_json_num(j, "fe_time_s", e->fe_time_s);
     ea_json_num(j, "elapsed_s", e->elapsed_s);
     ea_json_bool(j, "accepted", e->accepted);
@@ -161,14 +175,106 @@ static void ea__summary_dynamics(ea_json_t *j, const ea_planner_t *pl, const ea_
   ea_json_obj_end(j);
 }
 
+/* A number, or null when it is not finite. */
+static void ea__num_or_null(ea_json_t *j, const char *key, double v) {
+  if (isfinite(v))
+    ea_json_num(j, key, v);
+  else
+    ea_json_null(j, key);
+}
+
+/* The "shape" object: the ZV shaping of the written trajectory and its limits check. */
+static void ea__shape_json(ea_json_t *j, const ea_shape_info_t *s) {
+  ea_json_obj_begin(j, "shape");
+  ea_json_str(j, "method", "zv");
+  ea_json_str(j, "status", ea_status_name(s->status));
+  ea_json_str(j, "message", s->message);
+  ea_json_num(j, "damping_ratio", s->damping_ratio);
+  ea_json_vec(j, "amplitudes", s->amplitude, 2);
+  ea__num_or_null(j, "f1_start_Hz", s->f1_start_hz);
+  ea__num_or_null(j, "f1_goal_Hz", s->f1_goal_hz);
+  ea__num_or_null(j, "f1_min_Hz", s->f1_min_hz);
+  ea__num_or_null(j, "f1_max_Hz", s->f1_max_hz);
+  ea__num_or_null(j, "half_period_start_s", s->delay_start_s);
+  ea__num_or_null(j, "half_period_goal_s", s->delay_goal_s);
+  ea_json_num(j, "duration_before_s", s->duration_in_s);
+  ea__num_or_null(j, "duration_s", s->status == EA_OK ? s->duration_s : NAN);
+  ea_json_int(j, "samples_before", s->samples_in);
+  ea_json_int(j, "samples", s->samples);
+  ea_json_int(j, "echo_samples_merged", s->echo_samples_merged);
+  ea_json_num(j, "max_merge_s", s->max_merge_s);
+  ea__num_or_null(j, "max_path_deviation_m", s->max_path_deviation_m);
+  const ea_traj_limits_check_t *c = &s->check;
+  ea_json_obj_begin(j, "limits_check");
+  ea_json_int(j, "points", c->samples);
+  ea_json_int(j, "statics_failures", c->statics_failures);
+  ea__num_or_null(j, "min_tension_margin_N", c->min_tension_margin_N);
+  ea_json_num(j, "peak_shoulder_torque_Nm", c->peak_shoulder_torque_Nm);
+  ea_json_num(j, "max_theta0_deviation_rad", c->max_theta0_deviation_rad);
+  ea_json_arr_begin(j, "limits");
+  for (int i = 0; i < EA_TRAJ_LIMIT_COUNT; ++i) {
+    if (!isfinite(c->excess[i])) continue;
+    ea_json_obj_begin(j, NULL);
+    ea_json_str(j, "limit", ea_traj_limit_name((ea_traj_limit_t)i));
+    ea_json_num(j, "worst_relative_excess", c->excess[i]);
+    ea_json_num(j, "value", c->value[i]);
+    ea_json_num(j, "bound", c->bound[i]);
+    ea_json_num(j, "time_s", c->time_s[i]);
+    ea_json_obj_end(j);
+  }
+  ea_json_arr_end(j);
+  ea_json_obj_end(j);
+  ea_json_num(j, "time_s", s->time_s);
+  ea_json_obj_end(j);
+}
+
+/* The "verify" object: the FE transient of the written trajectory beside the model. */
+static void ea__verify_json(ea_json_t *j, const ea_plan_verify_t *v) {
+  const ea_sim_settings_t *s = &v->settings;
+  const ea_sim_info_t *si = &v->sim;
+  const int ok = v->status == EA_OK;
+  ea_json_obj_begin(j, "verify");
+  ea_json_str(j, "status", ea_status_name(v->status));
+  ea_json_str(j, "message", v->message);
+  ea_json_int(j, "elements", s->elements);
+  ea_json_str(j, "scheme", s->scheme == EA_FE_SCHEME_ENERGY ? "energy" : "genalpha");
+  ea_json_num(j, "rho_inf", s->rho_inf);
+  ea_json_num(j, "dt_s", s->dt);
+  ea_json_num(j, "settle_s", s->settle);
+  ea_json_str(j, "cable", s->cable_active ? "active" : "passive");
+  ea__num_or_null(j, "damping_ratio", si->damping_ratio);
+  ea__num_or_null(j, "tip_mass_kg", si->tip_mass);
+  ea__num_or_null(j, "motion_duration_s", ok ? si->duration : NAN);
+  ea__num_or_null(j, "measured_residual_peak_m", ok ? si->residual_peak : NAN);
+  ea__num_or_null(j, "measured_residual_rms_m", ok ? si->residual_rms : NAN);
+  ea_json_num(j, "rest_tolerance_m", s->rest_tolerance);
+  /* after the motion (0: within the tolerance when the motion ends); null: not within it by
+   * the end of the settling time */
+  const double rest = si->time_to_rest - si->duration; /* NAN stays NAN (fmax would drop it) */
+  ea__num_or_null(j, "measured_time_to_rest_s", ok && isfinite(rest) ? (rest > 0 ? rest : 0) : NAN);
+  ea__num_or_null(j, "predicted_residual_m", v->predicted_residual_m);
+  ea__num_or_null(j, "predicted_time_to_rest_s", v->predicted_time_to_rest_s);
+  ea__num_or_null(j, "max_tracking_error_m", ok ? si->max_tracking_error : NAN);
+  ea__num_or_null(j, "static_offset_end_m", ok ? si->static_offset_end : NAN);
+  ea_json_num(j, "wall_time_s", si->wall_time_s);
+  ea_json_obj_end(j);
+}
+
 ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *info,
                                   const char *path, ea_error_t *err) {
-  return ea_plan_summary_write_refined(pl, info, NULL, path, err);
+  return ea_plan_summary_write_ex(pl, info, NULL, NULL, NULL, path, err);
 }
 
 ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_info_t *info,
                                           const ea_refine_info_t *refine, const char *path,
                                           ea_error_t *err) {
+  return ea_plan_summary_write_ex(pl, info, refine, NULL, NULL, path, err);
+}
+
+ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,
+                                     const ea_refine_info_t *refine, const ea_shape_info_t *shape,
+                                     const ea_plan_verify_t *verify, const char *path,
+                                     ea_error_t *err) {
   if (!pl || !info || !path) return ea_error_set(err, EA_ERR_ARG, "summary: NULL argument");
   const ea_task_t *t = &pl->task;
   ea_afile_t f;
@@ -235,6 +341,8 @@ ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_
   ea_json_num(&j, "rest", info->time_rest_s);
   ea_json_obj_end(&j);
   if (refine) ea__refine_json(&j, refine);
+  if (shape) ea__shape_json(&j, shape);
+  if (verify) ea__verify_json(&j, verify);
   ea_json_obj_end(&j);
   ea_json_end(&j);
   return ea_afile_commit(&f, err);

@@ -372,32 +372,8 @@ static int ea__pp_row(const ea_planner_t *pl, const double *xs, const ea__row_t 
 
 /* ---- the NLP --------------------------------------------------------------- */
 
-static int ea__pp_cmp64(const void *a, const void *b) {
-  const long long x = *(const long long *)a, y = *(const long long *)b;
-  return x < y ? -1 : x > y;
-}
-
-static int ea__pp_pos(const long long *keys, int n, long long k) {
-  int lo = 0, hi = n - 1;
-  while (lo <= hi) {
-    const int mid = (lo + hi) / 2;
-    if (keys[mid] < k)
-      lo = mid + 1;
-    else if (keys[mid] > k)
-      hi = mid - 1;
-    else
-      return mid;
-  }
-  return -1;
-}
-
-static long long ea__pp_key(const ea__pp_t *pp, int i, int j) {
-  if (i < j) {
-    const int t = i;
-    i = j;
-    j = t;
-  }
-  return (long long)i * pp->n + j;
+static int64_t ea__pp_key(const ea__pp_t *pp, int i, int j) {
+  return ea__hkey(pp->n, i, j);
 }
 
 static const ea__row_t *ea__pp_hrow(const ea_planner_t *pl, int r) {
@@ -421,7 +397,7 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
     const size_t nc = (size_t)ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
     cap += nc * (nc + 1) / 2;
   }
-  long long *keys = malloc(cap * sizeof *keys);
+  int64_t *keys = malloc(cap * sizeof *keys);
   pp->hpos_start = calloc((size_t)nr + 1, sizeof *pp->hpos_start);
   if (!keys || !pp->hpos_start) {
     free(keys);
@@ -436,21 +412,11 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
         keys[nk++] = ea__pp_key(pp, cols[a], cols[b]);
   }
   const size_t npos = nk;
-  qsort(keys, nk, sizeof *keys, ea__pp_cmp64);
-  size_t u = 0;
-  for (size_t q = 0; q < nk; ++q)
-    if (u == 0 || keys[q] != keys[u - 1]) keys[u++] = keys[q];
-  pp->nnz_h = (int)u;
-  pp->hirow = calloc(u + 1, sizeof *pp->hirow);
-  pp->hjcol = calloc(u + 1, sizeof *pp->hjcol);
+  ea_status_t st = ea__hpattern(keys, nk, pp->n, &pp->nnz_h, &pp->hirow, &pp->hjcol);
   pp->hpos = calloc(npos + 1, sizeof *pp->hpos);
-  if (!pp->hirow || !pp->hjcol || !pp->hpos) {
+  if (st || !pp->hpos) {
     free(keys);
     return EA_ERR_NOMEM;
-  }
-  for (size_t q = 0; q < u; ++q) {
-    pp->hirow[q] = (int)(keys[q] / pp->n);
-    pp->hjcol[q] = (int)(keys[q] % pp->n);
   }
   int p = 0;
   for (int r = 0; r < nr; ++r) {
@@ -459,7 +425,7 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
     const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
-        pp->hpos[p++] = ea__pp_pos(keys, pp->nnz_h, ea__pp_key(pp, cols[a], cols[b]));
+        pp->hpos[p++] = ea__hpos(keys, pp->nnz_h, ea__pp_key(pp, cols[a], cols[b]));
   }
   pp->hpos_start[nr] = p;
   free(keys);
@@ -911,19 +877,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   if ((st = ea__pp_ipopt(pl)))
     return ea_error_set(err, st, "Ipopt: cannot create the path problem");
   AddIpoptStrOption(pp->ip, "warm_start_init_point", warm ? "yes" : "no");
-  if (replan || pl->refining) {
-    AddIpoptNumOption(pp->ip, "mu_init", 1e-6);
-    AddIpoptNumOption(pp->ip, "warm_start_bound_push", 1e-5);
-    AddIpoptNumOption(pp->ip, "warm_start_mult_bound_push", 1e-5);
-    AddIpoptNumOption(pp->ip, "warm_start_slack_bound_push", 1e-5);
-  } else if (warm) {
-    AddIpoptNumOption(pp->ip, "mu_init", 1e-7);
-    AddIpoptNumOption(pp->ip, "warm_start_bound_push", 1e-9);
-    AddIpoptNumOption(pp->ip, "warm_start_mult_bound_push", 1e-9);
-    AddIpoptNumOption(pp->ip, "warm_start_slack_bound_push", 1e-9);
-  } else {
-    AddIpoptNumOption(pp->ip, "mu_init", 0.1);
-  }
+  ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
   int mono = !warm && !pl->rom &&
              (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);

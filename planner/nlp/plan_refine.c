@@ -1,30 +1,42 @@
 /* FE-in-the-loop refinement of a plan that arrives at rest (docs/planner.md, "Refinement
- * against the FE transient"). Only the planner's public API is used.
+ * against the FE transient" and "Robust rest").
  *
- * Parameters: for each adjusted mode i the tip amplitudes (a_i, b_i) [m] of the free
- * vibration a_i cos(w_i t) + b_i sin(w_i t) (along the mode's tip direction u_i, t from the end
- * of the motion) that the reduced model predicts after the motion from the terminal targets
+ * Parameters: for each refined model j (the nominal; with dynamics.robust also the four
+ * corners) and each adjusted mode i the tip amplitudes (a_i, b_i) [m] of the free vibration
+ * a_i cos(w_i t) + b_i sin(w_i t) (along the mode's tip direction u_i, t from the end of the
+ * motion) that model j predicts after the motion from its terminal target
  *   eta_i = a_i / |tip_i|,  eta_i' = b_i w_i / |tip_i|
- * (tip_i, w_i: the model's tip displacement per unit eta_i and frequency at the goal). Each
- * evaluation re-plans warm with those targets (ea_planner_set_terminal_modes) and runs the FE
- * transient of the plan (ea_traj_simulate); the FE tip residual after the motion is fitted,
- * by linear least squares, with the free vibration of every model mode,
+ * (tip_i, w_i: model j's tip displacement per unit eta_i and frequency at the goal): the
+ * nominal's terminal state (ea_planner_set_terminal_modes), a corner's centre, within robust
+ * residual_m of which its terminal state must end (ea_planner_set_terminal_modes_model).
+ * Each evaluation re-plans warm with those targets and runs the FE transient of the plan at
+ * every model's arm (the task's arm with the model's tip mass and EI; ea_traj_simulate); the
+ * FE tip residual after the motion is fitted, by linear least squares, with the free
+ * vibration of every mode of that model,
  *   r(t) = sum_i u_i (A_i cos w_i t + B_i sin w_i t),
- * and (A_i, B_i) are the "fitted" amplitudes. The model says that targets add their own
- * vibration to what the arm does: (A, B) moves by (a, b), so the step -(A, B) cancels it
- * (Jacobian I); the FE's answer differs by a few percent (nonlinearity), which the Newton
- * method's Broyden update learns. The NLopt methods minimise |(A_i, B_i)|^2 over the adjusted
- * modes from that first step. Every method stops at the first FE residual peak within the
- * tolerance. */
+ * and (A_i, B_i) are the "fitted" amplitudes; (P_i, Q_i), "predicted", are those of the
+ * model's own terminal state in the plan (the nominal's: its target). The model error
+ * D = (A, B) - (P, Q) is what the model misses; the targets z cancel it where
+ *   F(z) = D(z) + z = 0,
+ * i.e. the nominal's FE residual is zero and a corner's is its model state about its centre,
+ * within robust residual_m. The model says D does not depend on z (Jacobian of F: I); the
+ * FE's answer differs by a few percent (nonlinearity), which the Newton method's Broyden
+ * update learns. For the nominal alone (P, Q) = z and F = (A, B). The NLopt methods minimise
+ * |F|^2 from the first Newton step. Every method stops at the first evaluation whose FE
+ * residual peak is within its bound at every model's arm (the nominal: tolerance_m; a
+ * corner: robust residual_m + tolerance_m). */
 #include "ea_refine.h"
+#include "plan_impl.h"
 
 #include <math.h>
 #include <nlopt.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#define EA__RP (2 * EA_ROM_MAX_MODES) /* most parameters */
+#define EA__RP EA_REFINE_MAX_PARAMS /* most parameters */
+#define EA__RM EA_REFINE_MAX_MODELS
 
 static double ea__rnow(void) {
   struct timespec ts;
@@ -37,21 +49,22 @@ typedef struct {
   const ea_task_t *task;
   ea_refine_info_t *info;
   ea_task_refine_t s;
-  int K, m, n;                   /* model modes, adjusted modes, parameters (2 m) */
-  double w[EA_ROM_MAX_MODES];    /* [rad/s] model frequencies at the goal */
-  double tipn[EA_ROM_MAX_MODES]; /* |tip_i| [m per unit eta] */
-  double u[EA_ROM_MAX_MODES][2]; /* tip directions */
-  double t0;                     /* start of the refinement */
-  double last_eval_s;            /* wall time of the last evaluation */
-  int held;                      /* evaluation whose plan the planner holds (-1: unknown) */
-  ea_plan_info_t held_info;      /* its solve info */
-  ea_traj_t tr;                  /* scratch trajectory */
-  int best;                      /* accepted evaluation of least residual peak (-1: none) */
-  const char *stop;              /* why the search stopped (NULL: not yet) */
-  nlopt_opt opt;                 /* NLopt run (NULL: Newton) */
-  double nl_scale;               /* [m] NLopt variable unit */
-  double nl_z0[EA__RP];          /* NLopt variables are (z - z0) / nl_scale */
-  double penalty;                /* NLopt objective of a rejected candidate */
+  int K, m, M, n;                     /* model modes, adjusted modes, models, parameters (2 m M) */
+  double w[EA__RM][EA_ROM_MAX_MODES]; /* [rad/s] model frequencies at the goal */
+  double tipn[EA__RM][EA_ROM_MAX_MODES]; /* |tip_i| [m per unit eta] */
+  double u[EA__RM][EA_ROM_MAX_MODES][2]; /* tip directions */
+  ea_arm_t arm[EA__RM];                  /* each model's FE arm */
+  double t0;                             /* start of the refinement */
+  double last_eval_s;                    /* wall time of the last evaluation */
+  int held;                              /* evaluation whose plan the planner holds (-1: unknown) */
+  ea_plan_info_t held_info;              /* its solve info */
+  ea_traj_t tr;                          /* scratch trajectory */
+  int best;                              /* accepted evaluation of least score (-1: none) */
+  const char *stop;                      /* why the search stopped (NULL: not yet) */
+  nlopt_opt opt;                         /* NLopt run (NULL: Newton) */
+  double nl_scale;                       /* [m] NLopt variable unit */
+  double nl_z0[EA__RP];                  /* NLopt variables are (z - z0) / nl_scale */
+  double penalty;                        /* NLopt objective of a rejected candidate */
 } ea__refine_t;
 
 /* Solve the n x n system A x = b (row-major A, destroyed) by Gaussian elimination with
@@ -88,22 +101,22 @@ static int ea__rsolve(int n, double *A, double *b, double *x) {
   return 0;
 }
 
-/* Fit the FE residual after the motion (history rows t >= duration, about the final
- * equilibrium) with the K model modes: out[2i] (cos), out[2i+1] (sin) [m]. */
-static int ea__refine_fit(const ea__refine_t *R, const ea_sim_history_t *h, const ea_sim_info_t *si,
-                          double *out) {
+/* Fit the FE residual of model j's arm after the motion (history rows t >= duration, about the
+ * final equilibrium) with model j's K modes: out[2i] (cos), out[2i+1] (sin) [m]. */
+static int ea__refine_fit(const ea__refine_t *R, int j, const ea_sim_history_t *h,
+                          const ea_sim_info_t *si, double *out) {
   const int np = 2 * R->K;
-  double N[EA__RP * EA__RP] = {0}, rhs[EA__RP] = {0};
+  double N[4 * EA_ROM_MAX_MODES * EA_ROM_MAX_MODES] = {0}, rhs[2 * EA_ROM_MAX_MODES] = {0};
   int rows = 0;
   for (int r = 0; r < h->rows; ++r) {
     const double *row = h->data + 6 * (size_t)r;
     if (row[0] < si->duration) continue;
     const double tau = row[0] - si->duration;
     for (int d = 0; d < 2; ++d) {
-      double a[EA__RP];
+      double a[2 * EA_ROM_MAX_MODES];
       for (int i = 0; i < R->K; ++i) {
-        a[2 * i] = R->u[i][d] * cos(R->w[i] * tau);
-        a[2 * i + 1] = R->u[i][d] * sin(R->w[i] * tau);
+        a[2 * i] = R->u[j][i][d] * cos(R->w[j][i] * tau);
+        a[2 * i + 1] = R->u[j][i][d] * sin(R->w[j][i] * tau);
       }
       const double y = row[1 + d] - si->final_static_tip[d];
       for (int p = 0; p < np; ++p) {
@@ -118,11 +131,19 @@ static int ea__refine_fit(const ea__refine_t *R, const ea_sim_history_t *h, cons
   return ea__rsolve(np, N, rhs, out);
 }
 
-/* Norm of the fitted amplitudes of the adjusted modes [m]. */
-static double ea__rnorm(const ea__refine_t *R, const double *fit) {
+/* The Newton residual F = fitted - predicted + z over the adjusted modes of every model (n). */
+static void ea__refine_F(const ea__refine_t *R, const ea_refine_eval_t *e, double *F) {
+  for (int j = 0; j < R->M; ++j)
+    for (int q = 0; q < 2 * R->m; ++q) {
+      const int p = j * 2 * R->m + q, o = j * 2 * R->K + q;
+      F[p] = e->fitted_m[o] - e->predicted_m[o] + e->params_m[p];
+    }
+}
+
+static double ea__rnorm(const ea__refine_t *R, const double *F) {
   double s = 0.0;
   for (int p = 0; p < R->n; ++p)
-    s += fit[p] * fit[p];
+    s += F[p] * F[p];
   return sqrt(s);
 }
 
@@ -140,8 +161,38 @@ static int ea__refine_budget(ea__refine_t *R) {
   return 0;
 }
 
-/* One evaluation at parameters z (n values): re-plan warm with the targets, FE transient, fit.
- * Appends to info->evals; returns its index (-1: no room). */
+/* The FE transients of the held plan (R->tr) at every model's arm, fitted; into e. */
+static void ea__refine_fe(ea__refine_t *R, ea_refine_eval_t *e) {
+  ea_refine_info_t *info = R->info;
+  const double tf = ea__rnow();
+  e->fe_status = EA_OK;
+  e->score = 0.0;
+  for (int j = 0; j < R->M && !e->fe_status; ++j) {
+    ea_sim_history_t h = {0, NULL};
+    ea_sim_info_t si;
+    ea_error_t err = {0};
+    /* the nominal: the arm's hand plus the trajectory's payload, as the planner's */
+    const double tm = j ? info->model_tip_mass_kg[j] : -1.0;
+    e->fe_status = ea_traj_simulate(&R->arm[j], &R->tr, tm, &info->fe, &h, &si, &err);
+    if (!e->fe_status) {
+      e->model_residual_peak_m[j] = si.residual_peak;
+      e->model_residual_rms_m[j] = si.residual_rms;
+      e->score = fmax(e->score, si.residual_peak / info->allowed_m[j]);
+      if (ea__refine_fit(R, j, &h, &si, e->fitted_m + 2 * R->K * j))
+        for (int p = 0; p < 2 * R->K; ++p)
+          e->fitted_m[2 * R->K * j + p] = NAN;
+    }
+    ea_sim_history_free(&h);
+  }
+  if (e->fe_status) e->score = NAN;
+  e->residual_peak_m = e->model_residual_peak_m[0];
+  e->residual_rms_m = e->model_residual_rms_m[0];
+  e->fe_time_s = ea__rnow() - tf;
+  info->time_fe_s += e->fe_time_s;
+}
+
+/* One evaluation at parameters z (n values): re-plan warm with the targets, FE transients,
+ * fits. Appends to info->evals; returns its index (-1: no room). */
 static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) {
   ea_refine_info_t *info = R->info;
   if (info->n_evals >= EA_TASK_REFINE_MAX_EVALUATIONS + 1) return -1;
@@ -149,21 +200,28 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
   ea_refine_eval_t *e = &info->evals[idx];
   memset(e, 0, sizeof *e);
   e->final_resolve = final_resolve;
-  e->duration_s = e->residual_peak_m = e->residual_rms_m = NAN;
+  e->duration_s = e->residual_peak_m = e->residual_rms_m = e->score = NAN;
   e->fe_status = EA_ERR_ARG;
   for (int p = 0; p < EA__RP; ++p)
-    e->fitted_m[p] = NAN;
+    e->fitted_m[p] = e->predicted_m[p] = NAN;
+  for (int j = 0; j < EA__RM; ++j)
+    e->model_residual_peak_m[j] = e->model_residual_rms_m[j] = NAN;
   const double te = ea__rnow();
-  for (int i = 0; i < R->m; ++i) {
-    e->params_m[2 * i] = z[2 * i];
-    e->params_m[2 * i + 1] = z[2 * i + 1];
-    e->eta[i] = z[2 * i] / R->tipn[i];
-    e->eta_rate[i] = z[2 * i + 1] * R->w[i] / R->tipn[i];
-  }
+  for (int j = 0; j < R->M; ++j)
+    for (int i = 0; i < R->m; ++i) {
+      const int p = j * 2 * R->m + 2 * i;
+      e->params_m[p] = z[p];
+      e->params_m[p + 1] = z[p + 1];
+      e->eta[j * R->K + i] = z[p] / R->tipn[j][i];
+      e->eta_rate[j * R->K + i] = z[p + 1] * R->w[j][i] / R->tipn[j][i];
+    }
   ea_error_t err = {0};
   ea_plan_info_t pi;
   memset(&pi, 0, sizeof pi);
-  ea_status_t st = ea_planner_set_terminal_modes(R->pl, e->eta, e->eta_rate, &err);
+  ea_status_t st = EA_OK;
+  for (int j = 0; j < R->M && !st; ++j)
+    st = ea_planner_set_terminal_modes_model(R->pl, j, e->eta + j * R->K, e->eta_rate + j * R->K,
+                                             &err);
   if (!st) st = ea_planner_solve(R->pl, EA_PLAN_WARM, NULL, &pi, &err);
   e->plan_status = st;
   e->plan_iterations = pi.iterations;
@@ -177,63 +235,69 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
     e->duration_s = pi.duration_s;
     st = ea_planner_trajectory(R->pl, &R->tr, &err);
   }
-  if (!st) {
-    const double tf = ea__rnow();
-    ea_sim_history_t h = {0, NULL};
-    ea_sim_info_t si;
-    e->fe_status = ea_traj_simulate(&R->task->arm, &R->tr, -1.0, &info->fe, &h, &si, &err);
-    if (!e->fe_status) {
-      e->residual_peak_m = si.residual_peak;
-      e->residual_rms_m = si.residual_rms;
-      if (ea__refine_fit(R, &h, &si, e->fitted_m))
-        for (int p = 0; p < EA__RP; ++p)
-          e->fitted_m[p] = NAN;
+  if (!st) { /* each model's own state at the goal, as tip amplitudes */
+    for (int j = 0; j < R->M; ++j) {
+      double eta[EA_ROM_MAX_MODES], rate[EA_ROM_MAX_MODES];
+      if (ea__plan_dyn_terminal(R->pl, j, eta, rate)) continue;
+      for (int i = 0; i < R->K; ++i) {
+        e->predicted_m[j * 2 * R->K + 2 * i] = eta[i] * R->tipn[j][i];
+        e->predicted_m[j * 2 * R->K + 2 * i + 1] = rate[i] * R->tipn[j][i] / R->w[j][i];
+      }
     }
-    ea_sim_history_free(&h);
-    e->fe_time_s = ea__rnow() - tf;
-    info->time_fe_s += e->fe_time_s;
+    ea__refine_fe(R, e);
   }
+  /* longer than the unrefined plan by more than max_duration_change: rejected (a shorter one
+   * is not: a robust refinement's corner centres free the plan, paper line -3.8 %) */
   const double d0 = info->duration_before_s;
-  e->accepted = !e->plan_status && !e->fe_status && isfinite(e->residual_peak_m) &&
-                isfinite(e->fitted_m[0]) &&
-                (idx == 0 || fabs(e->duration_s - d0) <= R->s.max_duration_change * d0);
+  int fitted = 1;
+  for (int p = 0; p < 2 * R->K * R->M; ++p)
+    fitted = fitted && isfinite(e->fitted_m[p]) && isfinite(e->predicted_m[p]);
+  e->accepted = !e->plan_status && !e->fe_status && isfinite(e->score) && fitted &&
+                (idx == 0 || e->duration_s - d0 <= R->s.max_duration_change * d0);
   e->elapsed_s = ea__rnow() - R->t0;
   R->last_eval_s = ea__rnow() - te;
-  if (e->accepted && !final_resolve &&
-      (R->best < 0 || e->residual_peak_m < info->evals[R->best].residual_peak_m))
+  if (e->accepted && !final_resolve && (R->best < 0 || e->score < info->evals[R->best].score))
     R->best = idx;
-  if (e->accepted && e->residual_peak_m <= R->s.tolerance_m && !R->stop) R->stop = "tolerance";
+  if (e->accepted && e->score <= 1.0 && !R->stop) R->stop = "tolerance";
   return idx;
 }
 
-/* ---- Newton on the fitted amplitudes, Jacobian by Broyden updates ---------------------- */
+/* ---- Newton on F, Jacobian by Broyden updates ------------------------------------------ */
 
 static void ea__refine_newton(ea__refine_t *R) {
   const int n = R->n;
-  double J[EA__RP * EA__RP] = {0};
+  static const size_t nn = (size_t)EA__RP * EA__RP;
+  double *J = calloc(nn, sizeof *J), *A = calloc(nn, sizeof *A);
+  if (!J || !A) {
+    free(J);
+    free(A);
+    R->stop = "failed";
+    return;
+  }
   for (int p = 0; p < n; ++p)
     J[p * n + p] = 1.0;
   double lambda = 1.0;
   int from = R->best; /* the point the next step starts from */
   while (!ea__refine_budget(R)) {
     const ea_refine_eval_t *b = &R->info->evals[from];
-    double A[EA__RP * EA__RP], rhs[EA__RP], dz[EA__RP], z[EA__RP];
-    memcpy(A, J, sizeof A);
+    double Fb[EA__RP], rhs[EA__RP], dz[EA__RP], z[EA__RP];
+    ea__refine_F(R, b, Fb);
+    memcpy(A, J, (size_t)n * n * sizeof *A);
     for (int p = 0; p < n; ++p)
-      rhs[p] = -b->fitted_m[p];
+      rhs[p] = -Fb[p];
     if (ea__rsolve(n, A, rhs, dz)) { /* singular update: start over from I */
-      memset(J, 0, sizeof J);
+      memset(J, 0, nn * sizeof *J);
       for (int p = 0; p < n; ++p) {
         J[p * n + p] = 1.0;
-        dz[p] = -b->fitted_m[p];
+        dz[p] = -Fb[p];
       }
     }
-    /* at most 4 x the fitted amplitude per step (the model's scale) */
+    /* at most 4 x |F| per step (the model's scale) */
     double len = 0.0;
     for (int p = 0; p < n; ++p)
       len += dz[p] * dz[p];
     len = sqrt(len);
-    const double cap = 4.0 * ea__rnorm(R, b->fitted_m);
+    const double cap = 4.0 * ea__rnorm(R, Fb);
     const double f = lambda * (len > cap ? cap / len : 1.0);
     for (int p = 0; p < n; ++p)
       z[p] = b->params_m[p] + f * dz[p];
@@ -244,19 +308,20 @@ static void ea__refine_newton(ea__refine_t *R) {
     const int idx = ea__refine_eval(R, z, 0);
     if (idx < 0) break;
     const ea_refine_eval_t *e = &R->info->evals[idx];
-    if (e->accepted) { /* Broyden: J += (dr - J dz) dz^T / |dz|^2 over this step */
-      double s[EA__RP], dr[EA__RP], ss = 0.0;
+    if (e->accepted) { /* Broyden: J += (dF - J dz) dz^T / |dz|^2 over this step */
+      double Fe[EA__RP], sv[EA__RP], dF[EA__RP], ss = 0.0;
+      ea__refine_F(R, e, Fe);
       for (int p = 0; p < n; ++p) {
-        s[p] = e->params_m[p] - b->params_m[p];
-        dr[p] = e->fitted_m[p] - b->fitted_m[p];
-        ss += s[p] * s[p];
+        sv[p] = e->params_m[p] - b->params_m[p];
+        dF[p] = Fe[p] - Fb[p];
+        ss += sv[p] * sv[p];
       }
       for (int p = 0; p < n && ss > 0.0; ++p) {
         double Js = 0.0;
         for (int q = 0; q < n; ++q)
-          Js += J[p * n + q] * s[q];
+          Js += J[p * n + q] * sv[q];
         for (int q = 0; q < n; ++q)
-          J[p * n + q] += (dr[p] - Js) * s[q] / ss;
+          J[p * n + q] += (dF[p] - Js) * sv[q] / ss;
       }
     }
     if (R->best == idx) {
@@ -266,9 +331,11 @@ static void ea__refine_newton(ea__refine_t *R) {
       lambda *= 0.5; /* no better: a shorter step from the best point */
     }
   }
+  free(J);
+  free(A);
 }
 
-/* ---- NLopt on the fitted modal energy ------------------------------------------------------ */
+/* ---- NLopt on |F|^2 ------------------------------------------------------------------------ */
 
 static double ea__refine_nlopt_f(unsigned n, const double *x, double *grad, void *data) {
   ea__refine_t *R = data;
@@ -288,7 +355,9 @@ static double ea__refine_nlopt_f(unsigned n, const double *x, double *grad, void
   const ea_refine_eval_t *e = &R->info->evals[idx];
   if (R->stop) nlopt_force_stop(R->opt);
   if (!e->accepted) return R->penalty;
-  const double r = ea__rnorm(R, e->fitted_m) / R->nl_scale;
+  double F[EA__RP];
+  ea__refine_F(R, e, F);
+  const double r = ea__rnorm(R, F) / R->nl_scale;
   return r * r;
 }
 
@@ -297,11 +366,13 @@ static void ea__refine_nlopt(ea__refine_t *R) {
                                          NLOPT_LN_SBPLX};
   const int n = R->n;
   const ea_refine_eval_t *e0 = &R->info->evals[R->best];
-  const double r0 = ea__rnorm(R, e0->fitted_m);
-  /* variables in units of the tolerance, from the first Newton step z0 = -fit */
+  double F0[EA__RP];
+  ea__refine_F(R, e0, F0);
+  const double r0 = ea__rnorm(R, F0);
+  /* variables in units of the tolerance, from the first Newton step z0 = z - F */
   R->nl_scale = R->s.tolerance_m;
   for (int p = 0; p < n; ++p)
-    R->nl_z0[p] = e0->params_m[p] - e0->fitted_m[p];
+    R->nl_z0[p] = e0->params_m[p] - F0[p];
   const double r0u = r0 / R->nl_scale;
   R->penalty = 100.0 * (r0u * r0u + 1.0);
   double x[EA__RP] = {0}, lb[EA__RP], ub[EA__RP], step[EA__RP];
@@ -371,11 +442,15 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
              "refinement settings out of range (docs/task-format.md, dynamics.refine)");
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
   }
+  ea_plan_dyn_info_t di;
+  ea_planner_dyn_model(pl, &di);
   R.t0 = ea__rnow();
   R.K = task->dynamics.modes;
   R.m = R.s.modes;
-  R.n = 2 * R.m;
+  R.M = di.models > 1 ? di.models : 1;
+  R.n = 2 * R.m * R.M;
   info->model_modes = R.K;
+  info->models = R.M;
   info->n_params = R.n;
   ea_sim_settings_default(&info->fe);
   info->fe.elements = EA_FE_DEFAULT_ELEMENTS;
@@ -390,25 +465,34 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
     return st;
   }
 
-  /* the model at the goal (the last knot is pinned there): frequencies and tip directions */
-  ea_rom_point_t v;
-  ea_rom_table_eval(tb, task->goal.cable_length, task->goal.cable_angle, &v, NULL, NULL);
-  for (int i = 0; i < R.K; ++i) {
-    R.w[i] = sqrt(fmax(v.omega2[i], 0.0));
-    R.tipn[i] = hypot(v.tip[i][0], v.tip[i][1]);
-    if (!(R.w[i] > 0.0) || !(R.tipn[i] > 0.0)) {
-      info->status = EA_ERR_UNSTABLE;
-      snprintf(info->message, sizeof info->message,
-               "the reduced model at the goal has mode %d with frequency %g rad/s and tip "
-               "displacement %g m per unit: cannot refine",
-               i + 1, R.w[i], R.tipn[i]);
-      return ea_error_set(err, info->status, "%s", info->message);
+  /* every model at the goal (the last knot is pinned there): frequencies and tip directions;
+   * its FE arm: the task's with the model's EI, its tip mass (hand + payload, scaled) */
+  for (int j = 0; j < R.M; ++j) {
+    const ea_rom_table_t *tj = ea__plan_rom_model(pl, j);
+    ea_rom_point_t v;
+    ea_rom_table_eval(tj, task->goal.cable_length, task->goal.cable_angle, &v, NULL, NULL);
+    R.arm[j] = task->arm;
+    R.arm[j].EI = di.model_EI[j];
+    info->model_tip_mass_kg[j] = di.model_tip_mass[j];
+    info->model_EI_Nm2[j] = di.model_EI[j];
+    info->allowed_m[j] = j ? task->dynamics.robust_residual_m + R.s.tolerance_m : R.s.tolerance_m;
+    for (int i = 0; i < R.K; ++i) {
+      R.w[j][i] = sqrt(fmax(v.omega2[i], 0.0));
+      R.tipn[j][i] = hypot(v.tip[i][0], v.tip[i][1]);
+      if (!(R.w[j][i] > 0.0) || !(R.tipn[j][i] > 0.0)) {
+        info->status = EA_ERR_UNSTABLE;
+        snprintf(info->message, sizeof info->message,
+                 "the reduced model%s at the goal has mode %d with frequency %g rad/s and tip "
+                 "displacement %g m per unit: cannot refine",
+                 j ? " of a robust corner" : "", i + 1, R.w[j][i], R.tipn[j][i]);
+        return ea_error_set(err, info->status, "%s", info->message);
+      }
+      R.u[j][i][0] = v.tip[i][0] / R.tipn[j][i];
+      R.u[j][i][1] = v.tip[i][1] / R.tipn[j][i];
     }
-    R.u[i][0] = v.tip[i][0] / R.tipn[i];
-    R.u[i][1] = v.tip[i][1] / R.tipn[i];
   }
 
-  /* evaluation 0: the at-rest plan (targets zero; no iteration if the planner holds it) */
+  /* evaluation 0: the unrefined plan (targets zero; no iteration if the planner holds it) */
   const double zero[EA__RP] = {0};
   memset(&R.tr, 0, sizeof R.tr);
   const int i0 = ea__refine_eval(&R, zero, 0);
@@ -426,6 +510,9 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
   }
   info->residual_peak_before_m = e0->residual_peak_m;
   info->residual_rms_before_m = e0->residual_rms_m;
+  info->score_before = e0->score;
+  for (int j = 0; j < R.M; ++j)
+    info->model_residual_peak_before_m[j] = e0->model_residual_peak_m[j];
 
   if (!R.stop) {
     if (R.s.method == EA_TASK_REFINE_NEWTON)
@@ -457,20 +544,33 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
   info->duration_s = er->duration_s;
   info->residual_peak_m = er->residual_peak_m;
   info->residual_rms_m = er->residual_rms_m;
-  for (int i = 0; i < R.K; ++i) {
+  info->score = er->score;
+  for (int j = 0; j < R.M; ++j)
+    info->model_residual_peak_m[j] = er->model_residual_peak_m[j];
+  for (int i = 0; i < R.K * R.M; ++i) {
     info->eta[i] = er->eta[i];
     info->eta_rate[i] = er->eta_rate[i];
   }
-  info->converged = er->accepted && er->residual_peak_m <= R.s.tolerance_m;
+  info->converged = er->accepted && er->score <= 1.0;
   snprintf(info->stop_reason, sizeof info->stop_reason, "%s", R.stop);
   info->time_s = ea__rnow() - R.t0;
   info->status = EA_OK;
   if (plan_info) *plan_info = R.held_info;
+  char corners[160] = "";
+  if (R.M > 1) {
+    double c0 = 0.0, c1 = 0.0;
+    for (int j = 1; j < R.M; ++j) {
+      c0 = fmax(c0, info->model_residual_peak_before_m[j]);
+      c1 = fmax(c1, info->model_residual_peak_m[j]);
+    }
+    snprintf(corners, sizeof corners, "; robust corners: worst %.4g mm -> %.4g mm (bound %.4g mm)",
+             1e3 * c0, 1e3 * c1, 1e3 * info->allowed_m[1]);
+  }
   snprintf(info->message, sizeof info->message,
-           "refinement (%s): FE residual peak %.4g mm -> %.4g mm (tolerance %.4g mm%s) in %d "
+           "refinement (%s): FE residual peak %.4g mm -> %.4g mm (tolerance %.4g mm)%s%s in %d "
            "evaluation%s, %.3g s; duration %.6g s -> %.6g s; stopped: %s",
            ea_task_refine_method_name(R.s.method), 1e3 * info->residual_peak_before_m,
-           1e3 * info->residual_peak_m, 1e3 * R.s.tolerance_m,
+           1e3 * info->residual_peak_m, 1e3 * R.s.tolerance_m, corners,
            info->converged ? ", reached" : ", NOT reached", info->n_evals,
            info->n_evals == 1 ? "" : "s", info->time_s, info->duration_before_s, info->duration_s,
            info->stop_reason);

@@ -1001,6 +1001,20 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
   return ea__solve_checked(pl, start, prev, info_out, err);
 }
 
+/* The barrier's start and the warm-start pushes for both transcriptions. After an update
+ * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
+ * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
+ * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
+ * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
+void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
+  const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
+  AddIpoptNumOption(ip, "mu_init", mu);
+  if (!warm && !updated) return;
+  AddIpoptNumOption(ip, "warm_start_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
+}
+
 ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                                 ea_plan_info_t *info_out, ea_error_t *err) {
   ea_plan_info_t local, *info = info_out ? info_out : &local;
@@ -1079,31 +1093,20 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
    * the order of its cases, 1e-8 in durations, one Ipopt iteration more or less). AMD, AMF,
    * PORD and METIS are deterministic; the whole cold solve took the same time with each. */
   AddIpoptIntOption(pl->ip, "mumps_pivot_order", 0);
-  if (replan || pl->refining) {
-    /* After ea_planner_update (or bounds tightened for limits between knots) (docs/planner.md,
-     * bench_plan): the shifted point is near, not at, the new optimum; mu_init 1e-6 with pushes
-     * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
-     * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
-    AddIpoptNumOption(pl->ip, "mu_init", 1e-6);
-    AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-5);
-    AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-5);
-    AddIpoptNumOption(pl->ip, "warm_start_slack_bound_push", 1e-5);
-  } else if (warm) {
-    AddIpoptNumOption(pl->ip, "mu_init", 1e-7);
-    AddIpoptNumOption(pl->ip, "warm_start_bound_push", 1e-9);
-    AddIpoptNumOption(pl->ip, "warm_start_mult_bound_push", 1e-9);
-    AddIpoptNumOption(pl->ip, "warm_start_slack_bound_push", 1e-9);
-  } else {
-    AddIpoptNumOption(pl->ip, "mu_init", 0.1);
-  }
+  ea__ipopt_start_options(pl->ip, warm, replan || pl->refining);
   /* Barrier strategy: from a near-optimal start (a cold guess timed along
    * its path, or a previous plan) the monotone strategy with mu_init 1e-4
    * needs about one linear solve per iteration instead of the adaptive
    * strategy's three, in as many or fewer iterations (docs/planner.md). If
    * it fails, the solve is repeated from the same start with the adaptive
-   * strategy, the default for every other start. */
-  int mono = !warm && !pl->rom &&
-             (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+   * strategy, the default for every other start. With dynamics (knot transcription) from a
+   * cold start, monotone from mu_init 1e-3 (bench_dyn, at-rest paper line: 66 instead of 89
+   * iterations at 100 knots; at 200 knots the adaptive strategy failed after 500, monotone
+   * converged in 111; 1e-2: 196 and 130; pick-place-3d 19 vs 20). */
+  const double mono_mu = pl->rom ? 1e-3 : 1e-4;
+  int mono =
+      !warm && (pl->rom ? start == EA_PLAN_COLD
+                        : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   if (pl->task.solver.derivative_test) {
     snprintf(tmpl, sizeof tmpl, "/tmp/ea_dercheck_XXXXXX");
@@ -1129,7 +1132,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   } else {
     for (;;) {
       AddIpoptStrOption(pl->ip, "mu_strategy", mono ? "monotone" : "adaptive");
-      if (mono) AddIpoptNumOption(pl->ip, "mu_init", 1e-4);
+      if (mono) AddIpoptNumOption(pl->ip, "mu_init", mono_mu);
       pl->iter = 0;
       rs = IpoptSolve(pl->ip, pl->x, pl->g, &obj, pl->mult_g, pl->mult_xl, pl->mult_xu, pl);
       iters += pl->iter;
@@ -1237,18 +1240,37 @@ solved_path:
 
 ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
                                           const double *eta_rate, ea_error_t *err) {
+  return ea_planner_set_terminal_modes_model(pl, 0, eta, eta_rate, err);
+}
+
+ea_status_t ea_planner_set_terminal_modes_model(ea_planner_t *pl, int model, const double *eta,
+                                                const double *eta_rate, ea_error_t *err) {
   if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_set_terminal_modes: NULL planner");
-  if (!pl->rom || pl->task.dynamics.residual_m > 0 || pl->task.objective == EA_TASK_MIN_VIBRATION)
+  if (model == 0 &&
+      (!pl->rom || pl->task.dynamics.residual_m > 0 || pl->task.objective == EA_TASK_MIN_VIBRATION))
     return ea_error_set(err, EA_ERR_ARG,
                         "terminal modal targets need a task with dynamics that ends at rest "
                         "(residual_m 0, not min_vibration)");
-  for (int i = 0; i < pl->Kper; ++i) { /* the nominal model's modes */
+  if (model != 0 &&
+      (!pl->rom || model < 1 || model >= pl->M || pl->task.objective == EA_TASK_MIN_VIBRATION))
+    return ea_error_set(err, EA_ERR_ARG,
+                        "terminal target of model %d: the task has %d model%s (robust corners "
+                        "1..4 need dynamics.robust, not min_vibration)",
+                        model, pl->M, pl->M == 1 ? "" : "s");
+  for (int i = 0; i < pl->Kper; ++i) { /* the model's modes */
     const double e = eta ? eta[i] : 0.0, ed = eta_rate ? eta_rate[i] : 0.0;
     if (!isfinite(e) || !isfinite(ed))
-      return ea_error_set(err, EA_ERR_ARG, "terminal modal target of mode %d is not finite", i + 1);
-    pl->dyn_target[i] = e;
-    pl->dyn_target[EA__DYN_MAX + i] = ed;
+      return ea_error_set(err, EA_ERR_ARG,
+                          "terminal modal target of mode %d (model %d) is not "
+                          "finite",
+                          i + 1, model);
   }
+  for (int i = 0; i < pl->Kper; ++i) {
+    const int c = model * pl->Kper + i;
+    pl->dyn_target[c] = eta ? eta[i] : 0.0;
+    pl->dyn_target[EA__DYN_MAX + c] = eta_rate ? eta_rate[i] : 0.0;
+  }
+  if (model > 0) return EA_OK; /* a corner's centre is in its row's value only */
   ea__bounds(pl);
   if (ea__ipopt_create(pl))
     return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");

@@ -57,6 +57,19 @@ void ea_sim_history_free(ea_sim_history_t *h) {
   h->rows = 0;
 }
 
+/* The interval [lo, lo + 1] of samples holding t (t strictly inside the trajectory's span). */
+static int ea__traj_interval(const ea_traj_t *tr, double t) {
+  int lo = 0, hi = tr->n - 1;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
 void ea_traj_planned_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, double xy[2]) {
   const int n = tr->n;
   double L, a;
@@ -67,14 +80,7 @@ void ea_traj_planned_tip(const ea_traj_t *tr, const ea_arm_t *arm, double t, dou
     L = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_cable_length);
     a = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_cable_angle);
   } else {
-    int lo = 0, hi = n - 1;
-    while (hi - lo > 1) {
-      const int mid = (lo + hi) / 2;
-      if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
-        lo = mid;
-      else
-        hi = mid;
-    }
+    const int lo = ea__traj_interval(tr, t), hi = lo + 1;
     const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
     const double s = (t - t0) / h, s2 = s * s, s3 = s2 * s;
     const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
@@ -433,14 +439,7 @@ static void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, doubl
     *v = *a = 0.0;
     return;
   }
-  int lo = 0, hi = n - 1;
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
-      lo = mid;
-    else
-      hi = mid;
-  }
+  const int lo = ea__traj_interval(tr, t), hi = lo + 1;
   const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
   const double s = (t - t0) / h, s2 = s * s, s3 = s2 * s;
   const double y0 = EA_TRAJ_AT(tr, lo, c), y1 = EA_TRAJ_AT(tr, hi, c);
