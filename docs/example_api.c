@@ -1,5 +1,7 @@
-/* The README's C API example, built with the project so that it keeps
- * compiling (target example_api). */
+/* The README's C API example, built with the project (target example_api)
+ * and, by the test "install", against the installed library with plain
+ * `cc -std=c11` through pkg-config and through find_package. The README shows
+ * this file from its first include line on (docs/regenerate.sh checks it). */
 
 #include "ea_model.h" /* model/: statics and FE */
 #include <math.h>
@@ -19,7 +21,8 @@ int main(void) {
 
   /* Cable 0.45 m at -25 deg: solve g*(alpha, T, theta0, kappa0) = 0 on the
      physical branch (continued from the T = 0 outer edge). */
-  ea_statics_problem_t pr = ea_statics_problem_cable(0.45, -25.0 * M_PI / 180);
+  const double deg = acos(-1.0) / 180; /* M_PI is not ISO C */
+  ea_statics_problem_t pr = ea_statics_problem_cable(0.45, -25.0 * deg);
   ea_statics_solution_t sol;
   if (ea_statics_solve(sh, &pr, NULL, NULL, &sol, &err) != EA_OK) {
     fprintf(stderr, "%s\n", err.msg); /* not converged, or T < 0 */

@@ -6,9 +6,13 @@
  * Every call returns an ::ea_status_t. A call that can say more takes an
  * optional ::ea_error_t and writes it only on failure: on EA_OK the caller's
  * error context is left as it was.
+ *
+ * Includes ea_version.h (EA_VERSION_STRING, ea_version()).
  */
 #ifndef EA_STATUS_H
 #define EA_STATUS_H
+
+#include "ea_version.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -30,7 +30,8 @@ static const ea__cmd_t ea__cmds[] = {
 };
 
 static void ea__usage(FILE *fp) {
-  fprintf(fp, "usage: elasticarm COMMAND [options]   (elasticarm COMMAND --help)\n\n"
+  fprintf(fp, "usage: elasticarm COMMAND [options]   (elasticarm COMMAND --help)\n"
+              "       elasticarm --version\n\n"
               "Models a cable-actuated elastica manipulator arm and plans its motions.\n\n"
               "commands:\n");
   for (size_t i = 0; i < sizeof ea__cmds / sizeof *ea__cmds; ++i)
@@ -55,7 +56,7 @@ int main(int argc, char **argv) {
     return EA_EXIT_OK;
   }
   if (!strcmp(argv[1], "--version")) {
-    printf("elasticarm 0.1.0\n");
+    printf("elasticarm %s\n", ea_version()); /* project() in CMakeLists.txt */
     return EA_EXIT_OK;
   }
   for (size_t i = 0; i < sizeof ea__cmds / sizeof *ea__cmds; ++i)

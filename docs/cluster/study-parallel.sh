@@ -1,0 +1,25 @@
+#!/bin/sh
+# GNU parallel: the N shards of an elasticarm study on this machine or, with
+# SSHLOGINFILE=hosts.txt, on several (a shared folder, elasticarm on each
+# machine's PATH), then the merge (docs/cluster.md; N from study-size.sh):
+#
+#   [THREADS=T] [JOBS=J] [SSHLOGINFILE=hosts.txt] sh docs/cluster/study-parallel.sh SPEC.yaml N
+#
+# J shards run at once per machine (default: cores / T), each with T threads
+# (default 1: right for studies with min_time). A shard's journal lets the
+# same command, rerun after an interruption, resume.
+set -eu
+[ $# -eq 2 ] || { sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+spec=$1
+n=$2
+EA=${EA:-elasticarm}
+T=${THREADS:-1}
+J=${JOBS:-$(($(nproc) / T > 0 ? $(nproc) / T : 1))}
+name=$(basename "$spec" .yaml)
+mkdir -p results
+set -- --will-cite -j "$J" --halt soon,fail=1
+[ -n "${SSHLOGINFILE:-}" ] && set -- "$@" --sshloginfile "$SSHLOGINFILE" --workdir "$PWD"
+seq 1 "$n" | parallel "$@" \
+  "$EA study '$spec' --shard {}/$n --threads $T -o 'results/$name.shard{}-of-$n.csv' --quiet"
+# shellcheck disable=SC2086 # EA may be a command with arguments
+$EA study merge "results/$name.csv" $(seq -f "results/$name.shard%g-of-$n.csv" 1 "$n") --spec "$spec"

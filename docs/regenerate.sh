@@ -1,0 +1,443 @@
+#!/bin/sh
+# Regenerates the numbers published in README.md and docs/ and checks them.
+#
+#   sh docs/regenerate.sh            check: rerun the commands, exit 1 if a
+#                                    published number differs from the fresh one
+#                                    in the digits it is published with
+#   sh docs/regenerate.sh --print    the fresh table: file, text as it should
+#                                    read, the command that produced it
+#   sh docs/regenerate.sh --write    rewrite the published numbers in place, and
+#                                    the figures (docs/figures/make.sh)
+#   --figures                        (with check or --print) redraw the figures
+#                                    too: `git diff docs/figures` shows changes
+#   --no-figures                     (with --write) leave the figures alone
+#
+# Run from anywhere after building (B=build by default; B=other-build to use
+# another). Every command's output goes to out/regen/ (NAME.cmd holds the
+# command, NAME.out / NAME.err its output). Only deterministic numbers are
+# checked: timings and jitter depend on the machine, so the bench tables'
+# time columns and the times quoted in the text are matched as "any number"
+# ({*} below) or not at all (their outputs stay in out/regen/); bench_stream
+# (jitter only) is not run. About 2 minutes on 2 cores.
+#
+# Each check is `pub SOURCE FILE 'TEMPLATE' VALUE...`: TEMPLATE is the
+# published text on one line of FILE, with {} where a checked number stands
+# (in order, VALUE... formatted with the published digits) and {*} for a
+# number that is not checked. The template must match exactly one line.
+# shellcheck disable=SC2046,SC2016 # number lists are split on purpose; templates hold backquotes
+set -eu
+cd "$(dirname "$0")/.."
+B=${B:-build}
+EA=$B/elasticarm
+R=out/regen
+mode=check
+figures=0
+nofig=0
+for a in "$@"; do
+  case $a in
+  --check) mode=check ;;
+  --print) mode=print ;;
+  --write) mode=write figures=1 ;;
+  --figures) figures=1 ;;
+  --no-figures) nofig=1 ;;
+  -h | --help)
+    awk 'NR > 1 && /^# shellcheck/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"
+    exit 0
+    ;;
+  *)
+    echo "regenerate.sh: unknown option '$a' (--check, --print, --write, --figures, --no-figures)" >&2
+    exit 2
+    ;;
+  esac
+done
+for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
+  "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream"; do
+  [ -x "$x" ] || {
+    echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
+    exit 2
+  }
+done
+mkdir -p "$R"
+export EA_CACHE_DIR="${EA_CACHE_DIR:-$R/cache}"
+unset EA_ARM_FILE
+
+# run NAME COMMAND...: stdout to $R/NAME.out, stderr to $R/NAME.err.
+run() {
+  name=$1
+  shift
+  echo "$*" >"$R/$name.cmd"
+  rc=0
+  "$@" >"$R/$name.out" 2>"$R/$name.err" || rc=$?
+  if [ $rc -ne 0 ] && [ $rc -ne 77 ]; then # 77: a test that skipped a part (no pty)
+    echo "regenerate.sh: failed ($rc): $*" >&2
+    tail -20 "$R/$name.err" >&2
+    exit 1
+  fi
+}
+# jnum FILE KEY: a top-level number of a pretty-printed JSON file.
+jnum() {
+  awk -v k="\"$2\":" '$1 == k { v = $2; sub(/,$/, "", v); print v; exit }' "$1"
+}
+# calc 'printf-format' 'awk expression'
+calc() { awk "BEGIN { printf \"$1\", $2 }"; }
+# sci 'printf-format' 'awk expression': calc with a short exponent (2.0e-4)
+sci() { calc "$1" "$2" | sed 's/e\([-+]\)0*\([0-9]\)/e\1\2/'; }
+
+echo "== running the commands (outputs in $R/)"
+# The README's main job and its FE transient.
+run plan "$EA" plan problems/examples/paper-line.yaml -o "$R/paper-line.csv"
+run simulate "$EA" simulate "$R/paper-line.csv" --json -o "$R/paper-line-sim.csv"
+# Fig. 5, and the same sweep for other hand inertias I_L (README, FE model).
+run fig5 "$EA" frequencies --sweep --csv "$R/fig5.csv"
+for il in 0 4.0e-4 8.0e-4 1.2e-3 2.0e-3; do
+  sed "s/^\( *Izz_kg_m2:\) *[-+.0-9e]*/\1 $il/" data/elasticarm.yaml >"$R/arm-IL-$il.yaml"
+  grep -q "Izz_kg_m2: $il " "$R/arm-IL-$il.yaml" || {
+    echo "regenerate.sh: could not set Izz_kg_m2 in $R/arm-IL-$il.yaml" >&2
+    exit 1
+  }
+  run "fig5-IL-$il" "$EA" frequencies --sweep --arm "$R/arm-IL-$il.yaml" --csv "$R/fig5-IL-$il.csv"
+done
+# Statics accuracy: the work-precision table (errors; times vary) and tests.
+run bench_statics "$B/bench/bench_statics" 1
+run test_statics "$B/tests/test_statics"
+run test_plan "$B/tests/test_plan"
+run test_stream "$B/tests/test_stream"
+# README.md: the planner's iteration counts (bench_plan, ~70 s; times vary).
+run bench_plan "$B/bench/bench_plan"
+# docs/planner.md: the paper line with many knots (~35 s in all).
+for n in 1000 2000 3000 4000; do
+  run "plan-knots-$n" "$EA" plan problems/examples/paper-line.yaml --knots "$n" -o "$R/paper-line-k$n.csv"
+done
+# docs/fe.md: the FE tests and the mesh convergence table (times vary).
+run test_fe "$B/tests/test_fe"
+run bench_fe "$B/bench/bench_fe"
+# docs/streaming.md: the smooth plan streamed to the controller simulator,
+# which simulates what it accepted; the trajectory file simulated alike.
+run plan-smooth "$EA" plan problems/examples/paper-line-smooth.yaml -o "$R/paper-line-smooth.csv"
+run simulate-smooth "$EA" simulate "$R/paper-line-smooth.csv" --scheme energy --settle 1 --json \
+  -o "$R/paper-line-smooth-sim.csv"
+rm -f "$R/ctrl.port"
+echo "$EA controller-sim --port-file $R/ctrl.port --log $R/ctrl-log.csv --simulate $R/ctrl-tip.csv --json" \
+  >"$R/controller-sim.cmd"
+"$EA" controller-sim --port-file "$R/ctrl.port" --log "$R/ctrl-log.csv" \
+  --simulate "$R/ctrl-tip.csv" --json >"$R/controller-sim.out" 2>"$R/controller-sim.err" &
+ctrl=$!
+i=0
+while [ ! -s "$R/ctrl.port" ] && [ $i -lt 100 ]; do
+  sleep 0.1
+  i=$((i + 1))
+done
+[ -s "$R/ctrl.port" ] || {
+  echo "regenerate.sh: controller-sim did not start" >&2
+  kill "$ctrl" 2>/dev/null
+  exit 1
+}
+run stream "$EA" stream "$R/paper-line-smooth.csv" --to "tcp://127.0.0.1:$(cat "$R/ctrl.port")"
+wait "$ctrl" || {
+  echo "regenerate.sh: controller-sim failed" >&2
+  cat "$R/controller-sim.err" >&2
+  exit 1
+}
+run stream-line "$EA" stream "$R/paper-line.csv" --to "file:$R/paper-line.frames"
+# docs/studies.md: the design study, and min_time of the paper line for two payloads.
+run study-design "$EA" study problems/examples/studies/design.yaml -o "$R/design.csv" --threads 1 \
+  --no-checkpoint --quiet
+run study-line "$EA" study payload --payload-factors 0,0.25 --metrics min_time \
+  --task problems/examples/paper-line.yaml -o "$R/study-line.csv" --threads 1 --no-checkpoint --quiet
+if [ $figures = 1 ] && [ $nofig = 0 ]; then
+  echo "== figures (docs/figures/make.sh)"
+  B="$EA" sh docs/figures/make.sh
+fi
+
+# ---------------------------------------------------------------- checks
+FAILS=$R/fails.txt
+: >"$FAILS"
+: >"$R/table.txt"
+# pub SOURCE FILE TEMPLATE VALUE...
+pub() {
+  src=$1 file=$2 tmpl=$3
+  shift 3
+  vals=""
+  sep=$(printf '\034')
+  for v in "$@"; do vals="$vals$v$sep"; done
+  EA_T=$tmpl EA_V=$vals EA_S=$src EA_F=$file EA_TABLE=$R/table.txt awk -v mode="$mode" -f - "$file" \
+    >"$R/rewrite.tmp" 2>>"$FAILS" <<'AWK'
+function esc(s) { gsub(/[][\\^$.|()*+?{}]/, "\\\\&", s); return s }
+BEGIN {
+  NUM = "[-+]?[0-9]+(,[0-9][0-9][0-9])*(\\.[0-9]+)?([eE][-+]?[0-9]+)?"
+  t = ENVIRON["EA_T"]; nv = split(ENVIRON["EA_V"], V, "\034") - 1
+  k = 0; lit = ""
+  while (length(t) > 0) {
+    if (substr(t, 1, 2) == "{}") { L[k] = lit; lit = ""; P[++k] = "v"; t = substr(t, 3) }
+    else if (substr(t, 1, 3) == "{*}") { L[k] = lit; lit = ""; P[++k] = "*"; t = substr(t, 4) }
+    else { lit = lit substr(t, 1, 1); t = substr(t, 2) }
+  }
+  L[k] = lit
+  re = esc(L[0]); for (j = 1; j <= k; j++) re = re NUM esc(L[j])
+  n = 0
+}
+{ line[NR] = $0; if (match($0, re)) { n++; at = NR; s0 = RSTART; len = RLENGTH } }
+END {
+  where = ENVIRON["EA_F"]
+  if (n != 1) {
+    printf "%s: the text '%s' is on %d lines, not one: update docs/regenerate.sh\n", \
+      where, ENVIRON["EA_T"], n > "/dev/stderr"
+    for (i = 1; i <= NR; i++) print line[i]
+    exit
+  }
+  m = substr(line[at], s0, len); pos = length(L[0]) + 1; out = L[0]; vi = 0; bad = ""
+  for (j = 1; j <= k; j++) {
+    match(substr(m, pos), "^" NUM); pubv = substr(m, pos, RLENGTH); pos += RLENGTH
+    if (substr(m, pos, length(L[j])) != L[j]) {
+      printf "%s:%d: cannot read the numbers of '%s'\n", where, at, ENVIRON["EA_T"] > "/dev/stderr"
+      for (i = 1; i <= NR; i++) print line[i]
+      exit
+    }
+    pos += length(L[j])
+    if (P[j] == "v") {
+      fresh = V[++vi]
+      if (pubv != fresh) bad = bad sprintf(" %s -> %s", pubv, fresh)
+      out = out fresh L[j]
+    } else out = out pubv L[j]
+  }
+  if (vi != nv) printf "%s: '%s' has %d {} but %d values\n", where, ENVIRON["EA_T"], vi, nv > "/dev/stderr"
+  if (bad != "")
+    printf "%s:%d: published%s (%s; from: %s)\n", where, at, bad, out, ENVIRON["EA_S"] > "/dev/stderr"
+  printf "%s: %s\n    <- %s\n", where, out, ENVIRON["EA_S"] >> ENVIRON["EA_TABLE"]
+  for (i = 1; i <= NR; i++) print (i == at ? substr(line[i], 1, s0 - 1) out substr(line[i], s0 + len) : line[i])
+}
+AWK
+  if [ $mode = write ] && ! cmp -s "$R/rewrite.tmp" "$file"; then
+    cat "$R/rewrite.tmp" >"$file"
+  fi
+}
+
+# --- README.md: the main job (plan) and its FE transient (simulate)
+dur=$(jnum "$R/paper-line.json" duration_s)
+track=$(jnum "$R/simulate.out" max_tracking_error_m)
+rms=$(jnum "$R/simulate.out" residual_vibration_rms_m)
+pub "plan paper-line.yaml (duration_s)" README.md 'the minimum-time plan, {} s on' "$(calc %.2f "$dur")"
+pub "simulate (max_tracking_error_m, residual_vibration_rms_m)" README.md \
+  'up to {} mm off the quasi-static path and vibrating {} mm rms' \
+  "$(calc %.0f "$track*1e3")" "$(calc %.0f "$rms*1e3")"
+pub "plan paper-line.yaml (duration_s)" README.md '(100 knots, minimum time, {} s)' "$(calc %.5f "$dur")"
+# test_plan's checks of that plan: the knots re-solved cold, the closed form.
+resolve=$(awk '/^PASS: paper line: plan vs cold re-solve/ { sub(/.*abs err /, ""); print $1 + 0 }' "$R/test_plan.out")
+closed=$(awk '/^PASS: paper line: duration vs closed form/ { sub(/.*rel err /, ""); print $1 + 0 }' "$R/test_plan.out")
+topp=$(awk '/^PASS: min time vs time-optimal path/ { sub(/.*rel err /, ""); print $1 + 0 }' "$R/test_plan.out")
+pub "tests/test_plan (paper line: plan vs cold re-solve)" README.md 're-solved independently agrees to {};' \
+  "$(sci %.0e "$resolve")"
+pub "tests/test_plan (paper line: duration vs closed form)" README.md \
+  'of the nominal speed and acceleration limits, D/v + v/a, to {} relative' "$(sci %.1e "$closed")"
+pub "tests/test_plan (min time vs time-optimal path parameterisation)" README.md \
+  'within {} relative of, and not below, an independent' "$(sci %.1e "$topp")"
+
+# --- README.md: Fig. 5 (first row of the CSV: L_c = 0.254 m, last: 0.635 m)
+# fig5 CSV -> "f1_short f1_long f2_short f2_long f3_short f3_long" [Hz]
+ends() { awk -F, 'NR == 2 { a = $2 " " $3 " " $4 } NR > 2 { b = $2 " " $3 " " $4 } END { print a, b }' "$1"; }
+set -- $(ends "$R/fig5.csv")
+pub "frequencies --sweep --csv" README.md '| f1, as the cable shortens | {} -> {} Hz, **{} %** | +55 % |' \
+  "$(calc %.3f "$4")" "$(calc %.3f "$1")" "$(calc %+.1f "($1/$4-1)*100")"
+pub "frequencies --sweep --csv" README.md '| f2, as the cable lengthens | {} -> {} Hz, **{} %** | +38 % |' \
+  "$(calc %.2f "$2")" "$(calc %.2f "$5")" "$(calc %+.1f "($5/$2-1)*100")"
+pub "frequencies --sweep --csv" README.md '| f3, as the cable lengthens | {} -> {} Hz, **{} %** | +12 % |' \
+  "$(calc %.2f "$3")" "$(calc %.2f "$6")" "$(calc %+.1f "($6/$3-1)*100")"
+f1min=1e9 f1max=-1e9
+for il in 0 4.0e-4 8.0e-4 1.2e-3 2.0e-3; do
+  set -- $(ends "$R/fig5-IL-$il.csv")
+  f1=$(calc %.1f "($1/$4-1)*100")
+  f3=$(calc %.0f "($6/$3-1)*100")
+  label=$il
+  [ "$il" = 4.0e-4 ] && label="4.0e-4 (Table 2)"
+  [ "$il" = 1.2e-3 ] && f3_12=$f3
+  pub "frequencies --sweep --arm (I_L = $il) --csv" README.md "| $label | {} % | {} % | {} % |" \
+    "$(calc %+.1f "($1/$4-1)*100")" "$(calc %+.1f "($5/$2-1)*100")" "$(calc %+.1f "($6/$3-1)*100")"
+  f1min=$(calc %.1f "($f1 < $f1min) ? $f1 : $f1min")
+  f1max=$(calc %.1f "($f1 > $f1max) ? $f1 : $f1max")
+done
+pub "frequencies --sweep --arm (I_L sweep)" README.md 'is insensitive ({}-{} %)' "$f1min" "$f1max"
+pub "frequencies --sweep --arm (I_L = 1.2e-3)" README.md "Table 2's, at which f3 rises {} %" "$f3_12"
+
+# --- README.md: statics accuracy (bench_statics: errors checked, times not)
+row() { # row INTEGRATOR STEPS -> "it tip T theta0" as printed by the bench
+  awk -F' *[|] *' -v a="$1" -v b="$2" '$2 == a && $3 == b { print $5, $6, $7, $8 }' "$R/bench_statics.out"
+}
+bench() { # bench 'README row template' INTEGRATOR STEPS
+  set -- "$1" $(row "$2" "$3")
+  pub "bench/bench_statics (errors; times vary)" README.md "$1" "$2" \
+    "$(calc %.1e "$3")" "$(calc %.1e "$4")" "$(calc %.1e "$5")"
+}
+bench '| rk8pd-fixed | 8 steps | {*} | {} | {} | {} | {} |' rk8pd-fixed "8 steps"
+bench '| **rk8pd-fixed (default)** | **12 steps** | **{*}** | {} | **{}** | **{}** | **{}** |' \
+  rk8pd-fixed "12 steps"
+bench '| rk8pd-fixed | 16 steps | {*} | {} | {} | {} | {} |' rk8pd-fixed "16 steps"
+bench '| rk4-fixed | 200 steps | {*} | {} | {} | {} | {} |' rk4-fixed "200 steps"
+bench '| rk8pd-adaptive | tol 1e-9 | {*} | {} | {} | {} | {} |' rk8pd-adaptive "tol 1e-09"
+bench '| rkf45-adaptive | tol 1e-9 | {*} | {} | {} | {} | {} |' rkf45-adaptive "tol 1e-09"
+green=$(awk '/Greenhill critical length/ { sub(/.*rel err /, ""); print $1 + 0 }' "$R/test_statics.out")
+pub "tests/test_statics (Greenhill)" README.md '({} relative), sensitivities' "$(sci %.1e "$green")"
+
+# --- docs/streaming.md: the stream and the controller simulator
+sent=$(awk '/setpoints .* at 1000 Hz/ { print $2 }' "$R/stream.out")
+acked=$(awk '/setpoints .* at 1000 Hz/ { sub(/.*acknowledged /, ""); print $1 + 0 }' "$R/stream.out")
+pub "stream paper-line-smooth.csv (TCP, controller-sim)" docs/streaming.md \
+  '  setpoints {} at 1000 Hz, frames sent {} (stop ramp 0), acknowledged {}, late {*}' \
+  "$sent" "$sent" "$acked"
+c_rows=$(jnum "$R/controller-sim.out" sim_tip_rows)
+c_rms=$(jnum "$R/controller-sim.out" residual_vibration_rms_m)
+c_peak=$(jnum "$R/controller-sim.out" residual_vibration_peak_m)
+s_rms=$(jnum "$R/simulate-smooth.out" residual_vibration_rms_m)
+s_peak=$(jnum "$R/simulate-smooth.out" residual_vibration_peak_m)
+pub "controller-sim --simulate (sim_tip_rows)" docs/streaming.md '(3 s, {} setpoints): tip history of {} rows;' \
+  "$sent" "$c_rows"
+pub "controller-sim --simulate (residual_vibration_*)" docs/streaming.md 'residual vibration rms {} mm, peak {} mm,' \
+  "$(calc %.4f "$c_rms*1e3")" "$(calc %.4f "$c_peak*1e3")"
+pub "simulate --scheme energy --settle 1 (residual_vibration_*)" docs/streaming.md \
+  'the trajectory file ({} / {} mm;' "$(calc %.4f "$s_rms*1e3")" "$(calc %.4f "$s_peak*1e3")"
+tipd() { # distance [um] of final_static_tip_m (the JSON's array line) from (0.6, -0.2)
+  awk -v k="\"$2\":" '$1 == k { gsub(/[][,]/, " "); printf "%.1f", sqrt(($2 - 0.6)^2 + ($3 + 0.2)^2) * 1e6; exit }' "$1"
+}
+pub "controller-sim / simulate (final static tip - planned end)" docs/streaming.md \
+  '{} / {} um from the planned end' \
+  "$(tipd "$R/controller-sim.out" sim_final_static_tip_m)" "$(tipd "$R/simulate-smooth.out" final_static_tip_m)"
+line_sp=$(awk '/setpoints .* at 1000 Hz/ { print $2 }' "$R/stream-line.out")
+pub "plan paper-line.yaml; stream --to file:" docs/streaming.md '`problems/examples/paper-line.yaml` plan ({} s)' \
+  "$(calc %.3f "$dur")"
+pub "stream paper-line.csv --to file: (setpoints)" docs/streaming.md 'streams at 1 kHz as planned ({} setpoints' "$line_sp"
+
+# --- docs/studies.md: min_time in a study; the design study's table and areas
+# study CSV -> the value of METRIC for payload factor G and EI E (case order)
+sval() {
+  awk -F, -v m="$2" -v g="$3" -v e="$4" '
+    NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["metric"] == m && $c["payload_factor"] + 0 == g + 0 && (e == "" || $c["EI_Nm2"] + 0 == e + 0) {
+      print $c["value"]; exit }' "$1"
+}
+l0=$(sval "$R/study-line.csv" min_time_duration 0 "")
+l1=$(sval "$R/study-line.csv" min_time_duration 0.25 "")
+cf=$(awk '/^PASS: paper line: duration vs closed form/ { sub(/.*want /, ""); print $1 + 0 }' "$R/test_plan.out")
+[ "$(calc %.4f "$l0")" = "$(calc %.4f "$l1")" ] || echo "docs/studies.md: the paper line's min_time differs between payloads 0 and 0.25 ($l0, $l1 s)" >>"$FAILS"
+pub "study payload --metrics min_time --task paper-line.yaml; test_plan (closed form)" docs/studies.md \
+  'same {} s, {} % above' "$(calc %.4f "$l0")" "$(calc %.3f "($l0/$cf-1)*100")"
+pub "tests/test_plan (closed form D/v + v/a)" docs/studies.md '{} s (`tests/test_plan`' "$(calc %.4f "$cf")"
+for g in 0 0.25 0.5; do
+  pub "study design.yaml (min_time_duration)" docs/studies.md "| $g | {} s | {} s | {} s |" \
+    "$(calc %.4f "$(sval "$R/design.csv" min_time_duration $g 0.6)")" \
+    "$(calc %.4f "$(sval "$R/design.csv" min_time_duration $g 0.705)")" \
+    "$(calc %.4f "$(sval "$R/design.csv" min_time_duration $g 0.8)")"
+done
+pub "study design.yaml (area, payload factor 0)" docs/studies.md 'area {} to {} m^2 at payload factor 0,' \
+  "$(calc %.4f "$(sval "$R/design.csv" area 0 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0 0.8)")"
+pub "study design.yaml (area, payload factor 0.5)" docs/studies.md '{} to {} m^2 at 0.5.' \
+  "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.8)")"
+
+# --- README.md: bench_plan's iteration counts (column "iters" of the row named CASE;
+# the N-th such row with a second argument)
+iters() {
+  awk -v c="$1" -v n="${2:-1}" 'index($0, c) == 1 && substr($0, length(c) + 1, 1) ~ /[ ]/ && ++k == n {
+    for (i = 1; i <= NF; i++) if ($i ~ /^[0-9]+$/ && $(i + 1) ~ /^[0-9]+$/ && $(i + 2) ~ /^[0-9]+$/) { print $(i + 2); exit } }' \
+    "$R/bench_plan.out"
+}
+pub "bench/bench_plan (cold, partial Hessian (default))" README.md 'in {*} ms with {} Ipopt iterations,' \
+  "$(iters "cold, partial Hessian (default)")"
+pub "bench/bench_plan (warm (previous solution); same task from a plan file)" README.md \
+  'task takes {} iteration ({*} ms), and replanning from a previous plan file {} iterations' \
+  "$(iters "warm (previous solution)")" "$(iters "same task")"
+for c in "goal moved 1 mm" "goal moved 5 mm" "goal moved 20 mm" "start moved 5 mm" "payload +5 %"; do
+  bc=$c
+  [ "$c" = "payload +5 %" ] && bc="payload +5 % (factor 0.2 -> 0.21)"
+  pub "bench/bench_plan (replanning a live planner)" README.md "| $c | {} | {} |" \
+    "$(iters "$bc: replan")" "$(iters "$bc: cold")"
+done
+pub "bench/bench_plan (scaling with the knot count)" README.md \
+  'the knot count: {} / {} / {} / {} / {} iterations,' "$(iters "25 knots")" "$(iters "50 knots")" \
+  "$(iters "100 knots")" "$(iters "200 knots")" "$(iters "400 knots")"
+
+# --- docs/planner.md: knot counts
+kd() { calc %.5f "$(jnum "$R/paper-line-k$1.json" duration_s)"; }
+ki() { jnum "$R/paper-line-k$1.json" iterations; }
+pub "plan paper-line.yaml --knots 1000 (duration_s, iterations)" docs/planner.md \
+  '`elasticarm plan --knots N`: 1000 knots {} s in {} iterations, 2000' "$(kd 1000)" "$(ki 1000)"
+pub "plan paper-line.yaml --knots 2000, 3000, 4000 (duration_s, iterations)" docs/planner.md \
+  'knots {} s ({}), 3000 ({}), 4000 ({}) iterations; the closed form is' \
+  "$(kd 2000)" "$(ki 2000)" "$(ki 3000)" "$(ki 4000)"
+
+pub "plan paper-line.yaml (iterations)" docs/planner.md 'Ipopt needs {} iterations (36 with the' \
+  "$(jnum "$R/paper-line.json" iterations)"
+
+# --- README.md: the FE model's checks (tests/test_fe)
+tang=$(awk '/max\|K_fd - K\| \/ max\|K\| = / { sub(/.*max\|K\| = /, ""); v = $1 + 0; if (v > m) m = v } END { print m }' "$R/test_fe.out")
+drift=$(awk '/^energy: E0 = .* ratio / { sub(/.* ratio /, ""); print $1 + 0; exit }' "$R/test_fe.out")
+zeta=$(awk '/mode 1: measured zeta / { sub(/.*measured zeta /, ""); print $1; exit }' "$R/test_fe.out")
+fosc=$(awk '/^zero crossings .* eigen-solver/ { sub(/.*Hz \(/, ""); print $1; exit }' "$R/test_fe.out")
+pub "tests/test_fe (analytic tangent vs central differences, largest)" README.md \
+  '(checked against central differences to {}),' "$(sci %.0e "$tang")"
+pub "tests/test_fe (energy scheme drift / oscillation energy)" README.md 'the discrete gradient; drift {} of the' \
+  "$(sci %.1e "$drift")"
+pub "tests/test_fe (mode 1 release, measured zeta)" README.md '(requested 0.02, measured {}).' "$zeta"
+pub "tests/test_fe (free oscillation vs eigen-solver)" README.md "first frequency ({} %)." "$fosc"
+
+# --- docs/fe.md: the test count and the mesh convergence table
+nfe=$(awk '/^test_fe: [0-9]+ checks, 0 failed/ { print $2 }' "$R/test_fe.out")
+pub "tests/test_fe (checks)" docs/fe.md 'Tests (`build/tests/test_fe`, {} checks pass):' "$nfe"
+for lc in 0.254 0.400 0.635; do
+  for ne in 6 8 10 12 16; do
+    set -- $(awk -F' *[|] *' -v a="$lc" -v b="$ne" '/^## Mesh convergence/ { s = 1 } /^## Assembly/ { s = 0 }
+      s && $2 == a && $3 == b { print $4, $5, $6, $7, $8, $9; exit }' "$R/bench_fe.out")
+    pub "bench/bench_fe (mesh convergence)" docs/fe.md "| $lc | $ne | {} | {} | {} | {} | {} | {} |" "$@"
+  done
+done
+
+# --- README.md's C example is docs/example_api.c from its first #include on
+# (the file is the one compiled and run by the tests example_api and install).
+readme_c() { awk '/^## The C API/ { s = 1 } s && /^```c$/ { p = 1; next } p && /^```$/ { exit } p' README.md; }
+sed -n '/^#include/,$p' docs/example_api.c >"$R/example_api.body.c"
+readme_c >"$R/readme_example.c"
+if ! cmp -s "$R/example_api.body.c" "$R/readme_example.c"; then
+  if [ $mode = write ]; then
+    awk -v body="$R/example_api.body.c" '
+      /^## The C API/ { s = 1 }
+      s == 1 && /^```c$/ { print; while ((getline l < body) > 0) print l; skip = 1; s = 2; next }
+      skip && /^```$/ { skip = 0 }
+      !skip { print }' README.md >"$R/rewrite.tmp"
+    cat "$R/rewrite.tmp" >README.md
+  fi
+  echo "README.md: the C example differs from docs/example_api.c (diff $R/readme_example.c $R/example_api.body.c)" >>"$FAILS"
+fi
+echo "README.md: C example    <- docs/example_api.c (built and run by ctest -R 'example_api|install')" >>"$R/table.txt"
+
+# --- the streamer's round trip (tests/test_stream): README.md, docs/streaming.md
+rt() { # rt FIELD: the number after FIELD on the round-trip line, as printed
+  awk -v f="$1" '/^round trip max errors:/ { sub(".*" f " ", ""); print $1; exit }' "$R/test_stream.out"
+}
+rt_cable=$(awk '/^round trip max errors:/ { sub(/.*rad \(/, ""); print $1 + 0; exit }' "$R/test_stream.out")
+pub "tests/test_stream (round trip)" README.md 'reproduces the actuator trajectory to {} m of' "$(sci %.0e "$rt_cable")"
+# (the digits the test prints, exponents shortened: rounding them again could
+# round a printed ...5 the wrong way)
+short() { echo "$1" | sed 's/e\([-+]\)0*\([0-9]\)/e\1\2/'; }
+pub "tests/test_stream (round trip)" docs/streaming.md '(max errors {} rad of spool = {} m of' \
+  "$(short "$(rt spool)")" "$(sci %.0e "$rt_cable")"
+pub "tests/test_stream (round trip)" docs/streaming.md 'cable, {} rad of shoulder with its estimated accelerations, {} rad' \
+  "$(short "$(rt shoulder)")" "$(short "$(rt base)")"
+
+# ---------------------------------------------------------------- verdict
+rm -f "$R/rewrite.tmp"
+nfail=$(grep -c . "$FAILS" || true)
+case $mode in
+write)
+  echo "== rewritten: $nfail published numbers (or the C example) updated (git diff README.md docs/)"
+  cat "$FAILS"
+  ;;
+print)
+  cat "$R/table.txt"
+  [ "$nfail" -eq 0 ] || { echo "== differing from the published text:"; cat "$FAILS"; }
+  ;;
+check)
+  if [ "$nfail" -gt 0 ]; then
+    cat "$FAILS"
+    echo "== $nfail published numbers (or the C example) differ from the regenerated ones (--write to update)"
+    exit 1
+  fi
+  echo "== every checked number in README.md and docs/ matches its command"
+  ;;
+esac
