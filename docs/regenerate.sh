@@ -51,7 +51,7 @@ for a in "$@"; do
   esac
 done
 for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
-  "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream"; do
+  "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -102,6 +102,12 @@ run bench_statics "$B/bench/bench_statics" 1
 run test_statics "$B/tests/test_statics"
 run test_plan "$B/tests/test_plan"
 run test_stream "$B/tests/test_stream"
+# README.md: arriving at rest (each plan's FE transient by plan --verify), robust rest.
+run plan-zv "$EA" plan problems/examples/paper-line.yaml --shape zv --verify -o "$R/paper-line-zv.csv"
+run plan-rest "$EA" plan problems/examples/paper-line-rest.yaml --verify -o "$R/paper-line-rest.csv"
+run plan-refined "$EA" plan problems/examples/paper-line-rest.yaml --refine --verify \
+  -o "$R/paper-line-refined.csv"
+run test_refine_robust env EA_SOURCE_DIR=. "$B/tests/test_refine_robust"
 # README.md: the planner's iteration counts (bench_plan, ~70 s; times vary).
 run bench_plan "$B/bench/bench_plan"
 # docs/planner.md: the paper line with many knots (~35 s in all).
@@ -231,6 +237,31 @@ pub "tests/test_plan (paper line: duration vs closed form)" README.md \
   'of the nominal speed and acceleration limits, D/v + v/a, to {} relative' "$(sci %.1e "$closed")"
 pub "tests/test_plan (min time vs time-optimal path parameterisation)" README.md \
   'within {} relative of, and not below, an independent' "$(sci %.1e "$topp")"
+
+# --- README.md: arriving at rest (the table and the robust paragraph)
+qpk=$(jnum "$R/simulate.out" residual_vibration_peak_m)
+pub "plan paper-line.yaml; simulate (residual_vibration_peak_m)" README.md \
+  '| quasi-static, minimum time (`paper-line.yaml`) | {} s | {} mm |' "$(calc %.4f "$dur")" \
+  "$(calc %.2f "$qpk*1e3")"
+for c in zv:'the same, ZV-shaped (`plan --shape zv`)':%.3f rest:'at rest in the model (`paper-line-rest.yaml`)':%.3f \
+  refined:'the same with `--refine` (FE in the loop)':%.4f; do
+  name=${c%%:*} rest=${c#*:} label=${rest%:*} fmt=${rest##*:}
+  f=$R/paper-line-$name.json
+  pub "plan $name --verify (duration_s, measured_residual_peak_m)" README.md "| $label | {} s | {} mm |" \
+    "$(calc %.4f "$(jnum "$f" duration_s)")" "$(calc "$fmt" "$(jnum "$f" measured_residual_peak_m)*1e3")"
+done
+# test_refine_robust: 'robust refined plan  T s: nominal X mm, light, soft X mm, ...'
+rob() { awk -v w="$1" 'index($0, "  " w " ") == 1 && / s: /' "$R/test_refine_robust.out"; }
+# the largest corner residual (every "X mm" after the nominal's), to the published 3 digits
+rmax() { echo "$1" | awk '{ m = 0; c = 0; for (i = 2; i <= NF; i++) if ($i ~ /^mm,?$/ && c++) m = ($(i - 1) + 0 > m) ? $(i - 1) + 0 : m; printf "%.3f", m }'; }
+rr=$(rob "robust refined plan")
+nr=$(rob "non-robust at-rest plan (2 modes)")
+pub "tests/test_refine_robust (robust refined plan)" README.md \
+  'EI +-5 %, five models in the transcription, refined against five FE transients): {} s,' \
+  "$(echo "$rr" | awk '{ for (i = 1; i <= NF; i++) if ($i == "s:") print $(i - 1) }')"
+pub "tests/test_refine_robust (corners: max of the four)" README.md \
+  'FE residual at the four corner arms at most {} mm (the non-robust at-rest plan: up to' "$(rmax "$rr")"
+pub "tests/test_refine_robust (non-robust plan's corners: max)" README.md '{} mm there).' "$(rmax "$nr")"
 
 # --- README.md: Fig. 5 (first row of the CSV: L_c = 0.254 m, last: 0.635 m)
 # fig5 CSV -> "f1_short f1_long f2_short f2_long f3_short f3_long" [Hz]
