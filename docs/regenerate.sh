@@ -51,7 +51,8 @@ for a in "$@"; do
   esac
 done
 for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
-  "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust"; do
+  "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust" \
+  "$B/tests/test_plan_rest"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -108,6 +109,8 @@ run plan-rest "$EA" plan problems/examples/paper-line-rest.yaml --verify -o "$R/
 run plan-refined "$EA" plan problems/examples/paper-line-rest.yaml --refine --verify \
   -o "$R/paper-line-refined.csv"
 run test_refine_robust env EA_SOURCE_DIR=. "$B/tests/test_refine_robust"
+# docs/planner.md: plans that arrive at rest judged by the FE transient (~40 s).
+run test_plan_rest env EA_SOURCE_DIR=. "$B/tests/test_plan_rest"
 # README.md: the planner's iteration counts (bench_plan, ~70 s; times vary).
 run bench_plan "$B/bench/bench_plan"
 # docs/planner.md: the paper line with many knots (~35 s in all).
@@ -262,6 +265,35 @@ pub "tests/test_refine_robust (robust refined plan)" README.md \
 pub "tests/test_refine_robust (corners: max of the four)" README.md \
   'FE residual at the four corner arms at most {} mm (the non-robust at-rest plan: up to' "$(rmax "$rr")"
 pub "tests/test_refine_robust (non-robust plan's corners: max)" README.md '{} mm there).' "$(rmax "$nr")"
+
+# --- docs/planner.md: arriving at rest (tests/test_plan_rest's lines)
+# field N (1-based, blank-separated, trailing ',;()x%' dropped) of the line starting with P
+tf() { awk -v p="$1" -v n="$2" 'index($0, p) == 1 { v = $n; gsub(/[,;()x%]/, "", v); print v; exit }' \
+  "$R/test_plan_rest.out"; }
+for g in 0.00:'paper line, payload 0' 0.25:'paper line, payload factor 0.25' \
+  0.50:'line to (0.5, -0.2), payload factor 0.5'; do
+  p="payload factor ${g%%:*}:" label=${g#*:}
+  pub "tests/test_plan_rest ($p)" docs/planner.md "| $label | {} s, {} mm | {} s ({} x), {} mm |" \
+    "$(calc %.4f "$(tf "$p" 5)")" "$(calc %.2f "$(tf "$p" 9)")" "$(calc %.3f "$(tf "$p" 26)")" \
+    "$(calc %.2f "$(tf "$p" 29)")" "$(calc %.2f "$(tf "$p" 36)")"
+done
+share() { calc %.1f "$(tf "payload factor $1:" 38)"; }
+pub "tests/test_plan_rest (FE residual share of the quasi-static)" docs/planner.md \
+  'What is left is what the model misses ({} %, {} % and {} % of the quasi-static residual:' \
+  "$(share 0.00)" "$(share 0.25)" "$(share 0.50)"
+pub "tests/test_plan_rest (pick-place-3d)" docs/planner.md '| pick-place-3d | {} s, {} mm | {} s, {} mm |' \
+  "$(calc %.3f "$(tf "pick-place-3d.yaml: quasi-static" 3)")" "$(calc %.2f "$(tf "pick-place-3d.yaml: quasi-static" 7)")" \
+  "$(calc %.3f "$(tf "pick-place-3d.yaml: quasi-static" 11)")" "$(calc %.3f "$(tf "pick-place-3d.yaml: quasi-static" 15)")"
+pub "tests/test_plan_rest (polyline-effort)" docs/planner.md \
+  '| polyline-effort (3 s, min effort) | 3 s, {} mm | 3 s, {} mm |' \
+  "$(calc %.2f "$(tf "polyline-effort.yaml: quasi-static" 7)")" "$(calc %.2f "$(tf "polyline-effort.yaml: quasi-static" 15)")"
+pub "tests/test_plan_rest (residual_m 5 mm)" docs/planner.md '{} mm in the FE against {} mm predicted.' \
+  "$(calc %.2f "$(tf 'residual_m 5 mm:' 17)")" "$(calc %.2f "$(tf 'residual_m 5 mm:' 10)")"
+pub "tests/test_plan_rest (min_vibration on the model)" docs/planner.md \
+  '`min_vibration` on the model at 3 s: {} mm' "$(calc %.3f "$(tf '3 s paper line' 20)")"
+pub "tests/test_plan_rest (surrogate, min_effort)" docs/planner.md \
+  '(the f1-weighted surrogate: {} mm; minimum effort: {} mm).' \
+  "$(calc %.2f "$(tf '3 s paper line' 10)")" "$(calc %.2f "$(tf '3 s paper line' 13)")"
 
 # --- README.md: Fig. 5 (first row of the CSV: L_c = 0.254 m, last: 0.635 m)
 # fig5 CSV -> "f1_short f1_long f2_short f2_long f3_short f3_long" [Hz]
