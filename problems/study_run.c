@@ -362,12 +362,13 @@ static int ea__reap(ea__run_t *r, ea__proc_t *w) {
   if (WIFSIGNALED(status))
     snprintf(msg, sizeof msg,
              "the worker process computing this case was killed by signal %d (%s); its rows are "
-             "lost (run the study again without this journal to recompute it)",
+             "lost: rerun the study (with --restart while its journal remains) to recompute it",
              WTERMSIG(status), strsignal(WTERMSIG(status)));
   else
     snprintf(msg, sizeof msg,
              "the worker process computing this case exited with status %d before sending its "
-             "rows; they are lost (run the study again without this journal to recompute it)",
+             "rows; they are lost: rerun the study (with --restart while its journal remains) to "
+             "recompute it",
              WIFEXITED(status) ? WEXITSTATUS(status) : -1);
   (void)pid;
   ++r->workers_lost;
@@ -520,7 +521,7 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
     close(fd);
     return ea_error_set(err, EA_ERR_INPUT,
                         ours ? "checkpoint %s belongs to another study (different name, grid, "
-                               "arm, metric settings or min_time task content); remove it or pass "
+                               "arm, metric settings or min_time or at_rest task content); remove it or pass "
                                "--restart"
                              : "checkpoint %s is not a study journal; remove it or choose "
                                "another --checkpoint",
@@ -800,7 +801,7 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const c
         } else if (strlen(ref_id) != il || memcmp(ref_id, c1 + 1, il)) {
           st = ea_error_set(err, EA_ERR_INPUT,
                             "%s:%ld: row of study,study_key '%.*s' but %s has '%s': the shards "
-                            "come from different specs (or the spec, its arm or its min_time task "
+                            "come from different specs (or the spec, its arm or its planner task "
                             "changed between them) and cannot be merged",
                             nm, line, (int)il, c1 + 1, ref_where, ref_id);
           goto out;
