@@ -1205,6 +1205,11 @@ static void test_cli(void) {
   rc = sh_run("cd %s && %s study merge m/chk.csv sh1.csv sh2.csv --spec other.yaml 2>&1", dir, bin);
   ea_test_true(rc == 2 && !exists(dir, "m/chk.csv"), "CLI merge --spec of another spec refused");
 
+  rc = sh_run("cd %s && %s study spec.yaml --workers fibers -o w.csv 2>&1", dir, bin);
+  ea_test_true(rc == 2 && strstr(g_out, "--workers: 'fibers' is not auto, threads or processes") &&
+                   !exists(dir, "w.csv"),
+               "CLI --workers with another value: exit 2 naming it");
+
   /* (e) workspace: an empty or ill-posed region is an error, never NaN */
   rc = sh_run("%s workspace --inner-length 5 2>&1", bin);
   printf("  workspace --inner-length 5: exit %d: %s", rc, g_out);
