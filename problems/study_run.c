@@ -1,5 +1,6 @@
-/* Running a study: worker threads over the shard's cases, a checkpoint
- * journal for resume, rows assembled in case order; merging shard CSVs.
+/* Running a study: worker threads, or forked worker processes for studies
+ * that plan, over the shard's cases, a checkpoint journal for resume, rows
+ * assembled in case order; merging shard CSVs.
  *
  * Journal (docs/studies.md): a header line naming the study's key (CRC-32
  * of its canonical description), then one block per finished case: the
@@ -521,8 +522,8 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
     close(fd);
     return ea_error_set(err, EA_ERR_INPUT,
                         ours ? "checkpoint %s belongs to another study (different name, grid, "
-                               "arm, metric settings or min_time or at_rest task content); remove it or pass "
-                               "--restart"
+                               "arm, metric settings or min_time or at_rest task content); "
+                               "remove it or pass --restart"
                              : "checkpoint %s is not a study journal; remove it or choose "
                                "another --checkpoint",
                         path);
