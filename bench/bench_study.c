@@ -4,10 +4,15 @@
  * against 141 samples and a 1e-13 area tolerance), a 1000-case study with
  * FE frequencies (payload x EI x hand mass, 2 configurations x 3 modes),
  * the speed-up from 1 to 2 threads and the cost of the fsync'd checkpoint
- * journal. Medians, as a table.
- * Usage: bench_study [repeats-of-the-1000-case-study (default 3)] */
+ * journal; then studies that plan (min_time: 12 shoulder swings; at_rest: 4 payloads on
+ * the line to (0.5, -0.2)) on 1 worker, 2 threads (Ipopt calls serialised: MUMPS'
+ * sequential build is not thread-safe) and 2 forked worker processes. Medians, as a
+ * table.
+ * Usage: bench_study [repeats-of-the-1000-case-study (default 3)] [planner-repeats
+ *        (default 3)]; bench_study planner [planner-repeats]: the planner rows only */
 #include "ea_planner.h"
 #include "ea_problems.h"
+#include "study_plan_impl.h"
 
 #include <gsl/gsl_errno.h>
 #include <math.h>
@@ -17,6 +22,7 @@
 #include <time.h>
 
 #include "bench_util.h"
+#include <sys/resource.h>
 #include <unistd.h>
 
 static const char *k_fig3 = "name: fig3\n"
@@ -147,9 +153,147 @@ static const char *loadavg(void) {
   return buf;
 }
 
+/* CPU time [s] of the waited-for children (the worker processes). */
+static double children_cpu(void) {
+  struct rusage ru;
+  getrusage(RUSAGE_CHILDREN, &ru);
+  return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+         (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
+}
+
+/* One run of a study that plans: wall time [s]; *cpu = CPU [s] of this process and its
+ * worker processes; *csv kept. */
+static double time_plan(const ea_study_t *s, int threads, ea_study_workers_t w, char **csv,
+                        double *cpu, int *procs) {
+  ea__study_plan_t *p = NULL;
+  ea_error_t e = {0};
+  if (ea__study_plan_alloc(s, NULL, &p, &e)) {
+    fprintf(stderr, "bench_study: %s\n", e.msg);
+    exit(1);
+  }
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  set.threads = threads;
+  set.workers = w;
+  ea__study_plan_register(p, &set);
+  ea_study_info_t info;
+  const double c0 = ea_bench_cpu_now() + children_cpu(), t0 = ea_bench_now();
+  if (ea_study_run(s, &set, csv, NULL, &info, &e)) {
+    fprintf(stderr, "bench_study: %s\n", e.msg);
+    exit(1);
+  }
+  const double t = ea_bench_now() - t0;
+  *cpu = ea_bench_cpu_now() + children_cpu() - c0;
+  *procs = info.processes;
+  ea__study_plan_free(p);
+  return t;
+}
+
+/* A planner study on 1 worker, 2 threads and 2 worker processes, interleaved (load from
+ * other processes hits all three alike); rows of the table. */
+static void bench_planner(const char *label, const ea_study_t *s, int reps) {
+  double *t[3], cpu[3] = {0}, wall[3] = {0};
+  int same = 1, procs_ok = 1;
+  char *ref = NULL;
+  static const int threads[3] = {1, 2, 2};
+  static const ea_study_workers_t mode[3] = {EA_STUDY_WORKERS_THREADS, EA_STUDY_WORKERS_THREADS,
+                                             EA_STUDY_WORKERS_PROCESSES};
+  for (int m = 0; m < 3; ++m)
+    t[m] = malloc((size_t)reps * sizeof *t[m]);
+  {
+    /* warm-up (reduced-model tables into the cache, pages in), not timed */
+    double c;
+    int pr;
+    char *x = NULL;
+    time_plan(s, 2, EA_STUDY_WORKERS_PROCESSES, &x, &c, &pr);
+    free(x);
+  }
+  for (int r = 0; r < reps; ++r)
+    for (int m = 0; m < 3; ++m) {
+      char *csv = NULL;
+      double c;
+      int pr;
+      t[m][r] = time_plan(s, threads[m], mode[m], &csv, &c, &pr);
+      cpu[m] += c;
+      wall[m] += t[m][r];
+      procs_ok &= pr == (m == 2);
+      if (!ref)
+        ref = csv;
+      else {
+        same &= csv && !strcmp(csv, ref);
+        free(csv);
+      }
+    }
+  double med[3];
+  for (int m = 0; m < 3; ++m) {
+    med[m] = ea_bench_median(t[m], reps);
+    free(t[m]);
+  }
+  free(ref);
+  printf("| %s | %ld | 1 | %.3f s | %.0f ms | CPU/wall %.2f |\n", label, s->n_cases, med[0],
+         1e3 * med[0] / s->n_cases, cpu[0] / wall[0]);
+  printf("| %s | %ld | 2 threads | %.3f s | %.0f ms | speed-up %.2fx, CPU/wall %.2f, CSV %s |\n",
+         label, s->n_cases, med[1], 1e3 * med[1] / s->n_cases, med[0] / med[1], cpu[1] / wall[1],
+         same ? "identical" : "DIFFERS");
+  printf("| %s | %ld | 2 processes | %.3f s | %.0f ms | speed-up %.2fx, CPU/wall %.2f, CSV %s%s "
+         "|\n",
+         label, s->n_cases, med[2], 1e3 * med[2] / s->n_cases, med[0] / med[2], cpu[2] / wall[2],
+         same ? "identical" : "DIFFERS", procs_ok ? "" : ", NOT FORKED");
+  fflush(stdout);
+}
+
+static const char *k_swing =
+    "name: swing12\n"
+    "arm_file: %s/data/elasticarm.yaml\n"
+    "grid:\n"
+    "  payload_factor: [0, 0.25, 0.5]\n"
+    "  EI_Nm2: [0.6, 0.65, 0.7, 0.75]\n"
+    "metrics:\n"
+    "  min_time: {task: %s/problems/examples/studies/shoulder-swing.yaml}\n";
+
+static const char *k_rest = "name: rest4\n"
+                            "arm_file: %s/data/elasticarm.yaml\n"
+                            "grid: {payload_factor: [0, 0.15, 0.3, 0.45]}\n"
+                            "metrics:\n"
+                            "  at_rest: {task: %s/problems/examples/studies/line-to-0.5.yaml}\n";
+
+static void planner_rows(int reps) {
+  char text[4096];
+  ea_study_t sw, re;
+  ea_error_t e = {0};
+  snprintf(text, sizeof text, k_swing, EA_SOURCE_DIR, EA_SOURCE_DIR);
+  if (ea_study_load_string("swing12.yaml", text, strlen(text), NULL, &sw, &e)) {
+    fprintf(stderr, "bench_study: %s\n", e.msg);
+    exit(1);
+  }
+  snprintf(text, sizeof text, k_rest, EA_SOURCE_DIR, EA_SOURCE_DIR);
+  if (ea_study_load_string("rest4.yaml", text, strlen(text), NULL, &re, &e)) {
+    fprintf(stderr, "bench_study: %s\n", e.msg);
+    exit(1);
+  }
+  bench_planner("min_time, 12 shoulder swings (60 knots)", &sw, reps);
+  bench_planner("at_rest, 4 payloads (2 plans + 2 FE transients each)", &re, reps);
+  ea_study_free(&sw);
+  ea_study_free(&re);
+}
+
 int main(int argc, char **argv) {
   gsl_set_error_handler_off(); /* every GSL return is checked */
+  const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  if (argc > 1 && !strcmp(argv[1], "planner")) {
+    const int reps = argc > 2 ? atoi(argv[2]) : 3;
+    printf("bench_study planner: %ld online cores; medians of %d; load average %s at the start\n\n",
+           cores, reps, loadavg());
+    printf("| study | cases | workers | median wall | per case | notes |\n");
+    printf("|---|---|---|---|---|---|\n");
+    planner_rows(reps);
+    printf("\nload average %s at the end; CPU/wall = cores the run got (worker processes "
+           "included)\n",
+           loadavg());
+    return 0;
+  }
   const int reps_big = argc > 1 ? atoi(argv[1]) : 3;
+  const int reps_plan = argc > 2 ? atoi(argv[2]) : 3;
   ea_study_t fig3, fig3l, freq;
   ea_error_t e = {0};
   if (ea_study_load_string("fig3.yaml", k_fig3, strlen(k_fig3), NULL, &fig3, &e) ||
@@ -159,7 +303,6 @@ int main(int argc, char **argv) {
     return 1;
   }
   char ckpt[] = "/tmp/bench_study.journal";
-  const long cores = sysconf(_SC_NPROCESSORS_ONLN);
   printf("bench_study: %ld online cores; medians; no checkpoint unless stated\n\n", cores);
   printf("| study | cases | threads | median wall | per case | notes |\n");
   printf("|---|---|---|---|---|---|\n");
@@ -208,6 +351,7 @@ int main(int argc, char **argv) {
   printf("| 1000 cases + checkpoint (fsync every 0.2 s) | %ld | 2 | %.3f s | %.2f ms | journal "
          "cost %+.1f%% |\n",
          freq.n_cases, gc, 1e3 * gc / freq.n_cases, 100.0 * (gc - gn) / gn);
+  planner_rows(reps_plan);
   printf("\nspeed-up 1 -> 2 threads: Fig. 3 %.2fx (4 cases of unequal cost), 1000-case %.2fx "
          "(target >= 1.8x);\nCPU/wall of the 2-thread runs = cores the study actually got "
          "(< 2 when other processes share the machine; load average %s)\n",

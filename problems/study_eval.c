@@ -211,16 +211,72 @@ static void ea__eval_path(const ea_study_t *s, ea_shooter_t *sh, const ea_arm_t 
   free(pts);
 }
 
+/* The at-rest rows: the at-rest plan's duration and FE residual, the quasi-static
+ * minimum-time plan's, and the ratio of the durations. */
+static void ea__eval_at_rest(const ea_study_t *s, const ea_study_settings_t *set,
+                             const ea_arm_t *arm, double kg, double gamma, ea__rows_t *r) {
+  static const char *const names[4] = {"at_rest_duration_s", "at_rest_fe_residual_peak_m",
+                                       "qs_min_time_s", "qs_fe_residual_peak_m"};
+  static const char *const units[4] = {"s", "m", "s", "m"};
+  ea_study_at_rest_result_t *res = calloc(1, sizeof *res);
+  if (!res) {
+    for (int i = 0; i < 4; ++i)
+      ea__row(r, names[i], NAN, units[i], EA_ERR_NOMEM, "out of memory");
+    ea__row(r, "at_rest_time_ratio", NAN, "-", EA_ERR_NOMEM, "out of memory");
+    return;
+  }
+  if (set && set->at_rest) {
+    for (int i = 0; i < 4; ++i)
+      res->status[i] = EA_ERR_BACKEND; /* a callback that leaves a value unset */
+    set->at_rest(set->at_rest_data, s, arm, kg, gamma, res);
+  } else {
+    for (int i = 0; i < 4; ++i) {
+      res->status[i] = EA_ERR_NOTIMPL;
+      snprintf(res->msg[i], sizeof res->msg[i],
+               "at_rest needs the planner (run through 'elasticarm study')");
+    }
+  }
+  const double v[4] = {res->duration_s, res->residual_peak_m, res->qs_duration_s,
+                       res->qs_residual_peak_m};
+  for (int i = 0; i < 4; ++i) {
+    res->msg[i][sizeof res->msg[i] - 1] = '\0';
+    ea__row(r, names[i], res->status[i] ? NAN : v[i], units[i], res->status[i], res->msg[i]);
+  }
+  char msg[200] = "at-rest duration / quasi-static minimum time";
+  ea_status_t rs = EA_OK;
+  if (res->status[0] || res->status[2]) {
+    rs = res->status[0] ? res->status[0] : res->status[2];
+    snprintf(msg, sizeof msg, "needs both durations: the %s plan failed",
+             res->status[0] ? "at-rest" : "quasi-static");
+  }
+  ea__row(r, "at_rest_time_ratio", rs ? NAN : v[0] / v[2], "-", rs, msg);
+  free(res);
+}
+
+/* The rows' common prefix "case_id,study,study_key,v1,v2,". */
+static void ea__rows_init(ea__rows_t *r, const ea_study_t *s, long case_id, const char *ident,
+                          ea__sbuf_t *b) {
+  memset(r, 0, sizeof *r);
+  r->b = b;
+  double v[EA_STUDY_NPARAM];
+  ea_study_case_values(s, case_id, v);
+  size_t used = (size_t)snprintf(r->prefix, sizeof r->prefix, "%ld,%s,", case_id, ident);
+  for (int i = 0; i < s->n_axes && used < sizeof r->prefix; ++i)
+    used += (size_t)snprintf(r->prefix + used, sizeof r->prefix - used, "%.10g,", v[i]);
+}
+
+int ea__study_case_fail(const ea_study_t *s, long case_id, const char *ident, ea_status_t st,
+                        const char *msg, ea__sbuf_t *b) {
+  ea__rows_t r;
+  ea__rows_init(&r, s, case_id, ident, b);
+  ea__row(&r, "case", NAN, "-", st, msg);
+  return b->oom ? -1 : r.failed;
+}
+
 int ea__study_case_eval(const ea_study_t *s, long case_id, const ea_study_settings_t *set,
                         const char *ident, ea__sbuf_t *b) {
   ea__rows_t r;
-  memset(&r, 0, sizeof r);
-  r.b = b;
-  double v[EA_STUDY_NPARAM];
-  ea_study_case_values(s, case_id, v);
-  size_t used = (size_t)snprintf(r.prefix, sizeof r.prefix, "%ld,%s,", case_id, ident);
-  for (int i = 0; i < s->n_axes && used < sizeof r.prefix; ++i)
-    used += (size_t)snprintf(r.prefix + used, sizeof r.prefix - used, "%.10g,", v[i]);
+  ea__rows_init(&r, s, case_id, ident, b);
 
   ea_arm_t arm;
   double kg, gamma;
@@ -249,6 +305,7 @@ int ea__study_case_eval(const ea_study_t *s, long case_id, const ea_study_settin
       snprintf(msg, sizeof msg, "min_time needs the planner (run through 'elasticarm study')");
     ea__row(&r, "min_time_duration", ms ? NAN : dur, "s", ms, msg);
   }
+  if (s->metrics & EA_STUDY_M_AT_REST) ea__eval_at_rest(s, set, &arm, kg, gamma, &r);
   ea_shooter_free(sh);
   return b->oom ? -1 : r.failed;
 }

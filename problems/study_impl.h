@@ -20,6 +20,12 @@ void ea__study_describe(const ea_study_t *s, const ea_study_settings_t *set, ea_
 int ea__study_case_eval(const ea_study_t *s, long case_id, const ea_study_settings_t *set,
                         const char *ident, ea__sbuf_t *b);
 
+/** One failed row (metric "case", status st, message msg) for case_id into b, as
+ *  when a worker process died computing the case. Returns 1, or -1 when out of
+ *  memory. */
+int ea__study_case_fail(const ea_study_t *s, long case_id, const char *ident, ea_status_t st,
+                        const char *msg, ea__sbuf_t *b);
+
 /** Parse the leading case_id of a CSV row; -1 if it has none. */
 long ea__study_row_case(const char *row, size_t len);
 

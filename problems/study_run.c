@@ -1,5 +1,6 @@
-/* Running a study: worker threads over the shard's cases, a checkpoint
- * journal for resume, rows assembled in case order; merging shard CSVs.
+/* Running a study: worker threads, or forked worker processes for studies
+ * that plan, over the shard's cases, a checkpoint journal for resume, rows
+ * assembled in case order; merging shard CSVs.
  *
  * Journal (docs/studies.md): a header line naming the study's key (CRC-32
  * of its canonical description), then one block per finished case: the
@@ -11,12 +12,20 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <poll.h>
 #include <pthread.h>
+#include <signal.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 #define EA__JOURNAL_MAGIC "#elasticarm-study-journal 2"
 
@@ -35,6 +44,8 @@ typedef struct {
   long n_shard; /* cases of the shard: case = shard_k - 1 + j * shard_n */
   long *todo;   /* local indices j still to compute */
   long n_todo, next, started;
+  long *requeue; /* cases handed to a worker process that never got them */
+  long n_requeue;
   char **rows; /* rows[j] (malloc'd) once case j is done */
   size_t *rows_len;
   int fd; /* journal or -1 */
@@ -42,7 +53,7 @@ typedef struct {
   int stop;
   ea_status_t fail;
   char failmsg[400];
-  long computed, done_total;
+  long computed, done_total, workers_lost;
   double last_sync; /* time of the last journal fsync */
   int dirty;        /* journal written since the last fsync */
   char ident[160];  /* "study,study_key" of every row */
@@ -65,69 +76,401 @@ static int ea__write_all(int fd, const char *p, size_t n) {
   return 0;
 }
 
+/* Rows whose status field (n_axes + 6, 0-based) is not "ok"; the fields before
+   the message hold no commas or quotes. */
+static int ea__rows_failed(const ea_study_t *s, const char *rows) {
+  int bad = 0;
+  for (const char *p = rows; p && *p;) {
+    const char *e = strchr(p, '\n');
+    if (!e) break;
+    const char *f = p;
+    for (int k = 0; k < s->n_axes + 6 && f < e; ++k) {
+      const char *c = memchr(f, ',', (size_t)(e - f));
+      f = c ? c + 1 : e;
+    }
+    bad += strncmp(f, "ok,", 3) != 0;
+    p = e + 1;
+  }
+  return bad;
+}
+
+static void ea__set_fail(ea__run_t *r, ea_status_t st, const char *fmt, ...) {
+  if (r->fail) return;
+  r->fail = st;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(r->failmsg, sizeof r->failmsg, fmt, ap);
+  va_end(ap);
+}
+
+/* The next case to compute (local index), or -1: none left, or stop (requested,
+ * failed, the stop_after hook). Caller holds r->mu (threads) or is the only
+ * thread (processes). */
+static long ea__next_case(ea__run_t *r) {
+  const int more = r->n_requeue > 0 || r->next < r->n_todo;
+  const int halt = r->stop || r->fail || !more || (r->set->stop_request && *r->set->stop_request) ||
+                   (r->set->stop_after > 0 && r->started >= r->set->stop_after);
+  if (halt) {
+    if (more) r->stop = 1;
+    return -1;
+  }
+  ++r->started;
+  return r->n_requeue > 0 ? r->requeue[--r->n_requeue] : r->todo[r->next++];
+}
+
+/* Case j's rows computed: b holds them (rows_len bytes) and the journal trailer. Append
+ * the block to the journal, keep the rows. Caller holds r->mu or is the only thread. */
+static void ea__commit(ea__run_t *r, long j, ea__sbuf_t *b, size_t rows_len) {
+  int io = 0;
+  if (r->fd >= 0) {
+    io = ea__write_all(r->fd, b->s, b->len);
+    r->dirty = 1;
+    if (!io && r->set->fsync) {
+      const double t = ea__mono_s();
+      if (t - r->last_sync >= r->set->fsync_interval_s) {
+        io = fsync(r->fd);
+        r->last_sync = t;
+        r->dirty = 0;
+      }
+    }
+  }
+  if (io) {
+    ea__set_fail(r, EA_ERR_IO, "checkpoint journal %s: %s", r->set->checkpoint, strerror(errno));
+    return;
+  }
+  b->s[rows_len] = '\0'; /* keep the rows, drop the trailer */
+  r->rows[j] = b->s;
+  r->rows_len[j] = rows_len;
+  b->s = NULL;
+  b->len = b->cap = 0;
+  ++r->computed;
+  ++r->done_total;
+  if (r->set->progress)
+    r->set->progress(r->set->progress_data, ea__case_of(r, j), r->done_total, r->n_shard,
+                     ea__rows_failed(r->s, r->rows[j]));
+}
+
+/* The journal trailer of the rows in b (appended); -1 when out of memory. */
+static int ea__trailer(ea__sbuf_t *b, long c) {
+  if (b->oom) return -1;
+  char trailer[96];
+  snprintf(trailer, sizeof trailer, "#case %ld %zu %08x\n", c, b->len,
+           (unsigned)ea_crc32(0, b->s, b->len));
+  ea__sbuf_put(b, trailer, strlen(trailer));
+  return b->oom ? -1 : 0;
+}
+
 static void *ea__worker(void *arg) {
   ea__run_t *r = arg;
   for (;;) {
     pthread_mutex_lock(&r->mu);
-    const int halt = r->stop || r->fail || r->next >= r->n_todo ||
-                     (r->set->stop_request && *r->set->stop_request) ||
-                     (r->set->stop_after > 0 && r->started >= r->set->stop_after);
-    if (halt && r->next < r->n_todo) r->stop = 1;
-    const long j = halt ? -1 : r->todo[r->next++];
-    if (!halt) ++r->started;
+    const long j = ea__next_case(r);
     pthread_mutex_unlock(&r->mu);
     if (j < 0) break;
     const long c = ea__case_of(r, j);
     ea__sbuf_t b = {0};
     const int failed = ea__study_case_eval(r->s, c, r->set, r->ident, &b);
     const size_t rows_len = b.len;
-    char trailer[96];
-    if (failed >= 0 && !b.oom) {
-      snprintf(trailer, sizeof trailer, "#case %ld %zu %08x\n", c, rows_len,
-               (unsigned)ea_crc32(0, b.s, rows_len));
-      ea__sbuf_put(&b, trailer, strlen(trailer));
-    }
+    const int oom = failed < 0 || ea__trailer(&b, c);
     pthread_mutex_lock(&r->mu);
-    if (failed < 0 || b.oom) {
-      if (!r->fail) {
-        r->fail = EA_ERR_NOMEM;
-        snprintf(r->failmsg, sizeof r->failmsg, "case %ld: out of memory", c);
-      }
-    } else {
-      int io = 0;
-      if (r->fd >= 0) {
-        io = ea__write_all(r->fd, b.s, b.len);
-        r->dirty = 1;
-        if (!io && r->set->fsync) {
-          const double t = ea__mono_s();
-          if (t - r->last_sync >= r->set->fsync_interval_s) {
-            io = fsync(r->fd);
-            r->last_sync = t;
-            r->dirty = 0;
-          }
-        }
-      }
-      if (io) {
-        if (!r->fail) {
-          r->fail = EA_ERR_IO;
-          snprintf(r->failmsg, sizeof r->failmsg, "checkpoint journal %s: %s", r->set->checkpoint,
-                   strerror(errno));
-        }
-      } else {
-        b.s[rows_len] = '\0'; /* keep the rows, drop the trailer */
-        r->rows[j] = b.s;
-        r->rows_len[j] = rows_len;
-        b.s = NULL;
-        ++r->computed;
-        ++r->done_total;
-        if (r->set->progress)
-          r->set->progress(r->set->progress_data, c, r->done_total, r->n_shard, failed);
-      }
-    }
+    if (oom)
+      ea__set_fail(r, EA_ERR_NOMEM, "case %ld: out of memory", c);
+    else
+      ea__commit(r, j, &b, rows_len);
     pthread_mutex_unlock(&r->mu);
     ea__sbuf_free(&b);
   }
   return NULL;
+}
+
+/* ---- worker processes -------------------------------------------------------------
+ * Each worker is forked with one end of a socketpair. The parent sends a case's local
+ * index as a text line; the worker computes the case and sends back its journal block
+ * (rows + "#case ID BYTES CRC32\n"), or "#fail STATUS MESSAGE\n". The parent alone
+ * writes the journal and keeps the rows, exactly as the threads do, so the CSV is the
+ * same bytes. A worker reads until its socket is shut for writing, then exits. */
+
+typedef struct {
+  pid_t pid; /* 0: slot unused */
+  int fd;    /* parent's end; -1 once closed */
+  long j;    /* case in flight (local index), -1 = idle */
+  int shut;  /* no more cases will be sent */
+  ea__sbuf_t in;
+} ea__proc_t;
+
+/* The worker process: cases from fd until EOF; never returns. */
+static void ea__child_main(ea__run_t *r, int fd, pid_t parent) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = SIG_IGN;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL); /* the parent's stop_request decides */
+  sigaction(SIGTERM, &sa, NULL);
+  sigaction(SIGPIPE, &sa, NULL); /* a closed socket is EPIPE, then exit */
+#ifdef __linux__
+  prctl(PR_SET_PDEATHSIG, SIGKILL); /* die with the parent (a second Ctrl-C) */
+  if (getppid() != parent) _exit(3);
+#else
+  (void)parent;
+#endif
+  char line[64];
+  size_t have = 0;
+  for (;;) {
+    char *nl = memchr(line, '\n', have);
+    if (!nl) {
+      if (have >= sizeof line - 1) _exit(4); /* not a command */
+      const ssize_t n = read(fd, line + have, sizeof line - 1 - have);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) _exit(0); /* no more cases */
+      have += (size_t)n;
+      continue;
+    }
+    *nl = '\0';
+    char *end = NULL;
+    const long j = strtol(line, &end, 10);
+    if (end == line || *end || j < 0 || j >= r->n_shard) _exit(4);
+    const size_t used = (size_t)(nl - line) + 1;
+    memmove(line, nl + 1, have - used);
+    have -= used;
+    const long c = ea__case_of(r, j);
+    ea__sbuf_t b = {0};
+    const int failed = ea__study_case_eval(r->s, c, r->set, r->ident, &b);
+    if (failed < 0 || ea__trailer(&b, c)) {
+      char msg[128];
+      const int w =
+          snprintf(msg, sizeof msg, "#fail %d case %ld: out of memory\n", EA_ERR_NOMEM, c);
+      if (ea__write_all(fd, msg, (size_t)w)) _exit(2);
+    } else if (ea__write_all(fd, b.s, b.len)) {
+      _exit(2); /* the parent is gone */
+    }
+    ea__sbuf_free(&b);
+  }
+}
+
+/* Fork worker all[i] (of n slots); 0 or -1 (errno set). */
+static int ea__spawn(ea__run_t *r, ea__proc_t *all, int n, int i) {
+  ea__proc_t *w = &all[i];
+  int sv[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM, 0, sv)) return -1;
+  const pid_t parent = getpid();
+  fflush(NULL); /* nothing buffered is written twice */
+  const pid_t pid = fork();
+  if (pid < 0) {
+    const int e = errno;
+    close(sv[0]);
+    close(sv[1]);
+    errno = e;
+    return -1;
+  }
+  if (pid == 0) {
+    /* the child keeps only its own end: a worker holding the parent's end of another
+       worker's socket would keep that worker from seeing its EOF */
+    close(sv[0]);
+    for (int k = 0; k < n; ++k)
+      if (k != i && all[k].fd >= 0) close(all[k].fd);
+    if (r->fd >= 0) close(r->fd);
+    ea__child_main(r, sv[1], parent);
+  }
+  close(sv[1]);
+  w->pid = pid;
+  w->fd = sv[0];
+  w->j = -1;
+  w->shut = 0;
+  w->in.len = 0;
+  return 0;
+}
+
+/* Hand worker w its next case, or shut its socket for writing (it then exits). */
+static void ea__dispatch(ea__run_t *r, ea__proc_t *w) {
+  const long j = w->shut ? -1 : ea__next_case(r);
+  if (j < 0) {
+    if (!w->shut) shutdown(w->fd, SHUT_WR);
+    w->shut = 1;
+    return;
+  }
+  char cmd[32];
+  const int n = snprintf(cmd, sizeof cmd, "%ld\n", j);
+  if (send(w->fd, cmd, (size_t)n, MSG_NOSIGNAL) != n) {
+    /* the worker is gone before it got the case: another one takes it; its EOF follows */
+    r->requeue[r->n_requeue++] = j;
+    --r->started;
+    w->shut = 1;
+    return;
+  }
+  w->j = j;
+}
+
+/* A complete frame from worker w, if its input holds one: 1 taken, 0 not yet. */
+static int ea__take_frame(ea__run_t *r, ea__proc_t *w) {
+  const char *t = w->in.s;
+  const size_t len = w->in.len;
+  size_t at = 0; /* start of the first line that begins with '#' */
+  while (at < len && t[at] != '#') {
+    const char *nl = memchr(t + at, '\n', len - at);
+    if (!nl) return 0;
+    at = (size_t)(nl - t) + 1;
+  }
+  const char *nl = at < len ? memchr(t + at, '\n', len - at) : NULL;
+  if (!nl) return 0;
+  const size_t frame = (size_t)(nl - t) + 1;
+  char line[512];
+  snprintf(line, sizeof line, "%.*s", (int)(frame - at - 1), t + at);
+  const long c = w->j >= 0 ? ea__case_of(r, w->j) : -1;
+  int status = 0;
+  long id;
+  size_t bytes;
+  unsigned crc;
+  char tail;
+  if (!strncmp(line, "#fail ", 6) && sscanf(line + 6, "%d", &status) == 1) {
+    const char *msg = strchr(line + 6, ' ');
+    ea__set_fail(r, (ea_status_t)status, "worker process %ld: %s", (long)w->pid,
+                 msg ? msg + 1 : "failed");
+  } else if (w->j < 0 || sscanf(line, "#case %ld %zu %8x%c", &id, &bytes, &crc, &tail) != 3 ||
+             id != c || bytes != at || ea_crc32(0, t, at) != (uint32_t)crc) {
+    ea__set_fail(r, EA_ERR_PROTOCOL,
+                 "worker process %ld sent a malformed block for case %ld: '%.80s'", (long)w->pid, c,
+                 line);
+  } else {
+    ea__sbuf_t b = {0};
+    ea__sbuf_put(&b, t, frame);
+    if (b.oom)
+      ea__set_fail(r, EA_ERR_NOMEM, "case %ld: out of memory", c);
+    else
+      ea__commit(r, w->j, &b, at);
+    ea__sbuf_free(&b);
+  }
+  w->j = -1;
+  memmove(w->in.s, t + frame, len - frame);
+  w->in.len = len - frame;
+  return 1;
+}
+
+/* Worker w's socket reached EOF: wait for it; a case it was computing gets its failed
+ * row. Returns 1 when it died with a case in flight. */
+static int ea__reap(ea__run_t *r, ea__proc_t *w) {
+  close(w->fd);
+  w->fd = -1;
+  int status = 0;
+  while (waitpid(w->pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  const pid_t pid = w->pid;
+  w->pid = 0;
+  ea__sbuf_free(&w->in);
+  if (w->j < 0) return 0;
+  const long j = w->j, c = ea__case_of(r, j);
+  w->j = -1;
+  char msg[300];
+  if (WIFSIGNALED(status))
+    snprintf(msg, sizeof msg,
+             "the worker process computing this case was killed by signal %d (%s); its rows are "
+             "lost: rerun the study (with --restart while its journal remains) to recompute it",
+             WTERMSIG(status), strsignal(WTERMSIG(status)));
+  else
+    snprintf(msg, sizeof msg,
+             "the worker process computing this case exited with status %d before sending its "
+             "rows; they are lost: rerun the study (with --restart while its journal remains) to "
+             "recompute it",
+             WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  (void)pid;
+  ++r->workers_lost;
+  ea__sbuf_t b = {0};
+  const int bad = ea__study_case_fail(r->s, c, r->ident, EA_ERR_BACKEND, msg, &b);
+  const size_t rows_len = b.len;
+  if (bad < 0 || ea__trailer(&b, c))
+    ea__set_fail(r, EA_ERR_NOMEM, "case %ld: out of memory", c);
+  else
+    ea__commit(r, j, &b, rows_len);
+  ea__sbuf_free(&b);
+  return 1;
+}
+
+/* Run the shard's cases in nw forked workers. Returns the number started at first (0:
+ * none could be forked; nothing was computed, use threads). */
+static int ea__run_processes(ea__run_t *r, int nw) {
+  ea__proc_t *w = calloc((size_t)nw, sizeof *w);
+  struct pollfd *pf = calloc((size_t)nw, sizeof *pf);
+  int *slot = calloc((size_t)nw, sizeof *slot);
+  r->requeue = calloc((size_t)nw + 1, sizeof *r->requeue);
+  int started = 0;
+  if (w && pf && slot && r->requeue) {
+    for (int i = 0; i < nw; ++i)
+      w[i].fd = -1;
+    for (; started < nw; ++started)
+      if (ea__spawn(r, w, nw, started)) break;
+  }
+  if (!started) {
+    free(w);
+    free(pf);
+    free(slot);
+    free(r->requeue);
+    r->requeue = NULL;
+    return 0;
+  }
+  for (int i = 0; i < started; ++i)
+    ea__dispatch(r, &w[i]);
+  int killed = 0;
+  for (;;) {
+    int np = 0;
+    for (int i = 0; i < started; ++i)
+      if (w[i].fd >= 0) {
+        pf[np].fd = w[i].fd;
+        pf[np].events = POLLIN;
+        pf[np].revents = 0;
+        slot[np++] = i;
+      }
+    if (!np) break;
+    if (r->fail && !killed) {
+      /* the run cannot complete (journal I/O, a worker's error): stop the workers now */
+      for (int i = 0; i < started; ++i)
+        if (w[i].pid > 0) kill(w[i].pid, SIGKILL);
+      killed = 1;
+    }
+    const int n = poll(pf, (nfds_t)np, 1000);
+    if (n < 0 && errno != EINTR) {
+      ea__set_fail(r, EA_ERR_IO, "worker processes: poll: %s", strerror(errno));
+      for (int i = 0; i < started; ++i)
+        if (w[i].pid > 0) kill(w[i].pid, SIGKILL);
+      killed = 1;
+      for (int i = 0; i < started; ++i)
+        if (w[i].fd >= 0) {
+          w[i].j = -1;
+          ea__reap(r, &w[i]);
+        }
+      break;
+    }
+    for (int q = 0; n > 0 && q < np; ++q) {
+      if (!pf[q].revents) continue;
+      ea__proc_t *x = &w[slot[q]];
+      char buf[65536];
+      const ssize_t got = read(x->fd, buf, sizeof buf);
+      if (got < 0 && errno == EINTR) continue;
+      if (got > 0) {
+        ea__sbuf_put(&x->in, buf, (size_t)got);
+        if (x->in.oom) ea__set_fail(r, EA_ERR_NOMEM, "worker input: out of memory");
+        while (!killed && !x->in.oom && x->j >= 0 && ea__take_frame(r, x))
+          ea__dispatch(r, x);
+        continue;
+      }
+      if (killed) x->j = -1; /* stopped on purpose: its case is not a lost one */
+      const int died_busy = ea__reap(r, x);
+      /* a replacement takes the remaining cases (each death costs one case, so this ends) */
+      if (died_busy && !killed && !r->fail && !r->stop &&
+          (r->n_requeue > 0 || r->next < r->n_todo) && !ea__spawn(r, w, started, slot[q]))
+        ea__dispatch(r, x);
+    }
+    int live = 0;
+    for (int i = 0; i < started; ++i)
+      live += w[i].fd >= 0;
+    if (!live && !r->fail && !r->stop && (r->n_requeue > 0 || r->next < r->n_todo))
+      ea__set_fail(r, EA_ERR_BACKEND, "every worker process died; %ld case(s) not computed",
+                   r->n_todo - r->next + r->n_requeue);
+  }
+  free(w);
+  free(pf);
+  free(slot);
+  free(r->requeue);
+  r->requeue = NULL;
+  return started;
 }
 
 /* Open (or create) the journal, keep the valid blocks of this study's
@@ -179,8 +522,8 @@ static ea_status_t ea__journal_open(ea__run_t *r, const char *key_line, ea_study
     close(fd);
     return ea_error_set(err, EA_ERR_INPUT,
                         ours ? "checkpoint %s belongs to another study (different name, grid, "
-                               "arm, metric settings or min_time task content); remove it or pass "
-                               "--restart"
+                               "arm, metric settings or min_time or at_rest task content); "
+                               "remove it or pass --restart"
                              : "checkpoint %s is not a study journal; remove it or choose "
                                "another --checkpoint",
                         path);
@@ -309,7 +652,17 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
   if ((long)nt > r.n_todo) nt = r.n_todo > 0 ? (int)r.n_todo : 1;
   info->threads = nt;
   pthread_mutex_init(&r.mu, NULL);
-  if (nt == 1) {
+  /* planner metrics in forked processes: MUMPS (sequential) serialises Ipopt calls
+     within one process, so threads would wait for each other */
+  const int plans = ((s->metrics & EA_STUDY_M_MIN_TIME) && set.min_time) ||
+                    ((s->metrics & EA_STUDY_M_AT_REST) && set.at_rest);
+  const int procs = r.n_todo > 0 && (set.workers == EA_STUDY_WORKERS_PROCESSES ||
+                                     (set.workers == EA_STUDY_WORKERS_AUTO && plans && nt > 1));
+  int forked = procs ? ea__run_processes(&r, nt) : 0;
+  if (forked) {
+    info->threads = forked;
+    info->processes = 1;
+  } else if (nt == 1) {
     ea__worker(&r);
   } else {
     pthread_t *tid = malloc((size_t)nt * sizeof *tid);
@@ -325,6 +678,7 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
   }
   pthread_mutex_destroy(&r.mu);
   info->cases_computed = r.computed;
+  info->workers_lost = r.workers_lost;
   if (r.fd >= 0 && r.dirty && set.fsync && fsync(r.fd) && !r.fail) {
     r.fail = EA_ERR_IO;
     snprintf(r.failmsg, sizeof r.failmsg, "checkpoint journal %s: fsync: %s", set.checkpoint,
@@ -346,24 +700,9 @@ ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set_in,
   ea__sbuf_put(&head, hdr, hlen);
   for (long j = 0; j < r.n_shard; ++j) {
     ea__sbuf_put(&head, r.rows[j], r.rows_len[j]);
-    /* failed rows: the status field (n_axes + 6, 0-based) is not "ok";
-       the fields before the message hold no commas or quotes */
-    int bad_case = 0;
-    for (const char *p = r.rows[j]; p && *p;) {
-      const char *e = strchr(p, '\n');
-      if (!e) break;
-      const char *f = p;
-      for (int k = 0; k < s->n_axes + 6 && f < e; ++k) {
-        const char *c = memchr(f, ',', (size_t)(e - f));
-        f = c ? c + 1 : e;
-      }
-      if (strncmp(f, "ok,", 3)) {
-        ++info->rows_failed;
-        bad_case = 1;
-      }
-      p = e + 1;
-    }
-    info->cases_failed += bad_case;
+    const int bad = ea__rows_failed(s, r.rows[j]);
+    info->rows_failed += bad;
+    info->cases_failed += bad > 0;
   }
   if (head.oom) {
     st = ea_error_set(err, EA_ERR_NOMEM, "study run: out of memory");
@@ -463,7 +802,7 @@ ea_status_t ea_study_merge(const char *const *texts, const size_t *lens, const c
         } else if (strlen(ref_id) != il || memcmp(ref_id, c1 + 1, il)) {
           st = ea_error_set(err, EA_ERR_INPUT,
                             "%s:%ld: row of study,study_key '%.*s' but %s has '%s': the shards "
-                            "come from different specs (or the spec, its arm or its min_time task "
+                            "come from different specs (or the spec, its arm or its planner task "
                             "changed between them) and cannot be merged",
                             nm, line, (int)il, c1 + 1, ref_where, ref_id);
           goto out;

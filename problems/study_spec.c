@@ -39,6 +39,11 @@ void ea_study_init(ea_study_t *s, const ea_arm_t *arm) {
   s->freq.modes = 3;
   s->freq.elements = EA_FE_DEFAULT_ELEMENTS;
   s->path.steps = 20;
+  s->at_rest.modes = 2;
+  s->at_rest.elements = EA_FE_DEFAULT_ELEMENTS;
+  s->at_rest.dt = 1e-3;
+  s->at_rest.settle = 3.0;
+  s->at_rest.damping_ratio = 0.0;
 }
 
 void ea_study_free(ea_study_t *s) {
@@ -179,7 +184,7 @@ ea_status_t ea_study_check(ea_study_t *s, ea_error_t *err) {
   if (!s->metrics)
     return ea_error_set(err, EA_ERR_INPUT,
                         "%s: no metrics asked for (workspace, torque_map, "
-                        "frequencies, path, min_time)",
+                        "frequencies, path, min_time, at_rest)",
                         f);
   if (s->metrics & EA_STUDY_M_WORKSPACE) {
     if (!(s->workspace.alpha_min < s->workspace.alpha_max) || s->workspace.points < 2)
@@ -201,6 +206,25 @@ ea_status_t ea_study_check(ea_study_t *s, ea_error_t *err) {
     return ea_error_set(err, EA_ERR_INPUT, "%s: path: steps must be >= 1", f);
   if ((s->metrics & EA_STUDY_M_MIN_TIME) && !s->min_time.task_file[0])
     return ea_error_set(err, EA_ERR_INPUT, "%s: min_time: no task file", f);
+  if (s->metrics & EA_STUDY_M_AT_REST) {
+    if (!s->at_rest.task_file[0])
+      return ea_error_set(err, EA_ERR_INPUT, "%s: at_rest: no task file", f);
+    if (s->at_rest.modes < 1 || s->at_rest.modes > EA_ROM_MAX_MODES)
+      return ea_error_set(err, EA_ERR_INPUT, "%s: at_rest: modes %d is outside [1, %d]", f,
+                          s->at_rest.modes, EA_ROM_MAX_MODES);
+    if (s->at_rest.elements < 1 || s->at_rest.elements > 1000)
+      return ea_error_set(err, EA_ERR_INPUT, "%s: at_rest: elements %d is outside [1, 1000]", f,
+                          s->at_rest.elements);
+    if (!(s->at_rest.dt >= 1e-5 && s->at_rest.dt <= 1e-2))
+      return ea_error_set(err, EA_ERR_INPUT, "%s: at_rest: fe_dt_s %g is outside [1e-05, 0.01]", f,
+                          s->at_rest.dt);
+    if (!(s->at_rest.settle >= 0.5 && s->at_rest.settle <= 100))
+      return ea_error_set(err, EA_ERR_INPUT, "%s: at_rest: settle_s %g is outside [0.5, 100]", f,
+                          s->at_rest.settle);
+    if (!(s->at_rest.damping_ratio >= 0 && s->at_rest.damping_ratio < 1))
+      return ea_error_set(err, EA_ERR_INPUT, "%s: at_rest: damping_ratio %g is outside [0, 1)", f,
+                          s->at_rest.damping_ratio);
+  }
   s->n_cases = n;
   for (long c = 0; c < n; ++c) {
     ea_arm_t a;
@@ -286,6 +310,16 @@ void ea__study_describe(const ea_study_t *s, const ea_study_settings_t *set, ea_
                     s->min_time.task_name[0] ? s->min_time.task_name : s->min_time.task_file,
                     set && set->min_time ? (set->min_time_key ? set->min_time_key : "unknown")
                                          : "no planner");
+  if (s->metrics & EA_STUDY_M_AT_REST) {
+    ea__sbuf_printf(b, "at_rest %s\nat_rest_key %s\n",
+                    s->at_rest.task_name[0] ? s->at_rest.task_name : s->at_rest.task_file,
+                    set && set->at_rest ? (set->at_rest_key ? set->at_rest_key : "unknown")
+                                        : "no planner");
+    ea__describe_vec(b, "at_rest_settings",
+                     (double[]){s->at_rest.modes, s->at_rest.elements, s->at_rest.dt,
+                                s->at_rest.settle, s->at_rest.damping_ratio},
+                     5);
+  }
   char hdr[4096];
   const size_t hl = ea_study_csv_header(s, hdr, sizeof hdr);
   ea__sbuf_put(b, hdr, hl < sizeof hdr ? hl : 0);
@@ -338,14 +372,23 @@ static void ea__rename_where(char *where, size_t len, const char *from, const ch
 
 ea_status_t ea_study_task_load(const ea_study_t *s, const char *default_arm, ea_task_t *task,
                                char *key, size_t key_len, ea_error_t *err) {
-  if (!s || !task || !key || key_len < 32)
+  return ea_study_metric_task_load(s, EA_STUDY_M_MIN_TIME, default_arm, task, key, key_len, err);
+}
+
+ea_status_t ea_study_metric_task_load(const ea_study_t *s, unsigned metric, const char *default_arm,
+                                      ea_task_t *task, char *key, size_t key_len, ea_error_t *err) {
+  if (!s || !task || !key || key_len < 32 ||
+      (metric != EA_STUDY_M_MIN_TIME && metric != EA_STUDY_M_AT_REST))
     return ea_error_set(err, EA_ERR_ARG, "study task: bad argument");
-  const char *path = s->min_time.task_file;
-  const char *name = s->min_time.task_name[0] ? s->min_time.task_name : path;
-  if (!path[0]) return ea_error_set(err, EA_ERR_INPUT, "min_time: no task file");
+  const int rest = metric == EA_STUDY_M_AT_REST;
+  const char *label = rest ? "at_rest" : "min_time";
+  const char *path = rest ? s->at_rest.task_file : s->min_time.task_file;
+  const char *tname = rest ? s->at_rest.task_name : s->min_time.task_name;
+  const char *name = tname[0] ? tname : path;
+  if (!path[0]) return ea_error_set(err, EA_ERR_INPUT, "%s: no task file", label);
   size_t n0 = 0, n1 = 0, na0 = 0, na1 = 0;
   char *t0 = ea__slurp(path, &n0);
-  if (!t0) return ea_error_set(err, EA_ERR_IO, "min_time task %s: cannot read it", name);
+  if (!t0) return ea_error_set(err, EA_ERR_IO, "%s task %s: cannot read it", label, name);
   ea_error_t e = {0};
   ea_status_t st = ea_task_load(path, s->arm_file[0] ? s->arm_file : default_arm, task, &e);
   char *t1 = ea__slurp(path, &n1);
@@ -359,14 +402,14 @@ ea_status_t ea_study_task_load(const ea_study_t *s, const char *default_arm, ea_
     char msg[sizeof e.msg];
     snprintf(msg, sizeof msg, "%s", e.msg);
     ea__rename_where(msg, sizeof msg, path, name);
-    st = ea_error_set(err, st, "min_time task: %s", msg);
+    st = ea_error_set(err, st, "%s task: %s", label, msg);
   } else if (!t1 || n0 != n1 || memcmp(t0, t1, n0)) {
-    st = ea_error_set(err, EA_ERR_IO, "min_time task %s changed while it was read", name);
+    st = ea_error_set(err, EA_ERR_IO, "%s task %s changed while it was read", label, name);
   } else if (task->arm_file[0] && (!a0 || !a1 || na0 != na1 || memcmp(a0, a1, na0))) {
     st = ea_error_set(err, EA_ERR_IO,
-                      "min_time task %s: its arm file cannot be read or changed "
+                      "%s task %s: its arm file cannot be read or changed "
                       "while it was read",
-                      name);
+                      label, name);
   } else {
     snprintf(key, key_len, "task=%08x/%zu arm=", (unsigned)ea_crc32(0, t0, n0), n0);
     const size_t used = strlen(key);
@@ -490,10 +533,38 @@ static void ea__resolve(const char *base_file, const char *rel, char *out, size_
   if (w < 0 || (size_t)w >= len) snprintf(out, len, "%s", rel); /* too long: keep it relative */
 }
 
+/* metrics.at_rest: {task: FILE, modes: K, elements: N, fe_dt_s: DT, settle_s: S,
+ * damping_ratio: Z}: every value checked at its position. */
+static ea_status_t ea__load_at_rest(ea__ydoc_t *d, yaml_node_t *n, ea_study_t *s, int from_file,
+                                    ea_error_t *err) {
+  if (n->type != YAML_MAPPING_NODE)
+    return ea__yerr(d, n, err, EA_ERR_INPUT,
+                    "key 'at_rest' must be a mapping {task: FILE, modes: K, ...}");
+  s->metrics |= EA_STUDY_M_AT_REST;
+  static const char *const ak[] = {"task",     "modes",         "elements", "fe_dt_s",
+                                   "settle_s", "damping_ratio", NULL};
+  ea_status_t st = ea__ymap_check_keys(d, n, ak, "metrics.at_rest", err);
+  if (st) return st;
+  long modes = s->at_rest.modes, el = s->at_rest.elements;
+  char rel[512];
+  if ((st = ea__ymap_string(d, n, "task", 1, rel, sizeof rel, err)) ||
+      (st = ea__ymap_int(d, n, "modes", 0, 1, EA_ROM_MAX_MODES, &modes, err)) ||
+      (st = ea__ymap_int(d, n, "elements", 0, 1, 1000, &el, err)) ||
+      (st = ea__ymap_double(d, n, "fe_dt_s", 0, 1e-5, 1e-2, &s->at_rest.dt, err)) ||
+      (st = ea__ymap_double(d, n, "settle_s", 0, 0.5, 100, &s->at_rest.settle, err)) ||
+      (st = ea__ymap_double(d, n, "damping_ratio", 0, 0, 0.999, &s->at_rest.damping_ratio, err)))
+    return st;
+  s->at_rest.modes = (int)modes;
+  s->at_rest.elements = (int)el;
+  ea__resolve(from_file ? s->file : NULL, rel, s->at_rest.task_file, sizeof s->at_rest.task_file);
+  snprintf(s->at_rest.task_name, sizeof s->at_rest.task_name, "%s", rel);
+  return EA_OK;
+}
+
 static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *s, int from_file,
                                     ea_error_t *err) {
-  static const char *const keys[] = {"workspace", "torque_map", "frequencies",
-                                     "path",      "min_time",   NULL};
+  static const char *const keys[] = {"workspace", "torque_map", "frequencies", "path",
+                                     "min_time",  "at_rest",    NULL};
   ea_status_t st = ea__ymap_check_keys(d, mm, keys, "metrics", err);
   if (st) return st;
   yaml_node_t *n, *m;
@@ -617,6 +688,8 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
                 sizeof s->min_time.task_file);
     snprintf(s->min_time.task_name, sizeof s->min_time.task_name, "%s", rel);
   }
+  if ((n = ea__ymap_get(d, mm, "at_rest")) && (st = ea__load_at_rest(d, n, s, from_file, err)))
+    return st;
   return EA_OK;
 }
 
@@ -663,7 +736,7 @@ static ea_status_t ea__study_parse(ea__ydoc_t *d, const char *default_arm, ea_st
   if (!s->metrics)
     return ea__yerr(d, mm, err, EA_ERR_INPUT,
                     "key 'metrics': ask for at least one of workspace, torque_map, "
-                    "frequencies, path, min_time");
+                    "frequencies, path, min_time, at_rest");
   yaml_node_t *o;
   if ((st = ea__ymap_map(d, root, "outputs", 0, &o, err))) return st;
   if (o) {

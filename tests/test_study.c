@@ -14,6 +14,7 @@
 #include "study_plan_impl.h"
 #include "study_report_impl.h"
 
+#include <errno.h>
 #include <fcntl.h>
 #include <gsl/gsl_errno.h>
 #include <signal.h>
@@ -780,7 +781,7 @@ static void test_resume(void) {
 
 /* ---- the planner metric ------------------------------------------------------------ */
 
-static char *run_plan(const ea_study_t *s, int threads) {
+static char *run_plan_w(const ea_study_t *s, int threads, ea_study_workers_t workers) {
   ea__study_plan_t *plan = NULL;
   ea_error_t e = {0};
   if (ea__study_plan_alloc(s, NULL, &plan, &e)) {
@@ -790,13 +791,24 @@ static char *run_plan(const ea_study_t *s, int threads) {
   ea_study_settings_t set;
   ea_study_settings_default(&set);
   set.threads = threads;
-  set.min_time = ea__study_min_time;
-  set.min_time_data = plan;
-  set.min_time_key = ea__study_plan_key(plan);
+  set.workers = workers;
+  ea__study_plan_register(plan, &set);
   char *c = NULL;
-  ea_study_run(s, &set, &c, NULL, NULL, &e);
+  ea_study_info_t info;
+  ea_study_run(s, &set, &c, NULL, &info, &e);
+  /* auto: forked workers for a planner metric on more than one worker */
+  if (c && info.processes != (workers == EA_STUDY_WORKERS_PROCESSES ||
+                              (workers == EA_STUDY_WORKERS_AUTO && info.threads > 1))) {
+    printf("  run: %d workers, processes %d\n", info.threads, info.processes);
+    free(c);
+    c = NULL;
+  }
   ea__study_plan_free(plan);
   return c;
+}
+
+static char *run_plan(const ea_study_t *s, int threads) {
+  return run_plan_w(s, threads, EA_STUDY_WORKERS_AUTO);
 }
 
 static void test_min_time(void) {
@@ -812,7 +824,12 @@ static void test_min_time(void) {
     return;
   }
   char *c[2] = {run_plan(&s, 1), run_plan(&s, 2)};
-  ea_test_true(c[0] && c[1] && !strcmp(c[0], c[1]), "min_time: 1 and 2 threads byte-identical");
+  ea_test_true(c[0] && c[1] && !strcmp(c[0], c[1]),
+               "min_time: 1 worker and 2 worker processes byte-identical");
+  char *ct = run_plan_w(&s, 2, EA_STUDY_WORKERS_THREADS);
+  ea_test_true(c[0] && ct && !strcmp(c[0], ct),
+               "min_time: 2 threads (planner calls serialised) byte-identical");
+  free(ct);
   if (c[0]) {
     char st0[32] = "", st2[32] = "";
     const double d0 = metric(c[0], 0, "min_time_duration", st0);
@@ -896,6 +913,141 @@ static void test_min_time(void) {
   ea_test_true((hi - lo) / lo > 0.1,
                "design study: the duration changes with payload and EI by more than 10%");
   free(d);
+  ea_study_free(&s);
+}
+
+/* ---- worker processes --------------------------------------------------------------- */
+
+static pid_t g_main_pid;
+static double g_kill_gamma = NAN; /* a worker process computing this payload factor dies */
+static int g_kill_exit;           /* 0: by SIGKILL, 1: by _exit(7) */
+
+/* A stand-in for the planner (cheap, deterministic): 1 + gamma^2 s. In a worker process
+ * the case of payload factor g_kill_gamma ends the process instead. */
+static ea_status_t fake_min_time(void *data, const ea_study_t *s, const ea_arm_t *arm, double kg,
+                                 double gamma, double *dur, char *msg, size_t len) {
+  (void)data, (void)s, (void)arm, (void)kg;
+  if (getpid() != g_main_pid && gamma == g_kill_gamma) {
+    if (g_kill_exit) _exit(7);
+    raise(SIGKILL);
+  }
+  *dur = 1.0 + gamma * gamma;
+  snprintf(msg, len, "stand-in");
+  return EA_OK;
+}
+
+static char *run_fake(const ea_study_t *s, int threads, ea_study_workers_t workers,
+                      const char *ckpt, long stop_after, ea_study_info_t *info, ea_status_t *st) {
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  set.threads = threads;
+  set.workers = workers;
+  set.checkpoint = ckpt;
+  set.stop_after = stop_after;
+  set.fsync = 0;
+  set.min_time = fake_min_time;
+  set.min_time_key = "stand-in";
+  char *csv = NULL;
+  ea_error_t e = {0};
+  *st = ea_study_run(s, &set, &csv, NULL, info, &e);
+  if (*st && *st != EA_ERR_INTERRUPTED) printf("  run: %s\n", e.msg);
+  return csv;
+}
+
+/* No child process left, running or zombie. */
+static int no_children(void) {
+  errno = 0;
+  return waitpid(-1, NULL, WNOHANG) == -1 && errno == ECHILD;
+}
+
+/* The CSV without the rows of case c. */
+static char *drop_case(const char *csv, long c) {
+  char *out = malloc(strlen(csv) + 1), *o = out;
+  char pre[32];
+  const int n = snprintf(pre, sizeof pre, "%ld,", c);
+  for (const char *p = csv; *p;) {
+    const char *e = strchr(p, '\n');
+    const size_t len = e ? (size_t)(e - p) + 1 : strlen(p);
+    if (strncmp(p, pre, (size_t)n)) {
+      memcpy(o, p, len);
+      o += len;
+    }
+    p += len;
+  }
+  *o = '\0';
+  return out;
+}
+
+static void test_workers(void) {
+  g_main_pid = getpid();
+  const char *text = "name: fake\ngrid: {payload_factor: '0:0.1:0.9'}\n"
+                     "metrics:\n  min_time: {task: x.yaml}\n"
+                     "  path: {start: [0.3, -0.2], goal: [0.6, -0.2], steps: 4}\n";
+  ea_study_t s;
+  ea_error_t e = {0};
+  if (ea_study_load_string("fake.yaml", text, strlen(text), NULL, &s, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  ea_study_info_t i1, i2, i3;
+  ea_status_t st1, st2, st3;
+  char *ref = run_fake(&s, 1, EA_STUDY_WORKERS_THREADS, NULL, 0, &i1, &st1);
+  char *p2 = run_fake(&s, 2, EA_STUDY_WORKERS_AUTO, NULL, 0, &i2, &st2);
+  char *p3 = run_fake(&s, 3, EA_STUDY_WORKERS_PROCESSES, NULL, 0, &i3, &st3);
+  ea_test_true(ref && !st1 && !i1.processes && i2.processes && i2.threads == 2 && i3.processes,
+               "workers: 1 in-process worker; auto with 2 and a planner metric: 2 processes");
+  ea_test_true(ref && p2 && p3 && !strcmp(ref, p2) && !strcmp(ref, p3),
+               "workers: CSV of 2 and 3 worker processes byte-identical to 1 in-process worker");
+  ea_test_true(no_children(), "workers: every worker process waited for (no zombie)");
+  free(p2);
+  free(p3);
+
+  /* a worker killed (SIGKILL) while computing case 3: that case is one failed row, the
+     others are computed (a new worker takes the rest) and equal to the reference */
+  for (int how = 0; how < 2 && ref; ++how) {
+    g_kill_gamma = 0.3;
+    g_kill_exit = how;
+    ea_study_info_t info;
+    ea_status_t st;
+    char *k = run_fake(&s, 2, EA_STUDY_WORKERS_PROCESSES, NULL, 0, &info, &st);
+    g_kill_gamma = NAN;
+    char *a = k ? drop_case(k, 3) : NULL, *b = drop_case(ref, 3);
+    const char *row = k ? strstr(k, "\n3,") : NULL;
+    const char *want = how ? "exited with status 7" : "killed by signal 9";
+    if (row) printf("  %.*s\n", (int)strcspn(row + 1, "\n"), row + 1);
+    char what[200];
+    snprintf(what, sizeof what,
+             "workers: a worker %s computing case 3: run completes, 1 worker lost, case 3 one "
+             "failed row saying so, every other row as in the reference",
+             how ? "exiting (status 7)" : "killed (SIGKILL)");
+    ea_test_true(st == EA_OK && info.workers_lost == 1 &&
+                     info.cases_failed == i1.cases_failed + 1 && row &&
+                     !strncmp(row + 1, "3,fake,", 7) && strstr(row, ",case,,-,EA_ERR_BACKEND,") &&
+                     strstr(row, want) && !strstr(row + 1, "\n3,") && a && !strcmp(a, b),
+                 what);
+    ea_test_true(no_children(), "workers: no zombie after a worker died");
+    free(a);
+    free(b);
+    free(k);
+  }
+
+  /* stopped after 4 cases (worker processes), resumed from the journal by other processes */
+  char ck[400];
+  snprintf(ck, sizeof ck, "%s/w.journal", g_tmp);
+  unlink(ck);
+  ea_study_info_t info;
+  ea_status_t st;
+  char *c = run_fake(&s, 2, EA_STUDY_WORKERS_PROCESSES, ck, 4, &info, &st);
+  ea_test_true(st == EA_ERR_INTERRUPTED && !c && info.cases_computed == 4 && journal_cases(ck) == 4,
+               "workers: stop hook after 4 cases, journal holds 4 (written by the parent)");
+  c = run_fake(&s, 3, EA_STUDY_WORKERS_PROCESSES, ck, 0, &info, &st);
+  ea_test_true(st == EA_OK && c && ref && !strcmp(c, ref) && info.cases_skipped == 4 &&
+                   info.cases_computed == 6,
+               "workers: resumed by worker processes = uninterrupted run, byte for byte");
+  ea_test_true(no_children(), "workers: no zombie after stop and resume");
+  free(c);
+  unlink(ck);
+  free(ref);
   ea_study_free(&s);
 }
 
@@ -1053,6 +1205,11 @@ static void test_cli(void) {
   rc = sh_run("cd %s && %s study merge m/chk.csv sh1.csv sh2.csv --spec other.yaml 2>&1", dir, bin);
   ea_test_true(rc == 2 && !exists(dir, "m/chk.csv"), "CLI merge --spec of another spec refused");
 
+  rc = sh_run("cd %s && %s study spec.yaml --workers fibers -o w.csv 2>&1", dir, bin);
+  ea_test_true(rc == 2 && strstr(g_out, "--workers: 'fibers' is not auto, threads or processes") &&
+                   !exists(dir, "w.csv"),
+               "CLI --workers with another value: exit 2 naming it");
+
   /* (e) workspace: an empty or ill-posed region is an error, never NaN */
   rc = sh_run("%s workspace --inner-length 5 2>&1", bin);
   printf("  workspace --inner-length 5: exit %d: %s", rc, g_out);
@@ -1096,6 +1253,17 @@ static void test_spec_errors(void) {
       {"grid: {payload_factor: [0]}\nmetrics: {}\n",
        "spec.yaml:2:10: key 'metrics': ask for at least one"},
       {"grid: [0\n", "spec.yaml:2:1: YAML syntax error"},
+      {"grid: {payload_factor: [0]}\nmetrics:\n  at_rest: {task: t.yaml, mode: 2}\n",
+       "spec.yaml:3:27: unknown key 'mode' in metrics.at_rest"},
+      {"grid: {payload_factor: [0]}\nmetrics:\n  at_rest: {task: t.yaml, modes: 9}\n",
+       "spec.yaml:3:34: key 'modes': value 9 is outside [1, 4]"},
+      {"grid: {payload_factor: [0]}\nmetrics:\n  at_rest: {modes: 2}\n",
+       "spec.yaml:3:12: missing required key 'task'"},
+      {"grid: {payload_factor: [0]}\nmetrics:\n  at_rest:\n    task: t.yaml\n"
+       "    fe_dt_s: 0.5\n",
+       "spec.yaml:5:14: key 'fe_dt_s': value 0.5 is above the bound"},
+      {"grid: {payload_factor: [0]}\nmetrics:\n  at_rest: t.yaml\n",
+       "spec.yaml:3:12: key 'at_rest' must be a mapping"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
     ea_study_t s;
@@ -1128,6 +1296,7 @@ int main(void) {
   test_failed_case();
   test_resume();
   test_min_time();
+  test_workers();
   test_cli();
   test_spec_errors();
   rmdir(g_tmp);

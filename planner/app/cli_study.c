@@ -26,8 +26,8 @@ static void ea__study_help(FILE *fp) {
       fp,
       "usage: elasticarm study SPEC.yaml [options]\n"
       "       elasticarm study payload (--payload-factors LIST | --payload-kg LIST)\n"
-      "                        [--metrics workspace,torque_map,path,frequencies,min_time]\n"
-      "                        [metric options] [options]\n"
+      "                        [--metrics workspace,torque_map,path,frequencies,min_time,\n"
+      "                        at_rest] [metric options] [options]\n"
       "       elasticarm study merge OUT.csv SHARD.csv... [--spec SPEC.yaml] [--summary OUT.json]\n"
       "                        [--cases N]\n\n"
       "Batch study (docs/studies.md): for every case of the grid (full factorial,\n"
@@ -41,7 +41,9 @@ static void ea__study_help(FILE *fp) {
       "  --summary FILE       JSON summary (default: OUTPUT with .json)\n"
       "  --figures PREFIX     figures PREFIX-workspace.svg, PREFIX-METRIC.svg\n"
       "  --figure-format F    svg (default), png or pdf\n"
-      "  --threads N          worker threads (default: all cores); results identical\n"
+      "  --threads N          workers (default: all cores); results identical\n"
+      "  --workers MODE       auto (default: forked processes when the study plans,\n"
+      "                       min_time or at_rest, else threads), threads or processes\n"
       "  --shard K/N          only cases with case_id %% N == K-1 (1 <= K <= N)\n"
       "  --checkpoint FILE    resume journal (default: OUTPUT.journal); rerunning the\n"
       "                       same command after an interruption skips finished cases\n"
@@ -60,7 +62,8 @@ static void ea__study_help(FILE *fp) {
       "  --config L:A[,L:A]   frequencies at cable length L [m], angle A [deg]\n"
       "  --modes N            frequencies per configuration (default 3)\n"
       "  --path X0,Y0,X1,Y1   straight tip path for 'path'\n"
-      "  --task FILE          task for 'min_time'\n\n"
+      "  --task FILE          task for 'min_time' and 'at_rest' (2 modes, FE 12 elements,\n"
+      "                       dt 1 ms, 3 s after the motion, undamped)\n\n"
       "merge: combines shard CSVs into exactly the single-run CSV (byte for byte);\n"
       "  shards of different specs (study_key column) are refused; --cases N checks\n"
       "  that all N cases are present; --spec SPEC.yaml checks that the shards are\n"
@@ -215,15 +218,14 @@ static int ea__study_merge_cli(int argc, char **argv) {
     ea_study_t s;
     ea_status_t st = ea_study_load(spec, arm_file ? arm_file : ea__cli_default_arm(), &s, &err);
     ea__study_plan_t *plan = NULL;
-    if (!st && (s.metrics & EA_STUDY_M_MIN_TIME))
+    if (!st && (s.metrics & EA_STUDY_M_PLANNER))
       st = ea__study_plan_alloc(&s, ea__cli_default_arm(), &plan, &err);
     if (st) {
       rc = ea__cli_fail(cmd, st, &err);
     } else {
       ea_study_settings_t set;
       ea_study_settings_default(&set);
-      set.min_time = plan ? ea__study_min_time : NULL;
-      set.min_time_key = ea__study_plan_key(plan);
+      ea__study_plan_register(plan, &set);
       ea_study_key(&s, &set, spec_key);
       snprintf(spec_name, sizeof spec_name, "%s", s.name);
       if (!cases) cases = s.n_cases;
@@ -311,18 +313,19 @@ typedef struct {
 } ea__shorthand_t;
 
 static int ea__parse_metrics(const char *cmd, const char *v, unsigned *m) {
-  static const char *const names[] = {"workspace", "torque_map", "frequencies", "path", "min_time"};
+  static const char *const names[] = {"workspace", "torque_map", "frequencies",
+                                      "path",      "min_time",   "at_rest"};
   *m = 0;
   char buf[256];
   snprintf(buf, sizeof buf, "%s", v);
   for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
     int k = 0;
-    while (k < 5 && strcmp(names[k], tok))
+    while (k < 6 && strcmp(names[k], tok))
       ++k;
-    if (k == 5)
+    if (k == 6)
       return ea__cli_usage_error(cmd,
                                  "--metrics: unknown metric '%s' (workspace, torque_map, "
-                                 "frequencies, path, min_time)",
+                                 "frequencies, path, min_time, at_rest)",
                                  tok);
     *m |= 1u << k;
   }
@@ -333,6 +336,7 @@ static int ea__parse_metrics(const char *cmd, const char *v, unsigned *m) {
 typedef struct {
   const char *spec, *out, *summary, *figures, *fmt, *ckpt, *arm_file;
   int no_ckpt, restart, quiet, shorthand, no_fsync, out_given;
+  ea_study_workers_t workers;
   long threads, stop_after;
   int shard_k, shard_n;
   ea__shorthand_t sh;
@@ -372,7 +376,16 @@ static int ea__study_opt(const char *cmd, const char *a, const char *v, ea__stud
       return ea__cli_usage_error(cmd, "--figure-format: '%s' is not svg, png or pdf", v);
   } else if (!strcmp(a, "--threads"))
     return ea__cli_int(cmd, a, v, 1, 1024, &o->threads);
-  else if (!strcmp(a, "--stop-after"))
+  else if (!strcmp(a, "--workers")) {
+    if (!strcmp(v, "auto"))
+      o->workers = EA_STUDY_WORKERS_AUTO;
+    else if (!strcmp(v, "threads"))
+      o->workers = EA_STUDY_WORKERS_THREADS;
+    else if (!strcmp(v, "processes"))
+      o->workers = EA_STUDY_WORKERS_PROCESSES;
+    else
+      return ea__cli_usage_error(cmd, "--workers: '%s' is not auto, threads or processes", v);
+  } else if (!strcmp(a, "--stop-after"))
     return ea__cli_int(cmd, a, v, 1, 100000000L, &o->stop_after);
   else if (!strcmp(a, "--shard")) {
     char tail;
@@ -494,7 +507,10 @@ static int ea__study_shorthand(const char *cmd, const ea__study_opts_t *o, ea_st
     s->path.goal[0] = p[2];
     s->path.goal[1] = p[3];
   }
-  if (sh->task) snprintf(s->min_time.task_file, sizeof s->min_time.task_file, "%s", sh->task);
+  if (sh->task) {
+    snprintf(s->min_time.task_file, sizeof s->min_time.task_file, "%s", sh->task);
+    snprintf(s->at_rest.task_file, sizeof s->at_rest.task_file, "%s", sh->task);
+  }
   if (!st && (s->metrics & EA_STUDY_M_TORQUE)) {
     s->torque.n_len = 13;
     s->torque.n_alpha = 8;
@@ -570,7 +586,7 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   ea_error_t err = {0};
   ea_status_t st;
   ea__study_plan_t *plan = NULL;
-  if ((s->metrics & EA_STUDY_M_MIN_TIME) &&
+  if ((s->metrics & EA_STUDY_M_PLANNER) &&
       (st = ea__study_plan_alloc(s, ea__cli_default_arm(), &plan, &err)))
     return ea__cli_fail(cmd, st, &err);
   ea_study_settings_t set;
@@ -582,9 +598,8 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   set.fsync = !o->no_fsync;
   set.stop_after = o->stop_after;
   set.stop_request = &ea__study_stop;
-  set.min_time = plan ? ea__study_min_time : NULL;
-  set.min_time_data = plan;
-  set.min_time_key = ea__study_plan_key(plan);
+  set.workers = o->workers;
+  ea__study_plan_register(plan, &set);
   int tty = !o->quiet && isatty(STDERR_FILENO);
   set.progress = ea__progress;
   set.progress_data = &tty;
@@ -703,9 +718,14 @@ int ea__cli_study(int argc, char **argv) {
     rc = ea__study_reports(cmd, &o, &s, csv, csv_len, &info, &t, &nfig);
     if (!o.quiet && strcmp(o.out, "-")) {
       printf("study %s: %ld case(s)%s, %ld computed, %ld from the checkpoint, %ld with failures "
-             "(%ld rows), %d thread(s), %.3f s\n",
+             "(%ld rows), %d %s, %.3f s\n",
              s.name, info.cases_shard, o.shard_n > 1 ? " in this shard" : "", info.cases_computed,
-             info.cases_skipped, info.cases_failed, info.rows_failed, info.threads, info.time_s);
+             info.cases_skipped, info.cases_failed, info.rows_failed, info.threads,
+             info.processes ? "worker process(es)" : "thread(s)", info.time_s);
+      if (info.workers_lost)
+        printf("%ld worker process(es) died while computing a case: those cases are failed "
+               "rows\n",
+               info.workers_lost);
       if (info.journal_dropped_bytes)
         printf("checkpoint: dropped a torn tail of %ld bytes\n", info.journal_dropped_bytes);
       if (!rc) {

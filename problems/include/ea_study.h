@@ -2,8 +2,8 @@
  * @file ea_study.h
  * @brief Batch studies (docs/studies.md): grids of payload and arm
  *        parameters, metrics per case, threads, shards, resumable runs, merges
- *        (problems/study_*.c). The minimum-time metric is a callback the
- *        planner registers, so problems/ does not link Ipopt.
+ *        (problems/study_*.c). The minimum-time and at-rest metrics are
+ *        callbacks the planner registers, so problems/ does not link Ipopt.
  */
 #ifndef EA_STUDY_H
 #define EA_STUDY_H
@@ -21,11 +21,14 @@ extern "C" {
  *  parameters, and per case only the metrics asked for (workspace, torque
  *  and tension ranges, FE natural frequencies, path admissibility, and the
  *  minimum-time duration of a task through a callback the planner
- *  registers). Results are one tidy CSV row per case and metric:
+ *  registers; the duration of the plan that arrives at rest and the FE residual
+ *  vibration it and the minimum-time plan leave, through another). Results are
+ *  one tidy CSV row per case and metric:
  *  case_id, the parameter columns, metric, value, unit, status, message.
  *  Cases are computed independently (a fresh shooter / FE model per case,
  *  no warm start across cases), so the CSV is byte-identical whatever the
- *  thread count, the sharding, or how often the study was interrupted. */
+ *  worker count (threads or forked processes), the sharding, or how often
+ *  the study was interrupted. */
 
 /** Parameters a grid may sweep, in CSV column order (payload first). */
 typedef enum ea_study_param {
@@ -49,8 +52,12 @@ enum {
   EA_STUDY_M_TORQUE = 2u,      /**< torque map: shoulder torque and tension ranges */
   EA_STUDY_M_FREQUENCIES = 4u, /**< FE natural frequencies at given configurations */
   EA_STUDY_M_PATH = 8u,        /**< admissibility of a straight tip path */
-  EA_STUDY_M_MIN_TIME = 16u    /**< minimum-time duration of a task (planner callback) */
+  EA_STUDY_M_MIN_TIME = 16u,   /**< minimum-time duration of a task (planner callback) */
+  EA_STUDY_M_AT_REST = 32u     /**< at-rest duration and FE residuals (planner callback) */
 };
+
+/** Metrics that plan (Ipopt): cases with them run in forked worker processes. */
+#define EA_STUDY_M_PLANNER (EA_STUDY_M_MIN_TIME | EA_STUDY_M_AT_REST)
 
 /** Most frequency configurations of a study. */
 #define EA_STUDY_MAX_CONFIGS 16
@@ -103,6 +110,16 @@ typedef struct ea_study {
                               messages and keys, so rows do not depend on the working
                               directory ("" = task_file) */
   } min_time;
+  struct {
+    char task_file[512];  /**< min_time task to plan at rest (resolved against the spec) */
+    char task_name[512];  /**< as written in the spec ("" = task_file) */
+    int modes;            /**< reduced-model modes of the at-rest plan (default 2, 1..4) */
+    int elements;         /**< FE elements of the transients (default EA_FE_DEFAULT_ELEMENTS) */
+    double dt;            /**< [s] FE time step (default 1e-3) */
+    double settle;        /**< [s] FE time simulated after the motion (default 3) */
+    double damping_ratio; /**< zeta at the first mode (default 0: undamped, the residual the
+                               motion leaves) */
+  } at_rest;
   char out_csv[512]; /**< outputs resolved against the spec's folder ("" = none) */
   char out_summary[512];
   char out_figures[512]; /**< figure path prefix */
@@ -145,13 +162,40 @@ typedef ea_status_t (*ea_study_min_time_fn)(void *data, const ea_study_t *s, con
                                             double payload_kg, double payload_factor,
                                             double *duration_s, char *msg, size_t msg_len);
 
+/** What the at-rest callback found for one case: the quasi-static minimum-time plan
+ *  and the plan that arrives at rest (task key dynamics, residual 0), each with
+ *  the FE residual peak after the motion (ea_traj_simulate). A value is NAN when
+ *  its status is not EA_OK; msg says why, or how it was obtained. */
+typedef struct ea_study_at_rest_result {
+  double duration_s;         /**< [s] the at-rest plan */
+  double residual_peak_m;    /**< [m] FE residual peak after the at-rest plan */
+  double qs_duration_s;      /**< [s] the quasi-static minimum-time plan */
+  double qs_residual_peak_m; /**< [m] FE residual peak after the quasi-static plan */
+  ea_status_t status[4];     /**< of the four values, in this order */
+  char msg[4][400];
+} ea_study_at_rest_result_t;
+
+/** At-rest metric of one case: registered by the planner. Returns EA_OK when every
+ *  value is EA_OK (else the first failure); fills *out in any case. */
+typedef ea_status_t (*ea_study_at_rest_fn)(void *data, const ea_study_t *s, const ea_arm_t *arm,
+                                           double payload_kg, double payload_factor,
+                                           ea_study_at_rest_result_t *out);
+
+/** Where the cases run. */
+typedef enum ea_study_workers {
+  EA_STUDY_WORKERS_AUTO = 0, /**< forked processes when the study plans (min_time, at_rest)
+                                  and more than one worker runs; else threads */
+  EA_STUDY_WORKERS_THREADS,  /**< threads of this process (planner calls serialised) */
+  EA_STUDY_WORKERS_PROCESSES /**< forked worker processes, even for one worker */
+} ea_study_workers_t;
+
 /** Progress callback (from worker threads, serialised): a case finished. */
 typedef void (*ea_study_progress_fn)(void *data, long case_id, long done, long todo,
                                      int failed_rows);
 
 /** Run settings. */
 typedef struct ea_study_settings {
-  int threads;             /**< worker threads (0 = all online cores) */
+  int threads;             /**< workers: threads or processes (0 = all online cores) */
   int shard_k, shard_n;    /**< run the cases with case_id % shard_n == shard_k - 1
                                 (1 <= shard_k <= shard_n; 1/1 = all) */
   const char *checkpoint;  /**< journal path for resume (NULL = none) */
@@ -168,6 +212,12 @@ typedef struct ea_study_settings {
                                  an edited task are never mixed with the old ones */
   ea_study_progress_fn progress;
   void *progress_data;
+  ea_study_at_rest_fn at_rest; /**< NULL: at_rest rows report EA_ERR_NOTIMPL */
+  void *at_rest_data;
+  const char *at_rest_key;    /**< content key of the at_rest task (like min_time_key) */
+  ea_study_workers_t workers; /**< threads or forked processes (default auto). Worker
+                                   processes are forked from the calling thread: call
+                                   ea_study_run with no other thread inside the library */
 } ea_study_settings_t;
 
 void ea_study_settings_default(ea_study_settings_t *set);
@@ -184,7 +234,10 @@ typedef struct ea_study_info {
   long cases_failed;          /**< cases with at least one non-ok row */
   long rows_failed;           /**< non-ok rows */
   long journal_dropped_bytes; /**< torn / corrupt tail removed from the journal */
-  int threads;                /**< threads used */
+  int threads;                /**< workers used (threads or processes) */
+  int processes;              /**< 1: the workers were forked processes */
+  long workers_lost;          /**< worker processes that died (killed, crashed) while
+                                   computing a case: that case's row says so (failed) */
   double time_s;              /**< [s] wall time */
 } ea_study_info_t;
 
@@ -202,13 +255,27 @@ void ea_study_key(const ea_study_t *s, const ea_study_settings_t *set, char key[
 ea_status_t ea_study_task_load(const ea_study_t *s, const char *default_arm, ea_task_t *task,
                                char *key, size_t key_len, ea_error_t *err);
 
+/** The same for the task of a planner metric: EA_STUDY_M_MIN_TIME (= ea_study_task_load)
+ *  or EA_STUDY_M_AT_REST; messages name it "min_time task" or "at_rest task". */
+ea_status_t ea_study_metric_task_load(const ea_study_t *s, unsigned metric, const char *default_arm,
+                                      ea_task_t *task, char *key, size_t key_len, ea_error_t *err);
+
 /** Run (one shard of) a checked study. On EA_OK, *csv (malloc'd, caller
  *  frees; *csv_len bytes) holds the header and the shard's rows in case
  *  order (columns case_id, study, study_key, the parameters, metric, value,
  *  unit, status, message). With a checkpoint journal every finished case is appended (one
  *  write + fsync, CRC-32 per case); a rerun with the same study skips the
  *  cases found there, drops a torn tail, and refuses a journal of another
- *  study (EA_ERR_INPUT). A failed case is recorded in its rows. */
+ *  study (EA_ERR_INPUT). A failed case is recorded in its rows.
+ *  Worker processes (set->workers; by default when the study plans and more
+ *  than one worker runs): each is forked, computes the cases the parent hands
+ *  it one at a time and sends back their rows (the journal's block format);
+ *  the parent alone writes the journal and assembles the CSV, so it is the
+ *  same bytes as a one-worker run. A worker that dies while computing a case
+ *  (killed, crashed) leaves that case one failed row saying so, and another
+ *  worker is started for the remaining cases; every worker is waited for
+ *  before the call returns. Workers ignore SIGINT and SIGTERM (the caller's
+ *  stop_request decides) and, on Linux, die with the calling thread. */
 ea_status_t ea_study_run(const ea_study_t *s, const ea_study_settings_t *set, char **csv,
                          size_t *csv_len, ea_study_info_t *info, ea_error_t *err);
 
