@@ -153,6 +153,8 @@ run study-design "$EA" study problems/examples/studies/design.yaml -o "$R/design
   --no-checkpoint --quiet
 run study-line "$EA" study payload --payload-factors 0,0.25 --metrics min_time \
   --task problems/examples/paper-line.yaml -o "$R/study-line.csv" --threads 1 --no-checkpoint --quiet
+run study-rest "$EA" study problems/examples/studies/payload-rest.yaml -o "$R/payload-rest.csv" \
+  --no-checkpoint --quiet
 if [ $figures = 1 ] && [ $nofig = 0 ]; then
   echo "== figures (docs/figures/make.sh)"
   B="$EA" sh docs/figures/make.sh
@@ -393,6 +395,21 @@ pub "study design.yaml (area, payload factor 0)" docs/studies.md 'area {} to {} 
   "$(calc %.4f "$(sval "$R/design.csv" area 0 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0 0.8)")"
 pub "study design.yaml (area, payload factor 0.5)" docs/studies.md '{} to {} m^2 at 0.5.' \
   "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.6)")" "$(calc %.4f "$(sval "$R/design.csv" area 0.5 0.8)")"
+# the payload-rest table: durations in s (5 digits), residual peaks in mm, the ratio
+for g in 0 0.25 0.5; do
+  pr() { sval "$R/payload-rest.csv" "$1" $g ""; }
+  pub "study payload-rest.yaml" docs/studies.md "| $g | {} s | {} mm | {} s | {} | {} mm |" \
+    "$(calc %.5f "$(pr qs_min_time_s)")" "$(calc %.2f "$(pr qs_fe_residual_peak_m)*1000")" \
+    "$(calc %.5f "$(pr at_rest_duration_s)")" "$(calc %.3f "$(pr at_rest_time_ratio)")" \
+    "$(calc %.3f "$(pr at_rest_fe_residual_peak_m)*1000")"
+done
+prv() { sval "$R/payload-rest.csv" "$1" "$2" ""; }
+pub "study payload-rest.yaml" docs/studies.md 'vibration it leaves grows with it from {} to {} mm; arriving at rest costs' \
+  "$(calc %.0f "$(prv qs_fe_residual_peak_m 0)*1000")" "$(calc %.0f "$(prv qs_fe_residual_peak_m 0.5)*1000")"
+pub "study payload-rest.yaml" docs/studies.md '{} % more time at payload 0 and {} % at 0.5, and leaves {} % to {} % of that' \
+  "$(calc %.0f "($(prv at_rest_time_ratio 0)-1)*100")" "$(calc %.0f "($(prv at_rest_time_ratio 0.5)-1)*100")" \
+  "$(calc %.1f "$(prv at_rest_fe_residual_peak_m 0)/$(prv qs_fe_residual_peak_m 0)*100")" \
+  "$(calc %.1f "$(prv at_rest_fe_residual_peak_m 0.5)/$(prv qs_fe_residual_peak_m 0.5)*100")"
 
 # --- README.md: bench_plan's iteration counts (column "iters" of the row named CASE;
 # the N-th such row with a second argument)
