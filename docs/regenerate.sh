@@ -52,7 +52,7 @@ for a in "$@"; do
 done
 for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
   "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust" \
-  "$B/tests/test_plan_rest"; do
+  "$B/tests/test_plan_rest" "$B/tests/test_plan_vib" "$B/tests/test_plan_limits" "$B/tests/test_rom"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -111,6 +111,12 @@ run plan-refined "$EA" plan problems/examples/paper-line-rest.yaml --refine --ve
 run test_refine_robust env EA_SOURCE_DIR=. "$B/tests/test_refine_robust"
 # docs/planner.md: plans that arrive at rest judged by the FE transient (~40 s).
 run test_plan_rest env EA_SOURCE_DIR=. "$B/tests/test_plan_rest"
+# docs/fe.md: the reduced model's accuracy (~2 s).
+run test_rom env EA_SOURCE_DIR=. EA_BINARY="$EA" "$B/tests/test_rom"
+# docs/planner.md: the shoulder-limited line against its time-optimal reference (~6 s).
+run test_plan_limits env EA_SOURCE_DIR=. EA_BINARY="$EA" "$B/tests/test_plan_limits"
+# docs/planner.md: the frequency-weighted surrogate against the FE transient (~5 s).
+run test_plan_vib env EA_SOURCE_DIR=. EA_BINARY="$EA" "$B/tests/test_plan_vib"
 # README.md: the planner's iteration counts (bench_plan, ~70 s; times vary).
 run bench_plan "$B/bench/bench_plan"
 # docs/planner.md: the paper line with many knots (~35 s in all).
@@ -223,6 +229,49 @@ AWK
   fi
 }
 
+# block NAME FILE OUT FIRST LAST [MORE]: the fenced block after the line
+# `<!-- regen: NAME -->` in FILE is the lines of OUT from the first one starting with FIRST
+# through the next one starting with LAST and MORE lines after it. Compared with the time columns masked (mask_times: the five time
+# columns of a bench_plan row, the per-iteration time, the update time); --write puts in
+# the fresh lines, times included.
+mask_times() {
+  awk '{
+    n = split($0, a, " ")
+    if (n >= 10 && a[n] ~ /^[0-9.]+$/ && a[n - 6] ~ /^[0-9]+$/ && a[n - 7] ~ /^[0-9]+$/)
+      for (i = n - 5; i < n; i++) a[i] = "*"
+    if ($0 ~ /\(per iteration\)/) a[1] = "*"
+    if ($0 ~ /\(ea_planner_update [0-9.]+ ms\)/) a[2] = "*"
+    o = a[1]; for (i = 2; i <= n; i++) o = o " " a[i]; print o }'
+}
+block() {
+  name=$1 file=$2 out=$3 first=$4 last=$5 more=${6:-0}
+  awk -v f="$first" -v l="$last" -v m="$more" 'k == 0 && index($0, f) == 1 { k = 1 }
+    k == 2 && m-- <= 0 { exit } k >= 1 { print } k == 1 && index($0, l) == 1 { k = 2; if (m == 0) exit }' \
+    "$out" >"$R/block.fresh"
+  awk -v tag="<!-- regen: $name -->" 'st == 2 && /^```/ { exit } st == 2 { print } st == 1 { st = 2 } $0 == tag { st = 1 }' \
+    "$file" >"$R/block.pub"
+  if [ ! -s "$R/block.fresh" ] || [ ! -s "$R/block.pub" ]; then
+    echo "$file: block '$name' or its lines in $out ('$first' .. '$last') not found: update docs/regenerate.sh" >>"$FAILS"
+    return
+  fi
+  mask_times <"$R/block.fresh" >"$R/block.fresh.m"
+  mask_times <"$R/block.pub" >"$R/block.pub.m"
+  if ! cmp -s "$R/block.fresh.m" "$R/block.pub.m"; then
+    echo "$file: block '$name' differs from $out outside the time columns:" >>"$FAILS"
+    diff "$R/block.pub.m" "$R/block.fresh.m" | head -6 | sed 's/^/    /' >>"$FAILS"
+  fi
+  printf '%s: block %s (%s lines)\n    <- %s\n' "$file" "$name" "$(wc -l <"$R/block.fresh")" "${out#"$R"/}" >>"$R/table.txt"
+  if [ $mode = write ]; then
+    awk -v tag="<!-- regen: $name -->" -v fresh="$R/block.fresh" '
+      st == 2 && /^```/ { while ((getline x < fresh) > 0) print x; st = 3 }
+      st == 2 { next }
+      { print }
+      st == 1 { st = 2 }
+      $0 == tag { st = 1 }' "$file" >"$R/rewrite.tmp"
+    cmp -s "$R/rewrite.tmp" "$file" || cat "$R/rewrite.tmp" >"$file"
+  fi
+}
+
 # --- README.md: the main job (plan) and its FE transient (simulate)
 dur=$(jnum "$R/paper-line.json" duration_s)
 track=$(jnum "$R/simulate.out" max_tracking_error_m)
@@ -291,6 +340,35 @@ pub "tests/test_plan_rest (polyline-effort)" docs/planner.md \
   "$(calc %.2f "$(tf "polyline-effort.yaml: quasi-static" 7)")" "$(calc %.2f "$(tf "polyline-effort.yaml: quasi-static" 15)")"
 pub "tests/test_plan_rest (residual_m 5 mm)" docs/planner.md '{} mm in the FE against {} mm predicted.' \
   "$(calc %.2f "$(tf 'residual_m 5 mm:' 17)")" "$(calc %.2f "$(tf 'residual_m 5 mm:' 10)")"
+# the limits table: durations against their references
+set -- $(awk '/^shoulder-limited line: plan / { print $4, $8 }' "$R/test_plan_limits.out")
+pub "tests/test_plan_limits (shoulder-limited line)" docs/planner.md \
+  '| line (0.25, -0.45) -> (0.6, -0.3), payload factor 0.25 | {} s | {} s time-optimal path parameterisation with theta0 from the statics ({} %) |' \
+  "$(calc %.6f "$1")" "$(calc %.6f "$2")" "$(calc %+.3f "($1/$2-1)*100")"
+set -- $(awk '/^PASS: min time vs time-optimal path/ { print $9, $11 }' "$R/test_plan.out")
+pub "tests/test_plan (TOPP task)" docs/planner.md \
+  '| TOPP task of tests/test_plan.c (alpha limited too) | {} s | {} s ({} %) |' \
+  "$(calc %.5f "$1")" "$(calc %.5f "$2")" "$(calc %+.3f "($1/$2-1)*100")"
+cf2=$(awk '/^PASS: paper line: duration vs closed form/ { sub(/.*want /, ""); print $1 }' "$R/test_plan.out")
+pub "plan paper-line.yaml; tests/test_plan (closed form)" docs/planner.md \
+  '| paper line (problems/examples/paper-line.yaml) | {} s | {} s closed form D/v + v/a ({} %) |' \
+  "$(calc %.5f "$dur")" "$(calc %.6f "$cf2")" "$(calc %+.3f "($dur/$cf2-1)*100")"
+th0=$(awk '/^paper line: [0-9]+ samples/ { for (i = 1; i <= NF; i++) if ($i == "statics" && $(i - 1) == "vs") { print $(i + 1); exit } }' "$R/test_plan.out")
+pub "tests/test_plan (theta0 cubic vs statics at 1 kHz)" docs/planner.md \
+  'agrees with the statics at the interpolated (L_c, alpha) to {} rad on' "$(sci %.1e "$th0")"
+gap() { awk -v c="$1 knots" 'index($0, c) == 1 { getline; sub(/.* = /, ""); print $1 + 0; exit }' "$R/bench_plan.out"; }
+pub "bench/bench_plan (scaling with the knot count: t_f / (D/v + v/a) - 1)" docs/planner.md \
+  'interval at each acceleration switch, O(h): {}, {}, {}, {},' \
+  "$(sci %.1e "$(gap 25)")" "$(sci %.1e "$(gap 50)")" "$(sci %.1e "$(gap 100)")" "$(sci %.1e "$(gap 200)")"
+pub "bench/bench_plan (scaling with the knot count: t_f / (D/v + v/a) - 1)" docs/planner.md \
+  '{} at 25, 50, 100, 200, 400 knots on the paper line (bench_plan).' "$(sci %.1e "$(gap 400)")"
+# the surrogate's table: FE residual peaks of the 3 s paper line by objective
+set -- $(awk '/^residual vibration peak \(FE transient, 3 s after a 3 s paper line\)/ {
+  for (i = 1; i <= NF; i++) if ($i == "mm," || $i == "mm") v = v " " $(i - 1); print v }' "$R/test_plan_vib.out")
+pub "tests/test_plan_vib (min_effort)" docs/planner.md '| min_effort | {} mm |' "$1"
+pub "tests/test_plan_vib (min_jerk)" docs/planner.md '| min_jerk | {} mm |' "$2"
+pub "tests/test_plan_vib (min_vibration)" docs/planner.md '| min_vibration | {} mm ({} % of min_effort) |' \
+  "$3" "$(calc %.0f "$3/$1*100")"
 pub "tests/test_plan_rest (min_vibration on the model)" docs/planner.md \
   '`min_vibration` on the model at 3 s: {} mm' "$(calc %.3f "$(tf '3 s paper line' 20)")"
 pub "tests/test_plan_rest (surrogate, min_effort)" docs/planner.md \
@@ -307,6 +385,12 @@ pub "frequencies --sweep --csv" README.md '| f2, as the cable lengthens | {} -> 
   "$(calc %.2f "$2")" "$(calc %.2f "$5")" "$(calc %+.1f "($5/$2-1)*100")"
 pub "frequencies --sweep --csv" README.md '| f3, as the cable lengthens | {} -> {} Hz, **{} %** | +12 % |' \
   "$(calc %.2f "$3")" "$(calc %.2f "$6")" "$(calc %+.1f "($6/$3-1)*100")"
+pub "frequencies --sweep --csv" docs/cli-fe.md '101 lengths): f1 {} -> {} Hz, **{} %**' \
+  "$(calc %.4f "$4")" "$(calc %.4f "$1")" "$(calc %+.1f "($1/$4-1)*100")"
+pub "frequencies --sweep --csv" docs/cli-fe.md 'as the cable shortens (paper 55 %); f2 {} -> {} Hz, **{} %**, f3 {} ->' \
+  "$(calc %.4f "$2")" "$(calc %.4f "$5")" "$(calc %+.1f "($5/$2-1)*100")" "$(calc %.3f "$3")"
+pub "frequencies --sweep --csv" docs/cli-fe.md '{} Hz, **{} %** as it lengthens (paper 38 % and 12 %' \
+  "$(calc %.3f "$6")" "$(calc %+.1f "($6/$3-1)*100")"
 f1min=1e9 f1max=-1e9
 for il in 0 4.0e-4 8.0e-4 1.2e-3 2.0e-3; do
   set -- $(ends "$R/fig5-IL-$il.csv")
@@ -411,6 +495,9 @@ pub "study payload-rest.yaml" docs/studies.md '{} % more time at payload 0 and {
   "$(calc %.1f "$(prv at_rest_fe_residual_peak_m 0)/$(prv qs_fe_residual_peak_m 0)*100")" \
   "$(calc %.1f "$(prv at_rest_fe_residual_peak_m 0.5)/$(prv qs_fe_residual_peak_m 0.5)*100")"
 
+# --- docs/planner.md: bench_plan's tables of the paper line (times masked)
+block bench_plan docs/planner.md "$R/bench_plan.out" "paper line, 100 knots" "2000 knots" 1
+
 # --- README.md: bench_plan's iteration counts (column "iters" of the row named CASE;
 # the N-th such row with a second argument)
 iters() {
@@ -429,6 +516,12 @@ for c in "goal moved 1 mm" "goal moved 5 mm" "goal moved 20 mm" "start moved 5 m
   pub "bench/bench_plan (replanning a live planner)" README.md "| $c | {} | {} |" \
     "$(iters "$bc: replan")" "$(iters "$bc: cold")"
 done
+pub "bench/bench_plan (Hessian modes)" docs/planner.md 'statics curvature left out | {} it, {*} ms / {*} ms |' \
+  "$(iters "cold, partial Hessian (default)")"
+pub "bench/bench_plan (Hessian modes)" docs/planner.md 'closed form of L_c cos/sin alpha | {} it, {*} ms / {*} ms |' \
+  "$(iters "cold, exact Hessian")"
+pub "bench/bench_plan (Hessian modes)" docs/planner.md "Ipopt's L-BFGS | {} it, {*} ms / {*} ms;" \
+  "$(iters "cold, limited-memory Hessian")"
 pub "bench/bench_plan (scaling with the knot count)" README.md \
   'the knot count: {} / {} / {} / {} / {} iterations,' "$(iters "25 knots")" "$(iters "50 knots")" \
   "$(iters "100 knots")" "$(iters "200 knots")" "$(iters "400 knots")"
@@ -456,6 +549,31 @@ pub "tests/test_fe (energy scheme drift / oscillation energy)" README.md 'the di
   "$(sci %.1e "$drift")"
 pub "tests/test_fe (mode 1 release, measured zeta)" README.md '(requested 0.02, measured {}).' "$zeta"
 pub "tests/test_fe (free oscillation vs eigen-solver)" README.md "first frequency ({} %)." "$fosc"
+
+# --- docs/cli-fe.md: simulate on the paper-line plan (the README's run)
+pub "simulate paper-line.csv (residual_vibration_rms_m)" docs/cli-fe.md \
+  'motion) runs in {*} s ({*}x faster than real time); residual vibration rms {} mm, peak' \
+  "$(calc %.1f "$rms*1e3")"
+pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, static_offset_start_m)" \
+  docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. Both schemes give' \
+  "$(calc %.1f "$(jnum "$R/simulate.out" residual_vibration_peak_m)*1e3")" "$(calc %.1f "$track*1e3")" \
+  "$(calc %.1f "$(jnum "$R/simulate.out" static_offset_start_m)*1e6")"
+
+# --- docs/fe.md: the reduced model (tests/test_rom's lines)
+set -- $(awk '/^difference step halved:/ { print $6 + 0, $8 + 0 }' "$R/test_rom.out")
+pub "tests/test_rom (difference step)" docs/fe.md 'halving the difference step moves B by {} and C by' \
+  "$(sci %.1e "$1")"
+pub "tests/test_rom (difference step)" docs/fe.md '{} of their largest entries; a 12 x 12 table' "$(sci %.1e "$2")"
+set -- $(awk '/^table 12 x 12 over/ { sub(/.*cell centres: /, ""); gsub(/,/, ""); print $2, $4, $6, $8, $10 }' "$R/test_rom.out")
+pub "tests/test_rom (table vs direct)" docs/fe.md \
+  'centres: omega^2 {}, B {}, C {}, tip {}, tension {}. What it predicts' \
+  "$(sci %.1e "$1")" "$(sci %.1e "$2")" "$(sci %.1e "$3")" "$(sci %.1e "$4")" "$(sci %.1e "$5")"
+romr() { awk -v c="$1" 'index($0, c) == 1 { sub(/.*residual peak /, ""); print $1; sub(/.*FE transient /, ""); print $1; exit }' "$R/test_rom.out"; }
+set -- $(romr "paper line, min time:") $(romr "paper line, min_vibration 3 s:") $(romr "1 cm cable cycloid")
+pub "tests/test_rom (model vs FE)" docs/fe.md 'transient: the minimum-time paper line {} mm vs {} mm, the min_vibration paper line' \
+  "$(calc %.2f "$1")" "$(calc %.2f "$2")"
+pub "tests/test_rom (model vs FE)" docs/fe.md '{} vs {} mm, a 1 cm cable-length cycloid (linear regime) {} vs {} mm.' \
+  "$(calc %.3f "$3")" "$(calc %.3f "$4")" "$(calc %.4f "$5")" "$(calc %.4f "$6")"
 
 # --- docs/fe.md: the test count and the mesh convergence table
 nfe=$(awk '/^test_fe: [0-9]+ checks, 0 failed/ { print $2 }' "$R/test_fe.out")
