@@ -271,6 +271,9 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
                      int *cols, double *vals);
 /** Modal states of x integrated along its (L_c, alpha) from rest (a guess). */
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
+/* A cold guess with dynamics: stretched in time inside its limits (minimum time), then its
+ * modal states filled (plan_dyn.c). */
+void ea__plan_dyn_guess(const ea_planner_t *pl, double *x);
 /** For the refinement (plan_refine.c): model j's table (0 the nominal, 1..4 the robust
  *  corners; NULL: none) and the held plan's modal state of model j at the goal (Kper values
  *  each; 1: no held plan). */

@@ -868,7 +868,10 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     else
       st = ea__plan_guess(pl, pl->x, info, err);
     if (st) return st;
-    ea__plan_dyn_fill(pl, pl->x);
+    if (start == EA_PLAN_FROM_TRAJ)
+      ea__plan_dyn_fill(pl, pl->x);
+    else
+      ea__plan_dyn_guess(pl, pl->x);
     ea__pp_reduce(pl, pl->x, pp->x);
   }
   info->time_guess_s = ea__plan_now() - t0;

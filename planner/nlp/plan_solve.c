@@ -1075,7 +1075,10 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   } else {
     st = ea__plan_guess(pl, pl->x, info, err);
   }
-  if (!st && (!warm || replan)) ea__plan_dyn_fill(pl, pl->x); /* modal states along the guess */
+  if (!st && !warm && start == EA_PLAN_COLD)
+    ea__plan_dyn_guess(pl, pl->x); /* stretched inside its limits, modal states along it */
+  else if (!st && (!warm || replan))
+    ea__plan_dyn_fill(pl, pl->x); /* modal states along the guess */
   info->time_guess_s = ea__plan_now() - t0;
   if (st) {
     info->status = st;
