@@ -111,6 +111,8 @@ run plan-refined "$EA" plan problems/examples/paper-line-rest.yaml --refine --ve
 run test_refine_robust env EA_SOURCE_DIR=. "$B/tests/test_refine_robust"
 # docs/planner.md: plans that arrive at rest judged by the FE transient (~40 s).
 run test_plan_rest env EA_SOURCE_DIR=. "$B/tests/test_plan_rest"
+# docs/planner.md: the at-rest plan's knots, grid and replanning (bench_dyn, ~50 s).
+run bench_dyn "$B/bench/bench_dyn"
 # docs/fe.md: the reduced model's accuracy (~2 s).
 run test_rom env EA_SOURCE_DIR=. EA_BINARY="$EA" "$B/tests/test_rom"
 # docs/planner.md: the shoulder-limited line against its time-optimal reference (~6 s).
@@ -558,6 +560,44 @@ pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, s
   docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. Both schemes give' \
   "$(calc %.1f "$(jnum "$R/simulate.out" residual_vibration_peak_m)*1e3")" "$(calc %.1f "$track*1e3")" \
   "$(calc %.1f "$(jnum "$R/simulate.out" static_offset_start_m)*1e6")"
+
+# --- docs/planner.md: bench_dyn (section 1: knots; 3: grid; 4: replanning)
+dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $6, $7, $9; exit }' "$R/bench_dyn.out"; }
+for k in 25 50 100 200 400; do
+  set -- $(dyn $k path)
+  label=$k
+  [ $k = 100 ] && label="100 (default)"
+  ch=$(sci %.1e "$3")
+  [ $k = 400 ] && ch=$(calc %.0f "$3")
+  pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} | {} | {} | {} |" \
+    "$1" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
+done
+set -- $(dyn 100 path) $(dyn 400 path)
+pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
+  'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \
+  "$(calc %.2f "$3*100")" "$(calc %.3f "$8-$4")"
+pub "bench/bench_dyn (iterations of the at-rest paper line)" docs/planner.md \
+  'plans in about {*} s of CPU cold ({} Ipopt' "$1"
+grid() { awk -v g="$1" '$1 == g { print $2, $3, $4, $5, $7, $8; exit }' "$R/bench_dyn.out"; }
+set -- $(grid default) $(grid x1/2)
+pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner.md \
+  "table's default grid ({} x {} here) interpolates omega within {}, B within {} and" \
+  "${1%x*}" "${1#*x}" "$(sci %.1e "$2")" "$(sci %.1e "$3")"
+pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner.md \
+  'the tip vectors within {} (relative, at the cell centres against the model computed' "$(sci %.1e "$4")"
+pub "bench/bench_dyn (grid halved)" docs/planner.md \
+  'there); halving the spacing moves the duration by {} relative and the FE residual by' \
+  "$(sci %.0e "($5-${11})/$5")"
+pub "bench/bench_dyn (grid halved)" docs/planner.md '{} mm. The table is built in {*} s and loaded from the cache in {*} ms.' \
+  "$(calc %.3f "$6-${12}")"
+set -- $(awk '$1 == "warm" || $1 == "cold" { print $2 }' "$R/bench_dyn.out")
+pub "bench/bench_dyn (replanning after a 5 mm goal move)" docs/planner.md \
+  're-plans warm after a 5 mm goal move in {} iterations (cold: {}). The cold guess is the' "$1" "$2"
+# the FE cable tension of the at-rest paper line (plan --verify) against the planned minimum
+pub "plan paper-line-rest.yaml --verify (verify.measured_tension_min_N)" docs/planner.md \
+  '{} N after the motion against the planned minimum of {} N' \
+  "$(calc %.2f "$(jnum "$R/paper-line-rest.json" measured_tension_min_N)")" \
+  "$(calc %.2f "$(jnum "$R/paper-line-rest.json" min_tension_margin_N)+0.05")"
 
 # --- docs/fe.md: the reduced model (tests/test_rom's lines)
 set -- $(awk '/^difference step halved:/ { print $6 + 0, $8 + 0 }' "$R/test_rom.out")

@@ -460,6 +460,8 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   }
   const int measure = s->t_motion_end >= 0.0 && s->t_motion_end < s->t_end;
   int have_static = 0;
+  info->tension_min = INFINITY;
+  info->tension_max = -INFINITY;
   double sum2 = 0.0, peak = 0.0;
   int nres = 0;
   for (int n = 0; n < nsteps; ++n) {
@@ -524,6 +526,12 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
     }
     info->energy_drift_max = fmax(info->energy_drift_max, fabs(E - E0));
     info->kinetic_max = fmax(info->kinetic_max, K);
+    {
+      double T = 0.0;
+      ea__fe_cable(m, phase, m->cable_value, m->q[nd - 3], m->q[nd - 2], &T, NULL, NULL, NULL);
+      if (T < info->tension_min) info->tension_min = T, info->tension_min_time = t1;
+      if (T > info->tension_max) info->tension_max = T, info->tension_max_time = t1;
+    }
     if (tip && rows < tip_rows && ((n + 1) % s->output_every == 0 || n + 1 == nsteps)) {
       double *r = tip + 4 * rows++;
       r[0] = t1;
@@ -562,6 +570,7 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
     }
   }
   info->rows = rows;
+  if (info->steps == 0) info->tension_min = info->tension_max = NAN;
   info->energy_end = ea_fe_energy(m);
   if (nres > 0) {
     info->residual_rms = sqrt(sum2 / nres);

@@ -308,6 +308,9 @@ typedef struct ea_fe_sim_info {
                                         of (q_{n+1} - q_n) . f_damp at the scheme's evaluation
                                         point (energy scheme, undriven: E_n + W_n = E_0) */
   double kinetic_max;              /**< [J] max kinetic energy */
+  double tension_min, tension_max; /**< [N] extremes of the cable tension over the steps
+                                        (t > 0; PASSIVE: 0 when slack; NONE: 0) */
+  double tension_min_time, tension_max_time; /**< [s] when they occur */
   double residual_rms;  /**< [m] RMS of |tip_xy(t) - tip_xy_static| on [t_motion_end, t_end] */
   double residual_peak; /**< [m] peak of the same */
   double tip_static[3]; /**< final static equilibrium tip (x, y, theta) */

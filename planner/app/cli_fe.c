@@ -824,6 +824,10 @@ static void ea__sim_json(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
   ea_json_num(&j, "energy_end_J", si->energy_end);
   ea_json_num(&j, "energy_drift_J", si->energy_drift_max);
   ea_json_num(&j, "kinetic_max_J", si->kinetic_max);
+  ea_json_num(&j, "fe_tension_min_N", si->tension_min);
+  ea_json_num(&j, "fe_tension_min_time_s", si->tension_min_time);
+  ea_json_num(&j, "fe_tension_max_N", si->tension_max);
+  ea_json_num(&j, "fe_tension_max_time_s", si->tension_max_time);
   ea_json_obj_end(&j);
   ea_json_end(&j);
 }
@@ -868,6 +872,9 @@ static void ea__sim_text(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
              "s): simulate longer (--settle) or add damping\n",
              1e3 * s->rest_tolerance, si->simulated_time);
   }
+  printf("tension      FE cable tension %.4f N (t = %.4g s) to %.4f N (t = %.4g s)%s\n",
+         si->tension_min, si->tension_min_time, si->tension_max, si->tension_max_time,
+         si->tension_min > 0 ? "" : ": the cable went slack");
   printf("energy       start %.6g J, end %.6g J, max |E - E0| %.3g J (drives do work)\n",
          si->energy_start, si->energy_end, si->energy_drift_max);
 }

@@ -197,6 +197,10 @@ static void ea__plan_verify_text(const ea_plan_verify_t *v) {
     snprintf(pred, sizeof pred, "no model prediction (quasi-static plan)");
   printf("verify: FE residual vibration peak %.4f mm, rms %.4f mm (damping ratio %.3g), %s; %s\n",
          1e3 * si->residual_peak, 1e3 * si->residual_rms, si->damping_ratio, rest, pred);
+  printf(
+      "verify: FE cable tension %.4f N (t = %.4g s) .. %.4f N over the motion and the settle%s\n",
+      si->tension_min, si->tension_min_time, si->tension_max,
+      si->tension_min > 0 ? "" : ": the cable went slack");
 }
 
 int ea__cli_plan(int argc, char **argv) {

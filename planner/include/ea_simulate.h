@@ -76,6 +76,10 @@ typedef struct ea_sim_info {
   double static_offset_end;       /**< |final FE equilibrium - planned end tip| */
   double final_static_tip[2];     /**< final FE equilibrium for the held inputs */
   double energy_start, energy_end, energy_drift_max, kinetic_max; /**< [J] */
+  double tension_min, tension_max; /**< [N] extremes of the FE cable tension over the motion and
+                                        the settle (passive cable: 0 when slack), beside the
+                                        planned quasi-static tension column; NAN if not run) */
+  double tension_min_time, tension_max_time; /**< [s] when, from the first sample */
   double wall_time_s;
 } ea_sim_info_t;
 

@@ -249,6 +249,7 @@ static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, d
   memset(info, 0, sizeof *info);
   info->time_to_rest = info->residual_rms = info->residual_peak = NAN;
   info->static_offset_end = info->start_freq_hz[0] = info->start_freq_hz[1] = NAN;
+  info->tension_min = info->tension_max = NAN;
   if (!arm || !tr || !s) return info->status = ea_error_set(err, EA_ERR_ARG, "simulate: NULL");
   ea_status_t st = ea_sim_settings_validate(s, err);
   if (!st) st = ea_arm_validate(arm, err);
@@ -390,6 +391,10 @@ static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, d
   info->energy_end = si.energy_end;
   info->energy_drift_max = si.energy_drift_max;
   info->kinetic_max = si.kinetic_max;
+  info->tension_min = si.tension_min;
+  info->tension_max = si.tension_max;
+  info->tension_min_time = si.tension_min_time;
+  info->tension_max_time = si.tension_max_time;
   if (st) goto done;
   const int have_static = s->settle > 0;
   if (have_static) {
