@@ -879,18 +879,14 @@ static int ea__ws_insert(ea__wsp_t **coarse, int *nc, int *cap, const ea__wsp_t 
   return 0;
 }
 
-ea_status_t ea_workspace_metrics(ea_shooter_t *sh, const ea_workspace_settings_t *set,
-                                 ea_workspace_metrics_t *m, ea_error_t *err) {
-  if (!sh || !set || !m) return ea_error_set(err, EA_ERR_ARG, "workspace metrics: NULL argument");
-  memset(m, 0, sizeof *m);
-  m->area = NAN;
-  m->reach.value = m->x_max.value = m->y_min.value = NAN;
-  ea__ws_t w;
-  memset(&w, 0, sizeof w);
-  w.sh = sh;
-  w.arm = ea_shooter_arm(sh);
-  w.set = *set;
-  const ea_actuators_t *act = &w.arm->act;
+/* Phase 1: check the settings and fill the search's workspace w. */
+static ea_status_t ea__ws_setup(ea_shooter_t *sh, const ea_workspace_settings_t *set, ea__ws_t *w,
+                                ea_error_t *err) {
+  memset(w, 0, sizeof *w);
+  w->sh = sh;
+  w->arm = ea_shooter_arm(sh);
+  w->set = *set;
+  const ea_actuators_t *act = &w->arm->act;
   if (!(isfinite(set->alpha_min) && isfinite(set->alpha_max) && set->alpha_min < set->alpha_max))
     return ea_error_set(err, EA_ERR_ARG,
                         "workspace: the cable-angle range needs alpha_min < alpha_max (got %g, "
@@ -911,193 +907,223 @@ ea_status_t ea_workspace_metrics(ea_shooter_t *sh, const ea_workspace_settings_t
       set->inner_cable_length > 0 ? set->inner_cable_length : act->cable_length_min;
   if (!isfinite(inner))
     return ea_error_set(err, EA_ERR_ARG, "workspace: inner cable length is not finite");
-  w.lo = set->limits ? fmax(inner, act->cable_length_min) : inner;
-  w.lmax = set->limits ? act->cable_length_max : INFINITY;
-  w.bound[0] = act->shoulder_angle_min;
-  w.bound[1] = act->shoulder_angle_max;
-  w.bound[2] = -act->shoulder_torque_max;
-  w.bound[3] = act->shoulder_torque_max;
-  w.bound[4] = act->tension_max;
+  w->lo = set->limits ? fmax(inner, act->cable_length_min) : inner;
+  w->lmax = set->limits ? act->cable_length_max : INFINITY;
+  w->bound[0] = act->shoulder_angle_min;
+  w->bound[1] = act->shoulder_angle_max;
+  w->bound[2] = -act->shoulder_torque_max;
+  w->bound[3] = act->shoulder_torque_max;
+  w->bound[4] = act->tension_max;
   for (int j = 0; j < EA__WS_NC; ++j)
-    w.active[j] = set->limits && isfinite(w.bound[j]);
-  ea_statics_settings_default(&w.ss);
-  w.ss.tol = 1e-12;
+    w->active[j] = set->limits && isfinite(w->bound[j]);
+  ea_statics_settings_default(&w->ss);
+  w->ss.tol = 1e-12;
+  return EA_OK;
+}
 
+/* Phase 2: the region's structure at set->samples equally spaced cable angles (coarse, *nc of
+ * them); refused when the region is empty. */
+static ea_status_t ea__ws_sample(ea__ws_t *w, ea__wsp_t *coarse, int *nc, ea_error_t *err) {
+  const ea_workspace_settings_t *set = &w->set;
   const int n0 = set->samples;
-  int cap = n0 + 16, nc = 0;
-  ea__wsp_t *coarse = malloc((size_t)cap * sizeof *coarse);
-  ea__ws_piece_t *pcs = NULL;
-  ea__wsp_t *tmpl = malloc(EA__WS_MAXCUT * sizeof *tmpl);
-  int np = 0;
-  ea_status_t st = EA_OK;
-  if (!coarse || !tmpl) {
-    free(coarse);
-    free(tmpl);
-    return ea_error_set(err, EA_ERR_NOMEM, "workspace: out of memory");
-  }
   for (int j = 0; j < n0; ++j) {
     const double alpha = j == n0 - 1
                              ? set->alpha_max
                              : set->alpha_min + (set->alpha_max - set->alpha_min) * j / (n0 - 1);
-    if ((st = ea__ws_full(&w, alpha, nc ? coarse[nc - 1].pe : NULL, &coarse[nc]))) {
-      if (w.flip)
-        st = ea_error_set(err, EA_ERR_INADMISSIBLE,
-                          "workspace: at alpha = %.6g deg the outer edge (T = 0) does not bound "
-                          "the region: shortening the cable from it would need T < 0 (the beam "
-                          "hangs too steeply); narrow the cable-angle range",
-                          alpha / EA__DEG);
-      else if (w.too_many)
-        st = ea_error_set(err, st,
-                          "workspace: more than %d admissible intervals of cable length at alpha = "
-                          "%.6g deg",
-                          EA__WS_MAXI, alpha / EA__DEG);
-      else
-        st = ea_error_set(err, st,
+    const ea_status_t st = ea__ws_full(w, alpha, *nc ? coarse[*nc - 1].pe : NULL, &coarse[*nc]);
+    if (st) {
+      if (w->flip)
+        return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                            "workspace: at alpha = %.6g deg the outer edge (T = 0) does not bound "
+                            "the region: shortening the cable from it would need T < 0 (the beam "
+                            "hangs too steeply); narrow the cable-angle range",
+                            alpha / EA__DEG);
+      if (w->too_many)
+        return ea_error_set(err, st,
+                            "workspace: more than %d admissible intervals of cable length at "
+                            "alpha = %.6g deg",
+                            EA__WS_MAXI, alpha / EA__DEG);
+      return ea_error_set(err, st,
                           "workspace: no statics solution at alpha = %.6g deg (%s): the outer edge "
                           "(T = 0) or a configuration inside it did not solve; narrow the "
                           "cable-angle range",
                           alpha / EA__DEG, ea_strerror(st));
-      goto out;
     }
-    ++nc;
+    ++*nc;
   }
-  {
-    int any = 0;
-    double Le_max = -INFINITY;
-    for (int j = 0; j < nc; ++j) {
-      any |= coarse[j].n > 0;
-      Le_max = fmax(Le_max, coarse[j].Le);
-    }
-    if (!any) {
-      if (Le_max <= w.lo)
-        st = ea_error_set(err, EA_ERR_INADMISSIBLE,
-                          "workspace: the region is empty: the inner edge (cable length %.6g m) "
-                          "lies beyond the outer edge (T = 0) at every cable angle from %.6g to "
-                          "%.6g deg (longest outer-edge cable %.6g m)",
-                          w.lo, set->alpha_min / EA__DEG, set->alpha_max / EA__DEG, Le_max);
-      else
-        st = ea_error_set(err, EA_ERR_INADMISSIBLE,
-                          "workspace: the region is empty: every sampled configuration from %.6g "
-                          "to %.6g deg violates a limit of the arm",
-                          set->alpha_min / EA__DEG, set->alpha_max / EA__DEG);
-      goto out;
-    }
+  int any = 0;
+  double Le_max = -INFINITY;
+  for (int j = 0; j < *nc; ++j) {
+    any |= coarse[j].n > 0;
+    Le_max = fmax(Le_max, coarse[j].Le);
   }
-  for (int round = 0; round < 16; ++round) {
-    /* pieces between switches */
-    double cut[EA__WS_MAXCUT];
-    int ncut = 0;
-    tmpl[0] = coarse[0];
-    for (int j = 0; j + 1 < nc; ++j) {
-      if (ea__ws_same(&coarse[j], &coarse[j + 1])) continue;
-      if (ncut + 1 >= EA__WS_MAXCUT) {
-        st = ea_error_set(err, EA_ERR_NOCONV, "workspace: more than %d structure changes",
+  if (any) return EA_OK;
+  if (Le_max <= w->lo)
+    return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                        "workspace: the region is empty: the inner edge (cable length %.6g m) "
+                        "lies beyond the outer edge (T = 0) at every cable angle from %.6g to "
+                        "%.6g deg (longest outer-edge cable %.6g m)",
+                        w->lo, set->alpha_min / EA__DEG, set->alpha_max / EA__DEG, Le_max);
+  return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                      "workspace: the region is empty: every sampled configuration from %.6g "
+                      "to %.6g deg violates a limit of the arm",
+                      set->alpha_min / EA__DEG, set->alpha_max / EA__DEG);
+}
+
+/* Phase 3a: the angles cut[0..*ncut) where the region's structure changes between neighbouring
+ * samples, and each piece's template sample (tmpl[0..*ncut]). */
+static ea_status_t ea__ws_cuts(ea__ws_t *w, const ea__wsp_t *coarse, int nc, double *cut,
+                               ea__wsp_t *tmpl, int *ncut, ea_error_t *err) {
+  *ncut = 0;
+  tmpl[0] = coarse[0];
+  for (int j = 0; j + 1 < nc; ++j) {
+    if (ea__ws_same(&coarse[j], &coarse[j + 1])) continue;
+    if (*ncut + 1 >= EA__WS_MAXCUT)
+      return ea_error_set(err, EA_ERR_NOCONV, "workspace: more than %d structure changes",
                           EA__WS_MAXCUT - 1);
-        goto out;
-      }
-      double at;
-      if ((st = ea__ws_locate(&w, &coarse[j], &coarse[j + 1], &at))) {
-        st =
-            ea_error_set(err, st,
-                         "workspace: cannot locate where the region's boundary changes between "
-                         "alpha = %.6g and %.6g deg (%s)",
-                         coarse[j].alpha / EA__DEG, coarse[j + 1].alpha / EA__DEG, ea_strerror(st));
-        goto out;
-      }
-      cut[ncut++] = at;
-      tmpl[ncut] = coarse[j + 1];
+    double at;
+    const ea_status_t st = ea__ws_locate(w, &coarse[j], &coarse[j + 1], &at);
+    if (st)
+      return ea_error_set(err, st,
+                          "workspace: cannot locate where the region's boundary changes between "
+                          "alpha = %.6g and %.6g deg (%s)",
+                          coarse[j].alpha / EA__DEG, coarse[j + 1].alpha / EA__DEG,
+                          ea_strerror(st));
+    cut[(*ncut)++] = at;
+    tmpl[*ncut] = coarse[j + 1];
+  }
+  return EA_OK;
+}
+
+/* A structure change between the samples near alpha = bad: the angle is added to the samples
+ * (the caller redoes the pieces). */
+static ea_status_t ea__ws_add_sample(ea__ws_t *w, double bad, ea__wsp_t **coarse, int *nc, int *cap,
+                                     ea_error_t *err) {
+  ea__wsp_t extra;
+  const ea__wsp_t *near = &(*coarse)[0];
+  for (int i = 0; i < *nc; ++i)
+    if (fabs((*coarse)[i].alpha - bad) < fabs(near->alpha - bad)) near = &(*coarse)[i];
+  const ea_status_t st = ea__ws_full(w, bad, near->pe, &extra);
+  if (st)
+    return ea_error_set(err, st, "workspace: no statics solution at alpha = %.6g deg (%s)",
+                        bad / EA__DEG, ea_strerror(st));
+  int dup = 0;
+  for (int i = 0; i < *nc; ++i)
+    dup |= (*coarse)[i].alpha == bad;
+  if (dup || ea__ws_insert(coarse, nc, cap, &extra))
+    return ea_error_set(err, EA_ERR_NOCONV,
+                        "workspace: inconsistent region structure at alpha = %.6g deg",
+                        bad / EA__DEG);
+  return EA_OK;
+}
+
+/* Phase 3b: integrate the np pieces between the cuts; *redo when a sample had to be added. */
+static ea_status_t ea__ws_integrate(ea__ws_t *w, ea__ws_piece_t *pcs, int np, const double *cut,
+                                    const ea__wsp_t *tmpl, ea__wsp_t **coarse, int *nc, int *cap,
+                                    int *redo, ea_error_t *err) {
+  const ea_workspace_settings_t *set = &w->set;
+  const double tol_total = set->tol, span = set->alpha_max - set->alpha_min;
+  const int ncut = np - 1;
+  *redo = 0;
+  for (int q = 0; q < np; ++q) {
+    pcs[q].a = q ? cut[q - 1] : set->alpha_min;
+    pcs[q].b = q < ncut ? cut[q] : set->alpha_max;
+    pcs[q].tmpl = tmpl[q];
+    if (!(pcs[q].b > pcs[q].a)) {
+      pcs[q].b = pcs[q].a; /* zero width: nothing to integrate */
+      pcs[q].n = 0;
+      pcs[q].node = calloc(1, sizeof *pcs[q].node);
+      if (!pcs[q].node) return ea_error_set(err, EA_ERR_NOMEM, "workspace: out of memory");
+      pcs[q].node[0] = tmpl[q];
+      continue;
     }
+    const double tq = fmax(tol_total * (pcs[q].b - pcs[q].a) / span, 1e-15);
+    double bad = NAN;
+    const ea_status_t st = ea__ws_piece(w, &pcs[q], *coarse, *nc, tq, &bad);
+    if (st == EA_ERR_INADMISSIBLE) {
+      *redo = 1;
+      return ea__ws_add_sample(w, bad, coarse, nc, cap, err);
+    }
+    if (st)
+      return ea_error_set(err, st,
+                          "workspace: the area between alpha = %.6g and %.6g deg did not "
+                          "converge (%s)",
+                          pcs[q].a / EA__DEG, pcs[q].b / EA__DEG, ea_strerror(st));
+  }
+  return EA_OK;
+}
+
+/* Phase 4: area, bounds and the extrema from the integrated pieces. */
+static ea_status_t ea__ws_results(ea__ws_t *w, ea__ws_piece_t *pcs, int np,
+                                  ea_workspace_metrics_t *m, ea_error_t *err) {
+  double area = 0.0, aerr = 0.0;
+  unsigned mask = 0;
+  for (int q = 0; q < np; ++q) {
+    area += pcs[q].integral;
+    aerr += pcs[q].error;
+    for (int i = 0; i < 2 * pcs[q].tmpl.n; ++i)
+      mask |= 1u << pcs[q].tmpl.kind[i];
+  }
+  m->area = area;
+  m->area_error = aerr;
+  m->pieces = np;
+  m->bounds = mask;
+  ea_status_t st = EA_OK;
+  ea__ws_extremum(w, pcs, np, EA__OBJ_REACH, &m->reach, &st);
+  if (!st) ea__ws_extremum(w, pcs, np, EA__OBJ_X, &m->x_max, &st);
+  if (!st) ea__ws_extremum(w, pcs, np, EA__OBJ_NEG_Y, &m->y_min, &st);
+  if (st)
+    return ea_error_set(err, st, "workspace: an extremum search failed (%s)", ea_strerror(st));
+  return EA_OK;
+}
+
+static void ea__ws_free_pieces(ea__ws_piece_t *pcs, int np) {
+  if (pcs)
     for (int q = 0; q < np; ++q)
       free(pcs[q].node);
-    free(pcs);
+  free(pcs);
+}
+
+ea_status_t ea_workspace_metrics(ea_shooter_t *sh, const ea_workspace_settings_t *set,
+                                 ea_workspace_metrics_t *m, ea_error_t *err) {
+  if (!sh || !set || !m) return ea_error_set(err, EA_ERR_ARG, "workspace metrics: NULL argument");
+  memset(m, 0, sizeof *m);
+  m->area = NAN;
+  m->reach.value = m->x_max.value = m->y_min.value = NAN;
+  ea__ws_t w;
+  ea_status_t st = ea__ws_setup(sh, set, &w, err);
+  if (st) return st;
+  int cap = set->samples + 16, nc = 0, np = 0;
+  ea__wsp_t *coarse = malloc((size_t)cap * sizeof *coarse);
+  ea__wsp_t *tmpl = malloc(EA__WS_MAXCUT * sizeof *tmpl);
+  ea__ws_piece_t *pcs = NULL;
+  if (!coarse || !tmpl) {
+    st = ea_error_set(err, EA_ERR_NOMEM, "workspace: out of memory");
+    goto out;
+  }
+  if ((st = ea__ws_sample(&w, coarse, &nc, err))) goto out;
+  for (int round = 0; round < 16; ++round) {
+    double cut[EA__WS_MAXCUT];
+    int ncut = 0, redo = 0;
+    if ((st = ea__ws_cuts(&w, coarse, nc, cut, tmpl, &ncut, err))) goto out;
+    ea__ws_free_pieces(pcs, np);
     np = ncut + 1;
     pcs = calloc((size_t)np, sizeof *pcs);
     if (!pcs) {
       st = ea_error_set(err, EA_ERR_NOMEM, "workspace: out of memory");
       goto out;
     }
-    const double tol_total = set->tol, span = set->alpha_max - set->alpha_min;
-    double bad = NAN;
-    int redo = 0;
-    for (int q = 0; q < np && !redo; ++q) {
-      pcs[q].a = q ? cut[q - 1] : set->alpha_min;
-      pcs[q].b = q < ncut ? cut[q] : set->alpha_max;
-      pcs[q].tmpl = tmpl[q];
-      if (!(pcs[q].b > pcs[q].a)) {
-        pcs[q].b = pcs[q].a; /* zero width: nothing to integrate */
-        pcs[q].n = 0;
-        pcs[q].node = calloc(1, sizeof *pcs[q].node);
-        if (!pcs[q].node) {
-          st = ea_error_set(err, EA_ERR_NOMEM, "workspace: out of memory");
-          goto out;
-        }
-        pcs[q].node[0] = tmpl[q];
-        continue;
-      }
-      const double tq = fmax(tol_total * (pcs[q].b - pcs[q].a) / span, 1e-15);
-      st = ea__ws_piece(&w, &pcs[q], coarse, nc, tq, &bad);
-      if (st == EA_ERR_INADMISSIBLE) {
-        /* a structure change between the samples: add the angle, redo */
-        ea__wsp_t extra;
-        const ea__wsp_t *near = &coarse[0];
-        for (int i = 0; i < nc; ++i)
-          if (fabs(coarse[i].alpha - bad) < fabs(near->alpha - bad)) near = &coarse[i];
-        if ((st = ea__ws_full(&w, bad, near->pe, &extra))) {
-          st = ea_error_set(err, st, "workspace: no statics solution at alpha = %.6g deg (%s)",
-                            bad / EA__DEG, ea_strerror(st));
-          goto out;
-        }
-        int dup = 0;
-        for (int i = 0; i < nc; ++i)
-          dup |= coarse[i].alpha == bad;
-        if (dup || ea__ws_insert(&coarse, &nc, &cap, &extra)) {
-          st = ea_error_set(err, EA_ERR_NOCONV,
-                            "workspace: inconsistent region structure at alpha = %.6g deg",
-                            bad / EA__DEG);
-          goto out;
-        }
-        redo = 1;
-        st = EA_OK;
-      } else if (st) {
-        st = ea_error_set(err, st,
-                          "workspace: the area between alpha = %.6g and %.6g deg did not "
-                          "converge (%s)",
-                          pcs[q].a / EA__DEG, pcs[q].b / EA__DEG, ea_strerror(st));
-        goto out;
-      }
-    }
+    st = ea__ws_integrate(&w, pcs, np, cut, tmpl, &coarse, &nc, &cap, &redo, err);
+    if (st) goto out;
     if (redo) continue;
-    /* results */
-    double area = 0.0, aerr = 0.0;
-    unsigned mask = 0;
-    for (int q = 0; q < np; ++q) {
-      area += pcs[q].integral;
-      aerr += pcs[q].error;
-      for (int i = 0; i < 2 * pcs[q].tmpl.n; ++i)
-        mask |= 1u << pcs[q].tmpl.kind[i];
-    }
-    m->area = area;
-    m->area_error = aerr;
-    m->pieces = np;
-    m->bounds = mask;
-    ea__ws_extremum(&w, pcs, np, EA__OBJ_REACH, &m->reach, &st);
-    if (!st) ea__ws_extremum(&w, pcs, np, EA__OBJ_X, &m->x_max, &st);
-    if (!st) ea__ws_extremum(&w, pcs, np, EA__OBJ_NEG_Y, &m->y_min, &st);
-    if (st) {
-      st = ea_error_set(err, st, "workspace: an extremum search failed (%s)", ea_strerror(st));
-      goto out;
-    }
-    m->solves = w.solves;
+    st = ea__ws_results(&w, pcs, np, m, err);
     goto out;
   }
   st = ea_error_set(err, EA_ERR_NOCONV,
                     "workspace: the region's structure kept changing between samples; raise "
                     "samples");
 out:
-  if (pcs)
-    for (int q = 0; q < np; ++q)
-      free(pcs[q].node);
-  free(pcs);
+  ea__ws_free_pieces(pcs, np);
   free(coarse);
   free(tmpl);
   m->solves = w.solves;
