@@ -154,6 +154,160 @@ static void ea__time_panel(ea_plot_t *p, int slot, const char *title, const char
               w, h, col * w, 0.955 - (row + 1) * h, title, ylabel);
 }
 
+/* (a) the workspace with the tip path and beam shapes, and the reduced model's summary. */
+static void ea__panel_workspace(ea_plot_t *p, const ea_arm_t *arm, const ea_traj_figure_opts_t *o) {
+  ea_plot_cmd(p,
+              "set size ratio -1 %.6f,%.6f\nset origin 0,%.6f\n"
+              "set xlabel 'reach x_L [m]'\nset ylabel 'height y_L [m]'\n"
+              "set title '(a) tip path and beam shapes in the workspace region'\n"
+              "set key outside right top vertical box opaque",
+              2.0 / 3.0, 0.955 / 2.0, 0.955 / 2.0);
+  if (isfinite(o->predicted_residual_m) || isfinite(o->max_modal_deviation_m)) {
+    char rest[120];
+    if (isfinite(o->predicted_time_to_rest_s))
+      snprintf(rest, sizeof rest, "within 1 mm %.3g s after the motion",
+               o->predicted_time_to_rest_s);
+    else
+      snprintf(rest, sizeof rest, "not within 1 mm (undamped)");
+    ea_plot_cmd(p,
+                "set label 1 \"reduced dynamic model (plan summary):\\n"
+                "  modal tip deviation during the motion: up to %.3g mm\\n"
+                "  predicted residual vibration: %.3g mm\\n  %s\" at screen 0.43, screen 0.72 "
+                "left",
+                1e3 * o->max_modal_deviation_m, 1e3 * o->predicted_residual_m, rest);
+  }
+  ea_plot_cmd(p,
+              "plot $region w l lw 2 lc rgb '#888888' t 'workspace (T >= 0, L_c >= %.3g m)', "
+              "$beams w l lc rgb '#1f77b4' t 'beam and cable', "
+              "$tip w l lw 2.5 lc rgb '#d62728' t 'tip path', "
+              "'+' using (%.17g):(%.17g) every ::0::0 w p pt 5 ps 1.2 lc rgb 'black' "
+              "t 'cable root'",
+              o->lim.cable_length_min, arm->x_c, arm->y_c);
+}
+
+/* A time panel of one column (SI units as in the file) with its lower and upper limits. */
+typedef struct {
+  int slot, col, colour;
+  const char *title, *ylabel, *key;
+  double lim_lo, lim_hi;
+  const char *name_lo, *name_hi;
+} ea__col_panel_t;
+
+static void ea__panel_col(ea_plot_t *p, const ea_traj_t *tr, const ea__col_panel_t *c) {
+  char plot[2048];
+  double lo, hi;
+  ea__col_range(tr, c->col, 1.0, &lo, &hi);
+  ea__time_panel(p, c->slot, c->title, c->ylabel);
+  int u = snprintf(plot, sizeof plot, "plot $hist u 1:%d w l lw 2 lc rgb '%s' t '%s'",
+                   EA__COL(c->col), ea_plot_colour(c->colour), c->key);
+  u = ea__limit_term(plot, sizeof plot, u, c->lim_lo, lo, hi, c->name_lo);
+  ea__limit_term(plot, sizeof plot, u, c->lim_hi, lo, hi, c->name_hi);
+  ea_plot_cmd(p, "%s", plot);
+}
+
+/* Extends [lo, hi] by column c's range in degrees. */
+static void ea__range_deg(const ea_traj_t *tr, int c, double *lo, double *hi) {
+  double l2, h2;
+  ea__col_range(tr, c, 1.0 / EA__DEG, &l2, &h2);
+  *lo = fmin(*lo, l2);
+  *hi = fmax(*hi, h2);
+}
+
+/* (c) cable, shoulder and (when it moves) base angles. */
+static void ea__panel_angles(ea_plot_t *p, const ea_traj_t *tr, const ea_actuators_t *lim,
+                             int base) {
+  char plot[2048];
+  double lo = INFINITY, hi = -INFINITY;
+  ea__range_deg(tr, EA_TRAJ_theta0, &lo, &hi);
+  ea__range_deg(tr, EA_TRAJ_cable_angle, &lo, &hi);
+  if (base) ea__range_deg(tr, EA_TRAJ_base_angle, &lo, &hi);
+  ea__time_panel(p, 1, "(c) angles", "angle [deg]");
+  int u = snprintf(plot, sizeof plot,
+                   "plot $hist u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'cable angle {/Symbol a}', "
+                   "'' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'shoulder angle {/Symbol q}_0'",
+                   EA__COL(EA_TRAJ_cable_angle), ea_plot_colour(1), EA__COL(EA_TRAJ_theta0),
+                   ea_plot_colour(2));
+  if (base)
+    u += snprintf(plot + u, sizeof plot - (size_t)u,
+                  ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base angle'",
+                  EA__COL(EA_TRAJ_base_angle), ea_plot_colour(3));
+  u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_angle_min / EA__DEG, lo, hi,
+                     "{/Symbol q}_{0,min}");
+  ea__limit_term(plot, sizeof plot, u, lim->shoulder_angle_max / EA__DEG, lo, hi,
+                 "{/Symbol q}_{0,max}");
+  ea_plot_cmd(p, "%s", plot);
+}
+
+/* (g) angular rates with the shoulder (and base) speed limits. */
+static void ea__panel_rates(ea_plot_t *p, const ea_traj_t *tr, const ea_actuators_t *lim,
+                            int base) {
+  char plot[2048];
+  double lo = INFINITY, hi = -INFINITY;
+  ea__range_deg(tr, EA_TRAJ_theta0_rate, &lo, &hi);
+  ea__range_deg(tr, EA_TRAJ_cable_angle_rate, &lo, &hi);
+  if (base) ea__range_deg(tr, EA_TRAJ_base_angle_rate, &lo, &hi);
+  ea__time_panel(p, 5, "(g) angular rates", "rate [deg/s]");
+  int u = snprintf(plot, sizeof plot,
+                   "plot $hist u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'd{/Symbol a}/dt', "
+                   "'' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'd{/Symbol q}_0/dt'",
+                   EA__COL(EA_TRAJ_cable_angle_rate), ea_plot_colour(1),
+                   EA__COL(EA_TRAJ_theta0_rate), ea_plot_colour(2));
+  if (base)
+    u += snprintf(plot + u, sizeof plot - (size_t)u,
+                  ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base rate'",
+                  EA__COL(EA_TRAJ_base_angle_rate), ea_plot_colour(3));
+  u = ea__limit_term(plot, sizeof plot, u, -lim->shoulder_speed_max / EA__DEG, lo, hi,
+                     "-|d{/Symbol q}_0/dt|_{max}");
+  u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_speed_max / EA__DEG, lo, hi,
+                     "+|d{/Symbol q}_0/dt|_{max}");
+  if (base) {
+    u = ea__limit_term(plot, sizeof plot, u, -lim->base_speed_max / EA__DEG, lo, hi,
+                       "-base speed_{max}");
+    ea__limit_term(plot, sizeof plot, u, lim->base_speed_max / EA__DEG, lo, hi,
+                   "+base speed_{max}");
+  }
+  ea_plot_cmd(p, "%s", plot);
+}
+
+/* (i) natural frequencies of a plan's model (nf > 0 columns), else the angular
+ * accelerations. */
+static void ea__panel_last(ea_plot_t *p, const ea_traj_t *tr, const ea_traj_figure_opts_t *o,
+                           int nf, int base) {
+  char plot[2048];
+  const ea_actuators_t *lim = &o->lim;
+  if (nf > 0) {
+    char title[400];
+    snprintf(title, sizeof title, "(i) natural frequencies (%s)",
+             o->f1 ? "FE frequency model" : "reduced model");
+    ea__time_panel(p, 7, title, "f [Hz]");
+    int u = snprintf(plot, sizeof plot, "plot ");
+    for (int i = 0; i < nf; ++i)
+      u += snprintf(plot + u, sizeof plot - (size_t)u,
+                    "%s$hist u 1:%d w l lw 2 lc rgb '%s' t 'f_%d'", i ? ", " : "",
+                    EA_TRAJ_NCOL + 1 + i, ea_plot_colour(i), i + 1);
+    if (o->f1_min_hz > 0)
+      snprintf(plot + u, sizeof plot - (size_t)u,
+               ", %.9g w l dt 2 lw 1.5 lc rgb '#444444' t 'f_{1,min}'", o->f1_min_hz);
+  } else {
+    double lo, hi;
+    ea__col_range(tr, EA_TRAJ_cable_angle_acc, 1.0 / EA__DEG, &lo, &hi);
+    if (base) ea__range_deg(tr, EA_TRAJ_base_angle_acc, &lo, &hi);
+    ea__time_panel(p, 7, "(i) angular accelerations", "acceleration [deg/s^2]");
+    int u = snprintf(plot, sizeof plot,
+                     "plot $hist u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'd^2{/Symbol a}/dt^2'",
+                     EA__COL(EA_TRAJ_cable_angle_acc), ea_plot_colour(1));
+    if (base) {
+      u += snprintf(plot + u, sizeof plot - (size_t)u,
+                    ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base'",
+                    EA__COL(EA_TRAJ_base_angle_acc), ea_plot_colour(3));
+      u = ea__limit_term(plot, sizeof plot, u, -lim->base_accel_max / EA__DEG, lo, hi,
+                         "-base a_{max}");
+      ea__limit_term(plot, sizeof plot, u, lim->base_accel_max / EA__DEG, lo, hi, "+base a_{max}");
+    }
+  }
+  ea_plot_cmd(p, "%s", plot);
+}
+
 ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, const ea_traj_figure_opts_t *opts,
                            const char *path, ea_error_t *err) {
   if (!tr || !sh || !path || tr->n < 2)
@@ -170,176 +324,37 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, const ea_traj_
   if (st) return st;
   ea__traj_workspace_data(p, tr, sh, lim->cable_length_min);
   const int nf = ea__traj_hist_data(p, tr, &o);
-  char head[1100], quoted[2300], plot[2048];
+  char head[1100], quoted[2300];
   snprintf(head, sizeof head, "%.1000s  (duration %.4g s)", o.title ? o.title : "trajectory",
            EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t));
   ea_plot_cmd(p, "deg = 180.0 / pi");
   ea_plot_cmd(p, "set multiplot title %s noenhanced", ea_plot_quote(head, quoted, sizeof quoted));
-  /* (a) the workspace */
-  ea_plot_cmd(p,
-              "set size ratio -1 %.6f,%.6f\nset origin 0,%.6f\n"
-              "set xlabel 'reach x_L [m]'\nset ylabel 'height y_L [m]'\n"
-              "set title '(a) tip path and beam shapes in the workspace region'\n"
-              "set key outside right top vertical box opaque",
-              2.0 / 3.0, 0.955 / 2.0, 0.955 / 2.0);
-  if (isfinite(o.predicted_residual_m) || isfinite(o.max_modal_deviation_m)) {
-    char rest[120];
-    if (isfinite(o.predicted_time_to_rest_s))
-      snprintf(rest, sizeof rest, "within 1 mm %.3g s after the motion",
-               o.predicted_time_to_rest_s);
-    else
-      snprintf(rest, sizeof rest, "not within 1 mm (undamped)");
-    ea_plot_cmd(p,
-                "set label 1 \"reduced dynamic model (plan summary):\\n"
-                "  modal tip deviation during the motion: up to %.3g mm\\n"
-                "  predicted residual vibration: %.3g mm\\n  %s\" at screen 0.43, screen 0.72 "
-                "left",
-                1e3 * o.max_modal_deviation_m, 1e3 * o.predicted_residual_m, rest);
-  }
-  ea_plot_cmd(p,
-              "plot $region w l lw 2 lc rgb '#888888' t 'workspace (T >= 0, L_c >= %.3g m)', "
-              "$beams w l lc rgb '#1f77b4' t 'beam and cable', "
-              "$tip w l lw 2.5 lc rgb '#d62728' t 'tip path', "
-              "'+' using (%.17g):(%.17g) every ::0::0 w p pt 5 ps 1.2 lc rgb 'black' "
-              "t 'cable root'",
-              lim->cable_length_min, arm->x_c, arm->y_c);
-  double lo, hi;
-  int u;
-  /* (b) cable length */
-  ea__col_range(tr, EA_TRAJ_cable_length, 1.0, &lo, &hi);
-  ea__time_panel(p, 0, "(b) cable length", "L_c [m]");
-  u = snprintf(plot, sizeof plot, "plot $hist u 1:%d w l lw 2 lc rgb '%s' t 'L_c'",
-               EA__COL(EA_TRAJ_cable_length), ea_plot_colour(0));
-  u = ea__limit_term(plot, sizeof plot, u, lim->cable_length_min, lo, hi, "L_{c,min}");
-  u = ea__limit_term(plot, sizeof plot, u, lim->cable_length_max, lo, hi, "L_{c,max}");
-  ea_plot_cmd(p, "%s", plot);
-  /* (c) angles */
+  ea__panel_workspace(p, arm, &o);
   double blo, bhi;
   ea__col_range(tr, EA_TRAJ_base_angle, 1.0, &blo, &bhi);
   const int base = blo < bhi || fabs(blo) > 0;
-  ea__col_range(tr, EA_TRAJ_theta0, 1.0 / EA__DEG, &lo, &hi);
-  double l2, h2;
-  ea__col_range(tr, EA_TRAJ_cable_angle, 1.0 / EA__DEG, &l2, &h2);
-  lo = fmin(lo, l2);
-  hi = fmax(hi, h2);
-  if (base) {
-    lo = fmin(lo, blo / EA__DEG);
-    hi = fmax(hi, bhi / EA__DEG);
-  }
-  ea__time_panel(p, 1, "(c) angles", "angle [deg]");
-  u = snprintf(plot, sizeof plot,
-               "plot $hist u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'cable angle {/Symbol a}', "
-               "'' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'shoulder angle {/Symbol q}_0'",
-               EA__COL(EA_TRAJ_cable_angle), ea_plot_colour(1), EA__COL(EA_TRAJ_theta0),
-               ea_plot_colour(2));
-  if (base)
-    u += snprintf(plot + u, sizeof plot - (size_t)u,
-                  ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base angle'",
-                  EA__COL(EA_TRAJ_base_angle), ea_plot_colour(3));
-  u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_angle_min / EA__DEG, lo, hi,
-                     "{/Symbol q}_{0,min}");
-  u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_angle_max / EA__DEG, lo, hi,
-                     "{/Symbol q}_{0,max}");
-  ea_plot_cmd(p, "%s", plot);
-  /* (d) tension */
-  ea__col_range(tr, EA_TRAJ_tension, 1.0, &lo, &hi);
-  ea__time_panel(p, 2, "(d) cable tension", "T [N]");
-  u = snprintf(plot, sizeof plot, "plot $hist u 1:%d w l lw 2 lc rgb '%s' t 'tension T'",
-               EA__COL(EA_TRAJ_tension), ea_plot_colour(0));
-  u = ea__limit_term(plot, sizeof plot, u, lim->tension_min, lo, hi, "T_{min}");
-  u = ea__limit_term(plot, sizeof plot, u, lim->tension_max, lo, hi, "T_{max}");
-  ea_plot_cmd(p, "%s", plot);
-  /* (e) shoulder torque */
-  ea__col_range(tr, EA_TRAJ_shoulder_torque, 1.0, &lo, &hi);
-  ea__time_panel(p, 3, "(e) shoulder torque", "EI {/Symbol k}_0 [N m]");
-  u = snprintf(plot, sizeof plot, "plot $hist u 1:%d w l lw 2 lc rgb '%s' t 'shoulder torque'",
-               EA__COL(EA_TRAJ_shoulder_torque), ea_plot_colour(1));
-  u = ea__limit_term(plot, sizeof plot, u, -lim->shoulder_torque_max, lo, hi, "-{/Symbol t}_{max}");
-  u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_torque_max, lo, hi, "+{/Symbol t}_{max}");
-  ea_plot_cmd(p, "%s", plot);
-  /* (f) cable speed */
-  ea__col_range(tr, EA_TRAJ_cable_length_rate, 1.0, &lo, &hi);
-  ea__time_panel(p, 4, "(f) cable speed", "dL_c/dt [m/s]");
-  u = snprintf(plot, sizeof plot, "plot $hist u 1:%d w l lw 2 lc rgb '%s' t 'dL_c/dt'",
-               EA__COL(EA_TRAJ_cable_length_rate), ea_plot_colour(0));
-  u = ea__limit_term(plot, sizeof plot, u, -lim->cable_speed_max, lo, hi, "-v_{max}");
-  u = ea__limit_term(plot, sizeof plot, u, lim->cable_speed_max, lo, hi, "+v_{max}");
-  ea_plot_cmd(p, "%s", plot);
-  /* (g) angular rates */
-  ea__col_range(tr, EA_TRAJ_theta0_rate, 1.0 / EA__DEG, &lo, &hi);
-  ea__col_range(tr, EA_TRAJ_cable_angle_rate, 1.0 / EA__DEG, &l2, &h2);
-  lo = fmin(lo, l2);
-  hi = fmax(hi, h2);
-  if (base) {
-    ea__col_range(tr, EA_TRAJ_base_angle_rate, 1.0 / EA__DEG, &l2, &h2);
-    lo = fmin(lo, l2);
-    hi = fmax(hi, h2);
-  }
-  ea__time_panel(p, 5, "(g) angular rates", "rate [deg/s]");
-  u = snprintf(plot, sizeof plot,
-               "plot $hist u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'd{/Symbol a}/dt', "
-               "'' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'd{/Symbol q}_0/dt'",
-               EA__COL(EA_TRAJ_cable_angle_rate), ea_plot_colour(1), EA__COL(EA_TRAJ_theta0_rate),
-               ea_plot_colour(2));
-  if (base)
-    u += snprintf(plot + u, sizeof plot - (size_t)u,
-                  ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base rate'",
-                  EA__COL(EA_TRAJ_base_angle_rate), ea_plot_colour(3));
-  u = ea__limit_term(plot, sizeof plot, u, -lim->shoulder_speed_max / EA__DEG, lo, hi,
-                     "-|d{/Symbol q}_0/dt|_{max}");
-  u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_speed_max / EA__DEG, lo, hi,
-                     "+|d{/Symbol q}_0/dt|_{max}");
-  if (base) {
-    u = ea__limit_term(plot, sizeof plot, u, -lim->base_speed_max / EA__DEG, lo, hi,
-                       "-base speed_{max}");
-    u = ea__limit_term(plot, sizeof plot, u, lim->base_speed_max / EA__DEG, lo, hi,
-                       "+base speed_{max}");
-  }
-  ea_plot_cmd(p, "%s", plot);
-  /* (h) cable acceleration */
-  ea__col_range(tr, EA_TRAJ_cable_length_acc, 1.0, &lo, &hi);
-  ea__time_panel(p, 6, "(h) cable acceleration", "d^2L_c/dt^2 [m/s^2]");
-  u = snprintf(plot, sizeof plot, "plot $hist u 1:%d w l lw 2 lc rgb '%s' t 'd^2L_c/dt^2'",
-               EA__COL(EA_TRAJ_cable_length_acc), ea_plot_colour(0));
-  u = ea__limit_term(plot, sizeof plot, u, -lim->cable_accel_max, lo, hi, "-a_{max}");
-  u = ea__limit_term(plot, sizeof plot, u, lim->cable_accel_max, lo, hi, "+a_{max}");
-  ea_plot_cmd(p, "%s", plot);
-  /* (i) natural frequencies of a plan's model (and what the reduced model predicts),
-   * else the angular accelerations */
-  if (nf > 0) {
-    char title[400];
-    snprintf(title, sizeof title, "(i) natural frequencies (%s)",
-             o.f1 ? "FE frequency model" : "reduced model");
-    ea__time_panel(p, 7, title, "f [Hz]");
-    u = snprintf(plot, sizeof plot, "plot ");
-    for (int i = 0; i < nf; ++i)
-      u += snprintf(plot + u, sizeof plot - (size_t)u,
-                    "%s$hist u 1:%d w l lw 2 lc rgb '%s' t 'f_%d'", i ? ", " : "",
-                    EA_TRAJ_NCOL + 1 + i, ea_plot_colour(i), i + 1);
-    if (o.f1_min_hz > 0)
-      snprintf(plot + u, sizeof plot - (size_t)u,
-               ", %.9g w l dt 2 lw 1.5 lc rgb '#444444' t 'f_{1,min}'", o.f1_min_hz);
-  } else {
-    ea__col_range(tr, EA_TRAJ_cable_angle_acc, 1.0 / EA__DEG, &lo, &hi);
-    if (base) {
-      ea__col_range(tr, EA_TRAJ_base_angle_acc, 1.0 / EA__DEG, &l2, &h2);
-      lo = fmin(lo, l2);
-      hi = fmax(hi, h2);
-    }
-    ea__time_panel(p, 7, "(i) angular accelerations", "acceleration [deg/s^2]");
-    u = snprintf(plot, sizeof plot,
-                 "plot $hist u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'd^2{/Symbol a}/dt^2'",
-                 EA__COL(EA_TRAJ_cable_angle_acc), ea_plot_colour(1));
-    if (base) {
-      u += snprintf(plot + u, sizeof plot - (size_t)u,
-                    ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base'",
-                    EA__COL(EA_TRAJ_base_angle_acc), ea_plot_colour(3));
-      u = ea__limit_term(plot, sizeof plot, u, -lim->base_accel_max / EA__DEG, lo, hi,
-                         "-base a_{max}");
-      ea__limit_term(plot, sizeof plot, u, lim->base_accel_max / EA__DEG, lo, hi, "+base a_{max}");
-    }
-  }
-  ea_plot_cmd(p, "%s", plot);
+  const ea__col_panel_t cols[] = {
+      {0, EA_TRAJ_cable_length, 0, "(b) cable length", "L_c [m]", "L_c", lim->cable_length_min,
+       lim->cable_length_max, "L_{c,min}", "L_{c,max}"},
+      {2, EA_TRAJ_tension, 0, "(d) cable tension", "T [N]", "tension T", lim->tension_min,
+       lim->tension_max, "T_{min}", "T_{max}"},
+      {3, EA_TRAJ_shoulder_torque, 1, "(e) shoulder torque", "EI {/Symbol k}_0 [N m]",
+       "shoulder torque", -lim->shoulder_torque_max, lim->shoulder_torque_max, "-{/Symbol t}_{max}",
+       "+{/Symbol t}_{max}"},
+      {4, EA_TRAJ_cable_length_rate, 0, "(f) cable speed", "dL_c/dt [m/s]", "dL_c/dt",
+       -lim->cable_speed_max, lim->cable_speed_max, "-v_{max}", "+v_{max}"},
+      {6, EA_TRAJ_cable_length_acc, 0, "(h) cable acceleration", "d^2L_c/dt^2 [m/s^2]",
+       "d^2L_c/dt^2", -lim->cable_accel_max, lim->cable_accel_max, "-a_{max}", "+a_{max}"},
+  };
+  /* panels in the order (b) .. (i) */
+  ea__panel_col(p, tr, &cols[0]);
+  ea__panel_angles(p, tr, lim, base);
+  ea__panel_col(p, tr, &cols[1]);
+  ea__panel_col(p, tr, &cols[2]);
+  ea__panel_col(p, tr, &cols[3]);
+  ea__panel_rates(p, tr, lim, base);
+  ea__panel_col(p, tr, &cols[4]);
+  ea__panel_last(p, tr, &o, nf, base);
   ea_plot_cmd(p, "unset multiplot");
   return ea_plot_close(p, err);
 }
