@@ -408,6 +408,107 @@ static ea_status_t ea__fe_initial_acc(ea_fe_model_t *m, int damped, double bkv, 
   return EA_OK;
 }
 
+/* The state at t = 0: the drive's theta0 and cable value, the damping matrices, and for
+ * generalized-alpha the consistent initial acceleration. */
+static ea_status_t ea__fe_sim_start(ea_fe_model_t *m, const ea_fe_drive_t *drive,
+                                    const ea_fe_sim_settings_t *s, double th0_hold, double cab_hold,
+                                    ea_error_t *err) {
+  const int nd = m->nd;
+  double th0, th0r, cab;
+  if (ea__fe_drive_at(drive, 0.0, th0_hold, cab_hold, &th0, &th0r, &cab))
+    return ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
+  m->q[2] = th0;
+  m->v[0] = m->v[1] = 0.0;
+  m->v[2] = th0r;
+  if (m->phase != EA_FE_CABLE_NONE) m->cable_value = cab;
+  /* damping: mass-proportional a M (constant, in m->Cb) and strain-rate (Kelvin-Voigt)
+   * b int B^T D B v at the current configuration */
+  const int damped = s->rayleigh_mass > 0.0;
+  memset(m->Cb, 0, sizeof(double) * EA__FE_LDS * (size_t)nd);
+  if (damped) ea__fe_band_axpy(m, s->rayleigh_mass, m->Mb, m->Cb);
+  if (s->scheme != EA_FE_SCHEME_GENALPHA) return EA_OK;
+  double th0a;
+  if (ea__fe_drive_acc(drive, 0.0, s->dt, th0_hold, cab_hold, &th0a))
+    return ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
+  const ea_status_t st = ea__fe_initial_acc(m, damped, s->rayleigh_stiffness, th0a, m->acc);
+  if (st)
+    return ea_error_set(err, st,
+                        "simulate: generalized-alpha initial acceleration: singular mass "
+                        "matrix (I_zz = 0 with I_hand = 0?)");
+  return EA_OK;
+}
+
+/* Work of the damping forces over the step just taken: (q1 - q0) . f_d(q_e, v_e) at the
+ * scheme's evaluation point (midpoint, or n+1-af). */
+static void ea__fe_damping_work(ea_fe_model_t *m, const ea_fe_sim_settings_t *s, double w1,
+                                double *work) {
+  const int nd = m->nd;
+  double *qe = m->qm, *ve = m->vs, *fd = m->tmp;
+  for (int i = 0; i < nd; ++i) {
+    qe[i] = w1 * m->q[i] + (1.0 - w1) * m->q0[i];
+    ve[i] = w1 * m->v[i] + (1.0 - w1) * m->v0[i];
+  }
+  memset(fd, 0, sizeof(double) * (size_t)nd);
+  if (s->rayleigh_mass > 0.0) ea__fe_band_gemv(m, 1.0, m->Cb, ve, fd);
+  ea__fe_assemble_rate(m, qe, ve, s->rayleigh_stiffness, fd, NULL);
+  for (int i = 0; i < nd; ++i)
+    *work += (m->q[i] - m->q0[i]) * fd[i];
+}
+
+/* The final static equilibrium for the inputs held from t_motion_end on (the residual's
+ * reference), unless the caller gave it; the transient's state is kept. */
+static ea_status_t ea__fe_sim_final_static(ea_fe_model_t *m, const ea_fe_drive_t *drive,
+                                           const ea_fe_sim_settings_t *s, double th0_hold,
+                                           double cab_hold, ea_fe_sim_info_t *info,
+                                           ea_error_t *err) {
+  const int nd = m->nd;
+  if (isfinite(s->tip_static[0]) && isfinite(s->tip_static[1])) {
+    info->tip_static[0] = s->tip_static[0];
+    info->tip_static[1] = s->tip_static[1];
+    info->tip_static[2] = NAN;
+    return EA_OK;
+  }
+  double th_e, th_er, cab_e;
+  ea__fe_drive_at(drive, s->t_motion_end, th0_hold, cab_hold, &th_e, &th_er, &cab_e);
+  if (m->phase == EA_FE_CABLE_NONE) cab_e = 0.0;
+  memcpy(m->q0, m->q, sizeof(double) * (size_t)nd);
+  memcpy(m->v0, m->v, sizeof(double) * (size_t)nd);
+  double *qstat = m->qs;
+  memcpy(qstat, m->q, sizeof(double) * (size_t)nd);
+  qstat[2] = th_e;
+  ea_fe_static_info_t si;
+  const ea_status_t st = ea__fe_newton_q(m, qstat, m->phase, cab_e, &si, err);
+  if (st) return st;
+  memcpy(info->tip_static, qstat + nd - 3, 3 * sizeof(double));
+  memcpy(m->q, m->q0, sizeof(double) * (size_t)nd);
+  memcpy(m->v, m->v0, sizeof(double) * (size_t)nd);
+  return EA_OK;
+}
+
+/* The drive's values for the step t0 -> t1: theta0 and its rate at t1 (and its acceleration
+ * for generalized-alpha), the cable value where the scheme evaluates the forces (cm) and at
+ * t1 (cab1), checked. */
+static ea_status_t ea__fe_step_drive(const ea_fe_model_t *m, const ea_fe_drive_t *drive,
+                                     const ea_fe_sim_settings_t *s, const ea__fe_galpha_t *g,
+                                     double t0, double t1, double th0_hold, double cab_hold,
+                                     double v[5], ea_error_t *err) {
+  const int galpha = s->scheme == EA_FE_SCHEME_GENALPHA;
+  /* cable value where the scheme evaluates the forces: the midpoint, or t_{n+1-af} */
+  const double tc = galpha ? t0 + (1.0 - g->af) * s->dt : 0.5 * (t0 + t1);
+  double dum;
+  v[2] = 0.0;
+  if (ea__fe_drive_at(drive, t1, th0_hold, cab_hold, &v[0], &v[1], &v[4]) ||
+      ea__fe_drive_at(drive, tc, th0_hold, cab_hold, &dum, &dum, &v[3]) ||
+      (galpha && ea__fe_drive_acc(drive, t1, s->dt, th0_hold, cab_hold, &v[2])))
+    return ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = %g", t1);
+  if (m->phase == EA_FE_CABLE_NONE) v[3] = v[4] = 0.0;
+  if (m->phase == EA_FE_CABLE_PASSIVE && !(v[3] > 0.0))
+    return ea_error_set(err, EA_ERR_INPUT, "simulate: rest length %g <= 0 at t = %g", v[3], tc);
+  if (m->phase == EA_FE_CABLE_ACTIVE && !(v[3] >= 0.0))
+    return ea_error_set(err, EA_ERR_INPUT, "simulate: tension %g < 0 at t = %g", v[3], tc);
+  return EA_OK;
+}
+
 ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
                            const ea_fe_sim_settings_t *s, double *tip, int tip_rows,
                            ea_fe_sim_info_t *info, ea_error_t *err) {
@@ -426,30 +527,9 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   const double th0_hold = m->q[2], cab_hold = m->cable_value;
   const int galpha = s->scheme == EA_FE_SCHEME_GENALPHA;
   const ea__fe_galpha_t g = ea__fe_galpha(s->rho_inf);
-  double th0, th0r, cab;
-  if (ea__fe_drive_at(drive, 0.0, th0_hold, cab_hold, &th0, &th0r, &cab))
-    return info->status = ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
-  m->q[2] = th0;
-  m->v[0] = m->v[1] = 0.0;
-  m->v[2] = th0r;
-  if (phase != EA_FE_CABLE_NONE) m->cable_value = cab;
-  /* damping: mass-proportional a M (constant, in m->Cb) and strain-rate (Kelvin-Voigt)
-   * b int B^T D B v at the current configuration */
+  if ((st = ea__fe_sim_start(m, drive, s, th0_hold, cab_hold, err))) return info->status = st;
   const int damped = s->rayleigh_mass > 0.0;
   const double bkv = s->rayleigh_stiffness;
-  memset(m->Cb, 0, sizeof(double) * EA__FE_LDS * (size_t)nd);
-  if (damped) ea__fe_band_axpy(m, s->rayleigh_mass, m->Mb, m->Cb);
-  if (galpha) {
-    double th0a;
-    if (ea__fe_drive_acc(drive, 0.0, h, th0_hold, cab_hold, &th0a))
-      return info->status =
-                 ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = 0");
-    if ((st = ea__fe_initial_acc(m, damped, bkv, th0a, m->acc)) != EA_OK)
-      return info->status =
-                 ea_error_set(err, st,
-                              "simulate: generalized-alpha initial acceleration: singular mass "
-                              "matrix (I_zz = 0 with I_hand = 0?)");
-  }
   const double E0 = ea_fe_energy(m);
   info->energy_start = E0;
   int rows = 0;
@@ -466,33 +546,19 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   int nres = 0;
   for (int n = 0; n < nsteps; ++n) {
     const double t0 = n * h, t1 = (n + 1) * h;
-    /* cable value where the scheme evaluates the forces: the midpoint, or t_{n+1-af} */
-    const double tc = galpha ? t0 + (1.0 - g.af) * h : 0.5 * (t0 + t1);
-    double th1, th1r, th1a = 0.0, cm, cab1, dum;
-    if (ea__fe_drive_at(drive, t1, th0_hold, cab_hold, &th1, &th1r, &cab1) ||
-        ea__fe_drive_at(drive, tc, th0_hold, cab_hold, &dum, &dum, &cm) ||
-        (galpha && ea__fe_drive_acc(drive, t1, h, th0_hold, cab_hold, &th1a))) {
-      st = ea_error_set(err, EA_ERR_INTERRUPTED, "simulate: drive failed at t = %g", t1);
-      break;
-    }
-    if (phase == EA_FE_CABLE_NONE) cm = cab1 = 0.0;
-    if (phase == EA_FE_CABLE_PASSIVE && !(cm > 0.0)) {
-      st = ea_error_set(err, EA_ERR_INPUT, "simulate: rest length %g <= 0 at t = %g", cm, tc);
-      break;
-    }
-    if (phase == EA_FE_CABLE_ACTIVE && !(cm >= 0.0)) {
-      st = ea_error_set(err, EA_ERR_INPUT, "simulate: tension %g < 0 at t = %g", cm, tc);
-      break;
-    }
+    double dv[5]; /* theta0, its rate and acceleration at t1; cable value at tc and t1 */
+    if ((st = ea__fe_step_drive(m, drive, s, &g, t0, t1, th0_hold, cab_hold, dv, err))) break;
     memcpy(m->q0, m->q, sizeof(double) * (size_t)nd);
     memcpy(m->v0, m->v, sizeof(double) * (size_t)nd);
     int it = 0;
     if (galpha) {
       memcpy(m->acc0, m->acc, sizeof(double) * (size_t)nd);
-      st = ea__fe_step_galpha(m, s, &g, damped, bkv, phase, cm, th1, th1r, th1a, n == 0, &it);
+      st =
+          ea__fe_step_galpha(m, s, &g, damped, bkv, phase, dv[3], dv[0], dv[1], dv[2], n == 0, &it);
       memcpy(m->qprev, m->q0, sizeof(double) * (size_t)nd);
     } else {
-      st = ea__fe_step_energy(m, s, damped, bkv, phase, m->cable_value, cm, cab1, th1, th1r, &it);
+      st = ea__fe_step_energy(m, s, damped, bkv, phase, m->cable_value, dv[3], dv[4], dv[0], dv[1],
+                              &it);
     }
     info->newton_iterations += it;
     if (it > info->max_step_iterations) info->max_step_iterations = it;
@@ -502,23 +568,10 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       break;
     }
     /* the state at t1 goes with the cable value at t1 (both schemes) */
-    if (phase != EA_FE_CABLE_NONE) m->cable_value = cab1;
+    if (phase != EA_FE_CABLE_NONE) m->cable_value = dv[4];
     info->steps = n + 1;
-    if (damped || bkv > 0.0) {
-      /* work of the damping forces over the step: (q1 - q0) . f_d(q_e, v_e) at the scheme's
-       * evaluation point (midpoint, or n+1-af) */
-      const double w1 = galpha ? 1.0 - g.af : 0.5;
-      double *qe = m->qm, *ve = m->vs, *fd = m->tmp;
-      for (int i = 0; i < nd; ++i) {
-        qe[i] = w1 * m->q[i] + (1.0 - w1) * m->q0[i];
-        ve[i] = w1 * m->v[i] + (1.0 - w1) * m->v0[i];
-      }
-      memset(fd, 0, sizeof(double) * (size_t)nd);
-      if (damped) ea__fe_band_gemv(m, 1.0, m->Cb, ve, fd);
-      ea__fe_assemble_rate(m, qe, ve, bkv, fd, NULL);
-      for (int i = 0; i < nd; ++i)
-        info->damping_work += (m->q[i] - m->q0[i]) * fd[i];
-    }
+    if (damped || bkv > 0.0)
+      ea__fe_damping_work(m, s, galpha ? 1.0 - g.af : 0.5, &info->damping_work);
     const double E = ea_fe_energy(m), K = ea__fe_kinetic(m, m->v);
     if (!isfinite(E)) {
       st = ea_error_set(err, EA_ERR_NOCONV, "simulate: state not finite at t = %g", t1);
@@ -538,28 +591,8 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       memcpy(r + 1, m->q + nd - 3, 3 * sizeof(double));
     }
     if (measure && t1 >= s->t_motion_end - 1e-12 * h) {
-      if (!have_static && isfinite(s->tip_static[0]) && isfinite(s->tip_static[1])) {
-        info->tip_static[0] = s->tip_static[0];
-        info->tip_static[1] = s->tip_static[1];
-        info->tip_static[2] = NAN;
-        have_static = 1;
-      }
       if (!have_static) {
-        /* final static equilibrium for the inputs held from here on */
-        double th_e, th_er, cab_e;
-        ea__fe_drive_at(drive, s->t_motion_end, th0_hold, cab_hold, &th_e, &th_er, &cab_e);
-        if (phase == EA_FE_CABLE_NONE) cab_e = 0.0;
-        memcpy(m->q0, m->q, sizeof(double) * (size_t)nd);
-        memcpy(m->v0, m->v, sizeof(double) * (size_t)nd);
-        double *qstat = m->qs;
-        memcpy(qstat, m->q, sizeof(double) * (size_t)nd);
-        qstat[2] = th_e;
-        ea_fe_static_info_t si;
-        st = ea__fe_newton_q(m, qstat, phase, cab_e, &si, err);
-        if (st) break;
-        memcpy(info->tip_static, qstat + nd - 3, 3 * sizeof(double));
-        memcpy(m->q, m->q0, sizeof(double) * (size_t)nd);
-        memcpy(m->v, m->v0, sizeof(double) * (size_t)nd);
+        if ((st = ea__fe_sim_final_static(m, drive, s, th0_hold, cab_hold, info, err))) break;
         have_static = 1;
       }
       const double d =
