@@ -241,6 +241,195 @@ ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double ti
   return ea__traj_simulate(arm, tr, tip_mass, &r, hist, info, err);
 }
 
+/* What one trajectory simulation holds. */
+typedef struct {
+  const ea_arm_t *arm;
+  const ea_traj_t *tr;
+  const ea_sim_settings_t *s;
+  double t_first, t_end;
+  int rows_cap;
+  ea_shooter_t *sh;
+  ea_fe_model_t *m, *mh; /* the transient's model; the tip-holding one of drive_fe */
+  double *tip, *qstart;
+  ea__sim_drive_t drv;
+} ea__sim_t;
+
+/* Check the inputs; info's duration, tip mass and damping ratio. */
+static ea_status_t ea__sim_check(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
+                                 const ea_sim_settings_t *s, ea_sim_info_t *info, ea_error_t *err) {
+  ea_status_t st = ea_sim_settings_validate(s, err);
+  if (!st) st = ea_arm_validate(arm, err);
+  if (st) return st;
+  if (tr->n < 1 || !tr->data) return ea_error_set(err, EA_ERR_INPUT, "simulate: no samples");
+  info->duration = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  const double t_end = info->duration + s->settle;
+  if (!(t_end > 0))
+    return ea_error_set(err, EA_ERR_ARG,
+                        "simulate: nothing to simulate (one sample and no settling time)");
+  if (t_end / s->dt > 2e7)
+    return ea_error_set(err, EA_ERR_ARG, "simulate: %.3g s at dt %g s is more than 2e7 steps",
+                        t_end, s->dt);
+  info->tip_mass = tip_mass > 0 ? tip_mass : ea_arm_tip_mass(arm, fmax(tr->payload_kg, 0.0));
+  info->damping_ratio = s->damping_ratio;
+  return EA_OK;
+}
+
+/* The shooter and FE models for this arm and tip mass, and the tip rows. */
+static ea_status_t ea__sim_alloc(ea__sim_t *c, double tip_mass, ea_error_t *err) {
+  ea_fe_settings_t fs;
+  ea_fe_settings_default(&fs);
+  fs.elements = c->s->elements;
+  fs.modes = 3;
+  const ea_load_t load = {tip_mass};
+  ea_status_t st;
+  if ((st = ea_shooter_alloc(c->arm, NULL, &c->sh, err))) return st;
+  ea_shooter_set_load(c->sh, &load);
+  if ((st = ea_fe_model_alloc(c->arm, &fs, &c->m, err)) || (st = ea_fe_model_set_load(c->m, &load)))
+    return st;
+  if (c->s->drive_fe) {
+    fs.static_hold_tip = 1;
+    if ((st = ea_fe_model_alloc(c->arm, &fs, &c->mh, err)) ||
+        (st = ea_fe_model_set_load(c->mh, &load)))
+      return st;
+  }
+  c->tip = malloc(sizeof(double) * 4 * (size_t)c->rows_cap);
+  c->qstart = malloc(sizeof(double) * 3 * (size_t)ea_fe_model_nodes(c->m));
+  if (!c->tip || !c->qstart)
+    return ea_error_set(err, EA_ERR_NOMEM, "simulate: %d rows", c->rows_cap);
+  return EA_OK;
+}
+
+/* 1. Statics of the start for this arm and load, warm-started from row 0. */
+static ea_status_t ea__sim_start_statics(ea__sim_t *c, ea_statics_solution_t *ode,
+                                         ea_sim_info_t *info, ea_error_t *err) {
+  const ea_traj_t *tr = c->tr;
+  const double L_0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_length),
+               a_0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_angle);
+  ea_statics_problem_t pr = ea_statics_problem_cable(L_0, a_0);
+  const double g0[EA_NP] = {a_0, EA_TRAJ_AT(tr, 0, EA_TRAJ_tension),
+                            EA_TRAJ_AT(tr, 0, EA_TRAJ_theta0), EA_TRAJ_AT(tr, 0, EA_TRAJ_kappa0)};
+  ea_error_t e = {0};
+  ea_status_t st = ea_statics_solve(c->sh, &pr, NULL, g0, ode, &e);
+  if (st) st = ea_statics_solve(c->sh, &pr, NULL, NULL, ode, &e);
+  if (st)
+    return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                        "the start (L_c = %g m, alpha = %g rad) has no static solution for this "
+                        "arm and tip mass %g kg: %s",
+                        L_0, a_0, info->tip_mass, e.msg);
+  info->start_tension_mismatch = fabs(ode->p[EA_P_TENSION] - g0[1]);
+  info->start_theta0_mismatch = fabs(ode->p[EA_P_THETA0] - g0[2]);
+  return EA_OK;
+}
+
+/* 3a. The final equilibrium's tip: the goal's statics for this arm and load, continued to the
+ * drive's held inputs (a Newton from the vibrating state at the end of the motion can miss it
+ * with a stiff cable). */
+static ea_status_t ea__sim_final_eq(ea__sim_t *c, double tip_end[2], ea_error_t *err) {
+  const ea_traj_t *tr = c->tr;
+  const int l = tr->n - 1;
+  ea_statics_problem_t pe = ea_statics_problem_cable(EA_TRAJ_AT(tr, l, EA_TRAJ_cable_length),
+                                                     EA_TRAJ_AT(tr, l, EA_TRAJ_cable_angle));
+  const double ge[EA_NP] = {EA_TRAJ_AT(tr, l, EA_TRAJ_cable_angle),
+                            EA_TRAJ_AT(tr, l, EA_TRAJ_tension), EA_TRAJ_AT(tr, l, EA_TRAJ_theta0),
+                            EA_TRAJ_AT(tr, l, EA_TRAJ_kappa0)};
+  ea_statics_solution_t ode_e;
+  ea_fe_static_info_t fei;
+  ea_error_t e = {0};
+  ea_status_t st = ea_statics_solve(c->sh, &pe, NULL, ge, &ode_e, &e);
+  if (st) st = ea_statics_solve(c->sh, &pe, NULL, NULL, &ode_e, &e);
+  if (!st) st = ea_fe_static_solve(c->m, c->sh, &ode_e, &fei, &e);
+  if (!st)
+    st = ea_fe_static_continue(c->m, c->drv.theta0[l],
+                               c->s->cable_active ? EA_FE_CABLE_ACTIVE : EA_FE_CABLE_PASSIVE,
+                               c->drv.cable[l], &fei, &e);
+  if (st) return ea_error_set(err, st, "the final equilibrium (goal of the trajectory): %s", e.msg);
+  double te[3];
+  ea_fe_tip(c->m, te);
+  tip_end[0] = te[0];
+  tip_end[1] = te[1];
+  return EA_OK;
+}
+
+/* 3b. The FE equilibrium of the start, continued to the drive's start inputs. */
+static ea_status_t ea__sim_start_eq(ea__sim_t *c, const ea_statics_solution_t *ode,
+                                    ea_sim_info_t *info, ea_error_t *err) {
+  ea_fe_static_info_t fsi;
+  ea_error_t e = {0};
+  ea_status_t st = ea_fe_static_solve(c->m, c->sh, ode, &fsi, &e);
+  if (st) return ea_error_set(err, st, "FE static solve at the start: %s", e.msg);
+  st = ea__sim_drive_start(c->m, &c->drv, c->s->drive_fe ? c->qstart : NULL, &fsi, &e);
+  if (st) return ea_error_set(err, st, "FE equilibrium under the start inputs: %s", e.msg);
+  info->start_newton_iterations = fsi.iterations;
+  info->start_tension = fsi.tension;
+  double plan0[2], tip0[3];
+  ea_traj_planned_tip(c->tr, c->arm, c->t_first, plan0);
+  ea_fe_tip(c->m, tip0);
+  info->static_offset_start = hypot(tip0[0] - plan0[0], tip0[1] - plan0[1]);
+  return EA_OK;
+}
+
+/* 4. damping, 5. the transient; what it found into info. */
+static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_info_t *si,
+                               ea_sim_info_t *info, ea_error_t *err) {
+  const ea_sim_settings_t *s = c->s;
+  ea_fe_sim_settings_t ss;
+  ea_fe_sim_settings_default(&ss);
+  ss.scheme = s->scheme;
+  ss.rho_inf = s->rho_inf;
+  ss.dt = s->dt;
+  ss.t_end = c->t_end;
+  ss.t_motion_end = s->settle > 0 ? info->duration : -1.0;
+  ss.tip_static[0] = tip_end[0];
+  ss.tip_static[1] = tip_end[1];
+  ea_status_t st = ea__sim_damping(c->m, s, &ss, info, err);
+  if (st) return st;
+  info->rayleigh_mass = ss.rayleigh_mass;
+  info->rayleigh_stiffness = ss.rayleigh_stiffness;
+  st = ea_fe_simulate(c->m, &c->drv.drive, &ss, c->tip, c->rows_cap, si, err);
+  info->steps = si->steps;
+  info->simulated_time = si->steps * s->dt;
+  info->newton_iterations = si->newton_iterations;
+  info->max_step_iterations = si->max_step_iterations;
+  info->energy_start = si->energy_start;
+  info->energy_end = si->energy_end;
+  info->energy_drift_max = si->energy_drift_max;
+  info->kinetic_max = si->kinetic_max;
+  info->tension_min = si->tension_min;
+  info->tension_max = si->tension_max;
+  info->tension_min_time = si->tension_min_time;
+  info->tension_max_time = si->tension_max_time;
+  if (st) return st;
+  const int have_static = s->settle > 0;
+  if (have_static) {
+    info->residual_rms = si->residual_rms;
+    info->residual_peak = si->residual_peak;
+    memcpy(info->final_static_tip, si->tip_static, 2 * sizeof(double));
+    double pe[2];
+    ea_traj_planned_tip(c->tr, c->arm, c->t_first + info->duration, pe);
+    info->static_offset_end = hypot(si->tip_static[0] - pe[0], si->tip_static[1] - pe[1]);
+  }
+  ea__sim_measure(c->tr, c->arm, c->tip, si->rows, c->t_first, s->rest_tolerance, have_static,
+                  info);
+  return EA_OK;
+}
+
+/* The tip history (t, FE tip x, y, theta, planned tip x, y) into hist. */
+static ea_status_t ea__sim_history(const ea__sim_t *c, int rows, ea_sim_history_t *hist,
+                                   ea_error_t *err) {
+  double *h = malloc(sizeof(double) * 6 * (size_t)(rows > 0 ? rows : 1));
+  if (!h) return ea_error_set(err, EA_ERR_NOMEM, "simulate: history of %d rows", rows);
+  for (int r = 0; r < rows; ++r) {
+    double *o = h + 6 * r;
+    o[0] = c->tip[4 * r] + c->t_first;
+    memcpy(o + 1, c->tip + 4 * r + 1, 3 * sizeof(double));
+    ea_traj_planned_tip(c->tr, c->arm, o[0], o + 4);
+  }
+  ea_sim_history_free(hist);
+  hist->data = h;
+  hist->rows = rows;
+  return EA_OK;
+}
+
 static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
                                      const ea_sim_settings_t *s, ea_sim_history_t *hist,
                                      ea_sim_info_t *info, ea_error_t *err) {
@@ -251,186 +440,38 @@ static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, d
   info->static_offset_end = info->start_freq_hz[0] = info->start_freq_hz[1] = NAN;
   info->tension_min = info->tension_max = NAN;
   if (!arm || !tr || !s) return info->status = ea_error_set(err, EA_ERR_ARG, "simulate: NULL");
-  ea_status_t st = ea_sim_settings_validate(s, err);
-  if (!st) st = ea_arm_validate(arm, err);
+  ea_status_t st = ea__sim_check(arm, tr, tip_mass, s, info, err);
   if (st) return info->status = st;
-  if (tr->n < 1 || !tr->data)
-    return info->status = ea_error_set(err, EA_ERR_INPUT, "simulate: no samples");
-  const int n = tr->n;
-  const double t_first = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  info->duration = EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t) - t_first;
-  const double t_end = info->duration + s->settle;
-  if (!(t_end > 0))
-    return info->status = ea_error_set(err, EA_ERR_ARG,
-                                       "simulate: nothing to simulate (one "
-                                       "sample and no settling time)");
-  if (t_end / s->dt > 2e7)
-    return info->status = ea_error_set(
-               err, EA_ERR_ARG, "simulate: %.3g s at dt %g s is more than 2e7 steps", t_end, s->dt);
-  info->tip_mass = tip_mass > 0 ? tip_mass : ea_arm_tip_mass(arm, fmax(tr->payload_kg, 0.0));
-  info->damping_ratio = s->damping_ratio;
   const double wall0 = ea__mono_s();
-
-  ea_shooter_t *sh = NULL;
-  ea_fe_model_t *m = NULL, *mh = NULL;
-  double *tip = NULL, *qstart = NULL;
-  ea__sim_drive_t drv = {0};
-  const int rows_cap = (int)ceil(t_end / s->dt - 1e-9) + 2;
-  ea_fe_settings_t fs;
-  ea_fe_settings_default(&fs);
-  fs.elements = s->elements;
-  fs.modes = 3;
-  const ea_load_t load = {info->tip_mass};
-  if ((st = ea_shooter_alloc(arm, NULL, &sh, err))) goto done;
-  ea_shooter_set_load(sh, &load);
-  if ((st = ea_fe_model_alloc(arm, &fs, &m, err)) || (st = ea_fe_model_set_load(m, &load)))
-    goto done;
-  if (s->drive_fe) {
-    fs.static_hold_tip = 1;
-    if ((st = ea_fe_model_alloc(arm, &fs, &mh, err)) || (st = ea_fe_model_set_load(mh, &load)))
-      goto done;
-  }
-  tip = malloc(sizeof(double) * 4 * (size_t)rows_cap);
-  qstart = malloc(sizeof(double) * 3 * (size_t)ea_fe_model_nodes(m));
-  if (!tip || !qstart) {
-    st = ea_error_set(err, EA_ERR_NOMEM, "simulate: %d rows", rows_cap);
-    goto done;
-  }
-
-  /* 1. statics of the start for this arm and load, warm-started from row 0 */
-  const double L_0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_length),
-               a_0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_cable_angle);
-  ea_statics_problem_t pr = ea_statics_problem_cable(L_0, a_0);
+  ea__sim_t c = {0};
+  c.arm = arm;
+  c.tr = tr;
+  c.s = s;
+  c.t_first = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  c.t_end = info->duration + s->settle;
+  c.rows_cap = (int)ceil(c.t_end / s->dt - 1e-9) + 2;
   ea_statics_solution_t ode;
-  const double g0[EA_NP] = {a_0, EA_TRAJ_AT(tr, 0, EA_TRAJ_tension),
-                            EA_TRAJ_AT(tr, 0, EA_TRAJ_theta0), EA_TRAJ_AT(tr, 0, EA_TRAJ_kappa0)};
-  ea_error_t e = {0};
-  st = ea_statics_solve(sh, &pr, NULL, g0, &ode, &e);
-  if (st) st = ea_statics_solve(sh, &pr, NULL, NULL, &ode, &e);
-  if (st) {
-    st = ea_error_set(err, EA_ERR_INADMISSIBLE,
-                      "the start (L_c = %g m, alpha = %g rad) has no static solution for this "
-                      "arm and tip mass %g kg: %s",
-                      L_0, a_0, info->tip_mass, e.msg);
-    goto done;
-  }
-  info->start_tension_mismatch = fabs(ode.p[EA_P_TENSION] - g0[1]);
-  info->start_theta0_mismatch = fabs(ode.p[EA_P_THETA0] - g0[2]);
-
-  /* 2. drive */
-  if ((st = ea__sim_drive_alloc(&drv, n, s->cable_active, err))) goto done;
-  if ((st = ea__sim_drive_fill(arm, tr, s, sh, mh, ode.p, qstart, &drv, err))) goto done;
-
-  /* 3. the final equilibrium (the goal's statics for this arm and load, continued to the
-   * drive's held inputs: a Newton from the vibrating state at the end of the motion can miss
-   * it with a stiff cable), then the FE equilibrium of the start, continued likewise */
   double tip_end[2] = {NAN, NAN};
-  if (s->settle > 0) {
-    const int l = n - 1;
-    ea_statics_problem_t pe = ea_statics_problem_cable(EA_TRAJ_AT(tr, l, EA_TRAJ_cable_length),
-                                                       EA_TRAJ_AT(tr, l, EA_TRAJ_cable_angle));
-    const double ge[EA_NP] = {EA_TRAJ_AT(tr, l, EA_TRAJ_cable_angle),
-                              EA_TRAJ_AT(tr, l, EA_TRAJ_tension), EA_TRAJ_AT(tr, l, EA_TRAJ_theta0),
-                              EA_TRAJ_AT(tr, l, EA_TRAJ_kappa0)};
-    ea_statics_solution_t ode_e;
-    ea_fe_static_info_t fei;
-    st = ea_statics_solve(sh, &pe, NULL, ge, &ode_e, &e);
-    if (st) st = ea_statics_solve(sh, &pe, NULL, NULL, &ode_e, &e);
-    if (!st) st = ea_fe_static_solve(m, sh, &ode_e, &fei, &e);
-    if (!st)
-      st = ea_fe_static_continue(m, drv.theta0[l],
-                                 s->cable_active ? EA_FE_CABLE_ACTIVE : EA_FE_CABLE_PASSIVE,
-                                 drv.cable[l], &fei, &e);
-    if (st) {
-      st = ea_error_set(err, st, "the final equilibrium (goal of the trajectory): %s", e.msg);
-      goto done;
-    }
-    double te[3];
-    ea_fe_tip(m, te);
-    tip_end[0] = te[0];
-    tip_end[1] = te[1];
-  }
-  ea_fe_static_info_t fsi;
-  if ((st = ea_fe_static_solve(m, sh, &ode, &fsi, &e))) {
-    st = ea_error_set(err, st, "FE static solve at the start: %s", e.msg);
-    goto done;
-  }
-  if ((st = ea__sim_drive_start(m, &drv, s->drive_fe ? qstart : NULL, &fsi, &e))) {
-    st = ea_error_set(err, st, "FE equilibrium under the start inputs: %s", e.msg);
-    goto done;
-  }
-  info->start_newton_iterations = fsi.iterations;
-  info->start_tension = fsi.tension;
-  {
-    double plan0[2], tip0[3];
-    ea_traj_planned_tip(tr, arm, t_first, plan0);
-    ea_fe_tip(m, tip0);
-    info->static_offset_start = hypot(tip0[0] - plan0[0], tip0[1] - plan0[1]);
-  }
-
-  /* 4. damping, 5. transient */
-  ea_fe_sim_settings_t ss;
-  ea_fe_sim_settings_default(&ss);
-  ss.scheme = s->scheme;
-  ss.rho_inf = s->rho_inf;
-  ss.dt = s->dt;
-  ss.t_end = t_end;
-  ss.t_motion_end = s->settle > 0 ? info->duration : -1.0;
-  ss.tip_static[0] = tip_end[0];
-  ss.tip_static[1] = tip_end[1];
-  if ((st = ea__sim_damping(m, s, &ss, info, err))) goto done;
-  info->rayleigh_mass = ss.rayleigh_mass;
-  info->rayleigh_stiffness = ss.rayleigh_stiffness;
   ea_fe_sim_info_t si;
-  st = ea_fe_simulate(m, &drv.drive, &ss, tip, rows_cap, &si, err);
-  info->steps = si.steps;
-  info->simulated_time = si.steps * s->dt;
-  info->newton_iterations = si.newton_iterations;
-  info->max_step_iterations = si.max_step_iterations;
-  info->energy_start = si.energy_start;
-  info->energy_end = si.energy_end;
-  info->energy_drift_max = si.energy_drift_max;
-  info->kinetic_max = si.kinetic_max;
-  info->tension_min = si.tension_min;
-  info->tension_max = si.tension_max;
-  info->tension_min_time = si.tension_min_time;
-  info->tension_max_time = si.tension_max_time;
-  if (st) goto done;
-  const int have_static = s->settle > 0;
-  if (have_static) {
-    info->residual_rms = si.residual_rms;
-    info->residual_peak = si.residual_peak;
-    memcpy(info->final_static_tip, si.tip_static, 2 * sizeof(double));
-    double pe[2];
-    ea_traj_planned_tip(tr, arm, t_first + info->duration, pe);
-    info->static_offset_end = hypot(si.tip_static[0] - pe[0], si.tip_static[1] - pe[1]);
-  }
-  ea__sim_measure(tr, arm, tip, si.rows, t_first, s->rest_tolerance, have_static, info);
-  if (s->keep_history && hist) {
-    double *h = malloc(sizeof(double) * 6 * (size_t)(si.rows > 0 ? si.rows : 1));
-    if (!h) {
-      st = ea_error_set(err, EA_ERR_NOMEM, "simulate: history of %d rows", si.rows);
-      goto done;
-    }
-    for (int r = 0; r < si.rows; ++r) {
-      double *o = h + 6 * r;
-      o[0] = tip[4 * r] + t_first;
-      memcpy(o + 1, tip + 4 * r + 1, 3 * sizeof(double));
-      ea_traj_planned_tip(tr, arm, o[0], o + 4);
-    }
-    ea_sim_history_free(hist);
-    hist->data = h;
-    hist->rows = si.rows;
-  }
+  if ((st = ea__sim_alloc(&c, info->tip_mass, err))) goto done;
+  if ((st = ea__sim_start_statics(&c, &ode, info, err))) goto done;
+  /* 2. drive */
+  if ((st = ea__sim_drive_alloc(&c.drv, tr->n, s->cable_active, err))) goto done;
+  if ((st = ea__sim_drive_fill(arm, tr, s, c.sh, c.mh, ode.p, c.qstart, &c.drv, err))) goto done;
+  /* 3. the final equilibrium, then the FE equilibrium of the start */
+  if (s->settle > 0 && (st = ea__sim_final_eq(&c, tip_end, err))) goto done;
+  if ((st = ea__sim_start_eq(&c, &ode, info, err))) goto done;
+  if ((st = ea__sim_run(&c, tip_end, &si, info, err))) goto done;
+  if (s->keep_history && hist) st = ea__sim_history(&c, si.rows, hist, err);
 done:
   info->wall_time_s = ea__mono_s() - wall0;
   info->status = st;
-  free(qstart);
-  ea__sim_drive_free(&drv);
-  free(tip);
-  ea_fe_model_free(mh);
-  ea_fe_model_free(m);
-  ea_shooter_free(sh);
+  free(c.qstart);
+  ea__sim_drive_free(&c.drv);
+  free(c.tip);
+  ea_fe_model_free(c.mh);
+  ea_fe_model_free(c.m);
+  ea_shooter_free(c.sh);
   return st;
 }
 
