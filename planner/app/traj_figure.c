@@ -213,6 +213,12 @@ static void ea__range_deg(const ea_traj_t *tr, int c, double *lo, double *hi) {
   *hi = fmax(*hi, h2);
 }
 
+/* Appends the base coordinate's column c (in degrees) to a plot command of length u. */
+static int ea__base_term(char *plot, size_t len, int u, int c, const char *key) {
+  return u + snprintf(plot + u, len - (size_t)u, ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t '%s'",
+                      EA__COL(c), ea_plot_colour(3), key);
+}
+
 /* (c) cable, shoulder and (when it moves) base angles. */
 static void ea__panel_angles(ea_plot_t *p, const ea_traj_t *tr, const ea_actuators_t *lim,
                              int base) {
@@ -227,10 +233,7 @@ static void ea__panel_angles(ea_plot_t *p, const ea_traj_t *tr, const ea_actuato
                    "'' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'shoulder angle {/Symbol q}_0'",
                    EA__COL(EA_TRAJ_cable_angle), ea_plot_colour(1), EA__COL(EA_TRAJ_theta0),
                    ea_plot_colour(2));
-  if (base)
-    u += snprintf(plot + u, sizeof plot - (size_t)u,
-                  ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base angle'",
-                  EA__COL(EA_TRAJ_base_angle), ea_plot_colour(3));
+  if (base) u = ea__base_term(plot, sizeof plot, u, EA_TRAJ_base_angle, "base angle");
   u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_angle_min / EA__DEG, lo, hi,
                      "{/Symbol q}_{0,min}");
   ea__limit_term(plot, sizeof plot, u, lim->shoulder_angle_max / EA__DEG, lo, hi,
@@ -252,10 +255,7 @@ static void ea__panel_rates(ea_plot_t *p, const ea_traj_t *tr, const ea_actuator
                    "'' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'd{/Symbol q}_0/dt'",
                    EA__COL(EA_TRAJ_cable_angle_rate), ea_plot_colour(1),
                    EA__COL(EA_TRAJ_theta0_rate), ea_plot_colour(2));
-  if (base)
-    u += snprintf(plot + u, sizeof plot - (size_t)u,
-                  ", '' u 1:($%d*deg) w l lw 2 lc rgb '%s' t 'base rate'",
-                  EA__COL(EA_TRAJ_base_angle_rate), ea_plot_colour(3));
+  if (base) u = ea__base_term(plot, sizeof plot, u, EA_TRAJ_base_angle_rate, "base rate");
   u = ea__limit_term(plot, sizeof plot, u, -lim->shoulder_speed_max / EA__DEG, lo, hi,
                      "-|d{/Symbol q}_0/dt|_{max}");
   u = ea__limit_term(plot, sizeof plot, u, lim->shoulder_speed_max / EA__DEG, lo, hi,
