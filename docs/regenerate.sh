@@ -618,6 +618,21 @@ pub "tests/test_stream (round trip)" docs/streaming.md '(max errors {} rad of sp
 pub "tests/test_stream (round trip)" docs/streaming.md 'cable, {} rad of shoulder with its estimated accelerations, {} rad' \
   "$(short "$(rt shoulder)")" "$(short "$(rt base)")"
 
+# ==== reduced-model accuracy and the choice of K (tests/test_rom, tests/test_plan_rest) ====
+# One block for: docs/fe.md's independent modal-forcing check, docs/planner.md's tables of the
+# model's prediction against the FE transient (plans not at rest in the model), of K = 1..4
+# modes, and of the time to rest at 2 % damping.
+# the modal forcing against FE static states differenced in test_rom (max over its two lines)
+set -- $(awk '/^modal forcing vs FE static states/ { s = $0; sub(/.*rad\): B /, "", s); sub(/ \(modes.*/, "", s)
+  gsub(/,/, "", s); split(s, a, " ")
+  m[1] = mx(m[1], a[1], a[2]); m[2] = mx(m[2], a[6], a[7]); m[3] = mx(m[3], a[3], a[4]); m[4] = mx(m[4], a[8], a[9]) }
+  function mx(x, y, z) { x += 0; y += 0; z += 0; return x > y ? (x > z ? x : z) : (y > z ? y : z) }
+  END { print m[1], m[2], m[3], m[4] }' "$R/test_rom.out")
+pub "tests/test_rom (modal forcing vs FE differences)" docs/fe.md \
+  'agrees within {} (B) and {} (C) for modes 1 and 2, {} and {} for modes 3 and 4' \
+  "$(sci %.1e "$1")" "$(sci %.1e "$2")" "$(sci %.1e "$3")" "$(sci %.1e "$4")"
+# ==== end of the block
+
 # ---------------------------------------------------------------- verdict
 rm -f "$R/rewrite.tmp"
 nfail=$(grep -c . "$FAILS" || true)
