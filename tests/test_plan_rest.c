@@ -1,11 +1,16 @@
-/* Plans that arrive at rest (task key dynamics), judged by the FE transient (ea_traj_simulate,
- * 12 elements, undamped, 3 s after the motion), the ground truth the reduced model is not:
+/* Plans that arrive at rest (task key dynamics), judged by the FE transient (ea_traj_simulate, 12
+ * elements, undamped, 3 s after the motion), the ground truth the reduced model is not:
  *  - the paper line at payload factors 0, 0.25 and 0.5 (goal moved in to (0.5, -0.2) where 0.5
- *    makes the paper's goal inadmissible): duration within 1.25 x the quasi-static minimum,
- *    FE residual <= 1 mm (payload 0: also <= 1.60 s), and a small fraction of the
- *    quasi-static plan's (what the model misses);
- *  - a plan allowed a residual (residual_m 5 mm, active at the minimum time): the FE residual
- *    is what the model predicts for it;
+ *    makes the paper's goal inadmissible): duration within 1.25 x the quasi-static minimum and
+ *    a small fraction of the quasi-static plan's residual (what the model misses); FE residual
+ *    <= 1 mm at payloads 0 and 0.25 (payload 0: also <= 1.60 s), at 0.5 only after the
+ *    refinement against the FE (unrefined: 2.10 mm, asserted <= 2.6 mm; why: the residual grows
+ *    with the square of the modal deflection, measured with that deflection bounded); the
+ *    refined plans <= 1 mm within 1.25 x at every payload; time to rest at 2 % damping of the
+ *    quasi-static, at-rest and refined plans;
+ *  - plans not at rest in the model (the quasi-static plans, residual_m 1 mm and 5 mm, the
+ *    latter active at the minimum time): the model's predicted residual against the FE's, one
+ *    stated factor;
  *  - pick-place-3d and polyline-effort made dynamic;
  *  - min_vibration redone on the model against the f1-weighted surrogate and min_effort;
  *  - tasks without the key: the path transcription gives the knot transcription's duration to
@@ -25,8 +30,12 @@
 static const char *src;
 
 /* the model's residual against the FE transient's on plans not at rest in the model
- * (test_prediction_factor): measured within 1.161 (the payload-0.5 residual_m plan); stated 1.25 */
+ * (test_prediction_factor): predicted >= 3 mm: within a factor 1.161 (the payload-0.5
+ * residual_m 5 mm plan), stated 1.25; all of them, residual_m 1 mm too: |FE - predicted| at
+ * most 0.92 x what the model misses at rest on the same task (the at-rest plan's FE residual),
+ * stated 1.25 x */
 #define PREDICTION_FACTOR 1.25
+#define MISS_FACTOR 1.25
 
 static int load(const char *name, ea_task_t *t) {
   char path[1024];
@@ -81,17 +90,22 @@ static double fe_residual_settle(const ea_task_t *t, const ea_traj_t *tr, double
 enum { MAX_PAIRS = 16 };
 static struct {
   char what[200];
-  double predicted, measured;
+  double predicted, measured, miss;
 } pairs[MAX_PAIRS];
 static int npairs;
+static double rest_miss[3] = {NAN, NAN, NAN}; /* the at-rest paper line's FE residual by payload */
 
-static void add_pair(const char *what, double predicted, double measured) {
-  printf("model vs FE: %s: predicted %.4f mm, FE %.4f mm, FE / predicted %.3f\n", what,
-         1e3 * predicted, 1e3 * measured, measured / predicted);
+/* miss: the FE residual of the same task's at-rest plan (what the model misses at rest) */
+static void add_pair(const char *what, double predicted, double measured, double miss) {
+  printf("model vs FE: %s: predicted %.4f mm, FE %.4f mm, FE / predicted %.3f, |FE - predicted| "
+         "%.4f mm = %.2f x the at-rest plan's FE residual\n",
+         what, 1e3 * predicted, 1e3 * measured, measured / predicted,
+         1e3 * fabs(measured - predicted), fabs(measured - predicted) / miss);
   if (npairs < MAX_PAIRS) {
     snprintf(pairs[npairs].what, sizeof pairs[npairs].what, "%s", what);
     pairs[npairs].predicted = predicted;
     pairs[npairs].measured = measured;
+    pairs[npairs].miss = miss;
     ++npairs;
   }
 }
@@ -145,7 +159,8 @@ static void test_paper_line(void) {
            gammas[c], iq.duration_s, 1e3 * rq, rest_q, id.duration_s, id.duration_s / iq.duration_s,
            id.iterations, 1e3 * id.time_total_s, 1e3 * rd, 100 * rd / rq, rest_d);
     snprintf(w, sizeof w, "payload factor %.2f: quasi-static plan", gammas[c]);
-    add_pair(w, predicted(pl, &qs), rq);
+    add_pair(w, predicted(pl, &qs), rq, rd);
+    rest_miss[c] = rd;
     snprintf(w, sizeof w, "payload factor %.2f: at-rest duration within 1.25 x the minimum",
              gammas[c]);
     ea_test_true(id.duration_s <= 1.25 * iq.duration_s, w);
@@ -229,17 +244,19 @@ static void test_paper_line(void) {
       ea_test_true(kmax < 1.3 * kmin,
                    "payload 0.5: FE residual / deflection^2 constant within 30 % (nonlinear)");
     }
-    /* a plan allowed 5 mm, not at rest in the model (payload 0: test_terminal_state) */
-    if (c > 0) {
+    /* plans allowed 1 mm and 5 mm, not at rest in the model (5 mm at payload 0:
+     * test_terminal_state) */
+    for (int k = 0; k < 2; ++k) {
+      if (k == 1 && c == 0) continue;
       ea_task_t t5 = t;
-      t5.dynamics.residual_m = 5e-3;
+      t5.dynamics.residual_m = k ? 5e-3 : 1e-3;
       ea_traj_t tr5 = {0};
       ea_plan_info_t i5;
       if (!plan(&t5, &tr5, &i5)) {
-        snprintf(w, sizeof w, "payload factor %.2f: residual_m 5 mm", gammas[c]);
-        add_pair(w, i5.predicted_residual_m, fe_residual(&t5, &tr5, 0.0, NULL));
+        snprintf(w, sizeof w, "payload factor %.2f: residual_m %d mm", gammas[c], k ? 5 : 1);
+        add_pair(w, i5.predicted_residual_m, fe_residual(&t5, &tr5, 0.0, NULL), rd);
       } else {
-        ea_test_true(0, "residual_m 5 mm plan");
+        ea_test_true(0, "residual_m plan");
       }
       ea_traj_free(&tr5);
     }
@@ -273,7 +290,7 @@ static void test_terminal_state(void) {
    * two modes in phase); measured FE vs model: within 5 % */
   ea_test_rel(fe, info.predicted_residual_m, 0.10,
               "FE residual = the model's terminal modal amplitude (10 %)");
-  add_pair("payload factor 0.00: residual_m 5 mm", info.predicted_residual_m, fe);
+  add_pair("payload factor 0.00: residual_m 5 mm", info.predicted_residual_m, fe, rest_miss[0]);
   ea_traj_free(&tr);
 }
 
@@ -303,7 +320,7 @@ static void test_other_examples(void) {
            names[c], iq.duration_s, 1e3 * rq, id.duration_s, 1e3 * rd, 100 * rd / rq);
     char w[160];
     snprintf(w, sizeof w, "%s: quasi-static plan", names[c]);
-    add_pair(w, predicted(pl, &qs), rq);
+    add_pair(w, predicted(pl, &qs), rq, rd);
     /* measured 0.2 % (pick-place: the in-plane motion shaped within the base's time) and
      * 11 % (polyline: the via point's corner); tolerances 2x */
     snprintf(w, sizeof w, "%s made dynamic: FE residual < %s of the quasi-static's", names[c],
@@ -318,18 +335,27 @@ static void test_other_examples(void) {
 /* The model's prediction against the FE transient on every plan above that is not at rest in
  * the model: one factor. */
 static void test_prediction_factor(void) {
-  double worst = 1.0;
-  int at = -1;
+  double worst = 1.0, worst_miss = 0.0;
+  int at = -1, at_miss = -1, nbig = 0;
   for (int i = 0; i < npairs; ++i) {
+    const double d = fabs(pairs[i].measured - pairs[i].predicted) / pairs[i].miss;
+    if (!(d <= worst_miss)) worst_miss = d, at_miss = i;
+    if (!(pairs[i].predicted >= 3e-3)) continue;
+    ++nbig;
     const double f =
         fmax(pairs[i].measured / pairs[i].predicted, pairs[i].predicted / pairs[i].measured);
     if (!(f <= worst)) worst = f, at = i;
   }
-  printf("model vs FE on %d plans not at rest in the model: within a factor %.3f (worst: %s)\n",
-         npairs, worst, at >= 0 ? pairs[at].what : "-");
-  ea_test_true(npairs == 8, "model vs FE: 8 plans");
+  printf("model vs FE on %d plans not at rest in the model: the %d predicted >= 3 mm within a "
+         "factor %.3f (worst: %s); |FE - predicted| <= %.2f x the same task's at-rest FE "
+         "residual (worst: %s)\n",
+         npairs, nbig, worst, at >= 0 ? pairs[at].what : "-", worst_miss,
+         at_miss >= 0 ? pairs[at_miss].what : "-");
+  ea_test_true(npairs == 11 && nbig == 8, "model vs FE: 11 plans, 8 predicted >= 3 mm");
   ea_test_true(worst <= PREDICTION_FACTOR,
-               "model vs FE: predicted and measured residual within the stated factor");
+               "model vs FE: predicted >= 3 mm: predicted and measured within the stated factor");
+  ea_test_true(worst_miss <= MISS_FACTOR,
+               "model vs FE: |FE - predicted| within the stated multiple of the at-rest miss");
 }
 
 /* min_vibration on the model (3 s): the FE residual against the f1-weighted surrogate and
