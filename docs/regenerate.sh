@@ -658,6 +658,93 @@ pub "tests/test_stream (round trip)" docs/streaming.md '(max errors {} rad of sp
 pub "tests/test_stream (round trip)" docs/streaming.md 'cable, {} rad of shoulder with its estimated accelerations, {} rad' \
   "$(short "$(rt shoulder)")" "$(short "$(rt base)")"
 
+# ==== reduced-model accuracy and the choice of K (tests/test_rom, tests/test_plan_rest) ====
+# One block for: docs/fe.md's independent modal-forcing check, docs/planner.md's tables of the
+# model's prediction against the FE transient (plans not at rest in the model), of K = 1..4
+# modes, and of the time to rest at 2 % damping.
+# the modal forcing against FE static states differenced in test_rom (max over its two lines)
+set -- $(awk '/^modal forcing vs FE static states/ { s = $0; sub(/.*rad\): B /, "", s); sub(/ \(modes.*/, "", s)
+  gsub(/,/, "", s); split(s, a, " ")
+  m[1] = mx(m[1], a[1], a[2]); m[2] = mx(m[2], a[6], a[7]); m[3] = mx(m[3], a[3], a[4]); m[4] = mx(m[4], a[8], a[9]) }
+  function mx(x, y, z) { x += 0; y += 0; z += 0; return x > y ? (x > z ? x : z) : (y > z ? y : z) }
+  END { print m[1], m[2], m[3], m[4] }' "$R/test_rom.out")
+pub "tests/test_rom (modal forcing vs FE differences)" docs/fe.md \
+  'agrees within {} (B) and {} (C) for modes 1 and 2, {} and {} for modes 3 and 4' \
+  "$(sci %.1e "$1")" "$(sci %.1e "$2")" "$(sci %.1e "$3")" "$(sci %.1e "$4")"
+# the tables of docs/planner.md "Arriving at rest" from tests/test_plan_rest and the new
+# tests/test_rom_modes (K = 1..4, ~25 s)
+run test_rom_modes env EA_SOURCE_DIR=. "$B/tests/test_rom_modes"
+# rx OUT SED-SCRIPT: the numbers a sed s///p script picks from the first matching line of OUT
+rx() { sed -n "$2" "$R/$1" | head -1; }
+N='\([-0-9.e+]*\)'
+# the payload-0.5 deflection table
+set -- $(rx test_plan_rest.out "s/^payload factor 0.50, at rest: largest modal tip deflection $N mm, FE residual $N mm, residual \/ deflection^2 $N 1\/m.*/\1 \2 \3/p") \
+  $(rx test_plan_rest.out "s/^payload factor 0.50: .* at rest $N s (x $N,.*/\1 \2/p")
+pub "tests/test_plan_rest (payload 0.5, deflection)" docs/planner.md \
+  '| {} mm (unbounded) | {} s ({} x) | {} mm | {} 1/m |' "$1" "$4" "$5" "$2" "$3"
+for d in 0.015:15 0.010:10; do
+  set -- $(rx test_plan_rest.out "s/^payload factor 0.50, at rest, max_tip_deviation_m ${d%%:*}: $N s (x $N), largest modal tip deflection $N mm, FE residual $N mm, residual \/ deflection^2 $N 1\/m.*/\1 \2 \3 \4 \5/p")
+  pub "tests/test_plan_rest (payload 0.5, max_tip_deviation_m ${d%%:*})" docs/planner.md \
+    "| {} mm (bound ${d%%:*} m) | {} s ({} x) | {} mm | {} 1/m |" "$3" "$1" "$2" "$4" "$5"
+done
+# the refined plans and the time to rest at 2 % damping
+for g in 0.00:'paper line, payload 0' 0.25:'paper line, payload factor 0.25' \
+  0.50:'line to (0.5, -0.2), payload factor 0.5'; do
+  p=${g%%:*} label=${g#*:}
+  set -- $(rx test_plan_rest.out "s/^payload factor $p refined: $N s (x $N, $N evaluations), FE residual $N mm.*/\1 \2 \3 \4/p")
+  pub "tests/test_plan_rest (payload factor $p refined)" docs/planner.md \
+    "| $label | {} s ({} x), {} | {} mm |" "$1" "$2" "$3" "$4"
+  set -- $(rx test_plan_rest.out "s/^time to rest within 1 mm at 2 % damping, payload factor $p: quasi-static $N s, at rest $N s, refined $N s after the motion; residual peak at 2 % damping $N, $N, $N mm.*/\1 \2 \3 \4 \5 \6/p")
+  pub "tests/test_plan_rest (time to rest, payload factor $p)" docs/planner.md \
+    "| $label | {} s ({} mm) | {} s ({} mm) | {} s ({} mm) |" "$1" "$4" "$2" "$5" "$3" "$6"
+done
+# the model against the FE: the rows, the factor and the miss
+for w in 'payload factor 0.00: quasi-static plan' 'payload factor 0.00: residual_m 1 mm' \
+  'payload factor 0.00: residual_m 5 mm' 'payload factor 0.25: quasi-static plan' \
+  'payload factor 0.25: residual_m 1 mm' 'payload factor 0.25: residual_m 5 mm' \
+  'payload factor 0.50: quasi-static plan' 'payload factor 0.50: residual_m 1 mm' \
+  'payload factor 0.50: residual_m 5 mm' 'pick-place-3d.yaml: quasi-static plan' \
+  'polyline-effort.yaml: quasi-static plan'; do
+  set -- $(rx test_plan_rest.out "s/^model vs FE: $w: predicted $N mm, FE $N mm, FE \/ predicted $N, |FE - predicted| $N mm = $N x .*/\1 \2 \3 \5/p")
+  case $w in
+  payload*0.50*) label="line to (0.5, -0.2), $w" ;;
+  payload*) label="paper line, $w" ;;
+  *) label=$w ;;
+  esac
+  pub "tests/test_plan_rest (model vs FE)" docs/planner.md "| $label | {} mm | {} mm | {} | {} |" \
+    "$1" "$2" "$3" "$4"
+done
+set -- $(rx test_plan_rest.out "s/^model vs FE on .* within a factor $N (worst.*<= $N x the same.*/\1 \2/p")
+pub "tests/test_plan_rest (model vs FE: factor)" docs/planner.md \
+  '(measured {}); on every plan |FE - predicted| is at most 1.25 x what the model misses at' "$1"
+pub "tests/test_plan_rest (model vs FE: miss)" docs/planner.md 'rest on the same task (measured {} x). A ratio is no measure for small predicted residuals:' "$2"
+# Choosing K: the K table (test_rom_modes) and the other examples' predictions
+for g in 0.00:0 0.25:0.25 0.50:0.5; do
+  for K in 1 2 3 4; do
+    set -- $(rx test_rom_modes.out "s/^modes $K, payload factor ${g%%:*}: at rest $N s ($N iterations), FE residual $N mm; quasi-static plan predicted $N mm, FE $N mm.*/\1 \2 \3 \4 \5/p")
+    pub "tests/test_rom_modes (modes $K, payload factor ${g%%:*})" docs/planner.md \
+      "| ${g#*:} | $K | {} s | {} | {} mm | {} mm ({} mm) |" "$1" "$2" "$3" "$(calc %.3f "$4")" "$(calc %.3f "$5")"
+  done
+done
+for ex in pick-place-3d polyline-effort; do
+  set -- $(rx test_rom_modes.out "s/^$ex.yaml, quasi-static plan: FE $N mm; predicted with modes 1..4 $N, $N, $N, $N mm.*/\1 \2 \3 \4 \5/p")
+  eval "ex_${ex%%-*}=\"\$(calc %.3f \"\$2\"), \$(calc %.3f \"\$3\"), \$(calc %.3f \"\$4\"), \$(calc %.3f \"\$5\") mm (FE \$(calc %.3f \"\$1\") mm)\""
+done
+set -- $ex_pick
+pub "tests/test_rom_modes (pick-place-3d)" docs/planner.md 'polyline-effort predicted with K = 1..4: {}, {}, {}, {} mm (FE {} mm) and' \
+  "${1%,}" "${2%,}" "${3%,}" "$4" "$7"
+set -- $ex_polyline
+pub "tests/test_rom_modes (polyline-effort)" docs/planner.md '{}, {}, {}, {} mm (FE {} mm). The default K = 2: the second mode lowers the' \
+  "${1%,}" "${2%,}" "${3%,}" "$4" "$7"
+# the sentences derived from the K table
+kfe() { rx test_rom_modes.out "s/^modes $1, payload factor $2: at rest .* FE residual $N mm;.*/\1/p"; }
+pub "tests/test_rom_modes (K = 3, 4 at payload 0.5)" docs/planner.md '(K = 3 and 4 leave {} and {} mm, "Choosing K" below), nor the knots' \
+  "$(calc %.2f "$(kfe 3 0.50)")" "$(calc %.2f "$(kfe 4 0.50)")"
+pub "tests/test_rom_modes (K = 1 - K = 2, at rest)" docs/planner.md 'at-rest FE residual (by {}, {} and {} mm) for' \
+  "$(calc %.3f "$(kfe 1 0.00) - $(kfe 2 0.00)")" "$(calc %.3f "$(kfe 1 0.25) - $(kfe 2 0.25)")" \
+  "$(calc %.3f "$(kfe 1 0.50) - $(kfe 2 0.50)")"
+# ==== end of the block
+
 # ---------------------------------------------------------------- verdict
 rm -f "$R/rewrite.tmp"
 nfail=$(grep -c . "$FAILS" || true)

@@ -1,16 +1,22 @@
-/* Plans that arrive at rest (task key dynamics), judged by the FE transient (ea_traj_simulate,
- * 12 elements, undamped, 3 s after the motion), the ground truth the reduced model is not:
+/* Plans that arrive at rest (task key dynamics), judged by the FE transient (ea_traj_simulate, 12
+ * elements, undamped, 3 s after the motion), the ground truth the reduced model is not:
  *  - the paper line at payload factors 0, 0.25 and 0.5 (goal moved in to (0.5, -0.2) where 0.5
- *    makes the paper's goal inadmissible): duration within 1.25 x the quasi-static minimum,
- *    FE residual <= 1 mm (payload 0: also <= 1.60 s), and a small fraction of the
- *    quasi-static plan's (what the model misses);
- *  - a plan allowed a residual (residual_m 5 mm, active at the minimum time): the FE residual
- *    is what the model predicts for it;
+ *    makes the paper's goal inadmissible): duration within 1.25 x the quasi-static minimum and
+ *    a small fraction of the quasi-static plan's residual (what the model misses); FE residual
+ *    <= 1 mm at payloads 0 and 0.25 (payload 0: also <= 1.60 s), at 0.5 only after the
+ *    refinement against the FE (unrefined: 2.10 mm, asserted <= 2.6 mm; why: the residual grows
+ *    with the square of the modal deflection, measured with that deflection bounded); the
+ *    refined plans <= 1 mm within 1.25 x at every payload; time to rest at 2 % damping of the
+ *    quasi-static, at-rest and refined plans;
+ *  - plans not at rest in the model (the quasi-static plans, residual_m 1 mm and 5 mm, the
+ *    latter active at the minimum time): the model's predicted residual against the FE's, one
+ *    stated factor;
  *  - pick-place-3d and polyline-effort made dynamic;
  *  - min_vibration redone on the model against the f1-weighted surrogate and min_effort;
  *  - tasks without the key: the path transcription gives the knot transcription's duration to
  *    1e-9 (the same feasible set). */
 #include "ea_planner.h"
+#include "ea_refine.h"
 #include "ea_problems.h"
 #include "ea_simulate.h"
 #include "ea_test.h"
@@ -22,6 +28,14 @@
 #include <string.h>
 
 static const char *src;
+
+/* the model's residual against the FE transient's on plans not at rest in the model
+ * (test_prediction_factor): predicted >= 3 mm: within a factor 1.161 (the payload-0.5
+ * residual_m 5 mm plan), stated 1.25; all of them, residual_m 1 mm too: |FE - predicted| at
+ * most 0.92 x what the model misses at rest on the same task (the at-rest plan's FE residual),
+ * stated 1.25 x */
+#define PREDICTION_FACTOR 1.25
+#define MISS_FACTOR 1.25
 
 static int load(const char *name, ea_task_t *t) {
   char path[1024];
@@ -47,11 +61,20 @@ static ea_status_t plan(ea_task_t *t, ea_traj_t *tr, ea_plan_info_t *info) {
   return st;
 }
 
+/* The FE transient's residual peak (undamped: 3 s after the motion; damped, zeta at mode 1:
+ * settle s after it) and the time to rest within 1 mm after the motion. */
+static double fe_residual_settle(const ea_task_t *t, const ea_traj_t *tr, double zeta,
+                                 double settle, double *rest);
 static double fe_residual(const ea_task_t *t, const ea_traj_t *tr, double zeta, double *rest) {
+  return fe_residual_settle(t, tr, zeta, 60.0, rest);
+}
+
+static double fe_residual_settle(const ea_task_t *t, const ea_traj_t *tr, double zeta,
+                                 double settle, double *rest) {
   ea_sim_settings_t s;
   ea_sim_settings_default(&s);
   s.damping_ratio = zeta;
-  if (zeta > 0) s.settle = 60.0;
+  if (zeta > 0) s.settle = settle;
   ea_sim_info_t si;
   ea_error_t e;
   if (ea_traj_simulate(&t->arm, tr, 0.0, &s, NULL, &si, &e)) {
@@ -62,6 +85,43 @@ static double fe_residual(const ea_task_t *t, const ea_traj_t *tr, double zeta, 
   return si.residual_peak;
 }
 
+/* Plans that are not at rest in the model (quasi-static plans, plans allowed a residual): the
+ * model's predicted residual peak against the FE transient's, collected for one factor. */
+enum { MAX_PAIRS = 16 };
+static struct {
+  char what[200];
+  double predicted, measured, miss;
+} pairs[MAX_PAIRS];
+static int npairs;
+static double rest_miss[3] = {NAN, NAN, NAN}; /* the at-rest paper line's FE residual by payload */
+
+/* miss: the FE residual of the same task's at-rest plan (what the model misses at rest) */
+static void add_pair(const char *what, double predicted, double measured, double miss) {
+  printf("model vs FE: %s: predicted %.4f mm, FE %.4f mm, FE / predicted %.3f, |FE - predicted| "
+         "%.4f mm = %.2f x the at-rest plan's FE residual\n",
+         what, 1e3 * predicted, 1e3 * measured, measured / predicted,
+         1e3 * fabs(measured - predicted), fabs(measured - predicted) / miss);
+  if (npairs < MAX_PAIRS) {
+    snprintf(pairs[npairs].what, sizeof pairs[npairs].what, "%s", what);
+    pairs[npairs].predicted = predicted;
+    pairs[npairs].measured = measured;
+    pairs[npairs].miss = miss;
+    ++npairs;
+  }
+}
+
+/* The model's residual peak for a trajectory (the planner's table; 3 s after the motion, as
+ * the FE transient). */
+static double predicted(const ea_planner_t *pl, const ea_traj_t *tr) {
+  ea_rom_prediction_t pr;
+  ea_error_t e;
+  if (ea_traj_rom_predict(ea_planner_rom_table(pl), tr, 1e-4, 3.0, &pr, &e)) {
+    printf("  predict: %s\n", e.msg);
+    return NAN;
+  }
+  return pr.residual_peak;
+}
+
 static void test_paper_line(void) {
   const double gammas[3] = {0.0, 0.25, 0.5};
   for (int c = 0; c < 3; ++c) {
@@ -70,24 +130,38 @@ static void test_paper_line(void) {
     t.payload_factor = gammas[c];
     t.payload_kg = ea_arm_payload_from_factor(&t.arm, gammas[c]);
     if (c == 2) t.goal = ea_task_point_planar(0.5, -0.2, 0.0);
-    ea_traj_t qs = {0}, dy = {0};
-    ea_plan_info_t iq, id;
+    ea_traj_t qs = {0}, dy = {0}, rf = {0};
+    ea_plan_info_t iq, id, ir;
     const int okq = plan(&t, &qs, &iq) == EA_OK;
     t.dynamics.modes = 2;
-    const int okd = plan(&t, &dy, &id) == EA_OK;
+    /* the at-rest plan, kept for its table and its refinement */
+    ea_planner_t *pl = NULL;
+    ea_error_t e = {0};
+    int okd = !ea_task_check(&t, &e) && !ea_planner_alloc(&t, &pl, &e) &&
+              !ea_planner_solve(pl, EA_PLAN_COLD, NULL, &id, &e) &&
+              !ea_planner_trajectory(pl, &dy, &e);
+    if (!okd) printf("  plan: %s\n", e.msg);
     char w[200];
     snprintf(w, sizeof w, "payload factor %.2f: quasi-static and at-rest plans", gammas[c]);
     ea_test_true(okq && okd, w);
-    if (!okq || !okd) continue;
-    double rest_d = NAN, rest_q = NAN;
+    if (!okq || !okd) {
+      ea_planner_free(pl);
+      continue;
+    }
+    double rest_d = NAN, rest_q = NAN, rest_r = NAN;
     const double rq = fe_residual(&t, &qs, 0.0, NULL), rd = fe_residual(&t, &dy, 0.0, NULL);
-    fe_residual(&t, &qs, 0.02, &rest_q);
-    fe_residual(&t, &dy, 0.02, &rest_d);
+    /* the quasi-static plans: within 1 mm 24-33 s after the motion, 40 s suffice */
+    const double pq = fe_residual_settle(&t, &qs, 0.02, 40.0, &rest_q);
+    /* at rest and refined: within 1 mm in seconds, 20 s suffice */
+    const double pd = fe_residual_settle(&t, &dy, 0.02, 20.0, &rest_d);
     printf("payload factor %.2f: quasi-static %.5f s, FE residual %.3f mm (rest within 1 mm "
            "%.2f s after the motion at 2 %% damping); at rest %.5f s (x %.3f, %d iterations, "
            "%.0f ms), FE residual %.4f mm (%.2f %% of the quasi-static; rest %.2f s after)\n",
            gammas[c], iq.duration_s, 1e3 * rq, rest_q, id.duration_s, id.duration_s / iq.duration_s,
            id.iterations, 1e3 * id.time_total_s, 1e3 * rd, 100 * rd / rq, rest_d);
+    snprintf(w, sizeof w, "payload factor %.2f: quasi-static plan", gammas[c]);
+    add_pair(w, predicted(pl, &qs), rq, rd);
+    rest_miss[c] = rd;
     snprintf(w, sizeof w, "payload factor %.2f: at-rest duration within 1.25 x the minimum",
              gammas[c]);
     ea_test_true(id.duration_s <= 1.25 * iq.duration_s, w);
@@ -96,18 +170,101 @@ static void test_paper_line(void) {
     snprintf(w, sizeof w, "payload factor %.2f: FE residual < %s of the quasi-static's", gammas[c],
              c < 2 ? "5 %" : "10 %");
     ea_test_true(rd < (c < 2 ? 0.05 : 0.10) * rq, w);
-    if (c < 2) {
-      snprintf(w, sizeof w, "payload factor %.2f: FE residual peak <= 1 mm", gammas[c]);
-      ea_test_true(rd <= 1e-3, w);
-    }
+    /* the issue's 1 mm: the at-rest plan meets it at payloads 0 and 0.25 (0.23, 0.47 mm); at
+     * payload 0.5 it leaves 2.10 mm (what the linear model misses grows with the square of
+     * the modal deflection, below), asserted as measured (tolerance 1.25x), and the refined
+     * plan (FE in the loop, below) meets it */
+    snprintf(w, sizeof w, "payload factor %.2f: FE residual peak <= %s mm", gammas[c],
+             c < 2 ? "1" : "2.6 (unrefined)");
+    ea_test_true(rd <= (c < 2 ? 1e-3 : 2.6e-3), w);
     if (c == 0) {
       ea_test_true(id.duration_s <= 1.60, "payload 0: at rest in <= 1.60 s");
       /* the stretch goal of the issue: measured 0.23 mm in 1.445 s */
       ea_test_true(rd <= 0.3e-3 && id.duration_s <= 1.57,
                    "payload 0: FE residual <= 0.3 mm in <= 1.57 s");
     }
+    /* refined against the FE transient (the task's refinement defaults, no wall-time cap so
+     * that the evaluations do not depend on the load), measured by this test's transient (dt
+     * 1 ms, not the loop's 2 ms) */
+    ea_task_refine_t rs;
+    ea_task_refine_default(&rs);
+    rs.max_time_s = 1e4;
+    ea_refine_info_t ri;
+    const int okr = !ea_plan_refine(pl, &rs, &ir, &ri, &e) && !ea_planner_trajectory(pl, &rf, &e);
+    if (!okr) printf("  refine: %s\n", e.msg);
+    const double rr = okr ? fe_residual(&t, &rf, 0.0, NULL) : NAN;
+    const double pr = okr ? fe_residual_settle(&t, &rf, 0.02, 20.0, &rest_r) : NAN;
+    printf("payload factor %.2f refined: %.5f s (x %.3f, %d evaluations), FE residual %.4f mm "
+           "(rest %.2f s after)\n",
+           gammas[c], ri.duration_s, ri.duration_s / iq.duration_s, ri.n_evals, 1e3 * rr, rest_r);
+    printf("time to rest within 1 mm at 2 %% damping, payload factor %.2f: quasi-static %.2f s, "
+           "at rest %.2f s, refined %.2f s after the motion; residual peak at 2 %% damping "
+           "%.3f, %.3f, %.3f mm\n",
+           gammas[c], fmax(rest_q, 0.0), fmax(rest_d, 0.0), fmax(rest_r, 0.0), 1e3 * pq, 1e3 * pd,
+           1e3 * pr);
+    snprintf(w, sizeof w,
+             "payload factor %.2f: refined FE residual <= 1 mm within 1.25 x the minimum time",
+             gammas[c]);
+    ea_test_true(okr && rr <= 1e-3 && ri.duration_s <= 1.25 * iq.duration_s, w);
+    if (c == 2) {
+      /* why the payload-0.5 plan leaves 2.1 mm: not the modes (3 and 4 modes: 2.10, 2.09 mm,
+       * tests/test_rom_modes), knots or grid; the FE residual of the at-rest plan grows with
+       * the square of its largest modal tip deflection during the motion. Bounding that
+       * deflection (dynamics.max_tip_deviation_m) buys the 1 mm at more than 1.25 x. */
+      const double devs[2] = {0.015, 0.010};
+      double k0 = rd / (id.max_modal_deviation_m * id.max_modal_deviation_m), kmin = k0, kmax = k0;
+      printf("payload factor 0.50, at rest: largest modal tip deflection %.2f mm, FE residual "
+             "%.4f mm, residual / deflection^2 %.2f 1/m\n",
+             1e3 * id.max_modal_deviation_m, 1e3 * rd, k0);
+      for (int d = 0; d < 2; ++d) {
+        ea_task_t td = t;
+        td.dynamics.max_tip_deviation_m = devs[d];
+        ea_traj_t tv = {0};
+        ea_plan_info_t iv;
+        if (plan(&td, &tv, &iv)) {
+          ea_test_true(0, "payload 0.5: at rest with the deflection bounded");
+          continue;
+        }
+        const double rv = fe_residual(&td, &tv, 0.0, NULL);
+        const double k = rv / (iv.max_modal_deviation_m * iv.max_modal_deviation_m);
+        kmin = fmin(kmin, k);
+        kmax = fmax(kmax, k);
+        printf("payload factor 0.50, at rest, max_tip_deviation_m %.3f: %.5f s (x %.3f), largest "
+               "modal tip deflection %.2f mm, FE residual %.4f mm, residual / deflection^2 %.2f "
+               "1/m\n",
+               devs[d], iv.duration_s, iv.duration_s / iq.duration_s,
+               1e3 * iv.max_modal_deviation_m, 1e3 * rv, k);
+        if (d == 1) {
+          /* measured 0.57 mm at 1.264 s (1.381 x) */
+          ea_test_true(rv <= 1e-3 && iv.duration_s > 1.25 * iq.duration_s,
+                       "payload 0.5: the deflection bounded to 10 mm meets 1 mm, beyond 1.25 x");
+        }
+        ea_traj_free(&tv);
+      }
+      /* measured 5.0 .. 5.7 1/m over deflections 10 .. 20.5 mm: quadratic within 15 % */
+      ea_test_true(kmax < 1.3 * kmin,
+                   "payload 0.5: FE residual / deflection^2 constant within 30 % (nonlinear)");
+    }
+    /* plans allowed 1 mm and 5 mm, not at rest in the model (5 mm at payload 0:
+     * test_terminal_state) */
+    for (int k = 0; k < 2; ++k) {
+      if (k == 1 && c == 0) continue;
+      ea_task_t t5 = t;
+      t5.dynamics.residual_m = k ? 5e-3 : 1e-3;
+      ea_traj_t tr5 = {0};
+      ea_plan_info_t i5;
+      if (!plan(&t5, &tr5, &i5)) {
+        snprintf(w, sizeof w, "payload factor %.2f: residual_m %d mm", gammas[c], k ? 5 : 1);
+        add_pair(w, i5.predicted_residual_m, fe_residual(&t5, &tr5, 0.0, NULL), rd);
+      } else {
+        ea_test_true(0, "residual_m plan");
+      }
+      ea_traj_free(&tr5);
+    }
+    ea_planner_free(pl);
     ea_traj_free(&qs);
     ea_traj_free(&dy);
+    ea_traj_free(&rf);
   }
 }
 
@@ -134,6 +291,7 @@ static void test_terminal_state(void) {
    * two modes in phase); measured FE vs model: within 5 % */
   ea_test_rel(fe, info.predicted_residual_m, 0.10,
               "FE residual = the model's terminal modal amplitude (10 %)");
+  add_pair("payload factor 0.00: residual_m 5 mm", info.predicted_residual_m, fe, rest_miss[0]);
   ea_traj_free(&tr);
 }
 
@@ -146,22 +304,59 @@ static void test_other_examples(void) {
     ea_plan_info_t iq, id;
     const int okq = plan(&t, &qs, &iq) == EA_OK;
     t.dynamics.modes = 2;
-    const int okd = plan(&t, &dy, &id) == EA_OK;
+    ea_planner_t *pl = NULL;
+    ea_error_t e = {0};
+    const int okd = !ea_task_check(&t, &e) && !ea_planner_alloc(&t, &pl, &e) &&
+                    !ea_planner_solve(pl, EA_PLAN_COLD, NULL, &id, &e) &&
+                    !ea_planner_trajectory(pl, &dy, &e);
+    if (!okd) printf("  plan: %s\n", e.msg);
     ea_test_true(okq && okd, names[c]);
-    if (!okq || !okd) continue;
+    if (!okq || !okd) {
+      ea_planner_free(pl);
+      continue;
+    }
     const double rq = fe_residual(&t, &qs, 0.0, NULL), rd = fe_residual(&t, &dy, 0.0, NULL);
     printf("%s: quasi-static %.4f s, FE residual %.3f mm; at rest %.4f s, FE residual %.4f mm "
            "(%.1f %%)\n",
            names[c], iq.duration_s, 1e3 * rq, id.duration_s, 1e3 * rd, 100 * rd / rq);
+    char w[160];
+    snprintf(w, sizeof w, "%s: quasi-static plan", names[c]);
+    add_pair(w, predicted(pl, &qs), rq, rd);
     /* measured 0.2 % (pick-place: the in-plane motion shaped within the base's time) and
      * 11 % (polyline: the via point's corner); tolerances 2x */
-    char w[160];
     snprintf(w, sizeof w, "%s made dynamic: FE residual < %s of the quasi-static's", names[c],
              c ? "25 %" : "1 %");
     ea_test_true(rd < (c ? 0.25 : 0.01) * rq, w);
+    ea_planner_free(pl);
     ea_traj_free(&qs);
     ea_traj_free(&dy);
   }
+}
+
+/* The model's prediction against the FE transient on every plan above that is not at rest in
+ * the model: one factor. */
+static void test_prediction_factor(void) {
+  double worst = 1.0, worst_miss = 0.0;
+  int at = -1, at_miss = -1, nbig = 0;
+  for (int i = 0; i < npairs; ++i) {
+    const double d = fabs(pairs[i].measured - pairs[i].predicted) / pairs[i].miss;
+    if (!(d <= worst_miss)) worst_miss = d, at_miss = i;
+    if (!(pairs[i].predicted >= 3e-3)) continue;
+    ++nbig;
+    const double f =
+        fmax(pairs[i].measured / pairs[i].predicted, pairs[i].predicted / pairs[i].measured);
+    if (!(f <= worst)) worst = f, at = i;
+  }
+  printf("model vs FE on %d plans not at rest in the model: the %d predicted >= 3 mm within a "
+         "factor %.3f (worst: %s); |FE - predicted| <= %.2f x the same task's at-rest FE "
+         "residual (worst: %s)\n",
+         npairs, nbig, worst, at >= 0 ? pairs[at].what : "-", worst_miss,
+         at_miss >= 0 ? pairs[at_miss].what : "-");
+  ea_test_true(npairs == 11 && nbig == 8, "model vs FE: 11 plans, 8 predicted >= 3 mm");
+  ea_test_true(worst <= PREDICTION_FACTOR,
+               "model vs FE: predicted >= 3 mm: predicted and measured within the stated factor");
+  ea_test_true(worst_miss <= MISS_FACTOR,
+               "model vs FE: |FE - predicted| within the stated multiple of the at-rest miss");
 }
 
 /* min_vibration on the model (3 s): the FE residual against the f1-weighted surrogate and
@@ -253,5 +448,6 @@ int main(void) {
   test_terminal_state();
   test_other_examples();
   test_min_vibration();
+  test_prediction_factor();
   return ea_test_summary("test_plan_rest");
 }

@@ -3,7 +3,11 @@
  *    bicubic interpolation against direct evaluations at the cell centres (the farthest from
  *    the grid);
  *  - the modal forcing (central differences of FE static states): converged in the step
- *    (halving it moves B and C by little, at the rate of a second-order difference);
+ *    (halving it moves B and C by little, at the rate of a second-order difference), and
+ *    B = Phi^T M du_s/dq, C = Phi^T M d2u_s/dq2 of modes 1..4 against the same computed in
+ *    the test from the public FE API alone (static states at q +- h, q +- 2h differenced with
+ *    Richardson's extrapolation, ea_fe_modes, M from the kinetic energy ea_fe_energy), at two
+ *    configurations and tip masses;
  *  - its static tension against the ODE statics;
  *  - what it predicts for a trajectory (modal states integrated along the plan) against the
  *    nonlinear FE transient: the residual vibration of the minimum-time paper line, the
@@ -19,6 +23,16 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+/* the modal forcing against FE static states differenced in the test (test_forcing_independent):
+ * measured, worst of the two configurations and the components, relative to each mode's largest
+ * entry: B 1.9e-6 (modes 1, 2), 1.0e-5 (3, 4); C 6.0e-6, 9.1e-6 (the reduced model's own
+ * O(h^2) truncation: the test's Richardson correction of its h-difference is 3e-6 / 5e-6);
+ * tolerances 3x */
+#define TOL_B 6e-6
+#define TOL_B34 3e-5
+#define TOL_C 2e-5
+#define TOL_C34 3e-5
 
 static const char *src;
 
@@ -194,6 +208,209 @@ static void test_point_and_table(void) {
   ea_rom_free(r);
 }
 
+/* ---- the modal forcing against FE static states differenced here ------------------------
+ * Everything through the public FE API, nothing of model/fe_rom.c: static states holding the
+ * tip (ea_statics_solve + ea_fe_static_solve) on a 5 x 5 stencil of steps h and 2h, the
+ * derivatives du_s/dq and d2u_s/dq2 by central differences at both steps and Richardson's
+ * extrapolation (4 D_h - D_2h) / 3 (truncation O(h^4)); the modes by ea_fe_modes at the centre
+ * (ea_fe_mode_shape, sign: tip y >= 0, as ea_rom_point with align 0); the mass inner product
+ * from the kinetic energy, a^T M b = (E(u, s (a + b)) - E(u, s (a - b))) / (2 s^2) with
+ * ea_fe_energy at the same positions (the potential cancels). */
+typedef struct fd_model {
+  ea_shooter_t *sh;
+  ea_fe_model_t *m;
+  int nd;
+  double guess[EA_NP];
+  int have_guess;
+} fd_model_t;
+
+static int fd_static(fd_model_t *f, double Lc, double al, double *u) {
+  ea_statics_problem_t pr = ea_statics_problem_cable(Lc, al);
+  ea_statics_solution_t sol;
+  if (ea_statics_solve(f->sh, &pr, NULL, f->have_guess ? f->guess : NULL, &sol, NULL) ||
+      ea_fe_static_solve(f->m, f->sh, &sol, NULL, NULL))
+    return 1;
+  memcpy(f->guess, sol.p, sizeof f->guess);
+  f->have_guess = 1;
+  return ea_fe_get_state(f->m, u, NULL) != EA_OK;
+}
+
+/* a^T M b at the model's current positions u, by polarisation of the kinetic energy */
+static double fd_dotM(fd_model_t *f, const double *u, const double *a, const double *b, double *w) {
+  const double s = 30.0;
+  for (int i = 0; i < f->nd; ++i)
+    w[i] = s * (a[i] + b[i]);
+  ea_fe_set_state(f->m, u, w);
+  const double ep = ea_fe_energy(f->m);
+  for (int i = 0; i < f->nd; ++i)
+    w[i] = s * (a[i] - b[i]);
+  ea_fe_set_state(f->m, u, w);
+  const double em = ea_fe_energy(f->m);
+  ea_fe_set_state(f->m, u, NULL);
+  return (ep - em) / (2 * s * s);
+}
+
+/* B and C of the first K modes at (Lc, al) for tip mass tm; 0 on success. err_rich: the largest
+ * |Richardson - central difference at h| relative to the largest entry, for B and for C (how
+ * far the h-difference alone is from converged). */
+static int fd_forcing(const ea_arm_t *arm, double tm, double Lc, double al, int K, double B[][2],
+                      double C[][3], double err_rich[2]) {
+  fd_model_t f = {0};
+  ea_fe_settings_t fs;
+  ea_fe_settings_default(&fs);
+  fs.static_hold_tip = 1;
+  fs.newton_tol = 1e-13;
+  fs.modes = K;
+  const ea_load_t load = {tm};
+  int rc = 1;
+  double *u[5][5] = {{0}}, *J[2], *H[3], *phi, *w;
+  if (ea_shooter_alloc(arm, NULL, &f.sh, NULL) || ea_fe_model_alloc(arm, &fs, &f.m, NULL))
+    goto done;
+  ea_shooter_set_load(f.sh, &load);
+  ea_fe_model_set_load(f.m, &load);
+  f.nd = 3 * ea_fe_model_nodes(f.m);
+  const size_t nd = (size_t)f.nd;
+  double *buf = calloc(nd * (32 + (size_t)K), sizeof(double));
+  if (!buf) goto done;
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b)
+      u[a][b] = buf + nd * (size_t)(5 * a + b);
+  J[0] = buf + 25 * nd, J[1] = J[0] + nd, H[0] = J[1] + nd, H[1] = H[0] + nd, H[2] = H[1] + nd;
+  phi = H[2] + nd, w = phi + nd;
+  /* steps other than the reduced model's (2 mm, 4 mrad) */
+  const double hL = 2.5e-3, ha = 5e-3;
+  /* u[2 + i][2 + j] at (Lc + i hL, al + j ha); the points needed, from the centre outwards */
+  static const int pts[17][2] = {{0, 0},   {1, 0}, {-1, 0}, {0, 1},  {0, -1}, {2, 0},
+                                 {-2, 0},  {0, 2}, {0, -2}, {1, 1},  {1, -1}, {-1, 1},
+                                 {-1, -1}, {2, 2}, {2, -2}, {-2, 2}, {-2, -2}};
+  for (int k = 1; k <= 17; ++k) { /* the centre last: the model holds its state */
+    const int i = pts[k % 17][0], j = pts[k % 17][1];
+    if (fd_static(&f, Lc + i * hL, al + j * ha, u[2 + i][2 + j])) goto freebuf;
+  }
+  double eB = 0, eC = 0, sB = 0, sC = 0;
+  for (int n = 0; n < f.nd; ++n) {
+    const double c = u[2][2][n];
+    const double dL1 = (u[3][2][n] - u[1][2][n]) / (2 * hL),
+                 dL2 = (u[4][2][n] - u[0][2][n]) / (4 * hL);
+    const double da1 = (u[2][3][n] - u[2][1][n]) / (2 * ha),
+                 da2 = (u[2][4][n] - u[2][0][n]) / (4 * ha);
+    const double LL1 = (u[3][2][n] - 2 * c + u[1][2][n]) / (hL * hL);
+    const double LL2 = (u[4][2][n] - 2 * c + u[0][2][n]) / (4 * hL * hL);
+    const double aa1 = (u[2][3][n] - 2 * c + u[2][1][n]) / (ha * ha);
+    const double aa2 = (u[2][4][n] - 2 * c + u[2][0][n]) / (4 * ha * ha);
+    const double La1 = (u[3][3][n] - u[3][1][n] - u[1][3][n] + u[1][1][n]) / (4 * hL * ha);
+    const double La2 = (u[4][4][n] - u[4][0][n] - u[0][4][n] + u[0][0][n]) / (16 * hL * ha);
+    J[0][n] = (4 * dL1 - dL2) / 3;
+    J[1][n] = (4 * da1 - da2) / 3;
+    H[0][n] = (4 * LL1 - LL2) / 3;
+    H[1][n] = (4 * La1 - La2) / 3;
+    H[2][n] = (4 * aa1 - aa2) / 3;
+    /* kept for the Richardson correction's size, in the mode projections below */
+    u[0][1][n] = dL1, u[0][3][n] = da1, u[1][0][n] = LL1, u[3][0][n] = La1, u[4][1][n] = aa1;
+  }
+  ea_fe_set_state(f.m, u[2][2], NULL);
+  ea_fe_modes_info_t mi;
+  if (ea_fe_modes(f.m, &mi, NULL) || !mi.stable || mi.modes < K) goto freebuf;
+  const double *h1[5] = {u[0][1], u[0][3], u[1][0], u[3][0], u[4][1]};
+  double *shapes = w + nd; /* ea_fe_set_state (in fd_dotM) forgets the modes: copy them first */
+  for (int k = 0; k < K; ++k)
+    if (ea_fe_mode_shape(f.m, k, shapes + nd * (size_t)k)) goto freebuf;
+  for (int k = 0; k < K; ++k) {
+    memcpy(phi, shapes + nd * (size_t)k, sizeof(double) * nd);
+    if (phi[f.nd - 2] < 0) /* the tip's y component >= 0 */
+      for (int n = 0; n < f.nd; ++n)
+        phi[n] = -phi[n];
+    const double nrm = sqrt(fd_dotM(&f, u[2][2], phi, phi, w));
+    for (int n = 0; n < f.nd; ++n)
+      phi[n] /= nrm;
+    double h[5];
+    for (int c = 0; c < 2; ++c)
+      B[k][c] = fd_dotM(&f, u[2][2], phi, J[c], w);
+    for (int c = 0; c < 3; ++c)
+      C[k][c] = fd_dotM(&f, u[2][2], phi, H[c], w);
+    for (int c = 0; c < 5; ++c)
+      h[c] = fd_dotM(&f, u[2][2], phi, h1[c], w);
+    for (int c = 0; c < 2; ++c) {
+      eB = fmax(eB, fabs(h[c] - B[k][c]));
+      sB = fmax(sB, fabs(B[k][c]));
+    }
+    for (int c = 0; c < 3; ++c) {
+      eC = fmax(eC, fabs(h[2 + c] - C[k][c]));
+      sC = fmax(sC, fabs(C[k][c]));
+    }
+  }
+  err_rich[0] = eB / sB;
+  err_rich[1] = eC / sC;
+  rc = 0;
+freebuf:
+  free(buf);
+done:
+  ea_fe_model_free(f.m);
+  ea_shooter_free(f.sh);
+  return rc;
+}
+
+static void test_forcing_independent(void) {
+  ea_arm_t arm;
+  ea_arm_default(&arm);
+  /* the paper line's middle without payload, and the payload-0.5 line's goal (0.5, -0.2) */
+  const double tm[2] = {arm.m_hand, ea_arm_tip_mass(&arm, ea_arm_payload_from_factor(&arm, 0.5))};
+  const double q[2][2] = {{0.45, -0.3}, {0.0, 0.0}};
+  for (int c = 0; c < 2; ++c) {
+    double Lc = q[c][0], al = q[c][1];
+    if (c == 1) { /* the cable length and angle of the tip (0.5, -0.2) */
+      Lc = hypot(0.5 - arm.x_c, -0.2 - arm.y_c);
+      al = atan2(-0.2 - arm.y_c, 0.5 - arm.x_c);
+    }
+    const int K = 4;
+    ea_rom_settings_t s;
+    ea_rom_settings_default(&s);
+    s.modes = K;
+    ea_rom_t *r = NULL;
+    ea_rom_point_t p;
+    double B[4][2], C[4][3], er[2];
+    ea_error_t e;
+    if (ea_rom_alloc(&arm, tm[c], &s, &r, &e) || ea_rom_point(r, Lc, al, 0, &p, &e) ||
+        fd_forcing(&arm, tm[c], Lc, al, K, B, C, er)) {
+      ea_test_true(0, "modal forcing vs FE differences: the FE states");
+      ea_rom_free(r);
+      continue;
+    }
+    ea_rom_free(r);
+    double dB[4] = {0}, dC[4] = {0};
+    for (int k = 0; k < K; ++k) {
+      const double sb = hypot(B[k][0], B[k][1]);
+      const double sc = fmax(fabs(C[k][0]), fmax(fabs(C[k][1]), fabs(C[k][2])));
+      for (int j = 0; j < 2; ++j)
+        dB[k] = fmax(dB[k], fabs(p.B[k][j] - B[k][j]) / sb);
+      for (int j = 0; j < 3; ++j)
+        dC[k] = fmax(dC[k], fabs(p.C[k][j] - C[k][j]) / sc);
+    }
+    printf("modal forcing vs FE static states differenced in the test (tip mass %.3f kg, L_c "
+           "%.4f m, alpha %.4f rad): B %.1e %.1e %.1e %.1e, C %.1e %.1e %.1e %.1e (modes 1..4, "
+           "of each mode's largest entry; Richardson correction B %.1e, C %.1e)\n",
+           tm[c], Lc, al, dB[0], dB[1], dB[2], dB[3], dC[0], dC[1], dC[2], dC[3], er[0], er[1]);
+    if (getenv("EA_ROM_DEBUG"))
+      for (int k = 0; k < K; ++k)
+        printf("  mode %d: B %.9g %.9g / %.9g %.9g, C %.6g %.6g %.6g / %.6g %.6g %.6g\n", k + 1,
+               p.B[k][0], p.B[k][1], B[k][0], B[k][1], p.C[k][0], p.C[k][1], p.C[k][2], C[k][0],
+               C[k][1], C[k][2]);
+    char w[200];
+    snprintf(w, sizeof w, "tip mass %.3f kg: modal forcing B of modes 1, 2 = FE differences (%g)",
+             tm[c], TOL_B);
+    ea_test_true(fmax(dB[0], dB[1]) < TOL_B, w);
+    snprintf(w, sizeof w, "tip mass %.3f kg: modal forcing B of modes 3, 4 = FE differences (%g)",
+             tm[c], TOL_B34);
+    ea_test_true(fmax(dB[2], dB[3]) < TOL_B34, w);
+    snprintf(w, sizeof w, "tip mass %.3f kg: velocity term C of modes 1, 2 = FE differences (%g)",
+             tm[c], TOL_C);
+    ea_test_true(fmax(dC[0], dC[1]) < TOL_C, w);
+    snprintf(w, sizeof w, "tip mass %.3f kg: velocity term C of modes 3, 4 = FE differences (%g)",
+             tm[c], TOL_C34);
+    ea_test_true(fmax(dC[2], dC[3]) < TOL_C34, w);
+  }
+}
+
 /* The model's prediction along a trajectory vs the FE transient. */
 static void compare_with_fe(const char *what, const ea_arm_t *arm, const ea_traj_t *tr,
                             double tol) {
@@ -319,6 +536,7 @@ int main(void) {
     return EXIT_FAILURE;
   }
   test_point_and_table();
+  test_forcing_independent();
   test_cache();
   test_prediction();
   return ea_test_summary("test_rom");
