@@ -52,7 +52,8 @@ for a in "$@"; do
 done
 for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
   "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust" \
-  "$B/tests/test_plan_rest" "$B/tests/test_plan_vib" "$B/tests/test_plan_limits" "$B/tests/test_rom"; do
+  "$B/tests/test_plan_rest" "$B/tests/test_plan_vib" "$B/tests/test_plan_limits" "$B/tests/test_rom" \
+  "$B/tests/test_rom_modes"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
