@@ -618,6 +618,36 @@ pub "tests/test_stream (round trip)" docs/streaming.md '(max errors {} rad of sp
 pub "tests/test_stream (round trip)" docs/streaming.md 'cable, {} rad of shoulder with its estimated accelerations, {} rad' \
   "$(short "$(rt shoulder)")" "$(short "$(rt base)")"
 
+# ---------------------------------------------------------------- FE transient accuracy
+# docs/fe.md: the CLI fast move of tests/test_cli_fe at dt 1 ms and 0.25 ms, both schemes
+# (the test writes its files in its working directory: run it in $R).
+absp() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
+for x in "$B/tests/test_cli_fe"; do
+  [ -x "$x" ] || {
+    echo "regenerate.sh: $x not built" >&2
+    exit 2
+  }
+done
+run test_cli_fe sh -c 'cd "$0" && exec "$@"' "$R" env EA_SOURCE_DIR="$PWD" EA_BINARY="$(absp "$EA")" \
+  "$(absp "$B/tests/test_cli_fe")"
+# default (genalpha 0.9, 1 ms), genalpha 0.7, genalpha 1, energy 1 ms, energy 0.25 ms, genalpha 0.25 ms [m]
+set -- $(awk '/^fast move residual rms \[m\]:/ { for (i = 1; i <= NF; i++) if ($i ~ /^0\.[0-9][0-9][0-9][0-9][0-9][0-9]+,?$/) {
+  v = $i; sub(/,$/, "", v); printf "%s ", v } exit }' "$R/test_cli_fe.out")
+[ $# -eq 6 ] || echo "docs/fe.md: tests/test_cli_fe printed no 'fast move residual rms' line" >>"$FAILS"
+if [ $# -eq 6 ]; then
+  pub "tests/test_cli_fe (fast move, genalpha 1 ms)" docs/fe.md \
+    '- CLI fast move (test_cli_fe, dt = 1 ms): residual rms {} mm (rho_inf 0.7 and 1 agree to' \
+    "$(calc %.4f "$1*1e3")"
+  pub "tests/test_cli_fe (fast move: rho_inf 1 / 0.7 - 1; energy scheme 1 and 0.25 ms; genalpha 0.25 ms)" \
+    docs/fe.md '  {}); energy scheme {} mm at 1 ms and {} mm at 0.25 ms; generalized-alpha at' \
+    "$(sci %.1e "($3>$2)?$3/$2-1:$2/$3-1")" "$(calc %.4f "$4*1e3")" "$(calc %.4f "$5*1e3")"
+  pub "tests/test_cli_fe (fast move: genalpha 0.25 ms; genalpha 1 ms vs 0.25 ms)" docs/fe.md \
+    '  0.25 ms {} mm. At 1 ms both schemes carry the same time-step error: {} (genalpha)' \
+    "$(calc %.4f "$6*1e3")" "$(sci %.1e "($1>$6)?$1/$6-1:1-$1/$6")"
+  pub "tests/test_cli_fe (fast move: energy 1 ms vs 0.25 ms)" docs/fe.md \
+    '  and {} (energy) of the rms from dt 1 ms to 0.25 ms.' "$(sci %.1e "($4>$5)?$4/$5-1:1-$4/$5")"
+fi
+
 # ---------------------------------------------------------------- verdict
 rm -f "$R/rewrite.tmp"
 nfail=$(grep -c . "$FAILS" || true)
