@@ -555,7 +555,7 @@ pub "simulate paper-line.csv (residual_vibration_rms_m)" docs/cli-fe.md \
   'motion) runs in {*} s ({*}x faster than real time); residual vibration rms {} mm, peak' \
   "$(calc %.1f "$rms*1e3")"
 pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, static_offset_start_m)" \
-  docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. Both schemes give' \
+  docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. At the default dt' \
   "$(calc %.1f "$(jnum "$R/simulate.out" residual_vibration_peak_m)*1e3")" "$(calc %.1f "$track*1e3")" \
   "$(calc %.1f "$(jnum "$R/simulate.out" static_offset_start_m)*1e6")"
 
