@@ -18,7 +18,7 @@
 # checked: timings and jitter depend on the machine, so the bench tables'
 # time columns and the times quoted in the text are matched as "any number"
 # ({*} below) or not at all (their outputs stay in out/regen/); bench_stream
-# (jitter only) is not run. About 2 minutes on 2 cores.
+# (jitter only) is not run. About 2.5 minutes on 2 cores.
 #
 # Each check is `pub SOURCE FILE 'TEMPLATE' VALUE...`: TEMPLATE is the
 # published text on one line of FILE, with {} where a checked number stands
@@ -558,7 +558,7 @@ pub "simulate paper-line.csv (residual_vibration_rms_m)" docs/cli-fe.md \
   'motion) runs in {*} s ({*}x faster than real time); residual vibration rms {} mm, peak' \
   "$(calc %.1f "$rms*1e3")"
 pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, static_offset_start_m)" \
-  docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. Both schemes give' \
+  docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. At the default dt' \
   "$(calc %.1f "$(jnum "$R/simulate.out" residual_vibration_peak_m)*1e3")" "$(calc %.1f "$track*1e3")" \
   "$(calc %.1f "$(jnum "$R/simulate.out" static_offset_start_m)*1e6")"
 
@@ -745,6 +745,80 @@ pub "tests/test_rom_modes (K = 1 - K = 2, at rest)" docs/planner.md 'at-rest FE 
   "$(calc %.3f "$(kfe 1 0.00) - $(kfe 2 0.00)")" "$(calc %.3f "$(kfe 1 0.25) - $(kfe 2 0.25)")" \
   "$(calc %.3f "$(kfe 1 0.50) - $(kfe 2 0.50)")"
 # ==== end of the block
+
+# ---------------------------------------------------------------- FE transient accuracy
+# docs/fe.md: the CLI fast move of tests/test_cli_fe at dt 1 ms and 0.25 ms, both schemes
+# (the test writes its files in its working directory: run it in $R).
+absp() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
+[ -x "$B/tests/test_cli_fe" ] || {
+  echo "regenerate.sh: $B/tests/test_cli_fe not built" >&2
+  exit 2
+}
+run test_cli_fe sh -c 'cd "$0" && exec "$@"' "$R" env EA_SOURCE_DIR="$PWD" EA_BINARY="$(absp "$EA")" \
+  "$(absp "$B/tests/test_cli_fe")"
+# default (genalpha 0.9, 1 ms), genalpha 0.7, genalpha 1, energy 1 ms, energy 0.25 ms, genalpha 0.25 ms [m]
+set -- $(awk '/^fast move residual rms \[m\]:/ { for (i = 1; i <= NF; i++) if ($i ~ /^0\.[0-9][0-9][0-9][0-9][0-9][0-9]+,?$/) {
+  v = $i; sub(/,$/, "", v); printf "%s ", v } exit }' "$R/test_cli_fe.out")
+[ $# -eq 6 ] || echo "docs/fe.md: tests/test_cli_fe printed no 'fast move residual rms' line" >>"$FAILS"
+if [ $# -eq 6 ]; then
+  pub "tests/test_cli_fe (fast move, genalpha 1 ms)" docs/fe.md \
+    '- CLI fast move (test_cli_fe, dt = 1 ms): residual rms {} mm (rho_inf 0.7 and 1 agree to' \
+    "$(calc %.4f "$1*1e3")"
+  pub "tests/test_cli_fe (fast move: rho_inf 1 / 0.7 - 1; energy scheme 1 and 0.25 ms; genalpha 0.25 ms)" \
+    docs/fe.md '  {}); energy scheme {} mm at 1 ms and {} mm at 0.25 ms; generalized-alpha at' \
+    "$(sci %.1e "($3>$2)?$3/$2-1:$2/$3-1")" "$(calc %.4f "$4*1e3")" "$(calc %.4f "$5*1e3")"
+  pub "tests/test_cli_fe (fast move: genalpha 0.25 ms; genalpha 1 ms vs 0.25 ms)" docs/fe.md \
+    '  0.25 ms {} mm. At 1 ms both schemes carry the same time-step error: {} (genalpha)' \
+    "$(calc %.4f "$6*1e3")" "$(sci %.1e "($1>$6)?$1/$6-1:1-$1/$6")"
+  pub "tests/test_cli_fe (fast move: energy 1 ms vs 0.25 ms)" docs/fe.md \
+    '  and {} (energy) of the rms from dt 1 ms to 0.25 ms.' "$(sci %.1e "($4>$5)?$4/$5-1:1-$4/$5")"
+fi
+
+# docs/cli-fe.md: the transient's work-precision table (bench/bench_sim, one run, ~30 s):
+# every row's steps, Newton iterations, residual peak and errors (wall time and real-time
+# factor as {*}), and the sentences quoting its errors at the default dt.
+[ -x "$B/bench/bench_sim" ] || {
+  echo "regenerate.sh: $B/bench/bench_sim not built" >&2
+  exit 2
+}
+run bench_sim "$B/bench/bench_sim" 1
+# each row as "TEMPLATE<TAB>VALUES": case, scheme and dt stay literal (a row that did not
+# converge: dt is its one value)
+tab=$(printf '\t')
+awk -F' [|] ' '/^[|] [a-z]/ && $1 != "| case" {
+    sub(/^[|] /, "", $1)
+    if ($4 == "did not converge")
+      printf "| %s | %s | {} | did not converge | | | | | | |\t%s\n", $1, $2, $3
+    else if ($2 == "energy (ref)")
+      printf "| %s | %s | %s | {} | {} | {*} | {*} | {} | | |\t%s %s %s\n", $1, $2, $3, $4, $5, $8
+    else {
+      rest = $10; sub(/^[^|]*/, "", rest); herr = $10; sub(/ [|].*/, "", herr)
+      printf "| %s | %s | %s | {} | {} | {*} | {*} | {} | {} | {} %s\t%s %s %s %s %s\n", $1, $2, $3,
+        rest, $4, $5, $8, $9, herr }
+  }' "$R/bench_sim.out" >"$R/bench_sim.rows"
+[ -s "$R/bench_sim.rows" ] || echo "docs/cli-fe.md: no rows in $R/bench_sim.out" >>"$FAILS"
+while IFS="$tab" read -r t v; do
+  # shellcheck disable=SC2086 # $v: the row's values, split on purpose
+  pub "bench/bench_sim (work-precision; times vary)" docs/cli-fe.md "$t" $v
+done <"$R/bench_sim.rows"
+# bse CASE SCHEME DT: the rel. error column of that row (exponent as published: 7.2e-5)
+bse() { awk -F' [|] ' -v c="$1" -v s="$2" -v d="$3" '$1 == "| " c && $2 == s && $3 == d { print $9; exit }' \
+  "$R/bench_sim.out" | sed 's/e\([-+]\)0*\([0-9]\)/e\1\2/'; }
+# worst SCHEME [EXCLUDED CASE]: the largest rel. error at dt 1 ms over the cases
+worst() { awk -F' [|] ' -v s="$1" -v x="| ${2:-none}" '$2 == s && $3 == "1" && $1 != x && $9 + 0 > m { m = $9 + 0; w = $9 }
+  END { print w }' "$R/bench_sim.out" | sed 's/e\([-+]\)0*\([0-9]\)/e\1\2/'; }
+pub "bench/bench_sim (rel. error at dt 1 ms: worst case, genalpha)" docs/cli-fe.md \
+  '(1 ms) the residual peak is within {} of the dt -> 0 limit with genalpha and within' "$(worst genalpha)"
+pub "bench/bench_sim (rel. error at dt 1 ms: worst case, energy)" docs/cli-fe.md \
+  '{} with the energy scheme on the four cases below (the energy scheme'"'"'s worst case,' "$(worst energy)"
+pub "bench/bench_sim (rel. error at dt 1 ms: energy, the other cases)" docs/cli-fe.md \
+  'polyline-effort, is above 1e-4; on the other three it is within {}).' "$(worst energy polyline-effort)"
+pub "bench/bench_sim (polyline-effort, genalpha at 4, 2, 1 ms)" docs/cli-fe.md \
+  "Errors fall at least at second order down to 1 ms (genalpha's peak error falls {} -> {} -> {} on" \
+  "$(bse polyline-effort genalpha 4)" "$(bse polyline-effort genalpha 2)" "$(bse polyline-effort genalpha 1)"
+pub "bench/bench_sim (polyline-effort, energy at 4, 2, 1 ms)" docs/cli-fe.md \
+  "polyline-effort, the energy scheme's {} -> {} -> {}); below about 2e-5 of the" \
+  "$(bse polyline-effort energy 4)" "$(bse polyline-effort energy 2)" "$(bse polyline-effort energy 1)"
 
 # ---------------------------------------------------------------- verdict
 rm -f "$R/rewrite.tmp"

@@ -1,75 +1,13 @@
 /* Typed reading of YAML documents with positions in every error. */
+#include "ea_util.h"
 #include "yaml_impl.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-/* A short name for what a non-regular file is, for the error message. */
-static const char *ea__file_kind(mode_t m) {
-  if (S_ISDIR(m)) return "a directory";
-  if (S_ISFIFO(m)) return "a FIFO (named pipe)";
-  if (S_ISCHR(m)) return "a character device";
-  if (S_ISBLK(m)) return "a block device";
-  if (S_ISSOCK(m)) return "a socket";
-  return "another kind of file";
-}
-
-/* Read the whole of a regular file into *buf (malloc'd, NUL-terminated).
- * The file is opened without blocking (a FIFO with no writer would block a
- * plain open for reading) and refused unless it is a regular file. */
-static ea_status_t ea__read_regular(const char *path, const char *name, char **buf, size_t *len,
-                                    ea_error_t *err) {
-  *buf = NULL;
-  *len = 0;
-  const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", name, strerror(errno));
-  struct stat sb;
-  if (fstat(fd, &sb) != 0) {
-    const int e = errno;
-    close(fd);
-    return ea_error_set(err, EA_ERR_IO, "%s: cannot stat: %s", name, strerror(e));
-  }
-  if (!S_ISREG(sb.st_mode)) {
-    close(fd);
-    return ea_error_set(err, EA_ERR_IO, "%s: is %s, not a regular file", name,
-                        ea__file_kind(sb.st_mode));
-  }
-  size_t cap = sb.st_size > 0 ? (size_t)sb.st_size + 1 : 4096, n = 0;
-  char *b = malloc(cap);
-  ea_status_t st = b ? EA_OK : ea_error_set(err, EA_ERR_NOMEM, "%s: out of memory", name);
-  while (!st) {
-    if (n + 1 >= cap) { /* the file grew since fstat */
-      char *nb = cap < ((size_t)-1) / 2 ? realloc(b, 2 * cap) : NULL;
-      if (!nb) {
-        st = ea_error_set(err, EA_ERR_NOMEM, "%s: out of memory", name);
-        break;
-      }
-      b = nb;
-      cap *= 2;
-    }
-    const ssize_t r = read(fd, b + n, cap - 1 - n);
-    if (r < 0 && errno == EINTR) continue;
-    if (r < 0) st = ea_error_set(err, EA_ERR_IO, "%s: cannot read: %s", name, strerror(errno));
-    if (r <= 0) break;
-    n += (size_t)r;
-  }
-  close(fd);
-  if (st) {
-    free(b);
-    return st;
-  }
-  b[n] = '\0';
-  *buf = b;
-  *len = n;
-  return EA_OK;
-}
 
 static ea_status_t ea__syntax_error(const ea__ydoc_t *d, const yaml_parser_t *p, ea_error_t *err) {
   return ea_error_set(err, EA_ERR_PARSE, "%s:%lu:%lu: YAML syntax error: %s %s", d->file,
@@ -132,7 +70,7 @@ ea_status_t ea__ydoc_load(ea__ydoc_t *d, const char *path, const char *text, siz
   char *buf = NULL;
   if (!text) {
     if (!path) return ea_error_set(err, EA_ERR_ARG, "YAML load: no path and no text");
-    ea_status_t st = ea__read_regular(path, d->file, &buf, &len, err);
+    ea_status_t st = ea__file_read_regular(path, d->file, &buf, &len, err);
     if (st) return st;
     text = buf;
   }

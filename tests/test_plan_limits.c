@@ -287,14 +287,23 @@ static void test_many_knots(void) {
     ea_test_true(0, e.msg);
     return;
   }
-  t.knots = 2000;
-  double d;
-  ea_chk_t c;
-  if (plan_and_check(&t, "paper line, 2000 knots", &d, &c)) return;
   const double D = hypot(0.6 - 0.098, -0.2 + 0.006) - hypot(0.3 - 0.098, -0.2 + 0.006);
   const double v = t.limits.cable_speed_max, a = t.limits.cable_accel_max;
-  /* measured 3.8e-6 above the closed form at 2000 knots (one-interval ramps) */
-  ea_test_rel(d, D / v + v / a, 1e-5, "paper line, 2000 knots: duration vs closed form D/v + v/a");
+  /* 2000 and 2500 knots (once "infeasible ... Restoration_Failed"; 3000 plans too, in 14 s,
+   * not run here): measured 3.8e-6 / 4.7e-6 above the closed form at 2000 / 2500 knots (no
+   * longer the O(h) gap of the one-interval ramps, which would fall) */
+  const int knots[2] = {2000, 2500};
+  for (int k = 0; k < 2; ++k) {
+    t.knots = knots[k];
+    double d;
+    ea_chk_t c;
+    char what[128];
+    snprintf(what, sizeof what, "paper line, %d knots", knots[k]);
+    if (plan_and_check(&t, what, &d, &c)) continue;
+    snprintf(what, sizeof what, "paper line, %d knots: duration vs closed form D/v + v/a",
+             knots[k]);
+    ea_test_rel(d, D / v + v / a, 1e-5, what);
+  }
 }
 
 static void test_shortfall(void) {

@@ -1204,6 +1204,26 @@ static void test_cli(void) {
                "CLI merge: shards of two specs refused (exit 2, nothing written)");
   rc = sh_run("cd %s && %s study merge m/chk.csv sh1.csv sh2.csv --spec other.yaml 2>&1", dir, bin);
   ea_test_true(rc == 2 && !exists(dir, "m/chk.csv"), "CLI merge --spec of another spec refused");
+  /* a shard that is a FIFO (no writer: a plain open blocks for ever; timeout gives 124) or a
+     directory: refused at once, saying what it is, nothing written */
+  {
+    char fifo[1300], sub[1300];
+    snprintf(fifo, sizeof fifo, "%s/fifo.csv", dir);
+    snprintf(sub, sizeof sub, "%s/shard.d", dir);
+    ea_test_true(mkfifo(fifo, 0600) == 0 && mkdir(sub, 0755) == 0, "mkfifo, mkdir");
+    rc = sh_run("cd %s && timeout 10 %s study merge m/ff.csv sh1.csv fifo.csv 2>&1", dir, bin);
+    printf("  merge of a FIFO shard: exit %d: %s", rc, g_out);
+    ea_test_true(rc == 2 && strstr(g_out, "fifo.csv: is a FIFO (named pipe), not a regular file") &&
+                     !exists(dir, "m/ff.csv"),
+                 "CLI merge: a FIFO shard refused at once (exit 2, named), nothing written");
+    rc = sh_run("cd %s && timeout 10 %s study merge m/dd.csv sh1.csv shard.d 2>&1", dir, bin);
+    printf("  merge of a directory shard: exit %d: %s", rc, g_out);
+    ea_test_true(rc == 2 && strstr(g_out, "shard.d: is a directory, not a regular file") &&
+                     !exists(dir, "m/dd.csv"),
+                 "CLI merge: a directory shard refused (exit 2, named), nothing written");
+    unlink(fifo);
+    rmdir(sub);
+  }
 
   rc = sh_run("cd %s && %s study spec.yaml --workers fibers -o w.csv 2>&1", dir, bin);
   ea_test_true(rc == 2 && strstr(g_out, "--workers: 'fibers' is not auto, threads or processes") &&

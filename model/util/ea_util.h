@@ -1,7 +1,7 @@
 /* Private: the utility layer under model/, problems/ and planner/ (one copy
  * each; not part of the public API, not installed): angles, the monotonic
  * clock, CRC-32, a string buffer, CSV quoting, file name extensions, atomic
- * output files and a JSON writer. Status codes and the error context are
+ * output files, regular input files and a JSON writer. Status codes and the error context are
  * public: ea_status.h. */
 #ifndef EA_UTIL_H
 #define EA_UTIL_H
@@ -106,6 +106,19 @@ void ea_json_null(ea_json_t *j, const char *key);
 void ea_json_vec(ea_json_t *j, const char *key, const double *v, int n);
 /** Finish (newline). */
 void ea_json_end(ea_json_t *j);
+
+/* ------------------------------------------------------------------------ */
+/* Input files (read_file.c)                                                 */
+/* ------------------------------------------------------------------------ */
+
+/** Open path for reading if it is a regular file: the open does not block (a FIFO without
+ *  a writer would) and a directory, FIFO or device is refused with "NAME: is a directory,
+ *  not a regular file" (name NULL: the path). */
+ea_status_t ea__file_open_regular(const char *path, const char *name, FILE **fp, ea_error_t *err);
+/** The whole of the regular file path in *buf (malloc'd, NUL-terminated, *len bytes); the
+ *  same refusals as ea__file_open_regular. */
+ea_status_t ea__file_read_regular(const char *path, const char *name, char **buf, size_t *len,
+                                  ea_error_t *err);
 
 /** Remove the temporaries of path ("<path>.tmp<pid>.*", regular files owned
  *  by this user) whose process no longer runs: what a killed run (kill -9,

@@ -72,37 +72,6 @@ static void ea__study_help(FILE *fp) {
       "not run, 2 usage or input error\n");
 }
 
-static int ea__read_file(const char *path, char **text, size_t *len) {
-  FILE *fp = fopen(path, "rb");
-  *text = NULL;
-  *len = 0;
-  if (!fp) return -1;
-  size_t cap = 1 << 16, n = 0;
-  char *b = malloc(cap);
-  while (b) {
-    size_t r = fread(b + n, 1, cap - n, fp);
-    n += r;
-    if (n < cap) break;
-    char *nb = realloc(b, cap * 2);
-    if (!nb) {
-      free(b);
-      b = NULL;
-      break;
-    }
-    b = nb;
-    cap *= 2;
-  }
-  const int bad = ferror(fp) || !b;
-  fclose(fp);
-  if (bad) {
-    free(b);
-    return -1;
-  }
-  *text = b;
-  *len = n;
-  return 0;
-}
-
 static int ea__write_text(const char *cmd, const char *path, const char *text, size_t len) {
   ea_afile_t f;
   ea_error_t err = {0};
@@ -203,12 +172,14 @@ static int ea__study_merge_cli(int argc, char **argv) {
     free(inputs);
     return EA_EXIT_FAIL;
   }
-  for (int i = 0; i < n && !rc; ++i)
-    if (ea__read_file(inputs[i], &texts[i], &lens[i])) {
-      fprintf(stderr, "elasticarm %s: error: cannot read %s: %s\n", cmd, inputs[i],
-              strerror(errno));
+  for (int i = 0; i < n && !rc; ++i) {
+    /* regular files only: a FIFO shard would block, a directory would not say so */
+    ea_error_t rerr = {0};
+    if (ea__file_read_regular(inputs[i], NULL, &texts[i], &lens[i], &rerr)) {
+      fprintf(stderr, "elasticarm %s: error: cannot read shard %s\n", cmd, rerr.msg);
       rc = EA_EXIT_USAGE;
     }
+  }
   char *merged = NULL;
   size_t mlen = 0;
   ea_error_t err = {0};

@@ -4,12 +4,9 @@
 #include "ea_util.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #define EA__TRAJ_NAME(name, header) header,
 static const char *const ea__traj_names[EA_TRAJ_NCOL] = {EA_TRAJ_COLUMNS(EA__TRAJ_NAME)};
@@ -99,45 +96,12 @@ static ea_status_t ea__meta(ea_traj_t *tr, const char *line, const char *path, l
   return EA_OK;
 }
 
-/* Open path for reading only if it is a regular file: the open does not
- * block (a FIFO without a writer would), and a directory or device is
- * refused with a message naming the path. */
-static ea_status_t ea__open_regular(const char *path, FILE **fp, ea_error_t *err) {
-  const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  struct stat sb;
-  if (fstat(fd, &sb) != 0) {
-    const int e = errno;
-    close(fd);
-    return ea_error_set(err, EA_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
-  }
-  if (!S_ISREG(sb.st_mode)) {
-    close(fd);
-    const mode_t m = sb.st_mode;
-    return ea_error_set(err, EA_ERR_IO, "%s: is %s, not a regular file", path,
-                        S_ISDIR(m)    ? "a directory"
-                        : S_ISFIFO(m) ? "a FIFO (named pipe)"
-                        : S_ISCHR(m)  ? "a character device"
-                        : S_ISBLK(m)  ? "a block device"
-                        : S_ISSOCK(m) ? "a socket"
-                                      : "another kind of file");
-  }
-  const int fl = fcntl(fd, F_GETFL);
-  if (fl >= 0) fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
-  if (!(*fp = fdopen(fd, "r"))) {
-    const int e = errno;
-    close(fd);
-    return ea_error_set(err, EA_ERR_IO, "%s: cannot open: %s", path, strerror(e));
-  }
-  return EA_OK;
-}
-
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
   if (!tr || !path) return ea_error_set(err, EA_ERR_ARG, "ea_traj_read: NULL argument");
   ea_traj_free(tr); /* a reused trajectory: its samples are replaced, not leaked */
   memset(tr, 0, sizeof *tr);
   FILE *fp = NULL;
-  ea_status_t st = ea__open_regular(path, &fp, err);
+  ea_status_t st = ea__file_open_regular(path, NULL, &fp, err);
   if (st) return st;
   char *line = NULL;
   size_t cap = 0;
@@ -258,7 +222,7 @@ ea_status_t ea_traj_read_simple(ea_traj_t *tr, const char *path, ea_error_t *err
   ea_traj_free(tr);
   memset(tr, 0, sizeof *tr);
   FILE *fp = NULL;
-  ea_status_t st = ea__open_regular(path, &fp, err);
+  ea_status_t st = ea__file_open_regular(path, NULL, &fp, err);
   if (st) return st;
   char line[4096];
   long lineno = 0;
@@ -337,7 +301,7 @@ ea_status_t ea_traj_read_simple(ea_traj_t *tr, const char *path, ea_error_t *err
 ea_status_t ea_traj_read_any(ea_traj_t *tr, const char *path, int *simple, ea_error_t *err) {
   if (!tr || !path) return ea_error_set(err, EA_ERR_ARG, "ea_traj_read_any: NULL argument");
   FILE *fp = NULL;
-  ea_status_t st = ea__open_regular(path, &fp, err);
+  ea_status_t st = ea__file_open_regular(path, NULL, &fp, err);
   if (st) return st;
   const int c = fgetc(fp);
   fclose(fp);
