@@ -66,24 +66,24 @@ static void ea__touch(ea_planner_t *pl, Bool new_x) {
 static Bool ea__cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
   ea_planner_t *pl = ud;
   (void)n;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   double v = 0.0;
   for (int i = 0; i < pl->n_terms; ++i)
     v += pl->terms[i].weight * pl->terms[i].value(pl, x);
   *f = v;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return isfinite(v);
 }
 
 static Bool ea__cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud) {
   ea_planner_t *pl = ud;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   memset(g, 0, (size_t)n * sizeof *g);
   for (int i = 0; i < pl->n_terms; ++i)
     pl->terms[i].grad(pl, x, pl->terms[i].weight, g);
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
@@ -91,11 +91,11 @@ static Bool ea__cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDat
   ea_planner_t *pl = ud;
   (void)n;
   (void)m;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   const ea_status_t st = ea__plan_eval_g(pl, x, g);
   if (pl->info) pl->info->evals_g++;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return st == EA_OK;
 }
 
@@ -110,12 +110,12 @@ static Bool ea__cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Inde
     memcpy(jCol, pl->jcol, (size_t)pl->nnz * sizeof *jCol);
     return TRUE;
   }
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   if (ea__plan_shoot_all(pl, x, 1)) return FALSE;
   ea__plan_jac(pl, x, NULL, NULL, values);
   if (pl->info) pl->info->evals_jac++;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
@@ -130,10 +130,10 @@ static Bool ea__cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number 
     memcpy(jCol, pl->hjcol, (size_t)pl->nnz_h * sizeof *jCol);
     return TRUE;
   }
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   const ea_status_t st = ea__plan_hess_values(pl, x, of, lambda, values);
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return st == EA_OK;
 }
 
@@ -144,7 +144,7 @@ static Bool ea__cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Nu
   (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
   (void)alpha_du, (void)alpha_pr, (void)ls;
   pl->iter = iter;
-  return ea__plan_now() - pl->t_start < pl->max_time ? TRUE : FALSE;
+  return ea__mono_s() - pl->t_start < pl->max_time ? TRUE : FALSE;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -906,9 +906,9 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
   double tt = info->time_total_s, worst = -INFINITY;
   char msg[160] = "";
   for (;; ++pass) {
-    const double t0 = ea__plan_now();
+    const double t0 = ea__mono_s();
     const int n = ea__plan_between(pl, pl->x_sol, &worst, msg, sizeof msg);
-    tt += ea__plan_now() - t0;
+    tt += ea__mono_s() - t0;
     if (!(worst > 0.0)) break;
     if (!n || pass == EA__BW_PASSES) {
       pl->have_solution = 0;
@@ -1029,7 +1029,7 @@ static double ea__solve_begin(ea_planner_t *pl, ea_plan_info_t *info) {
   info->n_con = pl->m;
   info->nnz_jac = pl->nnz;
   info->status = EA_ERR_NOCONV;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   pl->t_start = t0;
   pl->max_time = pl->task.solver.max_time_s;
   pl->t_statics = pl->t_callbacks = 0.0;
@@ -1044,7 +1044,7 @@ static ea_status_t ea__solve_abort(ea_planner_t *pl, ea_plan_info_t *info, ea_st
                                    double t0, const ea_error_t *err) {
   info->status = st;
   snprintf(info->message, sizeof info->message, "%s", err ? err->msg : ea_strerror(st));
-  info->time_total_s = ea__plan_now() - t0;
+  info->time_total_s = ea__mono_s() - t0;
   pl->info = NULL;
   return st;
 }
@@ -1129,12 +1129,12 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
                         : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   enum ApplicationReturnStatus rs = Internal_Error;
-  const double ti = ea__plan_now();
+  const double ti = ea__mono_s();
   if (warm && !pl->task.solver.derivative_test && ea__kkt_ok(pl, pl->x)) {
     rs = Solve_Succeeded; /* the start is the solution: no Ipopt iteration */
     for (int i = 0; i < pl->n_terms; ++i)
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
-    pl->t_callbacks = ea__plan_now() - ti; /* not Ipopt's time */
+    pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
   } else {
     for (;;) {
       AddIpoptStrOption(pl->ip, "mu_strategy", mono ? "monotone" : "adaptive");
@@ -1150,7 +1150,7 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
       AddIpoptNumOption(pl->ip, "mu_init", 0.1);
     }
   }
-  *t_ipopt = ea__plan_now() - ti;
+  *t_ipopt = ea__mono_s() - ti;
   return rs;
 }
 
@@ -1241,13 +1241,13 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   if (path_mode) {
     /* the prescribed path in the path coordinate (plan_path.c): its own guess and Ipopt
      * problem; pl->x gets the plan in the knot layout */
-    const double ti = ea__plan_now();
+    const double ti = ea__mono_s();
     st = ea__pp_solve(pl, start, prev, info, &rs, &obj, &iters, err);
-    t_ipopt = ea__plan_now() - ti;
+    t_ipopt = ea__mono_s() - ti;
     if (st) return ea__solve_abort(pl, info, st, t0, err);
   } else {
     st = ea__solve_start_point(pl, start, prev, warm, replan, info, err);
-    info->time_guess_s = ea__plan_now() - t0;
+    info->time_guess_s = ea__mono_s() - t0;
     if (st) return ea__solve_abort(pl, info, st, t0, err);
     char tmpl[64] = "";
     ea__solve_options(pl, warm, replan, tmpl);
@@ -1262,7 +1262,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   }
   ea__solve_outcome(pl, info, rs, obj, iters, path_mode);
   pl->cache_val = pl->cache_sens = 0;
-  info->time_total_s = ea__plan_now() - t0;
+  info->time_total_s = ea__mono_s() - t0;
   info->time_statics_s = pl->t_statics;
   info->time_ipopt_s = t_ipopt - pl->t_callbacks;
   info->time_rest_s =
