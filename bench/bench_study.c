@@ -12,7 +12,6 @@
  *        (default 3)]; bench_study planner [planner-repeats]: the planner rows only */
 #include "ea_planner.h"
 #include "ea_problems.h"
-#include "study_plan_impl.h"
 
 #include <gsl/gsl_errno.h>
 #include <math.h>
@@ -165,17 +164,16 @@ static double children_cpu(void) {
  * worker processes; *csv kept. */
 static double time_plan(const ea_study_t *s, int threads, ea_study_workers_t w, char **csv,
                         double *cpu, int *procs) {
-  ea__study_plan_t *p = NULL;
+  ea_study_planner_t *p = NULL;
   ea_error_t e = {0};
-  if (ea__study_plan_alloc(s, NULL, &p, &e)) {
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  if (ea_study_use_planner(s, NULL, &set, &p, &e)) {
     fprintf(stderr, "bench_study: %s\n", e.msg);
     exit(1);
   }
-  ea_study_settings_t set;
-  ea_study_settings_default(&set);
   set.threads = threads;
   set.workers = w;
-  ea__study_plan_register(p, &set);
   ea_study_info_t info;
   const double c0 = ea_bench_cpu_now() + children_cpu(), t0 = ea_bench_now();
   if (ea_study_run(s, &set, csv, NULL, &info, &e)) {
@@ -185,7 +183,7 @@ static double time_plan(const ea_study_t *s, int threads, ea_study_workers_t w, 
   const double t = ea_bench_now() - t0;
   *cpu = ea_bench_cpu_now() + children_cpu() - c0;
   *procs = info.processes;
-  ea__study_plan_free(p);
+  ea_study_planner_free(p);
   return t;
 }
 

@@ -820,6 +820,68 @@ pub "bench/bench_sim (polyline-effort, energy at 4, 2, 1 ms)" docs/cli-fe.md \
   "polyline-effort, the energy scheme's {} -> {} -> {}); below about 2e-5 of the" \
   "$(bse polyline-effort energy 4)" "$(bse polyline-effort energy 2)" "$(bse polyline-effort energy 1)"
 
+# --- docs/statics.md: the Fig. 3 region's metrics and the reach within the arm's limits;
+# docs/cluster.md: the case counts of the per-case cost table (its times are not checked).
+# Self-contained: runs its own commands (~10 s). `workspace` prints one row per payload
+# factor (gamma area max_reach x_max y_min, 10 digits) and where each extremum lies.
+run workspace-nolimits "$EA" workspace --no-limits
+run workspace-limits "$EA" workspace
+run workspace-72 "$EA" workspace --payload-factors 0 --alpha-min-deg -72 --csv -
+wsrow() { awk -v g="$2" '$1 == g && NF == 5 { print $2, $3, $4, $5; exit }' "$R/$1.out"; }
+# wsat FILE GAMMA METRIC: the cable angle [deg] the extremum lies at, as printed
+wsat() {
+  awk -v g="gamma $2:" -v m="$3" 'index($0, g) == 1 { s = 1 } s && $0 ~ ("^ *(" g " )?" m " at alpha ") {
+    sub(".* " m " at alpha ", ""); print $1; exit }' "$R/$1.out"
+}
+for g in 0 0.1 0.25 0.5; do
+  set -- $(wsrow workspace-nolimits $g)
+  at=$(wsat workspace-nolimits $g x_max)
+  [ "$(wsat workspace-nolimits $g max_reach)" = -60 ] && [ "$(wsat workspace-nolimits $g y_min)" = -60 ] ||
+    echo "docs/statics.md: Fig. 3 (gamma $g): max_reach or y_min no longer at the range start, -60 deg" >>"$FAILS"
+  if [ $g = 0 ]; then
+    pub "workspace --no-limits (gamma 0)" docs/statics.md '| 0 | {} | {} | {} (alpha {} deg) | {} |' \
+      "$1" "$2" "$3" "$at" "$4"
+  else
+    pub "workspace --no-limits (gamma $g)" docs/statics.md "| $g | {} | {} | {} ({} deg) | {} |" \
+      "$1" "$2" "$3" "$at" "$4"
+  fi
+done
+for g in 0 0.1; do
+  [ "$(wsrow workspace-limits $g)" = "$(wsrow workspace-nolimits $g)" ] ||
+    echo "docs/statics.md: within the arm's limits gamma $g is no longer the Fig. 3 region" >>"$FAILS"
+done
+set -- $(wsrow workspace-limits 0.25) $(wsrow workspace-limits 0.5)
+pub "workspace (area, gamma 0.25 and 0.5)" docs/statics.md 'area {} m^2 (gamma 0.25) and {} m^2 (gamma 0.5), reach' \
+  "$1" "$5"
+pub "workspace (max_reach, gamma 0.5)" docs/statics.md '{} m for gamma 0.5 (on the torque limit); gamma 0 and 0.1 are' \
+  "$6"
+grep -q '^gamma 0.5: max_reach at alpha .*, shoulder torque limit' "$R/workspace-limits.out" ||
+  echo "docs/statics.md: gamma 0.5's reach within the limits is no longer on the torque limit" >>"$FAILS"
+th72=$(awk -F, '$2 == "outer" { print $8; exit }' "$R/workspace-72.out")
+pub "workspace --payload-factors 0 --alpha-min-deg -72 --csv (first outer point, theta0_rad)" docs/statics.md \
+  '{} rad, below the -30 deg limit (the first outer point of' "$(calc %.4f "$th72")"
+tq=$(awk '$1 == "torque_max_Nm:" { print $2 + 0; exit }' data/elasticarm.yaml)
+pub "data/elasticarm.yaml (actuators: shoulder torque_max_Nm)" docs/statics.md \
+  '(`elasticarm workspace`) the shoulder torque limit ({} N m, an assumed value' "$tq"
+run case-costs env EA="$EA" sh docs/cluster/case-costs.sh
+awk -F' [|] ' 'index($0, "| `") == 1 { sub(/^[|] /, "", $1); print $1 "\034" $2 "\034" $3 }' \
+  "$R/case-costs.out" >"$R/case-costs.rows"
+[ "$(wc -l <"$R/case-costs.rows")" -eq 5 ] ||
+  echo "docs/cluster.md: docs/cluster/case-costs.sh printed $(wc -l <"$R/case-costs.rows") metric rows, not 5" >>"$FAILS"
+while IFS=$(printf '\034') read -r label cases failed; do
+  pub "docs/cluster/case-costs.sh (cases, failed; times not checked)" docs/cluster.md \
+    "  | $label | {} | {} | {*} ms |" "$cases" "$failed"
+done <"$R/case-costs.rows"
+# .ci/Containerfile runs the README's two "Set up and run" commands, verbatim.
+awk '/^## Set up and run/ { s = 1 } s && /^sh \.ci\/install-deps && / { print } /^## Install|^## The C API/ { s = 0 }' \
+  README.md >"$R/readme-setup.txt"
+[ "$(wc -l <"$R/readme-setup.txt")" -eq 2 ] ||
+  echo "README.md: 'Set up and run' no longer holds two 'sh .ci/install-deps && ...' commands" >>"$FAILS"
+while IFS= read -r c; do
+  grep -qF -- "$c" .ci/Containerfile ||
+    echo ".ci/Containerfile: does not run the README's command '$c'" >>"$FAILS"
+done <"$R/readme-setup.txt"
+
 # ---------------------------------------------------------------- verdict
 rm -f "$R/rewrite.tmp"
 nfail=$(grep -c . "$FAILS" || true)

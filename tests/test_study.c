@@ -11,7 +11,6 @@
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_test.h"
-#include "study_plan_impl.h"
 #include "study_report_impl.h"
 
 #include <errno.h>
@@ -782,17 +781,16 @@ static void test_resume(void) {
 /* ---- the planner metric ------------------------------------------------------------ */
 
 static char *run_plan_w(const ea_study_t *s, int threads, ea_study_workers_t workers) {
-  ea__study_plan_t *plan = NULL;
+  ea_study_planner_t *plan = NULL;
   ea_error_t e = {0};
-  if (ea__study_plan_alloc(s, NULL, &plan, &e)) {
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  if (ea_study_use_planner(s, NULL, &set, &plan, &e)) {
     printf("  plan: %s\n", e.msg);
     return NULL;
   }
-  ea_study_settings_t set;
-  ea_study_settings_default(&set);
   set.threads = threads;
   set.workers = workers;
-  ea__study_plan_register(plan, &set);
   char *c = NULL;
   ea_study_info_t info;
   ea_study_run(s, &set, &c, NULL, &info, &e);
@@ -803,8 +801,70 @@ static char *run_plan_w(const ea_study_t *s, int threads, ea_study_workers_t wor
     free(c);
     c = NULL;
   }
-  ea__study_plan_free(plan);
+  ea_study_planner_free(plan);
   return c;
+}
+
+/* A C caller of the public API alone (ea_study.h, ea_planner.h): ea_study_run without the
+ * planner reports min_time as not implemented; after ea_study_use_planner it reports the
+ * duration of an independent cold plan of the case's task, and the task's content key is
+ * part of the study key. */
+static void test_public_planner(void) {
+  char text[1400], task_path[1100];
+  snprintf(task_path, sizeof task_path, "%s/problems/examples/paper-line.yaml", g_src);
+  snprintf(text, sizeof text, "grid: {payload_factor: [0.25]}\nmetrics: {min_time: {task: %s}}\n",
+           task_path);
+  ea_study_t s;
+  ea_error_t e = {0};
+  if (ea_study_load_string("pub.yaml", text, strlen(text), NULL, &s, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  set.threads = 1;
+  char key0[9], key1[9], st0[32] = "", st1[32] = "";
+  ea_study_key(&s, &set, key0);
+  char *c0 = NULL, *c1 = NULL;
+  ea_study_info_t info;
+  ea_study_run(&s, &set, &c0, NULL, &info, &e);
+  if (c0) metric(c0, 0, "min_time_duration", st0);
+  ea_test_true(c0 && !strcmp(st0, "EA_ERR_NOTIMPL"),
+               "public API: min_time without ea_study_use_planner is EA_ERR_NOTIMPL");
+  ea_study_planner_t *pl = NULL;
+  const ea_status_t ust = ea_study_use_planner(&s, NULL, &set, &pl, &e);
+  ea_test_true(!ust && pl && set.min_time && set.min_time_key && !set.at_rest,
+               "ea_study_use_planner: the min_time callback and its task's key registered");
+  ea_study_key(&s, &set, key1);
+  ea_test_true(strcmp(key0, key1) != 0, "the min_time task's content key is in the study key");
+  double d = NAN;
+  if (!ust && !ea_study_run(&s, &set, &c1, NULL, &info, &e))
+    d = metric(c1, 0, "min_time_duration", st1);
+  ea_study_planner_free(pl);
+  /* the same plan outside the study: the task with the case's beam, cable root and payload,
+   * from cold */
+  ea_arm_t arm;
+  double kg = NAN, g = NAN, dref = NAN;
+  ea_task_t t;
+  ea_planner_t *p = NULL;
+  ea_plan_info_t pi;
+  if (!ea_study_case_arm(&s, 0, &arm, &kg, &g, &e) && !ea_task_load(task_path, NULL, &t, &e)) {
+    t.arm.rho = arm.rho, t.arm.m_hand = arm.m_hand, t.arm.length = arm.length;
+    t.arm.EI = arm.EI, t.arm.x_c = arm.x_c, t.arm.y_c = arm.y_c;
+    t.payload_kg = kg;
+    t.payload_factor = g;
+    if (!ea_task_check(&t, &e) && !ea_planner_alloc(&t, &p, &e) &&
+        !ea_planner_solve(p, EA_PLAN_COLD, NULL, &pi, &e))
+      dref = pi.duration_s;
+  }
+  ea_planner_free(p);
+  printf("  public API: min_time %.9f s (%s), an independent cold plan %.9f s\n", d, st1, dref);
+  ea_test_true(!strcmp(st1, "ok") && isfinite(d) && fabs(d - dref) <= 1e-9 * dref,
+               "public API: min_time through ea_study_use_planner is the duration of the "
+               "case's cold plan");
+  free(c0);
+  free(c1);
+  ea_study_free(&s);
 }
 
 static char *run_plan(const ea_study_t *s, int threads) {
@@ -1315,6 +1375,7 @@ int main(void) {
   test_threads_shards();
   test_failed_case();
   test_resume();
+  test_public_planner();
   test_min_time();
   test_workers();
   test_cli();

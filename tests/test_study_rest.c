@@ -13,7 +13,6 @@
 #include "ea_problems.h"
 #include "ea_simulate.h"
 #include "ea_test.h"
-#include "study_plan_impl.h"
 #include "study_report_impl.h"
 
 #include <gsl/gsl_errno.h>
@@ -39,19 +38,18 @@ static double metric(const char *csv, long case_id, const char *name, char *stat
 }
 
 static char *run(const ea_study_t *s, int threads, ea_study_info_t *info) {
-  ea__study_plan_t *plan = NULL;
+  ea_study_planner_t *plan = NULL;
   ea_error_t e = {0};
-  if (ea__study_plan_alloc(s, NULL, &plan, &e)) {
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  if (ea_study_use_planner(s, NULL, &set, &plan, &e)) {
     printf("  plan: %s\n", e.msg);
     return NULL;
   }
-  ea_study_settings_t set;
-  ea_study_settings_default(&set);
   set.threads = threads;
-  ea__study_plan_register(plan, &set);
   char *c = NULL;
   if (ea_study_run(s, &set, &c, NULL, info, &e)) printf("  run: %s\n", e.msg);
-  ea__study_plan_free(plan);
+  ea_study_planner_free(plan);
   return c;
 }
 
@@ -209,13 +207,16 @@ static void test_tasks(void) {
     ea_test_true(0, e.msg);
     return;
   }
-  ea__study_plan_t *p = NULL;
-  const ea_status_t pst = ea__study_plan_alloc(&s, NULL, &p, &e);
+  ea_study_planner_t *p = NULL;
+  ea_study_settings_t set;
+  ea_study_settings_default(&set);
+  const ea_status_t pst = ea_study_use_planner(&s, NULL, &set, &p, &e);
   printf("  %s\n", e.msg);
   ea_test_true(pst == EA_ERR_INPUT && strstr(e.msg, "at_rest task") &&
                    strstr(e.msg, "polyline-effort.yaml") && strstr(e.msg, "not min_time"),
                "at_rest task of another objective refused, naming the task");
-  ea__study_plan_free(p);
+  ea_test_true(!p && !set.min_time && !set.at_rest, "refused: no planner, no callbacks");
+  ea_study_planner_free(p);
   ea_study_free(&s);
 }
 

@@ -5,11 +5,12 @@
 #
 #   [THREADS=T] [JOBS=J] [SSHLOGINFILE=hosts.txt] sh docs/cluster/study-parallel.sh SPEC.yaml N
 #
-# J shards run at once per machine (default: cores / T), each with T threads
-# (default 1: right for studies with min_time). A shard's journal lets the
-# same command, rerun after an interruption, resume.
+# J shards run at once per machine (default: cores / T), each with T workers
+# (default 1; threads, or forked processes for min_time and at_rest: every
+# study scales with T). A shard's journal lets the same command, rerun after
+# an interruption, resume.
 set -eu
-[ $# -eq 2 ] || { sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -eq 2 ] || { sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 spec=$1
 n=$2
 EA=${EA:-elasticarm}

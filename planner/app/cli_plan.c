@@ -203,86 +203,88 @@ static void ea__plan_verify_text(const ea_plan_verify_t *v) {
       si->tension_min > 0 ? "" : ": the cable went slack");
 }
 
-int ea__cli_plan(int argc, char **argv) {
-  const char *cmd = "plan";
-  const char *task_path = NULL, *out = NULL, *summary = NULL, *figure = NULL;
-  int json = 0, quiet = 0, dtest = 0, refine = 0, shape = 0, verify = 0;
-  long knots = 0, plevel = -1;
+/* The command line of `elasticarm plan` and the outputs it resolves to. */
+typedef struct {
+  const char *task_path, *out, *summary, *figure;
+  int json, quiet, dtest, refine, shape, verify;
+  long knots, plevel;
+  char out_buf[1024], sum_buf[1024], fig_buf[1024];
+} ea__plan_opts_t;
+
+/* Parse the options into o. Returns -1 to go on, else the exit code (0 after --help). */
+static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_t *o) {
+  memset(o, 0, sizeof *o);
+  o->plevel = -1;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__plan_help(stdout);
       return EA_EXIT_OK;
     } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-      if (!(out = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->out = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--summary")) {
-      if (!(summary = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->summary = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--figure")) {
-      if (!(figure = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->figure = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--json")) {
-      json = 1;
+      o->json = 1;
     } else if (!strcmp(a, "--quiet")) {
-      quiet = 1;
+      o->quiet = 1;
     } else if (!strcmp(a, "--derivative-test")) {
-      dtest = 1;
+      o->dtest = 1;
     } else if (!strcmp(a, "--refine")) {
-      refine = 1;
+      o->refine = 1;
     } else if (!strcmp(a, "--verify")) {
-      verify = 1;
+      o->verify = 1;
     } else if (!strcmp(a, "--shape")) {
       const char *v = ea__cli_value(cmd, argc, argv, &i);
       if (!v) return EA_EXIT_USAGE;
       if (strcmp(v, "zv"))
         return ea__cli_usage_error(cmd, "--shape: '%s' is not a shaper (known: zv)", v);
-      shape = 1;
+      o->shape = 1;
     } else if (!strcmp(a, "--knots")) {
       const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 3, 4000, &knots)) return EA_EXIT_USAGE;
+      if (!v || ea__cli_int(cmd, a, v, 3, 4000, &o->knots)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--print-level")) {
       const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 0, 12, &plevel)) return EA_EXIT_USAGE;
+      if (!v || ea__cli_int(cmd, a, v, 0, 12, &o->plevel)) return EA_EXIT_USAGE;
     } else if (a[0] == '-' && a[1]) {
       return ea__cli_usage_error(cmd, "unknown option '%s' (see elasticarm plan --help)", a);
-    } else if (!task_path) {
-      task_path = a;
+    } else if (!o->task_path) {
+      o->task_path = a;
     } else {
       return ea__cli_usage_error(cmd, "more than one task file ('%s')", a);
     }
   }
-  if (!task_path) return ea__cli_usage_error(cmd, "no task file (see elasticarm plan --help)");
+  if (!o->task_path) return ea__cli_usage_error(cmd, "no task file (see elasticarm plan --help)");
+  return -1;
+}
 
-  ea_task_t task;
-  ea_error_t err = {0};
-  ea_status_t st = ea_task_load(task_path, ea__cli_default_arm(), &task, &err);
-  if (st == EA_ERR_INFEASIBLE) {
-    fprintf(stderr, "elasticarm plan: infeasible task: %s\n", err.msg);
-    return EA_EXIT_FAIL;
-  }
-  if (st) return ea__cli_fail(cmd, st, &err);
-  if (knots) task.knots = (int)knots;
-  if (dtest) task.solver.derivative_test = 1;
-  if (refine) task.dynamics.refine.enabled = 1;
-  if (plevel >= 0) task.solver.print_level = (int)plevel;
-  if ((st = ea_task_check(&task, &err))) return ea__cli_fail(cmd, st, &err);
-
-  char out_buf[1024], sum_buf[1024], fig_buf[1024];
-  if (!out) out = ea_task_output_path(&task, task.out_trajectory, out_buf, sizeof out_buf);
-  if (!out) {
+/* The trajectory, summary and figure paths (options, else the task's outputs, else NAME.csv
+ * and its .json), checked before the work. 0 or the exit code. */
+static int ea__plan_outputs(const char *cmd, const ea_task_t *task, ea__plan_opts_t *o) {
+  if (!o->out)
+    o->out = ea_task_output_path(task, task->out_trajectory, o->out_buf, sizeof o->out_buf);
+  if (!o->out) {
     /* The name is free text: never a path (no folders, no hidden file). */
     char safe[128];
-    ea__cli_safe_name(task.name, "plan", safe, sizeof safe);
-    snprintf(out_buf, sizeof out_buf, "%s.csv", safe);
-    out = out_buf;
+    ea__cli_safe_name(task->name, "plan", safe, sizeof safe);
+    snprintf(o->out_buf, sizeof o->out_buf, "%s.csv", safe);
+    o->out = o->out_buf;
   }
-  if (!summary) summary = ea_task_output_path(&task, task.out_summary, sum_buf, sizeof sum_buf);
-  if (!summary && strcmp(out, "-")) {
-    ea__replace_ext(out, ".json", sum_buf, sizeof sum_buf);
-    summary = sum_buf;
+  const char *out = o->out;
+  if (!o->summary)
+    o->summary = ea_task_output_path(task, task->out_summary, o->sum_buf, sizeof o->sum_buf);
+  if (!o->summary && strcmp(out, "-")) {
+    ea__replace_ext(out, ".json", o->sum_buf, sizeof o->sum_buf);
+    o->summary = o->sum_buf;
   }
-  if (!figure) figure = ea_task_output_path(&task, task.out_figure, fig_buf, sizeof fig_buf);
+  if (!o->figure)
+    o->figure = ea_task_output_path(task, task->out_figure, o->fig_buf, sizeof o->fig_buf);
+  const char *summary = o->summary, *figure = o->figure;
   if (summary && !strcmp(summary, "-"))
     return ea__cli_usage_error(cmd, "--summary -: use --json for the summary on stdout");
-  if (json && !strcmp(out, "-"))
+  if (o->json && !strcmp(out, "-"))
     return ea__cli_usage_error(cmd, "--json and -o - both want stdout");
   if ((summary && !strcmp(summary, out)) ||
       (figure && (!strcmp(figure, out) || (summary && !strcmp(figure, summary)))))
@@ -294,141 +296,199 @@ int ea__cli_plan(int argc, char **argv) {
   int rc = ea__cli_check_output(cmd, out);
   if (!rc && summary) rc = ea__cli_check_output(cmd, summary);
   if (!rc && figure) rc = ea__cli_check_figure(cmd, figure);
-  if (rc) return rc;
+  return rc;
+}
 
-  ea_planner_t *pl = NULL;
-  if ((st = ea_planner_alloc(&task, &pl, &err))) return ea__cli_fail(cmd, st, &err);
+/* A plan run: the planner, the written plan's info and what its summary adds. */
+typedef struct {
+  ea_planner_t *pl;
   ea_plan_info_t info;
-  st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &err);
-  ea_refine_info_t *ref = NULL;
-  if (!st && task.dynamics.refine.enabled) {
-    /* The summary describes the written (refined) plan; iterations and solve times stay
-     * those of the at-rest plan, the refinement's are in its own object. */
-    if (!quiet && !json && strcmp(out, "-")) printf("%s\n", info.message);
-    ref = calloc(1, sizeof *ref);
-    ea_plan_info_t rinfo;
-    const ea_status_t rst = ref ? ea_plan_refine(pl, NULL, &rinfo, ref, &err) : EA_ERR_NOMEM;
-    if (rst) {
-      st = info.status = rst;
-      snprintf(info.message, sizeof info.message, "refinement failed: %.480s",
-               ref ? ref->message : "out of memory");
-    } else {
-      const ea_plan_info_t cold = info;
-      info = rinfo;
-      info.iterations = cold.iterations;
-      info.time_total_s = cold.time_total_s;
-      info.time_guess_s = cold.time_guess_s;
-      info.time_statics_s = cold.time_statics_s;
-      info.time_ipopt_s = cold.time_ipopt_s;
-      info.time_rest_s = cold.time_rest_s;
-      info.between_passes = cold.between_passes;
-    }
+  ea_refine_info_t *ref;
+  ea_shape_info_t *shp;
+  ea_plan_verify_t *ver;
+} ea__plan_run_t;
+
+static void ea__plan_run_free(ea__plan_run_t *r) {
+  free(r->ref);
+  free(r->shp);
+  free(r->ver);
+  ea_planner_free(r->pl);
+}
+
+/* --refine (or the task's dynamics.refine): the refinement of the converged plan. The
+ * summary describes the written (refined) plan; iterations and solve times stay those of
+ * the at-rest plan, the refinement's are in its own object. */
+static ea_status_t ea__plan_refine_cli(const ea__plan_opts_t *o, ea__plan_run_t *r,
+                                       ea_error_t *err) {
+  ea_plan_info_t *info = &r->info;
+  if (!o->quiet && !o->json && strcmp(o->out, "-")) printf("%s\n", info->message);
+  r->ref = calloc(1, sizeof *r->ref);
+  ea_plan_info_t rinfo;
+  const ea_status_t rst = r->ref ? ea_plan_refine(r->pl, NULL, &rinfo, r->ref, err) : EA_ERR_NOMEM;
+  if (rst) {
+    info->status = rst;
+    snprintf(info->message, sizeof info->message, "refinement failed: %.480s",
+             r->ref ? r->ref->message : "out of memory");
+    return rst;
   }
-  /* The trajectory to write: the plan's, shaped with --shape; --verify simulates it. */
-  ea_traj_t tr = {0};
-  ea_shape_info_t *shp = shape ? calloc(1, sizeof *shp) : NULL;
-  ea_plan_verify_t *ver = NULL;
-  ea_error_t werr = {0};
-  ea_status_t wst = EA_OK;
-  if (shape && !shp) wst = ea_error_set(&werr, EA_ERR_NOMEM, "out of memory");
-  if (!st && !wst) wst = ea_planner_trajectory(pl, &tr, &werr);
-  if (!st && !wst && shape) st = ea__plan_shape(&task, &tr, &info, shp);
-  if (!st && !wst && verify) {
-    if ((ver = calloc(1, sizeof *ver)))
-      ea__plan_verify(pl, &task, &tr, &info, shape, ver);
+  const ea_plan_info_t cold = *info;
+  *info = rinfo;
+  info->iterations = cold.iterations;
+  info->time_total_s = cold.time_total_s;
+  info->time_guess_s = cold.time_guess_s;
+  info->time_statics_s = cold.time_statics_s;
+  info->time_ipopt_s = cold.time_ipopt_s;
+  info->time_rest_s = cold.time_rest_s;
+  info->between_passes = cold.between_passes;
+  return EA_OK;
+}
+
+/* A failed plan (st) or unwritten outputs (wst, werr): no trajectory or figure of an
+ * earlier run stays beside the failure summary, which is written (and printed with
+ * --json). Returns the exit code. */
+static int ea__plan_failed(const ea__plan_opts_t *o, ea__plan_run_t *r, ea_status_t st,
+                           ea_status_t wst, const ea_error_t *werr) {
+  ea_plan_info_t *info = &r->info;
+  ea__remove_stale(o->out);
+  ea__remove_stale(o->figure);
+  if (wst) {
+    info->status = wst;
+    char why[sizeof info->message];
+    snprintf(why, sizeof why, "%s", werr->msg);
+    snprintf(info->message, sizeof info->message,
+             "the plan converged but its outputs could not be written: %.400s", why);
+    fprintf(stderr, "elasticarm plan: error: %s\n", werr->msg);
+  } else {
+    fprintf(stderr, "elasticarm plan: %s: %s\n", st == EA_ERR_INFEASIBLE ? "infeasible" : "failed",
+            info->message);
+  }
+  if (info->deriv_errors >= 0)
+    fprintf(stderr, "elasticarm plan: derivative checker: %d error(s)\n", info->deriv_errors);
+  int wrote = 0;
+  if (o->summary) {
+    ea_error_t e2 = {0};
+    if (ea_plan_summary_write_ex(r->pl, info, r->ref, r->shp && r->shp->status ? r->shp : NULL,
+                                 NULL, o->summary, &e2))
+      fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
     else
-      wst = ea_error_set(&werr, EA_ERR_NOMEM, "out of memory");
+      wrote = 1;
   }
-  const ea__plan_extra_t extra = {ref, shp, ver};
-  if (!st && !wst) wst = ea__plan_write(pl, &tr, &info, &extra, out, summary, &werr);
-  ea_traj_free(&tr);
-  if (st || wst) {
-    /* Failed: no trajectory or figure of an earlier run stays beside the
-     * failure summary. */
-    ea__remove_stale(out);
-    ea__remove_stale(figure);
-    if (wst) {
-      info.status = wst;
-      char why[sizeof info.message];
-      snprintf(why, sizeof why, "%s", werr.msg);
-      snprintf(info.message, sizeof info.message,
-               "the plan converged but its outputs could not be written: %.400s", why);
-      fprintf(stderr, "elasticarm plan: error: %s\n", werr.msg);
-    } else {
-      fprintf(stderr, "elasticarm plan: %s: %s\n",
-              st == EA_ERR_INFEASIBLE ? "infeasible" : "failed", info.message);
-    }
-    if (info.deriv_errors >= 0)
-      fprintf(stderr, "elasticarm plan: derivative checker: %d error(s)\n", info.deriv_errors);
-    int wrote = 0;
-    if (summary) {
-      ea_error_t e2 = {0};
-      if (ea_plan_summary_write_ex(pl, &info, ref, shp && shp->status ? shp : NULL, NULL, summary,
-                                   &e2))
-        fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
-      else
-        wrote = 1;
-    }
-    if (json && wrote) ea__cat(summary);
-    free(ref);
-    free(shp);
-    free(ver);
-    ea_planner_free(pl);
-    return EA_EXIT_FAIL;
-  }
-  if (figure && shape) {
-    /* the figure of what was written: the shaped trajectory */
+  if (o->json && wrote) ea__cat(o->summary);
+  return EA_EXIT_FAIL;
+}
+
+/* The figure of what was written: the shaped trajectory (read back), else the plan's.
+ * 0 or EA_EXIT_FAIL. */
+static int ea__plan_figure_cli(const ea__plan_opts_t *o, const ea_task_t *task,
+                               const ea__plan_run_t *r) {
+  ea_error_t err = {0};
+  ea_status_t st = EA_OK;
+  if (o->shape) {
     ea_traj_t ft = {0};
     ea_shooter_t *sh = NULL;
-    st = ea_traj_read(&ft, out, &err);
-    if (!st) st = ea_shooter_alloc(&task.arm, NULL, &sh, &err);
+    st = ea_traj_read(&ft, o->out, &err);
+    if (!st) st = ea_shooter_alloc(&task->arm, NULL, &sh, &err);
     if (!st) {
-      const ea_load_t load = {ea_arm_tip_mass(&task.arm, task.payload_kg)};
+      const ea_load_t load = {ea_arm_tip_mass(&task->arm, task->payload_kg)};
       ea_shooter_set_load(sh, &load);
       char title[700];
-      snprintf(title, sizeof title, "%s, ZV-shaped (tip mass %.3g kg)", task.name, load.tip_mass);
-      ea_traj_figure_opts_t o;
-      ea_traj_figure_opts_default(&o, &task.arm);
-      o.title = title;
-      ea_traj_figure_opts_limits(&o, &task.limits); /* which the shaping held */
-      st = ea_traj_figure(&ft, sh, &o, figure, &err);
+      snprintf(title, sizeof title, "%s, ZV-shaped (tip mass %.3g kg)", task->name, load.tip_mass);
+      ea_traj_figure_opts_t fo;
+      ea_traj_figure_opts_default(&fo, &task->arm);
+      fo.title = title;
+      ea_traj_figure_opts_limits(&fo, &task->limits); /* which the shaping held */
+      st = ea_traj_figure(&ft, sh, &fo, o->figure, &err);
     }
     ea_shooter_free(sh);
     ea_traj_free(&ft);
-    if (st) {
-      fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
-      rc = EA_EXIT_FAIL;
-    }
-  } else if (figure && (st = ea_plan_figure(pl, &info, figure, &err))) {
-    fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
-    rc = EA_EXIT_FAIL;
+  } else {
+    st = ea_plan_figure(r->pl, &r->info, o->figure, &err);
   }
-  if (json && summary) {
+  if (!st) return 0;
+  fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
+  return EA_EXIT_FAIL;
+}
+
+/* What a written plan reports: the summary (--json) or the progress lines; a failed
+ * --verify transient and an unconverged refinement on stderr. Returns rc, or EA_EXIT_FAIL
+ * when --verify failed. */
+static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, int rc) {
+  const ea_plan_info_t *info = &r->info;
+  const char *out = o->out, *summary = o->summary, *figure = o->figure;
+  if (o->json && summary) {
     ea__cat(summary);
-  } else if (!quiet && strcmp(out, "-")) {
-    printf("%s\n", ref ? ref->message : info.message);
+  } else if (!o->quiet && strcmp(out, "-")) {
+    printf("%s\n", r->ref ? r->ref->message : info->message);
     printf("wrote %s%s%s%s%s\n", out, summary ? ", " : "", summary ? summary : "",
            figure && !rc ? ", " : "", figure && !rc ? figure : "");
     printf("time: %.2f ms total (guess %.2f, statics Jacobians %.2f, Ipopt %.2f, rest %.2f); "
            "%d variables, %d constraints\n",
-           1e3 * info.time_total_s, 1e3 * info.time_guess_s, 1e3 * info.time_statics_s,
-           1e3 * info.time_ipopt_s, 1e3 * info.time_rest_s, info.n_var, info.n_con);
-    if (info.deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info.deriv_errors);
-    if (ver) ea__plan_verify_text(ver);
+           1e3 * info->time_total_s, 1e3 * info->time_guess_s, 1e3 * info->time_statics_s,
+           1e3 * info->time_ipopt_s, 1e3 * info->time_rest_s, info->n_var, info->n_con);
+    if (info->deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info->deriv_errors);
+    if (r->ver) ea__plan_verify_text(r->ver);
   }
-  if (ver && ver->status) {
+  if (r->ver && r->ver->status) {
     fprintf(stderr, "elasticarm plan: error: --verify: the FE transient of %s failed: %s\n", out,
-            ver->message);
+            r->ver->message);
     rc = EA_EXIT_FAIL;
   }
-  if (ref && !ref->converged)
+  if (r->ref && !r->ref->converged)
     fprintf(stderr,
             "elasticarm plan: warning: the refinement did not reach its tolerance (%s); the "
             "written plan is the best one evaluated\n",
-            ref->stop_reason);
-  free(ref);
-  free(shp);
-  free(ver);
-  ea_planner_free(pl);
+            r->ref->stop_reason);
+  return rc;
+}
+
+int ea__cli_plan(int argc, char **argv) {
+  const char *cmd = "plan";
+  ea__plan_opts_t o;
+  int rc = ea__plan_parse(cmd, argc, argv, &o);
+  if (rc >= 0) return rc;
+
+  ea_task_t task;
+  ea_error_t err = {0};
+  ea_status_t st = ea_task_load(o.task_path, ea__cli_default_arm(), &task, &err);
+  if (st == EA_ERR_INFEASIBLE) {
+    fprintf(stderr, "elasticarm plan: infeasible task: %s\n", err.msg);
+    return EA_EXIT_FAIL;
+  }
+  if (st) return ea__cli_fail(cmd, st, &err);
+  if (o.knots) task.knots = (int)o.knots;
+  if (o.dtest) task.solver.derivative_test = 1;
+  if (o.refine) task.dynamics.refine.enabled = 1;
+  if (o.plevel >= 0) task.solver.print_level = (int)o.plevel;
+  if ((st = ea_task_check(&task, &err))) return ea__cli_fail(cmd, st, &err);
+  if ((rc = ea__plan_outputs(cmd, &task, &o))) return rc;
+
+  ea__plan_run_t r = {0};
+  if ((st = ea_planner_alloc(&task, &r.pl, &err))) return ea__cli_fail(cmd, st, &err);
+  st = ea_planner_solve(r.pl, EA_PLAN_COLD, NULL, &r.info, &err);
+  if (!st && task.dynamics.refine.enabled) st = ea__plan_refine_cli(&o, &r, &err);
+  /* The trajectory to write: the plan's, shaped with --shape; --verify simulates it. */
+  ea_traj_t tr = {0};
+  r.shp = o.shape ? calloc(1, sizeof *r.shp) : NULL;
+  ea_error_t werr = {0};
+  ea_status_t wst = EA_OK;
+  if (o.shape && !r.shp) wst = ea_error_set(&werr, EA_ERR_NOMEM, "out of memory");
+  if (!st && !wst) wst = ea_planner_trajectory(r.pl, &tr, &werr);
+  if (!st && !wst && o.shape) st = ea__plan_shape(&task, &tr, &r.info, r.shp);
+  if (!st && !wst && o.verify) {
+    if ((r.ver = calloc(1, sizeof *r.ver)))
+      ea__plan_verify(r.pl, &task, &tr, &r.info, o.shape, r.ver);
+    else
+      wst = ea_error_set(&werr, EA_ERR_NOMEM, "out of memory");
+  }
+  const ea__plan_extra_t extra = {r.ref, r.shp, r.ver};
+  if (!st && !wst) wst = ea__plan_write(r.pl, &tr, &r.info, &extra, o.out, o.summary, &werr);
+  ea_traj_free(&tr);
+  if (st || wst) {
+    rc = ea__plan_failed(&o, &r, st, wst, &werr);
+  } else {
+    rc = o.figure ? ea__plan_figure_cli(&o, &task, &r) : 0;
+    rc = ea__plan_report(&o, &r, rc);
+  }
+  ea__plan_run_free(&r);
   return rc;
 }

@@ -130,30 +130,56 @@ static int ea__help_requested(int argc, char **argv) {
 /* statics                                                                   */
 /* ------------------------------------------------------------------------ */
 
-int ea__cli_statics(int argc, char **argv) {
-  const char *cmd = "statics";
-  if (ea__help_requested(argc, argv)) {
-    printf("usage: elasticarm statics (--cable-length M --cable-angle-deg A | --tip X,Y |\n"
-           "                           --tension N --cable-angle-deg A | --tension N "
-           "--theta0-deg D) [options]\n"
-           "Solves the planar statics (eq. 11, 14-16) on the physical branch, then checks\n"
-           "the arm's limits (tension, cable length range, shoulder torque and angle) and,\n"
-           "unless --no-stability, FE stability: 'admissible' says whether all hold, and\n"
-           "why not.\n"
-           "  --shape N             add N centreline points to the output\n"
-           "  --guess-deg A,T,TH,K  warm start (alpha deg, T N, theta0 deg, kappa0 1/m)\n%s"
-           "exit: 0 solved and admissible, 1 no solution or not admissible (or the figure\n"
-           "failed), 2 usage or input error\n",
-           ea__common_help);
-    return EA_EXIT_OK;
-  }
-  ea__common_t c = {0};
-  double Lc = NAN, adeg = NAN, T = NAN, th0deg = NAN, tip[2] = {NAN, NAN};
+static void ea__statics_help(void) {
+  printf("usage: elasticarm statics (--cable-length M --cable-angle-deg A | --tip X,Y |\n"
+         "                           --tension N --cable-angle-deg A | --tension N "
+         "--theta0-deg D) [options]\n"
+         "Solves the planar statics (eq. 11, 14-16) on the physical branch, then checks\n"
+         "the arm's limits (tension, cable length range, shoulder torque and angle) and,\n"
+         "unless --no-stability, FE stability: 'admissible' says whether all hold, and\n"
+         "why not.\n"
+         "  --shape N             add N centreline points to the output\n"
+         "  --guess-deg A,T,TH,K  warm start (alpha deg, T N, theta0 deg, kappa0 1/m)\n%s"
+         "exit: 0 solved and admissible, 1 no solution or not admissible (or the figure\n"
+         "failed), 2 usage or input error\n",
+         ea__common_help);
+}
+
+/* The options of `elasticarm statics` and the problem they state. */
+typedef struct {
+  ea__common_t c;
+  double tip[2];
   double guess[EA_NP];
-  int has_guess = 0;
-  long shape = 0;
+  int has_guess, has_tip;
+  long shape;
+  ea_statics_problem_t prob;
+} ea__statics_opts_t;
+
+/* --guess-deg A,T,TH,K into o->guess. 0 or the exit code. */
+static int ea__statics_guess(const char *cmd, const char *a, const char *v, ea__statics_opts_t *o) {
+  double *g = NULL;
+  int ng = 0;
+  int bad = ea__cli_list(cmd, a, v, &g, &ng);
+  if (!bad && ng != EA_NP)
+    bad = ea__cli_usage_error(cmd, "%s: '%s' is not 4 values alpha_deg,T,theta0_deg,kappa0", a, v);
+  if (!bad) {
+    o->guess[EA_P_ALPHA] = g[0] * EA__DEG;
+    o->guess[EA_P_TENSION] = g[1];
+    o->guess[EA_P_THETA0] = g[2] * EA__DEG;
+    o->guess[EA_P_KAPPA0] = g[3];
+    o->has_guess = 1;
+  }
+  free(g);
+  return bad;
+}
+
+/* Parse the options and state the problem. 0 or the exit code. */
+static int ea__statics_parse(const char *cmd, int argc, char **argv, ea__statics_opts_t *o) {
+  memset(o, 0, sizeof *o);
+  double Lc = NAN, adeg = NAN, T = NAN, th0deg = NAN;
+  o->tip[0] = o->tip[1] = NAN;
   for (int i = 1; i < argc; ++i) {
-    int r = ea__common_opt(cmd, argc, argv, &i, &c);
+    int r = ea__common_opt(cmd, argc, argv, &i, &o->c);
     if (r < 0) return EA_EXIT_USAGE;
     if (r) continue;
     const char *a = argv[i], *v;
@@ -168,58 +194,184 @@ int ea__cli_statics(int argc, char **argv) {
     else if (!strcmp(a, "--theta0-deg"))
       bad = ea__cli_double(cmd, a, v, -360.0, 360.0, &th0deg);
     else if (!strcmp(a, "--tip"))
-      bad = ea__cli_pair(cmd, a, v, tip);
+      bad = ea__cli_pair(cmd, a, v, o->tip);
     else if (!strcmp(a, "--shape"))
-      bad = ea__cli_int(cmd, a, v, 2, 10000, &shape);
-    else if (!strcmp(a, "--guess-deg")) {
-      double *g = NULL;
-      int ng = 0;
-      bad = ea__cli_list(cmd, a, v, &g, &ng);
-      if (!bad && ng != EA_NP)
-        bad = ea__cli_usage_error(cmd, "%s: '%s' is not 4 values alpha_deg,T,theta0_deg,kappa0", a,
-                                  v);
-      if (!bad) {
-        guess[EA_P_ALPHA] = g[0] * EA__DEG;
-        guess[EA_P_TENSION] = g[1];
-        guess[EA_P_THETA0] = g[2] * EA__DEG;
-        guess[EA_P_KAPPA0] = g[3];
-        has_guess = 1;
-      }
-      free(g);
-    } else
+      bad = ea__cli_int(cmd, a, v, 2, 10000, &o->shape);
+    else if (!strcmp(a, "--guess-deg"))
+      bad = ea__statics_guess(cmd, a, v, o);
+    else
       return ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) return bad;
   }
-  ea_statics_problem_t prob;
   const int has_L = isfinite(Lc), has_a = isfinite(adeg), has_T = isfinite(T),
-            has_th = isfinite(th0deg), has_tip = isfinite(tip[0]);
+            has_th = isfinite(th0deg), has_tip = isfinite(o->tip[0]);
+  o->has_tip = has_tip;
   if (has_L && has_a && !has_T && !has_th && !has_tip)
-    prob = ea_statics_problem_cable(Lc, adeg * EA__DEG);
+    o->prob = ea_statics_problem_cable(Lc, adeg * EA__DEG);
   else if (has_tip && !has_L && !has_a && !has_T && !has_th)
-    prob = ea_statics_problem_tip(tip[0], tip[1]);
+    o->prob = ea_statics_problem_tip(o->tip[0], o->tip[1]);
   else if (has_T && has_a && !has_L && !has_th && !has_tip)
-    prob = ea_statics_problem_tension_alpha(T, adeg * EA__DEG);
+    o->prob = ea_statics_problem_tension_alpha(T, adeg * EA__DEG);
   else if (has_T && has_th && !has_L && !has_a && !has_tip)
-    prob = ea_statics_problem_tension_theta0(T, th0deg * EA__DEG);
+    o->prob = ea_statics_problem_tension_theta0(T, th0deg * EA__DEG);
   else
     return ea__cli_usage_error(cmd, "give exactly one of: --cable-length with "
                                     "--cable-angle-deg; --tip; --tension with "
                                     "--cable-angle-deg; --tension with --theta0-deg");
-  ea_arm_t arm;
-  int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);
+  return 0;
+}
+
+/* The solution against the arm's limits, as path and torque-map check them, and FE
+ * stability (*stable: 1, 0, or -1 when not checked). */
+static void ea__statics_check(const ea_arm_t *arm, ea_shooter_t *sh,
+                              const ea_statics_solution_t *sol, ea_status_t st, int no_stability,
+                              int *stable, ea_config_point_t *cp) {
+  const int solved = st == EA_OK;
+  *stable = -1;
+  if (solved && !no_stability) {
+    ea_fe_model_t *fe = NULL;
+    ea_fe_static_info_t fi;
+    if (ea_fe_model_alloc(arm, NULL, &fe, NULL) == EA_OK &&
+        ea_fe_model_set_load(fe, ea_shooter_load(sh)) == EA_OK &&
+        ea_fe_static_solve(fe, sh, sol, &fi, NULL) == EA_OK)
+      ea_fe_stability(fe, stable, NULL);
+    ea_fe_model_free(fe);
+  }
+  memset(cp, 0, sizeof *cp);
+  cp->cable_length = sol->cable_length;
+  cp->alpha = sol->p[EA_P_ALPHA];
+  cp->tension = sol->p[EA_P_TENSION];
+  cp->theta0 = sol->p[EA_P_THETA0];
+  cp->kappa0 = sol->p[EA_P_KAPPA0];
+  cp->shoulder_torque = arm->EI * sol->p[EA_P_KAPPA0];
+  cp->status = st;
+  ea_config_check_limits(cp, &arm->act, 0.0);
+  if (solved && cp->admissible && *stable == 0) {
+    cp->admissible = 0;
+    snprintf(cp->reason, sizeof cp->reason,
+             "unstable: the FE passive stiffness is not positive definite");
+  }
+}
+
+/* What `statics` found, for printing: the solution, its check and the beam's shape. */
+typedef struct {
+  const ea_arm_t *arm;
+  ea_shooter_t *sh;
+  const ea_statics_solution_t *sol;
+  const ea_error_t *err;
+  int solved, stable;
+  const ea_config_point_t *cp;
+  long shape;
+  const double *sx, *sy;
+} ea__statics_out_t;
+
+static void ea__statics_json(const ea__statics_out_t *r) {
+  const ea_statics_solution_t *sol = r->sol;
+  ea_json_t j;
+  ea_json_init(&j, stdout, 1);
+  ea_json_obj_begin(&j, NULL);
+  ea_json_str(&j, "status", ea_status_name(sol->status));
+  ea_json_str(&j, "message", r->solved ? "ok" : r->err->msg);
+  ea_json_num(&j, "tension_N", sol->p[EA_P_TENSION]);
+  ea_json_num(&j, "theta0_rad", sol->p[EA_P_THETA0]);
+  ea_json_num(&j, "kappa0_per_m", sol->p[EA_P_KAPPA0]);
+  ea_json_num(&j, "shoulder_torque_Nm", r->arm->EI * sol->p[EA_P_KAPPA0]);
+  ea_json_num(&j, "cable_angle_rad", sol->p[EA_P_ALPHA]);
+  ea_json_num(&j, "cable_length_m", r->solved ? sol->cable_length : NAN);
+  ea_json_vec(&j, "tip_m", (double[]){sol->tip[EA_X_X], sol->tip[EA_X_Y]}, 2);
+  ea_json_num(&j, "tip_angle_rad", sol->tip[EA_X_THETA]);
+  ea_json_num(&j, "tip_mass_kg", ea_shooter_load(r->sh)->tip_mass);
+  ea_json_num(&j, "residual", sol->residual);
+  ea_json_int(&j, "iterations", sol->iterations);
+  ea_json_int(&j, "continuation_steps", sol->cont_steps);
+  ea_json_str(&j, "branch",
+              sol->branch == EA_BRANCH_EDGE   ? "physical (continued from T = 0 edge)"
+              : sol->branch == EA_BRANCH_WARM ? "warm start"
+                                              : "none");
+  ea_json_num(&j, "winding_rad", sol->winding);
+  if (r->stable >= 0)
+    ea_json_bool(&j, "stable", r->stable);
+  else
+    ea_json_null(&j, "stable");
+  ea_json_bool(&j, "admissible", r->solved && r->cp->admissible);
+  ea_json_str(&j, "reason", r->solved ? r->cp->reason : r->err->msg);
+  if (r->solved && r->shape > 0) {
+    ea_json_arr_begin(&j, "shape_m");
+    for (long k = 0; k < r->shape; ++k)
+      ea_json_vec(&j, NULL, (double[]){r->sx[k], r->sy[k]}, 2);
+    ea_json_arr_end(&j);
+  }
+  ea_json_obj_end(&j);
+  ea_json_end(&j);
+}
+
+static void ea__statics_text(const ea__statics_out_t *r) {
+  const ea_statics_solution_t *sol = r->sol;
+  printf("status            %s (residual %.2e, %d iterations, %d continuation steps)\n",
+         ea_status_name(sol->status), sol->residual, sol->iterations, sol->cont_steps);
+  printf("cable length      %.9f m\ncable angle       %.9f deg\ntension           %.9f N\n"
+         "theta0            %.9f deg\nkappa0            %.9f 1/m\nshoulder torque   %.9f N m\n"
+         "tip               (%.9f, %.9f) m\n",
+         sol->cable_length, sol->p[EA_P_ALPHA] / EA__DEG, sol->p[EA_P_TENSION],
+         sol->p[EA_P_THETA0] / EA__DEG, sol->p[EA_P_KAPPA0], sol->shoulder_torque, sol->tip[EA_X_X],
+         sol->tip[EA_X_Y]);
+  printf("stable (FE)       %s\n", r->stable < 0 ? "not checked" : r->stable ? "yes" : "NO");
+  printf("admissible        %s%s\n", r->cp->admissible ? "yes" : "NO: ", r->cp->reason);
+  for (long k = 0; k < r->shape; ++k)
+    printf("shape %ld  %.9f %.9f\n", k, r->sx[k], r->sy[k]);
+}
+
+/* The beam and the cable of the solution. 0 or EA_EXIT_FAIL. */
+static int ea__statics_figure(const ea__statics_out_t *r, const char *figure) {
+  const ea_statics_solution_t *sol = r->sol;
+  ea_plot_t *pl;
+  ea_error_t fe = {0};
+  if (ea_plot_open(&pl, figure, 700, 650, &fe) == EA_OK) {
+    ea_plot_data_begin(pl, "beam");
+    ea_plot_beam(pl, r->sh, sol->p, 81);
+    ea_plot_data_end(pl);
+    ea_plot_data_begin(pl, "cable");
+    ea_plot_data_row(pl, 2, (double[]){r->arm->x_c, r->arm->y_c});
+    ea_plot_data_row(pl, 2, (double[]){sol->tip[EA_X_X], sol->tip[EA_X_Y]});
+    ea_plot_data_end(pl);
+    ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'");
+    ea_plot_cmd(pl,
+                "set title 'L_c = %.3f m, {/Symbol a} = %.1f deg, T = %.2f N, "
+                "{/Symbol q}_0 = %.1f deg'",
+                sol->cable_length, sol->p[EA_P_ALPHA] / EA__DEG, sol->p[EA_P_TENSION],
+                sol->p[EA_P_THETA0] / EA__DEG);
+    ea_plot_cmd(pl, "plot $beam w l lw 3 lc rgb '#1f4e9c' t 'beam', $cable w lp lw 1 dt 2 "
+                    "pt 7 lc rgb '#c0392b' t 'cable'");
+    fe.status = ea_plot_close(pl, &fe);
+  }
+  if (!fe.status) return 0;
+  fprintf(stderr, "elasticarm statics: figure: %s\n", fe.msg);
+  return EA_EXIT_FAIL;
+}
+
+int ea__cli_statics(int argc, char **argv) {
+  const char *cmd = "statics";
+  if (ea__help_requested(argc, argv)) {
+    ea__statics_help();
+    return EA_EXIT_OK;
+  }
+  ea__statics_opts_t o;
+  int rc = ea__statics_parse(cmd, argc, argv, &o);
   if (rc) return rc;
+  ea_arm_t arm;
+  if ((rc = ea__cli_load_arm(cmd, o.c.arm_file, &arm))) return rc;
   /* The cable angle is undefined for a tip at the cable root; the same
    * bound as --cable-length's. */
-  if (has_tip && hypot(tip[0] - arm.x_c, tip[1] - arm.y_c) < 1e-6)
+  if (o.has_tip && hypot(o.tip[0] - arm.x_c, o.tip[1] - arm.y_c) < 1e-6)
     return ea__cli_usage_error(cmd,
                                "--tip %.9g,%.9g is at the cable root (%.9g, %.9g): no cable, "
                                "its angle is undefined (the tip must be >= 1e-6 m from it)",
-                               tip[0], tip[1], arm.x_c, arm.y_c);
+                               o.tip[0], o.tip[1], arm.x_c, arm.y_c);
   ea_shooter_t *sh = NULL;
-  if ((rc = ea__make_shooter(cmd, &arm, ea__cli_tip_mass(&arm, &c.payload), &sh))) return rc;
+  if ((rc = ea__make_shooter(cmd, &arm, ea__cli_tip_mass(&arm, &o.c.payload), &sh))) return rc;
   ea_statics_solution_t sol;
   ea_error_t err = {0};
-  ea_status_t st = ea_statics_solve(sh, &prob, NULL, has_guess ? guess : NULL, &sol, &err);
+  ea_status_t st = ea_statics_solve(sh, &o.prob, NULL, o.has_guess ? o.guess : NULL, &sol, &err);
   if (st == EA_OK && !(sol.cable_length >= 1e-6)) {
     st = ea_error_set(&err, EA_ERR_INADMISSIBLE,
                       "the solution has the tip at the cable root (L_c = %.3g m): no cable",
@@ -227,120 +379,27 @@ int ea__cli_statics(int argc, char **argv) {
     sol.status = st;
   }
   const int solved = st == EA_OK;
-  int stable = -1;
-  if (solved && !c.no_stability) {
-    ea_fe_model_t *fe = NULL;
-    ea_fe_static_info_t fi;
-    if (ea_fe_model_alloc(&arm, NULL, &fe, NULL) == EA_OK &&
-        ea_fe_model_set_load(fe, ea_shooter_load(sh)) == EA_OK &&
-        ea_fe_static_solve(fe, sh, &sol, &fi, NULL) == EA_OK)
-      ea_fe_stability(fe, &stable, NULL);
-    ea_fe_model_free(fe);
-  }
-  /* The arm's limits, as path and torque-map check them. */
+  int stable;
   ea_config_point_t cp;
-  memset(&cp, 0, sizeof cp);
-  cp.cable_length = sol.cable_length;
-  cp.alpha = sol.p[EA_P_ALPHA];
-  cp.tension = sol.p[EA_P_TENSION];
-  cp.theta0 = sol.p[EA_P_THETA0];
-  cp.kappa0 = sol.p[EA_P_KAPPA0];
-  cp.shoulder_torque = arm.EI * sol.p[EA_P_KAPPA0];
-  cp.status = st;
-  ea_config_check_limits(&cp, &arm.act, 0.0);
-  if (solved && cp.admissible && stable == 0) {
-    cp.admissible = 0;
-    snprintf(cp.reason, sizeof cp.reason,
-             "unstable: the FE passive stiffness is not positive definite");
-  }
+  ea__statics_check(&arm, sh, &sol, st, o.c.no_stability, &stable, &cp);
   double *sx = NULL, *sy = NULL;
+  long shape = o.shape;
   if (solved && shape > 0) {
     sx = malloc((size_t)shape * sizeof *sx);
     sy = malloc((size_t)shape * sizeof *sy);
     if (!sx || !sy || ea_shoot_shape(sh, sol.p, (int)shape, NULL, NULL, NULL, sx, sy)) shape = 0;
   }
-  if (c.json) {
-    ea_json_t j;
-    ea_json_init(&j, stdout, 1);
-    ea_json_obj_begin(&j, NULL);
-    ea_json_str(&j, "status", ea_status_name(sol.status));
-    ea_json_str(&j, "message", solved ? "ok" : err.msg);
-    ea_json_num(&j, "tension_N", sol.p[EA_P_TENSION]);
-    ea_json_num(&j, "theta0_rad", sol.p[EA_P_THETA0]);
-    ea_json_num(&j, "kappa0_per_m", sol.p[EA_P_KAPPA0]);
-    ea_json_num(&j, "shoulder_torque_Nm", arm.EI * sol.p[EA_P_KAPPA0]);
-    ea_json_num(&j, "cable_angle_rad", sol.p[EA_P_ALPHA]);
-    ea_json_num(&j, "cable_length_m", solved ? sol.cable_length : NAN);
-    ea_json_vec(&j, "tip_m", (double[]){sol.tip[EA_X_X], sol.tip[EA_X_Y]}, 2);
-    ea_json_num(&j, "tip_angle_rad", sol.tip[EA_X_THETA]);
-    ea_json_num(&j, "tip_mass_kg", ea_shooter_load(sh)->tip_mass);
-    ea_json_num(&j, "residual", sol.residual);
-    ea_json_int(&j, "iterations", sol.iterations);
-    ea_json_int(&j, "continuation_steps", sol.cont_steps);
-    ea_json_str(&j, "branch",
-                sol.branch == EA_BRANCH_EDGE   ? "physical (continued from T = 0 edge)"
-                : sol.branch == EA_BRANCH_WARM ? "warm start"
-                                               : "none");
-    ea_json_num(&j, "winding_rad", sol.winding);
-    if (stable >= 0)
-      ea_json_bool(&j, "stable", stable);
-    else
-      ea_json_null(&j, "stable");
-    ea_json_bool(&j, "admissible", solved && cp.admissible);
-    ea_json_str(&j, "reason", solved ? cp.reason : err.msg);
-    if (solved && shape > 0) {
-      ea_json_arr_begin(&j, "shape_m");
-      for (long k = 0; k < shape; ++k)
-        ea_json_vec(&j, NULL, (double[]){sx[k], sy[k]}, 2);
-      ea_json_arr_end(&j);
-    }
-    ea_json_obj_end(&j);
-    ea_json_end(&j);
-  } else if (solved) {
-    printf("status            %s (residual %.2e, %d iterations, %d continuation steps)\n",
-           ea_status_name(sol.status), sol.residual, sol.iterations, sol.cont_steps);
-    printf("cable length      %.9f m\ncable angle       %.9f deg\ntension           %.9f N\n"
-           "theta0            %.9f deg\nkappa0            %.9f 1/m\nshoulder torque   %.9f N m\n"
-           "tip               (%.9f, %.9f) m\n",
-           sol.cable_length, sol.p[EA_P_ALPHA] / EA__DEG, sol.p[EA_P_TENSION],
-           sol.p[EA_P_THETA0] / EA__DEG, sol.p[EA_P_KAPPA0], sol.shoulder_torque, sol.tip[EA_X_X],
-           sol.tip[EA_X_Y]);
-    printf("stable (FE)       %s\n", stable < 0 ? "not checked" : stable ? "yes" : "NO");
-    printf("admissible        %s%s\n", cp.admissible ? "yes" : "NO: ", cp.reason);
-    for (long k = 0; k < shape; ++k)
-      printf("shape %ld  %.9f %.9f\n", k, sx[k], sy[k]);
-  }
-  if (solved && c.figure) {
-    ea_plot_t *pl;
-    ea_error_t fe = {0};
-    if (ea_plot_open(&pl, c.figure, 700, 650, &fe) == EA_OK) {
-      ea_plot_data_begin(pl, "beam");
-      ea_plot_beam(pl, sh, sol.p, 81);
-      ea_plot_data_end(pl);
-      ea_plot_data_begin(pl, "cable");
-      ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
-      ea_plot_data_row(pl, 2, (double[]){sol.tip[EA_X_X], sol.tip[EA_X_Y]});
-      ea_plot_data_end(pl);
-      ea_plot_cmd(pl, "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'");
-      ea_plot_cmd(pl,
-                  "set title 'L_c = %.3f m, {/Symbol a} = %.1f deg, T = %.2f N, "
-                  "{/Symbol q}_0 = %.1f deg'",
-                  sol.cable_length, sol.p[EA_P_ALPHA] / EA__DEG, sol.p[EA_P_TENSION],
-                  sol.p[EA_P_THETA0] / EA__DEG);
-      ea_plot_cmd(pl, "plot $beam w l lw 3 lc rgb '#1f4e9c' t 'beam', $cable w lp lw 1 dt 2 "
-                      "pt 7 lc rgb '#c0392b' t 'cable'");
-      fe.status = ea_plot_close(pl, &fe);
-    }
-    if (fe.status) {
-      fprintf(stderr, "elasticarm statics: figure: %s\n", fe.msg);
-      rc = EA_EXIT_FAIL;
-    }
-  }
+  const ea__statics_out_t r = {&arm, sh, &sol, &err, solved, stable, &cp, shape, sx, sy};
+  if (o.c.json)
+    ea__statics_json(&r);
+  else if (solved)
+    ea__statics_text(&r);
+  if (solved && o.c.figure) rc = ea__statics_figure(&r, o.c.figure);
   free(sx);
   free(sy);
   ea_shooter_free(sh);
   if (!solved) {
-    if (!c.json) ea__cli_fail(cmd, st, &err);
+    if (!o.c.json) ea__cli_fail(cmd, st, &err);
     return EA_EXIT_FAIL;
   }
   if (!cp.admissible) {

@@ -2,7 +2,6 @@
  * (docs/studies.md): a spec or the 'payload' shorthand -> tidy CSV + JSON
  * summary + figures; threads, shards, checkpoint/resume; 'study merge'. */
 #include "cli_impl.h"
-#include "study_plan_impl.h"
 #include "study_report_impl.h"
 
 #include <errno.h>
@@ -188,20 +187,18 @@ static int ea__study_merge_cli(int argc, char **argv) {
     /* the spec's key, as a run of it would compute it */
     ea_study_t s;
     ea_status_t st = ea_study_load(spec, arm_file ? arm_file : ea__cli_default_arm(), &s, &err);
-    ea__study_plan_t *plan = NULL;
-    if (!st && (s.metrics & EA_STUDY_M_PLANNER))
-      st = ea__study_plan_alloc(&s, ea__cli_default_arm(), &plan, &err);
+    ea_study_planner_t *plan = NULL;
+    ea_study_settings_t set;
+    ea_study_settings_default(&set);
+    if (!st) st = ea_study_use_planner(&s, ea__cli_default_arm(), &set, &plan, &err);
     if (st) {
       rc = ea__cli_fail(cmd, st, &err);
     } else {
-      ea_study_settings_t set;
-      ea_study_settings_default(&set);
-      ea__study_plan_register(plan, &set);
       ea_study_key(&s, &set, spec_key);
       snprintf(spec_name, sizeof spec_name, "%s", s.name);
       if (!cases) cases = s.n_cases;
     }
-    ea__study_plan_free(plan);
+    ea_study_planner_free(plan);
     if (!st) ea_study_free(&s);
   }
   if (!rc) {
@@ -556,12 +553,11 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
                              char **csv, size_t *csv_len, ea_study_info_t *info) {
   ea_error_t err = {0};
   ea_status_t st;
-  ea__study_plan_t *plan = NULL;
-  if ((s->metrics & EA_STUDY_M_PLANNER) &&
-      (st = ea__study_plan_alloc(s, ea__cli_default_arm(), &plan, &err)))
-    return ea__cli_fail(cmd, st, &err);
+  ea_study_planner_t *plan = NULL;
   ea_study_settings_t set;
   ea_study_settings_default(&set);
+  if ((st = ea_study_use_planner(s, ea__cli_default_arm(), &set, &plan, &err)))
+    return ea__cli_fail(cmd, st, &err);
   set.threads = (int)o->threads;
   set.shard_k = o->shard_k;
   set.shard_n = o->shard_n;
@@ -570,7 +566,6 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   set.stop_after = o->stop_after;
   set.stop_request = &ea__study_stop;
   set.workers = o->workers;
-  ea__study_plan_register(plan, &set);
   int tty = !o->quiet && isatty(STDERR_FILENO);
   set.progress = ea__progress;
   set.progress_data = &tty;
@@ -584,7 +579,7 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   sigaction(SIGINT, &old, NULL);
   signal(SIGTERM, SIG_DFL);
   if (tty) fputc('\n', stderr);
-  ea__study_plan_free(plan);
+  ea_study_planner_free(plan);
   if (st == EA_ERR_INTERRUPTED) {
     fprintf(stderr, "elasticarm study: interrupted: %s\n", err.msg);
     if (o->ckpt) fprintf(stderr, "elasticarm study: checkpoint %s\n", o->ckpt);

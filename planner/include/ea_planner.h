@@ -2,12 +2,14 @@
  * @file ea_planner.h
  * @brief The trajectory planner (docs/planner.md): a task (ea_task.h) planned
  *        by Ipopt (NLopt tunes the knot schedule), replanning, the plan as a
- *        trajectory (ea_traj.h) and its JSON summary (planner/nlp/).
+ *        trajectory (ea_traj.h) and its JSON summary, and the planner metrics of
+ *        batch studies (ea_study.h: min_time, at_rest) (planner/nlp/).
  */
 #ifndef EA_PLANNER_H
 #define EA_PLANNER_H
 
 #include "ea_fe.h"
+#include "ea_study.h"
 #include "ea_task.h"
 #include "ea_traj.h"
 
@@ -192,6 +194,40 @@ ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
  *  have or a target that is not finite. */
 ea_status_t ea_planner_set_terminal_modes_model(ea_planner_t *pl, int model, const double *eta,
                                                 const double *eta_rate, ea_error_t *err);
+
+/* ------------------------------------------------------------------------ */
+/* The planner metrics of batch studies (planner/nlp/study_plan.c)           */
+/* ------------------------------------------------------------------------ */
+
+/** The planner side of a batch study (ea_study.h, docs/studies.md): the tasks of its
+ *  min_time and at_rest metrics, loaded once, behind the callbacks ea_study_run calls for
+ *  each case. problems/ does not link Ipopt: without these callbacks a study's min_time and
+ *  at_rest rows report EA_ERR_NOTIMPL. */
+typedef struct ea_study_planner ea_study_planner_t;
+
+/** Let ea_study_run compute the study's planner metrics. Loads the task of each
+ *  (ea_study_metric_task_load: relative to the spec; the study's arm file, else default_arm
+ *  (may be NULL), when the task names no arm file; each must be a min_time task) and puts
+ *  the callbacks, their data and the tasks' content keys (part of the study key) in set:
+ *  set->min_time, min_time_data, min_time_key, at_rest, at_rest_data, at_rest_key; no other
+ *  field is touched. Per case, min_time plans the task with the case's arm and payload
+ *  (re-checked: its points inside the case's workspace) from cold and reports its duration;
+ *  at_rest plans it quasi-statically and with dynamics.modes = the study's at_rest.modes,
+ *  residual 0, and measures the FE residual of each plan (ea_traj_simulate; the study's
+ *  at_rest elements, dt, settle and damping ratio). Planner calls are serialised within a
+ *  process (MUMPS' sequential build is not thread-safe); worker processes
+ *  (set->workers) run them in parallel.
+ * @param[out] out what set points to: keep it until ea_study_run returns, then
+ *             ea_study_planner_free. NULL (and the callbacks NULL) when the study has
+ *             neither metric.
+ * @return EA_OK; else the error of loading a task (EA_ERR_IO, EA_ERR_INPUT: e.g. a task
+ *         whose objective is not min_time, named as in the spec) or EA_ERR_NOMEM, with
+ *         *out NULL and set's callbacks NULL. */
+ea_status_t ea_study_use_planner(const ea_study_t *s, const char *default_arm,
+                                 ea_study_settings_t *set, ea_study_planner_t **out,
+                                 ea_error_t *err);
+/** Free what ea_study_use_planner loaded (NULL: nothing). */
+void ea_study_planner_free(ea_study_planner_t *p);
 
 #ifdef __cplusplus
 }

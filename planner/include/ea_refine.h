@@ -1,7 +1,8 @@
 /**
  * @file ea_refine.h
  * @brief FE-in-the-loop refinement of a plan that arrives at rest (docs/planner.md,
- *        "Refinement against the FE transient"; task key dynamics.refine).
+ *        "Refinement against the FE transient"; task key dynamics.refine), and a plan's
+ *        JSON summary with what was measured on it (refinement, ZV shaping, `plan --verify`).
  *
  * The reduced dynamic model the planner uses (model/fe_rom.c) is not the arm: the nonlinear
  * FE transient of an at-rest plan still rings after the motion. The refinement measures that
@@ -128,6 +129,32 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
 ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_info_t *info,
                                           const ea_refine_info_t *refine, const char *path,
                                           ea_error_t *err);
+
+/* ------------------------------------------------------------------------ */
+/* A plan's summary with what was measured (planner/nlp/plan_output.c)       */
+/* ------------------------------------------------------------------------ */
+
+/** `plan --verify`: the FE transient (ea_traj_simulate) of the written trajectory beside what
+ *  the planner's reduced model predicted for it. */
+typedef struct ea_plan_verify {
+  ea_status_t status;              /**< of ea_traj_simulate */
+  char message[512];               /**< its error, or "" */
+  ea_sim_settings_t settings;      /**< used */
+  ea_sim_info_t sim;               /**< measured */
+  double predicted_residual_m;     /**< [m] the model's residual amplitude (sum over the modes,
+                                        undamped) for the written trajectory; NAN: no model
+                                        (a quasi-static plan) */
+  double predicted_time_to_rest_s; /**< [s] after the motion (ea_plan_info_t); NAN: none,
+                                        INFINITY: never */
+} ea_plan_verify_t;
+
+/** The JSON summary of ea_plan_summary_write_refined (refine NULL: none) with a "shape" object
+ *  (shape not NULL: the ZV shaping of the written trajectory, its limits check) and a "verify"
+ *  object (verify not NULL: measured FE residual beside the prediction). Atomic. */
+ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,
+                                     const ea_refine_info_t *refine, const ea_shape_info_t *shape,
+                                     const ea_plan_verify_t *verify, const char *path,
+                                     ea_error_t *err);
 
 #ifdef __cplusplus
 }

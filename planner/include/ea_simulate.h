@@ -272,35 +272,6 @@ ea_status_t ea_traj_shape_zv(const ea_task_t *task, const ea_traj_t *in,
                              const ea_shape_settings_t *s, ea_traj_t *out, ea_shape_info_t *info,
                              ea_error_t *err);
 
-/* ------------------------------------------------------------------------ */
-/* A plan's summary with what was measured (planner/nlp/plan_output.c)       */
-/* ------------------------------------------------------------------------ */
-
-/** `plan --verify`: the FE transient (ea_traj_simulate) of the written trajectory beside what
- *  the planner's reduced model predicted for it. */
-typedef struct ea_plan_verify {
-  ea_status_t status;              /**< of ea_traj_simulate */
-  char message[512];               /**< its error, or "" */
-  ea_sim_settings_t settings;      /**< used */
-  ea_sim_info_t sim;               /**< measured */
-  double predicted_residual_m;     /**< [m] the model's residual amplitude (sum over the modes,
-                                        undamped) for the written trajectory; NAN: no model
-                                        (a quasi-static plan) */
-  double predicted_time_to_rest_s; /**< [s] after the motion (ea_plan_info_t); NAN: none,
-                                        INFINITY: never */
-} ea_plan_verify_t;
-
-struct ea_planner;
-struct ea_plan_info;
-struct ea_refine_info;
-/** The JSON summary of ea_plan_summary_write_refined (refine NULL: none) with a "shape" object
- *  (shape not NULL: the ZV shaping of the written trajectory, its limits check) and a "verify"
- *  object (verify not NULL: measured FE residual beside the prediction). Atomic. */
-ea_status_t ea_plan_summary_write_ex(const struct ea_planner *pl, const struct ea_plan_info *info,
-                                     const struct ea_refine_info *refine,
-                                     const ea_shape_info_t *shape, const ea_plan_verify_t *verify,
-                                     const char *path, ea_error_t *err);
-
 #ifdef __cplusplus
 }
 #endif

@@ -378,7 +378,7 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   pl->K = pl->Kper = pl->M = 0;
   memset(&pl->dyn_info, 0, sizeof pl->dyn_info);
   if (t->dynamics.modes <= 0) return EA_OK;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   double box[4];
   ea__plan_box(pl, box);
   /* grid: ~0.025 m in L_c and ~0.06 rad in alpha (test_rom: 1e-3 on omega^2 at the cell centres
@@ -444,7 +444,7 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   pl->dyn_term_scale = 1e6; /* 1 mm -> 1 */
   di->built = 1;
   ea_rom_table_info(pl->rom, &di->table);
-  di->time_s = ea__plan_now() - t0;
+  di->time_s = ea__mono_s() - t0;
   return EA_OK;
 }
 

@@ -293,30 +293,19 @@ void ea__plan_theta0_rates(const ea_planner_t *pl, double *x) {
   x[EA__IW(pl, 0)] = 0.0;
 }
 
-ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err) {
-  const ea_task_t *t = &pl->task;
-  const ea_arm_t *arm = &t->arm;
-  const ea_task_limits_t *l = &t->limits;
-  const int N = pl->N, nq = pl->nq;
-  (void)info;
-  ea_statics_settings_t set;
-  ea_statics_settings_default(&set);
-  set.allow_negative_tension = 1;
-  double pprev[EA_NP], prev_base;
-  const int fixed_path = t->path != EA_TASK_PATH_FREE;
-  /* Minimum time: each segment timed time-optimally along the guess's path
-   * (ea__topp), t_f the largest of the segments' durations over their knot
-   * spans. Otherwise, when a segment cannot be timed, or when the timed
-   * guess breaks the shoulder speed limit (ea__topp does not see theta0):
-   * a smoothstep in time with the old duration estimate. */
+/* The phases of the cold guess (ea__plan_guess). Scratch: pl->gscr holds sig at the knots
+ * (N), d sig / d u (N; -1: no timed path, centred differences), the time fractions of a
+ * segment (N) and theta0 as a coordinate of the timing (its sig and values, N each). */
+
+/* Minimum time: each segment timed time-optimally along the guess's path (ea__topp; with
+ * with_theta0, theta0 of the last knots a coordinate under 90 % of its limits); returns the
+ * largest of the segments' durations over their knot spans. *topp = 0 when a segment cannot
+ * be timed. */
+static double ea__guess_time_segments(ea_planner_t *pl, int with_theta0, int *topp) {
+  const int N = pl->N;
   double *sigk = pl->gscr, *sdn = pl->gscr + N, tf_topp = 0.0;
-  int topp = t->objective == EA_TASK_MIN_TIME && pl->has_tf, with_theta0 = 0;
   double *th_sig = pl->gscr + 3 * N, *th = pl->gscr + 4 * N; /* theta0 at the knots */
-retry:
-  memcpy(pprev, t->start.p, sizeof pprev);
-  prev_base = t->start.base_angle;
-  tf_topp = 0.0;
-  for (int j = 0; j < pl->n_seg && topp; ++j) {
+  for (int j = 0; j < pl->n_seg && *topp; ++j) {
     const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1], nk = k1 - k0 + 1;
     double *u = pl->gscr + 2 * N; /* nk time fractions of the segment */
     for (int k = k0; k <= k1; ++k)
@@ -325,22 +314,79 @@ retry:
         ea__topp(pl, j, nk, u, sigk + k0, sdn + k0, th_sig + k0, with_theta0 ? th + k0 : NULL,
                  0.9 * pl->vmax[EA__C_TH], 0.9 * pl->amax[EA__C_TH]);
     if (!(Tj > 0.0)) {
-      topp = 0;
+      *topp = 0;
       break;
     }
     for (int k = k0; k <= k1; ++k)
       sdn[k] *= Tj; /* d sig / d u */
     tf_topp = fmax(tf_topp, Tj / (pl->s[k1] - pl->s[k0]));
   }
-  if (!topp)
-    for (int j = 0; j < pl->n_seg; ++j) {
-      const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
-      for (int k = k0; k <= k1; ++k) {
-        const double uu = (double)(k - k0) / (k1 - k0);
-        sigk[k] = uu * uu * (3.0 - 2.0 * uu);
-        sdn[k] = -1.0; /* centred differences below */
-      }
+  return tf_topp;
+}
+
+/* Otherwise a smoothstep in time along each segment. */
+static void ea__guess_smoothstep(ea_planner_t *pl) {
+  double *sigk = pl->gscr, *sdn = pl->gscr + pl->N;
+  for (int j = 0; j < pl->n_seg; ++j) {
+    const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
+    for (int k = k0; k <= k1; ++k) {
+      const double uu = (double)(k - k0) / (k1 - k0);
+      sigk[k] = uu * uu * (3.0 - 2.0 * uu);
+      sdn[k] = -1.0; /* centred differences below */
     }
+  }
+}
+
+/* A prescribed path: the statics sol at knot k (not a pinned one) against the limits; the
+ * first one broken refuses the path (EA_ERR_INFEASIBLE: which, where, by how much). */
+static ea_status_t ea__guess_path_check(const ea_planner_t *pl, int k, double R, double H,
+                                        double Lc, double al, const ea_statics_solution_t *sol,
+                                        ea_error_t *err) {
+  const ea_task_t *t = &pl->task;
+  const ea_arm_t *arm = &t->arm;
+  const ea_task_limits_t *l = &t->limits;
+  const double T = sol->p[EA_P_TENSION], tau = fabs(arm->EI * sol->p[EA_P_KAPPA0]);
+  const char *what = NULL;
+  double by = 0.0;
+  if (T < l->tension_min)
+    what = "tension >= tension_min", by = l->tension_min - T;
+  else if (T > l->tension_max)
+    what = "tension <= tension_max", by = T - l->tension_max;
+  else if (tau > l->shoulder_torque_max)
+    what = "shoulder torque limit", by = tau - l->shoulder_torque_max;
+  else if (Lc < l->cable_length_min)
+    what = "cable_length_min", by = l->cable_length_min - Lc;
+  else if (Lc > l->cable_length_max)
+    what = "cable_length_max", by = Lc - l->cable_length_max;
+  else if (sol->p[EA_P_THETA0] < arm->act.shoulder_angle_min ||
+           sol->p[EA_P_THETA0] > arm->act.shoulder_angle_max)
+    what = "shoulder angle range",
+    by = fmax(arm->act.shoulder_angle_min - sol->p[2], sol->p[2] - arm->act.shoulder_angle_max);
+  else if (pl->fm && l->min_first_frequency_hz > 0.0 &&
+           ea__plan_freq(pl, Lc, al, NULL) < l->min_first_frequency_hz)
+    what = "min_first_frequency_Hz",
+    by = l->min_first_frequency_hz - ea__plan_freq(pl, Lc, al, NULL);
+  if (!what) return EA_OK;
+  return ea_error_set(err, EA_ERR_INFEASIBLE,
+                      "the prescribed path leaves the workspace for payload %.4g kg: "
+                      "constraint '%s' violated at knot %d by %.4g (tip reach %.4g m, "
+                      "height %.4g m, tension %.4g N, shoulder torque %.4g N m)",
+                      t->payload_kg, what, k, by, R, H, T, tau);
+}
+
+/* The actuator coordinates at sig of every knot along the path and the statics there
+ * (continuation from the previous knot), pinned knots at their points. */
+static ea_status_t ea__guess_knots(ea_planner_t *pl, double *x, ea_error_t *err) {
+  const ea_task_t *t = &pl->task;
+  const ea_arm_t *arm = &t->arm;
+  const int nq = pl->nq;
+  const double *sigk = pl->gscr;
+  const int fixed_path = t->path != EA_TASK_PATH_FREE;
+  ea_statics_settings_t set;
+  ea_statics_settings_default(&set);
+  set.allow_negative_tension = 1;
+  double pprev[EA_NP], prev_base = t->start.base_angle;
+  memcpy(pprev, t->start.p, sizeof pprev);
   for (int j = 0; j < pl->n_seg; ++j) {
     const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
     for (int k = (j == 0 ? k0 : k0 + 1); k <= k1; ++k) {
@@ -366,87 +412,56 @@ retry:
                             "the workspace for payload %.4g kg (%s)",
                             k, R, H, Lc, al, fixed_path ? "path" : "straight interpolation",
                             t->payload_kg, e2.msg);
-      if (fixed_path && !pin) {
-        const double T = sol.p[EA_P_TENSION], tau = fabs(arm->EI * sol.p[EA_P_KAPPA0]);
-        const char *what = NULL;
-        double by = 0.0;
-        if (T < l->tension_min)
-          what = "tension >= tension_min", by = l->tension_min - T;
-        else if (T > l->tension_max)
-          what = "tension <= tension_max", by = T - l->tension_max;
-        else if (tau > l->shoulder_torque_max)
-          what = "shoulder torque limit", by = tau - l->shoulder_torque_max;
-        else if (Lc < l->cable_length_min)
-          what = "cable_length_min", by = l->cable_length_min - Lc;
-        else if (Lc > l->cable_length_max)
-          what = "cable_length_max", by = Lc - l->cable_length_max;
-        else if (sol.p[EA_P_THETA0] < arm->act.shoulder_angle_min ||
-                 sol.p[EA_P_THETA0] > arm->act.shoulder_angle_max)
-          what = "shoulder angle range",
-          by = fmax(arm->act.shoulder_angle_min - sol.p[2], sol.p[2] - arm->act.shoulder_angle_max);
-        else if (pl->fm && l->min_first_frequency_hz > 0.0 &&
-                 ea__plan_freq(pl, Lc, al, NULL) < l->min_first_frequency_hz)
-          what = "min_first_frequency_Hz",
-          by = l->min_first_frequency_hz - ea__plan_freq(pl, Lc, al, NULL);
-        if (what)
-          return ea_error_set(err, EA_ERR_INFEASIBLE,
-                              "the prescribed path leaves the workspace for payload %.4g kg: "
-                              "constraint '%s' violated at knot %d by %.4g (tip reach %.4g m, "
-                              "height %.4g m, tension %.4g N, shoulder torque %.4g N m)",
-                              t->payload_kg, what, k, by, R, H, T, tau);
-      }
+      if (fixed_path && !pin && (st = ea__guess_path_check(pl, k, R, H, Lc, al, &sol, err)))
+        return st;
       memcpy(pprev, sol.p, sizeof pprev);
       for (int i = 0; i < 3; ++i)
         x[EA__IP(pl, k, i)] = sol.p[1 + i];
     }
   }
-  /* Duration: the segment estimates, then stretched until the guess keeps
-   * the shoulder speed limit. */
-  double tf = pl->tf_fixed;
-  if (pl->has_tf) {
-    tf = 0.0;
-    for (int j = 0; j < pl->n_seg; ++j)
-      tf += ea__seg_time(pl, ea__point(t, j), ea__point(t, j + 1));
-    tf *= 1.2;
-    if (topp) tf = 1.01 * tf_topp; /* 1 % inside the limits */
-    const double sm = l->shoulder_speed_max, tf0 = tf;
-    if (isfinite(sm))
-      for (int k = 0; k + 1 < N; ++k) {
-        const double h = tf * (pl->s[k + 1] - pl->s[k]);
-        const double d = fabs(x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]);
-        if (d / h > 0.9 * sm) tf *= d / h / (0.9 * sm);
-      }
-    /* the shoulder acceleration of the guess's theta0 spline at this timing */
-    double th_acc = 0.0;
-    if (topp && isfinite(pl->amax[EA__C_TH])) {
-      x[EA__ITF(pl)] = tf0;
-      ea__plan_theta0_rates(pl, x);
-      for (int k = 0; k + 1 < N; ++k) {
-        double a[2];
-        ea__plan_hermite_acc(x[EA__IP(pl, k, 1)], x[EA__IP(pl, k + 1, 1)], x[EA__IW(pl, k)],
-                             x[EA__IW(pl, k + 1)], tf0 * (pl->s[k + 1] - pl->s[k]), a, NULL);
-        th_acc = fmax(th_acc, fmax(fabs(a[0]), fabs(a[1])) / pl->amax[EA__C_TH]);
-      }
+  return EA_OK;
+}
+
+/* Duration (a free one): the segment estimates (topp: 1 % above the timed tf_topp), then
+ * stretched until the guess keeps the shoulder speed limit, in *tf. Returns 1 when a timed
+ * guess breaks the shoulder speed or acceleration limit (by more than 5 %): time it again. */
+static int ea__guess_duration(ea_planner_t *pl, double *x, int topp, double tf_topp,
+                              double *tf_out) {
+  const ea_task_t *t = &pl->task;
+  const int N = pl->N;
+  double tf = 0.0;
+  for (int j = 0; j < pl->n_seg; ++j)
+    tf += ea__seg_time(pl, ea__point(t, j), ea__point(t, j + 1));
+  tf *= 1.2;
+  if (topp) tf = 1.01 * tf_topp; /* 1 % inside the limits */
+  const double sm = t->limits.shoulder_speed_max, tf0 = tf;
+  if (isfinite(sm))
+    for (int k = 0; k + 1 < N; ++k) {
+      const double h = tf * (pl->s[k + 1] - pl->s[k]);
+      const double d = fabs(x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]);
+      if (d / h > 0.9 * sm) tf *= d / h / (0.9 * sm);
     }
-    if (topp && (tf > 1.05 * tf0 || th_acc > 1.05)) {
-      /* the timed guess breaks the shoulder speed or acceleration limit:
-       * time it again with theta0 of these knots (a spline in sig) as a
-       * coordinate under 90 % of its limits; if that is not enough either,
-       * the smoothstep */
-      if (!with_theta0) {
-        for (int k = 0; k < N; ++k)
-          th_sig[k] = sigk[k], th[k] = x[EA__IP(pl, k, 1)];
-        with_theta0 = 1;
-      } else {
-        topp = 0;
-      }
-      goto retry;
+  /* the shoulder acceleration of the guess's theta0 spline at this timing */
+  double th_acc = 0.0;
+  if (topp && isfinite(pl->amax[EA__C_TH])) {
+    x[EA__ITF(pl)] = tf0;
+    ea__plan_theta0_rates(pl, x);
+    for (int k = 0; k + 1 < N; ++k) {
+      double a[2];
+      ea__plan_hermite_acc(x[EA__IP(pl, k, 1)], x[EA__IP(pl, k + 1, 1)], x[EA__IW(pl, k)],
+                           x[EA__IW(pl, k + 1)], tf0 * (pl->s[k + 1] - pl->s[k]), a, NULL);
+      th_acc = fmax(th_acc, fmax(fabs(a[0]), fabs(a[1])) / pl->amax[EA__C_TH]);
     }
-    x[EA__ITF(pl)] = tf;
   }
-  pl->guess_timed = topp;
-  /* Rates: along the timed path (dq/dsig dsig/dt), else centred
-   * differences; rest at the pinned knots. */
+  *tf_out = tf;
+  return topp && (tf > 1.05 * tf0 || th_acc > 1.05);
+}
+
+/* Rates: along the timed path (dq/dsig dsig/dt), else centred differences; rest at the
+ * pinned knots. */
+static void ea__guess_rates(ea_planner_t *pl, double *x, double tf) {
+  const int N = pl->N, nq = pl->nq;
+  const double *sigk = pl->gscr, *sdn = pl->gscr + N;
   int jv = 0;
   for (int k = 0; k < N; ++k) {
     while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k)
@@ -476,32 +491,73 @@ retry:
       x[EA__IV(pl, k, c)] = v;
     }
   }
-  /* Minimum time: the rates of the C2 cubic spline through the knots (rest
-   * at the pinned knots), so the acceleration continuity rows hold at the
-   * start and the rates agree with the positions. */
-  if (topp)
-    for (int j = 0; j < pl->n_seg; ++j) {
-      const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
-      double *cp = pl->gscr + 3 * N, *dp = pl->gscr + 4 * N;
-      for (int c = 0; c < nq; ++c) {
-        /* C2 cubic spline slopes, clamped to rest at k0 and k1 (Thomas). */
-        for (int k = k0 + 1; k < k1; ++k) {
-          const double h0 = tf * (pl->s[k] - pl->s[k - 1]), h1 = tf * (pl->s[k + 1] - pl->s[k]);
-          const double a = 1.0 / h0, b = 2.0 * (1.0 / h0 + 1.0 / h1), cc = 1.0 / h1;
-          const double r = 3.0 * ((x[EA__IQ(pl, k, c)] - x[EA__IQ(pl, k - 1, c)]) / (h0 * h0) +
-                                  (x[EA__IQ(pl, k + 1, c)] - x[EA__IQ(pl, k, c)]) / (h1 * h1));
-          const double den = b - (k > k0 + 1 ? a * cp[k - 1] : 0.0);
-          cp[k] = cc / den;
-          dp[k] = (r - (k > k0 + 1 ? a * dp[k - 1] : 0.0)) / den;
-        }
-        double vn = 0.0;
-        for (int k = k1 - 1; k > k0; --k) {
-          vn = dp[k] - cp[k] * vn;
-          const double vm = isfinite(pl->vmax[c]) ? pl->vmax[c] : INFINITY;
-          x[EA__IV(pl, k, c)] = fmax(-vm, fmin(vm, vn));
-        }
+}
+
+/* Minimum time: the rates of the C2 cubic spline through the knots (rest at the pinned
+ * knots), so the acceleration continuity rows hold at the start and the rates agree with
+ * the positions. */
+static void ea__guess_spline_rates(ea_planner_t *pl, double *x, double tf) {
+  const int N = pl->N, nq = pl->nq;
+  for (int j = 0; j < pl->n_seg; ++j) {
+    const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
+    double *cp = pl->gscr + 3 * N, *dp = pl->gscr + 4 * N;
+    for (int c = 0; c < nq; ++c) {
+      /* C2 cubic spline slopes, clamped to rest at k0 and k1 (Thomas). */
+      for (int k = k0 + 1; k < k1; ++k) {
+        const double h0 = tf * (pl->s[k] - pl->s[k - 1]), h1 = tf * (pl->s[k + 1] - pl->s[k]);
+        const double a = 1.0 / h0, b = 2.0 * (1.0 / h0 + 1.0 / h1), cc = 1.0 / h1;
+        const double r = 3.0 * ((x[EA__IQ(pl, k, c)] - x[EA__IQ(pl, k - 1, c)]) / (h0 * h0) +
+                                (x[EA__IQ(pl, k + 1, c)] - x[EA__IQ(pl, k, c)]) / (h1 * h1));
+        const double den = b - (k > k0 + 1 ? a * cp[k - 1] : 0.0);
+        cp[k] = cc / den;
+        dp[k] = (r - (k > k0 + 1 ? a * dp[k - 1] : 0.0)) / den;
+      }
+      double vn = 0.0;
+      for (int k = k1 - 1; k > k0; --k) {
+        vn = dp[k] - cp[k] * vn;
+        const double vm = isfinite(pl->vmax[c]) ? pl->vmax[c] : INFINITY;
+        x[EA__IV(pl, k, c)] = fmax(-vm, fmin(vm, vn));
       }
     }
+  }
+}
+
+ea_status_t ea__plan_guess(ea_planner_t *pl, double *x, ea_plan_info_t *info, ea_error_t *err) {
+  const int N = pl->N;
+  (void)info;
+  /* Minimum time: each segment timed time-optimally along the guess's path
+   * (ea__topp), t_f the largest of the segments' durations over their knot
+   * spans. Otherwise, when a segment cannot be timed, or when the timed
+   * guess breaks the shoulder speed limit (ea__topp does not see theta0):
+   * a smoothstep in time with the old duration estimate. */
+  const double *sigk = pl->gscr;
+  double *th_sig = pl->gscr + 3 * N, *th = pl->gscr + 4 * N; /* theta0 at the knots */
+  int topp = pl->task.objective == EA_TASK_MIN_TIME && pl->has_tf, with_theta0 = 0;
+  double tf = pl->tf_fixed;
+  for (;;) {
+    const double tf_topp = topp ? ea__guess_time_segments(pl, with_theta0, &topp) : 0.0;
+    if (!topp) ea__guess_smoothstep(pl);
+    const ea_status_t st = ea__guess_knots(pl, x, err);
+    if (st) return st;
+    if (!pl->has_tf) break;
+    if (!ea__guess_duration(pl, x, topp, tf_topp, &tf)) {
+      x[EA__ITF(pl)] = tf;
+      break;
+    }
+    /* the timed guess breaks the shoulder speed or acceleration limit: time it again with
+     * theta0 of these knots (a spline in sig) as a coordinate under 90 % of its limits; if
+     * that is not enough either, the smoothstep */
+    if (!with_theta0) {
+      for (int k = 0; k < N; ++k)
+        th_sig[k] = sigk[k], th[k] = x[EA__IP(pl, k, 1)];
+      with_theta0 = 1;
+    } else {
+      topp = 0;
+    }
+  }
+  pl->guess_timed = topp;
+  ea__guess_rates(pl, x, tf);
+  if (topp) ea__guess_spline_rates(pl, x, tf);
   ea__plan_theta0_rates(pl, x);
   return EA_OK;
 }

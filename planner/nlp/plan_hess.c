@@ -279,7 +279,7 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
   if (st) return st;
   const ea_arm_t *arm = &pl->task.arm;
   /* Statics blocks (skipped in the "partial" mode, docs/planner.md). */
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   for (int k = 0; k < pl->N && pl->hess_exact == 1; ++k) {
     const double lk = lambda[3 * k], lx = lambda[3 * k + 1], ly = lambda[3 * k + 2];
     if (lk == 0.0 && lx == 0.0 && ly == 0.0) continue;
@@ -312,7 +312,7 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
       for (int b = 0; b <= a; ++b)
         values[pl->hpos_stat[15 * k + e++]] += H[a][b];
   }
-  pl->t_statics += ea__plan_now() - t0;
+  pl->t_statics += ea__mono_s() - t0;
   (void)arm;
   /* Local rows and objective pieces (the modal defects of an interval together: they share
    * its trajectory variables and, in plan_dyn.c, their work). */

@@ -183,8 +183,6 @@ struct ea_planner {
 #define EA__IE(pl, k, i) ((pl)->ie0 + 2 * (pl)->K * (k) + (i))
 #define EA__IED(pl, k, i) ((pl)->ie0 + 2 * (pl)->K * (k) + (pl)->K + (i))
 
-/** Wall clock [s]. */
-double ea__plan_now(void);
 /** t_f at x. */
 double ea__plan_tf(const ea_planner_t *pl, const double *x);
 /** Hermite accelerations at both ends of an interval of length h and their

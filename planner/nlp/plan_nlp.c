@@ -6,13 +6,6 @@
 
 #include <math.h>
 #include <string.h>
-#include <time.h>
-
-double ea__plan_now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 double ea__plan_tf(const ea_planner_t *pl, const double *x) {
   return pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
@@ -60,7 +53,7 @@ void ea__plan_tip3(const ea_planner_t *pl, double Lc, double al, double b, doubl
 ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens) {
   (void)sens; /* always with sensitivities: the Jacobian follows g at the same x */
   if (pl->cache_val) return EA_OK;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea_status_t st = EA_OK;
   for (int k = 0; k < pl->N && !st; ++k) {
     const double p[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
@@ -74,7 +67,7 @@ ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens) {
     memcpy(key, p, sizeof p);
     pl->kvalid[k] = 1;
   }
-  pl->t_statics += ea__plan_now() - t0;
+  pl->t_statics += ea__mono_s() - t0;
   if (st) return st;
   pl->cache_val = 1;
   pl->cache_sens = 1;

@@ -461,13 +461,13 @@ static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
 static Bool ea__pp_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
   ea_planner_t *pl = ud;
   (void)n, (void)new_x;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__pp_expand(pl, x);
   double v = 0.0;
   for (int i = 0; i < pl->n_terms; ++i)
     v += pl->terms[i].weight * pl->terms[i].value(pl, pl->pp->xk);
   *f = v;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return isfinite(v);
 }
 
@@ -475,7 +475,7 @@ static Bool ea__pp_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserData
   ea_planner_t *pl = ud;
   ea__pp_t *pp = pl->pp;
   (void)new_x;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__pp_expand(pl, x);
   memset(pp->gk, 0, (size_t)pl->n * sizeof *pp->gk);
   for (int i = 0; i < pl->n_terms; ++i)
@@ -490,18 +490,18 @@ static Bool ea__pp_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserData
       f = pp->dq[6 * pp->kknot[i] + 3 + pp->kcoord[i]];
     g[pp->kidx[i]] += pp->gk[i] * f;
   }
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
 static Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud) {
   ea_planner_t *pl = ud;
   (void)n, (void)new_x, (void)m;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   for (int i = 0; i < pl->pp->m; ++i)
     ea__pp_row(pl, x, &pl->pp->rows[i], &g[i], NULL, NULL);
   if (pl->info) pl->info->evals_g++;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
@@ -515,12 +515,12 @@ static Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, I
     memcpy(jCol, pp->jcol, (size_t)pp->nnz * sizeof *jCol);
     return TRUE;
   }
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   int nz = 0;
   for (int i = 0; i < pp->m; ++i)
     nz += ea__pp_row(pl, x, &pp->rows[i], NULL, NULL, values + nz);
   if (pl->info) pl->info->evals_jac++;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
@@ -535,9 +535,9 @@ static Bool ea__pp_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Numb
     memcpy(jCol, pp->hjcol, (size_t)pp->nnz_h * sizeof *jCol);
     return TRUE;
   }
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__pp_hess_values(pl, x, of, lambda, values);
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
@@ -548,7 +548,7 @@ static Bool ea__pp_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr,
   (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
   (void)alpha_du, (void)alpha_pr, (void)ls;
   pl->pp->iter = iter;
-  return ea__plan_now() - pl->t_start < pl->max_time ? TRUE : FALSE;
+  return ea__mono_s() - pl->t_start < pl->max_time ? TRUE : FALSE;
 }
 
 void ea__pp_free(ea__pp_t *pp) {
@@ -845,7 +845,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
                          ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
                          int *iters, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   if (pp->path_status)
     return ea_error_set(err, pp->path_status, "infeasible task: %s", pp->path_msg);
   const int warm = start == EA_PLAN_WARM && pp->have_solution;
@@ -874,7 +874,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       ea__plan_dyn_guess(pl, pl->x);
     ea__pp_reduce(pl, pl->x, pp->x);
   }
-  info->time_guess_s = ea__plan_now() - t0;
+  info->time_guess_s = ea__mono_s() - t0;
   for (int i = 0; i < pp->n; ++i)
     pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
   if ((st = ea__pp_ipopt(pl)))

@@ -33,16 +33,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #define EA__RP EA_REFINE_MAX_PARAMS /* most parameters */
 #define EA__RM EA_REFINE_MAX_MODELS
-
-static double ea__rnow(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 typedef struct {
   ea_planner_t *pl;
@@ -154,7 +147,7 @@ static int ea__refine_budget(ea__refine_t *R) {
     R->stop = "max_evaluations";
     return 1;
   }
-  if (ea__rnow() - R->t0 + R->last_eval_s > R->s.max_time_s) {
+  if (ea__mono_s() - R->t0 + R->last_eval_s > R->s.max_time_s) {
     R->stop = "max_time";
     return 1;
   }
@@ -164,7 +157,7 @@ static int ea__refine_budget(ea__refine_t *R) {
 /* The FE transients of the held plan (R->tr) at every model's arm, fitted; into e. */
 static void ea__refine_fe(ea__refine_t *R, ea_refine_eval_t *e) {
   ea_refine_info_t *info = R->info;
-  const double tf = ea__rnow();
+  const double tf = ea__mono_s();
   e->fe_status = EA_OK;
   e->score = 0.0;
   for (int j = 0; j < R->M && !e->fe_status; ++j) {
@@ -187,7 +180,7 @@ static void ea__refine_fe(ea__refine_t *R, ea_refine_eval_t *e) {
   if (e->fe_status) e->score = NAN;
   e->residual_peak_m = e->model_residual_peak_m[0];
   e->residual_rms_m = e->model_residual_rms_m[0];
-  e->fe_time_s = ea__rnow() - tf;
+  e->fe_time_s = ea__mono_s() - tf;
   info->time_fe_s += e->fe_time_s;
 }
 
@@ -206,7 +199,7 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
     e->fitted_m[p] = e->predicted_m[p] = NAN;
   for (int j = 0; j < EA__RM; ++j)
     e->model_residual_peak_m[j] = e->model_residual_rms_m[j] = NAN;
-  const double te = ea__rnow();
+  const double te = ea__mono_s();
   for (int j = 0; j < R->M; ++j)
     for (int i = 0; i < R->m; ++i) {
       const int p = j * 2 * R->m + 2 * i;
@@ -225,7 +218,7 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
   if (!st) st = ea_planner_solve(R->pl, EA_PLAN_WARM, NULL, &pi, &err);
   e->plan_status = st;
   e->plan_iterations = pi.iterations;
-  e->plan_time_s = ea__rnow() - te;
+  e->plan_time_s = ea__mono_s() - te;
   info->time_plan_s += e->plan_time_s;
   if (st) {
     R->held = -1; /* a failed solve: what the planner holds is not known */
@@ -254,8 +247,8 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
     fitted = fitted && isfinite(e->fitted_m[p]) && isfinite(e->predicted_m[p]);
   e->accepted = !e->plan_status && !e->fe_status && isfinite(e->score) && fitted &&
                 (idx == 0 || e->duration_s - d0 <= R->s.max_duration_change * d0);
-  e->elapsed_s = ea__rnow() - R->t0;
-  R->last_eval_s = ea__rnow() - te;
+  e->elapsed_s = ea__mono_s() - R->t0;
+  R->last_eval_s = ea__mono_s() - te;
   if (e->accepted && !final_resolve && (R->best < 0 || e->score < info->evals[R->best].score))
     R->best = idx;
   if (e->accepted && e->score <= 1.0 && !R->stop) R->stop = "tolerance";
@@ -444,7 +437,7 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
   }
   ea_plan_dyn_info_t di;
   ea_planner_dyn_model(pl, &di);
-  R.t0 = ea__rnow();
+  R.t0 = ea__mono_s();
   R.K = task->dynamics.modes;
   R.m = R.s.modes;
   R.M = di.models > 1 ? di.models : 1;
@@ -553,7 +546,7 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
   }
   info->converged = er->accepted && er->score <= 1.0;
   snprintf(info->stop_reason, sizeof info->stop_reason, "%s", R.stop);
-  info->time_s = ea__rnow() - R.t0;
+  info->time_s = ea__mono_s() - R.t0;
   info->status = EA_OK;
   if (plan_info) *plan_info = R.held_info;
   char corners[160] = "";

@@ -66,24 +66,24 @@ static void ea__touch(ea_planner_t *pl, Bool new_x) {
 static Bool ea__cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
   ea_planner_t *pl = ud;
   (void)n;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   double v = 0.0;
   for (int i = 0; i < pl->n_terms; ++i)
     v += pl->terms[i].weight * pl->terms[i].value(pl, x);
   *f = v;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return isfinite(v);
 }
 
 static Bool ea__cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud) {
   ea_planner_t *pl = ud;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   memset(g, 0, (size_t)n * sizeof *g);
   for (int i = 0; i < pl->n_terms; ++i)
     pl->terms[i].grad(pl, x, pl->terms[i].weight, g);
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
@@ -91,11 +91,11 @@ static Bool ea__cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDat
   ea_planner_t *pl = ud;
   (void)n;
   (void)m;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   const ea_status_t st = ea__plan_eval_g(pl, x, g);
   if (pl->info) pl->info->evals_g++;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return st == EA_OK;
 }
 
@@ -110,12 +110,12 @@ static Bool ea__cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Inde
     memcpy(jCol, pl->jcol, (size_t)pl->nnz * sizeof *jCol);
     return TRUE;
   }
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   if (ea__plan_shoot_all(pl, x, 1)) return FALSE;
   ea__plan_jac(pl, x, NULL, NULL, values);
   if (pl->info) pl->info->evals_jac++;
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
 }
 
@@ -130,10 +130,10 @@ static Bool ea__cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number 
     memcpy(jCol, pl->hjcol, (size_t)pl->nnz_h * sizeof *jCol);
     return TRUE;
   }
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
   const ea_status_t st = ea__plan_hess_values(pl, x, of, lambda, values);
-  pl->t_callbacks += ea__plan_now() - t0;
+  pl->t_callbacks += ea__mono_s() - t0;
   return st == EA_OK;
 }
 
@@ -144,7 +144,7 @@ static Bool ea__cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Nu
   (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
   (void)alpha_du, (void)alpha_pr, (void)ls;
   pl->iter = iter;
-  return ea__plan_now() - pl->t_start < pl->max_time ? TRUE : FALSE;
+  return ea__mono_s() - pl->t_start < pl->max_time ? TRUE : FALSE;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -906,9 +906,9 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
   double tt = info->time_total_s, worst = -INFINITY;
   char msg[160] = "";
   for (;; ++pass) {
-    const double t0 = ea__plan_now();
+    const double t0 = ea__mono_s();
     const int n = ea__plan_between(pl, pl->x_sol, &worst, msg, sizeof msg);
-    tt += ea__plan_now() - t0;
+    tt += ea__mono_s() - t0;
     if (!(worst > 0.0)) break;
     if (!n || pass == EA__BW_PASSES) {
       pl->have_solution = 0;
@@ -1015,9 +1015,12 @@ void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
   AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
 }
 
-ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
-                                ea_plan_info_t *info_out, ea_error_t *err) {
-  ea_plan_info_t local, *info = info_out ? info_out : &local;
+/* The phases of one solve (ea__plan_solve_once): the info's defaults, the start point
+ * (knot transcription), Ipopt's options for that start, Ipopt itself, and the outcome:
+ * the plan accepted and kept, or the failure classified. */
+
+/* The info's defaults and the planner's per-solve counters; returns the solve's start time. */
+static double ea__solve_begin(ea_planner_t *pl, ea_plan_info_t *info) {
   memset(info, 0, sizeof *info);
   info->deriv_errors = -1;
   info->min_first_frequency_hz = info->max_modal_deflection_m = NAN;
@@ -1026,38 +1029,31 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   info->n_con = pl->m;
   info->nnz_jac = pl->nnz;
   info->status = EA_ERR_NOCONV;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   pl->t_start = t0;
   pl->max_time = pl->task.solver.max_time_s;
   pl->t_statics = pl->t_callbacks = 0.0;
   pl->iter = 0;
   pl->info = info;
   pl->cache_val = pl->cache_sens = 0;
+  return t0;
+}
 
+/* A solve that stops before its outcome (no start point, a failed path solve). */
+static ea_status_t ea__solve_abort(ea_planner_t *pl, ea_plan_info_t *info, ea_status_t st,
+                                   double t0, const ea_error_t *err) {
+  info->status = st;
+  snprintf(info->message, sizeof info->message, "%s", err ? err->msg : ea_strerror(st));
+  info->time_total_s = ea__mono_s() - t0;
+  pl->info = NULL;
+  return st;
+}
+
+/* The start point in pl->x (knot transcription), inside the bounds. */
+static ea_status_t ea__solve_start_point(ea_planner_t *pl, ea_plan_start_t start,
+                                         const ea_traj_t *prev, int warm, int replan,
+                                         ea_plan_info_t *info, ea_error_t *err) {
   ea_status_t st = EA_OK;
-  const int path_mode = pl->pp && !pl->pp_off;
-  const int warm = start == EA_PLAN_WARM && pl->have_solution;
-  const int replan = warm && pl->updated;
-  char tmpl[64] = "";
-  double obj = 0.0, ti = 0.0, t_ipopt = 0.0;
-  int iters = 0;
-  enum ApplicationReturnStatus rs = Internal_Error;
-  if (path_mode) {
-    /* the prescribed path in the path coordinate (plan_path.c): its own guess and Ipopt
-     * problem; pl->x gets the plan in the knot layout */
-    ti = ea__plan_now();
-    st = ea__pp_solve(pl, start, prev, info, &rs, &obj, &iters, err);
-    t_ipopt = ea__plan_now() - ti;
-    if (st) {
-      info->status = st;
-      snprintf(info->message, sizeof info->message, "%s", err ? err->msg : ea_strerror(st));
-      info->time_total_s = ea__plan_now() - t0;
-      pl->info = NULL;
-      return st;
-    }
-    goto solved_path;
-  }
-
   if (warm) {
     memcpy(pl->x, pl->x_sol, (size_t)pl->n * sizeof *pl->x);
     memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
@@ -1079,16 +1075,15 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     ea__plan_dyn_guess(pl, pl->x); /* stretched inside its limits, modal states along it */
   else if (!st && (!warm || replan))
     ea__plan_dyn_fill(pl, pl->x); /* modal states along the guess */
-  info->time_guess_s = ea__plan_now() - t0;
-  if (st) {
-    info->status = st;
-    snprintf(info->message, sizeof info->message, "%s", err ? err->msg : ea_strerror(st));
-    info->time_total_s = ea__plan_now() - t0;
-    pl->info = NULL;
-    return st;
-  }
+  if (st) return st;
   for (int i = 0; i < pl->n; ++i)
     pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
+  return EA_OK;
+}
+
+/* Ipopt's options for this start; with the derivative test, its output file's name in
+ * tmpl ("" when none could be made). */
+static void ea__solve_options(ea_planner_t *pl, int warm, int replan, char tmpl[64]) {
   AddIpoptStrOption(pl->ip, "warm_start_init_point", warm ? "yes" : "no");
   /* MUMPS ordering: AMD for every solve. SCOTCH gave fewer, larger fronts (numeric
    * factorization 1.6 instead of 2.5 ms at 100 knots) but draws on a process-global random
@@ -1097,6 +1092,27 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
    * PORD and METIS are deterministic; the whole cold solve took the same time with each. */
   AddIpoptIntOption(pl->ip, "mumps_pivot_order", 0);
   ea__ipopt_start_options(pl->ip, warm, replan || pl->refining);
+  if (!pl->task.solver.derivative_test) return;
+  snprintf(tmpl, 64, "/tmp/ea_dercheck_XXXXXX");
+  const int fd = mkstemp(tmpl);
+  if (fd >= 0) {
+    close(fd);
+    OpenIpoptOutputFile(pl->ip, tmpl, 5);
+  } else {
+    tmpl[0] = '\0';
+  }
+  AddIpoptStrOption(pl->ip, "derivative_test",
+                    pl->task.solver.derivative_test == 2 && pl->hess_exact == 1 ? "second-order"
+                                                                                : "first-order");
+  AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
+  AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);
+}
+
+/* Ipopt from pl->x (knot transcription); a warm start that already is the solution takes
+ * no iteration. Returns Ipopt's status; *obj, *iters (every attempt) and *t_ipopt [s]. */
+static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_start_t start,
+                                                    int warm, double *obj, int *iters,
+                                                    double *t_ipopt) {
   /* Barrier strategy: from a near-optimal start (a cold guess timed along
    * its path, or a previous plan) the monotone strategy with mu_init 1e-4
    * needs about one linear solve per iteration instead of the adaptive
@@ -1112,34 +1128,20 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
       !warm && (pl->rom ? start == EA_PLAN_COLD
                         : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
-  if (pl->task.solver.derivative_test) {
-    snprintf(tmpl, sizeof tmpl, "/tmp/ea_dercheck_XXXXXX");
-    const int fd = mkstemp(tmpl);
-    if (fd >= 0) {
-      close(fd);
-      OpenIpoptOutputFile(pl->ip, tmpl, 5);
-    } else {
-      tmpl[0] = '\0';
-    }
-    AddIpoptStrOption(pl->ip, "derivative_test",
-                      pl->task.solver.derivative_test == 2 && pl->hess_exact == 1 ? "second-order"
-                                                                                  : "first-order");
-    AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
-    AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);
-  }
-  ti = ea__plan_now();
+  enum ApplicationReturnStatus rs = Internal_Error;
+  const double ti = ea__mono_s();
   if (warm && !pl->task.solver.derivative_test && ea__kkt_ok(pl, pl->x)) {
     rs = Solve_Succeeded; /* the start is the solution: no Ipopt iteration */
     for (int i = 0; i < pl->n_terms; ++i)
-      obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
-    pl->t_callbacks = ea__plan_now() - ti; /* not Ipopt's time */
+      *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
+    pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
   } else {
     for (;;) {
       AddIpoptStrOption(pl->ip, "mu_strategy", mono ? "monotone" : "adaptive");
       if (mono) AddIpoptNumOption(pl->ip, "mu_init", mono_mu);
       pl->iter = 0;
-      rs = IpoptSolve(pl->ip, pl->x, pl->g, &obj, pl->mult_g, pl->mult_xl, pl->mult_xu, pl);
-      iters += pl->iter;
+      rs = IpoptSolve(pl->ip, pl->x, pl->g, obj, pl->mult_g, pl->mult_xl, pl->mult_xu, pl);
+      *iters += pl->iter;
       if (!mono || rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level ||
           rs == User_Requested_Stop || pl->task.solver.derivative_test)
         break;
@@ -1148,20 +1150,51 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
       AddIpoptNumOption(pl->ip, "mu_init", 0.1);
     }
   }
-  t_ipopt = ea__plan_now() - ti;
-  if (pl->task.solver.derivative_test) {
-    AddIpoptStrOption(pl->ip, "derivative_test", "none");
-    if (tmpl[0]) {
-      info->deriv_errors = ea__deriv_errors(tmpl);
-      remove(tmpl);
-    }
-  }
-solved_path:
+  *t_ipopt = ea__mono_s() - ti;
+  return rs;
+}
+
+/* A solve that did not give an admissible plan: info's status and message. Only Ipopt's
+ * converged restoration phase (a local minimum of the constraint violation that is not
+ * zero) says "infeasible", and only with a violation well above the solver's tolerance; a
+ * failed restoration phase proves nothing (docs/planner.md). */
+static void ea__solve_failure(ea_plan_info_t *info, enum ApplicationReturnStatus rs,
+                              double tol_viol) {
+  const int infeasible = rs == Infeasible_Problem_Detected && info->max_violation > tol_viol;
+  if (infeasible)
+    info->status = EA_ERR_INFEASIBLE;
+  else if (rs == Maximum_Iterations_Exceeded)
+    info->status = EA_ERR_MAXITER;
+  else if (rs == Invalid_Problem_Definition || rs == Invalid_Option || rs == Insufficient_Memory ||
+           rs < -100)
+    info->status = EA_ERR_BACKEND;
+  else
+    info->status = EA_ERR_NOCONV;
+  if (infeasible)
+    snprintf(info->message, sizeof info->message,
+             "the task is locally infeasible (Ipopt: %s after %d iterations); at the point of "
+             "least violation Ipopt found: %s",
+             info->ipopt_status_name, info->iterations, info->worst);
+  else
+    snprintf(info->message, sizeof info->message,
+             "the planner did not converge (Ipopt: %s after %d iterations%s); worst constraint "
+             "at the last iterate: %s",
+             info->ipopt_status_name, info->iterations,
+             rs == Restoration_Failed || rs == Infeasible_Problem_Detected
+                 ? "; not a proof that the task is infeasible"
+                 : "",
+             info->worst[0] ? info->worst : "none violated");
+}
+
+/* The outcome of Ipopt's run: the iterate polished and measured; an admissible plan becomes
+ * the planner's solution, anything else a classified failure (info->status). */
+static void ea__solve_outcome(ea_planner_t *pl, ea_plan_info_t *info,
+                              enum ApplicationReturnStatus rs, double obj, int iters,
+                              int path_mode) {
   info->ipopt_status = (int)rs;
   snprintf(info->ipopt_status_name, sizeof info->ipopt_status_name, "%s", ea__ipopt_name(rs));
   info->iterations = iters;
   info->objective = obj;
-  const double tp = ea__plan_now();
   const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
   if (solved) {
     if (!path_mode) { /* path mode: theta0 and its rates are the path spline's (1e-9) */
@@ -1174,59 +1207,66 @@ solved_path:
   ea__plan_dyn_stats(pl, pl->x, info);
   info->time_freq_model_s = pl->fm ? pl->fm->info.time_s : 0.0;
   const double tol_viol = 1e-6;
-  if (solved && info->max_violation <= tol_viol &&
-      info->max_statics_residual <= (path_mode ? 1e-8 : 1e-9)) {
-    info->status = EA_OK;
-    memcpy(pl->x_sol, pl->x, (size_t)pl->n * sizeof *pl->x);
-    memcpy(pl->mult_g_sol, pl->mult_g, (size_t)pl->m * sizeof *pl->x);
-    memcpy(pl->mult_xl_sol, pl->mult_xl, (size_t)pl->n * sizeof *pl->x);
-    memcpy(pl->mult_xu_sol, pl->mult_xu, (size_t)pl->n * sizeof *pl->x);
-    pl->have_solution = 1;
-    pl->updated = 0;
-    pl->task_sol = pl->task;
-    snprintf(info->message, sizeof info->message,
-             "plan found: duration %.6g s, %d iterations, min tension margin %.4g N, peak "
-             "shoulder torque %.4g N m",
-             info->duration_s, info->iterations, info->min_tension_margin_N,
-             info->peak_shoulder_torque_Nm);
-  } else {
-    /* Only Ipopt's converged restoration phase (a local minimum of the
-     * constraint violation that is not zero) says "infeasible", and only
-     * with a violation well above the solver's tolerance; a failed
-     * restoration phase proves nothing (docs/planner.md). */
-    const int infeasible = rs == Infeasible_Problem_Detected && info->max_violation > tol_viol;
-    if (infeasible)
-      info->status = EA_ERR_INFEASIBLE;
-    else if (rs == Maximum_Iterations_Exceeded)
-      info->status = EA_ERR_MAXITER;
-    else if (rs == Invalid_Problem_Definition || rs == Invalid_Option ||
-             rs == Insufficient_Memory || rs < -100)
-      info->status = EA_ERR_BACKEND;
-    else
-      info->status = EA_ERR_NOCONV;
-    if (infeasible)
-      snprintf(info->message, sizeof info->message,
-               "the task is locally infeasible (Ipopt: %s after %d iterations); at the point of "
-               "least violation Ipopt found: %s",
-               info->ipopt_status_name, info->iterations, info->worst);
-    else
-      snprintf(info->message, sizeof info->message,
-               "the planner did not converge (Ipopt: %s after %d iterations%s); worst constraint "
-               "at the last iterate: %s",
-               info->ipopt_status_name, info->iterations,
-               rs == Restoration_Failed || rs == Infeasible_Problem_Detected
-                   ? "; not a proof that the task is infeasible"
-                   : "",
-               info->worst[0] ? info->worst : "none violated");
+  if (!(solved && info->max_violation <= tol_viol &&
+        info->max_statics_residual <= (path_mode ? 1e-8 : 1e-9))) {
+    ea__solve_failure(info, rs, tol_viol);
+    return;
   }
+  info->status = EA_OK;
+  memcpy(pl->x_sol, pl->x, (size_t)pl->n * sizeof *pl->x);
+  memcpy(pl->mult_g_sol, pl->mult_g, (size_t)pl->m * sizeof *pl->x);
+  memcpy(pl->mult_xl_sol, pl->mult_xl, (size_t)pl->n * sizeof *pl->x);
+  memcpy(pl->mult_xu_sol, pl->mult_xu, (size_t)pl->n * sizeof *pl->x);
+  pl->have_solution = 1;
+  pl->updated = 0;
+  pl->task_sol = pl->task;
+  snprintf(info->message, sizeof info->message,
+           "plan found: duration %.6g s, %d iterations, min tension margin %.4g N, peak "
+           "shoulder torque %.4g N m",
+           info->duration_s, info->iterations, info->min_tension_margin_N,
+           info->peak_shoulder_torque_Nm);
+}
+
+ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
+                                ea_plan_info_t *info_out, ea_error_t *err) {
+  ea_plan_info_t local, *info = info_out ? info_out : &local;
+  const double t0 = ea__solve_begin(pl, info);
+  ea_status_t st = EA_OK;
+  const int path_mode = pl->pp && !pl->pp_off;
+  const int warm = start == EA_PLAN_WARM && pl->have_solution;
+  const int replan = warm && pl->updated;
+  double obj = 0.0, t_ipopt = 0.0;
+  int iters = 0;
+  enum ApplicationReturnStatus rs = Internal_Error;
+  if (path_mode) {
+    /* the prescribed path in the path coordinate (plan_path.c): its own guess and Ipopt
+     * problem; pl->x gets the plan in the knot layout */
+    const double ti = ea__mono_s();
+    st = ea__pp_solve(pl, start, prev, info, &rs, &obj, &iters, err);
+    t_ipopt = ea__mono_s() - ti;
+    if (st) return ea__solve_abort(pl, info, st, t0, err);
+  } else {
+    st = ea__solve_start_point(pl, start, prev, warm, replan, info, err);
+    info->time_guess_s = ea__mono_s() - t0;
+    if (st) return ea__solve_abort(pl, info, st, t0, err);
+    char tmpl[64] = "";
+    ea__solve_options(pl, warm, replan, tmpl);
+    rs = ea__solve_ipopt(pl, start, warm, &obj, &iters, &t_ipopt);
+    if (pl->task.solver.derivative_test) {
+      AddIpoptStrOption(pl->ip, "derivative_test", "none");
+      if (tmpl[0]) {
+        info->deriv_errors = ea__deriv_errors(tmpl);
+        remove(tmpl);
+      }
+    }
+  }
+  ea__solve_outcome(pl, info, rs, obj, iters, path_mode);
   pl->cache_val = pl->cache_sens = 0;
-  const double t1 = ea__plan_now();
-  info->time_total_s = t1 - t0;
+  info->time_total_s = ea__mono_s() - t0;
   info->time_statics_s = pl->t_statics;
   info->time_ipopt_s = t_ipopt - pl->t_callbacks;
   info->time_rest_s =
       info->time_total_s - info->time_guess_s - info->time_statics_s - info->time_ipopt_s;
-  (void)tp;
   pl->info = NULL;
   if (replan && info->status) {
     /* the shifted plan led nowhere: solve the changed task cold (its guess

@@ -126,7 +126,7 @@ static int ea__fill(int nL, int na, double *f, unsigned char *ok) {
 ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err) {
   pl->fm = NULL;
   if (!ea__needs_model(&pl->task)) return EA_OK;
-  const double t0 = ea__plan_now();
+  const double t0 = ea__mono_s();
   const ea_task_t *t = &pl->task;
   ea__freq_model_t *fm = calloc(1, sizeof *fm);
   if (!fm) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (frequency model)");
@@ -225,7 +225,7 @@ ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err) {
   in->f1_min_hz = f_lo;
   in->f1_max_hz = f_hi;
   in->f_ref_hz = ea__plan_freq(pl, t->start.cable_length, t->start.cable_angle, NULL);
-  in->time_s = ea__plan_now() - t0;
+  in->time_s = ea__mono_s() - t0;
   return EA_OK;
 }
 

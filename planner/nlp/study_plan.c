@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-struct ea__study_plan {
+struct ea_study_planner {
   int has_min_time, has_at_rest;
   ea_task_t task;      /* min_time */
   ea_task_t rest_task; /* at_rest */
@@ -38,10 +38,16 @@ static ea_status_t ea__plan_task(const ea_study_t *s, unsigned metric, const cha
                       rest ? "at_rest" : "min_time", name, ea_task_objective_name(t->objective));
 }
 
-ea_status_t ea__study_plan_alloc(const ea_study_t *s, const char *default_arm,
-                                 ea__study_plan_t **out, ea_error_t *err) {
+ea_status_t ea_study_use_planner(const ea_study_t *s, const char *default_arm,
+                                 ea_study_settings_t *set, ea_study_planner_t **out,
+                                 ea_error_t *err) {
+  if (!s || !set || !out)
+    return ea_error_set(err, EA_ERR_ARG, "ea_study_use_planner: NULL argument");
   *out = NULL;
-  ea__study_plan_t *p = calloc(1, sizeof *p);
+  set->min_time = NULL, set->min_time_data = NULL, set->min_time_key = NULL;
+  set->at_rest = NULL, set->at_rest_data = NULL, set->at_rest_key = NULL;
+  if (!(s->metrics & EA_STUDY_M_PLANNER)) return EA_OK;
+  ea_study_planner_t *p = calloc(1, sizeof *p);
   if (!p) return ea_error_set(err, EA_ERR_NOMEM, "study planner: out of memory");
   ea_status_t st = EA_OK;
   if (s->metrics & EA_STUDY_M_MIN_TIME) {
@@ -63,28 +69,21 @@ ea_status_t ea__study_plan_alloc(const ea_study_t *s, const char *default_arm,
   p->settle = s->at_rest.settle;
   p->zeta = s->at_rest.damping_ratio;
   pthread_mutex_init(&p->mu, NULL);
+  if (p->has_min_time) {
+    set->min_time = ea__study_min_time;
+    set->min_time_data = p;
+    set->min_time_key = p->key;
+  }
+  if (p->has_at_rest) {
+    set->at_rest = ea__study_at_rest;
+    set->at_rest_data = p;
+    set->at_rest_key = p->rest_key;
+  }
   *out = p;
   return EA_OK;
 }
 
-const char *ea__study_plan_key(const ea__study_plan_t *p) {
-  return p && p->has_min_time ? p->key : NULL;
-}
-
-const char *ea__study_plan_at_rest_key(const ea__study_plan_t *p) {
-  return p && p->has_at_rest ? p->rest_key : NULL;
-}
-
-void ea__study_plan_register(ea__study_plan_t *p, ea_study_settings_t *set) {
-  set->min_time = p && p->has_min_time ? ea__study_min_time : NULL;
-  set->min_time_data = p;
-  set->min_time_key = ea__study_plan_key(p);
-  set->at_rest = p && p->has_at_rest ? ea__study_at_rest : NULL;
-  set->at_rest_data = p;
-  set->at_rest_key = ea__study_plan_at_rest_key(p);
-}
-
-void ea__study_plan_free(ea__study_plan_t *p) {
+void ea_study_planner_free(ea_study_planner_t *p) {
   if (!p) return;
   pthread_mutex_destroy(&p->mu);
   free(p);
@@ -122,7 +121,7 @@ static ea_task_t *ea__case_task(const ea_task_t *base, const ea_arm_t *arm, doub
 
 /* Plan t from cold (Ipopt calls serialised: MUMPS' sequential build is not thread-safe;
  * worker processes each have their own mutex). tr (may be NULL) receives the plan. */
-static ea_status_t ea__plan(ea__study_plan_t *p, const ea_task_t *t, ea_traj_t *tr,
+static ea_status_t ea__plan(ea_study_planner_t *p, const ea_task_t *t, ea_traj_t *tr,
                             ea_plan_info_t *info, char *msg, size_t msg_len) {
   memset(info, 0, sizeof *info);
   ea_error_t e = {0};
@@ -148,7 +147,7 @@ ea_status_t ea__study_min_time(void *data, const ea_study_t *s, const ea_arm_t *
                                double payload_kg, double payload_factor, double *duration_s,
                                char *msg, size_t msg_len) {
   (void)s;
-  ea__study_plan_t *p = data;
+  ea_study_planner_t *p = data;
   *duration_s = NAN;
   if (!p || !p->has_min_time) {
     snprintf(msg, msg_len, "min_time: no task");
@@ -175,7 +174,7 @@ void ea__study_at_rest_sim_settings(const ea_study_t *s, ea_sim_settings_t *sim)
 
 /* Plan t (duration into v[0], status st[0], msg[0]), then its FE transient (residual
  * peak into v[1], st[1], msg[1]). what: "quasi-static" or "at-rest". */
-static void ea__plan_and_simulate(ea__study_plan_t *p, const ea_study_t *s, const ea_task_t *t,
+static void ea__plan_and_simulate(ea_study_planner_t *p, const ea_study_t *s, const ea_task_t *t,
                                   const char *what, double v[2], ea_status_t st[2],
                                   char (*msg)[400]) {
   ea_traj_t tr = {0};
@@ -216,7 +215,7 @@ static void ea__plan_and_simulate(ea__study_plan_t *p, const ea_study_t *s, cons
 ea_status_t ea__study_at_rest(void *data, const ea_study_t *s, const ea_arm_t *arm,
                               double payload_kg, double payload_factor,
                               ea_study_at_rest_result_t *out) {
-  ea__study_plan_t *p = data;
+  ea_study_planner_t *p = data;
   memset(out, 0, sizeof *out);
   out->duration_s = out->residual_peak_m = out->qs_duration_s = out->qs_residual_peak_m = NAN;
   ea_status_t st = EA_OK;

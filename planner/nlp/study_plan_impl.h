@@ -1,6 +1,7 @@
 /* Private: the planner side of batch studies: the minimum-time and at-rest
  * metrics (planner/nlp/study_plan.c), the callbacks that keep Ipopt out of
- * problems/. Parsed result rows, the JSON summary and the figures: planner/app/. */
+ * problems/; registered by the public ea_study_use_planner (ea_planner.h).
+ * Parsed result rows, the JSON summary and the figures: planner/app/. */
 #ifndef EA_STUDY_PLAN_IMPL_H
 #define EA_STUDY_PLAN_IMPL_H
 
@@ -10,22 +11,8 @@
 
 /* ---- minimum-time and at-rest metrics (planner/nlp/study_plan.c) ---------- */
 
-/** State of the planner callbacks: the study's tasks, loaded once. */
-typedef struct ea__study_plan ea__study_plan_t;
+/* Their data: the ea_study_planner_t of ea_study_use_planner. */
 
-/** Load the tasks of the study's planner metrics (min_time, at_rest; each
- *  ea_study_metric_task_load: the study's arm file, else default_arm, when
- *  the task names none); each must be a min_time task. */
-ea_status_t ea__study_plan_alloc(const ea_study_t *s, const char *default_arm,
-                                 ea__study_plan_t **out, ea_error_t *err);
-/** Content key of the loaded min_time task (for ea_study_settings_t.min_time_key;
- *  NULL without one). */
-const char *ea__study_plan_key(const ea__study_plan_t *p);
-/** Content key of the loaded at_rest task (NULL without one). */
-const char *ea__study_plan_at_rest_key(const ea__study_plan_t *p);
-/** Put the callbacks, their data and keys in set (NULL p: none). */
-void ea__study_plan_register(ea__study_plan_t *p, ea_study_settings_t *set);
-void ea__study_plan_free(ea__study_plan_t *p);
 /** The ea_study_min_time_fn: copies the task, puts the case's arm and
  *  payload in, re-checks it (points inside the case's workspace), plans
  *  from cold and reports the duration. Ipopt (MUMPS) calls are serialised

@@ -9,10 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* ---- Time (CLOCK_MONOTONIC) -------------------------------------------- */
+/* ---- Time (CLOCK_MONOTONIC: ea__mono_ns of ea_util.h) ------------------ */
 
-/** Monotonic time [ns]. */
-int64_t ea__mono_ns(void);
 /** Sleep until the absolute monotonic time t_ns (clock_nanosleep
  *  TIMER_ABSTIME; restarts on EINTR unless *stop becomes nonzero). */
 void ea__sleep_until_ns(int64_t t_ns, const volatile sig_atomic_t *stop);
