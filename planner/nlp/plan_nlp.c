@@ -7,49 +7,6 @@
 #include <math.h>
 #include <string.h>
 
-double ea__plan_tf(const ea_planner_t *pl, const double *x) {
-  return pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
-}
-
-void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],
-                          double ga[2][5]) {
-  const double dq = q1 - q0, ih = 1.0 / h, ih2 = ih * ih;
-  a[0] = 6.0 * dq * ih2 - (4.0 * v0 + 2.0 * v1) * ih;
-  a[1] = -6.0 * dq * ih2 + (2.0 * v0 + 4.0 * v1) * ih;
-  if (!ga) return;
-  ga[0][0] = -6.0 * ih2;
-  ga[0][1] = 6.0 * ih2;
-  ga[0][2] = -4.0 * ih;
-  ga[0][3] = -2.0 * ih;
-  ga[0][4] = -12.0 * dq * ih2 * ih + (4.0 * v0 + 2.0 * v1) * ih2;
-  ga[1][0] = 6.0 * ih2;
-  ga[1][1] = -6.0 * ih2;
-  ga[1][2] = 2.0 * ih;
-  ga[1][3] = 4.0 * ih;
-  ga[1][4] = 12.0 * dq * ih2 * ih - (2.0 * v0 + 4.0 * v1) * ih2;
-}
-
-void ea__plan_tip3(const ea_planner_t *pl, double Lc, double al, double b, double P[3],
-                   double dP[3][3]) {
-  const ea_arm_t *arm = &pl->task.arm;
-  const double ca = cos(al), sa = sin(al), cb = cos(b), sb = sin(b);
-  const double X = arm->x_c + Lc * ca, Y = arm->y_c + Lc * sa;
-  P[0] = X * cb;
-  P[1] = X * sb;
-  P[2] = Y;
-  if (!dP) return;
-  /* dP[i][j]: d P_i / d (L_c, alpha, base)_j */
-  dP[0][0] = ca * cb;
-  dP[0][1] = -Lc * sa * cb;
-  dP[0][2] = -X * sb;
-  dP[1][0] = ca * sb;
-  dP[1][1] = -Lc * sa * sb;
-  dP[1][2] = X * cb;
-  dP[2][0] = sa;
-  dP[2][1] = Lc * ca;
-  dP[2][2] = 0.0;
-}
-
 ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens) {
   (void)sens; /* always with sensitivities: the Jacobian follows g at the same x */
   if (pl->cache_val) return EA_OK;

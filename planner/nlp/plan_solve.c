@@ -1001,20 +1001,6 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
   return ea__solve_checked(pl, start, prev, info_out, err);
 }
 
-/* The barrier's start and the warm-start pushes for both transcriptions. After an update
- * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
- * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
- * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
- * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
-void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
-  const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
-  AddIpoptNumOption(ip, "mu_init", mu);
-  if (!warm && !updated) return;
-  AddIpoptNumOption(ip, "warm_start_bound_push", push);
-  AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
-  AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
-}
-
 /* The phases of one solve (ea__plan_solve_once): the info's defaults, the start point
  * (knot transcription), Ipopt's options for that start, Ipopt itself, and the outcome:
  * the plan accepted and kept, or the failure classified. */

@@ -37,48 +37,6 @@ static int ea__needs_model(const ea_task_t *t) {
          t->limits.min_first_frequency_hz > 0.0 || isfinite(t->limits.max_modal_deflection_m);
 }
 
-static const ea_task_point_t *ea__vpt(const ea_task_t *t, int j) {
-  return j == 0 ? &t->start : j <= t->n_via ? &t->via[j - 1] : &t->goal;
-}
-
-void ea__plan_box(const ea_planner_t *pl, double box[4]) {
-  const ea_task_t *t = &pl->task;
-  const ea_arm_t *arm = &t->arm;
-  box[0] = box[2] = INFINITY;
-  box[1] = box[3] = -INFINITY;
-  const int np = t->n_via + 2, ns = 64;
-  for (int j = 0; j + 1 < np; ++j) {
-    const ea_task_point_t *a = ea__vpt(t, j), *b = ea__vpt(t, j + 1);
-    for (int i = 0; i <= ns; ++i) {
-      const double u = (double)i / ns;
-      double L, al;
-      if (t->path == EA_TASK_PATH_FREE) {
-        L = a->cable_length + u * (b->cable_length - a->cable_length);
-        al = a->cable_angle + u * (b->cable_angle - a->cable_angle);
-      } else {
-        double PA[3], PB[3];
-        ea__plan_tip3(pl, a->cable_length, a->cable_angle, a->base_angle, PA, NULL);
-        ea__plan_tip3(pl, b->cable_length, b->cable_angle, b->base_angle, PB, NULL);
-        double P[3];
-        for (int c = 0; c < 3; ++c)
-          P[c] = PA[c] + u * (PB[c] - PA[c]);
-        const double r = hypot(P[0], P[1]) - arm->x_c, z = P[2] - arm->y_c;
-        L = hypot(r, z);
-        al = atan2(z, r);
-      }
-      box[0] = fmin(box[0], L);
-      box[1] = fmax(box[1], L);
-      box[2] = fmin(box[2], al);
-      box[3] = fmax(box[3], al);
-    }
-  }
-  const double mL = fmax(0.15 * (box[1] - box[0]), 0.02), ma = fmax(0.15 * (box[3] - box[2]), 0.04);
-  box[0] = fmax(box[0] - mL, t->limits.cable_length_min);
-  box[1] = fmin(box[1] + mL, t->limits.cable_length_max);
-  box[2] = fmax(box[2] - ma, -M_PI);
-  box[3] = fmin(box[3] + ma, M_PI);
-}
-
 static int ea__clampi(int v, int lo, int hi) {
   return v < lo ? lo : v > hi ? hi : v;
 }

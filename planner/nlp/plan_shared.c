@@ -1,0 +1,106 @@
+/* What both transcriptions (plan_solve.c: knots, plan_path.c: the path coordinate) and the
+ * row families (plan_nlp.c, plan_vib.c, plan_dyn.c) share: the duration variable, the end
+ * accelerations of an interval's cubic Hermite, the tip from the actuator coordinates, the
+ * (L_c, alpha) box a task covers, and the Ipopt barrier start. Calls nothing above it. */
+#include "plan_impl.h"
+
+#include <math.h>
+
+double ea__plan_tf(const ea_planner_t *pl, const double *x) {
+  return pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
+}
+
+void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],
+                          double ga[2][5]) {
+  const double dq = q1 - q0, ih = 1.0 / h, ih2 = ih * ih;
+  a[0] = 6.0 * dq * ih2 - (4.0 * v0 + 2.0 * v1) * ih;
+  a[1] = -6.0 * dq * ih2 + (2.0 * v0 + 4.0 * v1) * ih;
+  if (!ga) return;
+  ga[0][0] = -6.0 * ih2;
+  ga[0][1] = 6.0 * ih2;
+  ga[0][2] = -4.0 * ih;
+  ga[0][3] = -2.0 * ih;
+  ga[0][4] = -12.0 * dq * ih2 * ih + (4.0 * v0 + 2.0 * v1) * ih2;
+  ga[1][0] = 6.0 * ih2;
+  ga[1][1] = -6.0 * ih2;
+  ga[1][2] = 2.0 * ih;
+  ga[1][3] = 4.0 * ih;
+  ga[1][4] = 12.0 * dq * ih2 * ih - (2.0 * v0 + 4.0 * v1) * ih2;
+}
+
+void ea__plan_tip3(const ea_planner_t *pl, double Lc, double al, double b, double P[3],
+                   double dP[3][3]) {
+  const ea_arm_t *arm = &pl->task.arm;
+  const double ca = cos(al), sa = sin(al), cb = cos(b), sb = sin(b);
+  const double X = arm->x_c + Lc * ca, Y = arm->y_c + Lc * sa;
+  P[0] = X * cb;
+  P[1] = X * sb;
+  P[2] = Y;
+  if (!dP) return;
+  /* dP[i][j]: d P_i / d (L_c, alpha, base)_j */
+  dP[0][0] = ca * cb;
+  dP[0][1] = -Lc * sa * cb;
+  dP[0][2] = -X * sb;
+  dP[1][0] = ca * sb;
+  dP[1][1] = -Lc * sa * sb;
+  dP[1][2] = X * cb;
+  dP[2][0] = sa;
+  dP[2][1] = Lc * ca;
+  dP[2][2] = 0.0;
+}
+
+static const ea_task_point_t *ea__vpt(const ea_task_t *t, int j) {
+  return j == 0 ? &t->start : j <= t->n_via ? &t->via[j - 1] : &t->goal;
+}
+
+void ea__plan_box(const ea_planner_t *pl, double box[4]) {
+  const ea_task_t *t = &pl->task;
+  const ea_arm_t *arm = &t->arm;
+  box[0] = box[2] = INFINITY;
+  box[1] = box[3] = -INFINITY;
+  const int np = t->n_via + 2, ns = 64;
+  for (int j = 0; j + 1 < np; ++j) {
+    const ea_task_point_t *a = ea__vpt(t, j), *b = ea__vpt(t, j + 1);
+    for (int i = 0; i <= ns; ++i) {
+      const double u = (double)i / ns;
+      double L, al;
+      if (t->path == EA_TASK_PATH_FREE) {
+        L = a->cable_length + u * (b->cable_length - a->cable_length);
+        al = a->cable_angle + u * (b->cable_angle - a->cable_angle);
+      } else {
+        double PA[3], PB[3];
+        ea__plan_tip3(pl, a->cable_length, a->cable_angle, a->base_angle, PA, NULL);
+        ea__plan_tip3(pl, b->cable_length, b->cable_angle, b->base_angle, PB, NULL);
+        double P[3];
+        for (int c = 0; c < 3; ++c)
+          P[c] = PA[c] + u * (PB[c] - PA[c]);
+        const double r = hypot(P[0], P[1]) - arm->x_c, z = P[2] - arm->y_c;
+        L = hypot(r, z);
+        al = atan2(z, r);
+      }
+      box[0] = fmin(box[0], L);
+      box[1] = fmax(box[1], L);
+      box[2] = fmin(box[2], al);
+      box[3] = fmax(box[3], al);
+    }
+  }
+  const double mL = fmax(0.15 * (box[1] - box[0]), 0.02), ma = fmax(0.15 * (box[3] - box[2]), 0.04);
+  box[0] = fmax(box[0] - mL, t->limits.cable_length_min);
+  box[1] = fmin(box[1] + mL, t->limits.cable_length_max);
+  box[2] = fmax(box[2] - ma, -M_PI);
+  box[3] = fmin(box[3] + ma, M_PI);
+}
+
+/* The barrier's start and the warm-start pushes for both transcriptions. After an update
+ * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
+ * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
+ * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
+ * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
+void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
+  const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
+  AddIpoptNumOption(ip, "mu_init", mu);
+  if (!warm && !updated) return;
+  AddIpoptNumOption(ip, "warm_start_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
+}
