@@ -397,98 +397,97 @@ static void ea__refine_nlopt(ea__refine_t *R) {
 
 /* ---- driver ------------------------------------------------------------------------------ */
 
-ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_info_t *plan_info,
-                           ea_refine_info_t *info, ea_error_t *err) {
-  if (!pl || !info) return ea_error_set(err, EA_ERR_ARG, "ea_plan_refine: NULL argument");
-  memset(info, 0, sizeof *info);
-  info->status = EA_ERR_ARG;
-  snprintf(info->stop_reason, sizeof info->stop_reason, "failed");
-  const ea_task_t *task = ea_planner_task(pl);
-  const ea_rom_table_t *tb = ea_planner_rom_table(pl);
-  ea__refine_t R;
-  memset(&R, 0, sizeof R);
-  R.pl = pl;
-  R.task = task;
-  R.info = info;
-  R.s = s ? *s : task->dynamics.refine;
-  R.s.enabled = 1;
-  R.held = R.best = -1;
-  info->settings = R.s;
-  if (!tb || task->dynamics.modes < 1) {
+/* The task and the settings must allow a refinement; the message says why not. */
+static ea_status_t ea__refine_check(const ea__refine_t *R, ea_error_t *err) {
+  const ea_task_t *task = R->task;
+  ea_refine_info_t *info = R->info;
+  if (!ea_planner_rom_table(R->pl) || task->dynamics.modes < 1) {
     snprintf(info->message, sizeof info->message,
              "refinement needs a task with dynamics (dynamics.modes >= 1)");
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
   }
   if (task->dynamics.residual_m > 0.0 || task->objective == EA_TASK_MIN_VIBRATION ||
-      R.s.modes < 1 || R.s.modes > task->dynamics.modes) {
+      R->s.modes < 1 || R->s.modes > task->dynamics.modes) {
     snprintf(info->message, sizeof info->message,
              "refinement needs a plan that ends at rest (dynamics.residual_m 0, not "
              "min_vibration) and 1 <= refine.modes <= dynamics.modes = %d (got %d)",
-             task->dynamics.modes, R.s.modes);
+             task->dynamics.modes, R->s.modes);
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
   }
-  if (!(R.s.tolerance_m > 0.0) || R.s.max_evaluations < 1 ||
-      R.s.max_evaluations > EA_TASK_REFINE_MAX_EVALUATIONS || !(R.s.max_time_s > 0.0) ||
-      !(R.s.fe_dt_s > 0.0) || !(R.s.settle_s > 0.0) || !(R.s.max_duration_change >= 0.0) ||
-      (int)R.s.method < 0 || R.s.method > EA_TASK_REFINE_SBPLX) {
+  const ea_task_refine_t *r = &R->s;
+  if (!(r->tolerance_m > 0.0) || r->max_evaluations < 1 ||
+      r->max_evaluations > EA_TASK_REFINE_MAX_EVALUATIONS || !(r->max_time_s > 0.0) ||
+      !(r->fe_dt_s > 0.0) || !(r->settle_s > 0.0) || !(r->max_duration_change >= 0.0) ||
+      (int)r->method < 0 || r->method > EA_TASK_REFINE_SBPLX) {
     snprintf(info->message, sizeof info->message,
              "refinement settings out of range (docs/task-format.md, dynamics.refine)");
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
   }
-  ea_plan_dyn_info_t di;
-  ea_planner_dyn_model(pl, &di);
-  R.t0 = ea__mono_s();
-  R.K = task->dynamics.modes;
-  R.m = R.s.modes;
-  R.M = di.models > 1 ? di.models : 1;
-  R.n = 2 * R.m * R.M;
-  info->model_modes = R.K;
-  info->models = R.M;
-  info->n_params = R.n;
+  return EA_OK;
+}
+
+/* The sizes (modes, models, parameters) and the loop's FE settings. */
+static ea_status_t ea__refine_setup(ea__refine_t *R, ea_plan_dyn_info_t *di, ea_error_t *err) {
+  ea_refine_info_t *info = R->info;
+  ea_planner_dyn_model(R->pl, di);
+  R->t0 = ea__mono_s();
+  R->K = R->task->dynamics.modes;
+  R->m = R->s.modes;
+  R->M = di->models > 1 ? di->models : 1;
+  R->n = 2 * R->m * R->M;
+  info->model_modes = R->K;
+  info->models = R->M;
+  info->n_params = R->n;
   ea_sim_settings_default(&info->fe);
   info->fe.elements = EA_FE_DEFAULT_ELEMENTS;
   info->fe.scheme = EA_FE_SCHEME_GENALPHA;
-  info->fe.dt = R.s.fe_dt_s;
-  info->fe.settle = R.s.settle_s;
+  info->fe.dt = R->s.fe_dt_s;
+  info->fe.settle = R->s.settle_s;
   info->fe.damping_ratio = 0.0;
   info->fe.keep_history = 1;
-  ea_status_t st = ea_sim_settings_validate(&info->fe, err);
-  if (st) {
-    snprintf(info->message, sizeof info->message, "%s", err ? err->msg : "FE settings");
-    return st;
-  }
+  const ea_status_t st = ea_sim_settings_validate(&info->fe, err);
+  if (st) snprintf(info->message, sizeof info->message, "%s", err ? err->msg : "FE settings");
+  return st;
+}
 
-  /* every model at the goal (the last knot is pinned there): frequencies and tip directions;
-   * its FE arm: the task's with the model's EI, its tip mass (hand + payload, scaled) */
-  for (int j = 0; j < R.M; ++j) {
-    const ea_rom_table_t *tj = ea__plan_rom_model(pl, j);
+/* Every model at the goal (the last knot is pinned there): frequencies and tip directions;
+ * its FE arm: the task's with the model's EI, its tip mass (hand + payload, scaled). */
+static ea_status_t ea__refine_models(ea__refine_t *R, const ea_plan_dyn_info_t *di,
+                                     ea_error_t *err) {
+  const ea_task_t *task = R->task;
+  ea_refine_info_t *info = R->info;
+  for (int j = 0; j < R->M; ++j) {
+    const ea_rom_table_t *tj = ea__plan_rom_model(R->pl, j);
     ea_rom_point_t v;
     ea_rom_table_eval(tj, task->goal.cable_length, task->goal.cable_angle, &v, NULL, NULL);
-    R.arm[j] = task->arm;
-    R.arm[j].EI = di.model_EI[j];
-    info->model_tip_mass_kg[j] = di.model_tip_mass[j];
-    info->model_EI_Nm2[j] = di.model_EI[j];
-    info->allowed_m[j] = j ? task->dynamics.robust_residual_m + R.s.tolerance_m : R.s.tolerance_m;
-    for (int i = 0; i < R.K; ++i) {
-      R.w[j][i] = sqrt(fmax(v.omega2[i], 0.0));
-      R.tipn[j][i] = hypot(v.tip[i][0], v.tip[i][1]);
-      if (!(R.w[j][i] > 0.0) || !(R.tipn[j][i] > 0.0)) {
+    R->arm[j] = task->arm;
+    R->arm[j].EI = di->model_EI[j];
+    info->model_tip_mass_kg[j] = di->model_tip_mass[j];
+    info->model_EI_Nm2[j] = di->model_EI[j];
+    info->allowed_m[j] = j ? task->dynamics.robust_residual_m + R->s.tolerance_m : R->s.tolerance_m;
+    for (int i = 0; i < R->K; ++i) {
+      R->w[j][i] = sqrt(fmax(v.omega2[i], 0.0));
+      R->tipn[j][i] = hypot(v.tip[i][0], v.tip[i][1]);
+      if (!(R->w[j][i] > 0.0) || !(R->tipn[j][i] > 0.0)) {
         info->status = EA_ERR_UNSTABLE;
         snprintf(info->message, sizeof info->message,
                  "the reduced model%s at the goal has mode %d with frequency %g rad/s and tip "
                  "displacement %g m per unit: cannot refine",
-                 j ? " of a robust corner" : "", i + 1, R.w[j][i], R.tipn[j][i]);
+                 j ? " of a robust corner" : "", i + 1, R->w[j][i], R->tipn[j][i]);
         return ea_error_set(err, info->status, "%s", info->message);
       }
-      R.u[j][i][0] = v.tip[i][0] / R.tipn[j][i];
-      R.u[j][i][1] = v.tip[i][1] / R.tipn[j][i];
+      R->u[j][i][0] = v.tip[i][0] / R->tipn[j][i];
+      R->u[j][i][1] = v.tip[i][1] / R->tipn[j][i];
     }
   }
+  return EA_OK;
+}
 
-  /* evaluation 0: the unrefined plan (targets zero; no iteration if the planner holds it) */
+/* Evaluation 0: the unrefined plan (targets zero; no iteration if the planner holds it). */
+static ea_status_t ea__refine_first(ea__refine_t *R, ea_error_t *err) {
+  ea_refine_info_t *info = R->info;
   const double zero[EA__RP] = {0};
-  memset(&R.tr, 0, sizeof R.tr);
-  const int i0 = ea__refine_eval(&R, zero, 0);
+  const int i0 = ea__refine_eval(R, zero, 0);
   const ea_refine_eval_t *e0 = &info->evals[i0];
   info->duration_before_s = e0->duration_s;
   if (!e0->accepted) {
@@ -498,61 +497,59 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
              "the at-rest plan %s (%s): nothing to refine against",
              e0->plan_status ? "could not be planned" : "has no FE residual",
              ea_status_name(info->status));
-    ea_traj_free(&R.tr);
     return ea_error_set(err, info->status, "%s", info->message);
   }
   info->residual_peak_before_m = e0->residual_peak_m;
   info->residual_rms_before_m = e0->residual_rms_m;
   info->score_before = e0->score;
-  for (int j = 0; j < R.M; ++j)
+  for (int j = 0; j < R->M; ++j)
     info->model_residual_peak_before_m[j] = e0->model_residual_peak_m[j];
+  return EA_OK;
+}
 
-  if (!R.stop) {
-    if (R.s.method == EA_TASK_REFINE_NEWTON)
-      ea__refine_newton(&R);
-    else
-      ea__refine_nlopt(&R);
+/* The planner must hold the best plan: re-plan it if a later candidate was planned. The index
+ * of the returned evaluation in *ret. */
+static ea_status_t ea__refine_hold_best(ea__refine_t *R, int *ret, ea_error_t *err) {
+  ea_refine_info_t *info = R->info;
+  *ret = R->best;
+  if (R->held == R->best) return EA_OK;
+  const int bi = R->best;
+  const int idx = ea__refine_eval(R, info->evals[bi].params_m, 1);
+  const ea_refine_eval_t *e = idx >= 0 ? &info->evals[idx] : NULL;
+  if (!e || e->plan_status) {
+    const ea_status_t st = e ? e->plan_status : EA_ERR_NOMEM;
+    info->status = st;
+    snprintf(info->message, sizeof info->message,
+             "re-planning the best candidate (evaluation %d) failed: %s", bi, ea_status_name(st));
+    return ea_error_set(err, st, "%s", info->message);
   }
-  if (!R.stop) R.stop = "no_progress";
+  *ret = idx;
+  return EA_OK;
+}
 
-  /* the planner must hold the best plan: re-plan it if a later candidate was planned */
-  st = EA_OK;
-  int ret = R.best;
-  if (R.held != R.best) {
-    const int bi = R.best;
-    const int idx = ea__refine_eval(&R, info->evals[bi].params_m, 1);
-    const ea_refine_eval_t *e = idx >= 0 ? &info->evals[idx] : NULL;
-    if (!e || e->plan_status) {
-      st = e ? e->plan_status : EA_ERR_NOMEM;
-      info->status = st;
-      snprintf(info->message, sizeof info->message,
-               "re-planning the best candidate (evaluation %d) failed: %s", bi, ea_status_name(st));
-      ea_traj_free(&R.tr);
-      return ea_error_set(err, st, "%s", info->message);
-    }
-    ret = idx;
-  }
+/* The returned evaluation ret into info, and the summary message. */
+static void ea__refine_report(const ea__refine_t *R, int ret) {
+  ea_refine_info_t *info = R->info;
   const ea_refine_eval_t *er = &info->evals[ret];
   info->returned = ret;
   info->duration_s = er->duration_s;
   info->residual_peak_m = er->residual_peak_m;
   info->residual_rms_m = er->residual_rms_m;
   info->score = er->score;
-  for (int j = 0; j < R.M; ++j)
+  for (int j = 0; j < R->M; ++j)
     info->model_residual_peak_m[j] = er->model_residual_peak_m[j];
-  for (int i = 0; i < R.K * R.M; ++i) {
+  for (int i = 0; i < R->K * R->M; ++i) {
     info->eta[i] = er->eta[i];
     info->eta_rate[i] = er->eta_rate[i];
   }
   info->converged = er->accepted && er->score <= 1.0;
-  snprintf(info->stop_reason, sizeof info->stop_reason, "%s", R.stop);
-  info->time_s = ea__mono_s() - R.t0;
+  snprintf(info->stop_reason, sizeof info->stop_reason, "%s", R->stop);
+  info->time_s = ea__mono_s() - R->t0;
   info->status = EA_OK;
-  if (plan_info) *plan_info = R.held_info;
   char corners[160] = "";
-  if (R.M > 1) {
+  if (R->M > 1) {
     double c0 = 0.0, c1 = 0.0;
-    for (int j = 1; j < R.M; ++j) {
+    for (int j = 1; j < R->M; ++j) {
       c0 = fmax(c0, info->model_residual_peak_before_m[j]);
       c1 = fmax(c1, info->model_residual_peak_m[j]);
     }
@@ -562,11 +559,51 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
   snprintf(info->message, sizeof info->message,
            "refinement (%s): FE residual peak %.4g mm -> %.4g mm (tolerance %.4g mm)%s%s in %d "
            "evaluation%s, %.3g s; duration %.6g s -> %.6g s; stopped: %s",
-           ea_task_refine_method_name(R.s.method), 1e3 * info->residual_peak_before_m,
-           1e3 * info->residual_peak_m, 1e3 * R.s.tolerance_m, corners,
+           ea_task_refine_method_name(R->s.method), 1e3 * info->residual_peak_before_m,
+           1e3 * info->residual_peak_m, 1e3 * R->s.tolerance_m, corners,
            info->converged ? ", reached" : ", NOT reached", info->n_evals,
            info->n_evals == 1 ? "" : "s", info->time_s, info->duration_before_s, info->duration_s,
            info->stop_reason);
+}
+
+ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_info_t *plan_info,
+                           ea_refine_info_t *info, ea_error_t *err) {
+  if (!pl || !info) return ea_error_set(err, EA_ERR_ARG, "ea_plan_refine: NULL argument");
+  memset(info, 0, sizeof *info);
+  info->status = EA_ERR_ARG;
+  snprintf(info->stop_reason, sizeof info->stop_reason, "failed");
+  const ea_task_t *task = ea_planner_task(pl);
+  ea__refine_t R;
+  memset(&R, 0, sizeof R);
+  R.pl = pl;
+  R.task = task;
+  R.info = info;
+  R.s = s ? *s : task->dynamics.refine;
+  R.s.enabled = 1;
+  R.held = R.best = -1;
+  info->settings = R.s;
+  ea_plan_dyn_info_t di;
+  ea_status_t st = ea__refine_check(&R, err);
+  if (!st) st = ea__refine_setup(&R, &di, err);
+  if (!st) st = ea__refine_models(&R, &di, err);
+  if (st) return st;
+  memset(&R.tr, 0, sizeof R.tr);
+  int ret = -1;
+  if (!(st = ea__refine_first(&R, err))) {
+    if (!R.stop) {
+      if (R.s.method == EA_TASK_REFINE_NEWTON)
+        ea__refine_newton(&R);
+      else
+        ea__refine_nlopt(&R);
+    }
+    if (!R.stop) R.stop = "no_progress";
+    st = ea__refine_hold_best(&R, &ret, err);
+  }
+  if (!st) {
+    ea__refine_report(&R, ret);
+    if (plan_info) *plan_info = R.held_info;
+    st = ea_error_set(err, EA_OK, "%s", info->message);
+  }
   ea_traj_free(&R.tr);
-  return ea_error_set(err, EA_OK, "%s", info->message);
+  return st;
 }
