@@ -803,6 +803,126 @@ static void ea__beta_prefix(FILE *fp, int k, const void *vctx) {
   fprintf(fp, "%.9g,", (double)k / (double)((const struct ea__path_csv *)vctx)->steps);
 }
 
+/* path's options into c, the ends and the step count; 0 or an exit code. */
+static int ea__path_parse(int argc, char **argv, ea__common_t *c, double p0[2], double p1[2],
+                          long *steps) {
+  const char *cmd = "path";
+  for (int i = 1; i < argc; ++i) {
+    int r = ea__common_opt(cmd, argc, argv, &i, c);
+    if (r < 0) return EA_EXIT_USAGE;
+    if (r) continue;
+    const char *a = argv[i], *v;
+    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+    int bad;
+    if (!strcmp(a, "--from"))
+      bad = ea__cli_pair(cmd, a, v, p0);
+    else if (!strcmp(a, "--to"))
+      bad = ea__cli_pair(cmd, a, v, p1);
+    else if (!strcmp(a, "--steps"))
+      bad = ea__cli_int(cmd, a, v, 1, 100000, steps);
+    else
+      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
+    if (bad) return bad;
+  }
+  return 0;
+}
+
+static void ea__path_json(const ea_config_point_t *pts, int n, long steps, const double p0[2],
+                          const double p1[2], double tip_mass, ea_status_t st, int nbad) {
+  ea_json_t j;
+  ea_json_init(&j, stdout, 1);
+  ea_json_obj_begin(&j, NULL);
+  ea_json_vec(&j, "from_m", p0, 2);
+  ea_json_vec(&j, "to_m", p1, 2);
+  ea_json_num(&j, "tip_mass_kg", tip_mass);
+  ea_json_bool(&j, "admissible", st == EA_OK);
+  ea_json_int(&j, "inadmissible_steps", nbad);
+  ea_json_arr_begin(&j, "steps");
+  for (int k = 0; k < n; ++k) {
+    ea_json_obj_begin(&j, NULL);
+    ea_json_num(&j, "beta", (double)k / (double)steps);
+    ea_json_num(&j, "cable_length_m", pts[k].cable_length);
+    ea_json_num(&j, "cable_angle_rad", pts[k].alpha);
+    ea_json_vec(&j, "tip_m", (double[]){pts[k].x, pts[k].y}, 2);
+    ea_json_num(&j, "tension_N", pts[k].tension);
+    ea_json_num(&j, "theta0_rad", pts[k].theta0);
+    ea_json_num(&j, "kappa0_per_m", pts[k].kappa0);
+    ea_json_num(&j, "shoulder_torque_Nm", pts[k].shoulder_torque);
+    ea_json_num(&j, "residual", pts[k].residual);
+    if (pts[k].stable >= 0)
+      ea_json_bool(&j, "stable", pts[k].stable);
+    else
+      ea_json_null(&j, "stable");
+    ea_json_bool(&j, "admissible", pts[k].admissible);
+    ea_json_str(&j, "reason", pts[k].reason);
+    ea_json_obj_end(&j);
+  }
+  ea_json_arr_end(&j);
+  ea_json_obj_end(&j);
+  ea_json_end(&j);
+}
+
+static void ea__path_text(const ea_config_point_t *pts, int n, long steps, const double p0[2],
+                          const double p1[2], double tip_mass, ea_status_t st) {
+  printf("Straight path (%.4g, %.4g) -> (%.4g, %.4g) m, tip mass %.4g kg, %ld steps\n", p0[0],
+         p0[1], p1[0], p1[1], tip_mass, steps);
+  printf("%6s %10s %10s %10s %10s %11s %7s %s\n", "beta", "L_c [m]", "alpha[deg]", "T [N]",
+         "th0 [deg]", "torque[Nm]", "stable", "admissible");
+  for (int k = 0; k < n; ++k)
+    printf("%6.3f %10.5f %10.3f %10.4f %10.3f %11.5f %7s %s%s\n", (double)k / (double)steps,
+           pts[k].cable_length, pts[k].alpha / EA__DEG, pts[k].tension, pts[k].theta0 / EA__DEG,
+           pts[k].shoulder_torque,
+           pts[k].stable < 0 ? "-"
+           : pts[k].stable   ? "yes"
+                             : "NO",
+           pts[k].admissible ? "yes" : "NO: ", pts[k].reason);
+  printf("path %s\n", st == EA_OK ? "ADMISSIBLE" : "NOT admissible");
+}
+
+/* Fig. 4: the beams along the path, their cables, the line and the inadmissible steps;
+ * 0 or EA_EXIT_FAIL (said on stderr). */
+static int ea__path_figure(const char *path, ea_shooter_t *sh, const ea_arm_t *arm,
+                           const ea_config_point_t *pts, int n, const double p0[2],
+                           const double p1[2], ea_status_t st) {
+  ea_plot_t *pl;
+  ea_error_t fe = {0};
+  if (ea_plot_open(&pl, path, 800, 650, &fe) == EA_OK) {
+    ea_plot_data_begin(pl, "beams");
+    for (int k = 0; k < n; ++k)
+      if (pts[k].status == EA_OK || pts[k].status == EA_ERR_INADMISSIBLE)
+        ea_plot_beam(pl, sh, (double[]){pts[k].alpha, pts[k].tension, pts[k].theta0, pts[k].kappa0},
+                     61);
+    ea_plot_data_end(pl);
+    ea_plot_data_begin(pl, "cables");
+    for (int k = 0; k < n; ++k) {
+      ea_plot_data_row(pl, 2, (double[]){arm->x_c, arm->y_c});
+      ea_plot_data_row(pl, 2, (double[]){pts[k].x, pts[k].y});
+      ea_plot_data_row(pl, 1, (double[]){NAN});
+    }
+    ea_plot_data_end(pl);
+    ea_plot_data_begin(pl, "line");
+    ea_plot_data_row(pl, 2, p0);
+    ea_plot_data_row(pl, 2, p1);
+    ea_plot_data_end(pl);
+    ea_plot_data_begin(pl, "bad");
+    for (int k = 0; k < n; ++k)
+      if (!pts[k].admissible) ea_plot_data_row(pl, 2, (double[]){pts[k].x, pts[k].y});
+    ea_plot_data_row(pl, 2, (double[]){NAN, NAN});
+    ea_plot_data_end(pl);
+    ea_plot_cmd(pl,
+                "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset title "
+                "'Straight-line tip path (Fig. 4): %s'",
+                st == EA_OK ? "admissible" : "NOT admissible");
+    ea_plot_cmd(pl, "plot $beams w l lw 2 lc rgb '#1f4e9c' t 'beam', $cables w l dt 2 lc rgb "
+                    "'#c0392b' t 'cable', $line w l lw 2 lc rgb 'black' t 'desired path', $bad "
+                    "w p pt 2 ps 2 lc rgb 'red' t 'inadmissible'");
+    fe.status = ea_plot_close(pl, &fe);
+  }
+  if (!fe.status) return 0;
+  fprintf(stderr, "elasticarm path: figure: %s\n", fe.msg);
+  return EA_EXIT_FAIL;
+}
+
 int ea__cli_path(int argc, char **argv) {
   const char *cmd = "path";
   if (ea__help_requested(argc, argv)) {
@@ -817,26 +937,10 @@ int ea__cli_path(int argc, char **argv) {
   ea__common_t c = {0};
   double p0[2] = {0.3, -0.2}, p1[2] = {0.6, -0.2};
   long steps = 6;
-  for (int i = 1; i < argc; ++i) {
-    int r = ea__common_opt(cmd, argc, argv, &i, &c);
-    if (r < 0) return EA_EXIT_USAGE;
-    if (r) continue;
-    const char *a = argv[i], *v;
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
-    int bad;
-    if (!strcmp(a, "--from"))
-      bad = ea__cli_pair(cmd, a, v, p0);
-    else if (!strcmp(a, "--to"))
-      bad = ea__cli_pair(cmd, a, v, p1);
-    else if (!strcmp(a, "--steps"))
-      bad = ea__cli_int(cmd, a, v, 1, 100000, &steps);
-    else
-      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    if (bad) return bad;
-  }
-  ea_arm_t arm;
-  int rc = ea__cli_load_arm(cmd, c.arm_file, &arm);
+  int rc = ea__path_parse(argc, argv, &c, p0, p1, &steps);
   if (rc) return rc;
+  ea_arm_t arm;
+  if ((rc = ea__cli_load_arm(cmd, c.arm_file, &arm))) return rc;
   ea_shooter_t *sh = NULL;
   if ((rc = ea__make_shooter(cmd, &arm, ea__cli_tip_mass(&arm, &c.payload), &sh))) return rc;
   const int n = (int)steps + 1;
@@ -864,93 +968,12 @@ int ea__cli_path(int argc, char **argv) {
     struct ea__path_csv ctx = {pts, steps};
     rc = ea__write_points_csv(cmd, c.csv, "beta,", n, ea__path_point, ea__beta_prefix, &ctx);
   }
-  if (c.json) {
-    ea_json_t j;
-    ea_json_init(&j, stdout, 1);
-    ea_json_obj_begin(&j, NULL);
-    ea_json_vec(&j, "from_m", p0, 2);
-    ea_json_vec(&j, "to_m", p1, 2);
-    ea_json_num(&j, "tip_mass_kg", ea_shooter_load(sh)->tip_mass);
-    ea_json_bool(&j, "admissible", st == EA_OK);
-    ea_json_int(&j, "inadmissible_steps", nbad);
-    ea_json_arr_begin(&j, "steps");
-    for (int k = 0; k < n; ++k) {
-      ea_json_obj_begin(&j, NULL);
-      ea_json_num(&j, "beta", (double)k / (double)steps);
-      ea_json_num(&j, "cable_length_m", pts[k].cable_length);
-      ea_json_num(&j, "cable_angle_rad", pts[k].alpha);
-      ea_json_vec(&j, "tip_m", (double[]){pts[k].x, pts[k].y}, 2);
-      ea_json_num(&j, "tension_N", pts[k].tension);
-      ea_json_num(&j, "theta0_rad", pts[k].theta0);
-      ea_json_num(&j, "kappa0_per_m", pts[k].kappa0);
-      ea_json_num(&j, "shoulder_torque_Nm", pts[k].shoulder_torque);
-      ea_json_num(&j, "residual", pts[k].residual);
-      if (pts[k].stable >= 0)
-        ea_json_bool(&j, "stable", pts[k].stable);
-      else
-        ea_json_null(&j, "stable");
-      ea_json_bool(&j, "admissible", pts[k].admissible);
-      ea_json_str(&j, "reason", pts[k].reason);
-      ea_json_obj_end(&j);
-    }
-    ea_json_arr_end(&j);
-    ea_json_obj_end(&j);
-    ea_json_end(&j);
-  } else if (!c.csv || strcmp(c.csv, "-")) {
-    printf("Straight path (%.4g, %.4g) -> (%.4g, %.4g) m, tip mass %.4g kg, %ld steps\n", p0[0],
-           p0[1], p1[0], p1[1], ea_shooter_load(sh)->tip_mass, steps);
-    printf("%6s %10s %10s %10s %10s %11s %7s %s\n", "beta", "L_c [m]", "alpha[deg]", "T [N]",
-           "th0 [deg]", "torque[Nm]", "stable", "admissible");
-    for (int k = 0; k < n; ++k)
-      printf("%6.3f %10.5f %10.3f %10.4f %10.3f %11.5f %7s %s%s\n", (double)k / (double)steps,
-             pts[k].cable_length, pts[k].alpha / EA__DEG, pts[k].tension, pts[k].theta0 / EA__DEG,
-             pts[k].shoulder_torque,
-             pts[k].stable < 0 ? "-"
-             : pts[k].stable   ? "yes"
-                               : "NO",
-             pts[k].admissible ? "yes" : "NO: ", pts[k].reason);
-    printf("path %s\n", st == EA_OK ? "ADMISSIBLE" : "NOT admissible");
-  }
-  if (c.figure) {
-    ea_plot_t *pl;
-    ea_error_t fe = {0};
-    if (ea_plot_open(&pl, c.figure, 800, 650, &fe) == EA_OK) {
-      ea_plot_data_begin(pl, "beams");
-      for (int k = 0; k < n; ++k)
-        if (pts[k].status == EA_OK || pts[k].status == EA_ERR_INADMISSIBLE)
-          ea_plot_beam(pl, sh,
-                       (double[]){pts[k].alpha, pts[k].tension, pts[k].theta0, pts[k].kappa0}, 61);
-      ea_plot_data_end(pl);
-      ea_plot_data_begin(pl, "cables");
-      for (int k = 0; k < n; ++k) {
-        ea_plot_data_row(pl, 2, (double[]){arm.x_c, arm.y_c});
-        ea_plot_data_row(pl, 2, (double[]){pts[k].x, pts[k].y});
-        ea_plot_data_row(pl, 1, (double[]){NAN});
-      }
-      ea_plot_data_end(pl);
-      ea_plot_data_begin(pl, "line");
-      ea_plot_data_row(pl, 2, p0);
-      ea_plot_data_row(pl, 2, p1);
-      ea_plot_data_end(pl);
-      ea_plot_data_begin(pl, "bad");
-      for (int k = 0; k < n; ++k)
-        if (!pts[k].admissible) ea_plot_data_row(pl, 2, (double[]){pts[k].x, pts[k].y});
-      ea_plot_data_row(pl, 2, (double[]){NAN, NAN});
-      ea_plot_data_end(pl);
-      ea_plot_cmd(pl,
-                  "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset title "
-                  "'Straight-line tip path (Fig. 4): %s'",
-                  st == EA_OK ? "admissible" : "NOT admissible");
-      ea_plot_cmd(pl, "plot $beams w l lw 2 lc rgb '#1f4e9c' t 'beam', $cables w l dt 2 lc rgb "
-                      "'#c0392b' t 'cable', $line w l lw 2 lc rgb 'black' t 'desired path', $bad "
-                      "w p pt 2 ps 2 lc rgb 'red' t 'inadmissible'");
-      fe.status = ea_plot_close(pl, &fe);
-    }
-    if (fe.status) {
-      fprintf(stderr, "elasticarm path: figure: %s\n", fe.msg);
-      rc = EA_EXIT_FAIL;
-    }
-  }
+  const double tip_mass = ea_shooter_load(sh)->tip_mass;
+  if (c.json)
+    ea__path_json(pts, n, steps, p0, p1, tip_mass, st, nbad);
+  else if (!c.csv || strcmp(c.csv, "-"))
+    ea__path_text(pts, n, steps, p0, p1, tip_mass, st);
+  if (c.figure && ea__path_figure(c.figure, sh, &arm, pts, n, p0, p1, st)) rc = EA_EXIT_FAIL;
   free(pts);
   ea_shooter_free(sh);
   if (rc) return rc;
