@@ -80,85 +80,88 @@ static const char *ea__stream_help =
     "On NACK, ACK timeout or SIGINT: a controlled stop within the limits, then END.\n"
     "Exit: 0 complete, 1 stopped / refused / link lost, 2 usage or input error.\n";
 
-int ea__cli_stream(int argc, char **argv) {
-  const char *cmd = "stream", *traj_path = NULL, *to = NULL, *arm_file = NULL;
-  ea_stream_settings_t s;
-  ea_stream_settings_default(&s);
-  int json = 0, realtime = -1, rt = 0, time_scale_auto = 0;
-  double time_scale = 1.0;
+/* What the stream command was asked. */
+typedef struct {
+  const char *traj_path, *to, *arm_file;
+  int json, realtime, rt, time_scale_auto;
+  double time_scale;
+} ea__stream_opts_t;
+
+/* stream's options into o and s; 0, or an exit code (-1: help printed, exit 0). */
+static int ea__stream_parse(int argc, char **argv, ea__stream_opts_t *o, ea_stream_settings_t *s) {
+  const char *cmd = "stream";
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v;
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       fputs(ea__stream_help, stdout);
-      return EA_EXIT_OK;
+      return -1;
     } else if (!strcmp(a, "--to")) {
-      if (!(to = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->to = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--arm")) {
-      if (!(arm_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      if (!(o->arm_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--rate-hz")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 1, 100000, &s.rate_hz))
+          ea__cli_double(cmd, a, v, 1, 100000, &s->rate_hz))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--ack-timeout-ms")) {
       double ms;
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_double(cmd, a, v, 1, 60000, &ms))
         return EA_EXIT_USAGE;
-      s.ack_timeout_s = ms * 1e-3;
+      s->ack_timeout_s = ms * 1e-3;
     } else if (!strcmp(a, "--start-tol-m")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0, 1, &s.start_tol_cable))
+          ea__cli_double(cmd, a, v, 0, 1, &s->start_tol_cable))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--start-tol-rad")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0, 1, &s.start_tol_angle))
+          ea__cli_double(cmd, a, v, 0, 1, &s->start_tol_angle))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--json")) {
-      json = 1;
+      o->json = 1;
     } else if (!strcmp(a, "--no-realtime")) {
-      realtime = 0;
+      o->realtime = 0;
     } else if (!strcmp(a, "--realtime")) {
-      realtime = 1;
+      o->realtime = 1;
     } else if (!strcmp(a, "--time-scale")) {
       if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
       if (!strcmp(v, "auto"))
-        time_scale_auto = 1;
-      else if (ea__cli_double(cmd, a, v, 1, 1000, &time_scale))
+        o->time_scale_auto = 1;
+      else if (ea__cli_double(cmd, a, v, 1, 1000, &o->time_scale))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--rt")) {
-      rt = 1;
+      o->rt = 1;
     } else if (a[0] == '-' && a[1]) {
       return ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    } else if (!traj_path) {
-      traj_path = a;
+    } else if (!o->traj_path) {
+      o->traj_path = a;
     } else {
       return ea__cli_usage_error(cmd, "more than one trajectory ('%s')", a);
     }
   }
-  if (!traj_path) return ea__cli_usage_error(cmd, "no trajectory file");
-  if (!to) return ea__cli_usage_error(cmd, "no destination (--to tcp://HOST:PORT, ...)");
-  const int to_file = !strncmp(to, "file:", 5);
-  const int to_stdout = !strcmp(to, "file:-");
-  if (json && to_stdout) return ea__cli_usage_error(cmd, "--json needs stdout: not with file:-");
-  s.realtime = realtime >= 0 ? realtime : !to_file;
-  s.wait_acks = !to_file;
-  FILE *out = to_stdout ? stderr : stdout;
+  if (!o->traj_path) return ea__cli_usage_error(cmd, "no trajectory file");
+  if (!o->to) return ea__cli_usage_error(cmd, "no destination (--to tcp://HOST:PORT, ...)");
+  return 0;
+}
 
+/* The trajectory, the arm it was planned for, and its setpoints at s->rate_hz, checked
+ * against the limits (time-scaled when asked); 0 or an exit code. */
+static int ea__stream_setpoints(const ea__stream_opts_t *o, const ea_stream_settings_t *s,
+                                ea_arm_t *arm, char *arm_used, size_t len, ea_setpoint_t **sp,
+                                int *n) {
+  const char *cmd = "stream";
   ea_traj_t tr = {0};
   ea_error_t err = {0};
-  ea_status_t st = ea_traj_read(&tr, traj_path, &err);
+  ea_status_t st = ea_traj_read(&tr, o->traj_path, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
   /* The arm the plan was made for: its limits and motor mapping. */
-  ea_arm_t arm;
-  char arm_used[512];
-  int rc = ea__cli_arm_for_traj(cmd, arm_file, &tr, 0, &arm, arm_used, sizeof arm_used);
+  int rc = ea__cli_arm_for_traj(cmd, o->arm_file, &tr, 0, arm, arm_used, len);
   if (rc) {
     ea_traj_free(&tr);
     return rc;
   }
-  ea_setpoint_t *sp = NULL;
-  int n = 0;
-  if (time_scale_auto) {
-    st = ea_stream_min_time_scale(&tr, &arm, s.rate_hz, s.limit_tol, &time_scale, &err);
+  double time_scale = o->time_scale;
+  if (o->time_scale_auto) {
+    st = ea_stream_min_time_scale(&tr, arm, s->rate_hz, s->limit_tol, &time_scale, &err);
     if (st) {
       ea_traj_free(&tr);
       fprintf(stderr, "elasticarm %s: refused: %s\n", cmd, err.msg);
@@ -168,12 +171,12 @@ int ea__cli_stream(int argc, char **argv) {
       fprintf(stderr, "elasticarm %s: --time-scale auto: playing the plan %.6g times slower\n", cmd,
               time_scale);
   }
-  st = ea_stream_resample_scaled(&tr, &arm, s.rate_hz, time_scale, s.limit_tol, &sp, &n, &err);
+  st = ea_stream_resample_scaled(&tr, arm, s->rate_hz, time_scale, s->limit_tol, sp, n, &err);
   if (st == EA_ERR_INADMISSIBLE) {
     double need = 0;
     ea_error_t e2 = {0};
     fprintf(stderr, "elasticarm %s: refused: %s\n", cmd, err.msg);
-    if (ea_stream_min_time_scale(&tr, &arm, s.rate_hz, s.limit_tol, &need, &e2) == EA_OK)
+    if (ea_stream_min_time_scale(&tr, arm, s->rate_hz, s->limit_tol, &need, &e2) == EA_OK)
       fprintf(stderr,
               "elasticarm %s: (the plan meets its limits at its samples; the "
               "interpolant between them needs --time-scale %.6g, or --time-scale auto)\n",
@@ -183,41 +186,71 @@ int ea__cli_stream(int argc, char **argv) {
   }
   ea_traj_free(&tr);
   if (st) return ea__cli_fail(cmd, st, &err);
+  return 0;
+}
+
+static void ea__stream_json(const ea__stream_opts_t *o, const ea_stream_settings_t *s,
+                            const char *arm_used, ea_status_t st, const ea_error_t *err,
+                            const ea_stream_info_t *info) {
+  ea_json_t j;
+  ea_json_init(&j, stdout, 1);
+  ea_json_obj_begin(&j, NULL);
+  ea_json_str(&j, "status", ea_status_name(st));
+  ea_json_str(&j, "end", ea_stream_end_name(info->end));
+  ea_json_str(&j, "message", st ? err->msg : "");
+  ea_json_str(&j, "to", o->to);
+  ea_json_str(&j, "arm_file", arm_used[0] ? arm_used : ea__cli_default_arm());
+  ea_json_num(&j, "rate_hz", s->rate_hz);
+  ea_json_int(&j, "setpoints", info->setpoints);
+  ea_json_int(&j, "frames_sent", info->frames_sent);
+  ea_json_int(&j, "stop_frames", info->stop_frames);
+  ea_json_int(&j, "frames_acked", info->frames_acked);
+  ea_json_int(&j, "frames_late", info->frames_late);
+  ea_json_int(&j, "acks", info->acks);
+  ea_json_int(&j, "nacks", info->nacks);
+  ea_json_int(&j, "nack_reason", info->nack_reason);
+  ea_json_int(&j, "controller_rejected", info->ctrl_rejected);
+  ea_json_int(&j, "controller_state", info->ctrl_state);
+  ea_json_int(&j, "buffer_min", info->buffer_min);
+  ea_json_int(&j, "buffer_max", info->buffer_max);
+  ea_json_num(&j, "jitter_p50_us", info->jitter_p50_us);
+  ea_json_num(&j, "jitter_p99_us", info->jitter_p99_us);
+  ea_json_num(&j, "jitter_max_us", info->jitter_max_us);
+  ea_json_num(&j, "ack_latency_max_ms", info->ack_latency_max_ms);
+  ea_json_num(&j, "duration_s", info->duration_s);
+  ea_json_obj_end(&j);
+  ea_json_end(&j);
+}
+
+int ea__cli_stream(int argc, char **argv) {
+  const char *cmd = "stream";
+  ea_stream_settings_t s;
+  ea_stream_settings_default(&s);
+  ea__stream_opts_t o = {0};
+  o.realtime = -1;
+  o.time_scale = 1.0;
+  int rc = ea__stream_parse(argc, argv, &o, &s);
+  if (rc) return rc < 0 ? EA_EXIT_OK : rc;
+  const int to_file = !strncmp(o.to, "file:", 5);
+  const int to_stdout = !strcmp(o.to, "file:-");
+  if (o.json && to_stdout) return ea__cli_usage_error(cmd, "--json needs stdout: not with file:-");
+  s.realtime = o.realtime >= 0 ? o.realtime : !to_file;
+  s.wait_acks = !to_file;
+  FILE *out = to_stdout ? stderr : stdout;
+  ea_arm_t arm;
+  char arm_used[512];
+  ea_setpoint_t *sp = NULL;
+  int n = 0;
+  if ((rc = ea__stream_setpoints(&o, &s, &arm, arm_used, sizeof arm_used, &sp, &n))) return rc;
   ea__cli_install_stop();
-  ea__cli_realtime(rt);
+  ea__cli_realtime(o.rt);
   s.stop_request = &ea__cli_stop;
   ea_stream_info_t info;
-  st = ea_stream_run(&arm, sp, n, to, &s, &info, &err);
+  ea_error_t err = {0};
+  const ea_status_t st = ea_stream_run(&arm, sp, n, o.to, &s, &info, &err);
   free(sp);
-  if (json) {
-    ea_json_t j;
-    ea_json_init(&j, stdout, 1);
-    ea_json_obj_begin(&j, NULL);
-    ea_json_str(&j, "status", ea_status_name(st));
-    ea_json_str(&j, "end", ea_stream_end_name(info.end));
-    ea_json_str(&j, "message", st ? err.msg : "");
-    ea_json_str(&j, "to", to);
-    ea_json_str(&j, "arm_file", arm_used[0] ? arm_used : ea__cli_default_arm());
-    ea_json_num(&j, "rate_hz", s.rate_hz);
-    ea_json_int(&j, "setpoints", info.setpoints);
-    ea_json_int(&j, "frames_sent", info.frames_sent);
-    ea_json_int(&j, "stop_frames", info.stop_frames);
-    ea_json_int(&j, "frames_acked", info.frames_acked);
-    ea_json_int(&j, "frames_late", info.frames_late);
-    ea_json_int(&j, "acks", info.acks);
-    ea_json_int(&j, "nacks", info.nacks);
-    ea_json_int(&j, "nack_reason", info.nack_reason);
-    ea_json_int(&j, "controller_rejected", info.ctrl_rejected);
-    ea_json_int(&j, "controller_state", info.ctrl_state);
-    ea_json_int(&j, "buffer_min", info.buffer_min);
-    ea_json_int(&j, "buffer_max", info.buffer_max);
-    ea_json_num(&j, "jitter_p50_us", info.jitter_p50_us);
-    ea_json_num(&j, "jitter_p99_us", info.jitter_p99_us);
-    ea_json_num(&j, "jitter_max_us", info.jitter_max_us);
-    ea_json_num(&j, "ack_latency_max_ms", info.ack_latency_max_ms);
-    ea_json_num(&j, "duration_s", info.duration_s);
-    ea_json_obj_end(&j);
-    ea_json_end(&j);
+  if (o.json) {
+    ea__stream_json(&o, &s, arm_used, st, &err, &info);
   } else {
     fprintf(out,
             "stream %s -> %s: %s\n"
@@ -225,7 +258,7 @@ int ea__cli_stream(int argc, char **argv) {
             "  acks %d, nacks %d, controller rejected %d, buffer level %d..%d\n"
             "  send jitter p50 %.1f us, p99 %.1f us, max %.1f us; max ACK latency %.2f ms; "
             "%.3f s\n",
-            traj_path, to, ea_stream_end_name(info.end), info.setpoints, s.rate_hz,
+            o.traj_path, o.to, ea_stream_end_name(info.end), info.setpoints, s.rate_hz,
             info.frames_sent, info.stop_frames, info.frames_acked, info.frames_late, info.acks,
             info.nacks, info.ctrl_rejected, info.buffer_min, info.buffer_max, info.jitter_p50_us,
             info.jitter_p99_us, info.jitter_max_us, info.ack_latency_max_ms, info.duration_s);
