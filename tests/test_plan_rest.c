@@ -20,6 +20,7 @@
 #include "ea_problems.h"
 #include "ea_simulate.h"
 #include "ea_test.h"
+#include "ea_test_task.h"
 
 #include <gsl/gsl_errno.h>
 #include <math.h>
@@ -38,14 +39,7 @@ static const char *src;
 #define MISS_FACTOR 1.25
 
 static int load(const char *name, ea_task_t *t) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/problems/examples/%s", src, name);
-  ea_error_t e;
-  if (ea_task_load(path, NULL, t, &e)) {
-    printf("%s: %s\n", name, e.msg);
-    return 1;
-  }
-  return 0;
+  return ea_test_load_example(src, name, t);
 }
 
 /* Plan t; the trajectory into tr, info into *info; returns the status. */

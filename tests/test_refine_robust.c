@@ -15,6 +15,7 @@
 #include "ea_planner.h"
 #include "ea_refine.h"
 #include "ea_test.h"
+#include "ea_test_task.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -25,12 +26,7 @@
 static char src[1024];
 
 static int load(const char *name, ea_task_t *t) {
-  char path[1200];
-  ea_error_t e = {0};
-  snprintf(path, sizeof path, "%s/problems/examples/%s", src, name);
-  const ea_status_t st = ea_task_load(path, NULL, t, &e);
-  if (st) printf("load %s: %s\n", path, e.msg);
-  return st != EA_OK;
+  return ea_test_load_example(src, name, t);
 }
 
 /* Independent FE residual peaks of trajectory tr at the nominal arm (c = 0) and the four

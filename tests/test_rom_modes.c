@@ -12,6 +12,7 @@
 #include "ea_problems.h"
 #include "ea_simulate.h"
 #include "ea_test.h"
+#include "ea_test_task.h"
 
 #include <gsl/gsl_errno.h>
 #include <math.h>
@@ -22,14 +23,7 @@
 static const char *src;
 
 static int load(const char *name, ea_task_t *t) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/problems/examples/%s", src, name);
-  ea_error_t e;
-  if (ea_task_load(path, NULL, t, &e)) {
-    printf("%s: %s\n", name, e.msg);
-    return 1;
-  }
-  return 0;
+  return ea_test_load_example(src, name, t);
 }
 
 static double fe_residual(const ea_task_t *t, const ea_traj_t *tr) {
