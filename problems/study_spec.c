@@ -332,32 +332,10 @@ void ea_study_key(const ea_study_t *s, const ea_study_settings_t *set, char key[
   ea__sbuf_free(&d);
 }
 
-/* A file's bytes (malloc'd); NULL on error. */
+/* A file's bytes (malloc'd, the shared regular-file reader); NULL on error. */
 static char *ea__slurp(const char *path, size_t *len) {
-  FILE *fp = fopen(path, "rb");
-  if (!fp) return NULL;
-  size_t cap = 4096, n = 0;
-  char *b = malloc(cap);
-  while (b) {
-    n += fread(b + n, 1, cap - n, fp);
-    if (n < cap) break;
-    char *nb = realloc(b, cap * 2);
-    if (!nb) {
-      free(b);
-      b = NULL;
-      break;
-    }
-    b = nb;
-    cap *= 2;
-  }
-  const int bad = ferror(fp);
-  fclose(fp);
-  if (bad) {
-    free(b);
-    return NULL;
-  }
-  *len = n;
-  return b;
+  char *b = NULL;
+  return ea__file_read_regular(path, NULL, &b, len, NULL) ? NULL : b;
 }
 
 /* Replace a leading "from" in a message position with "to". */
