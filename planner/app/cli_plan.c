@@ -77,9 +77,6 @@ static void ea__cat(const char *path) {
   fclose(fp);
 }
 
-/* Write the converged plan: trajectory and summary to temporaries, then
- * rename the trajectory, then the summary. On failure nothing of this run
- * is left (the caller then treats the plan as failed). */
 /* What a plan adds to its summary: the refinement, the shaping, the verification. */
 typedef struct {
   const ea_refine_info_t *ref;
@@ -87,6 +84,9 @@ typedef struct {
   const ea_plan_verify_t *verify;
 } ea__plan_extra_t;
 
+/* Write the converged plan: trajectory and summary to temporaries, then
+ * rename the trajectory, then the summary. On failure nothing of this run
+ * is left (the caller then treats the plan as failed). */
 static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_traj_t *tr, const ea_plan_info_t *info,
                                   const ea__plan_extra_t *x, const char *out, const char *summary,
                                   ea_error_t *err) {
