@@ -612,7 +612,7 @@ ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x
  *    limit (or the square root of an acceleration limit) used at the new
  *    knots to that of the old plan, so the limits the old plan held hold
  *    again (a uniform time scaling keeps the path). */
-ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x) {
+ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x, int statics) {
   const ea_task_t *t = &pl->task;
   const int N = pl->N, nq = pl->nq;
   const double w[3] = {1.0, t->arm.length, t->arm.length}; /* [m], [m/rad] */
@@ -656,30 +656,33 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x)
           }
         }
       }
-      /* 2. statics of every knot at its new (L_c, alpha) */
-      ea_statics_settings_t set;
-      ea_statics_settings_default(&set);
-      set.allow_negative_tension = 1;
-      set.max_cont_steps = 0;
-      int jv = 0;
-      for (int k = 0; k < N; ++k) {
-        while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k)
-          ++jv;
-        if (jv <= pl->n_seg && pl->via_knot[jv] == k) { /* pinned: the point's statics */
-          const ea_task_point_t *p = ea__point(t, jv);
+      /* 2. statics of every knot at its new (L_c, alpha) (not for the path transcription,
+       * whose statics are its splines') */
+      if (statics) {
+        ea_statics_settings_t set;
+        ea_statics_settings_default(&set);
+        set.allow_negative_tension = 1;
+        set.max_cont_steps = 0;
+        int jv = 0;
+        for (int k = 0; k < N; ++k) {
+          while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k)
+            ++jv;
+          if (jv <= pl->n_seg && pl->via_knot[jv] == k) { /* pinned: the point's statics */
+            const ea_task_point_t *p = ea__point(t, jv);
+            for (int i = 0; i < 3; ++i)
+              x[EA__IP(pl, k, i)] = p->p[i + 1];
+            continue;
+          }
+          const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
+                                       x[EA__IP(pl, k, 2)]};
+          ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
+          ea_statics_solution_t sol;
+          if (ea_statics_solve(pl->sh, &prob, &set, guess, &sol, NULL) != EA_OK ||
+              sol.branch != EA_BRANCH_WARM)
+            continue; /* Ipopt starts from the old values there */
           for (int i = 0; i < 3; ++i)
-            x[EA__IP(pl, k, i)] = p->p[i + 1];
-          continue;
+            x[EA__IP(pl, k, i)] = sol.p[i + 1];
         }
-        const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
-                                     x[EA__IP(pl, k, 2)]};
-        ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
-        ea_statics_solution_t sol;
-        if (ea_statics_solve(pl->sh, &prob, &set, guess, &sol, NULL) != EA_OK ||
-            sol.branch != EA_BRANCH_WARM)
-          continue; /* Ipopt starts from the old values there */
-        for (int i = 0; i < 3; ++i)
-          x[EA__IP(pl, k, i)] = sol.p[i + 1];
       }
     }
     if (!retime || pass == 0) continue;

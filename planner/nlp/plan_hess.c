@@ -204,11 +204,10 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr) {
   return g;
 }
 
-void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            const ea__row_t *rows, const double *w, int g, const int *const *hpos,
-                            double *values) {
-  int cols[EA__HGROUP_MAX][EA__ROW_MAX], nc[EA__HGROUP_MAX];
-  double Hl[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
+void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                            const ea__row_t *rows, const double *w, int g,
+                            int cols[][EA__ROW_MAX], int *nc,
+                            double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
   int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
   for (int r = 0; r < g; ++r) {
@@ -264,6 +263,14 @@ void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *
     }
     xx[v] = x[v];
   }
+}
+
+void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                            const ea__row_t *rows, const double *w, int g, const int *const *hpos,
+                            double *values) {
+  int cols[EA__HGROUP_MAX][EA__ROW_MAX], nc[EA__HGROUP_MAX];
+  double Hl[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
+  ea__plan_hess_fd_local(pl, fn, x, xx, rows, w, g, cols, nc, Hl);
   for (int r = 0; r < g; ++r) {
     const int *p = hpos[r];
     for (int a = 0; a < nc[r]; ++a)

@@ -214,6 +214,12 @@ typedef int (*ea__rowfn)(const ea_planner_t *pl, const double *x, const ea__row_
 #define EA__HGROUP_MAX (2 * EA__DYN_MAX)
 /** Rows r.. that the Hessian differences together (>= 1). */
 int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
+/** The differences of ea__plan_hess_fd_group as local matrices: row r's entries cols[r]
+ *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a]. */
+void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                            const ea__row_t *rows, const double *w, int g,
+                            int cols[][EA__ROW_MAX], int *nc,
+                            double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
 /** Central differences of the exact gradients of g rows (rows[0..g-1], weights w) over the
  *  union of their variables (xx: a scratch copy of x), added as w 0.5 (H + H^T) at each row's
  *  Hessian positions hpos[r]. */
@@ -251,8 +257,8 @@ void ea__plan_segments(ea_planner_t *pl);
 /** Shift the previous solution x (of task prev) along a change of the task
  *  (ea_planner_update): points moved -> each coordinate moved by the blend
  *  of its segment's end shifts, min_time re-timed within the limits, every
- *  knot's statics re-solved (payload). */
-ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x);
+ *  knot's statics re-solved (payload; statics 0: not, for the path transcription). */
+ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x, int statics);
 /** Limits between the knots of a converged plan x that no row holds exactly
  *  (ranges of the cubics, tension and torque of the statics at the
  *  interpolated (L_c, alpha), the frequency model's limits, plan_between.c):
@@ -301,6 +307,11 @@ void ea__plan_schedule(ea_planner_t *pl, double w);
  * the position of a key among nnz sorted ones (-1: absent). */
 /* Ipopt's mu_init and warm-start pushes for a cold, warm or updated start (plan_solve.c). */
 void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated);
+/* Ipopt's derivative checker (second: of the Hessian too) writing to a temporary file whose
+ * name goes to tmpl ("" when none could be made); the count of errors it reported there (-1:
+ * unknown) (plan_shared.c). */
+void ea__deriv_test_options(IpoptProblem ip, int second, char tmpl[64]);
+int ea__deriv_errors(const char *path);
 int64_t ea__hkey(int n, int i, int j);
 ea_status_t ea__hpattern(int64_t *keys, size_t nk, int n, int *nnz, int **irow, int **jcol);
 int ea__hpos(const int64_t *keys, int nnz, int64_t k);

@@ -45,6 +45,8 @@ struct ea__pp {
   int *kknot;
   double *xk, *xs_last; /* expanded vector, the path vector it was expanded from */
   double *dq;           /* N x (3 + 3): dq/dsigma (L, alpha, base), dp/dsigma (T, theta0, kappa0) */
+  double *dq2;          /* N x (3 + 3): their second derivatives */
+  double *xkx;          /* knot-layout scratch (the Hessian's differences) */
   /* NLP */
   ea__row_t *rows;
   int *rmap; /* knot planner's row of each row */
@@ -72,17 +74,20 @@ static int ea__pp_seg(const ea_planner_t *pl, double sig) {
   return j;
 }
 
-/* Actuator coordinates (L_c, alpha, base) at sigma on segment j and their derivatives. */
-static void ea__pp_q(const ea_planner_t *pl, int j, double sig, double q[3], double dq[3]) {
+/* Actuator coordinates (L_c, alpha, base) at sigma on segment j and their first and (d2q not
+ * NULL) second derivatives. */
+static void ea__pp_q2(const ea_planner_t *pl, int j, double sig, double q[3], double dq[3],
+                      double d2q[3]) {
   const ea__pp_t *pp = pl->pp;
   const ea_arm_t *arm = &pl->task.arm;
   const double u = sig - pp->sig0[j];
   const double *A = pl->segA[j], *D = pl->segD[j];
   const double P[3] = {A[0] + u * D[0], A[1] + u * D[1], A[2] + u * D[2]};
-  double X, dX, b, db;
+  double X, dX, d2X = 0.0, b, db;
   if (pl->nq == 3) {
     X = hypot(P[0], P[1]);
     dX = X > 1e-12 ? (P[0] * D[0] + P[1] * D[1]) / X : 0.0;
+    if (X > 1e-12) d2X = (D[0] * D[0] + D[1] * D[1] - dX * dX) / X;
     b = X > 1e-12 ? atan2(P[1], P[0]) : pp->bref[j];
     while (b - pp->bref[j] > M_PI)
       b -= 2 * M_PI;
@@ -104,6 +109,15 @@ static void ea__pp_q(const ea_planner_t *pl, int j, double sig, double q[3], dou
   dq[0] = (du * dX + dw * D[2]) / L;
   dq[1] = (du * D[2] - dw * dX) / (L * L);
   dq[2] = db;
+  if (d2q) { /* D is constant along the segment: (du dX + dw D_z)' = dX^2 + du X'' + D_z^2 */
+    d2q[0] = (dX * dX + du * d2X + D[2] * D[2] - dq[0] * dq[0]) / L;
+    d2q[1] = -dw * d2X / (L * L) - 2.0 * dq[1] * dq[0] / L;
+    d2q[2] = X > 1e-12 && pl->nq == 3 ? -2.0 * db * dX / X : 0.0;
+  }
+}
+
+static void ea__pp_q(const ea_planner_t *pl, int j, double sig, double q[3], double dq[3]) {
+  ea__pp_q2(pl, j, sig, q, dq, NULL);
 }
 
 /* Path coordinate of actuator coordinates q on segment j: the tip projected on the segment. */
@@ -183,7 +197,8 @@ static double ea__herm(double h, double y0, double d0, double y1, double d1, dou
 
 /* The statics splines of segment j at sigma: p (T, theta0, kappa0) and dp/dsigma (each
  * segment has its own samples: at a corner the slopes differ). */
-static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], double dp[3]) {
+static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], double dp[3],
+                          double d2p[3]) {
   int lo = pp->soff[j], hi = pp->soff[j + 1] - 1;
   if (sig <= pp->ssig[lo])
     hi = lo + 1;
@@ -200,6 +215,30 @@ static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], do
   for (int c = 0; c < 3; ++c)
     p[c] = ea__herm(h, pp->sp[3 * lo + c], pp->sdp[3 * lo + c], pp->sp[3 * hi + c],
                     pp->sdp[3 * hi + c], u, &dp[c]);
+  if (d2p)
+    for (int c = 0; c < 3; ++c)
+      d2p[c] = ((12 * u - 6) * pp->sp[3 * lo + c] + (6 * u - 4) * h * pp->sdp[3 * lo + c] +
+                (6 - 12 * u) * pp->sp[3 * hi + c] + (6 * u - 2) * h * pp->sdp[3 * hi + c]) /
+               (h * h);
+}
+
+/* The error estimate of a level of m intervals: the Hermite interpolant on every other sample
+ * at the skipped ones (T relative to 1 + T, theta0 [rad], kappa0 L). */
+static double ea__pp_level_err(const ea_planner_t *pl, const double *sg, const double *sp,
+                               const double *sd, int m) {
+  double worst = 0.0;
+  for (int i = 1; i < m; i += 2) {
+    const int i0 = i - 1, i1 = i + 1;
+    const double h = sg[i1] - sg[i0];
+    for (int c = 0; c < 3; ++c) {
+      const double y =
+          ea__herm(h, sp[3 * i0 + c], sd[3 * i0 + c], sp[3 * i1 + c], sd[3 * i1 + c], 0.5, NULL);
+      const double scale =
+          c == 0 ? 1.0 + fabs(sp[3 * i]) : (c == 1 ? 1.0 : 1.0 / pl->task.arm.length);
+      worst = fmax(worst, fabs(y - sp[3 * i + c]) / scale);
+    }
+  }
+  return worst;
 }
 
 /* Build the statics splines of every segment (samples doubled until the error estimate is
@@ -216,43 +255,51 @@ static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
     const double a = pp->sig0[j], len = pl->segLen[j];
     pp->soff[j] = n;
     int m = 8; /* intervals */
-    for (;;) {
-      if (n + m + 1 > EA__PP_MAXS)
+    if (n + m + 1 > EA__PP_MAXS)
+      return ea_error_set(err, EA_ERR_NOCONV, "path statics: more than %d samples", EA__PP_MAXS);
+    /* the first level in order, each sample warm-started from the one before */
+    for (int i = 0; i <= m; ++i) {
+      pp->ssig[n + i] = a + len * i / m;
+      ea_status_t st = ea__pp_statics(pl, j, pp->ssig[n + i], guess, &have, pp->sp + 3 * (n + i),
+                                      pp->sdp + 3 * (n + i), err);
+      if (st) return st;
+    }
+    double *sg = pp->ssig + n, *sp = pp->sp + 3 * n, *sd = pp->sdp + 3 * n;
+    double worst = ea__pp_level_err(pl, sg, sp, sd, m);
+    while (!(worst < 16 * EA__PP_TOL || len < 1e-12)) {
+      /* doubling: the level's samples are the even ones of the next; each new (odd) sample
+       * is warm-started from the Hermite interpolant of its neighbours, which is also the
+       * error estimate (the interpolant on every other sample at the skipped ones) */
+      const int m2 = 2 * m;
+      if (n + m2 + 1 > EA__PP_MAXS)
         return ea_error_set(err, EA_ERR_NOCONV,
                             "path statics: more than %d samples for 1e-9 (segment %d)", EA__PP_MAXS,
                             j + 1);
-      int hv = have;
-      double gs[EA_NP];
-      memcpy(gs, guess, sizeof gs);
-      double worst = 0.0;
-      for (int i = 0; i <= m; ++i) {
-        const double s = a + len * i / m;
-        pp->ssig[n + i] = s;
-        ea_status_t st =
-            ea__pp_statics(pl, j, s, gs, &hv, pp->sp + 3 * (n + i), pp->sdp + 3 * (n + i), err);
+      for (int i = m; i >= 0; --i) {
+        sg[2 * i] = sg[i];
+        memmove(sp + 6 * i, sp + 3 * i, 3 * sizeof *sp);
+        memmove(sd + 6 * i, sd + 3 * i, 3 * sizeof *sd);
+      }
+      for (int i = 1; i < m2; i += 2) {
+        const int i0 = i - 1, i1 = i + 1;
+        const double h = sg[i1] - sg[i0];
+        sg[i] = a + len * i / m2;
+        double y[3];
+        for (int c = 0; c < 3; ++c)
+          y[c] = ea__herm(h, sp[3 * i0 + c], sd[3 * i0 + c], sp[3 * i1 + c], sd[3 * i1 + c], 0.5,
+                          NULL);
+        double q[3], dq[3];
+        ea__pp_q(pl, j, sg[i], q, dq);
+        double gs[EA_NP] = {q[1], y[0], y[1], y[2]};
+        int hv = 1;
+        ea_status_t st = ea__pp_statics(pl, j, sg[i], gs, &hv, sp + 3 * i, sd + 3 * i, err);
         if (st) return st;
       }
-      /* the interpolant on every other sample at the skipped ones */
-      for (int i = 1; i < m; i += 2) {
-        const int i0 = n + i - 1, i1 = n + i + 1;
-        const double h = pp->ssig[i1] - pp->ssig[i0];
-        for (int c = 0; c < 3; ++c) {
-          const double y = ea__herm(h, pp->sp[3 * i0 + c], pp->sdp[3 * i0 + c], pp->sp[3 * i1 + c],
-                                    pp->sdp[3 * i1 + c], 0.5, NULL);
-          const double scale =
-              c == 0 ? 1.0 + fabs(pp->sp[3 * (n + i)]) : (c == 1 ? 1.0 : 1.0 / pl->task.arm.length);
-          worst = fmax(worst, fabs(y - pp->sp[3 * (n + i) + c]) / scale);
-        }
-      }
-      if (worst < 16 * EA__PP_TOL || len < 1e-12) {
-        err_est = fmax(err_est, worst / 16);
-        memcpy(guess, gs, sizeof guess);
-        have = hv;
-        break;
-      }
-      m *= 2;
+      m = m2;
+      worst = ea__pp_level_err(pl, sg, sp, sd, m);
     }
-    n += m + 1;
+    err_est = fmax(err_est, worst / 16);
+    n += m + 1; /* guess: the segment's end, where the next one starts */
   }
   pp->ns = n;
   pp->soff[pl->n_seg] = n;
@@ -264,7 +311,7 @@ static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
       for (int q = 0; q <= 8; ++q) {
         const double s = pp->ssig[i] + (pp->ssig[i + 1] - pp->ssig[i]) * q / 8.0;
         double p[3], dp[3];
-        ea__pp_spline(pp, j, s, p, dp);
+        ea__pp_spline(pp, j, s, p, dp, NULL);
         const char *why = NULL;
         double v = 0, bnd = 0;
         if (p[0] < l->tension_min)
@@ -298,10 +345,14 @@ static void ea__pp_expand_knot(const ea_planner_t *pl, const double *xs, int k) 
   double *xk = pp->xk;
   const double sig = xs[EA__PS(pp, k)];
   const int sg = pl->seg_of_knot[k] >= 0 ? pl->seg_of_knot[k] : ea__pp_seg(pl, sig);
-  double q[3], dq[3], p[3], dp[3];
-  ea__pp_q(pl, sg, sig, q, dq);
-  ea__pp_spline(pp, sg, sig, p, dp);
-  double *d = pp->dq + 6 * k;
+  double q[3], dq[3], d2q[3], p[3], dp[3], d2p[3];
+  ea__pp_q2(pl, sg, sig, q, dq, d2q);
+  ea__pp_spline(pp, sg, sig, p, dp, d2p);
+  double *d = pp->dq + 6 * k, *d2 = pp->dq2 + 6 * k;
+  for (int c = 0; c < 3; ++c) {
+    d2[c] = d2q[c];
+    d2[3 + c] = d2p[c];
+  }
   for (int c = 0; c < pl->nq; ++c) {
     xk[EA__IQ(pl, k, c)] = q[c];
     xk[EA__IV(pl, k, c)] = xs[EA__PR(pp, k, c)];
@@ -432,19 +483,85 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
   return EA_OK;
 }
 
-/* Hessian values: central differences of each row's exact gradient. */
+/* Factor of knot-layout entry i in the path layout (d x_k / d x_s) and its curvature. */
+static double ea__pp_factor(const ea__pp_t *pp, int i, double *curv) {
+  const int k = pp->kknot[i];
+  if (pp->kkind[i] == 1) {
+    *curv = pp->dq2[6 * k + pp->kcoord[i]];
+    return pp->dq[6 * k + pp->kcoord[i]];
+  }
+  if (pp->kkind[i] == 2) {
+    *curv = pp->dq2[6 * k + 3 + pp->kcoord[i]];
+    return pp->dq[6 * k + 3 + pp->kcoord[i]];
+  }
+  *curv = 0.0;
+  return 1.0;
+}
+
+/* Hessian of g rows (rows[0..g-1], weights w) by the chain rule through the knot layout
+ * x_k = phi(x_s): J^T H_k J + sum_i (d row / d x_k,i) phi_i'', with H_k the knot row's
+ * (ea__plan_hess_fd_local: differences of its exact gradient at x_k, no spline in the loop)
+ * and phi'' the path's and the statics splines' second derivatives in sigma. Added as w at
+ * each row's positions hpos[r] (the pairs of ea__pp_row's entries). */
+static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, const double *w,
+                             int g, const int *const *hpos, double *values) {
+  const ea__pp_t *pp = pl->pp;
+  int kc[EA__HGROUP_MAX][EA__ROW_MAX], nkc[EA__HGROUP_MAX];
+  double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
+  ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, pp->xkx, rows, w, g, kc, nkc, Hk);
+  for (int r = 0; r < g; ++r) {
+    if (!nkc[r]) continue;
+    double gk[EA__ROW_MAX];
+    int kc2[EA__ROW_MAX];
+    ea__plan_row_eval(pl, pp->xk, &rows[r], NULL, kc2, gk);
+    /* the path entries in ea__pp_row's order, each knot entry's place and factor */
+    int lc[EA__ROW_MAX], pos[EA__ROW_MAX], n = 0;
+    double f[EA__ROW_MAX], Hp[EA__ROW_MAX][EA__ROW_MAX];
+    for (int e = 0; e < nkc[r]; ++e) {
+      const int col = pp->kidx[kc[r][e]];
+      pos[e] = -1;
+      if (col < 0) continue;
+      int q = 0;
+      while (q < n && lc[q] != col)
+        ++q;
+      if (q == n) {
+        lc[n++] = col;
+        for (int b = 0; b < EA__ROW_MAX; ++b)
+          Hp[q][b] = Hp[b][q] = 0.0;
+      }
+      pos[e] = q;
+    }
+    for (int a = 0; a < nkc[r]; ++a) {
+      if (pos[a] < 0) continue;
+      double ca;
+      f[a] = ea__pp_factor(pp, kc[r][a], &ca);
+      Hp[pos[a]][pos[a]] += gk[a] * ca;
+    }
+    for (int a = 0; a < nkc[r]; ++a)
+      for (int b = 0; b < nkc[r]; ++b)
+        if (pos[a] >= 0 && pos[b] >= 0)
+          Hp[pos[a]][pos[b]] += f[a] * f[b] * 0.5 * (Hk[r][a][b] + Hk[r][b][a]);
+    const int *p = hpos[r];
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b <= a; ++b)
+        values[*p++] += w[r] * Hp[a][b];
+  }
+}
+
+/* Hessian values: the chain rule through the knot layout (ea__pp_hess_rows). */
 static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
                                const double *lambda, double *values) {
   ea__pp_t *pp = pl->pp;
   memset(values, 0, (size_t)pp->nnz_h * sizeof *values);
-  memcpy(pp->xx, x, (size_t)pp->n * sizeof *x);
+  ea__pp_expand(pl, x);
+  memcpy(pp->xkx, pp->xk, (size_t)pl->n * sizeof *pp->xk);
   for (int r = 0; r < pp->m;) {
     const int g = ea__plan_hess_group_len(pp->rows, r, pp->m);
     if (ea__plan_row_curved(&pp->rows[r])) {
       const int *hp[EA__HGROUP_MAX];
       for (int q = 0; q < g; ++q)
         hp[q] = pp->hpos + pp->hpos_start[r + q];
-      ea__plan_hess_fd_group(pl, ea__pp_row, x, pp->xx, &pp->rows[r], lambda + r, g, hp, values);
+      ea__pp_hess_rows(pl, &pp->rows[r], lambda + r, g, hp, values);
     }
     r += g;
   }
@@ -453,9 +570,8 @@ static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
     const double w = sigma * pl->oweight[o];
     if (!ea__plan_row_curved(row)) continue;
     const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
-    ea__plan_hess_fd_group(pl, ea__pp_row, x, pp->xx, row, &w, 1, hp, values);
+    ea__pp_hess_rows(pl, row, &w, 1, hp, values);
   }
-  ea__pp_expand(pl, x);
 }
 
 static Bool ea__pp_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
@@ -564,6 +680,8 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->xk);
   free(pp->xs_last);
   free(pp->dq);
+  free(pp->dq2);
+  free(pp->xkx);
   free(pp->rows);
   free(pp->rmap);
   free(pp->x);
@@ -601,7 +719,8 @@ int ea__pp_supported(const ea_planner_t *pl) {
   if (t->solver.transcription == EA_TASK_TRANSCRIPTION_AUTO && t->dynamics.modes > 0) return 0;
   /* the frequency-model rows and the f1-weighted min_vibration stay with the knots */
   if (pl->fm) return 0;
-  if (t->solver.derivative_test) return 0;
+  /* the derivative checker: the knots, unless the path is asked for (its own check) */
+  if (t->solver.derivative_test && t->solver.transcription != EA_TASK_TRANSCRIPTION_PATH) return 0;
   for (int j = 0; j < pl->n_seg; ++j)
     if (!(pl->segLen[j] > 1e-9)) return 0;
   return 1;
@@ -683,6 +802,8 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   pp->gk = calloc(nk, sizeof(double));
   pp->xs_last = malloc(sizeof(double) * n);
   pp->dq = calloc((size_t)N * 6, sizeof(double));
+  pp->dq2 = calloc((size_t)N * 6, sizeof(double));
+  pp->xkx = calloc(nk, sizeof(double));
   /* rows: the knot planner's, without the statics and path rows */
   pp->rows = malloc(sizeof(ea__row_t) * (size_t)pl->m);
   pp->rmap = malloc(sizeof(int) * (size_t)pl->m);
@@ -693,7 +814,7 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
     *arr[i] = calloc(n, sizeof(double));
   if (!pp->ssig || !pp->sp || !pp->sdp || !pp->kidx || !pp->kkind || !pp->kcoord || !pp->kknot ||
-      !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->rows || !pp->rmap || !pp->gl || !pp->gu)
+      !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->dq2 || !pp->xkx || !pp->rows || !pp->rmap || !pp->gl || !pp->gu)
     return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
     if (!*arr[i]) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
@@ -861,10 +982,16 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
     memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
     memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
-    if (replan) { /* the path moved: the knots keep their fraction of it */
-      const double S_old = pp->x_sol[EA__PS(pp, pl->N - 1)];
-      for (int k = 0; k < pl->N; ++k)
-        if (S_old > 0) pp->x[EA__PS(pp, k)] *= pp->S / S_old;
+    if (replan) { /* the task changed: the knot planner's predictor (coordinates shifted along
+                   * the moved points, min_time re-timed within the limits) in the path layout */
+      memcpy(pl->x, pl->x_sol, (size_t)pl->n * sizeof *pl->x);
+      if ((st = ea__plan_predict(pl, &pl->task_sol, pl->x, 0))) return st;
+      ea__pp_reduce(pl, pl->x, pp->x);
+      /* theta0 from the new path's splines: its rates again */
+      memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
+      ea__pp_expand(pl, pp->x);
+      ea__plan_theta0_rates(pl, pp->xk);
+      ea__pp_reduce(pl, pp->xk, pp->x);
     }
   } else {
     if (start == EA_PLAN_FROM_TRAJ)
@@ -885,6 +1012,9 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     return ea_error_set(err, st, "Ipopt: cannot create the path problem");
   AddIpoptStrOption(pp->ip, "warm_start_init_point", warm ? "yes" : "no");
   ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
+  char tmpl[64] = "";
+  if (pl->task.solver.derivative_test)
+    ea__deriv_test_options(pp->ip, pl->task.solver.derivative_test == 2, tmpl);
   int mono = !warm && !pl->rom &&
              (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
@@ -901,6 +1031,10 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     mono = 0;
     memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
     AddIpoptNumOption(pp->ip, "mu_init", 0.1);
+  }
+  if (tmpl[0]) {
+    info->deriv_errors = ea__deriv_errors(tmpl);
+    remove(tmpl);
   }
   const int solved = *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level;
   if (solved) {

@@ -1,10 +1,15 @@
 /* What both transcriptions (plan_solve.c: knots, plan_path.c: the path coordinate) and the
  * row families (plan_nlp.c, plan_vib.c, plan_dyn.c) share: the duration variable, the end
  * accelerations of an interval's cubic Hermite, the tip from the actuator coordinates, the
- * (L_c, alpha) box a task covers, and the Ipopt barrier start. Calls nothing above it. */
+ * (L_c, alpha) box a task covers, the Ipopt barrier start and its derivative checker. Calls
+ * nothing above it. */
 #include "plan_impl.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 double ea__plan_tf(const ea_planner_t *pl, const double *x) {
   return pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
@@ -103,4 +108,33 @@ void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
   AddIpoptNumOption(ip, "warm_start_bound_push", push);
   AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
   AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
+}
+
+/* Count of derivative checker errors in Ipopt's output file (-1: unknown). */
+int ea__deriv_errors(const char *path) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) return -1;
+  char line[512];
+  int n = -1;
+  while (fgets(line, sizeof line, fp)) {
+    int k;
+    if (strstr(line, "No errors detected by derivative checker")) n = 0;
+    if (sscanf(line, "Derivative checker detected %d error", &k) == 1) n = k;
+  }
+  fclose(fp);
+  return n;
+}
+
+void ea__deriv_test_options(IpoptProblem ip, int second, char tmpl[64]) {
+  snprintf(tmpl, 64, "/tmp/ea_dercheck_XXXXXX");
+  const int fd = mkstemp(tmpl);
+  if (fd >= 0) {
+    close(fd);
+    OpenIpoptOutputFile(ip, tmpl, 5);
+  } else {
+    tmpl[0] = '\0';
+  }
+  AddIpoptStrOption(ip, "derivative_test", second ? "second-order" : "first-order");
+  AddIpoptNumOption(ip, "derivative_test_perturbation", 1e-7);
+  AddIpoptNumOption(ip, "derivative_test_tol", 1e-5);
 }

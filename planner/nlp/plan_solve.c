@@ -189,7 +189,11 @@ static int ea__build_rows(ea_planner_t *pl) {
       const double v = pl->vmax[c] - ct;
       if (isfinite(pl->amax[c]) || z0)
         ea__add_row(pl, &i, EA__ROW_ACC_START, k, c, z0 ? 0.0 : -a, z0 ? 0.0 : a);
-      if (isfinite(pl->amax[c]) || z1)
+      /* where the acceleration is continuous (ACC_CONT, itself within acc_tol) an interior
+       * interval's end acceleration is the next one's start: its row would repeat that
+       * row (linearly dependent when active), so only the last interval has one */
+      const int cont = pl->task.limits.continuous_acceleration || c == EA__C_TH;
+      if ((isfinite(pl->amax[c]) && (!cont || k + 2 == N)) || z1)
         ea__add_row(pl, &i, EA__ROW_ACC_END, k, c, z1 ? 0.0 : -a, z1 ? 0.0 : a);
       if (isfinite(pl->vmax[c])) ea__add_row(pl, &i, EA__ROW_SPEED_CTRL, k, c, -v, v);
     }
@@ -793,21 +797,6 @@ static const char *ea__ipopt_name(int s) {
   }
 }
 
-/* Count of derivative checker errors in Ipopt's output file (-1: unknown). */
-static int ea__deriv_errors(const char *path) {
-  FILE *fp = fopen(path, "r");
-  if (!fp) return -1;
-  char line[512];
-  int n = -1;
-  while (fgets(line, sizeof line, fp)) {
-    int k;
-    if (strstr(line, "No errors detected by derivative checker")) n = 0;
-    if (sscanf(line, "Derivative checker detected %d error", &k) == 1) n = k;
-  }
-  fclose(fp);
-  return n;
-}
-
 /* Polish the statics of every knot (Newton on T, theta0, kappa0 at the
  * plan's L_c, alpha) so that each knot holds to the statics tolerance
  * whatever Ipopt's; the bounds are kept (a polished value outside them is
@@ -1051,7 +1040,7 @@ static ea_status_t ea__solve_start_point(ea_planner_t *pl, ea_plan_start_t start
      * workspace; the shifted plan alone would not (its knots can step over
      * the inadmissible part of the line). */
     if (replan && pl->task.path != EA_TASK_PATH_FREE) st = ea__plan_guess(pl, pl->x0, info, err);
-    if (replan && !st) st = ea__plan_predict(pl, &pl->task_sol, pl->x);
+    if (replan && !st) st = ea__plan_predict(pl, &pl->task_sol, pl->x, 1);
   } else if (start == EA_PLAN_FROM_TRAJ) {
     st = ea__plan_guess_traj(pl, prev, pl->x, err);
   } else {
@@ -1079,19 +1068,8 @@ static void ea__solve_options(ea_planner_t *pl, int warm, int replan, char tmpl[
   AddIpoptIntOption(pl->ip, "mumps_pivot_order", 0);
   ea__ipopt_start_options(pl->ip, warm, replan || pl->refining);
   if (!pl->task.solver.derivative_test) return;
-  snprintf(tmpl, 64, "/tmp/ea_dercheck_XXXXXX");
-  const int fd = mkstemp(tmpl);
-  if (fd >= 0) {
-    close(fd);
-    OpenIpoptOutputFile(pl->ip, tmpl, 5);
-  } else {
-    tmpl[0] = '\0';
-  }
-  AddIpoptStrOption(pl->ip, "derivative_test",
-                    pl->task.solver.derivative_test == 2 && pl->hess_exact == 1 ? "second-order"
-                                                                                : "first-order");
-  AddIpoptNumOption(pl->ip, "derivative_test_perturbation", 1e-7);
-  AddIpoptNumOption(pl->ip, "derivative_test_tol", 1e-5);
+  ea__deriv_test_options(pl->ip, pl->task.solver.derivative_test == 2 && pl->hess_exact == 1,
+                         tmpl);
 }
 
 /* Ipopt from pl->x (knot transcription); a warm start that already is the solution takes
