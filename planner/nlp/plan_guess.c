@@ -673,8 +673,8 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x,
               x[EA__IP(pl, k, i)] = p->p[i + 1];
             continue;
           }
-          const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
-                                       x[EA__IP(pl, k, 2)]};
+          const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)],
+                                       x[EA__IP(pl, k, 1)], x[EA__IP(pl, k, 2)]};
           ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
           ea_statics_solution_t sol;
           if (ea_statics_solve(pl->sh, &prob, &set, guess, &sol, NULL) != EA_OK ||

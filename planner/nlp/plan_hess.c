@@ -205,9 +205,8 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr) {
 }
 
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            const ea__row_t *rows, const double *w, int g,
-                            int cols[][EA__ROW_MAX], int *nc,
-                            double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
+                            const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
+                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
   int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
   for (int r = 0; r < g; ++r) {

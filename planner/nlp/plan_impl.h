@@ -217,9 +217,8 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
 /** The differences of ea__plan_hess_fd_group as local matrices: row r's entries cols[r]
  *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a]. */
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            const ea__row_t *rows, const double *w, int g,
-                            int cols[][EA__ROW_MAX], int *nc,
-                            double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
+                            const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
+                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
 /** Central differences of the exact gradients of g rows (rows[0..g-1], weights w) over the
  *  union of their variables (xx: a scratch copy of x), added as w 0.5 (H + H^T) at each row's
  *  Hessian positions hpos[r]. */

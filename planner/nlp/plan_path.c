@@ -503,8 +503,8 @@ static double ea__pp_factor(const ea__pp_t *pp, int i, double *curv) {
  * (ea__plan_hess_fd_local: differences of its exact gradient at x_k, no spline in the loop)
  * and phi'' the path's and the statics splines' second derivatives in sigma. Added as w at
  * each row's positions hpos[r] (the pairs of ea__pp_row's entries). */
-static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, const double *w,
-                             int g, const int *const *hpos, double *values) {
+static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, const double *w, int g,
+                             const int *const *hpos, double *values) {
   const ea__pp_t *pp = pl->pp;
   int kc[EA__HGROUP_MAX][EA__ROW_MAX], nkc[EA__HGROUP_MAX];
   double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
@@ -814,7 +814,8 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
     *arr[i] = calloc(n, sizeof(double));
   if (!pp->ssig || !pp->sp || !pp->sdp || !pp->kidx || !pp->kkind || !pp->kcoord || !pp->kknot ||
-      !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->dq2 || !pp->xkx || !pp->rows || !pp->rmap || !pp->gl || !pp->gu)
+      !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->dq2 || !pp->xkx || !pp->rows ||
+      !pp->rmap || !pp->gl || !pp->gu)
     return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
     if (!*arr[i]) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");

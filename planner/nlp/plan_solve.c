@@ -1068,8 +1068,7 @@ static void ea__solve_options(ea_planner_t *pl, int warm, int replan, char tmpl[
   AddIpoptIntOption(pl->ip, "mumps_pivot_order", 0);
   ea__ipopt_start_options(pl->ip, warm, replan || pl->refining);
   if (!pl->task.solver.derivative_test) return;
-  ea__deriv_test_options(pl->ip, pl->task.solver.derivative_test == 2 && pl->hess_exact == 1,
-                         tmpl);
+  ea__deriv_test_options(pl->ip, pl->task.solver.derivative_test == 2 && pl->hess_exact == 1, tmpl);
 }
 
 /* Ipopt from pl->x (knot transcription); a warm start that already is the solution takes
