@@ -331,6 +331,9 @@ for g in 0.00:'paper line, payload 0' 0.25:'paper line, payload factor 0.25' \
     "$(calc %.4f "$(tf "$p" 5)")" "$(calc %.2f "$(tf "$p" 9)")" "$(calc %.3f "$(tf "$p" 26)")" \
     "$(calc %.2f "$(tf "$p" 29)")" "$(calc %.2f "$(tf "$p" 36)")"
 done
+pub "tests/test_plan_rest (paper-line.yaml: path and knot transcriptions)" docs/planner.md \
+  'line gives {} s against {} s with knots' "$(tf "paper-line.yaml: knots" 10)" \
+  "$(tf "paper-line.yaml: knots" 3)"
 share() { calc %.1f "$(tf "payload factor $1:" 38)"; }
 pub "tests/test_plan_rest (FE residual share of the quasi-static)" docs/planner.md \
   'What is left is what the model misses ({} %, {} % and {} % of the quasi-static residual:' \

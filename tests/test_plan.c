@@ -592,6 +592,6 @@ int main(int argc, char **argv) {
   test_derivatives();
   test_infeasible();
   test_replan();
-  ea_sweep_run(argc > 1 ? atoi(argv[1]) : 10, 0x2545F4914F6CDD1DULL, 30);
+  ea_sweep_run(argc > 1 ? atoi(argv[1]) : 10, 0x2545F4914F6CDD1DULL, 30, EA_TASK_PATH_FREE);
   return ea_test_summary("test_plan");
 }

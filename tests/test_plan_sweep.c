@@ -1,7 +1,9 @@
 /* Robustness sweep: random start/goal pairs (planar and 3-D) and payloads.
  * Pairs the task check accepts must plan (status EA_OK, every knot in
  * statics, T >= T_min); pairs outside the workspace must be reported as
- * infeasible, never planned. Run as a `slow` test with 200 pairs;
+ * infeasible, never planned. Run as a `slow` test with 200 pairs, free paths (the knot
+ * transcription) and then straight lines (the path transcription, whose planner may also
+ * report the line leaving the workspace between admissible ends);
  * test_plan.c includes it for a short unit sweep. */
 #include "ea_plan_check.h"
 #include "ea_planner.h"
@@ -26,16 +28,18 @@ static double ea_sweep_rand(unsigned long long *s) {
  * written file (ea_plan_check.h). */
 #define EA_SWEEP_LIMIT_TOL 0.0
 
-/* Returns the number of failures. */
-static int ea_sweep_run(int n, unsigned long long seed, int knots) {
+/* Returns the number of failures. path: free, or line (the path transcription). */
+static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_t path) {
   int planned = 0, infeasible = 0, failures = 0, outside_reported = 0;
   double tmax = 0.0, chk_worst = -INFINITY, th_dev = 0.0;
   int n_between = 0; /* plans re-solved for a limit exceeded between knots */
+  int line_left = 0; /* line paths the planner reported leaving the workspace */
   long iters = 0;
   for (int i = 0; i < n; ++i) {
     ea_task_t t;
     ea_task_init(&t, NULL);
     t.knots = knots;
+    t.path = path;
     const double gamma = 0.5 * ea_sweep_rand(&seed);
     t.payload_factor = gamma;
     t.payload_kg = ea_arm_payload_from_factor(&t.arm, gamma);
@@ -80,14 +84,31 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots) {
     ea_plan_info_t info;
     st = ea_planner_alloc(&t, &pl, &e);
     if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+    /* a straight line between two admissible points can leave the workspace: the planner
+     * must say so (where, which limit), never plan it */
+    if (path == EA_TASK_PATH_LINE && st == EA_ERR_INFEASIBLE &&
+        strstr(e.msg, "prescribed path leaves the workspace") && strstr(e.msg, "knot")) {
+      ++infeasible;
+      ++line_left;
+      ea_planner_free(pl);
+      continue;
+    }
     int ok = st == EA_OK;
+    const char *why = st ? e.msg : "limits violated";
+    char whyb[160];
     if (ok) {
       ea_traj_t tr;
       memset(&tr, 0, sizeof tr);
       ok = ea_planner_trajectory(pl, &tr, &e) == EA_OK;
+      if (!ok) why = "no trajectory";
       for (int k = 0; ok && k < tr.n; ++k)
-        ok = EA_TRAJ_AT(&tr, k, EA_TRAJ_tension) >= t.limits.tension_min - 1e-9;
-      ok = ok && info.max_statics_residual <= 1e-9;
+        if (!(ok = EA_TRAJ_AT(&tr, k, EA_TRAJ_tension) >= t.limits.tension_min - 1e-9))
+          why = "tension below tension_min at a knot";
+      if (ok && !(info.max_statics_residual <= 1e-9)) {
+        ok = 0;
+        snprintf(whyb, sizeof whyb, "statics residual %.3g above 1e-9", info.max_statics_residual);
+        why = whyb;
+      }
       /* every limit between the knots, from the written file at 1 kHz */
       char csv[] = "/tmp/ea_sweep_XXXXXX";
       const int fd = mkstemp(csv);
@@ -119,17 +140,18 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots) {
                "sweep %d (gamma %.3f, %s, start L_c %.3f alpha %.3f base %.3f, goal L_c %.3f "
                "alpha %.3f base %.3f): %s",
                i, gamma, three_d ? "3-D" : "planar", t.start.given[0], t.start.given[1],
-               t.start.given[2], t.goal.given[0], t.goal.given[1], t.goal.given[2],
-               st ? e.msg : "limits violated");
+               t.start.given[2], t.goal.given[0], t.goal.given[1], t.goal.given[2], why);
       ea_test_true(0, what);
     }
     ea_planner_free(pl);
   }
-  char what[256];
+  char what[400];
   snprintf(what, sizeof what,
-           "sweep of %d: %d planned, %d reported infeasible (%d beyond the edge on purpose), %d "
-           "failures; slowest plan %.3f s; %ld Ipopt iterations in all",
-           n, planned, infeasible, outside_reported, failures, tmax, iters);
+           "sweep of %d (%s paths): %d planned, %d reported infeasible (%d beyond the edge on "
+           "purpose, %d lines leaving the workspace between admissible ends), %d failures; "
+           "slowest plan %.3f s; %ld Ipopt iterations in all",
+           n, path == EA_TASK_PATH_LINE ? "line" : "free", planned, infeasible, outside_reported,
+           line_left, failures, tmax, iters);
   ea_test_true(failures == 0, what);
   snprintf(what, sizeof what,
            "sweep: every limit re-checked from the written files at 1 kHz: worst relative "
@@ -145,7 +167,8 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots) {
 #ifndef EA_SWEEP_NO_MAIN
 int main(int argc, char **argv) {
   const int n = argc > 1 ? atoi(argv[1]) : 200;
-  ea_sweep_run(n > 0 ? n : 200, 0x9E3779B97F4A7C15ULL, 50);
+  ea_sweep_run(n > 0 ? n : 200, 0x9E3779B97F4A7C15ULL, 50, EA_TASK_PATH_FREE);
+  ea_sweep_run(n > 0 ? n : 200, 0x9E3779B97F4A7C15ULL, 50, EA_TASK_PATH_LINE);
   return ea_test_summary("test_plan_sweep");
 }
 #endif

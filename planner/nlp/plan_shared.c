@@ -104,6 +104,9 @@ void ea__plan_box(const ea_planner_t *pl, double box[4]) {
 void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
   const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
   AddIpoptNumOption(ip, "mu_init", mu);
+  /* no options file: a stray ipopt.opt in the working directory would override these (seen:
+   * mu_strategy from such a file changed a plan's iterations and its t_f in the 7th digit) */
+  AddIpoptStrOption(ip, "option_file_name", "");
   if (!warm && !updated) return;
   AddIpoptNumOption(ip, "warm_start_bound_push", push);
   AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);

@@ -1160,7 +1160,7 @@ static void ea__solve_outcome(ea_planner_t *pl, ea_plan_info_t *info,
   info->objective = obj;
   const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
   if (solved) {
-    if (!path_mode) { /* path mode: theta0 and its rates are the path spline's (1e-9) */
+    if (!path_mode) { /* path mode: theta0 and its rates are the path spline's (1e-10) */
       ea__polish(pl, pl->x);
       ea__plan_theta0_rates(pl, pl->x); /* the spline of the polished theta0 */
     }
@@ -1170,8 +1170,7 @@ static void ea__solve_outcome(ea_planner_t *pl, ea_plan_info_t *info,
   ea__plan_dyn_stats(pl, pl->x, info);
   info->time_freq_model_s = pl->fm ? pl->fm->info.time_s : 0.0;
   const double tol_viol = 1e-6;
-  if (!(solved && info->max_violation <= tol_viol &&
-        info->max_statics_residual <= (path_mode ? 1e-8 : 1e-9))) {
+  if (!(solved && info->max_violation <= tol_viol && info->max_statics_residual <= 1e-9)) {
     ea__solve_failure(info, rs, tol_viol);
     return;
   }
