@@ -511,7 +511,7 @@ iters() {
     for (i = 1; i <= NF; i++) if ($i ~ /^[0-9]+$/ && $(i + 1) ~ /^[0-9]+$/ && $(i + 2) ~ /^[0-9]+$/) { print $(i + 2); exit } }' \
     "$R/bench_plan.out"
 }
-pub "bench/bench_plan (cold, partial Hessian (default))" README.md 'in {*} ms with {} Ipopt iterations,' \
+pub "bench/bench_plan (cold, partial Hessian (default))" README.md 'in {*}-{*} ms with {} Ipopt iterations,' \
   "$(iters "cold, partial Hessian (default)")"
 pub "bench/bench_plan (warm (previous solution); same task from a plan file)" README.md \
   'task takes {} iteration ({*} ms), and replanning from a previous plan file {} iterations' \
@@ -522,11 +522,11 @@ for c in "goal moved 1 mm" "goal moved 5 mm" "goal moved 20 mm" "start moved 5 m
   pub "bench/bench_plan (replanning a live planner)" README.md "| $c | {} | {} |" \
     "$(iters "$bc: replan")" "$(iters "$bc: cold")"
 done
-pub "bench/bench_plan (Hessian modes)" docs/planner.md 'statics curvature left out | {} it, {*} ms / {*} ms |' \
+pub "bench/bench_plan (Hessian modes)" docs/planner.md 'statics curvature left out | {} it, {*}-{*} ms / {*}-{*} ms |' \
   "$(iters "cold, partial Hessian (default)")"
-pub "bench/bench_plan (Hessian modes)" docs/planner.md 'closed form of L_c cos/sin alpha | {} it, {*} ms / {*} ms |' \
+pub "bench/bench_plan (Hessian modes)" docs/planner.md 'closed form of L_c cos/sin alpha | {} it, {*}-{*} ms / {*}-{*} ms |' \
   "$(iters "cold, exact Hessian")"
-pub "bench/bench_plan (Hessian modes)" docs/planner.md "Ipopt's L-BFGS | {} it, {*} ms / {*} ms;" \
+pub "bench/bench_plan (Hessian modes)" docs/planner.md "Ipopt's L-BFGS | {} it, {*}-{*} ms / {*}-{*} ms;" \
   "$(iters "cold, limited-memory Hessian")"
 pub "bench/bench_plan (scaling with the knot count)" README.md \
   'the knot count: {} / {} / {} / {} / {} iterations,' "$(iters "25 knots")" "$(iters "50 knots")" \
@@ -568,15 +568,16 @@ pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, s
 # --- docs/planner.md: bench_dyn (section 1: knots; 3: grid; 4: replanning)
 dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $6, $7, $9; exit }' "$R/bench_dyn.out"; }
 for k in 25 50 100 200 400; do
-  set -- $(dyn $k path)
+  itp=$(dyn $k path | awk '{ print $1 }')
+  set -- $(dyn $k knots)
   label=$k
   [ $k = 100 ] && label="100 (default)"
   ch=$(sci %.1e "$3")
   [ $k = 400 ] && ch=$(calc %.0f "$3")
-  pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} | {} | {} | {} |" \
-    "$1" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
+  pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / {} | {} | {} | {} |" \
+    "$1" "$itp" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
 done
-set -- $(dyn 100 path) $(dyn 400 path)
+set -- $(dyn 100 knots) $(dyn 400 knots)
 pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
   'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \
   "$(calc %.2f "$3*100")" "$(calc %.3f "$8-$4")"

@@ -1205,7 +1205,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
      * problem; pl->x gets the plan in the knot layout */
     const double ti = ea__mono_s();
     st = ea__pp_solve(pl, start, prev, info, &rs, &obj, &iters, err);
-    t_ipopt = ea__mono_s() - ti;
+    t_ipopt = ea__mono_s() - ti - info->time_guess_s; /* its guess is timed apart */
     if (st) return ea__solve_abort(pl, info, st, t0, err);
   } else {
     st = ea__solve_start_point(pl, start, prev, warm, replan, info, err);
