@@ -403,8 +403,18 @@ static ea_status_t ea__guess_knots(ea_planner_t *pl, double *x, ea_error_t *err)
       ea_statics_problem_t prob = ea_statics_problem_cable(Lc, al);
       ea_statics_solution_t sol;
       ea_error_t e2;
-      ea_status_t st = ea_statics_solve(pl->sh, &prob, &set, pprev, &sol, &e2);
-      if (st) st = ea_statics_solve(pl->sh, &prob, &set, NULL, &sol, &e2);
+      ea_status_t st = EA_OK;
+      /* a prescribed path with its statics splines (plan_path.c): the knot's statics from
+       * them (1e-10), no Newton; the pinned points keep their own */
+      double ps[3];
+      if (!pin && ea__pp_statics_at(pl, j, sig, ps)) {
+        sol.p[EA_P_ALPHA] = al;
+        for (int i = 0; i < 3; ++i)
+          sol.p[1 + i] = ps[i];
+      } else {
+        st = ea_statics_solve(pl->sh, &prob, &set, pprev, &sol, &e2);
+        if (st) st = ea_statics_solve(pl->sh, &prob, &set, NULL, &sol, &e2);
+      }
       if (st)
         return ea_error_set(err, EA_ERR_INFEASIBLE,
                             "initial guess: no static equilibrium at knot %d (tip reach %.4g m, "

@@ -728,6 +728,14 @@ int ea__pp_supported(const ea_planner_t *pl) {
   return 1;
 }
 
+int ea__pp_statics_at(const ea_planner_t *pl, int j, double frac, double p[3]) {
+  const ea__pp_t *pp = pl->pp;
+  if (!pp || pl->pp_off || pp->path_status || !ea__pp_supported(pl)) return 0;
+  double dp[3];
+  ea__pp_spline(pp, j, pp->sig0[j] + frac * pl->segLen[j], p, dp, NULL);
+  return 1;
+}
+
 /* Path-vector bounds from the knot planner's (rates, t_f, modal copied; sigma within its
  * knot's segment, pinned at the points). */
 static void ea__pp_bounds(ea_planner_t *pl) {
