@@ -407,7 +407,7 @@ static ea_status_t ea__guess_knots(ea_planner_t *pl, double *x, ea_error_t *err)
       /* a prescribed path with its statics splines (plan_path.c): the knot's statics from
        * them (1e-10), no Newton; the pinned points keep their own */
       double ps[3];
-      if (!pin && ea__pp_statics_at(pl, j, sig, ps)) {
+      if (!pin && pl->guess_statics && pl->guess_statics(pl, j, sig, ps)) {
         sol.p[EA_P_ALPHA] = al;
         for (int i = 0; i < 3; ++i)
           sol.p[1 + i] = ps[i];

@@ -164,6 +164,9 @@ struct ea_planner {
   /* the prescribed path in the path coordinate (plan_path.c; NULL: knots only) */
   struct ea__pp *pp;
   int pp_off; /* 1: solve with the knot transcription (a fallback) */
+  /* the guess's statics at fraction frac of segment j when a prescribed path has them
+   * tabulated (set by the path transcription; NULL, or 0 returned: solve them) */
+  int (*guess_statics)(const struct ea_planner *pl, int j, double frac, double p[3]);
 };
 
 /** Ipopt's infinity (nlp_lower/upper_bound_inf). */
@@ -287,9 +290,6 @@ void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t 
 /** The path transcription (plan_path.c): does the task qualify (line/polyline, no frequency
  *  model, exact Hessian)? */
 int ea__pp_supported(const ea_planner_t *pl);
-/** The path's statics splines (T, theta0, kappa0) at fraction frac of segment j; 0 when the
- *  planner has none to offer (no path transcription, or its path left the workspace). */
-int ea__pp_statics_at(const ea_planner_t *pl, int j, double frac, double p[3]);
 /** Build it (after the knot planner's rows, bounds and Hessian structure). */
 ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err);
 void ea__pp_free(struct ea__pp *pp);

@@ -728,7 +728,10 @@ int ea__pp_supported(const ea_planner_t *pl) {
   return 1;
 }
 
-int ea__pp_statics_at(const ea_planner_t *pl, int j, double frac, double p[3]) {
+/* The path's statics splines (T, theta0, kappa0) at fraction frac of segment j, for the cold
+ * guess (pl->guess_statics); 0 when there are none to offer (the knot fallback, or the path
+ * left the workspace). */
+static int ea__pp_statics_at(const ea_planner_t *pl, int j, double frac, double p[3]) {
   const ea__pp_t *pp = pl->pp;
   if (!pp || pl->pp_off || pp->path_status || !ea__pp_supported(pl)) return 0;
   double dp[3];
@@ -794,6 +797,7 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   ea__pp_t *pp = calloc(1, sizeof *pp);
   if (!pp) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
   pl->pp = pp;
+  pl->guess_statics = ea__pp_statics_at;
   const int N = pl->N, K = pl->K;
   pp->nc = pl->nq + 1;
   pp->nbp = 1 + pp->nc;
