@@ -513,9 +513,8 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
   ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, pp->xkx, rows, w, g, kc, nkc, Hk);
   for (int r = 0; r < g; ++r) {
     if (!nkc[r]) continue;
-    double gk[EA__ROW_MAX];
-    int kc2[EA__ROW_MAX];
-    ea__plan_row_eval(pl, pp->xk, &rows[r], NULL, kc2, gk);
+    double gk[EA__ROW_MAX]; /* the knot row's gradient, in kc[r]'s order */
+    ea__plan_row_eval(pl, pp->xk, &rows[r], NULL, NULL, gk);
     /* the path entries in ea__pp_row's order, each knot entry's place and factor */
     int lc[EA__ROW_MAX], pos[EA__ROW_MAX], n = 0;
     double f[EA__ROW_MAX], Hp[EA__ROW_MAX][EA__ROW_MAX];
@@ -733,7 +732,7 @@ int ea__pp_supported(const ea_planner_t *pl) {
  * left the workspace). */
 static int ea__pp_statics_at(const ea_planner_t *pl, int j, double frac, double p[3]) {
   const ea__pp_t *pp = pl->pp;
-  if (!pp || pl->pp_off || pp->path_status || !ea__pp_supported(pl)) return 0;
+  if (!pp || pl->pp_off || pp->path_status) return 0;
   double dp[3];
   ea__pp_spline(pp, j, pp->sig0[j] + frac * pl->segLen[j], p, dp, NULL);
   return 1;
@@ -1002,11 +1001,12 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       memcpy(pl->x, pl->x_sol, (size_t)pl->n * sizeof *pl->x);
       if ((st = ea__plan_predict(pl, &pl->task_sol, pl->x, 0))) return st;
       ea__pp_reduce(pl, pl->x, pp->x);
-      /* theta0 from the new path's splines: its rates again */
-      memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
+      /* theta0 from the new path's splines (ea__pp_update left every knot to expand): the
+       * rates of its spline */
       ea__pp_expand(pl, pp->x);
       ea__plan_theta0_rates(pl, pp->xk);
-      ea__pp_reduce(pl, pp->xk, pp->x);
+      for (int k = 0; k < pl->N; ++k)
+        pp->x[EA__PR(pp, k, pl->nq)] = pp->xk[EA__IW(pl, k)];
     }
   } else {
     if (start == EA_PLAN_FROM_TRAJ)
@@ -1030,10 +1030,8 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   char tmpl[64] = "";
   if (pl->task.solver.derivative_test)
     ea__deriv_test_options(pp->ip, pl->task.solver.derivative_test == 2, tmpl);
-  int mono = getenv("EA_ADAPT")
-                 ? 0
-                 : !warm && !pl->rom &&
-                       (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+  int mono = !warm && !pl->rom &&
+             (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
   *iters = 0;
   for (;;) {
