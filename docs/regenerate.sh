@@ -574,8 +574,17 @@ for k in 25 50 100 200 400; do
   [ $k = 100 ] && label="100 (default)"
   ch=$(sci %.1e "$3")
   [ $k = 400 ] && ch=$(calc %.0f "$3")
-  pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / {} | {} | {} | {} |" \
-    "$1" "$itp" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
+  # the path transcription's iteration count at 400 knots is not reproducible
+  # across machines (81 and 83 seen for the same commit, rounding-sensitive
+  # barrier steps): that one count is published as measured with Debian's
+  # reference BLAS and not checked
+  if [ $k = 400 ]; then
+    pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / {*} | {} | {} | {} |" \
+      "$1" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
+  else
+    pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / {} | {} | {} | {} |" \
+      "$1" "$itp" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
+  fi
 done
 set -- $(dyn 100 knots) $(dyn 400 knots)
 pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
