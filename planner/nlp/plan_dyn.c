@@ -150,15 +150,29 @@ static void ea__emit(const ea__dual_t *r, const int *col, int nloc, double *valu
   }
 }
 
+/* The model's fields at one end of an interval, by the end's (L_c, alpha) values (as duals
+ * over the defect's local variables, whose layout fixes their derivative vectors). */
+typedef struct {
+  int valid;
+  double key[2];
+  ea__drom_t m;
+} ea__dyn_end_t;
+
 /* The defect rows' work, cached per interval: the Hermite of (L_c, alpha) and the model's
- * fields at the ends and the midpoint, by the values of the interval's 9 trajectory variables
- * (the same for every mode; the Hessian's differences perturb one variable at a time), and the
- * pos and vel defects of each mode by those plus its 4 modal variables. */
+ * fields at the midpoint, by the values of the interval's 9 trajectory variables (the same
+ * for every mode; the Hessian's differences perturb one variable at a time), the fields at
+ * each end by that end's (L_c, alpha) alone, in two slots (the differences alternate the
+ * end's perturbed and unperturbed values: a rate or t_f perturbed, or the other end's
+ * value, finds them), and the pos and vel defects of each mode by the 9 plus its 4 modal
+ * variables. */
 typedef struct {
   int valid;
   double key[9];
   ea__dual_t h, v0[2], v1[2], a0[2], a1[2], vm[2], am[2];
-  ea__drom_t m0, m1, mm;
+  ea__drom_t mm;
+  ea__dyn_end_t end[2][2];
+  int last[2]; /* the slot each end used last (the other one is replaced) */
+  const ea__drom_t *m0, *m1;
 } ea__dyn_icache_t;
 
 typedef struct {
@@ -177,6 +191,23 @@ void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
   free(c->ic);
   free(c->mc);
   free(c);
+}
+
+static const ea__drom_t *ea__dyn_end(const ea_planner_t *pl, int j, ea__dyn_icache_t *ic, int e,
+                                     ea__dual_t L, ea__dual_t a) {
+  const double key[2] = {L.v, a.v};
+  ea__dyn_end_t *sl = ic->end[e];
+  for (int q = 0; q < 2; ++q)
+    if (sl[q].valid && !memcmp(sl[q].key, key, sizeof key)) {
+      ic->last[e] = q;
+      return &sl[q].m;
+    }
+  const int q = !sl[0].valid ? 0 : !sl[1].valid ? 1 : 1 - ic->last[e];
+  ea__drom(pl, j, L, a, &sl[q].m);
+  memcpy(sl[q].key, key, sizeof key);
+  sl[q].valid = 1;
+  ic->last[e] = q;
+  return &sl[q].m;
 }
 
 static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, int k, int j,
@@ -205,8 +236,8 @@ static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, int k, i
     ic->am[c] = ea__dscale(ea__dadd(ic->a0[c], ic->a1[c]), 0.5);
   }
   ic->h = h;
-  ea__drom(pl, j, q0[0], q0[1], &ic->m0);
-  ea__drom(pl, j, q1[0], q1[1], &ic->m1);
+  ic->m0 = ea__dyn_end(pl, j, ic, 0, q0[0], q0[1]);
+  ic->m1 = ea__dyn_end(pl, j, ic, 1, q1[0], q1[1]);
   ea__drom(pl, j, qm[0], qm[1], &ic->mm);
   memcpy(ic->key, xv + 4, sizeof ic->key);
   ic->valid = 1;
@@ -244,9 +275,9 @@ static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i,
     const double zeta = pl->zeta[i];
     const ea__dual_t e0 = loc[0], ed0 = loc[1], e1 = loc[2], ed1 = loc[3];
     const ea__dual_t acc0 =
-        ea__dacc(&ic->m0, mi, zeta, e0, ed0, ea__dforce(&ic->m0, mi, ic->v0, ic->a0));
+        ea__dacc(ic->m0, mi, zeta, e0, ed0, ea__dforce(ic->m0, mi, ic->v0, ic->a0));
     const ea__dual_t acc1 =
-        ea__dacc(&ic->m1, mi, zeta, e1, ed1, ea__dforce(&ic->m1, mi, ic->v1, ic->a1));
+        ea__dacc(ic->m1, mi, zeta, e1, ed1, ea__dforce(ic->m1, mi, ic->v1, ic->a1));
     const ea__dual_t h8 = ea__dscale(ic->h, 0.125), h6 = ea__dscale(ic->h, 1.0 / 6.0);
     const ea__dual_t em =
         ea__dadd(ea__dscale(ea__dadd(e0, e1), 0.5), ea__dmul(h8, ea__dsub(ed0, ed1)));
@@ -336,6 +367,25 @@ static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, doub
   int n = 0;
   ea__emit(&r, col, nloc, value, cols, vals, &n);
   return n;
+}
+
+/* The defects are affine in the modal states (the accelerations are -omega^2 eta - 2 zeta
+ * omega eta' + F with F and the coefficients functions of the trajectory alone, the
+ * midpoint state is linear in the ends'); the tension and torque rows are T (EI kappa0) plus
+ * sum_i dT_i(q) eta_i. */
+int ea__plan_dyn_affine(const ea_planner_t *pl, const ea__row_t *r, int v) {
+  const int modal = v >= pl->ie0 && v < pl->ie0 + 2 * pl->K * pl->N;
+  switch ((ea__row_kind_t)r->kind) {
+  case EA__ROW_DYN_DEF_POS:
+  case EA__ROW_DYN_DEF_VEL:
+    return modal;
+  case EA__ROW_DYN_TENSION:
+    return modal || v == EA__IP(pl, r->knot, 0);
+  case EA__ROW_DYN_TORQUE:
+    return modal || v == EA__IP(pl, r->knot, 2);
+  default:
+    return 0;
+  }
 }
 
 int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,

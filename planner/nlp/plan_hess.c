@@ -209,9 +209,14 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
                             int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
   int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
+  /* variables the row is affine in (jointly): not perturbed; their entries are the
+   * perturbed variables' (symmetry) and zero among themselves (ea__plan_dyn_affine) */
+  unsigned char aff[EA__HGROUP_MAX][EA__ROW_MAX];
   for (int r = 0; r < g; ++r) {
     nc[r] = w[r] != 0.0 ? fn(pl, x, &rows[r], NULL, cols[r], NULL) : 0;
     for (int a = 0; a < nc[r]; ++a) {
+      aff[r][a] = (unsigned char)ea__plan_dyn_affine(pl, &rows[r], cols[r][a]);
+      if (aff[r][a]) continue;
       int seen = 0;
       for (int u = 0; u < nu && !seen; ++u)
         seen = uni[u] == cols[r][a];
@@ -237,7 +242,7 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
         int a = 0;
         while (a < nc[r] && cols[r][a] != v)
           ++a;
-        if (a == nc[r]) continue;
+        if (a == nc[r] || aff[r][a]) continue;
         fn(pl, xx, &rows[r], NULL, NULL, gp);
         for (int b = 0; b < nc[r]; ++b)
           Hl[r][a][b] = (gp[b] - g0[r][b]) / hd;
@@ -254,7 +259,7 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
         int a = 0;
         while (a < nc[r] && cols[r][a] != v)
           ++a;
-        if (a == nc[r]) continue;
+        if (a == nc[r] || aff[r][a]) continue;
         fn(pl, xx, &rows[r], NULL, NULL, sgn ? gm : gp);
         for (int b = 0; b < nc[r]; ++b)
           Hl[r][a][b] = sgn ? (Hl[r][a][b] - gm[b]) / (2.0 * d) : gp[b];
@@ -262,6 +267,11 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
     }
     xx[v] = x[v];
   }
+  for (int r = 0; r < g; ++r)
+    for (int a = 0; a < nc[r]; ++a)
+      if (aff[r][a])
+        for (int b = 0; b < nc[r]; ++b)
+          Hl[r][a][b] = aff[r][b] ? 0.0 : Hl[r][b][a];
 }
 
 void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
