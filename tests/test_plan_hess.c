@@ -1,0 +1,184 @@
+/* The Lagrangian Hessian of the at-rest plan's dynamics rows (planner/nlp/plan_hess.c,
+ * plan_dyn.c) against an independent reference: for every modal defect, tension, torque,
+ * tip-deviation and terminal row, the Hessian the planner hands Ipopt for that row alone
+ * (lambda = e_r, no objective) against central differences of the row's exact gradient over
+ * every one of its variables, Richardson-extrapolated from steps h and h/2 (h = 1e-4 relative),
+ * at a generic point (the 8-knot plan's solution, every variable moved by a pseudo-random
+ * 1e-4 relative). The reference perturbs the modal states too, which the planner does not
+ * (the rows are affine in them): its modal-modal blocks must vanish, and the planner's
+ * symmetric fill of the modal-trajectory entries must match it. Two tasks: the paper line at
+ * payload factor 0.25 with 2 modes, a tip-deviation bound and a 1 mm residual (every row
+ * kind), and the robust paper line (nominal and four corner models, 1 mode each). */
+#include "ea_planner.h"
+#include "ea_problems.h"
+#include "ea_test.h"
+#include "ea_test_task.h"
+#include "plan_impl.h"
+
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* stated: the planner's entries within 1e-5 of the row's largest reference entry (its own
+ * differences: forward, step 1e-7, for the defects; central, 1e-6, for the others) */
+#define HESS_TOL 1e-5
+/* the reference's modal-modal blocks: rounding of its differences only */
+#define AFFINE_TOL 1e-8
+
+static const char *src;
+
+static int is_dyn(int kind) {
+  return kind == EA__ROW_DYN_DEF_POS || kind == EA__ROW_DYN_DEF_VEL ||
+         kind == EA__ROW_DYN_TENSION || kind == EA__ROW_DYN_TORQUE ||
+         kind == EA__ROW_DYN_DEVIATION || kind == EA__ROW_DYN_TERMINAL;
+}
+
+static int is_modal(const ea_planner_t *pl, int v) {
+  return v >= pl->ie0 && v < pl->ie0 + 2 * pl->K * pl->N;
+}
+
+/* Central difference of row r's gradient in its local variable a, step h: D[b]. */
+static void grad_diff(ea_planner_t *pl, const ea__row_t *row, double *xx, int v, double h, int nc,
+                      double *D) {
+  double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
+  const double x0 = xx[v];
+  xx[v] = x0 + h;
+  ea__plan_row_eval(pl, xx, row, NULL, NULL, gp);
+  xx[v] = x0 - h;
+  ea__plan_row_eval(pl, xx, row, NULL, NULL, gm);
+  xx[v] = x0;
+  for (int b = 0; b < nc; ++b)
+    D[b] = (gp[b] - gm[b]) / (2.0 * h);
+}
+
+static void check_task(ea_task_t *t, const char *name) {
+  ea_error_t e = {0};
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t info;
+  t->knots = 8;
+  t->solver.transcription = EA_TASK_TRANSCRIPTION_KNOTS;
+  ea_status_t st = ea_task_check(t, &e);
+  if (!st) st = ea_planner_alloc(t, &pl, &e);
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+  char w[240];
+  snprintf(w, sizeof w, "%s: 8-knot at-rest plan (%.160s)", name, st ? e.msg : "ok");
+  ea_test_true(!st && pl->hpos && pl->K > 0, w);
+  if (st || !pl->hpos || pl->K == 0) {
+    ea_planner_free(pl);
+    return;
+  }
+  const int n = pl->n;
+  double *x = malloc((size_t)n * sizeof *x), *xx = malloc((size_t)n * sizeof *xx);
+  double *lam = calloc((size_t)pl->m, sizeof *lam);
+  double *values = malloc((size_t)(pl->nnz_h + 1) * sizeof *values);
+  if (!x || !xx || !lam || !values) {
+    ea_test_true(0, "allocation");
+    goto out;
+  }
+  /* a generic point near the solution (an LCG: the same point every run) */
+  unsigned long long s = 12345;
+  for (int i = 0; i < n; ++i) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double u = (double)(s >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+    x[i] = pl->x_sol[i] + 1e-4 * u * fmax(fabs(pl->x_sol[i]), 1e-2);
+  }
+  memcpy(xx, x, (size_t)n * sizeof *x);
+  int nrows = 0, kinds[EA__ROW_DYN_TERMINAL + 1] = {0};
+  double worst = 0.0, worst_affine = 0.0, worst_sym = 0.0;
+  int worst_row = -1;
+  for (int r = 0; r < pl->m; ++r) {
+    const ea__row_t *row = &pl->rows[r];
+    if (!is_dyn(row->kind)) continue;
+    int cols[EA__ROW_MAX];
+    const int nc = ea__plan_row_eval(pl, x, row, NULL, cols, NULL);
+    /* the reference: Richardson from h and h/2 */
+    double R[EA__ROW_MAX][EA__ROW_MAX], big = 0.0;
+    for (int a = 0; a < nc; ++a) {
+      const double h = 1e-4 * fmax(1.0, fabs(x[cols[a]]));
+      double D1[EA__ROW_MAX], D2[EA__ROW_MAX];
+      grad_diff(pl, row, xx, cols[a], h, nc, D1);
+      grad_diff(pl, row, xx, cols[a], 0.5 * h, nc, D2);
+      for (int b = 0; b < nc; ++b) {
+        R[a][b] = (4.0 * D2[b] - D1[b]) / 3.0;
+        big = fmax(big, fabs(R[a][b]));
+      }
+    }
+    /* the planner's, for this row alone */
+    lam[r] = 1.0;
+    st = ea__plan_hess_values(pl, x, 0.0, lam, values);
+    lam[r] = 0.0;
+    if (st) {
+      ea_test_true(0, "ea__plan_hess_values");
+      goto out;
+    }
+    for (int a = 0; a < nc; ++a)
+      for (int b = 0; b < nc; ++b) {
+        const double ref = 0.5 * (R[a][b] + R[b][a]);
+        worst_sym = fmax(worst_sym, fabs(R[a][b] - R[b][a]) / fmax(big, 1e-300));
+        if (is_modal(pl, cols[a]) && is_modal(pl, cols[b]) && row->kind != EA__ROW_DYN_DEVIATION &&
+            row->kind != EA__ROW_DYN_TERMINAL)
+          worst_affine = fmax(worst_affine, fabs(ref) / fmax(big, 1e-300));
+        if (b > a) continue;
+        /* the planner's entry at (max, min) of the pair */
+        const int i = cols[a] > cols[b] ? cols[a] : cols[b],
+                  j = cols[a] > cols[b] ? cols[b] : cols[a];
+        double got = 0.0;
+        for (int q = 0; q < pl->nnz_h; ++q)
+          if (pl->hirow[q] == i && pl->hjcol[q] == j) got = values[q];
+        const double err = fabs(got - ref) / fmax(big, 1e-300);
+        if (err > worst) {
+          worst = err;
+          worst_row = r;
+        }
+      }
+    ++nrows;
+    ++kinds[row->kind];
+  }
+  char rn[96] = "-";
+  if (worst_row >= 0) ea__plan_row_name(pl, &pl->rows[worst_row], rn, sizeof rn);
+  printf("  %s: %d dynamics rows (defects %d, tension %d, torque %d, deviation %d, terminal %d)\n",
+         name, nrows, kinds[EA__ROW_DYN_DEF_POS] + kinds[EA__ROW_DYN_DEF_VEL],
+         kinds[EA__ROW_DYN_TENSION], kinds[EA__ROW_DYN_TORQUE], kinds[EA__ROW_DYN_DEVIATION],
+         kinds[EA__ROW_DYN_TERMINAL]);
+  printf("  %s: worst entry %.2e of the row's largest (%s); reference asymmetry %.1e; modal-modal "
+         "%.1e\n",
+         name, worst, rn, worst_sym, worst_affine);
+  snprintf(w, sizeof w, "%s: every dynamics row's Hessian within %.0e (worst %.2e, %s)", name,
+           HESS_TOL, worst, rn);
+  ea_test_true(nrows > 0 && worst <= HESS_TOL, w);
+  snprintf(w, sizeof w, "%s: defects, tension and torque affine in the modal states (%.1e)", name,
+           worst_affine);
+  ea_test_true(worst_affine <= AFFINE_TOL, w);
+out:
+  free(x);
+  free(xx);
+  free(lam);
+  free(values);
+  ea_planner_free(pl);
+}
+
+int main(void) {
+  gsl_set_error_handler_off();
+  src = getenv("EA_SOURCE_DIR");
+  if (!src) {
+    printf("EA_SOURCE_DIR not set (run through ctest)\n");
+    return EXIT_FAILURE;
+  }
+  ea_task_t t;
+  if (!ea_test_load_example(src, "paper-line-rest.yaml", &t)) {
+    t.payload_factor = 0.25;
+    t.payload_kg = ea_arm_payload_from_factor(&t.arm, 0.25);
+    t.dynamics.residual_m = 1e-3;
+    t.dynamics.max_tip_deviation_m = 2e-3;
+    check_task(&t, "paper line, payload 0.25, 2 modes");
+  } else {
+    ea_test_true(0, "paper-line-rest.yaml");
+  }
+  if (!ea_test_load_example(src, "paper-line-robust.yaml", &t))
+    check_task(&t, "robust paper line");
+  else
+    ea_test_true(0, "paper-line-robust.yaml");
+  return ea_test_summary("test_plan_hess");
+}
