@@ -947,7 +947,8 @@ static ea_status_t ea__pp_ipopt(ea_planner_t *pl) {
   if (t->solver.print_level >= 5) AddIpoptStrOption(pp->ip, "print_timing_statistics", "yes");
   AddIpoptStrOption(pp->ip, "linear_solver", "mumps");
   AddIpoptIntOption(pp->ip, "mumps_permuting_scaling", 0);
-  AddIpoptIntOption(pp->ip, "mumps_pivot_order", 0); /* deterministic (plan_solve.c) */
+  AddIpoptIntOption(pp->ip, "mumps_pivot_order", 0);    /* deterministic (plan_solve.c) */
+  AddIpoptIntOption(pp->ip, "min_refinement_steps", 0); /* as needed (plan_solve.c) */
   AddIpoptStrOption(pp->ip, "hessian_approximation", "exact");
   AddIpoptNumOption(pp->ip, "tol", t->solver.tol);
   AddIpoptNumOption(pp->ip, "constr_viol_tol", t->solver.constr_tol);
