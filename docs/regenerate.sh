@@ -53,7 +53,7 @@ done
 for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
   "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust" \
   "$B/tests/test_plan_rest" "$B/tests/test_plan_vib" "$B/tests/test_plan_limits" "$B/tests/test_rom" \
-  "$B/tests/test_rom_modes" "$B/tests/test_plan_hess"; do
+  "$B/tests/test_rom_modes" "$B/tests/test_plan_hess" "$B/tests/test_plan_sweep"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -116,6 +116,8 @@ run test_plan_rest env EA_SOURCE_DIR=. "$B/tests/test_plan_rest"
 run bench_dyn "$B/bench/bench_dyn"
 # docs/planner.md: the dynamics rows' Hessian against its reference (~1 s).
 run test_plan_hess env EA_SOURCE_DIR=. "$B/tests/test_plan_hess"
+# docs/planner.md: 200 random tasks, free and line paths (~15 s).
+run test_plan_sweep env EA_SOURCE_DIR=. "$B/tests/test_plan_sweep"
 # docs/fe.md: the reduced model's accuracy (~2 s).
 run test_rom env EA_SOURCE_DIR=. EA_BINARY="$EA" "$B/tests/test_rom"
 # docs/planner.md: the shoulder-limited line against its time-optimal reference (~6 s).
@@ -593,6 +595,31 @@ hw=$(awk '/worst entry/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v
 pub "tests/test_plan_hess (worst Hessian entry of a dynamics row, both tasks)" docs/planner.md \
   "exact gradient over all its variables, modal states included: within {} of the row's largest" \
   "$(sci %.1e "$hw")"
+# sw KIND: planned, infeasible, failures, iterations of the sweep's KIND paths, then the
+# worst relative excess and the re-solves of the limits line after it
+sw() {
+  awk -v k="$1" 'index($0, "sweep of 200 (" k " paths)") { f = 1; n = split($0, w, /[ ;(),:]+/)
+      for (i = 1; i <= n; i++) { if (w[i + 1] == "planned") p = w[i]; if (w[i + 1] == "reported") r = w[i]
+        if (w[i + 1] == "failures") fl = w[i]; if (w[i + 1] == "Ipopt") it = w[i] }; next }
+    f && /every limit re-checked/ { x = $0; sub(/.*excess /, "", x); sub(/ .*/, "", x)
+      y = $0; sub(/ plans re-solved.*/, "", y); sub(/.* /, "", y); print p, r, fl, it, x, y; exit }' \
+    "$R/test_plan_sweep.out"
+}
+set -- $(sw free)
+pub "tests/test_plan_sweep (free paths)" docs/planner.md \
+  '3-D, payload factor 0..0.5), free paths: {} planned, {} reported infeasible (20 goals' "$1" "$2"
+pub "tests/test_plan_sweep (free paths)" docs/planner.md \
+  'beyond the edge on purpose), {} failures, slowest plan {*} s,' "$3"
+pub "tests/test_plan_sweep (free paths)" docs/planner.md '{} Ipopt iterations in all; every plan'"'"'s file' "$4"
+pub "tests/test_plan_sweep (free paths)" docs/planner.md \
+  're-checked at 1 kHz: worst relative excess {} (tolerance 0); plans re-solved for a' "$(sci %.1e "$5")"
+pub "tests/test_plan_sweep (free paths)" docs/planner.md \
+  'limit between the knots: {}. The same 200 pairs on line paths: {} planned, {} reported' "$6" \
+  "$(sw line | awk '{ print $1 }')" "$(sw line | awk '{ print $2 }')"
+set -- $(sw line)
+pub "tests/test_plan_sweep (line paths)" docs/planner.md \
+  'infeasible, {} failures, {} Ipopt iterations in all, worst relative excess {}.' "$3" "$4" \
+  "$(sci %.1e "$5")"
 set -- $(dyn 100 knots) $(dyn 400 knots)
 pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
   'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \
