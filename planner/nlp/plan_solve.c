@@ -1107,15 +1107,17 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
     for (;;) {
       AddIpoptStrOption(pl->ip, "mu_strategy", mono ? "monotone" : "adaptive");
       if (mono) AddIpoptNumOption(pl->ip, "mu_init", mono_mu);
-      /* With dynamics from a cold start the bound multipliers start at mu_init / slack
-       * instead of 1 (at mu_init 1e-3 the constant 1 is far off the central path): the
-       * at-rest paper line 28 -> 21 iterations, 200 knots 33 -> 24, payload 0.25 27 -> 20,
-       * payload 0.5 27 -> 19, pick-place-3d 19 -> 18, the same durations; the robust line
-       * 43 -> 47 (docs/planner.md) */
+      /* With dynamics from a cold start and one model the bound multipliers start at
+       * mu_init / slack instead of 1 (at mu_init 1e-3 the constant 1 is far off the central
+       * path): the at-rest paper line 28 -> 21 iterations, 200 knots 33 -> 24, payload 0.25
+       * 27 -> 20, payload 0.5 27 -> 19, pick-place-3d 19 -> 18, the same durations. The
+       * robust plans (corner models) keep 1: their first barrier phase backtracked with it
+       * (up to 7 line-search trials, a regularised KKT system), 43 -> 47 iterations and 29 %
+       * more time. Every dynamics cold start solves each barrier subproblem to 100 mu
+       * instead of 10 mu: 1-2 iterations fewer (robust 43 -> 42), durations within 2e-7
+       * (docs/planner.md). */
       AddIpoptStrOption(pl->ip, "bound_mult_init_method",
-                        mono && pl->rom ? "mu-based" : "constant");
-      /* and each barrier subproblem solved to 100 mu instead of 10 mu: 1-2 iterations fewer
-       * on every at-rest task of docs/planner.md, durations within 2e-7 relative */
+                        mono && pl->rom && pl->M == 1 ? "mu-based" : "constant");
       AddIpoptNumOption(pl->ip, "barrier_tol_factor", mono && pl->rom ? 100.0 : 10.0);
       pl->iter = 0;
       rs = IpoptSolve(pl->ip, pl->x, pl->g, obj, pl->mult_g, pl->mult_xl, pl->mult_xu, pl);
