@@ -582,13 +582,10 @@ for k in 25 50 100 200 400; do
   # across machines and builds (81, 83 and 85 seen, rounding-sensitive
   # barrier steps): that one count is published as measured with Debian's
   # reference BLAS and not checked
-  if [ $k = 400 ]; then
-    pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / {*} | {} | {} | {} |" \
-      "$1" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
-  else
-    pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / {} | {} | {} | {} |" \
-      "$1" "$itp" "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
-  fi
+  ip='{}'
+  [ $k = 400 ] && ip='{*}' itp=
+  pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / $ip | {} | {} | {} |" \
+    "$1" ${itp:+"$itp"} "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
 done
 hw=$(awk '/worst entry/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v); if (v + 0 > m) m = v + 0 }
   END { print m }' "$R/test_plan_hess.out")
@@ -605,7 +602,7 @@ sw() {
       y = $0; sub(/ plans re-solved.*/, "", y); sub(/.* /, "", y); print p, r, fl, it, x, y; exit }' \
     "$R/test_plan_sweep.out"
 }
-set -- $(sw free)
+set -- $(sw free) $(sw line)
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
   '3-D, payload factor 0..0.5), free paths: {} planned, {} reported infeasible (20 goals' "$1" "$2"
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
@@ -613,13 +610,11 @@ pub "tests/test_plan_sweep (free paths)" docs/planner.md \
 pub "tests/test_plan_sweep (free paths)" docs/planner.md '{} Ipopt iterations in all; every plan'"'"'s file' "$4"
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
   're-checked at 1 kHz: worst relative excess {} (tolerance 0); plans re-solved for a' "$(sci %.1e "$5")"
-pub "tests/test_plan_sweep (free paths)" docs/planner.md \
-  'limit between the knots: {}. The same 200 pairs on line paths: {} planned, {} reported' "$6" \
-  "$(sw line | awk '{ print $1 }')" "$(sw line | awk '{ print $2 }')"
-set -- $(sw line)
+pub "tests/test_plan_sweep (free and line paths)" docs/planner.md \
+  'limit between the knots: {}. The same 200 pairs on line paths: {} planned, {} reported' "$6" "$7" "$8"
 pub "tests/test_plan_sweep (line paths)" docs/planner.md \
-  'infeasible, {} failures, {} Ipopt iterations in all, worst relative excess {}.' "$3" "$4" \
-  "$(sci %.1e "$5")"
+  'infeasible, {} failures, {} Ipopt iterations in all, worst relative excess {}.' "$9" "${10}" \
+  "$(sci %.1e "${11}")"
 set -- $(dyn 100 knots) $(dyn 400 knots)
 pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
   'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \

@@ -272,12 +272,12 @@ int ea__plan_between(ea_planner_t *pl, const double *x, double *worst, char *msg
  *  the task, the table from the cache or built (plan_dyn.c). */
 ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err);
 void ea__plan_dyn_cache_free(struct ea__dyn_cache *c);
-/** Rows of the dynamic kinds; same contract as ea__plan_row_eval. */
 /** Is the row affine in variable v jointly with every other variable this says so of (its
  *  second derivatives in such variables are exactly zero: the Hessian's differences need not
  *  perturb them)? The modal states in the defects, tension and torque rows; T and kappa0 in
  *  the latter two. */
 int ea__plan_dyn_affine(const ea_planner_t *pl, const ea__row_t *r, int v);
+/** Rows of the dynamic kinds; same contract as ea__plan_row_eval. */
 int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                      int *cols, double *vals);
 /** Modal states of x integrated along its (L_c, alpha) from rest (a guess). */
