@@ -253,7 +253,8 @@ static void table_replan(const ea_task_t *base, int R) {
 }
 
 int main(int argc, char **argv) {
-  const int R = argc > 1 ? atoi(argv[1]) : 3;
+  const int R = ea_bench_count(argc, argv, 1, 3, 1000, "bench_dyn [repetitions 1..1000]");
+  if (R < 0 || argc > 2) return 2;
   ea_task_t t;
   if (load("paper-line-rest.yaml", &t)) return 1;
   FILE *fp = fopen("/proc/loadavg", "r");

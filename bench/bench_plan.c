@@ -314,10 +314,16 @@ static int refine_rows(const ea_task_t *line) {
 }
 
 int main(int argc, char **argv) {
-  const int R = argc > 1 ? atoi(argv[1]) : 5;
+  const char *usage = "bench_plan [repetitions 1..1000] [replan|refine|robust]";
+  const int R = ea_bench_count(argc, argv, 1, 5, 1000, usage);
+  if (R < 0) return 2;
   const int only_replan = argc > 2 && !strcmp(argv[2], "replan");
   const int only_refine = argc > 2 && !strcmp(argv[2], "refine");
   const int only_robust = argc > 2 && !strcmp(argv[2], "robust");
+  if (argc > 3 || (argc > 2 && !only_replan && !only_refine && !only_robust)) {
+    fprintf(stderr, "bench_plan: unknown section '%s'\nusage: %s\n", argv[2], usage);
+    return 2;
+  }
   ea_task_t line;
   ea_task_init(&line, NULL);
   line.start = ea_task_point_planar(0.3, -0.2, 0.0); /* eq. 18, beta = 0 */

@@ -54,7 +54,8 @@ static int run(const ea_arm_t *arm, const ea_traj_t *tr, ea_fe_scheme_t sc, doub
 }
 
 int main(int argc, char **argv) {
-  const int reps = argc > 1 ? atoi(argv[1]) : 3;
+  const int reps = ea_bench_count(argc, argv, 1, 3, 1000, "bench_sim [repetitions 1..1000]");
+  if (reps < 0 || argc > 2) return 2;
   const char *names[4] = {"paper-line.yaml", "paper-line-smooth.yaml", "polyline-effort.yaml",
                           "paper-line.yaml"};
   enum { NDT = 4 };

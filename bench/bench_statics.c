@@ -59,7 +59,9 @@ static int sweep(ea_shooter_t *sh, const ea_statics_settings_t *set, double (*ou
 
 int main(int argc, char **argv) {
   gsl_set_error_handler_off();
-  const int reps = argc > 1 ? atoi(argv[1]) : 15;
+  const int reps =
+      ea_bench_count(argc, argv, 1, 15, 100000, "bench_statics [repetitions 1..100000]");
+  if (reps < 0 || argc > 2) return 2;
   ea_arm_t arm;
   ea_arm_default(&arm);
 

@@ -279,7 +279,9 @@ int main(int argc, char **argv) {
   gsl_set_error_handler_off(); /* every GSL return is checked */
   const long cores = sysconf(_SC_NPROCESSORS_ONLN);
   if (argc > 1 && !strcmp(argv[1], "planner")) {
-    const int reps = argc > 2 ? atoi(argv[2]) : 3;
+    const int reps =
+        ea_bench_count(argc, argv, 2, 3, 1000, "bench_study planner [repetitions 1..1000]");
+    if (reps < 0 || argc > 3) return 2;
     printf("bench_study planner: %ld online cores; medians of %d; load average %s at the start\n\n",
            cores, reps, loadavg());
     printf("| study | cases | workers | median wall | per case | notes |\n");
@@ -290,8 +292,11 @@ int main(int argc, char **argv) {
            loadavg());
     return 0;
   }
-  const int reps_big = argc > 1 ? atoi(argv[1]) : 3;
-  const int reps_plan = argc > 2 ? atoi(argv[2]) : 3;
+  const char *usage = "bench_study [repetitions 1..1000 [plan-repetitions 1..1000]] | "
+                      "bench_study planner [repetitions]";
+  const int reps_big = ea_bench_count(argc, argv, 1, 3, 1000, usage);
+  const int reps_plan = ea_bench_count(argc, argv, 2, 3, 1000, usage);
+  if (reps_big < 0 || reps_plan < 0 || argc > 3) return 2;
   ea_study_t fig3, fig3l, freq;
   ea_error_t e = {0};
   if (ea_study_load_string("fig3.yaml", k_fig3, strlen(k_fig3), NULL, &fig3, &e) ||
