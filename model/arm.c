@@ -3,6 +3,7 @@
 #include "ea_util.h"
 
 #include <math.h>
+#include <string.h>
 
 void ea_arm_default(ea_arm_t *arm) {
   /* Table 1 */
@@ -123,4 +124,26 @@ double ea_arm_payload_from_factor(const ea_arm_t *arm, double gamma) {
 
 double ea_arm_tip_mass(const ea_arm_t *arm, double payload_kg) {
   return arm->m_hand + payload_kg;
+}
+
+int ea_arm_equal(const ea_arm_t *a, const ea_arm_t *b) {
+  /* field by field: the struct has padding after n_damping and unused damping slots, which
+   * memcmp would compare (a task loaded into an uninitialised struct then differed from
+   * itself copied elsewhere) */
+  const double fa[] = {a->rho, a->m_hand, a->length, a->EI,       a->x_c,  a->y_c,
+                       a->g,   a->EA,     a->GA_s,   a->EA_cable, a->I_zz, a->I_hand};
+  const double fb[] = {b->rho, b->m_hand, b->length, b->EI,       b->x_c,  b->y_c,
+                       b->g,   b->EA,     b->GA_s,   b->EA_cable, b->I_zz, b->I_hand};
+  for (size_t i = 0; i < sizeof fa / sizeof *fa; ++i)
+    if (!(fa[i] == fb[i])) return 0;
+  _Static_assert(sizeof(ea_actuators_t) == 18 * sizeof(double), "ea_actuators_t: doubles only");
+  double xa[18], xb[18];
+  memcpy(xa, &a->act, sizeof xa);
+  memcpy(xb, &b->act, sizeof xb);
+  for (int i = 0; i < 18; ++i)
+    if (!(xa[i] == xb[i])) return 0;
+  if (a->n_damping != b->n_damping) return 0;
+  for (int i = 0; i < a->n_damping && i < EA_ARM_MAX_DAMPED_MODES; ++i)
+    if (!(a->damping_ratio[i] == b->damping_ratio[i])) return 0;
+  return 1;
 }

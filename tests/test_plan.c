@@ -9,6 +9,8 @@
 #define EA_SWEEP_NO_MAIN
 #include "test_plan_sweep.c"
 
+#include <stddef.h>
+
 static const char *src_dir(void) {
   const char *s = getenv("EA_SOURCE_DIR");
   return s ? s : ".";
@@ -585,6 +587,75 @@ done:
   ea_planner_free(pc);
 }
 
+/* Replanning a polyline loaded from text (two segments, the base turning): the moved task's
+ * arm differs from the planner's only in bytes that mean nothing (the padding after n_damping,
+ * the unused damping slots; the comparison once read them with memcmp and refused updates as
+ * "arm differs", depending on what the loader's stack held); every update (via, goal, base
+ * angle moved) must be accepted and give a cold plan's duration to 1e-6, in fewer iterations. */
+static void test_replan_loaded(void) {
+  static const char *fmt = "name: p\npayload_factor: 0.1\nstart:\n  tip: [0.35, -0.25]\nvia:\n"
+                           "  - tip: [%.4f, %.4f]\n    base_angle_rad: 0.2\ngoal:\n"
+                           "  tip: [%.4f, -0.30]\n  base_angle_rad: %.4f\npath: polyline\n"
+                           "objective: min_time\nknots: 60\n";
+  const double mv[4][4] = {{0.005, 0, 0, 0}, {0, 0.005, 0, 0}, {0, 0, 0.005, 0}, {0, 0, 0, 0.02}};
+  char text[512], what[700];
+  ea_task_t t0, t1;
+  ea_error_t e = {0};
+  memset(&t0, 0x00, sizeof t0);
+  snprintf(text, sizeof text, fmt, 0.45, -0.2, 0.55, 0.4);
+  ea_status_t st = ea_task_load_string("p.yaml", text, strlen(text), NULL, &t0, &e);
+  ea_test_true(st == EA_OK, "replan loaded: polyline task loads");
+  if (st) return;
+  for (int m = 0; m < 4; ++m) {
+    ea_planner_t *pl = NULL, *pc = NULL;
+    ea_plan_info_t i0, w, c;
+    memset(&t1, 0xA5, sizeof t1);
+    snprintf(text, sizeof text, fmt, 0.45 + mv[m][0], -0.2 + mv[m][1], 0.55 + mv[m][2],
+             0.4 + mv[m][3]);
+    st = ea_task_load_string("p.yaml", text, strlen(text), NULL, &t1, &e);
+    /* what the arm's comparison must not read: the bytes after n_damping (padding) and the
+     * damping slots beyond n_damping (unused: those modes are undamped) */
+    unsigned char *pad = (unsigned char *)&t1.arm + offsetof(ea_arm_t, n_damping) + sizeof(int);
+    memset(pad, 0x5A,
+           offsetof(ea_arm_t, damping_ratio) - offsetof(ea_arm_t, n_damping) - sizeof(int));
+    for (int i = t1.arm.n_damping; i < EA_ARM_MAX_DAMPED_MODES; ++i)
+      t1.arm.damping_ratio[i] = 0.25 + 0.01 * m;
+    if (!st) st = ea_planner_alloc(&t0, &pl, &e);
+    if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &i0, &e);
+    if (!st) st = ea_planner_update(pl, &t1, &e);
+    snprintf(what, sizeof what, "replan loaded: update %d accepted (%s)", m, e.msg);
+    ea_test_true(st == EA_OK, what);
+    if (!st) st = ea_planner_solve(pl, EA_PLAN_WARM, NULL, &w, &e);
+    if (!st) st = ea_planner_alloc(&t1, &pc, &e);
+    if (!st) st = ea_planner_solve(pc, EA_PLAN_COLD, NULL, &c, &e);
+    snprintf(what, sizeof what, "replan loaded: update %d warm and cold solves (%s)", m, e.msg);
+    ea_test_true(st == EA_OK, what);
+    if (!st) {
+      printf("replan loaded %d: warm %d iterations, cold %d\n", m, w.iterations, c.iterations);
+      snprintf(what, sizeof what, "replan loaded: update %d duration as cold", m);
+      ea_test_rel(w.duration_s, c.duration_s, 1e-6, what);
+      snprintf(what, sizeof what, "replan loaded: update %d fewer iterations (%d < %d)", m,
+               w.iterations, c.iterations);
+      ea_test_true(w.iterations < c.iterations, what);
+    }
+    ea_planner_free(pl);
+    ea_planner_free(pc);
+  }
+  /* a real difference of the arm is still refused */
+  ea_planner_t *pl = NULL;
+  t1 = t0;
+  t1.arm.damping_ratio[0] = 0.01;
+  t1.arm.n_damping = 1;
+  st = ea_planner_alloc(&t0, &pl, &e);
+  if (!st) st = ea_planner_update(pl, &t1, &e);
+  ea_test_true(st == EA_ERR_ARG && strstr(e.msg, "arm"), "replan loaded: a damped mode refused");
+  t1 = t0;
+  t1.arm.EI *= 1.01;
+  st = pl ? ea_planner_update(pl, &t1, &e) : EA_ERR_ARG;
+  ea_test_true(st == EA_ERR_ARG && strstr(e.msg, "arm"), "replan loaded: EI + 1 % refused");
+  ea_planner_free(pl);
+}
+
 int main(int argc, char **argv) {
   test_paper_line();
   test_topp();
@@ -592,6 +663,7 @@ int main(int argc, char **argv) {
   test_derivatives();
   test_infeasible();
   test_replan();
+  test_replan_loaded();
   ea_sweep_run(argc > 1 ? atoi(argv[1]) : 10, 0x2545F4914F6CDD1DULL, 30, EA_TASK_PATH_FREE);
   return ea_test_summary("test_plan");
 }

@@ -80,6 +80,9 @@ ea_status_t ea_arm_validate(const ea_arm_t *arm, ea_error_t *err);
 double ea_arm_payload_from_factor(const ea_arm_t *arm, double gamma);
 /** Tip mass m_L = m_h + m_p (eq. 1). */
 double ea_arm_tip_mass(const ea_arm_t *arm, double payload_kg);
+/** 1 when a and b hold the same parameters (the first n_damping damping ratios; the bytes
+ *  between and after the fields are not compared), else 0. */
+int ea_arm_equal(const ea_arm_t *a, const ea_arm_t *b);
 
 #ifdef __cplusplus
 }

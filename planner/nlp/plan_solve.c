@@ -557,7 +557,7 @@ static const char *ea__struct_differs(const ea_planner_t *pl, const ea_task_t *t
     return "regularization term";
   for (int i = 0; i < 7; ++i)
     if (isfinite(la[i]) != isfinite(lb[i])) return "set of finite speed/acceleration limits";
-  if (memcmp(&t->arm, &o->arm, sizeof t->arm)) return "arm";
+  if (!ea_arm_equal(&t->arm, &o->arm)) return "arm";
   if (pl->fm) return "task with a frequency model (built for the old task's region)";
   return NULL;
 }
