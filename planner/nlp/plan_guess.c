@@ -608,6 +608,56 @@ ea_status_t ea__plan_guess_traj(ea_planner_t *pl, const ea_traj_t *tr, double *x
   return EA_OK;
 }
 
+/* Step 3 of the predictor (min_time): x (knot layout, the new task's knots) re-timed by lam =
+ * the largest usage of a time-scaled limit at its knots over the same at the old plan
+ * (pl->x_sol), speeds linear, accelerations square-rooted; t_f times lam, rates over lam
+ * (clamped to 0.5..2). Returns lam (1: nothing to compare). */
+double ea__plan_retime(const ea_planner_t *pl, double *x) {
+  const ea_task_t *t = &pl->task;
+  const int N = pl->N, nq = pl->nq;
+  const double tf = x[EA__ITF(pl)];
+  /* (a finer rule, only the limits the old plan had active, predicted t_f no better and
+   * needed 13 instead of 6 iterations) */
+  const double *xo = pl->x_sol;
+  double un_max = 0.0, uo_max = 0.0;
+  for (int k = 0; k + 1 < N; ++k) {
+    const double ds = pl->s[k + 1] - pl->s[k];
+    for (int c = 0; c < nq; ++c) {
+      double un[4], uo[4];
+      for (int o = 0; o < 2; ++o) {
+        const double *y = o ? xo : x, h = ds * tf;
+        double *u = o ? uo : un;
+        const double q0 = y[EA__IQ(pl, k, c)], q1 = y[EA__IQ(pl, k + 1, c)];
+        const double v0 = y[EA__IV(pl, k, c)], v1 = y[EA__IV(pl, k + 1, c)];
+        double a[2], ga[2][5];
+        ea__plan_hermite_acc(q0, q1, v0, v1, h, a, ga);
+        u[0] = fabs(v0) / pl->vmax[c];
+        u[1] = fabs(1.5 * (q1 - q0) / h - 0.25 * (v0 + v1)) / pl->vmax[c];
+        u[2] = sqrt(fabs(a[0]) / pl->amax[c]);
+        u[3] = sqrt(fabs(a[1]) / pl->amax[c]);
+      }
+      for (int i = 0; i < 4; ++i)
+        if (isfinite(uo[i]) && isfinite(un[i]))
+          un_max = fmax(un_max, un[i]), uo_max = fmax(uo_max, uo[i]);
+    }
+    const double ws = t->limits.shoulder_speed_max;
+    if (isfinite(ws)) {
+      const double h = ds * tf;
+      const double un = fabs(x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]) / h / ws;
+      const double uo = fabs(xo[EA__IP(pl, k + 1, 1)] - xo[EA__IP(pl, k, 1)]) / h / ws;
+      un_max = fmax(un_max, un);
+      uo_max = fmax(uo_max, uo);
+    }
+  }
+  if (!(uo_max > 0.0 && un_max > 0.0)) return 1.0;
+  const double lam = fmax(0.5, fmin(2.0, un_max / uo_max));
+  x[EA__ITF(pl)] = tf * lam;
+  for (int k = 0; k < N; ++k)
+    for (int c = 0; c < nq; ++c)
+      x[EA__IV(pl, k, c)] /= lam;
+  return lam;
+}
+
 /* Replanning predictor (ea_planner_update, then EA_PLAN_WARM). x holds the
  * solution of task prev; the structure (knots, via knots, rows) is the
  * same. Three steps, each cheap next to an Ipopt iteration:
@@ -629,116 +679,70 @@ ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x,
   double tf =
       pl->has_tf ? x[EA__ITF(pl)] : (isnan(prev->duration_s) ? pl->tf_fixed : prev->duration_s);
   const int retime = pl->has_tf && t->objective == EA_TASK_MIN_TIME;
-  for (int pass = 0; pass < 2; ++pass) {
-    if (pass == 1) {
-      /* 1. shift the coordinates along the moved points */
-      for (int j = 0; j < pl->n_seg; ++j) {
-        const ea_task_point_t *ao = ea__point(prev, j), *bo = ea__point(prev, j + 1);
-        const ea_task_point_t *an = ea__point(t, j), *bn = ea__point(t, j + 1);
-        const double qao[3] = {ao->cable_length, ao->cable_angle, ao->base_angle};
-        const double qbo[3] = {bo->cable_length, bo->cable_angle, bo->base_angle};
-        const double qan[3] = {an->cable_length, an->cable_angle, an->base_angle};
-        const double qbn[3] = {bn->cable_length, bn->cable_angle, bn->base_angle};
-        double dA[3], dB[3], moved = 0.0;
-        int cs = 0;
-        for (int c = 0; c < nq; ++c) {
-          dA[c] = qan[c] - qao[c];
-          dB[c] = qbn[c] - qbo[c];
-          moved = fmax(moved, fabs(dA[c]) + fabs(dB[c]));
-          if (w[c] * fabs(qbo[c] - qao[c]) > w[cs] * fabs(qbo[cs] - qao[cs])) cs = c;
-        }
-        if (moved == 0.0) continue;
-        const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
-        const double D = qbo[cs] - qao[cs];
-        for (int k = k0 + (j > 0); k <= k1; ++k) {
-          double sg, sgd;
-          if (w[cs] * fabs(D) > 1e-9) {
-            sg = (x[EA__IQ(pl, k, cs)] - qao[cs]) / D;
-            sgd = x[EA__IV(pl, k, cs)] / D;
-          } else {
-            sg = (pl->s[k] - pl->s[k0]) / (pl->s[k1] - pl->s[k0]);
-            sgd = 1.0 / ((pl->s[k1] - pl->s[k0]) * tf);
-          }
-          sg = fmax(0.0, fmin(1.0, sg));
-          for (int c = 0; c < nq; ++c) {
-            x[EA__IQ(pl, k, c)] += (1.0 - sg) * dA[c] + sg * dB[c];
-            x[EA__IV(pl, k, c)] += sgd * (dB[c] - dA[c]);
-          }
-        }
-      }
-      /* 2. statics of every knot at its new (L_c, alpha) (not for the path transcription,
-       * whose statics are its splines') */
-      if (statics) {
-        ea_statics_settings_t set;
-        ea_statics_settings_default(&set);
-        set.allow_negative_tension = 1;
-        set.max_cont_steps = 0;
-        int jv = 0;
-        for (int k = 0; k < N; ++k) {
-          while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k)
-            ++jv;
-          if (jv <= pl->n_seg && pl->via_knot[jv] == k) { /* pinned: the point's statics */
-            const ea_task_point_t *p = ea__point(t, jv);
-            for (int i = 0; i < 3; ++i)
-              x[EA__IP(pl, k, i)] = p->p[i + 1];
-            continue;
-          }
-          const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)],
-                                       x[EA__IP(pl, k, 1)], x[EA__IP(pl, k, 2)]};
-          ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
-          ea_statics_solution_t sol;
-          if (ea_statics_solve(pl->sh, &prob, &set, guess, &sol, NULL) != EA_OK ||
-              sol.branch != EA_BRANCH_WARM)
-            continue; /* Ipopt starts from the old values there */
-          for (int i = 0; i < 3; ++i)
-            x[EA__IP(pl, k, i)] = sol.p[i + 1];
-        }
-      }
+  /* 1. shift the coordinates along the moved points */
+  for (int j = 0; j < pl->n_seg; ++j) {
+    const ea_task_point_t *ao = ea__point(prev, j), *bo = ea__point(prev, j + 1);
+    const ea_task_point_t *an = ea__point(t, j), *bn = ea__point(t, j + 1);
+    const double qao[3] = {ao->cable_length, ao->cable_angle, ao->base_angle};
+    const double qbo[3] = {bo->cable_length, bo->cable_angle, bo->base_angle};
+    const double qan[3] = {an->cable_length, an->cable_angle, an->base_angle};
+    const double qbn[3] = {bn->cable_length, bn->cable_angle, bn->base_angle};
+    double dA[3], dB[3], moved = 0.0;
+    int cs = 0;
+    for (int c = 0; c < nq; ++c) {
+      dA[c] = qan[c] - qao[c];
+      dB[c] = qbn[c] - qbo[c];
+      moved = fmax(moved, fabs(dA[c]) + fabs(dB[c]));
+      if (w[c] * fabs(qbo[c] - qao[c]) > w[cs] * fabs(qbo[cs] - qao[cs])) cs = c;
     }
-    if (!retime || pass == 0) continue;
-    /* 3. re-time: lam = (largest usage of a time-scaled limit at the new
-     * knots) / (the same at the old plan), speeds linear, accelerations
-     * square-rooted (a finer rule, only the limits the old plan had active,
-     * predicted t_f no better and needed 13 instead of 6 iterations) */
-    const double *xo = pl->x_sol;
-    double un_max = 0.0, uo_max = 0.0;
-    for (int k = 0; k + 1 < N; ++k) {
-      const double ds = pl->s[k + 1] - pl->s[k];
+    if (moved == 0.0) continue;
+    const int k0 = pl->via_knot[j], k1 = pl->via_knot[j + 1];
+    const double D = qbo[cs] - qao[cs];
+    for (int k = k0 + (j > 0); k <= k1; ++k) {
+      double sg, sgd;
+      if (w[cs] * fabs(D) > 1e-9) {
+        sg = (x[EA__IQ(pl, k, cs)] - qao[cs]) / D;
+        sgd = x[EA__IV(pl, k, cs)] / D;
+      } else {
+        sg = (pl->s[k] - pl->s[k0]) / (pl->s[k1] - pl->s[k0]);
+        sgd = 1.0 / ((pl->s[k1] - pl->s[k0]) * tf);
+      }
+      sg = fmax(0.0, fmin(1.0, sg));
       for (int c = 0; c < nq; ++c) {
-        double un[4], uo[4];
-        for (int o = 0; o < 2; ++o) {
-          const double *y = o ? xo : x, h = ds * tf;
-          double *u = o ? uo : un;
-          const double q0 = y[EA__IQ(pl, k, c)], q1 = y[EA__IQ(pl, k + 1, c)];
-          const double v0 = y[EA__IV(pl, k, c)], v1 = y[EA__IV(pl, k + 1, c)];
-          double a[2], ga[2][5];
-          ea__plan_hermite_acc(q0, q1, v0, v1, h, a, ga);
-          u[0] = fabs(v0) / pl->vmax[c];
-          u[1] = fabs(1.5 * (q1 - q0) / h - 0.25 * (v0 + v1)) / pl->vmax[c];
-          u[2] = sqrt(fabs(a[0]) / pl->amax[c]);
-          u[3] = sqrt(fabs(a[1]) / pl->amax[c]);
-        }
-        for (int i = 0; i < 4; ++i)
-          if (isfinite(uo[i]) && isfinite(un[i]))
-            un_max = fmax(un_max, un[i]), uo_max = fmax(uo_max, uo[i]);
+        x[EA__IQ(pl, k, c)] += (1.0 - sg) * dA[c] + sg * dB[c];
+        x[EA__IV(pl, k, c)] += sgd * (dB[c] - dA[c]);
       }
-      const double ws = t->limits.shoulder_speed_max;
-      if (isfinite(ws)) {
-        const double h = ds * tf;
-        const double un = fabs(x[EA__IP(pl, k + 1, 1)] - x[EA__IP(pl, k, 1)]) / h / ws;
-        const double uo = fabs(xo[EA__IP(pl, k + 1, 1)] - xo[EA__IP(pl, k, 1)]) / h / ws;
-        un_max = fmax(un_max, un);
-        uo_max = fmax(uo_max, uo);
-      }
-    }
-    if (uo_max > 0.0 && un_max > 0.0) {
-      const double lam = fmax(0.5, fmin(2.0, un_max / uo_max));
-      x[EA__ITF(pl)] = tf * lam;
-      for (int k = 0; k < N; ++k)
-        for (int c = 0; c < nq; ++c)
-          x[EA__IV(pl, k, c)] /= lam;
     }
   }
+  /* 2. statics of every knot at its new (L_c, alpha) (not for the path transcription,
+   * whose statics are its splines') */
+  if (statics) {
+    ea_statics_settings_t set;
+    ea_statics_settings_default(&set);
+    set.allow_negative_tension = 1;
+    set.max_cont_steps = 0;
+    int jv = 0;
+    for (int k = 0; k < N; ++k) {
+      while (jv < pl->n_seg + 1 && pl->via_knot[jv] < k)
+        ++jv;
+      if (jv <= pl->n_seg && pl->via_knot[jv] == k) { /* pinned: the point's statics */
+        const ea_task_point_t *p = ea__point(t, jv);
+        for (int i = 0; i < 3; ++i)
+          x[EA__IP(pl, k, i)] = p->p[i + 1];
+        continue;
+      }
+      const double guess[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
+                                   x[EA__IP(pl, k, 2)]};
+      ea_statics_problem_t prob = ea_statics_problem_cable(x[EA__IQ(pl, k, 0)], guess[0]);
+      ea_statics_solution_t sol;
+      if (ea_statics_solve(pl->sh, &prob, &set, guess, &sol, NULL) != EA_OK ||
+          sol.branch != EA_BRANCH_WARM)
+        continue; /* Ipopt starts from the old values there */
+      for (int i = 0; i < 3; ++i)
+        x[EA__IP(pl, k, i)] = sol.p[i + 1];
+    }
+  }
+  if (retime) ea__plan_retime(pl, x);
   ea__plan_theta0_rates(pl, x);
   return EA_OK;
 }

@@ -261,6 +261,7 @@ void ea__plan_segments(ea_planner_t *pl);
  *  of its segment's end shifts, min_time re-timed within the limits, every
  *  knot's statics re-solved (payload; statics 0: not, for the path transcription). */
 ea_status_t ea__plan_predict(ea_planner_t *pl, const ea_task_t *prev, double *x, int statics);
+double ea__plan_retime(const ea_planner_t *pl, double *x);
 /** Limits between the knots of a converged plan x that no row holds exactly
  *  (ranges of the cubics, tension and torque of the statics at the
  *  interpolated (L_c, alpha), the frequency model's limits, plan_between.c):
