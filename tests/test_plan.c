@@ -591,13 +591,18 @@ done:
  * arm differs from the planner's only in bytes that mean nothing (the padding after n_damping,
  * the unused damping slots; the comparison once read them with memcmp and refused updates as
  * "arm differs", depending on what the loader's stack held); every update (via, goal, base
- * angle moved) must be accepted and give a cold plan's duration to 1e-6, in fewer iterations. */
+ * angle moved) must be accepted and give a cold plan's duration to 1e-6, the small ones in fewer
+ * iterations. */
 static void test_replan_loaded(void) {
   static const char *fmt = "name: p\npayload_factor: 0.1\nstart:\n  tip: [0.35, -0.25]\nvia:\n"
                            "  - tip: [%.4f, %.4f]\n    base_angle_rad: 0.2\ngoal:\n"
                            "  tip: [%.4f, -0.30]\n  base_angle_rad: %.4f\npath: polyline\n"
                            "objective: min_time\nknots: 60\n";
-  const double mv[4][4] = {{0.005, 0, 0, 0}, {0, 0.005, 0, 0}, {0, 0, 0.005, 0}, {0, 0, 0, 0.02}};
+  /* 5 mm / 0.02 rad moves; then the via 10 mm away, where a cold planner of the moved task
+   * places the via knot elsewhere (kept, it fixed the time of passing the via: 1.1 and 3.3 %
+   * slower than cold) */
+  const double mv[6][4] = {{0.005, 0, 0, 0}, {0, 0.005, 0, 0}, {0, 0, 0.005, 0},
+                           {0, 0, 0, 0.02},  {0.01, 0, 0, 0},  {0.01, -0.01, 0, 0}};
   char text[512], what[700];
   ea_task_t t0, t1;
   ea_error_t e = {0};
@@ -606,7 +611,7 @@ static void test_replan_loaded(void) {
   ea_status_t st = ea_task_load_string("p.yaml", text, strlen(text), NULL, &t0, &e);
   ea_test_true(st == EA_OK, "replan loaded: polyline task loads");
   if (st) return;
-  for (int m = 0; m < 4; ++m) {
+  for (int m = 0; m < 6; ++m) {
     ea_planner_t *pl = NULL, *pc = NULL;
     ea_plan_info_t i0, w, c;
     memset(&t1, 0xA5, sizeof t1);
@@ -636,7 +641,7 @@ static void test_replan_loaded(void) {
       ea_test_rel(w.duration_s, c.duration_s, 1e-6, what);
       snprintf(what, sizeof what, "replan loaded: update %d fewer iterations (%d < %d)", m,
                w.iterations, c.iterations);
-      ea_test_true(w.iterations < c.iterations, what);
+      if (m < 4) ea_test_true(w.iterations < c.iterations, what);
     }
     ea_planner_free(pl);
     ea_planner_free(pc);

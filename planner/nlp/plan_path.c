@@ -58,6 +58,7 @@ struct ea__pp {
   /* per knot of the solution: its speed along the path [m/s] and its slopes dq/dsigma (N x 4);
    * its segments' starts (the replanning predictor, ea__pp_predict) */
   double *sd_sol, sig0_sol[EA_TASK_MAX_VIA + 2];
+  int vk_sol[EA_TASK_MAX_VIA + 2]; /* its via knots */
   int *irow, *jcol;
   int *hirow, *hjcol, *hpos_start, *hpos;
   ea__row_t *orows;
@@ -991,6 +992,32 @@ static void ea__pp_keep_speed(ea_planner_t *pl) {
       pp->sd_sol[4 * k + 1 + c] = pp->dq[6 * k + c];
   }
   memcpy(pp->sig0_sol, pp->sig0, sizeof pp->sig0);
+  memcpy(pp->vk_sol, pl->via_knot, sizeof pp->vk_sol);
+}
+
+/* The old plan's sigma and speed along the path (Hermite in time through its knots) at knot k
+ * of segment j whose via knots moved: at the same fraction of the segment's time. Returns the
+ * speed's factor new/old of the segment's share of t_f in *dsc. */
+static void ea__pp_resample(const ea_planner_t *pl, int j, int k, double *sig, double *sd,
+                            double *dsc) {
+  const ea__pp_t *pp = pl->pp;
+  const double *s = pl->s;
+  const int n0 = pl->via_knot[j], n1 = pl->via_knot[j + 1];
+  const int o0 = pp->vk_sol[j], o1 = pp->vk_sol[j + 1];
+  const double dn = s[n1] - s[n0], dold = s[o1] - s[o0];
+  const double tau = s[o0] + (dn > 0.0 ? (s[k] - s[n0]) / dn : 0.0) * dold;
+  int i = o0;
+  while (i + 1 < o1 && s[i + 1] <= tau)
+    ++i;
+  const int i1 = i + 1 <= o1 ? i + 1 : i;
+  const double tf = pp->x_sol[pp->itf] > 0.0 ? pp->x_sol[pp->itf] : 1.0;
+  const double h = (s[i1] - s[i]) * tf, u = h > 0.0 ? (tau - s[i]) * tf / h : 0.0;
+  const double y0 = pp->x_sol[EA__PS(pp, i)], y1 = pp->x_sol[EA__PS(pp, i1)];
+  const double d0 = pp->sd_sol[4 * i], d1 = pp->sd_sol[4 * i1];
+  double dy = d0;
+  *sig = h > 0.0 ? ea__herm(h, y0, d0, y1, d1, u, &dy) : y0;
+  *sd = dy;
+  *dsc = dn > 0.0 ? dold / dn : 1.0;
 }
 
 /* Replanning predictor of the path transcription (the task changed, the structure did not):
@@ -1006,24 +1033,30 @@ static void ea__pp_predict(ea_planner_t *pl) {
   const int N = pl->N, nq = pl->nq;
   double *x = pp->x, *xk = pp->xk;
   memcpy(x, pp->x_sol, sizeof(double) * (size_t)pp->n);
-  for (int k = 0; k < N; ++k) {
-    const double so = pp->x_sol[EA__PS(pp, k)];
-    int j = 0;
-    while (j + 1 < pl->n_seg && so >= pp->sig0_sol[j + 1])
-      ++j;
+  const int moved = memcmp(pp->vk_sol, pl->via_knot, sizeof pp->vk_sol) != 0;
+  double *sdn = pp->x0; /* scratch: the new speed along the path (or the stretch) */
+  for (int j = 0; j < pl->n_seg; ++j) {
     const double lo = pp->sig0_sol[j + 1] - pp->sig0_sol[j], ln = pp->sig0[j + 1] - pp->sig0[j];
     const double r = lo > 0.0 ? ln / lo : 1.0;
-    x[EA__PS(pp, k)] = fmax(pp->xl[EA__PS(pp, k)],
-                            fmin(pp->xu[EA__PS(pp, k)], pp->sig0[j] + (so - pp->sig0_sol[j]) * r));
-    pp->x0[k] = r; /* scratch: the segment's stretch */
+    for (int k = pl->via_knot[j]; k <= pl->via_knot[j + 1]; ++k) {
+      double so = pp->x_sol[EA__PS(pp, k)], sd = 0.0, dsc = 1.0;
+      if (moved) ea__pp_resample(pl, j, k, &so, &sd, &dsc);
+      x[EA__PS(pp, k)] =
+          fmax(pp->xl[EA__PS(pp, k)],
+               fmin(pp->xu[EA__PS(pp, k)], pp->sig0[j] + (so - pp->sig0_sol[j]) * r));
+      sdn[k] = moved ? sd * r * dsc : r;
+    }
   }
   memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
-  ea__pp_expand(pl, x);       /* the new slopes at the new sigma_k */
-  for (int k = 0; k < N; ++k) /* r (v + (dq_new - dq_old) sigma_dot): v where nothing moved */
+  ea__pp_expand(pl, x); /* the new slopes at the new sigma_k */
+  /* rates: the new slopes times the new speed; with the via knots kept,
+   * r (v + (dq_new - dq_old) sigma_dot), the old rates exactly where nothing moved */
+  for (int k = 0; k < N; ++k)
     for (int c = 0; c < nq; ++c)
       x[EA__PR(pp, k, c)] =
-          pp->x0[k] * (pp->x_sol[EA__PR(pp, k, c)] +
-                       (pp->dq[6 * k + c] - pp->sd_sol[4 * k + 1 + c]) * pp->sd_sol[4 * k]);
+          moved ? pp->dq[6 * k + c] * sdn[k]
+                : sdn[k] * (pp->x_sol[EA__PR(pp, k, c)] +
+                            (pp->dq[6 * k + c] - pp->sd_sol[4 * k + 1 + c]) * pp->sd_sol[4 * k]);
   memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
   ea__pp_expand(pl, x);
   if (pl->has_tf && pl->task.objective == EA_TASK_MIN_TIME) {
