@@ -1010,7 +1010,9 @@ static void ea__pp_resample(const ea_planner_t *pl, int j, int k, double *sig, d
   while (i + 1 < o1 && s[i + 1] <= tau)
     ++i;
   const int i1 = i + 1 <= o1 ? i + 1 : i;
-  const double tf = pp->x_sol[pp->itf] > 0.0 ? pp->x_sol[pp->itf] : 1.0;
+  const double tf = pl->has_tf                       ? pp->x_sol[pp->itf]
+                    : isnan(pl->task_sol.duration_s) ? pl->tf_fixed
+                                                     : pl->task_sol.duration_s; /* the old t_f */
   const double h = (s[i1] - s[i]) * tf, u = h > 0.0 ? (tau - s[i]) * tf / h : 0.0;
   const double y0 = pp->x_sol[EA__PS(pp, i)], y1 = pp->x_sol[EA__PS(pp, i1)];
   const double d0 = pp->sd_sol[4 * i], d1 = pp->sd_sol[4 * i1];
