@@ -646,6 +646,32 @@ static void test_replan_loaded(void) {
     ea_planner_free(pl);
     ea_planner_free(pc);
   }
+  /* fixed duration, minimum effort (polyline-effort's points): the via's cable length moved */
+  static const char *fe = "name: e\npayload_factor: 0.1\nstart:\n  tip: [0.35, -0.25]\nvia:\n"
+                          "  - cable_length_m: %.4f\n    cable_angle_rad: -0.2\n"
+                          "    base_angle_rad: 0.2\ngoal:\n  tip: [0.55, -0.30]\n"
+                          "  base_angle_rad: 0.4\npath: polyline\nobjective:\n  type: min_effort\n"
+                          "  duration_s: 3.0\nknots: 60\n";
+  for (int m = 0; m < 2; ++m) {
+    ea_planner_t *pl = NULL, *pc = NULL;
+    ea_plan_info_t i0, w, c;
+    snprintf(text, sizeof text, fe, 0.45);
+    st = ea_task_load_string("e.yaml", text, strlen(text), NULL, &t0, &e);
+    snprintf(text, sizeof text, fe, m ? 0.42 : 0.50);
+    if (!st) st = ea_task_load_string("e.yaml", text, strlen(text), NULL, &t1, &e);
+    if (!st) st = ea_planner_alloc(&t0, &pl, &e);
+    if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &i0, &e);
+    if (!st) st = ea_planner_update(pl, &t1, &e);
+    if (!st) st = ea_planner_solve(pl, EA_PLAN_WARM, NULL, &w, &e);
+    if (!st) st = ea_planner_alloc(&t1, &pc, &e);
+    if (!st) st = ea_planner_solve(pc, EA_PLAN_COLD, NULL, &c, &e);
+    snprintf(what, sizeof what, "replan loaded: min effort, via moved %d: solves (%s)", m, e.msg);
+    ea_test_true(st == EA_OK, what);
+    snprintf(what, sizeof what, "replan loaded: min effort, via moved %d: objective as cold", m);
+    if (!st) ea_test_rel(w.objective, c.objective, 1e-8, what);
+    ea_planner_free(pl);
+    ea_planner_free(pc);
+  }
   /* a real difference of the arm is still refused */
   ea_planner_t *pl = NULL;
   t1 = t0;
