@@ -1062,12 +1062,12 @@ static void ea__pp_predict(ea_planner_t *pl) {
   memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
   ea__pp_expand(pl, x);
   if (pl->has_tf && pl->task.objective == EA_TASK_MIN_TIME) {
+    /* xk re-timed in place; x the same (xk's rates are x's: no new expansion) */
     const double lam = ea__plan_retime(pl, xk);
     x[pp->itf] = xk[EA__ITF(pl)];
     for (int k = 0; k < N; ++k)
       for (int c = 0; c < nq; ++c)
         x[EA__PR(pp, k, c)] /= lam;
-    ea__pp_expand(pl, x);
   }
   ea__plan_theta0_rates(pl, xk);
   for (int k = 0; k < N; ++k)
