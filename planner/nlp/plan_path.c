@@ -12,10 +12,15 @@
  * transcription's (the knots on the path, the C2 splines through them), so the plans agree.
  *
  * The statics splines: cubic Hermite in sigma of (T, theta0, kappa0) with the exact slopes
- * (implicit differentiation of the shooting residual), samples doubled until the interpolant
- * built on every other sample misses the skipped samples by < 16 tol (its own error is ~16x
- * smaller, O(h^4)): theta0 within 1e-10 rad, T within 1e-10 (1 + T) N (1e-9 left statics residuals
- * of up to 3.8e-9 at the knots of a random line sweep; the plans must hold 1e-9, the knots' too).
+ * (implicit differentiation of the shooting residual), each of 4 intervals per segment bisected
+ * until the interpolant of its ends misses its midpoint's sample by < 16 tol (the interpolant
+ * on the halves is ~16x closer, O(h^4)): theta0 within 1e-10 rad, T within 1e-10 (1 + T) N
+ * (1e-9 left statics residuals of up to 3.8e-9 at the knots of a random line sweep; the plans
+ * must hold 1e-9, the knots' too). Measured against independent re-solves between the samples:
+ * 1.0e-10 (test_plan_path). Bisecting where the estimate asks (instead of doubling every
+ * interval) took the paper line with its goal moved 5 mm from 257 to 131 samples. An update
+ * keeps the samples of the leading segments whose geometry, arm, tip mass and base angle did
+ * not change (ea_planner_update of the limits: all of them).
  */
 #include "plan_impl.h"
 
@@ -37,7 +42,15 @@ struct ea__pp {
   /* statics splines: ns samples sorted in sigma; per sample p = (T, theta0, kappa0), dp/dsigma */
   int ns, soff[EA_TASK_MAX_VIA + 2]; /* samples; segment j's are soff[j] .. soff[j + 1] - 1 */
   double *ssig, *sp, *sdp;
-  double spline_err;       /* estimated max error (theta0 [rad]; T relative) */
+  double spline_err; /* estimated max error (theta0 [rad]; T relative) */
+  /* what the samples were built for (ea__pp_update keeps the segments that did not change):
+   * per segment its geometry and estimated error; the arm, tip mass and fixed base angle */
+  int key_nseg;
+  double key_seg[EA_TASK_MAX_VIA + 1][8], key_err[EA_TASK_MAX_VIA + 1];
+  double key_tip_mass, key_base;
+  ea_arm_t key_arm;
+  double g_first[EA_NP], q_first[2]; /* the first sample's statics (an update's warm start) */
+  int have_first;
   ea_status_t path_status; /* the path's statics (EA_ERR_INFEASIBLE: it leaves the workspace) */
   char path_msg[512];
   /* knot-layout map: for index i of x_k: path index (-1: none) and kind */
@@ -138,30 +151,34 @@ static double ea__pp_sigma_of(const ea_planner_t *pl, int j, const double q[3]) 
 
 /* ---- statics along the path --------------------------------------------- */
 
-/* Statics at sigma (warm-started from guess, which is updated) and its slopes dp/dsigma of
- * (T, theta0, kappa0) by implicit differentiation of the knot rows
- * (kappa(L), x_L - x_c - L cos alpha, y_L - y_c - L sin alpha) = 0 at fixed alpha. */
-static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, double guess[EA_NP],
-                                  int *have, double p[3], double dp[3], ea_error_t *err) {
-  double q[3], dq[3];
-  ea__pp_q(pl, j, sig, q, dq);
-  ea_statics_problem_t pr = ea_statics_problem_cable(q[0], q[1]);
-  ea_statics_solution_t sol;
-  ea_error_t e = {0};
-  ea_status_t st = ea_statics_solve(pl->sh, &pr, NULL, *have ? guess : NULL, &sol, &e);
-  if (st && *have) st = ea_statics_solve(pl->sh, &pr, NULL, NULL, &sol, &e);
-  if (st)
-    return ea_error_set(err, st == EA_ERR_INADMISSIBLE ? EA_ERR_INFEASIBLE : st,
-                        "the path leaves the workspace at L_c = %.6g m, alpha = %.6g rad: %s", q[0],
-                        q[1], e.msg);
-  memcpy(guess, sol.p, sizeof(double) * EA_NP);
-  *have = 1;
-  double xL[EA_NX], S[EA_NX * EA_NP];
-  if ((st = ea_shoot(pl->sh, sol.p, xL, S))) return ea_error_set(err, st, "shooting failed");
-  /* G_u du + G_L dL + G_a da = 0, u = (T, theta0, kappa0) */
+/* x = A^-1 b (Cramer, 3 x 3); 0 when A is singular. */
+static int ea__pp_solve3(double A[3][3], const double b[3], double x[3]) {
+  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  if (!(fabs(det) > 0)) return 0;
+  for (int c = 0; c < 3; ++c) {
+    double M[3][3];
+    memcpy(M, A, sizeof M);
+    for (int r = 0; r < 3; ++r)
+      M[r][c] = b[r];
+    x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+            M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+           det;
+  }
+  return 1;
+}
+
+/* Slopes dp/dsigma of (T, theta0, kappa0) by implicit differentiation of the knot rows
+ * (kappa(L), x_L - x_c - L cos alpha, y_L - y_c - L sin alpha) = 0 at fixed alpha, from the
+ * shooting sensitivities S at the solution (Cramer, 3 x 3). */
+static ea_status_t ea__pp_slope(const double q[3], const double dq[3], const double *S,
+                                double dp[3], ea_error_t *err) {
   const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
   const double ca = cos(q[1]), sa = sin(q[1]);
   double A[3][3], b[3];
+  /* G_u du + G_L dL + G_a da = 0, u = (T, theta0, kappa0) */
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c)
       A[r][c] = S[xi[r] * EA_NP + 1 + c];
@@ -170,24 +187,83 @@ static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, dou
         S[xi[r] * EA_NP + EA_P_ALPHA] + (r == 0 ? 0.0 : (r == 1 ? q[0] * sa : -q[0] * ca));
     b[r] = -(gL * dq[0] + ga * dq[1]);
   }
-  /* Cramer (3 x 3) */
-  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-  if (!(fabs(det) > 0)) return ea_error_set(err, EA_ERR_SINGULAR, "statics slope: singular");
-  for (int c = 0; c < 3; ++c) {
-    double M[3][3];
-    memcpy(M, A, sizeof M);
-    for (int r = 0; r < 3; ++r)
-      M[r][c] = b[r];
-    dp[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-             M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-             M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
-            det;
+  if (!ea__pp_solve3(A, b, dp))
+    return ea_error_set(err, EA_ERR_SINGULAR, "statics slope: singular");
+  return EA_OK;
+}
+
+/* Newton on the knot rows in u = (T, theta0, kappa0) at fixed (L_c, alpha) from a close guess
+ * (a neighbour's interpolant): one shot with sensitivities per iteration, the last one's
+ * sensitivities give the slopes. Strict: every step full, shrinking the residual, with the
+ * shoulder angle moving < 0.05 rad, at most 5 steps, T >= 0 at the end; otherwise 0 and the
+ * caller solves from scratch (ea_statics_solve: the branch selection, its errors). A converged
+ * sample has the knot rows' residual <= 1e-12 (1e-2 of ea_statics_solve's default: at 1e-10
+ * the samples' own error made the splines miss independent re-solves by 3.6e-10, at 1e-12 by
+ * 1.0e-10, test_plan_path), 2 shots from the spline refinement's guesses instead of
+ * ea_statics_solve's 3-4 plus the slopes' shot. */
+static int ea__pp_newton(const ea_planner_t *pl, const double q[3], double g[EA_NP],
+                         double xL[EA_NX], double *S) {
+  ea_statics_settings_t set;
+  ea_statics_settings_default(&set);
+  const ea_arm_t *arm = &pl->task.arm;
+  const double ca = cos(q[1]), sa = sin(q[1]);
+  const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
+  double nr_prev = INFINITY;
+  g[EA_P_ALPHA] = q[1];
+  for (int it = 0; it <= 5; ++it) {
+    if (ea_shoot(pl->sh, g, xL, S)) return 0;
+    const double r[3] = {xL[EA_X_KAPPA], xL[EA_X_X] - arm->x_c - q[0] * ca,
+                         xL[EA_X_Y] - arm->y_c - q[0] * sa};
+    const double nr = fmax(fabs(r[0]), fmax(fabs(r[1]), fabs(r[2])));
+    if (!(nr < nr_prev)) return 0;
+    if (nr <= 1e-2 * set.tol) return g[EA_P_TENSION] >= 0.0;
+    if (it == 5) return 0;
+    nr_prev = nr;
+    double A[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c)
+        A[a][c] = S[xi[a] * EA_NP + 1 + c];
+    double du[3];
+    if (!ea__pp_solve3(A, r, du)) return 0;
+    if (!(fabs(du[1]) < 0.05)) return 0;
+    for (int c = 0; c < 3; ++c)
+      g[1 + c] -= du[c];
   }
-  p[0] = sol.p[EA_P_TENSION];
-  p[1] = sol.p[EA_P_THETA0];
-  p[2] = sol.p[EA_P_KAPPA0];
+  return 0;
+}
+
+/* Statics at sigma (warm-started from guess, which is updated) and its slopes dp/dsigma. */
+static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, double guess[EA_NP],
+                                  int *have, double p[3], double dp[3], ea_error_t *err) {
+  double q[3], dq[3];
+  ea__pp_q(pl, j, sig, q, dq);
+  double xL[EA_NX], S[EA_NX * EA_NP], g[EA_NP];
+  ea_status_t st;
+  memcpy(g, guess, sizeof g);
+  if (*have && ea__pp_newton(pl, q, g, xL, S)) {
+    memcpy(guess, g, sizeof g);
+  } else {
+    ea_statics_problem_t pr = ea_statics_problem_cable(q[0], q[1]);
+    ea_statics_solution_t sol;
+    ea_error_t e = {0};
+    st = ea_statics_solve(pl->sh, &pr, NULL, *have ? guess : NULL, &sol, &e);
+    if (st && *have) st = ea_statics_solve(pl->sh, &pr, NULL, NULL, &sol, &e);
+    if (st)
+      return ea_error_set(err, st == EA_ERR_INADMISSIBLE ? EA_ERR_INFEASIBLE : st,
+                          "the path leaves the workspace at L_c = %.6g m, alpha = %.6g rad: %s",
+                          q[0], q[1], e.msg);
+    memcpy(guess, sol.p, sizeof(double) * EA_NP);
+    *have = 1;
+    memcpy(g, sol.p, sizeof g); /* polished to the samples' tolerance, its slopes' shot */
+    if (ea__pp_newton(pl, q, g, xL, S))
+      memcpy(guess, g, sizeof g);
+    else if ((st = ea_shoot(pl->sh, sol.p, xL, S)))
+      return ea_error_set(err, st, "shooting failed");
+  }
+  if ((st = ea__pp_slope(q, dq, S, dp, err))) return st;
+  p[0] = guess[EA_P_TENSION];
+  p[1] = guess[EA_P_THETA0];
+  p[2] = guess[EA_P_KAPPA0];
   return EA_OK;
 }
 
@@ -228,28 +304,76 @@ static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], do
                (h * h);
 }
 
-/* The error estimate of a level of m intervals: the Hermite interpolant on every other sample
- * at the skipped ones (T relative to 1 + T, theta0 [rad], kappa0 L). */
-static double ea__pp_level_err(const ea_planner_t *pl, const double *sg, const double *sp,
-                               const double *sd, int m) {
+/* The error estimate of the Hermite interpolant of samples a and b (sigma, p[3], dp[3]) at
+ * their midpoint's sample c (T relative to 1 + T, theta0 [rad], kappa0 L). */
+static double ea__pp_mid_err(const ea_planner_t *pl, const double a[7], const double b[7],
+                             const double c[7]) {
+  const double h = b[0] - a[0];
   double worst = 0.0;
-  for (int i = 1; i < m; i += 2) {
-    const int i0 = i - 1, i1 = i + 1;
-    const double h = sg[i1] - sg[i0];
-    for (int c = 0; c < 3; ++c) {
-      const double y =
-          ea__herm(h, sp[3 * i0 + c], sd[3 * i0 + c], sp[3 * i1 + c], sd[3 * i1 + c], 0.5, NULL);
-      const double scale =
-          c == 0 ? 1.0 + fabs(sp[3 * i]) : (c == 1 ? 1.0 : 1.0 / pl->task.arm.length);
-      worst = fmax(worst, fabs(y - sp[3 * i + c]) / scale);
-    }
+  for (int k = 0; k < 3; ++k) {
+    const double y = ea__herm(h, a[1 + k], a[4 + k], b[1 + k], b[4 + k], 0.5, NULL);
+    const double scale = k == 0 ? 1.0 + fabs(c[1]) : (k == 1 ? 1.0 : 1.0 / pl->task.arm.length);
+    worst = fmax(worst, fabs(y - c[1 + k]) / scale);
   }
   return worst;
 }
 
-/* Build the statics splines of every segment (samples doubled until the error estimate is
- * below EA__PP_TOL); also checks the path's admissibility (tension, torque, shoulder range)
- * at the samples and the spline's extrema between them. */
+/* Append sample v (sigma, p, dp) to the splines' arrays. */
+static ea_status_t ea__pp_push(ea__pp_t *pp, int *n, const double v[7], int j, ea_error_t *err) {
+  if (*n >= EA__PP_MAXS)
+    return ea_error_set(err, EA_ERR_NOCONV,
+                        "path statics: more than %d samples for 1e-10 (segment %d)", EA__PP_MAXS,
+                        j + 1);
+  pp->ssig[*n] = v[0];
+  memcpy(pp->sp + 3 * *n, v + 1, 3 * sizeof(double));
+  memcpy(pp->sdp + 3 * *n, v + 4, 3 * sizeof(double));
+  ++*n;
+  return EA_OK;
+}
+
+/* Samples of segment j in (a, b], in order: the midpoint's sample (warm-started from the
+ * Hermite interpolant of a and b, which is also the error estimate); an interval whose estimate
+ * is >= 16 tol is bisected again. The spline on the accepted samples misses by ~1/16 of the
+ * estimate (O(h^4)). */
+static ea_status_t ea__pp_refine(ea_planner_t *pl, int j, const double a[7], const double b[7],
+                                 int depth, int *n, double *err_est, ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  double c[7], q[3], dq[3];
+  c[0] = 0.5 * (a[0] + b[0]);
+  ea__pp_q(pl, j, c[0], q, dq);
+  double gs[EA_NP] = {q[1], 0, 0, 0};
+  for (int k = 0; k < 3; ++k)
+    gs[1 + k] = ea__herm(b[0] - a[0], a[1 + k], a[4 + k], b[1 + k], b[4 + k], 0.5, NULL);
+  int hv = 1;
+  ea_status_t st = ea__pp_statics(pl, j, c[0], gs, &hv, c + 1, c + 4, err);
+  if (st) return st;
+  const double e = ea__pp_mid_err(pl, a, b, c);
+  if (e < 16 * EA__PP_TOL) {
+    *err_est = fmax(*err_est, e / 16);
+    if ((st = ea__pp_push(pp, n, c, j, err))) return st;
+    return ea__pp_push(pp, n, b, j, err);
+  }
+  if (depth >= 30)
+    return ea_error_set(err, EA_ERR_NOCONV,
+                        "path statics: the splines do not reach 1e-10 (segment %d, %.3g)", j + 1,
+                        e);
+  if ((st = ea__pp_refine(pl, j, a, c, depth + 1, n, err_est, err))) return st;
+  return ea__pp_refine(pl, j, c, b, depth + 1, n, err_est, err);
+}
+
+/* Build the statics splines of every segment (4 intervals, each bisected until its error
+ * estimate is below EA__PP_TOL); also checks the path's admissibility (tension, torque,
+ * shoulder range) at the samples and the spline's extrema between them. */
+/* Segment j's geometry as the samples' key: start, direction, length, start sigma. */
+static void ea__pp_seg_key(const ea_planner_t *pl, int j, double key[8]) {
+  for (int c = 0; c < 3; ++c) {
+    key[c] = pl->segA[j][c];
+    key[3 + c] = pl->segD[j][c];
+  }
+  key[6] = pl->segLen[j];
+  key[7] = pl->pp->sig0[j];
+}
+
 static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
   const ea_task_t *t = &pl->task;
@@ -257,56 +381,69 @@ static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   double err_est = 0.0;
   double guess[EA_NP];
   int have = 0;
-  for (int j = 0; j < pl->n_seg; ++j) {
+  /* the leading segments whose samples hold as they are: same arm, tip mass, base angle and
+   * geometry (an update of the limits keeps all, a moved goal of a polyline all but the last) */
+  int j0 = 0;
+  if (pp->key_nseg > 0 && ea_arm_equal(&pp->key_arm, &t->arm) && pp->key_tip_mass == pl->tip_mass &&
+      pp->key_base == pl->base_fixed)
+    for (; j0 < pl->n_seg && j0 < pp->key_nseg; ++j0) {
+      double key[8];
+      ea__pp_seg_key(pl, j0, key);
+      if (memcmp(key, pp->key_seg[j0], sizeof key)) break;
+      err_est = fmax(err_est, pp->key_err[j0]);
+    }
+  pp->key_nseg = 0; /* invalid until the build ends */
+  if (j0 > 0) {
+    n = pp->soff[j0];
+    double q[3], dq[3];
+    ea__pp_q(pl, j0 - 1, pp->ssig[n - 1], q, dq);
+    guess[EA_P_ALPHA] = q[1];
+    memcpy(guess + 1, pp->sp + 3 * (n - 1), 3 * sizeof(double));
+    have = 1;
+  } else if (pp->have_first && pl->n_seg > 0) {
+    /* an update: the previous first sample, when the new one is near it in (L_c, alpha) */
+    double q[3], dq[3];
+    ea__pp_q(pl, 0, pp->sig0[0], q, dq);
+    if (fabs(q[0] - pp->q_first[0]) < 0.05 && fabs(q[1] - pp->q_first[1]) < 0.2) {
+      memcpy(guess, pp->g_first, sizeof guess);
+      have = 1;
+    }
+  }
+  for (int j = j0; j < pl->n_seg; ++j) {
     const double a = pp->sig0[j], len = pl->segLen[j];
     pp->soff[j] = n;
-    int m = 8; /* intervals */
-    if (n + m + 1 > EA__PP_MAXS)
-      return ea_error_set(err, EA_ERR_NOCONV, "path statics: more than %d samples", EA__PP_MAXS);
+    const int m = len < 1e-12 ? 8 : 4; /* a point: 9 equal samples, as the spline wants h > 0 */
+    double v[5][7], seg_err = 0.0;
     /* the first level in order, each sample warm-started from the one before */
     for (int i = 0; i <= m; ++i) {
-      pp->ssig[n + i] = a + len * i / m;
-      ea_status_t st = ea__pp_statics(pl, j, pp->ssig[n + i], guess, &have, pp->sp + 3 * (n + i),
-                                      pp->sdp + 3 * (n + i), err);
+      double *vi = v[i < 5 ? i : 4];
+      vi[0] = a + len * i / m;
+      ea_status_t st = ea__pp_statics(pl, j, vi[0], guess, &have, vi + 1, vi + 4, err);
+      if (!st && (i == 0 || len < 1e-12)) st = ea__pp_push(pp, &n, vi, j, err);
+      if (!st && i == 0 && j == 0) {
+        double q[3], dq[3];
+        ea__pp_q(pl, 0, vi[0], q, dq);
+        memcpy(pp->g_first, guess, sizeof guess);
+        pp->q_first[0] = q[0];
+        pp->q_first[1] = q[1];
+        pp->have_first = 1;
+      }
       if (st) return st;
     }
-    double *sg = pp->ssig + n, *sp = pp->sp + 3 * n, *sd = pp->sdp + 3 * n;
-    double worst = ea__pp_level_err(pl, sg, sp, sd, m);
-    while (!(worst < 16 * EA__PP_TOL || len < 1e-12)) {
-      /* doubling: the level's samples are the even ones of the next; each new (odd) sample
-       * is warm-started from the Hermite interpolant of its neighbours, which is also the
-       * error estimate (the interpolant on every other sample at the skipped ones) */
-      const int m2 = 2 * m;
-      if (n + m2 + 1 > EA__PP_MAXS)
-        return ea_error_set(err, EA_ERR_NOCONV,
-                            "path statics: more than %d samples for 1e-10 (segment %d)",
-                            EA__PP_MAXS, j + 1);
-      for (int i = m; i >= 0; --i) {
-        sg[2 * i] = sg[i];
-        memmove(sp + 6 * i, sp + 3 * i, 3 * sizeof *sp);
-        memmove(sd + 6 * i, sd + 3 * i, 3 * sizeof *sd);
-      }
-      for (int i = 1; i < m2; i += 2) {
-        const int i0 = i - 1, i1 = i + 1;
-        const double h = sg[i1] - sg[i0];
-        sg[i] = a + len * i / m2;
-        double y[3];
-        for (int c = 0; c < 3; ++c)
-          y[c] = ea__herm(h, sp[3 * i0 + c], sd[3 * i0 + c], sp[3 * i1 + c], sd[3 * i1 + c], 0.5,
-                          NULL);
-        double q[3], dq[3];
-        ea__pp_q(pl, j, sg[i], q, dq);
-        double gs[EA_NP] = {q[1], y[0], y[1], y[2]};
-        int hv = 1;
-        ea_status_t st = ea__pp_statics(pl, j, sg[i], gs, &hv, sp + 3 * i, sd + 3 * i, err);
+    if (len >= 1e-12)
+      for (int i = 0; i < m; ++i) {
+        ea_status_t st = ea__pp_refine(pl, j, v[i], v[i + 1], 0, &n, &seg_err, err);
         if (st) return st;
       }
-      m = m2;
-      worst = ea__pp_level_err(pl, sg, sp, sd, m);
-    }
-    err_est = fmax(err_est, worst / 16);
-    n += m + 1; /* guess: the segment's end, where the next one starts */
+    /* guess: the segment's end, where the next one starts */
+    ea__pp_seg_key(pl, j, pp->key_seg[j]);
+    pp->key_err[j] = seg_err;
+    err_est = fmax(err_est, seg_err);
   }
+  pp->key_nseg = pl->n_seg;
+  pp->key_arm = t->arm;
+  pp->key_tip_mass = pl->tip_mass;
+  pp->key_base = pl->base_fixed;
   pp->ns = n;
   pp->soff[pl->n_seg] = n;
   pp->spline_err = err_est;
@@ -883,6 +1020,7 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   if (pp->path_status && pp->path_status != EA_ERR_INFEASIBLE)
     return ea_error_set(err, pp->path_status, "%s", e.msg);
   if (pp->path_status) { /* a flat spline for the structure: the error comes at the solve */
+    pp->key_nseg = 0;    /* not the path's samples */
     for (int j = 0; j < pl->n_seg; ++j) {
       pp->soff[j] = 2 * j;
       pp->ssig[2 * j] = pp->sig0[j];

@@ -1,0 +1,155 @@
+/* The path transcription's statics splines (planner/nlp/plan_path.c) against independent
+ * statics solves: on a prescribed path the planner tabulates (T, theta0, kappa0) along the path
+ * coordinate as cubic Hermites, bisected until each interval's error estimate is below 1e-10,
+ * and the plans' statics at every knot come from them. Reference: a chain of ea_statics_solve
+ * solves on a shooter of our own (the first from the T = 0 edge by continuation, each next one
+ * warm-started from the one before), at 1001 points per segment, most of them between the
+ * splines' samples. Stated: theta0 within 3e-10 rad, T within 3e-10 (1 + T) N, kappa0 within
+ * 3e-10 / L (the splines' estimate is 1e-10; the reference's residual tolerance 1e-12).
+ * Tasks: the paper line (payload 0), a planar polyline with two vias (payload factor 0.25),
+ * and that polyline's planner after live updates (ea_planner_update_*): its limits (every
+ * segment's samples kept), its goal moved 5 mm (the first two kept), its payload +10 % and its
+ * start moved 5 mm (none kept). An update's splines must be those of the changed task: a kept
+ * segment checked against the re-solve is what shows the key did not keep a stale one. */
+#include "ea_planner.h"
+#include "ea_problems.h"
+#include "ea_test.h"
+#include "plan_impl.h"
+
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* stated: 3e-10 (the splines' estimate 1e-10, their samples' residual 1e-12; measured
+ * 1.0e-10); the plans' statics rows must hold 1e-9 */
+#define SPLINE_TOL 3e-10
+#define POINTS 1000
+
+/* The task's points in the arm plane (reach, height): start, vias, goal. */
+static int task_points(const ea_task_t *t, double P[][2]) {
+  int n = 0;
+  P[n][0] = t->start.reach;
+  P[n++][1] = t->start.height;
+  for (int i = 0; i < t->n_via; ++i) {
+    P[n][0] = t->via[i].reach;
+    P[n++][1] = t->via[i].height;
+  }
+  P[n][0] = t->goal.reach;
+  P[n++][1] = t->goal.height;
+  return n;
+}
+
+/* Worst spline error of planner pl (planar task t, fixed base) over every segment, scaled
+ * (theta0 [rad], T / (1 + T), kappa0 L); -1 when a reference solve or the splines fail. */
+static double spline_error(const ea_planner_t *pl, const ea_task_t *t) {
+  const ea_arm_t *arm = &t->arm;
+  ea_shooter_t *sh = NULL;
+  ea_error_t e;
+  if (ea_shooter_alloc(arm, NULL, &sh, &e)) return -1.0;
+  const ea_load_t load = {ea_arm_tip_mass(arm, t->payload_kg)};
+  ea_shooter_set_load(sh, &load);
+  double P[EA_TASK_MAX_VIA + 2][2];
+  const int np = task_points(t, P);
+  double worst = 0.0, g[EA_NP];
+  int have = 0;
+  ea_statics_settings_t set; /* the reference 100x tighter than the planner's statics */
+  ea_statics_settings_default(&set);
+  set.tol = 1e-12;
+  if (pl->n_seg != np - 1 || !pl->guess_statics) worst = -1.0;
+  for (int j = 0; j + 1 < np && worst >= 0.0; ++j)
+    for (int i = 0; i <= POINTS; ++i) {
+      const double f = (double)i / POINTS;
+      const double x = P[j][0] + f * (P[j + 1][0] - P[j][0]);
+      const double y = P[j][1] + f * (P[j + 1][1] - P[j][1]);
+      const double L = hypot(x - arm->x_c, y - arm->y_c), a = atan2(y - arm->y_c, x - arm->x_c);
+      ea_statics_problem_t pr = ea_statics_problem_cable(L, a);
+      ea_statics_solution_t sol;
+      double p[3];
+      if (ea_statics_solve(sh, &pr, &set, have ? g : NULL, &sol, &e) ||
+          !pl->guess_statics(pl, j, f, p)) {
+        worst = -1.0;
+        break;
+      }
+      memcpy(g, sol.p, sizeof g);
+      have = 1;
+      const double T = sol.p[EA_P_TENSION];
+      worst = fmax(worst, fabs(p[0] - T) / (1.0 + fabs(T)));
+      worst = fmax(worst, fabs(p[1] - sol.p[EA_P_THETA0]));
+      worst = fmax(worst, fabs(p[2] - sol.p[EA_P_KAPPA0]) * arm->length);
+    }
+  ea_shooter_free(sh);
+  return worst;
+}
+
+static void check(const ea_planner_t *pl, const ea_task_t *t, const char *name) {
+  const double w = spline_error(pl, t);
+  char msg[256];
+  snprintf(msg, sizeof msg, "%s: statics splines vs independent solves, worst %.3g (<= %.0e)", name,
+           w, SPLINE_TOL);
+  ea_test_true(w >= 0.0 && w <= SPLINE_TOL, msg);
+}
+
+int main(void) {
+  gsl_set_error_handler_off();
+  ea_error_t e;
+  ea_task_t line;
+  ea_task_init(&line, NULL);
+  line.start = ea_task_point_planar(0.3, -0.2, 0.0);
+  line.goal = ea_task_point_planar(0.6, -0.2, 0.0);
+  line.path = EA_TASK_PATH_LINE;
+  line.knots = 100;
+  ea_planner_t *pl = NULL;
+  if (ea_task_check(&line, &e) || ea_planner_alloc(&line, &pl, &e)) {
+    ea_test_true(0, e.msg);
+  } else {
+    check(pl, &line, "paper line, payload 0");
+  }
+  ea_planner_free(pl);
+  pl = NULL;
+
+  ea_task_t poly;
+  ea_task_init(&poly, NULL);
+  poly.start = ea_task_point_planar(0.3, -0.2, 0.0);
+  poly.via[0] = ea_task_point_planar(0.42, -0.12, 0.0);
+  poly.via[1] = ea_task_point_planar(0.52, -0.28, 0.0);
+  poly.n_via = 2;
+  poly.goal = ea_task_point_planar(0.6, -0.2, 0.0);
+  poly.path = EA_TASK_PATH_POLYLINE;
+  poly.knots = 60;
+  poly.payload_kg = ea_arm_payload_from_factor(&poly.arm, 0.25);
+  if (ea_task_check(&poly, &e) || ea_planner_alloc(&poly, &pl, &e)) {
+    ea_test_true(0, e.msg);
+    return ea_test_summary("test_plan_path");
+  }
+  check(pl, &poly, "polyline, 2 vias, payload factor 0.25");
+  ea_task_t t = poly;
+  t.limits.cable_speed_max *= 0.8;
+  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
+    ea_test_true(0, e.msg);
+  else
+    check(pl, &t, "polyline after a limits update");
+  t.goal = ea_task_point_planar(0.605, -0.2, 0.0);
+  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
+    ea_test_true(0, e.msg);
+  else
+    check(pl, &t, "polyline after its goal moved 5 mm");
+  t.payload_kg *= 1.1;
+  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
+    ea_test_true(0, e.msg);
+  else
+    check(pl, &t, "polyline after its payload +10 %");
+  t.start = ea_task_point_planar(0.305, -0.2, 0.0);
+  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
+    ea_test_true(0, e.msg);
+  else
+    check(pl, &t, "polyline after its start moved 5 mm");
+  /* back to the first task: the splines of a planner built for it */
+  if (ea_planner_update(pl, &poly, &e))
+    ea_test_true(0, e.msg);
+  else
+    check(pl, &poly, "polyline updated back to its first task");
+  ea_planner_free(pl);
+  return ea_test_summary("test_plan_path");
+}
