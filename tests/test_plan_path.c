@@ -10,7 +10,9 @@
  * and that polyline's planner after live updates (ea_planner_update_*): its limits (every
  * segment's samples kept), its goal moved 5 mm (the first two kept), its payload +10 % and its
  * start moved 5 mm (none kept). An update's splines must be those of the changed task: a kept
- * segment checked against the re-solve is what shows the key did not keep a stale one. */
+ * segment checked against the re-solve is what shows the key did not keep a stale one.
+ * Warm starts of the path transcription (no Ipopt solve when the start is a KKT point; a
+ * replan with other limits from the cold guess) on the paper line. */
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_test.h"
@@ -91,6 +93,62 @@ static void check(const ea_planner_t *pl, const ea_task_t *t, const char *name) 
   ea_test_true(w >= 0.0 && w <= SPLINE_TOL, msg);
 }
 
+/* Cold plan of task t (a planner of its own): its info. */
+static int cold_plan(const ea_task_t *t, ea_plan_info_t *info) {
+  ea_planner_t *pl = NULL;
+  ea_error_t e;
+  const int bad =
+      ea_planner_alloc(t, &pl, &e) || ea_planner_solve(pl, EA_PLAN_COLD, NULL, info, &e);
+  ea_planner_free(pl);
+  return !bad;
+}
+
+/* Warm starts of the path transcription: the unchanged task's own solution is a KKT point (no
+ * Ipopt iteration, the same plan); an update of an inactive limit leaves it one (no iteration,
+ * the cold plan's duration); a tighter active limit makes the replan the cold plan of the new
+ * task (its iterations, its duration to 1e-9: a fresh planner's cold plan differed by 1.5e-10,
+ * Ipopt's tolerance). */
+static void warm_starts(ea_planner_t *pl, const ea_task_t *t0) {
+  ea_error_t e;
+  ea_plan_info_t a, b, c;
+  char msg[256];
+  if (ea_planner_solve(pl, EA_PLAN_COLD, NULL, &a, &e) ||
+      ea_planner_solve(pl, EA_PLAN_WARM, NULL, &b, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  snprintf(msg, sizeof msg,
+           "paper line: warm re-solve of its own plan, %d iterations (0), "
+           "duration %.12g = %.12g",
+           b.iterations, b.duration_s, a.duration_s);
+  ea_test_true(b.iterations == 0 && b.duration_s == a.duration_s, msg);
+  ea_task_t t = *t0;
+  t.limits.tension_min = 0.5 * a.min_tension_margin_N + t0->limits.tension_min;
+  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e) ||
+      ea_planner_solve(pl, EA_PLAN_WARM, NULL, &b, &e) || !cold_plan(&t, &c)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  snprintf(msg, sizeof msg,
+           "paper line: tension_min raised within its margin, replan %d "
+           "iterations (0), duration %.12g vs cold %.12g",
+           b.iterations, b.duration_s, c.duration_s);
+  ea_test_true(b.iterations == 0 && fabs(b.duration_s / c.duration_s - 1.0) < 1e-6, msg);
+  t.limits.cable_speed_max *= 0.9;
+  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e) ||
+      ea_planner_solve(pl, EA_PLAN_WARM, NULL, &b, &e) || !cold_plan(&t, &c)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  snprintf(msg, sizeof msg,
+           "paper line: cable speed limit -10 %%, replan %d iterations = cold "
+           "%d, duration %.12g = %.12g (1e-9)",
+           b.iterations, c.iterations, b.duration_s, c.duration_s);
+  ea_test_true(b.iterations == c.iterations && fabs(b.duration_s / c.duration_s - 1.0) < 1e-9 &&
+                   b.duration_s > a.duration_s,
+               msg);
+}
+
 int main(void) {
   gsl_set_error_handler_off();
   ea_error_t e;
@@ -105,6 +163,7 @@ int main(void) {
     ea_test_true(0, e.msg);
   } else {
     check(pl, &line, "paper line, payload 0");
+    warm_starts(pl, &line);
   }
   ea_planner_free(pl);
   pl = NULL;

@@ -799,6 +799,44 @@ static Bool ea__pp_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Numb
   return TRUE;
 }
 
+/* Is pp->x (with the multipliers in pp->mult_*) already a KKT point to the solver's tolerances,
+ * unscaled (ea__kkt_ok in plan_solve.c, the same test for the knot transcription)? A warm start
+ * from the planner's own solution of an unchanged problem, or of one whose change left it
+ * optimal (a limit loosened that was not active), then needs no Ipopt solve: Ipopt would set
+ * up its algorithm and MUMPS' analysis and take one iteration (6-12 ms at 100 knots). */
+static int ea__pp_kkt_ok(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
+  const ea_task_t *t = &pl->task;
+  const double ptol = fmax(1e-9, t->solver.constr_tol), dtol = t->solver.tol;
+  double *x = pp->x, *r = pp->xx;
+  for (int i = 0; i < pp->n; ++i)
+    if (x[i] < pp->xl[i] - ptol || x[i] > pp->xu[i] + ptol) return 0;
+  if (!ea__pp_cb_g(pp->n, x, TRUE, pp->m, pp->g, pl)) return 0;
+  for (int i = 0; i < pp->m; ++i) {
+    if (!(pp->g[i] >= pp->gl[i] - ptol && pp->g[i] <= pp->gu[i] + ptol)) return 0;
+    if (pp->gl[i] == pp->gu[i]) continue;
+    /* Ipopt's sign: lambda > 0 at the upper bound, < 0 at the lower */
+    const double lam = pp->mult_g[i];
+    const double gap = lam > 0 ? pp->gu[i] - pp->g[i] : pp->g[i] - pp->gl[i];
+    if (fabs(lam) * fmin(gap, 1e19) > dtol) return 0;
+  }
+  double *jv = malloc(sizeof(double) * (size_t)(pp->nnz + 1));
+  int ok = jv && ea__pp_cb_grad_f(pp->n, x, FALSE, r, pl) &&
+           ea__pp_cb_jac(pp->n, x, FALSE, pp->m, pp->nnz, NULL, NULL, jv, pl);
+  if (ok) {
+    for (int e = 0; e < pp->nnz; ++e)
+      r[pp->jcol[e]] += jv[e] * pp->mult_g[pp->irow[e]];
+    for (int i = 0; i < pp->n && ok; ++i) {
+      if (pp->xl[i] == pp->xu[i]) continue; /* fixed: Ipopt removes it */
+      ok = fabs(r[i] - pp->mult_xl[i] + pp->mult_xu[i]) <= dtol &&
+           pp->mult_xl[i] * fmin(x[i] - pp->xl[i], 1e19) <= dtol &&
+           pp->mult_xu[i] * fmin(pp->xu[i] - x[i], 1e19) <= dtol;
+    }
+  }
+  free(jv);
+  return ok;
+}
+
 static Bool ea__pp_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
                            Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
                            Index ls, UserDataPtr ud) {
@@ -1212,6 +1250,44 @@ static void ea__pp_predict(ea_planner_t *pl) {
     x[EA__PR(pp, k, nq)] = xk[EA__IW(pl, k)];
 }
 
+/* Do two tasks' limit values differ (every speed, acceleration, tension, torque, length and
+ * frequency limit and the margin)? */
+static int ea__pp_limits_differ(const ea_task_limits_t *a, const ea_task_limits_t *b) {
+  const double va[] = {a->tension_min,
+                       a->tension_max,
+                       a->cable_length_min,
+                       a->cable_length_max,
+                       a->cable_speed_max,
+                       a->cable_accel_max,
+                       a->cable_angle_speed_max,
+                       a->cable_angle_accel_max,
+                       a->shoulder_torque_max,
+                       a->shoulder_speed_max,
+                       a->base_speed_max,
+                       a->base_accel_max,
+                       a->min_first_frequency_hz,
+                       a->max_modal_deflection_m,
+                       a->resample_margin};
+  const double vb[] = {b->tension_min,
+                       b->tension_max,
+                       b->cable_length_min,
+                       b->cable_length_max,
+                       b->cable_speed_max,
+                       b->cable_accel_max,
+                       b->cable_angle_speed_max,
+                       b->cable_angle_accel_max,
+                       b->shoulder_torque_max,
+                       b->shoulder_speed_max,
+                       b->base_speed_max,
+                       b->base_accel_max,
+                       b->min_first_frequency_hz,
+                       b->max_modal_deflection_m,
+                       b->resample_margin};
+  for (size_t i = 0; i < sizeof va / sizeof *va; ++i)
+    if (!(va[i] == vb[i])) return 1;
+  return 0;
+}
+
 ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err) {
   if (!pl->pp) return EA_OK;
   ea__pp_t *pp = pl->pp;
@@ -1233,8 +1309,15 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   const double t0 = ea__mono_s();
   if (pp->path_status)
     return ea_error_set(err, pp->path_status, "infeasible task: %s", pp->path_msg);
-  const int warm = start == EA_PLAN_WARM && pp->have_solution;
-  const int replan = warm && pl->updated;
+  /* A replan whose limits changed is a cold plan, from the cold guess (timed time-optimally
+   * along the path under the new limits), unless the old plan is still a KKT point: from the
+   * old plan re-timed into them it took 12-13 iterations instead of 10 (cable speed or
+   * acceleration limit -5..-10 % on the paper line; -1 %: 9 instead of 10), the old active
+   * set's multipliers being wrong. */
+  const int limits_changed = start == EA_PLAN_WARM && pp->have_solution && pl->updated &&
+                             ea__pp_limits_differ(&pl->task.limits, &pl->task_sol.limits);
+  int warm = start == EA_PLAN_WARM && pp->have_solution;
+  int replan = warm && pl->updated;
   ea__pp_bounds(pl);
   ea_status_t st = EA_OK;
   if (warm) {
@@ -1242,8 +1325,20 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
     memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
     memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
-    if (replan) ea__pp_predict(pl); /* the task changed */
-  } else {
+    if (replan && !limits_changed) ea__pp_predict(pl); /* the task changed */
+  }
+  int at_solution = 0; /* the old plan under the new limits */
+  if (limits_changed && !pl->task.solver.derivative_test) {
+    int inside = 1;
+    for (int i = 0; i < pp->n && inside; ++i)
+      inside = pp->x[i] >= pp->xl[i] && pp->x[i] <= pp->xu[i];
+    at_solution = inside && ea__pp_kkt_ok(pl);
+  }
+  if (limits_changed && !at_solution) {
+    start = EA_PLAN_COLD;
+    warm = replan = 0;
+  }
+  if (!warm) {
     if (start == EA_PLAN_FROM_TRAJ)
       st = ea__plan_guess_traj(pl, prev, pl->x, err);
     else
@@ -1258,29 +1353,37 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   info->time_guess_s = ea__mono_s() - t0;
   for (int i = 0; i < pp->n; ++i)
     pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
-  if ((st = ea__pp_ipopt(pl)))
-    return ea_error_set(err, st, "Ipopt: cannot create the path problem");
-  AddIpoptStrOption(pp->ip, "warm_start_init_point", warm ? "yes" : "no");
-  ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
-  char tmpl[64] = "";
-  if (pl->task.solver.derivative_test)
-    ea__deriv_test_options(pp->ip, pl->task.solver.derivative_test == 2, tmpl);
-  int mono = !warm && !pl->rom &&
-             (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
-  if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
   *iters = 0;
-  for (;;) {
-    AddIpoptStrOption(pp->ip, "mu_strategy", mono ? "monotone" : "adaptive");
-    if (mono) AddIpoptNumOption(pp->ip, "mu_init", 1e-4);
-    pp->iter = 0;
-    *rs = IpoptSolve(pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl, pp->mult_xu, pl);
-    *iters += pp->iter;
-    if (!mono || *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level ||
-        *rs == User_Requested_Stop)
-      break;
-    mono = 0;
-    memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
-    AddIpoptNumOption(pp->ip, "mu_init", 0.1);
+  *rs = Internal_Error;
+  char tmpl[64] = "";
+  if (!at_solution && warm && !pl->task.solver.derivative_test && ea__pp_kkt_ok(pl))
+    at_solution = 1; /* the predicted point is already the solution */
+  if (at_solution) {
+    *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
+    ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
+  } else {
+    if ((st = ea__pp_ipopt(pl)))
+      return ea_error_set(err, st, "Ipopt: cannot create the path problem");
+    AddIpoptStrOption(pp->ip, "warm_start_init_point", warm ? "yes" : "no");
+    ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
+    if (pl->task.solver.derivative_test)
+      ea__deriv_test_options(pp->ip, pl->task.solver.derivative_test == 2, tmpl);
+    int mono = !warm && !pl->rom &&
+               (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+    if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
+    for (;;) {
+      AddIpoptStrOption(pp->ip, "mu_strategy", mono ? "monotone" : "adaptive");
+      if (mono) AddIpoptNumOption(pp->ip, "mu_init", 1e-4);
+      pp->iter = 0;
+      *rs = IpoptSolve(pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl, pp->mult_xu, pl);
+      *iters += pp->iter;
+      if (!mono || *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level ||
+          *rs == User_Requested_Stop)
+        break;
+      mono = 0;
+      memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
+      AddIpoptNumOption(pp->ip, "mu_init", 0.1);
+    }
   }
   if (tmpl[0]) {
     info->deriv_errors = ea__deriv_errors(tmpl);
