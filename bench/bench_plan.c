@@ -10,9 +10,10 @@
  * a fresh cold plan: evaluations, wall time, FE residual before/after (the
  * loop's FE settings, and an independent transient at dt 0.25 ms); the robust
  * refinement of the robust paper line (nominal and four corner arms).
- * usage: bench_plan [REPEATS] [replan|refine|robust] (default 5; "replan": only the
+ * Polylines over the knot count (duration, objective; not converged).
+ * usage: bench_plan [REPEATS] [replan|refine|robust|polyline] (default 5; "replan": only the
  * replanning rows; "refine": the refinement rows, robust ones included; "robust":
- * only the robust refinement rows) */
+ * only the robust refinement rows; "polyline": only the polylines over the knot count) */
 #include "bench_util.h"
 #include "ea_planner.h"
 #include "ea_problems.h"
@@ -313,14 +314,55 @@ static int refine_rows(const ea_task_t *line) {
   return 0;
 }
 
+/* Polylines over the knot count: a minimum-time polyline through one via, and the
+ * polyline-effort example (problems/examples/polyline-effort.yaml, fixed 3 s, minimum
+ * acceleration effort); the duration / objective of a cold plan at 30..400 knots (one solve
+ * each, deterministic). Not converged (docs/planner.md, "Prescribed paths"). */
+static void polyline_rows(void) {
+  printf("\npolylines over the knot count (cold; not converged, docs/planner.md)\n");
+  printf("%-28s %6s %12s %6s\n", "case", "knots", "value", "iters");
+  ea_task_t a, b;
+  ea_task_init(&a, NULL);
+  a.start = ea_task_point_planar(0.3, -0.2, 0.0);
+  a.via[0] = ea_task_point_planar(0.45, -0.12, 0.0);
+  a.n_via = 1;
+  a.goal = ea_task_point_planar(0.6, -0.25, 0.0);
+  a.path = EA_TASK_PATH_POLYLINE;
+  /* as `elasticarm plan` loads it: the arm file data/elasticarm.yaml */
+  ea_error_t le = {0};
+  if (ea_task_load(EA_SOURCE_DIR "/problems/examples/polyline-effort.yaml",
+                   EA_SOURCE_DIR "/data/elasticarm.yaml", &b, &le)) {
+    printf("bench_plan: %s\n", le.msg);
+    return;
+  }
+  const int ks[5] = {30, 60, 100, 200, 400};
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < 5; ++i) {
+      ea_task_t t = c ? b : a;
+      t.knots = ks[i];
+      ea_planner_t *pl = NULL;
+      ea_error_t e;
+      ea_plan_info_t info;
+      const char *name = c ? "polyline-effort: objective" : "polyline min time: t_f [s]";
+      if (ea_task_check(&t, &e) || ea_planner_alloc(&t, &pl, &e) ||
+          ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e))
+        printf("%-28s %6d FAILED: %s\n", name, ks[i], e.msg);
+      else
+        printf("%-28s %6d %12.6f %6d\n", name, ks[i], c ? info.objective : info.duration_s,
+               info.iterations);
+      ea_planner_free(pl);
+    }
+}
+
 int main(int argc, char **argv) {
-  const char *usage = "bench_plan [repetitions 1..1000] [replan|refine|robust]";
+  const char *usage = "bench_plan [repetitions 1..1000] [replan|refine|robust|polyline]";
   const int R = ea_bench_count(argc, argv, 1, 5, 1000, usage);
   if (R < 0) return 2;
   const int only_replan = argc > 2 && !strcmp(argv[2], "replan");
   const int only_refine = argc > 2 && !strcmp(argv[2], "refine");
   const int only_robust = argc > 2 && !strcmp(argv[2], "robust");
-  if (argc > 3 || (argc > 2 && !only_replan && !only_refine && !only_robust)) {
+  const int only_poly = argc > 2 && !strcmp(argv[2], "polyline");
+  if (argc > 3 || (argc > 2 && !only_replan && !only_refine && !only_robust && !only_poly)) {
     fprintf(stderr, "bench_plan: unknown section '%s'\nusage: %s\n", argv[2], usage);
     return 2;
   }
@@ -341,6 +383,10 @@ int main(int argc, char **argv) {
          "ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
   row_t r;
+  if (only_poly) {
+    polyline_rows();
+    return 0;
+  }
   if (only_robust) {
     const int rc = robust_rows(&line);
     print_load("after");
@@ -482,6 +528,7 @@ int main(int argc, char **argv) {
     printf("%-34s %5s %5s %6s %9.2f  (per iteration); t_f / (D/v + v/a) - 1 = %.2e\n", "", "", "",
            "", r.iters > 0 ? 1e3 * r.total / r.iters : 0.0, r.dur / tmin - 1.0);
   }
+  polyline_rows();
   if (refine_rows(&line) || robust_rows(&line)) return 1;
   print_load("after");
   return 0;

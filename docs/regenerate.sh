@@ -505,6 +505,22 @@ pub "study payload-rest.yaml" docs/studies.md '{} % more time at payload 0 and {
   "$(calc %.1f "$(prv at_rest_fe_residual_peak_m 0)/$(prv qs_fe_residual_peak_m 0)*100")" \
   "$(calc %.1f "$(prv at_rest_fe_residual_peak_m 0.5)/$(prv qs_fe_residual_peak_m 0.5)*100")"
 
+# --- docs/planner.md: polylines over the knot count (bench_plan: the value column of the
+# rows named CASE, at 30 / 60 / 100 / 200 / 400 knots)
+poly() { awk -v c="$1" 'index($0, c) == 1 { print $(NF - 1) }' "$R/bench_plan.out"; }
+set -- $(poly "polyline min time")
+pub "bench/bench_plan (polylines over the knot count)" docs/planner.md \
+  '(0.3, -0.2) through (0.45, -0.12) to (0.6, -0.25) takes {} / {} / {} /' "$1" "$2" "$3"
+pub "bench/bench_plan (polylines over the knot count)" docs/planner.md \
+  '{} / {} s: +{} % from the default 100 knots to 400, still rising. The' \
+  "$4" "$5" "$(calc %.1f "($5 / $3 - 1) * 100")"
+set -- $(poly "polyline-effort")
+pub "bench/bench_plan (polylines over the knot count)" docs/planner.md \
+  "polyline-effort example's objective is {} / {} / {} / {} / {}" "$@"
+pub "bench/bench_plan (polylines over the knot count)" docs/planner.md \
+  '(within {} % from 60 knots on). The path holds at the knots only, and a corner in actuator' \
+  "$(printf '%s\n' "$2" "$3" "$4" "$5" | awk 'NR == 1 || $1 > M { M = $1 } NR == 1 || $1 < m { m = $1 } END { printf "%.1f", (M / m - 1) * 100 }')"
+
 # --- docs/planner.md: bench_plan's tables of the paper line (times masked)
 block bench_plan docs/planner.md "$R/bench_plan.out" "paper line, 100 knots" "2000 knots" 1
 
