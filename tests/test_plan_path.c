@@ -12,7 +12,8 @@
  * start moved 5 mm (none kept). An update's splines must be those of the changed task: a kept
  * segment checked against the re-solve is what shows the key did not keep a stale one.
  * Warm starts of the path transcription (no Ipopt solve when the start is a KKT point; a
- * replan with other limits from the cold guess) on the paper line. */
+ * replan with other limits from the cold guess; a plan file of the task or of another one)
+ * on the paper line. */
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_test.h"
@@ -110,7 +111,7 @@ static int cold_plan(const ea_task_t *t, ea_plan_info_t *info) {
  * Ipopt's tolerance). */
 static void warm_starts(ea_planner_t *pl, const ea_task_t *t0) {
   ea_error_t e;
-  ea_plan_info_t a, b, c;
+  ea_plan_info_t a, b, c, a2;
   char msg[256];
   if (ea_planner_solve(pl, EA_PLAN_COLD, NULL, &a, &e) ||
       ea_planner_solve(pl, EA_PLAN_WARM, NULL, &b, &e)) {
@@ -122,6 +123,38 @@ static void warm_starts(ea_planner_t *pl, const ea_task_t *t0) {
            "duration %.12g = %.12g",
            b.iterations, b.duration_s, a.duration_s);
   ea_test_true(b.iterations == 0 && b.duration_s == a.duration_s, msg);
+  /* a plan file: of this task (its rows hold: fewer iterations than cold, the same plan),
+   * of the goal 5 mm away (the cold guess: the cold plan's iterations and duration) */
+  ea_traj_t tr;
+  memset(&tr, 0, sizeof tr);
+  ea_task_t mv = *t0;
+  mv.goal = ea_task_point_planar(0.605, -0.2, 0.0);
+  ea_planner_t *p2 = NULL;
+  if (ea_planner_trajectory(pl, &tr, &e) || ea_planner_solve(pl, EA_PLAN_FROM_TRAJ, &tr, &b, &e) ||
+      ea_task_check(&mv, &e) || !cold_plan(&mv, &c) || ea_planner_alloc(&mv, &p2, &e) ||
+      ea_planner_solve(p2, EA_PLAN_FROM_TRAJ, &tr, &a2, &e)) {
+    ea_test_true(0, e.msg);
+    ea_planner_free(p2);
+    ea_traj_free(&tr);
+    return;
+  }
+  ea_planner_free(p2);
+  ea_traj_free(&tr);
+  snprintf(msg, sizeof msg,
+           "paper line: from its own plan file %d iterations < cold %d, duration %.12g vs "
+           "%.12g (1e-7)",
+           b.iterations, a.iterations, b.duration_s, a.duration_s);
+  ea_test_true(b.iterations < a.iterations && fabs(b.duration_s / a.duration_s - 1.0) < 1e-7, msg);
+  snprintf(msg, sizeof msg,
+           "paper line, goal 5 mm away: from the old plan file %d iterations = cold %d, "
+           "duration %.12g vs %.12g (1e-9)",
+           a2.iterations, c.iterations, a2.duration_s, c.duration_s);
+  ea_test_true(a2.iterations == c.iterations && fabs(a2.duration_s / c.duration_s - 1.0) < 1e-9,
+               msg);
+  if (ea_planner_solve(pl, EA_PLAN_COLD, NULL, &a, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
   ea_task_t t = *t0;
   t.limits.tension_min = 0.5 * a.min_tension_margin_N + t0->limits.tension_min;
   if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e) ||
