@@ -94,6 +94,15 @@ static void check(const ea_planner_t *pl, const ea_task_t *t, const char *name) 
   ea_test_true(w >= 0.0 && w <= SPLINE_TOL, msg);
 }
 
+/* Update pl to task t (checked) and check its splines. */
+static void update_check(ea_planner_t *pl, ea_task_t *t, const char *name) {
+  ea_error_t e;
+  if (ea_task_check(t, &e) || ea_planner_update(pl, t, &e))
+    ea_test_true(0, e.msg);
+  else
+    check(pl, t, name);
+}
+
 /* Cold plan of task t (a planner of its own): its info. */
 static int cold_plan(const ea_task_t *t, ea_plan_info_t *info) {
   ea_planner_t *pl = NULL;
@@ -218,30 +227,15 @@ int main(void) {
   check(pl, &poly, "polyline, 2 vias, payload factor 0.25");
   ea_task_t t = poly;
   t.limits.cable_speed_max *= 0.8;
-  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
-    ea_test_true(0, e.msg);
-  else
-    check(pl, &t, "polyline after a limits update");
+  update_check(pl, &t, "polyline after a limits update");
   t.goal = ea_task_point_planar(0.605, -0.2, 0.0);
-  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
-    ea_test_true(0, e.msg);
-  else
-    check(pl, &t, "polyline after its goal moved 5 mm");
+  update_check(pl, &t, "polyline after its goal moved 5 mm");
   t.payload_kg *= 1.1;
-  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
-    ea_test_true(0, e.msg);
-  else
-    check(pl, &t, "polyline after its payload +10 %");
+  update_check(pl, &t, "polyline after its payload +10 %");
   t.start = ea_task_point_planar(0.305, -0.2, 0.0);
-  if (ea_task_check(&t, &e) || ea_planner_update(pl, &t, &e))
-    ea_test_true(0, e.msg);
-  else
-    check(pl, &t, "polyline after its start moved 5 mm");
+  update_check(pl, &t, "polyline after its start moved 5 mm");
   /* back to the first task: the splines of a planner built for it */
-  if (ea_planner_update(pl, &poly, &e))
-    ea_test_true(0, e.msg);
-  else
-    check(pl, &poly, "polyline updated back to its first task");
+  update_check(pl, &poly, "polyline updated back to its first task");
   ea_planner_free(pl);
   return ea_test_summary("test_plan_path");
 }

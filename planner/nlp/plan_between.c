@@ -72,41 +72,12 @@ static double ea__sample_max(const double *y, int n) {
   return fmax(b, b - 0.25 * (a - c) * u);
 }
 
-/* 3x3 solve by Cramer's rule. */
-static int ea__solve3(double A[3][3], const double b[3], double x[3]) {
-  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-  if (!(fabs(det) > 1e-300)) return -1;
-  for (int c = 0; c < 3; ++c) {
-    double M[3][3];
-    memcpy(M, A, sizeof M);
-    for (int r = 0; r < 3; ++r)
-      M[r][c] = b[r];
-    x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-            M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
-           det;
-  }
-  return 0;
-}
-
 /* Rates of (T, theta0, kappa0) at knot k along (dL_c/dt, dalpha/dt): the
  * statics residual's implicit derivative, from the cached sensitivities. */
 static void ea__statics_rates(const ea_planner_t *pl, const double *x, int k, double pd[3]) {
-  const double *S = pl->S + 16 * k;
-  const double Lc = x[EA__IQ(pl, k, 0)], al = x[EA__IQ(pl, k, 1)];
-  const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
-  const double dLc[3] = {0.0, -cos(al), -sin(al)};
-  const double dal[3] = {S[EA_X_KAPPA * 4 + EA_P_ALPHA], S[EA_X_X * 4 + EA_P_ALPHA] + Lc * sin(al),
-                         S[EA_X_Y * 4 + EA_P_ALPHA] - Lc * cos(al)};
-  double A[3][3], rhs[3];
-  for (int r = 0; r < 3; ++r) {
-    for (int j = 0; j < 3; ++j)
-      A[r][j] = S[xi[r] * 4 + 1 + j];
-    rhs[r] = -(dLc[r] * x[EA__IV(pl, k, 0)] + dal[r] * x[EA__IV(pl, k, 1)]);
-  }
-  if (ea__solve3(A, rhs, pd)) pd[0] = pd[1] = pd[2] = 0.0;
+  if (ea__plan_statics_slope(pl->S + 16 * k, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)],
+                             x[EA__IV(pl, k, 0)], x[EA__IV(pl, k, 1)], pd))
+    pd[0] = pd[1] = pd[2] = 0.0;
 }
 
 typedef struct {

@@ -188,6 +188,15 @@ struct ea_planner {
 
 /** t_f at x. */
 double ea__plan_tf(const ea_planner_t *pl, const double *x);
+/** x = A^-1 b for 3 x 3 A (Cramer's rule); 0, or -1 when A is singular. */
+int ea__plan_solve3(double A[3][3], const double b[3], double x[3]);
+/** Derivative of the statics (T, theta0, kappa0) along a move (dL, dalpha) of (L_c, alpha)
+ *  at (L, alpha): implicit differentiation of the knot rows (kappa(L), x_L - x_c - L_c cos
+ *  alpha, y_L - y_c - L_c sin alpha) = 0, from the shooting sensitivities S (EA_NX x EA_NP,
+ *  row-major) at the solution. 0, or -1 when the rows' Jacobian in (T, theta0, kappa0) is
+ *  singular. */
+int ea__plan_statics_slope(const double *S, double L, double alpha, double dL, double dalpha,
+                           double out[3]);
 /** Hermite accelerations at both ends of an interval of length h and their
  *  gradients wrt (q0, q1, v0, v1, h). */
 void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],

@@ -151,47 +151,6 @@ static double ea__pp_sigma_of(const ea_planner_t *pl, int j, const double q[3]) 
 
 /* ---- statics along the path --------------------------------------------- */
 
-/* x = A^-1 b (Cramer, 3 x 3); 0 when A is singular. */
-static int ea__pp_solve3(double A[3][3], const double b[3], double x[3]) {
-  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-  if (!(fabs(det) > 0)) return 0;
-  for (int c = 0; c < 3; ++c) {
-    double M[3][3];
-    memcpy(M, A, sizeof M);
-    for (int r = 0; r < 3; ++r)
-      M[r][c] = b[r];
-    x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
-            M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
-           det;
-  }
-  return 1;
-}
-
-/* Slopes dp/dsigma of (T, theta0, kappa0) by implicit differentiation of the knot rows
- * (kappa(L), x_L - x_c - L cos alpha, y_L - y_c - L sin alpha) = 0 at fixed alpha, from the
- * shooting sensitivities S at the solution (Cramer, 3 x 3). */
-static ea_status_t ea__pp_slope(const double q[3], const double dq[3], const double *S,
-                                double dp[3], ea_error_t *err) {
-  const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
-  const double ca = cos(q[1]), sa = sin(q[1]);
-  double A[3][3], b[3];
-  /* G_u du + G_L dL + G_a da = 0, u = (T, theta0, kappa0) */
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c)
-      A[r][c] = S[xi[r] * EA_NP + 1 + c];
-    const double gL = r == 0 ? 0.0 : (r == 1 ? -ca : -sa);
-    const double ga =
-        S[xi[r] * EA_NP + EA_P_ALPHA] + (r == 0 ? 0.0 : (r == 1 ? q[0] * sa : -q[0] * ca));
-    b[r] = -(gL * dq[0] + ga * dq[1]);
-  }
-  if (!ea__pp_solve3(A, b, dp))
-    return ea_error_set(err, EA_ERR_SINGULAR, "statics slope: singular");
-  return EA_OK;
-}
-
 /* Newton on the knot rows in u = (T, theta0, kappa0) at fixed (L_c, alpha) from a close guess
  * (a neighbour's interpolant): one shot with sensitivities per iteration, the last one's
  * sensitivities give the slopes. Strict: every step full, shrinking the residual, with the
@@ -224,7 +183,7 @@ static int ea__pp_newton(const ea_planner_t *pl, const double q[3], double g[EA_
       for (int c = 0; c < 3; ++c)
         A[a][c] = S[xi[a] * EA_NP + 1 + c];
     double du[3];
-    if (!ea__pp_solve3(A, r, du)) return 0;
+    if (ea__plan_solve3(A, r, du)) return 0;
     if (!(fabs(du[1]) < 0.05)) return 0;
     for (int c = 0; c < 3; ++c)
       g[1 + c] -= du[c];
@@ -260,7 +219,8 @@ static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, dou
     else if ((st = ea_shoot(pl->sh, sol.p, xL, S)))
       return ea_error_set(err, st, "shooting failed");
   }
-  if ((st = ea__pp_slope(q, dq, S, dp, err))) return st;
+  if (ea__plan_statics_slope(S, q[0], q[1], dq[0], dq[1], dp))
+    return ea_error_set(err, EA_ERR_SINGULAR, "statics slope: singular");
   p[0] = guess[EA_P_TENSION];
   p[1] = guess[EA_P_THETA0];
   p[2] = guess[EA_P_KAPPA0];
@@ -361,9 +321,6 @@ static ea_status_t ea__pp_refine(ea_planner_t *pl, int j, const double a[7], con
   return ea__pp_refine(pl, j, c, b, depth + 1, n, err_est, err);
 }
 
-/* Build the statics splines of every segment (4 intervals, each bisected until its error
- * estimate is below EA__PP_TOL); also checks the path's admissibility (tension, torque,
- * shoulder range) at the samples and the spline's extrema between them. */
 /* Segment j's geometry as the samples' key: start, direction, length, start sigma. */
 static void ea__pp_seg_key(const ea_planner_t *pl, int j, double key[8]) {
   for (int c = 0; c < 3; ++c) {
@@ -374,6 +331,9 @@ static void ea__pp_seg_key(const ea_planner_t *pl, int j, double key[8]) {
   key[7] = pl->pp->sig0[j];
 }
 
+/* Build the statics splines of every segment (4 intervals, each bisected until its error
+ * estimate is below EA__PP_TOL); also checks the path's admissibility (tension, torque,
+ * shoulder range) at the samples and the spline's extrema between them. */
 static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
   const ea_task_t *t = &pl->task;
@@ -1340,12 +1300,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     if (replan && !limits_changed) ea__pp_predict(pl); /* the task changed */
   }
   int at_solution = 0; /* the old plan under the new limits */
-  if (limits_changed && !pl->task.solver.derivative_test) {
-    int inside = 1;
-    for (int i = 0; i < pp->n && inside; ++i)
-      inside = pp->x[i] >= pp->xl[i] && pp->x[i] <= pp->xu[i];
-    at_solution = inside && ea__pp_kkt_ok(pl);
-  }
+  if (limits_changed && !pl->task.solver.derivative_test) at_solution = ea__pp_kkt_ok(pl);
   if (limits_changed && !at_solution) {
     start = EA_PLAN_COLD;
     warm = replan = 0;

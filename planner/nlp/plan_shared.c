@@ -15,6 +15,41 @@ double ea__plan_tf(const ea_planner_t *pl, const double *x) {
   return pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
 }
 
+int ea__plan_solve3(double A[3][3], const double b[3], double x[3]) {
+  const double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  if (!(fabs(det) > 1e-300)) return -1;
+  for (int c = 0; c < 3; ++c) {
+    double M[3][3];
+    memcpy(M, A, sizeof M);
+    for (int r = 0; r < 3; ++r)
+      M[r][c] = b[r];
+    x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+            M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+           det;
+  }
+  return 0;
+}
+
+int ea__plan_statics_slope(const double *S, double L, double alpha, double dL, double dalpha,
+                           double out[3]) {
+  /* G_u du + G_L dL + G_a da = 0, u = (T, theta0, kappa0) */
+  const int xi[3] = {EA_X_KAPPA, EA_X_X, EA_X_Y};
+  const double ca = cos(alpha), sa = sin(alpha);
+  const double gL[3] = {0.0, -ca, -sa};
+  const double ga[3] = {S[EA_X_KAPPA * EA_NP + EA_P_ALPHA], S[EA_X_X * EA_NP + EA_P_ALPHA] + L * sa,
+                        S[EA_X_Y * EA_NP + EA_P_ALPHA] - L * ca};
+  double A[3][3], rhs[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      A[r][c] = S[xi[r] * EA_NP + 1 + c];
+    rhs[r] = -(gL[r] * dL + ga[r] * dalpha);
+  }
+  return ea__plan_solve3(A, rhs, out);
+}
+
 void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],
                           double ga[2][5]) {
   const double dq = q1 - q0, ih = 1.0 / h, ih2 = ih * ih;
