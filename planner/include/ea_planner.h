@@ -45,6 +45,8 @@ typedef struct ea_plan_info {
   int ipopt_status;   /**< raw Ipopt ApplicationReturnStatus */
   char ipopt_status_name[48];
   int iterations;                 /**< Ipopt iterations */
+  int newton_steps; /**< active-set Newton steps of a warm start solved without Ipopt (the
+                         path transcription's replans, docs/planner.md; 0: none taken) */
   int n_var, n_con, nnz_jac;      /**< problem size */
   double objective;               /**< final objective value */
   double duration_s;              /**< [s] t_f */

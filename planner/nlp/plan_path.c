@@ -22,6 +22,7 @@
  * keeps the samples of the leading segments whose geometry, arm, tip mass and base angle did
  * not change (ea_planner_update of the limits: all of them).
  */
+#include "plan_asn_impl.h"
 #include "plan_impl.h"
 
 #include <math.h>
@@ -67,6 +68,8 @@ struct ea__pp {
   int *rmap; /* knot planner's row of each row */
   double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
   double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol, *x0;
+  double *g_sol;   /* the rows at x_sol (the active-set Newton's gaps) */
+  ea__asn_t *asn;  /* the active-set Newton of a warm start (NULL until the first) */
   int have_solution;
   /* per knot of the solution: its speed along the path [m/s] and its slopes dq/dsigma (N x 4);
    * its segments' starts (the replanning predictor, ea__pp_predict) */
@@ -788,13 +791,59 @@ static int ea__pp_kkt_ok(ea_planner_t *pl) {
       r[pp->jcol[e]] += jv[e] * pp->mult_g[pp->irow[e]];
     for (int i = 0; i < pp->n && ok; ++i) {
       if (pp->xl[i] == pp->xu[i]) continue; /* fixed: Ipopt removes it */
-      ok = fabs(r[i] - pp->mult_xl[i] + pp->mult_xu[i]) <= dtol &&
+      ok = pp->mult_xl[i] >= 0.0 && pp->mult_xu[i] >= 0.0 &&
+           fabs(r[i] - pp->mult_xl[i] + pp->mult_xu[i]) <= dtol &&
            pp->mult_xl[i] * fmin(x[i] - pp->xl[i], 1e19) <= dtol &&
            pp->mult_xu[i] * fmin(pp->xu[i] - x[i], 1e19) <= dtol;
     }
   }
   free(jv);
   return ok;
+}
+
+/* A warm start solved without Ipopt: the active-set Newton (plan_asn.c) from pp->x with the old
+ * plan's multipliers and active set, taken when the result passes the KKT test of the whole
+ * problem (ea__pp_kkt_ok). 1: pp->x and pp->mult_* are the solution; 0: they are the start
+ * again (restored from pp->x0 and the old plan's multipliers). */
+static int ea__pp_newton_start(ea_planner_t *pl, int *steps) {
+  ea__pp_t *pp = pl->pp;
+  const ea_task_t *t = &pl->task;
+  *steps = 0;
+  if (!pp->asn) {
+    const ea__asn_nlp_t nlp = {.n = pp->n,
+                               .m = pp->m,
+                               .nnz_j = pp->nnz,
+                               .nnz_h = pp->nnz_h,
+                               .xl = pp->xl,
+                               .xu = pp->xu,
+                               .gl = pp->gl,
+                               .gu = pp->gu,
+                               .jrow = pp->irow,
+                               .jcol = pp->jcol,
+                               .hrow = pp->hirow,
+                               .hcol = pp->hjcol,
+                               .grad_f = ea__pp_cb_grad_f,
+                               .g = ea__pp_cb_g,
+                               .jac = ea__pp_cb_jac,
+                               .h = ea__pp_cb_h,
+                               .ud = pl,
+                               /* 1e-2 of the KKT test's tolerances */
+                               .ptol = fmax(1e-9, t->solver.constr_tol),
+                               .dtol = 1e-1 * t->solver.tol,
+                               .preg = getenv("EA_PREG") ? atof(getenv("EA_PREG")) : 0.0,
+                               .dreg = getenv("EA_DREG") ? atof(getenv("EA_DREG")) : 1e-10};
+    if (!(pp->asn = ea__asn_alloc(&nlp))) return 0;
+  }
+  memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
+  if (!ea__asn_solve(pp->asn, pp->x_sol, pp->g_sol, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu,
+                     steps) &&
+      ea__pp_kkt_ok(pl))
+    return 1;
+  memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
+  memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
+  memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
+  memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
+  return 0;
 }
 
 static Bool ea__pp_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
@@ -838,6 +887,8 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->mult_xl_sol);
   free(pp->mult_xu_sol);
   free(pp->x0);
+  free(pp->g_sol);
+  ea__asn_free(pp->asn);
   free(pp->sd_sol);
   free(pp->irow);
   free(pp->jcol);
@@ -1009,7 +1060,8 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   pp->g = calloc((size_t)m + 1, sizeof(double));
   pp->mult_g = calloc((size_t)m + 1, sizeof(double));
   pp->mult_g_sol = calloc((size_t)m + 1, sizeof(double));
-  if (!pp->g || !pp->mult_g || !pp->mult_g_sol)
+  pp->g_sol = calloc((size_t)m + 1, sizeof(double));
+  if (!pp->g || !pp->mult_g || !pp->mult_g_sol || !pp->g_sol)
     return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
   ea__pp_path(pl);
   ea_error_t e = {0};
@@ -1340,6 +1392,9 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   char tmpl[64] = "";
   if (!at_solution && warm && !pl->task.solver.derivative_test && ea__pp_kkt_ok(pl))
     at_solution = 1; /* the predicted point is already the solution */
+  if (!at_solution && warm && !pl->task.solver.derivative_test &&
+      !getenv("EA_NO_ASN"))
+    at_solution = ea__pp_newton_start(pl, &info->newton_steps);
   if (at_solution) {
     *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
     ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
@@ -1377,6 +1432,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
     memcpy(pp->mult_xl_sol, pp->mult_xl, (size_t)pp->n * sizeof *pp->x);
     memcpy(pp->mult_xu_sol, pp->mult_xu, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->g_sol, pp->g, (size_t)pp->m * sizeof *pp->x);
     pp->have_solution = 1;
   }
   /* the plan in the knot layout; the knot planner's rows at it (statics rows: the splines'

@@ -1,0 +1,38 @@
+/* Private: an active-set Newton on an NLP given by Ipopt's callbacks (plan_asn.c). */
+#ifndef EA_PLAN_ASN_IMPL_H
+#define EA_PLAN_ASN_IMPL_H
+
+#include <coin/IpStdCInterface.h>
+
+/** The NLP as Ipopt sees it: sizes, bounds, the Jacobian's and the Hessian's (lower triangle)
+ *  structures, the callbacks and their user data, and the tolerances of a converged point
+ *  (rows at their bounds within ptol, stationarity within dtol, both unscaled). */
+typedef struct ea__asn_nlp {
+  int n, m, nnz_j, nnz_h;
+  const double *xl, *xu, *gl, *gu;
+  const int *jrow, *jcol, *hrow, *hcol;
+  Eval_Grad_F_CB grad_f;
+  Eval_G_CB g;
+  Eval_Jac_G_CB jac;
+  Eval_H_CB h;
+  void *ud;
+  double ptol, dtol;
+  double preg, dreg; /* KKT matrix regularisation: + preg on the free variables' diagonal, -dreg
+                        on the active rows' (their fixed points are KKT points all the same) */
+} ea__asn_nlp_t;
+
+typedef struct ea__asn ea__asn_t;
+
+/** Workspace for the NLP p (its arrays are referenced, not copied); NULL when out of memory. */
+ea__asn_t *ea__asn_alloc(const ea__asn_nlp_t *p);
+void ea__asn_free(ea__asn_t *a);
+/** From x, with the multipliers (Ipopt's signs: mult_g > 0 at an upper bound) of a nearby
+ *  solution x_ref whose rows are g_ref: the active set they show (a multiplier larger than its
+ *  gap), Newton on it, the set corrected until it stops changing. 0: x and the multipliers are
+ *  a candidate KKT point (for the caller to verify); -1: no candidate (singular KKT matrix,
+ *  no convergence, the set kept changing; x and the multipliers are then undefined).
+ *  *iters: Newton steps taken. */
+int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double *x,
+                  double *mult_g, double *mult_xl, double *mult_xu, int *iters);
+
+#endif
