@@ -17,6 +17,9 @@ typedef struct ea__asn_nlp {
   Eval_H_CB h;
   void *ud;
   double ptol, dtol;
+  double margin; /* active inequality rows and bounds are held this far inside (relative to
+                    max(1, |bound|)), as an interior point's solution is: the plan is then
+                    strictly admissible, not at its limits to within rounding */
   double preg, dreg; /* KKT matrix regularisation: + preg on the free variables' diagonal, -dreg
                         on the active rows' (their fixed points are KKT points all the same) */
 } ea__asn_nlp_t;

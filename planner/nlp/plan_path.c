@@ -827,11 +827,19 @@ static int ea__pp_newton_start(ea_planner_t *pl, int *steps) {
                                .jac = ea__pp_cb_jac,
                                .h = ea__pp_cb_h,
                                .ud = pl,
-                               /* 1e-2 of the KKT test's tolerances */
-                               .ptol = fmax(1e-9, t->solver.constr_tol),
+                               /* 0.2 of the KKT test's primal tolerance (the rows'
+                                * rounding floor after the Newton is ~1.1e-10), inside a
+                                * margin of that tolerance; 1e-1 of its dual one;
+                                * rows regularised by 1e-4 (1e-10 .. 1e-6: the first step
+                                * from a replan's prediction multiplied the stationarity
+                                * residual by 10^2 .. 10^5, the redundant rows of a
+                                * bang-bang plan's active set being inconsistent to first
+                                * order) */
+                               .ptol = 0.2 * fmax(1e-9, t->solver.constr_tol),
+                               .margin = fmax(1e-9, t->solver.constr_tol),
                                .dtol = 1e-1 * t->solver.tol,
-                               .preg = getenv("EA_PREG") ? atof(getenv("EA_PREG")) : 0.0,
-                               .dreg = getenv("EA_DREG") ? atof(getenv("EA_DREG")) : 1e-10};
+                               .preg = 0.0,
+                               .dreg = 1e-4};
     if (!(pp->asn = ea__asn_alloc(&nlp))) return 0;
   }
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
@@ -1392,8 +1400,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   char tmpl[64] = "";
   if (!at_solution && warm && !pl->task.solver.derivative_test && ea__pp_kkt_ok(pl))
     at_solution = 1; /* the predicted point is already the solution */
-  if (!at_solution && warm && !pl->task.solver.derivative_test &&
-      !getenv("EA_NO_ASN"))
+  if (!at_solution && warm && !pl->task.solver.derivative_test)
     at_solution = ea__pp_newton_start(pl, &info->newton_steps);
   if (at_solution) {
     *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
