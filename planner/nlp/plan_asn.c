@@ -38,7 +38,8 @@ void ea__asn_free(ea__asn_t *a) {
   if (!a) return;
   if (a->sym) klu_free_symbolic(&a->sym, &a->c);
   free(a->act_x), free(a->act_g), free(a->kx), free(a->kg), free(a->Ap), free(a->Ai);
-  free(a->cnt), free(a->Ax), free(a->pd), free(a->pj[0]), free(a->pj[1]), free(a->ph[0]), free(a->ph[1]);
+  free(a->cnt), free(a->Ax), free(a->pd), free(a->pj[0]), free(a->pj[1]), free(a->ph[0]),
+      free(a->ph[1]);
   free(a->gf), free(a->g), free(a->jv), free(a->hv), free(a->lam), free(a->rhs), free(a->r);
   free(a);
 }
@@ -63,9 +64,9 @@ ea__asn_t *ea__asn_alloc(const ea__asn_nlp_t *p) {
   a->hv = malloc(sizeof(double) * ((size_t)p->nnz_h + 1));
   a->lam = malloc(sizeof(double) * (m + 1)), a->rhs = malloc(sizeof(double) * nk);
   a->r = malloc(sizeof(double) * n);
-  if (!a->act_x || !a->act_g || !a->kx || !a->kg || !a->Ap || !a->cnt || !a->pd || !a->Ai || !a->Ax ||
-      !a->pj[0] || !a->pj[1] || !a->ph[0] || !a->ph[1] || !a->gf || !a->g || !a->jv || !a->hv ||
-      !a->lam || !a->rhs || !a->r || !klu_defaults(&a->c)) {
+  if (!a->act_x || !a->act_g || !a->kx || !a->kg || !a->Ap || !a->cnt || !a->pd || !a->Ai ||
+      !a->Ax || !a->pj[0] || !a->pj[1] || !a->ph[0] || !a->ph[1] || !a->gf || !a->g || !a->jv ||
+      !a->hv || !a->lam || !a->rhs || !a->r || !klu_defaults(&a->c)) {
     ea__asn_free(a);
     return NULL;
   }
@@ -216,8 +217,8 @@ static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
   }
 }
 
-int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double *x,
-                  double *mult_g, double *mult_xl, double *mult_xu, int *iters) {
+int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double *x, double *mult_g,
+                  double *mult_xl, double *mult_xu, int *iters) {
   const ea__asn_nlp_t *p = &a->p;
   *iters = 0;
   /* the active set of the nearby solution: a multiplier larger than its gap */
@@ -286,7 +287,7 @@ int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double
   }
   /* Ipopt's multipliers: the rows' lam, the bounds' from the stationarity of their variables */
   for (int i = 0; i < p->m; ++i)
-    mult_g[i] = a->act_g[i] == -1 ? fmin(a->lam[i], 0.0)
+    mult_g[i] = a->act_g[i] == -1  ? fmin(a->lam[i], 0.0)
                 : a->act_g[i] == 1 ? fmax(a->lam[i], 0.0)
                                    : a->lam[i];
   for (int i = 0; i < p->n; ++i) {

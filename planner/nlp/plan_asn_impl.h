@@ -17,9 +17,9 @@ typedef struct ea__asn_nlp {
   Eval_H_CB h;
   void *ud;
   double ptol, dtol;
-  double margin; /* active inequality rows and bounds are held this far inside (relative to
-                    max(1, |bound|)), as an interior point's solution is: the plan is then
-                    strictly admissible, not at its limits to within rounding */
+  double margin;     /* active inequality rows and bounds are held this far inside (relative to
+                        max(1, |bound|)), as an interior point's solution is: the plan is then
+                        strictly admissible, not at its limits to within rounding */
   double preg, dreg; /* KKT matrix regularisation: + preg on the free variables' diagonal, -dreg
                         on the active rows' (their fixed points are KKT points all the same) */
 } ea__asn_nlp_t;
@@ -35,7 +35,7 @@ void ea__asn_free(ea__asn_t *a);
  *  a candidate KKT point (for the caller to verify); -1: no candidate (singular KKT matrix,
  *  no convergence, the set kept changing; x and the multipliers are then undefined).
  *  *iters: Newton steps taken. */
-int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double *x,
-                  double *mult_g, double *mult_xl, double *mult_xu, int *iters);
+int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double *x, double *mult_g,
+                  double *mult_xl, double *mult_xu, int *iters);
 
 #endif

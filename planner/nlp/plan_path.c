@@ -68,8 +68,8 @@ struct ea__pp {
   int *rmap; /* knot planner's row of each row */
   double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
   double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol, *x0;
-  double *g_sol;   /* the rows at x_sol (the active-set Newton's gaps) */
-  ea__asn_t *asn;  /* the active-set Newton of a warm start (NULL until the first) */
+  double *g_sol;  /* the rows at x_sol (the active-set Newton's gaps) */
+  ea__asn_t *asn; /* the active-set Newton of a warm start (NULL until the first) */
   int have_solution;
   /* per knot of the solution: its speed along the path [m/s] and its slopes dq/dsigma (N x 4);
    * its segments' starts (the replanning predictor, ea__pp_predict) */
