@@ -130,7 +130,8 @@ static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
 /* Median of R replans: a planner solves prev cold (not timed), is updated
  * to task t (ea_planner_update, timed apart: *upd) and solves it warm
  * (EA_PLAN_WARM from the previous plan and multipliers). */
-static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double *upd) {
+static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double *upd,
+                        int *newton) {
   samples_t S;
   double up[64];
   row_t r;
@@ -152,6 +153,7 @@ static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double
     up[i] = ea_bench_now() - t0;
     if (ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e)) r.ok = 0;
     record(&S, i, &info, &r);
+    *newton = info.newton_steps; /* deterministic */
     ea_planner_free(pl);
   }
   summarize(&S, R, &r);
@@ -472,10 +474,12 @@ int main(int argc, char **argv) {
       r = run(&ch[i], R, 0);
       snprintf(name, sizeof name, "%s: cold", nm[i]);
       print_row(name, &r);
-      r = run_update(&base[i], &ch[i], R, &upd);
+      int newton = 0;
+      r = run_update(&base[i], &ch[i], R, &upd, &newton);
       snprintf(name, sizeof name, "%s: replan", nm[i]);
       print_row(name, &r);
-      printf("%-34s (ea_planner_update %.3f ms)\n", "", 1e3 * upd);
+      printf("%-34s (ea_planner_update %.3f ms; active-set Newton: %d steps, %s)\n", "", 1e3 * upd,
+             newton, r.iters == 0 ? "no Ipopt" : "then Ipopt");
     }
   }
 
