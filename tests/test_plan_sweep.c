@@ -28,6 +28,89 @@ static double ea_sweep_rand(unsigned long long *s) {
  * written file (ea_plan_check.h). */
 #define EA_SWEEP_LIMIT_TOL 0.0
 
+/* Every limit between the knots of trajectory tr of task t, from its written file at 1 kHz:
+ * 1 when the worst relative excess is within EA_SWEEP_LIMIT_TOL (the worst and the theta0
+ * spline's deviation are accumulated into *worst, *th_dev). */
+static int ea_sweep_file(const ea_task_t *t, const ea_traj_t *tr, double *worst, double *th_dev) {
+  char csv[] = "/tmp/ea_sweep_XXXXXX";
+  const int fd = mkstemp(csv);
+  ea_traj_t back = {0};
+  ea_error_t e;
+  if (fd >= 0) close(fd);
+  const int io = fd >= 0 && !ea_traj_write(tr, csv, &e) && !ea_traj_read(&back, csv, &e);
+  if (fd >= 0) remove(csv);
+  int ok = io;
+  if (ok) {
+    ea_chk_t c;
+    const double w = ea_chk_traj(t, &back, 1000.0, &c);
+    *worst = fmax(*worst, w);
+    *th_dev = fmax(*th_dev, c.th_dev);
+    if (w > EA_SWEEP_LIMIT_TOL) {
+      ok = 0;
+      ea_chk_print("limits re-checked at 1 kHz", &c);
+    }
+  }
+  ea_traj_free(&back);
+  return ok;
+}
+
+/* Replans of the line sweep: each planned line's goal moved by up to 5 mm in L_c and 0.01 rad
+ * in alpha (its own random stream: the sweep's draws and published totals are unchanged),
+ * ea_planner_update + EA_PLAN_WARM (the active-set Newton where it holds, else Ipopt) against
+ * a cold plan of the moved task by a fresh planner: the same outcome, the duration to 1e-6,
+ * every limit from the written file at 1 kHz. */
+typedef struct {
+  int n, newton, ipopt, both_infeasible, failures;
+  double worst_dur, worst_excess, th_dev;
+} ea_sweep_rp_t;
+
+static void ea_sweep_replan(ea_planner_t *pl, const ea_task_t *t0, unsigned long long seed,
+                            ea_sweep_rp_t *rp) {
+  ea_task_t t = *t0;
+  const double dL = 0.005 * (2.0 * ea_sweep_rand(&seed) - 1.0);
+  const double da = 0.01 * (2.0 * ea_sweep_rand(&seed) - 1.0);
+  t.goal =
+      ea_task_point_actuators(t0->goal.given[0] + dL, t0->goal.given[1] + da, t0->goal.given[2]);
+  ea_error_t e = {0};
+  if (ea_task_check(&t, &e)) return; /* moved out of the workspace: no replan to compare */
+  ea_plan_info_t w, c;
+  ea_planner_t *p2 = NULL;
+  ea_status_t sw = ea_planner_update(pl, &t, &e);
+  if (!sw) sw = ea_planner_solve(pl, EA_PLAN_WARM, NULL, &w, &e);
+  ea_status_t sc = ea_planner_alloc(&t, &p2, &e);
+  if (!sc) sc = ea_planner_solve(p2, EA_PLAN_COLD, NULL, &c, &e);
+  ea_planner_free(p2);
+  ++rp->n;
+  char what[400];
+  if (sw != sc) {
+    ++rp->failures;
+    snprintf(what, sizeof what, "replan sweep: warm %s, cold %s (goal moved %.4f m, %.4f rad)",
+             ea_status_name(sw), ea_status_name(sc), dL, da);
+    ea_test_true(0, what);
+    return;
+  }
+  if (sw) {
+    ++rp->both_infeasible;
+    return;
+  }
+  const int newton = w.iterations == 0 && w.newton_steps > 0;
+  rp->newton += newton;
+  rp->ipopt += w.iterations > 0;
+  const double d = w.duration_s / c.duration_s - 1.0;
+  rp->worst_dur = fmax(rp->worst_dur, fabs(d));
+  ea_traj_t tr = {0};
+  int ok = fabs(d) <= 1e-6 && !ea_planner_trajectory(pl, &tr, &e) &&
+           ea_sweep_file(&t, &tr, &rp->worst_excess, &rp->th_dev);
+  ea_traj_free(&tr);
+  if (!ok) {
+    ++rp->failures;
+    snprintf(what, sizeof what,
+             "replan sweep: goal moved %.4f m, %.4f rad: warm %.12g s (%s) vs cold %.12g s", dL, da,
+             w.duration_s, newton ? "Newton" : "Ipopt", c.duration_s);
+    ea_test_true(0, what);
+  }
+}
+
 /* Returns the number of failures. path: free, or line (the path transcription). */
 static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_t path) {
   int planned = 0, infeasible = 0, failures = 0, outside_reported = 0;
@@ -35,6 +118,7 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
   int n_between = 0; /* plans re-solved for a limit exceeded between knots */
   int line_left = 0; /* line paths the planner reported leaving the workspace */
   long iters = 0;
+  ea_sweep_rp_t rp = {0, 0, 0, 0, 0, 0.0, -INFINITY, 0.0};
   for (int i = 0; i < n; ++i) {
     ea_task_t t;
     ea_task_init(&t, NULL);
@@ -109,26 +193,13 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
         snprintf(whyb, sizeof whyb, "statics residual %.3g above 1e-9", info.max_statics_residual);
         why = whyb;
       }
-      /* every limit between the knots, from the written file at 1 kHz */
-      char csv[] = "/tmp/ea_sweep_XXXXXX";
-      const int fd = mkstemp(csv);
-      ea_traj_t back = {0};
-      if (fd >= 0) close(fd);
-      const int io = ok && fd >= 0 && !ea_traj_write(&tr, csv, &e) && !ea_traj_read(&back, csv, &e);
-      if (fd >= 0) remove(csv);
-      if (ok && !io) ok = 0;
-      if (ok) {
-        ea_chk_t c;
-        const double w = ea_chk_traj(&t, &back, 1000.0, &c);
-        chk_worst = fmax(chk_worst, w);
-        th_dev = fmax(th_dev, c.th_dev);
-        if (w > EA_SWEEP_LIMIT_TOL) {
-          ok = 0;
-          ea_chk_print("limits re-checked at 1 kHz", &c);
-        }
+      if (ok && !ea_sweep_file(&t, &tr, &chk_worst, &th_dev)) {
+        ok = 0;
+        why = "limits re-checked at 1 kHz from the written file";
       }
-      ea_traj_free(&back);
       ea_traj_free(&tr);
+      if (ok && path == EA_TASK_PATH_LINE)
+        ea_sweep_replan(pl, &t, 0xD1B54A32D192ED03ULL ^ (unsigned long long)i, &rp);
       tmax = fmax(tmax, info.time_total_s);
       if (info.between_passes) ++n_between;
       iters += info.iterations;
@@ -161,7 +232,17 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
   ea_test_true(chk_worst <= EA_SWEEP_LIMIT_TOL, what);
   ea_test_true(planned >= n / 3, "sweep: at least a third of the pairs are feasible and planned");
   ea_test_true(outside_reported == n / 10, "sweep: every goal beyond the edge reported");
-  return failures;
+  if (path == EA_TASK_PATH_LINE) {
+    snprintf(what, sizeof what,
+             "replan sweep (each planned line's goal moved up to 5 mm / 0.01 rad): %d replans, "
+             "%d by the active-set Newton, %d by Ipopt, %d infeasible both warm and cold, %d "
+             "failures; worst duration vs cold %.2g (1e-6); worst relative excess from the "
+             "files %.3g (tolerance %.0e)",
+             rp.n, rp.newton, rp.ipopt, rp.both_infeasible, rp.failures, rp.worst_dur,
+             rp.worst_excess, EA_SWEEP_LIMIT_TOL);
+    ea_test_true(rp.failures == 0 && rp.n > 0 && rp.worst_excess <= EA_SWEEP_LIMIT_TOL, what);
+  }
+  return failures + rp.failures;
 }
 
 #ifndef EA_SWEEP_NO_MAIN
