@@ -540,8 +540,20 @@ for c in "goal moved 1 mm" "goal moved 5 mm" "goal moved 20 mm" "start moved 5 m
   "cable speed limit -10 %"; do
   bc=$c
   [ "$c" = "payload +5 %" ] && bc="payload +5 % (factor 0.2 -> 0.21)"
-  pub "bench/bench_plan (replanning a live planner)" README.md "| $c | {} | {} |" \
-    "$(iters "$bc: replan")" "$(iters "$bc: cold")"
+  # the Newton's steps where its point was taken, else what it did ("gave up", "not tried")
+  nw=$(awk -v c="$bc: replan" 'index($0, c) == 1 { f = 1; next }
+    f { sub(/.*active-set Newton: /, ""); sub(/ steps.*/, ""); sub(/, Ipopt.*/, ""); print; exit }' \
+    "$R/bench_plan.out")
+  case $nw in
+  *[!0-9]*)
+    pub "bench/bench_plan (replanning a live planner)" README.md "| $c | $nw | {} | {} |" \
+      "$(iters "$bc: replan")" "$(iters "$bc: cold")"
+    ;;
+  *)
+    pub "bench/bench_plan (replanning a live planner)" README.md "| $c | {} | {} | {} |" \
+      "$nw" "$(iters "$bc: replan")" "$(iters "$bc: cold")"
+    ;;
+  esac
 done
 pub "bench/bench_plan (Hessian modes)" docs/planner.md 'statics curvature left out | {} it, {*}-{*} ms / {*}-{*} ms |' \
   "$(iters "cold, partial Hessian (default)")"
@@ -632,6 +644,17 @@ pub "tests/test_plan_sweep (free and line paths)" docs/planner.md \
 pub "tests/test_plan_sweep (line paths)" docs/planner.md \
   'infeasible, {} failures, {} Ipopt iterations in all, worst relative excess {}.' "$9" "${10}" \
   "$(sci %.1e "${11}")"
+# the line sweep's replans: replans, by the Newton, by Ipopt, failures, worst duration vs cold
+rps=$(awk '/replan sweep \(/ { n = split($0, w, /[ ;(),:]+/)
+    for (i = 1; i <= n; i++) { if (w[i + 1] == "replans") a = w[i]; if (w[i + 1] == "by" && w[i + 2] == "the") b = w[i]
+      if (w[i + 1] == "by" && w[i + 2] == "Ipopt") c = w[i]; if (w[i + 1] == "failures") d = w[i]
+      if (w[i] == "cold" && w[i - 1] == "vs") e = w[i + 1] }; print a, b, c, d, e; exit }' \
+  "$R/test_plan_sweep.out")
+set -- $rps
+pub "tests/test_plan_sweep (line replans)" docs/planner.md \
+  'up to 5 mm and 0.01 rad: {} replans, {} by the active-set Newton, {} by Ipopt, {}' "$1" "$2" "$3" "$4"
+pub "tests/test_plan_sweep (line replans)" docs/planner.md \
+  'failures, durations as cold plans'"'"' within {}, every limit from the written files.' "$(sci %.1e "$5")"
 set -- $(dyn 100 knots) $(dyn 400 knots)
 pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
   'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \
