@@ -247,7 +247,7 @@ mask_times() {
     if (n >= 10 && a[n] ~ /^[0-9.]+$/ && a[n - 6] ~ /^[0-9]+$/ && a[n - 7] ~ /^[0-9]+$/)
       for (i = n - 5; i < n; i++) a[i] = "*"
     if ($0 ~ /\(per iteration\)/) a[1] = "*"
-    if ($0 ~ /\(ea_planner_update [0-9.]+ ms\)/) a[2] = "*"
+    if ($0 ~ /\(ea_planner_update [0-9.]+ ms[;)]/) a[2] = "*"
     o = a[1]; for (i = 2; i <= n; i++) o = o " " a[i]; print o }'
 }
 block() {
