@@ -2,9 +2,11 @@
  * a nearby solution's active set (its multipliers against its gaps), Newton on the KKT system
  * of that set (the stationarity of the free variables, the active rows at their bounds), the
  * set corrected by the signs of the multipliers and the rows' values (a primal-dual active-set
- * step), until it stops changing. The KKT matrix [H J_A'; J_A 0] is sparse, symmetric and
- * indefinite; it is factored by KLU (SuiteSparse: BTF + AMD ordering, LU with partial pivoting)
- * in a fraction of a millisecond, where an Ipopt iteration through MUMPS costs 2-3 ms.
+ * step), until it stops changing. The KKT matrix [H J_A'; J_A -dreg I] (the rows regularised:
+ * a minimum-time plan's active rows are linearly dependent) is sparse, symmetric and
+ * indefinite; it is factored by KLU (SuiteSparse: BTF + AMD ordering, LU with a pivot
+ * threshold of 1e-8, i.e. the ordering's diagonal pivots) in a fraction of a millisecond, where
+ * an Ipopt iteration through MUMPS costs 2-3 ms.
  *
  * It returns a candidate: the caller verifies the KKT conditions of the whole problem (every
  * row, bound and sign) before it takes it, and otherwise solves with Ipopt. Calls nothing
