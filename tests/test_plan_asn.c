@@ -69,14 +69,8 @@ static Bool hess(Index n, Number *x, Bool new_x, Number of, Index m, Number *lam
 
 int main(void) {
   const double m = 1e-9, inf = 1e19;
-  ea__asn_nlp_t p = {.grad_f = grad_f,
-                     .g = eval_g,
-                     .jac = jac,
-                     .h = hess,
-                     .ptol = 1e-12,
-                     .dtol = 1e-12,
-                     .margin = m,
-                     .dreg = 1e-4};
+  ea__asn_nlp_t p = {.grad_f = grad_f, .g = eval_g, .jac = jac, .h = hess};
+  const ea__asn_tol_t tol = {.ptol = 1e-12, .dtol = 1e-12, .margin = m};
   char msg[200];
   int it;
 
@@ -91,7 +85,7 @@ int main(void) {
     ea__asn_t *a = ea__asn_alloc(&p);
     const double s = sqrt(0.5), xref[2] = {s, s}, gref[2] = {1.0, 2.0};
     double x[2] = {0.69, 0.73}, mg[2] = {0.3, 0.1}, ml[2] = {0, 0}, mu[2] = {0, 0};
-    const int rc = a ? ea__asn_solve(a, xref, gref, x, mg, ml, mu, &it) : -2;
+    const int rc = a ? ea__asn_solve(a, &tol, xref, gref, x, mg, ml, mu, &it) : -2;
     const double want = sqrt(0.5 * (1.0 - m));
     snprintf(msg, sizeof msg, "disc, row twice: rc %d after %d steps, x = (%.15g, %.15g)", rc, it,
              x[0], x[1]);
@@ -115,7 +109,7 @@ int main(void) {
     ea__asn_t *a = ea__asn_alloc(&p);
     const double xref[2] = {0.0, 0.0}, gref[1] = {0.0};
     double x[2] = {0.0, 0.0}, mg[1] = {0}, ml[2] = {0, 0}, mu[2] = {0, 0};
-    const int rc = a ? ea__asn_solve(a, xref, gref, x, mg, ml, mu, &it) : -2;
+    const int rc = a ? ea__asn_solve(a, &tol, xref, gref, x, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg, "bound found: rc %d after %d steps, x = (%.15g, %.15g)", rc, it, x[0],
              x[1]);
     ea_test_true(rc == 0, msg);
@@ -136,7 +130,7 @@ int main(void) {
     ea__asn_t *a = ea__asn_alloc(&p);
     const double xref[1] = {0.5}, gref[2] = {0.5, 0.5};
     double x[1] = {0.5}, mg[2] = {0, 0}, ml[1] = {0}, mu[1] = {0};
-    const int rc = a ? ea__asn_solve(a, xref, gref, x, mg, ml, mu, &it) : -2;
+    const int rc = a ? ea__asn_solve(a, &tol, xref, gref, x, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg, "contradictory rows: no candidate (rc %d, want -1)", rc);
     ea_test_true(rc == -1, msg);
     ea__asn_free(a);

@@ -19,11 +19,18 @@
 #include <string.h>
 
 /* Newton iterations per active set, active-set changes. */
+/* The active rows' diagonal in the KKT matrix (their fixed points are KKT points all the same:
+ * it only steers the steps). On the paper line 1e-10 .. 1e-6 multiplied the stationarity
+ * residual of the first step from a replan's prediction by 10^2 .. 10^5 (the redundant rows of
+ * a bang-bang plan's active set are inconsistent to first order away from the solution); with
+ * 1e-4 it converges in 3 steps to the rows' rounding floor (1.1e-10). */
+#define EA__ASN_DREG 1e-4
 #define EA__ASN_NEWTON 6
 #define EA__ASN_SWAPS 2
 
 struct ea__asn {
   ea__asn_nlp_t p;
+  ea__asn_tol_t tol;  /* the current solve's */
   int *act_x, *act_g; /* -1 lower, +1 upper, 0 free / inactive, 2 fixed / equality */
   int *kx, *kg;       /* KKT index of a free variable / an active row (-1: none) */
   int nk, nnz_k;
@@ -106,7 +113,7 @@ static int ea__asn_pattern(ea__asn_t *a) {
   for (int pass = 0; pass < 2; ++pass) {
     memset(a->cnt, 0, sizeof(int) * (size_t)(nk + 1));
     if (pass == 1) memcpy(a->cnt, a->Ap, sizeof(int) * (size_t)nk);
-    for (int k = 0; k < nk; ++k) /* every diagonal (the regularisation) */
+    for (int k = 0; k < nk; ++k) /* every diagonal: the rows' regularisation, the Hessian's own */
       ea__asn_entry(a, k, k, pass ? &a->pd[k] : NULL);
     for (int e = 0; e < p->nnz_h; ++e) {
       const int i = a->kx[p->hrow[e]], j = a->kx[p->hcol[e]];
@@ -164,7 +171,7 @@ static int ea__asn_eval(ea__asn_t *a, double *x, int hess) {
 static double ea__asn_target(const ea__asn_t *a, int i) {
   const int s = a->act_g[i];
   const double b = s < 0 ? a->p.gl[i] : a->p.gu[i];
-  return s == 2 ? b : b - s * a->p.margin * fmax(1.0, fabs(b));
+  return s == 2 ? b : b - s * a->tol.margin * fmax(1.0, fabs(b));
 }
 
 /* Newton on the current active set from x (the active bounds already on x) with lam; 0 when
@@ -173,6 +180,7 @@ static double ea__asn_target(const ea__asn_t *a, int i) {
  * point), -1 when it failed. */
 static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
   const ea__asn_nlp_t *p = &a->p;
+  const ea__asn_tol_t *tl = &a->tol;
   double first = INFINITY, rp_prev = INFINITY;
   for (int it = 0;; ++it) {
     if (ea__asn_eval(a, x, 1)) return -1;
@@ -181,11 +189,11 @@ static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
       if (a->kx[i] >= 0) rd = fmax(rd, fabs(a->r[i]));
     for (int i = 0; i < p->m; ++i)
       if (a->kg[i] >= 0) rp = fmax(rp, fabs(a->g[i] - ea__asn_target(a, i)));
-    if (rp <= p->ptol && rd <= p->dtol) return 0;
+    if (rp <= tl->ptol && rd <= tl->dtol) return 0;
     /* stationary, but the rows stay off their bounds: the set is inconsistent */
-    if (rd <= p->dtol && rp > 0.5 * rp_prev) return 1;
+    if (rd <= tl->dtol && rp > 0.5 * rp_prev) return 1;
     rp_prev = rp;
-    const double res = rp / p->ptol + rd / p->dtol;
+    const double res = rp / tl->ptol + rd / tl->dtol;
     if (it == 0) first = res;
     if (it == EA__ASN_NEWTON || !(res < 1e3 * first)) return -1;
     /* K [dx; dlam] = -[r_free; g_A - b_A] */
@@ -195,9 +203,7 @@ static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
       if (a->ph[1][e] >= 0) a->Ax[a->ph[1][e]] += a->hv[e];
     }
     for (int i = 0; i < p->m; ++i)
-      if (a->kg[i] >= 0) a->Ax[a->pd[a->kg[i]]] = -a->p.dreg;
-    for (int i = 0; i < p->n; ++i)
-      if (a->kx[i] >= 0) a->Ax[a->pd[a->kx[i]]] += a->p.preg;
+      if (a->kg[i] >= 0) a->Ax[a->pd[a->kg[i]]] = -EA__ASN_DREG;
     for (int e = 0; e < p->nnz_j; ++e) {
       if (a->pj[0][e] >= 0) a->Ax[a->pj[0][e]] += a->jv[e];
       if (a->pj[1][e] >= 0) a->Ax[a->pj[1][e]] += a->jv[e];
@@ -219,9 +225,10 @@ static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
   }
 }
 
-int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double *x, double *mult_g,
-                  double *mult_xl, double *mult_xu, int *iters) {
+int ea__asn_solve(ea__asn_t *a, const ea__asn_tol_t *tol, const double *x_ref, const double *g_ref,
+                  double *x, double *mult_g, double *mult_xl, double *mult_xu, int *iters) {
   const ea__asn_nlp_t *p = &a->p;
+  a->tol = *tol;
   *iters = 0;
   /* the active set of the nearby solution: a multiplier larger than its gap */
   for (int i = 0; i < p->n; ++i) {
@@ -249,7 +256,7 @@ int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double
         x[i] = p->xu[i];
       else if (a->act_x[i]) {
         const double b = a->act_x[i] > 0 ? p->xu[i] : p->xl[i];
-        x[i] = b - a->act_x[i] * p->margin * fmax(1.0, fabs(b));
+        x[i] = b - a->act_x[i] * tol->margin * fmax(1.0, fabs(b));
       }
     if (ea__asn_pattern(a)) return -1;
     const int nw = ea__asn_newton(a, x, iters);
@@ -257,17 +264,17 @@ int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double
     /* signs and the rows and bounds outside the set (a->r, a->g are at x); a multiplier of
      * the wrong sign but below 1e-3 dtol stays (degenerate: at its bound with nothing to
      * hold), reported as 0 */
-    const double tiny = 1e-3 * p->dtol;
+    const double tiny = 1e-3 * tol->dtol;
     int changed = 0;
     for (int i = 0; i < p->m; ++i) {
       const int s = a->act_g[i];
       if ((s == -1 && a->lam[i] > tiny) || (s == 1 && a->lam[i] < -tiny) ||
-          (nw == 1 && s == -1 && a->g[i] > p->gl[i] + p->ptol) ||
-          (nw == 1 && s == 1 && a->g[i] < p->gu[i] - p->ptol)) {
+          (nw == 1 && s == -1 && a->g[i] > p->gl[i] + tol->ptol) ||
+          (nw == 1 && s == 1 && a->g[i] < p->gu[i] - tol->ptol)) {
         a->act_g[i] = 0, a->lam[i] = 0.0, changed = 1; /* leaves the set */
-      } else if (s == 0 && a->g[i] < p->gl[i] - p->ptol) {
+      } else if (s == 0 && a->g[i] < p->gl[i] - tol->ptol) {
         a->act_g[i] = -1, changed = 1;
-      } else if (s == 0 && a->g[i] > p->gu[i] + p->ptol) {
+      } else if (s == 0 && a->g[i] > p->gu[i] + tol->ptol) {
         a->act_g[i] = 1, changed = 1;
       }
     }

@@ -5,8 +5,7 @@
 #include <coin/IpStdCInterface.h>
 
 /** The NLP as Ipopt sees it: sizes, bounds, the Jacobian's and the Hessian's (lower triangle)
- *  structures, the callbacks and their user data, and the tolerances of a converged point
- *  (rows at their bounds within ptol, stationarity within dtol, both unscaled). */
+ *  structures, the callbacks and their user data. */
 typedef struct ea__asn_nlp {
   int n, m, nnz_j, nnz_h;
   const double *xl, *xu, *gl, *gu;
@@ -16,13 +15,15 @@ typedef struct ea__asn_nlp {
   Eval_Jac_G_CB jac;
   Eval_H_CB h;
   void *ud;
-  double ptol, dtol;
-  double margin;     /* active inequality rows and bounds are held this far inside (relative to
-                        max(1, |bound|)), as an interior point's solution is: the plan is then
-                        strictly admissible, not at its limits to within rounding */
-  double preg, dreg; /* KKT matrix regularisation: + preg on the free variables' diagonal, -dreg
-                        on the active rows' (their fixed points are KKT points all the same) */
 } ea__asn_nlp_t;
+
+/** What a converged point is (the caller's solver settings, given at every solve): rows at
+ *  their bounds within ptol, stationarity within dtol (both unscaled); active inequality rows
+ *  and bounds held margin inside (relative to max(1, |bound|)), as an interior point's
+ *  solution is: the plan is then strictly admissible, not at its limits to within rounding. */
+typedef struct ea__asn_tol {
+  double ptol, dtol, margin;
+} ea__asn_tol_t;
 
 typedef struct ea__asn ea__asn_t;
 
@@ -35,7 +36,7 @@ void ea__asn_free(ea__asn_t *a);
  *  a candidate KKT point (for the caller to verify); -1: no candidate (singular KKT matrix,
  *  no convergence, the set kept changing; x and the multipliers are then undefined).
  *  *iters: Newton steps taken. */
-int ea__asn_solve(ea__asn_t *a, const double *x_ref, const double *g_ref, double *x, double *mult_g,
-                  double *mult_xl, double *mult_xu, int *iters);
+int ea__asn_solve(ea__asn_t *a, const ea__asn_tol_t *tol, const double *x_ref, const double *g_ref,
+                  double *x, double *mult_g, double *mult_xl, double *mult_xu, int *iters);
 
 #endif

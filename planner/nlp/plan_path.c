@@ -826,25 +826,18 @@ static int ea__pp_newton_start(ea_planner_t *pl, int *steps) {
                                .g = ea__pp_cb_g,
                                .jac = ea__pp_cb_jac,
                                .h = ea__pp_cb_h,
-                               .ud = pl,
-                               /* 0.2 of the KKT test's primal tolerance (the rows'
-                                * rounding floor after the Newton is ~1.1e-10), inside a
-                                * margin of that tolerance; 1e-1 of its dual one;
-                                * rows regularised by 1e-4 (1e-10 .. 1e-6: the first step
-                                * from a replan's prediction multiplied the stationarity
-                                * residual by 10^2 .. 10^5, the redundant rows of a
-                                * bang-bang plan's active set being inconsistent to first
-                                * order) */
-                               .ptol = 0.2 * fmax(1e-9, t->solver.constr_tol),
-                               .margin = fmax(1e-9, t->solver.constr_tol),
-                               .dtol = 1e-1 * t->solver.tol,
-                               .preg = 0.0,
-                               .dreg = 1e-4};
+                               .ud = pl};
     if (!(pp->asn = ea__asn_alloc(&nlp))) return 0;
   }
+  /* the task's tolerances (ea_planner_update may change them): 0.2 of the KKT test's primal
+   * one (the rows' rounding floor after the Newton is ~1.1e-10), inside a margin of that
+   * tolerance; 1e-1 of its dual one */
+  const ea__asn_tol_t tol = {.ptol = 0.2 * fmax(1e-9, t->solver.constr_tol),
+                             .dtol = 1e-1 * t->solver.tol,
+                             .margin = fmax(1e-9, t->solver.constr_tol)};
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
-  if (!ea__asn_solve(pp->asn, pp->x_sol, pp->g_sol, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu,
-                     steps) &&
+  if (!ea__asn_solve(pp->asn, &tol, pp->x_sol, pp->g_sol, pp->x, pp->mult_g, pp->mult_xl,
+                     pp->mult_xu, steps) &&
       ea__pp_kkt_ok(pl))
     return 1;
   memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);

@@ -913,7 +913,7 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
        info->ipopt_status == Restoration_Failed))
     return ea__duration_probe(pl, info, err);
   if (st || pl->task.solver.derivative_test) return st;
-  int iters = info->iterations, pass = 0;
+  int iters = info->iterations, newton = info->newton_steps, pass = 0;
   double tt = info->time_total_s, worst = -INFINITY;
   char msg[160] = "";
   for (;; ++pass) {
@@ -925,6 +925,7 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
       pl->have_solution = 0;
       info->status = EA_ERR_NOCONV;
       info->iterations = iters;
+      info->newton_steps = newton;
       info->time_total_s = tt;
       info->between_passes = pass;
       snprintf(info->message, sizeof info->message,
@@ -937,6 +938,7 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
     pl->refining = 1;
     st = ea__plan_solve_once(pl, EA_PLAN_WARM, NULL, info, err);
     iters += info->iterations;
+    newton += info->newton_steps;
     tt += info->time_total_s;
     if (st) { /* from the tightened problem's cold guess */
       st = ea__plan_solve_once(pl, EA_PLAN_COLD, NULL, info, err);
@@ -946,12 +948,14 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
     pl->refining = 0;
     if (st) {
       info->iterations = iters;
+      info->newton_steps = newton;
       info->time_total_s = tt;
       info->between_passes = pass + 1;
       return st;
     }
   }
   info->iterations = iters;
+  info->newton_steps = newton;
   info->time_total_s = tt;
   info->between_passes = pass;
   if (pass)
