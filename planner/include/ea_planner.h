@@ -48,6 +48,10 @@ typedef struct ea_plan_info {
   int newton_steps;            /**< active-set Newton steps of warm starts (the path transcription's
                                     replans, docs/planner.md): with 0 iterations its point was the plan,
                                     else it gave up and Ipopt solved; 0: not tried */
+  int ipopt_rows;              /**< rows Ipopt's last solve had (the path transcription leaves out the
+                                    inequality rows far inside their limits, docs/planner.md); 0: no
+                                    Ipopt solve */
+  int screen_resolves;         /**< Ipopt solves repeated because a left-out row reached its limit */
   int n_var, n_con, nnz_jac;   /**< problem size */
   double objective;            /**< final objective value */
   double duration_s;           /**< [s] t_f */

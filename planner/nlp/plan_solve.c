@@ -914,6 +914,7 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
     return ea__duration_probe(pl, info, err);
   if (st || pl->task.solver.derivative_test) return st;
   int iters = info->iterations, newton = info->newton_steps, pass = 0;
+  int resolves = info->screen_resolves;
   double tt = info->time_total_s, worst = -INFINITY;
   char msg[160] = "";
   for (;; ++pass) {
@@ -926,6 +927,7 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
       info->status = EA_ERR_NOCONV;
       info->iterations = iters;
       info->newton_steps = newton;
+      info->screen_resolves = resolves;
       info->time_total_s = tt;
       info->between_passes = pass;
       snprintf(info->message, sizeof info->message,
@@ -939,16 +941,19 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
     st = ea__plan_solve_once(pl, EA_PLAN_WARM, NULL, info, err);
     iters += info->iterations;
     newton += info->newton_steps;
+    resolves += info->screen_resolves;
     tt += info->time_total_s;
     if (st) { /* from the tightened problem's cold guess */
       st = ea__plan_solve_once(pl, EA_PLAN_COLD, NULL, info, err);
       iters += info->iterations;
+      resolves += info->screen_resolves;
       tt += info->time_total_s;
     }
     pl->refining = 0;
     if (st) {
       info->iterations = iters;
       info->newton_steps = newton;
+      info->screen_resolves = resolves;
       info->time_total_s = tt;
       info->between_passes = pass + 1;
       return st;
@@ -956,6 +961,7 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
   }
   info->iterations = iters;
   info->newton_steps = newton;
+  info->screen_resolves = resolves;
   info->time_total_s = tt;
   info->between_passes = pass;
   if (pass)
@@ -1253,6 +1259,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     if (st) return ea__solve_abort(pl, info, st, t0, err);
     char tmpl[64] = "";
     ea__solve_options(pl, warm, replan, tmpl);
+    info->ipopt_rows = pl->m;
     rs = ea__solve_ipopt(pl, start, warm, &obj, &iters, &t_ipopt);
     if (pl->task.solver.derivative_test) {
       AddIpoptStrOption(pl->ip, "derivative_test", "none");

@@ -1,0 +1,51 @@
+/* Private: Ipopt on an NLP whose inequality rows far inside their limits are left out
+ * (plan_screen.c). */
+#ifndef EA_PLAN_SCREEN_IMPL_H
+#define EA_PLAN_SCREEN_IMPL_H
+
+#include <coin/IpStdCInterface.h>
+
+/** The full NLP: sizes, row bounds and the Jacobian's structure (row-major: a row's entries
+ *  are contiguous and the rows in order, as the callbacks write them), the callbacks and their
+ *  user data. Its arrays are referenced, not copied. */
+typedef struct ea__screen_nlp {
+  int n, m, nnz_j, nnz_h;
+  const double *gl, *gu;
+  const int *jrow, *jcol;
+  Eval_F_CB f;
+  Eval_G_CB g;
+  Eval_Grad_F_CB grad_f;
+  Eval_Jac_G_CB jac;
+  Eval_H_CB h;
+  Intermediate_CB iter;
+  void *ud;
+} ea__screen_nlp_t;
+
+typedef struct ea__screen ea__screen_t;
+
+/** Workspace for the NLP p; NULL when out of memory or when its Jacobian is not row-major. */
+ea__screen_t *ea__screen_alloc(const ea__screen_nlp_t *p);
+void ea__screen_free(ea__screen_t *s);
+/** Keep every row except the two-sided inequality rows whose value g (the full rows at the
+ *  start point) lies within band of their half-width around their middle, and whose family
+ *  (family[i] in 0..nfam-1: rows of one limit on one coordinate; NULL: each row its own) has
+ *  no row beyond band. Returns the rows left out. */
+int ea__screen_select(ea__screen_t *s, const double *g, double band, const int *family, int nfam);
+/** Keep every row (no screening). */
+void ea__screen_all(ea__screen_t *s);
+/** Rows left out whose value g (the full rows at a solution of the screened NLP) is not
+ *  strictly inside band of their half-width join the kept ones. Returns how many joined: 0
+ *  means that solution is one of the full NLP too, its left-out rows inactive. */
+int ea__screen_grow(ea__screen_t *s, const double *g, double band);
+/** Rows kept. */
+int ea__screen_rows(const ea__screen_t *s);
+/** Ipopt's problem of the kept rows (xl, xu: the variable bounds, referenced by Ipopt for the
+ *  solve); its callbacks pass the full NLP's user data on. NULL on failure. */
+IpoptProblem ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu);
+/** IpoptSolve on that problem with the full NLP's rows: g and mult_g (in: the start's
+ *  multipliers; out: the solution's, 0 for the rows left out) have m entries. */
+enum ApplicationReturnStatus ea__screen_solve(ea__screen_t *s, IpoptProblem ip, double *x,
+                                              double *g, double *obj, double *mult_g,
+                                              double *mult_xl, double *mult_xu);
+
+#endif
