@@ -114,8 +114,7 @@ int main(void) {
     FreeIpoptProblem(ip);
     snprintf(msg, sizeof msg, "screened solve: status %d, x = (%.12g, %.12g) (want (3, 1/2))", rs,
              x[0], x[1]);
-    ea_test_true(rs == Solve_Succeeded && fabs(x[0] - 3.0) < 1e-8 && fabs(x[1] - 0.5) < 1e-8,
-                 msg);
+    ea_test_true(rs == Solve_Succeeded && fabs(x[0] - 3.0) < 1e-8 && fabs(x[1] - 0.5) < 1e-8, msg);
     ea_test_abs(g[2], 3.5, 1e-8, "screened solve: every row returned (x + y)");
     const int in = ea__screen_grow(s, g, 1.0 - 1e-6);
     snprintf(msg, sizeof msg, "rows 0 and 3 broken: %d join (want 2), %d kept (want 3)", in,
@@ -128,7 +127,8 @@ int main(void) {
     snprintf(msg, sizeof msg, "second solve: status %d, x = (%.12g, %.12g) (want (1, 1/2))", rs,
              x[0], x[1]);
     ea_test_true(rs == Solve_Succeeded, msg);
-    ea_test_true(x[0] <= 1.0 && x[0] > 1.0 - 1e-8, "second solve: x = 1 (row 0 at its upper limit, inside it)");
+    ea_test_true(x[0] <= 1.0 && x[0] > 1.0 - 1e-8,
+                 "second solve: x = 1 (row 0 at its upper limit, inside it)");
     ea_test_abs(x[1], 0.5, 1e-8, "second solve: y = 1/2");
     ea_test_abs(mg[0], 4.0, 1e-6, "second solve: row 0's multiplier 2 (3 - 1) = 4");
     snprintf(msg, sizeof msg, "rows left out: multipliers %g, %g (want 0)", mg[1], mg[2]);

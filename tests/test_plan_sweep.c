@@ -117,7 +117,7 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
   double tmax = 0.0, chk_worst = -INFINITY, th_dev = 0.0;
   int n_between = 0; /* plans re-solved for a limit exceeded between knots */
   int line_left = 0; /* line paths the planner reported leaving the workspace */
-  long iters = 0;
+  long iters = 0, resolves = 0;
   ea_sweep_rp_t rp = {0, 0, 0, 0, 0, 0.0, -INFINITY, 0.0};
   for (int i = 0; i < n; ++i) {
     ea_task_t t;
@@ -203,6 +203,7 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
       tmax = fmax(tmax, info.time_total_s);
       if (info.between_passes) ++n_between;
       iters += info.iterations;
+      resolves += info.screen_resolves;
       ++planned;
     }
     if (!ok) {
@@ -220,9 +221,10 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
   snprintf(what, sizeof what,
            "sweep of %d (%s paths): %d planned, %d reported infeasible (%d beyond the edge on "
            "purpose, %d lines leaving the workspace between admissible ends), %d failures; "
-           "slowest plan %.3f s; %ld Ipopt iterations in all",
+           "slowest plan %.3f s; %ld Ipopt iterations in all; %ld Ipopt solves repeated with a "
+           "left-out row at its limit",
            n, path == EA_TASK_PATH_LINE ? "line" : "free", planned, infeasible, outside_reported,
-           line_left, failures, tmax, iters);
+           line_left, failures, tmax, iters, resolves);
   ea_test_true(failures == 0, what);
   snprintf(what, sizeof what,
            "sweep: every limit re-checked from the written files at 1 kHz: worst relative "

@@ -44,18 +44,18 @@ typedef struct ea_plan_info {
   ea_status_t status; /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
   int ipopt_status;   /**< raw Ipopt ApplicationReturnStatus */
   char ipopt_status_name[48];
-  int iterations;              /**< Ipopt iterations */
-  int newton_steps;            /**< active-set Newton steps of warm starts (the path transcription's
-                                    replans, docs/planner.md): with 0 iterations its point was the plan,
-                                    else it gave up and Ipopt solved; 0: not tried */
-  int ipopt_rows;              /**< rows Ipopt's last solve had (the path transcription leaves out the
-                                    inequality rows far inside their limits, docs/planner.md); 0: no
-                                    Ipopt solve */
-  int screen_resolves;         /**< Ipopt solves repeated because a left-out row reached its limit */
-  int n_var, n_con, nnz_jac;   /**< problem size */
-  double objective;            /**< final objective value */
-  double duration_s;           /**< [s] t_f */
-  double min_tension_margin_N; /**< [N] min_k T_k - tension_min */
+  int iterations;            /**< Ipopt iterations */
+  int newton_steps;          /**< active-set Newton steps of warm starts (the path transcription's
+                                  replans, docs/planner.md): with 0 iterations its point was the plan,
+                                  else it gave up and Ipopt solved; 0: not tried */
+  int ipopt_rows;            /**< rows Ipopt's last solve had (the path transcription leaves out the
+                                  inequality rows far inside their limits, docs/planner.md); 0: no
+                                  Ipopt solve */
+  int screen_resolves;       /**< Ipopt solves repeated because a left-out row reached its limit */
+  int n_var, n_con, nnz_jac; /**< problem size */
+  double objective;          /**< final objective value */
+  double duration_s;         /**< [s] t_f */
+  double min_tension_margin_N;    /**< [N] min_k T_k - tension_min */
   double peak_shoulder_torque_Nm; /**< [N m] max_k |EI kappa0_k| */
   double max_statics_residual;    /**< max-norm of the statics residual at the knots */
   double max_violation;           /**< largest bound or constraint violation at the final point */

@@ -106,6 +106,9 @@ struct ea_planner {
   ea__row_t *rows;
   int *irow, *jcol;
   IpoptProblem ip;
+  struct ea__screen *scr; /* Ipopt's rows of the next solve (plan_screen.c) */
+  int *rfam, nfam;        /* m: each row's family for it (ea__plan_row_families) */
+  double *xstart;         /* n: the start of a solve (a screened solve's second round) */
   /* frequency model (NULL when the task needs none) */
   ea__freq_model_t *fm;
   /* reduced dynamic model (NULL when the task has no dynamics; plan_dyn.c) */
@@ -204,6 +207,10 @@ void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, 
 /** Shoot every knot at x with sensitivities (sens is kept for the callers'
  *  intent; a knot whose p is unchanged is not shot again). */
 ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens);
+/** The rows' families (m): one limit of one coordinate (an interval's start and end rows of
+ *  a limit together), for leaving rows out of Ipopt's problem (plan_screen.c); returns the
+ *  number of families. */
+int ea__plan_row_families(const ea__row_t *rows, int m, int *fam);
 /** Constraint values at x into g (m). */
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g);
 /** Jacobian: structure (values NULL) or values (irow/jcol NULL). Returns nnz. */

@@ -213,6 +213,17 @@ ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g) {
   return EA_OK;
 }
 
+int ea__plan_row_families(const ea__row_t *rows, int m, int *fam) {
+  for (int i = 0; i < m; ++i) {
+    const ea__row_t *r = &rows[i];
+    const int k = r->kind == EA__ROW_ACC_END    ? EA__ROW_ACC_START
+                  : r->kind == EA__ROW_DEFL_END ? EA__ROW_DEFL_START
+                                                : r->kind;
+    fam[i] = k * 256 + r->coord;
+  }
+  return EA__ROW_KIND_COUNT * 256;
+}
+
 int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values) {
   int nz = 0;
   int cols[EA__ROW_MAX];

@@ -69,10 +69,10 @@ struct ea__pp {
   int *rmap; /* knot planner's row of each row */
   double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
   double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol, *x0;
-  double *g_sol;  /* the rows at x_sol (the active-set Newton's gaps) */
-  ea__asn_t *asn; /* the active-set Newton of a warm start (NULL until the first) */
+  double *g_sol;     /* the rows at x_sol (the active-set Newton's gaps) */
+  ea__asn_t *asn;    /* the active-set Newton of a warm start (NULL until the first) */
   ea__screen_t *scr; /* Ipopt's rows (plan_screen.c; NULL until the first Ipopt solve) */
-  int *rfam;         /* each row's family for it: one limit of one coordinate */
+  int *rfam, nfam;   /* each row's family for it: one limit of one coordinate */
   double *xstart;    /* the start of an Ipopt solve (a screened solve's second round) */
   int have_solution;
   /* per knot of the solution: its speed along the path [m/s] and its slopes dq/dsigma (N x 4);
@@ -1022,9 +1022,9 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   pp->rmap = malloc(sizeof(int) * (size_t)pl->m);
   pp->gl = malloc(sizeof(double) * (size_t)pl->m);
   pp->gu = malloc(sizeof(double) * (size_t)pl->m);
-  double **arr[] = {&pp->x,     &pp->xl,          &pp->xu,          &pp->mult_xl, &pp->mult_xu,
-                    &pp->x_sol, &pp->mult_xl_sol, &pp->mult_xu_sol, &pp->x0,      &pp->xx,
-                    &pp->xstart};
+  double **arr[] = {&pp->x,       &pp->xl,    &pp->xu,          &pp->mult_xl,
+                    &pp->mult_xu, &pp->x_sol, &pp->mult_xl_sol, &pp->mult_xu_sol,
+                    &pp->x0,      &pp->xx,    &pp->xstart};
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
     *arr[i] = calloc(n, sizeof(double));
   if (!pp->ssig || !pp->sp || !pp->sdp || !pp->kidx || !pp->kkind || !pp->kcoord || !pp->kknot ||
@@ -1137,27 +1137,13 @@ static void ea__pp_reduce(ea_planner_t *pl, const double *xk, double *xs) {
   if (pl->has_tf) xs[pp->itf] = xk[EA__ITF(pl)];
 }
 
-/* Ipopt's rows (plan_screen.c): a row is left out when its value at the start lies within
- * EA__PP_SCREEN_BAND of its half-width around its middle; a solution is one of the full problem
- * when every row left out is within EA__PP_SCREEN_HOLD (strictly inside its limits: an
- * interior point holds its active rows ~1e-9 inside, a row that would be active comes out at
- * or beyond its limit without its barrier). Measured (bench_plan, docs/planner.md): the
- * paper line's Ipopt sees 413 of 692 rows, ~30 % less time per iteration, the same
- * iterations and plan. */
-#define EA__PP_SCREEN_BAND 0.5
-#define EA__PP_SCREEN_HOLD (1.0 - 1e-6)
-#define EA__PP_FAMILY(kind, coord) ((kind) * 256 + (coord))
-
+/* Ipopt's rows (plan_screen.c, EA__SCREEN_BAND and EA__SCREEN_HOLD there). Measured
+ * (bench_plan, docs/planner.md): the paper line's Ipopt sees 493 of 692 rows, the same
+ * iterations and plan in less time per iteration. */
 static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
   if (!(pp->rfam = malloc(sizeof(int) * (size_t)(pp->m + 1)))) return NULL;
-  for (int i = 0; i < pp->m; ++i) {
-    const ea__row_t *r = &pp->rows[i];
-    const int k = r->kind == EA__ROW_ACC_END    ? EA__ROW_ACC_START
-                  : r->kind == EA__ROW_DEFL_END ? EA__ROW_DEFL_START
-                                                : r->kind;
-    pp->rfam[i] = EA__PP_FAMILY(k, r->coord);
-  }
+  pp->nfam = ea__plan_row_families(pp->rows, pp->m, pp->rfam);
   const ea__screen_nlp_t nlp = {.n = pp->n,
                                 .m = pp->m,
                                 .nnz_j = pp->nnz,
@@ -1390,8 +1376,8 @@ static void ea__pp_run(ea_planner_t *pl, int warm, int replan, ea_plan_start_t s
     AddIpoptStrOption(pp->ip, "mu_strategy", mono ? "monotone" : "adaptive");
     if (mono) AddIpoptNumOption(pp->ip, "mu_init", traj_exact ? 1e-7 : 1e-4);
     pp->iter = 0;
-    *rs = ea__screen_solve(pp->scr, pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl,
-                           pp->mult_xu);
+    *rs =
+        ea__screen_solve(pp->scr, pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl, pp->mult_xu);
     *iters += pp->iter;
     if (!mono || *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level ||
         *rs == User_Requested_Stop)
@@ -1482,8 +1468,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     if (pl->task.solver.derivative_test || !ea__pp_cb_g(pp->n, pp->x, TRUE, pp->m, pp->g, pl))
       ea__screen_all(pp->scr);
     else
-      ea__screen_select(pp->scr, pp->g, EA__PP_SCREEN_BAND, pp->rfam,
-                        EA__PP_FAMILY(EA__ROW_KIND_COUNT, 0));
+      ea__screen_select(pp->scr, pp->g, EA__SCREEN_BAND, pp->rfam, pp->nfam);
     memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x);
     for (int round = 0;; ++round) {
       if (round) {
@@ -1499,7 +1484,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       info->ipopt_rows = ea__screen_rows(pp->scr);
       ea__pp_run(pl, warm, replan, start, traj_exact, round ? NULL : tmpl, rs, obj, iters);
       if (!(*rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level)) break;
-      if (!ea__screen_grow(pp->scr, pp->g, EA__PP_SCREEN_HOLD)) break;
+      if (!ea__screen_grow(pp->scr, pp->g, EA__SCREEN_HOLD)) break;
       info->screen_resolves++;
     }
   }

@@ -18,8 +18,8 @@
 
 struct ea__screen {
   ea__screen_nlp_t p;
-  int ms, nnz_s;               /* kept rows, their Jacobian entries */
-  unsigned char *keep;         /* m */
+  int ms, nnz_s;                /* kept rows, their Jacobian entries */
+  unsigned char *keep;          /* m */
   int *rsub, *joff, *irs, *jcs; /* kept row -> row (ms); row -> first entry (m + 1); structure */
   double *gls, *gus, *gfull, *jfull, *lfull, *msub, *gsub;
 };
@@ -42,8 +42,8 @@ ea__screen_t *ea__screen_alloc(const ea__screen_nlp_t *p) {
   s->gfull = malloc(sizeof(double) * m), s->jfull = malloc(sizeof(double) * nz);
   s->lfull = malloc(sizeof(double) * m), s->msub = malloc(sizeof(double) * m);
   s->gsub = malloc(sizeof(double) * m);
-  if (!s->keep || !s->rsub || !s->joff || !s->irs || !s->jcs || !s->gls || !s->gus ||
-      !s->gfull || !s->jfull || !s->lfull || !s->msub || !s->gsub) {
+  if (!s->keep || !s->rsub || !s->joff || !s->irs || !s->jcs || !s->gls || !s->gus || !s->gfull ||
+      !s->jfull || !s->lfull || !s->msub || !s->gsub) {
     ea__screen_free(s);
     return NULL;
   }
@@ -129,7 +129,9 @@ int ea__screen_grow(ea__screen_t *s, const double *g, double band) {
   return in;
 }
 
-int ea__screen_rows(const ea__screen_t *s) { return s->ms; }
+int ea__screen_rows(const ea__screen_t *s) {
+  return s->ms;
+}
 
 static Bool ea__screen_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
   const ea__screen_t *s = ud;
@@ -183,9 +185,9 @@ static Bool ea__screen_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, 
                 values, s->p.ud);
 }
 
-static Bool ea__screen_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr,
-                               Number inf_du, Number mu, Number d_norm, Number reg,
-                               Number alpha_du, Number alpha_pr, Index ls, UserDataPtr ud) {
+static Bool ea__screen_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
+                               Number mu, Number d_norm, Number reg, Number alpha_du,
+                               Number alpha_pr, Index ls, UserDataPtr ud) {
   const ea__screen_t *s = ud;
   return s->p.iter(alg_mod, iter, obj, inf_pr, inf_du, mu, d_norm, reg, alpha_du, alpha_pr, ls,
                    s->p.ud);
@@ -193,9 +195,9 @@ static Bool ea__screen_cb_iter(Index alg_mod, Index iter, Number obj, Number inf
 
 IpoptProblem ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu) {
   const ea__screen_nlp_t *p = &s->p;
-  IpoptProblem ip = CreateIpoptProblem(
-      p->n, (double *)xl, (double *)xu, s->ms, s->gls, s->gus, s->nnz_s, p->nnz_h, 0,
-      ea__screen_cb_f, ea__screen_cb_g, ea__screen_cb_grad_f, ea__screen_cb_jac, ea__screen_cb_h);
+  IpoptProblem ip = CreateIpoptProblem(p->n, (double *)xl, (double *)xu, s->ms, s->gls, s->gus,
+                                       s->nnz_s, p->nnz_h, 0, ea__screen_cb_f, ea__screen_cb_g,
+                                       ea__screen_cb_grad_f, ea__screen_cb_jac, ea__screen_cb_h);
   if (ip && p->iter) SetIntermediateCallback(ip, ea__screen_cb_iter);
   return ip;
 }

@@ -23,6 +23,15 @@ typedef struct ea__screen_nlp {
 
 typedef struct ea__screen ea__screen_t;
 
+/** The planner's screening (docs/planner.md, "Measurements"): a two-sided row is left out when
+ *  its family's rows all lie within EA__SCREEN_BAND of their half-width around their middle at
+ *  the start; a solution is one of the full problem when every row left out lies within
+ *  EA__SCREEN_HOLD (strictly inside its limits: an interior point holds its active rows ~1e-9
+ *  inside, and a row that would be active comes out at or beyond its limit without its
+ *  barrier). */
+#define EA__SCREEN_BAND 0.5
+#define EA__SCREEN_HOLD (1.0 - 1e-6)
+
 /** Workspace for the NLP p; NULL when out of memory or when its Jacobian is not row-major. */
 ea__screen_t *ea__screen_alloc(const ea__screen_nlp_t *p);
 void ea__screen_free(ea__screen_t *s);

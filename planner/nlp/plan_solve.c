@@ -3,6 +3,7 @@
  * much). Everything is allocated in ea_planner_alloc; the callbacks do not
  * allocate. */
 #include "plan_impl.h"
+#include "plan_screen_impl.h"
 
 #include <float.h>
 #include <math.h>
@@ -18,6 +19,9 @@ const ea_task_t *ea_planner_task(const ea_planner_t *pl) {
 void ea_planner_free(ea_planner_t *pl) {
   if (!pl) return;
   if (pl->ip) FreeIpoptProblem(pl->ip);
+  ea__screen_free(pl->scr);
+  free(pl->rfam);
+  free(pl->xstart);
   ea__plan_hess_free(pl);
   ea__plan_freq_free(pl->fm);
   for (int j = 0; j < EA__DYN_MAX_MODELS; ++j)
@@ -395,9 +399,26 @@ static ea_status_t ea__ipopt_create(ea_planner_t *pl) {
   if (pl->ip) FreeIpoptProblem(pl->ip);
   pl->ip = NULL;
   if (pl->pp && !pl->pp_off) return EA_OK;
-  pl->ip = CreateIpoptProblem(pl->n, pl->xl, pl->xu, pl->m, pl->gl, pl->gu, pl->nnz,
-                              pl->hess_exact ? pl->nnz_h : 0, 0, ea__cb_f, ea__cb_g, ea__cb_grad_f,
-                              ea__cb_jac, ea__cb_h);
+  /* the rows of the next solve (plan_screen.c; every row until a solve selects them) */
+  if (!pl->scr) {
+    const ea__screen_nlp_t nlp = {.n = pl->n,
+                                  .m = pl->m,
+                                  .nnz_j = pl->nnz,
+                                  .nnz_h = pl->hess_exact ? pl->nnz_h : 0,
+                                  .gl = pl->gl,
+                                  .gu = pl->gu,
+                                  .jrow = pl->irow,
+                                  .jcol = pl->jcol,
+                                  .f = ea__cb_f,
+                                  .g = ea__cb_g,
+                                  .grad_f = ea__cb_grad_f,
+                                  .jac = ea__cb_jac,
+                                  .h = ea__cb_h,
+                                  .iter = ea__cb_iter,
+                                  .ud = pl};
+    if (!(pl->scr = ea__screen_alloc(&nlp))) return EA_ERR_NOMEM;
+  }
+  pl->ip = ea__screen_problem(pl->scr, pl->xl, pl->xu);
   if (!pl->ip) return EA_ERR_BACKEND;
   AddIpoptStrOption(pl->ip, "sb", "yes");
   AddIpoptIntOption(pl->ip, "print_level", t->solver.print_level);
@@ -425,7 +446,6 @@ static ea_status_t ea__ipopt_create(ea_planner_t *pl) {
    * scaled down by ~1/h^2, so the default 1e-8 became ~1e-6 of a limit. A
    * plan must hold its limits: no relaxation. */
   AddIpoptNumOption(pl->ip, "bound_relax_factor", 0.0);
-  SetIntermediateCallback(pl->ip, ea__cb_iter);
   return EA_OK;
 }
 
@@ -505,8 +525,11 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   ea__plan_jac(pl, pl->x, pl->irow, pl->jcol, NULL);
   pl->kkt_r = calloc((size_t)pl->n, sizeof *pl->kkt_r);
   pl->x0 = calloc((size_t)pl->n, sizeof *pl->x0);
+  pl->xstart = calloc((size_t)pl->n, sizeof *pl->xstart);
   pl->jval = calloc((size_t)pl->nnz, sizeof *pl->jval);
-  if (!pl->kkt_r || !pl->jval || !pl->x0) goto nomem;
+  if (!pl->kkt_r || !pl->jval || !pl->x0 || !pl->xstart) goto nomem;
+  if (!(pl->rfam = malloc(sizeof(int) * (size_t)(pl->m + 1)))) goto nomem;
+  pl->nfam = ea__plan_row_families(pl->rows, pl->m, pl->rfam);
   pl->hess_exact = t->solver.hessian_exact;
   if (pl->hess_exact && ea__plan_hess_setup(pl)) goto nomem;
   if (pl->hess_exact && ea__pp_supported(pl) && (st = ea__pp_alloc(pl, err))) {
@@ -1103,10 +1126,18 @@ static void ea__solve_options(ea_planner_t *pl, int warm, int replan, char tmpl[
   ea__deriv_test_options(pl->ip, pl->task.solver.derivative_test == 2 && pl->hess_exact == 1, tmpl);
 }
 
+static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_plan_start_t start,
+                                                        int warm, double mono_mu, double *obj,
+                                                        int *iters);
+
 /* Ipopt from pl->x (knot transcription); a warm start that already is the solution takes
- * no iteration. Returns Ipopt's status; *obj, *iters (every attempt) and *t_ipopt [s]. */
+ * no iteration. Ipopt sees the rows that can matter (plan_screen.c): selected at the start,
+ * and if a row left out reaches its limit at the solution, solved again from the start with
+ * it (info->screen_resolves). Returns Ipopt's status; *obj, *iters (every attempt) and
+ * *t_ipopt [s]. */
 static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_start_t start,
-                                                    int warm, double *obj, int *iters,
+                                                    int warm, int replan, char tmpl[64],
+                                                    ea_plan_info_t *info, double *obj, int *iters,
                                                     double *t_ipopt) {
   /* Barrier strategy: from a near-optimal start (a cold guess timed along
    * its path, or a previous plan) the monotone strategy with mu_init 1e-4
@@ -1119,10 +1150,6 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
    * converged in 111; 1e-2: 196 and 130; pick-place-3d 19 vs 20; measured with central-difference
    * defect Hessians, now forward: 79 and 96). */
   const double mono_mu = pl->rom ? 1e-3 : 1e-4;
-  int mono =
-      !warm && (pl->rom ? start == EA_PLAN_COLD
-                        : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
-  if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   enum ApplicationReturnStatus rs = Internal_Error;
   const double ti = ea__mono_s();
   if (warm && !pl->task.solver.derivative_test && ea__kkt_ok(pl, pl->x)) {
@@ -1131,6 +1158,45 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
     pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
   } else {
+    if (pl->task.solver.derivative_test || ea__plan_eval_g(pl, pl->x, pl->g))
+      ea__screen_all(pl->scr);
+    else
+      ea__screen_select(pl->scr, pl->g, EA__SCREEN_BAND, pl->rfam, pl->nfam);
+    memcpy(pl->xstart, pl->x, (size_t)pl->n * sizeof *pl->x);
+    for (int round = 0;; ++round) {
+      if (round) {
+        memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x);
+        if (warm) {
+          memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
+          memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
+          memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
+        }
+      }
+      if (ea__ipopt_create(pl)) break;
+      ea__solve_options(pl, warm, replan, tmpl);
+      info->ipopt_rows = ea__screen_rows(pl->scr);
+      rs = ea__solve_ipopt_run(pl, start, warm, mono_mu, obj, iters);
+      if (!(rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level) ||
+          !ea__screen_grow(pl->scr, pl->g, EA__SCREEN_HOLD))
+        break;
+      info->screen_resolves++;
+    }
+  }
+  *t_ipopt = ea__mono_s() - ti;
+  return rs;
+}
+
+/* One Ipopt solve of pl->ip from pl->x: the monotone barrier from a near-optimal start, and if
+ * it fails the adaptive one from the same start. */
+static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_plan_start_t start,
+                                                        int warm, double mono_mu, double *obj,
+                                                        int *iters) {
+  enum ApplicationReturnStatus rs = Internal_Error;
+  int mono =
+      !warm && (pl->rom ? start == EA_PLAN_COLD
+                        : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+  if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
+  {
     for (;;) {
       AddIpoptStrOption(pl->ip, "mu_strategy", mono ? "monotone" : "adaptive");
       if (mono) AddIpoptNumOption(pl->ip, "mu_init", mono_mu);
@@ -1147,7 +1213,8 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
                         mono && pl->rom && pl->M == 1 ? "mu-based" : "constant");
       AddIpoptNumOption(pl->ip, "barrier_tol_factor", mono && pl->rom ? 100.0 : 10.0);
       pl->iter = 0;
-      rs = IpoptSolve(pl->ip, pl->x, pl->g, obj, pl->mult_g, pl->mult_xl, pl->mult_xu, pl);
+      rs = ea__screen_solve(pl->scr, pl->ip, pl->x, pl->g, obj, pl->mult_g, pl->mult_xl,
+                            pl->mult_xu);
       *iters += pl->iter;
       if (!mono || rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level ||
           rs == User_Requested_Stop || pl->task.solver.derivative_test)
@@ -1157,7 +1224,6 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
       AddIpoptNumOption(pl->ip, "mu_init", 0.1);
     }
   }
-  *t_ipopt = ea__mono_s() - ti;
   return rs;
 }
 
@@ -1258,9 +1324,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
       st = ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
     if (st) return ea__solve_abort(pl, info, st, t0, err);
     char tmpl[64] = "";
-    ea__solve_options(pl, warm, replan, tmpl);
-    info->ipopt_rows = pl->m;
-    rs = ea__solve_ipopt(pl, start, warm, &obj, &iters, &t_ipopt);
+    rs = ea__solve_ipopt(pl, start, warm, replan, tmpl, info, &obj, &iters, &t_ipopt);
     if (pl->task.solver.derivative_test) {
       AddIpoptStrOption(pl->ip, "derivative_test", "none");
       if (tmpl[0]) {
