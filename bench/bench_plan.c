@@ -37,7 +37,7 @@ static void print_load(const char *when) {
 
 typedef struct {
   double total, guess, statics, ipopt, rest, iters, dur;
-  int ok, nvar, ncon;
+  int ok, nvar, ncon, nrow;
 } row_t;
 
 /* Per-phase samples of up to 64 solves. */
@@ -56,6 +56,7 @@ static void record(samples_t *S, int i, const ea_plan_info_t *info, row_t *r) {
   r->dur = info->duration_s;
   r->nvar = info->n_var;
   r->ncon = info->n_con;
+  r->nrow = info->ipopt_rows;
 }
 
 /* Medians of R samples into the row. */
@@ -91,6 +92,36 @@ static row_t run(const ea_task_t *t, int R, int warm) {
   summarize(&S, R, &r);
   ea_planner_free(pl);
   return r;
+}
+
+/* Medians of R cold solves of t with Ipopt's rows screened (*a) and with every row (*b), the
+ * two planners' solves alternating so that both see the same machine. */
+static void run_screen_pair(const ea_task_t *t, int R, row_t *a, row_t *b) {
+  samples_t Sa, Sb;
+  memset(a, 0, sizeof *a), memset(b, 0, sizeof *b);
+  a->ok = b->ok = 1;
+  if (R > 64) R = 64;
+  ea_task_t tb = *t;
+  tb.solver.screen_rows = 0;
+  ea_planner_t *pa = NULL, *pb = NULL;
+  ea_error_t e;
+  if (ea_planner_alloc(t, &pa, &e) || ea_planner_alloc(&tb, &pb, &e)) {
+    fprintf(stderr, "bench_plan: %s\n", e.msg);
+    a->ok = b->ok = 0;
+    ea_planner_free(pa);
+    return;
+  }
+  ea_plan_info_t info;
+  for (int i = 0; i < R; ++i) {
+    if (ea_planner_solve(pa, EA_PLAN_COLD, NULL, &info, &e)) a->ok = 0;
+    record(&Sa, i, &info, a);
+    if (ea_planner_solve(pb, EA_PLAN_COLD, NULL, &info, &e)) b->ok = 0;
+    record(&Sb, i, &info, b);
+  }
+  summarize(&Sa, R, a);
+  summarize(&Sb, R, b);
+  ea_planner_free(pa);
+  ea_planner_free(pb);
 }
 
 /* Median of R plans of task t started from the trajectory of a plan of
@@ -162,14 +193,14 @@ static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double
 }
 
 static void print_row(const char *name, const row_t *r) {
-  printf("%-34s %5d %5d %6.0f %9.2f %8.2f %8.2f %8.2f %7.2f %9.5f %s\n", name, r->nvar, r->ncon,
-         r->iters, 1e3 * r->total, 1e3 * r->guess, 1e3 * r->statics, 1e3 * r->ipopt, 1e3 * r->rest,
-         r->dur, r->ok ? "" : "FAILED");
+  printf("%-34s %5d %5d %6.0f %5d %9.2f %8.2f %8.2f %8.2f %7.2f %9.5f %s\n", name, r->nvar, r->ncon,
+         r->iters, r->nrow, 1e3 * r->total, 1e3 * r->guess, 1e3 * r->statics, 1e3 * r->ipopt,
+         1e3 * r->rest, r->dur, r->ok ? "" : "FAILED");
 }
 
 static void header(const char *title) {
-  printf("\n%s\n%-34s %5s %5s %6s %9s %8s %8s %8s %7s %9s\n", title, "case", "vars", "cons",
-         "iters", "total ms", "guess", "statics", "ipopt", "rest", "t_f [s]");
+  printf("\n%s\n%-34s %5s %5s %6s %5s %9s %8s %8s %8s %7s %9s\n", title, "case", "vars", "cons",
+         "iters", "rows", "total ms", "guess", "statics", "ipopt", "rest", "t_f [s]");
 }
 
 /* One refinement row: cold at-rest plan, refinement with method m and tolerance tol, then
@@ -381,8 +412,10 @@ int main(int argc, char **argv) {
   }
   printf("bench_plan: paper line (eq. 18), payload factor 0, minimum time; medians of %d\n", R);
   print_load("before");
-  printf("statics = shots with sensitivities in Ipopt's callbacks (Jacobian, Hessian), "
-         "ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
+  printf("vars, cons = the knot layout's variables and rows; rows = the rows of Ipopt's last "
+         "solve (0: none;\nthe path transcription has its own, limit rows far inside their "
+         "limits left out); statics = shots\nwith sensitivities in Ipopt's callbacks (Jacobian, "
+         "Hessian), ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
          "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
   row_t r;
   if (only_poly) {
@@ -431,6 +464,26 @@ int main(int argc, char **argv) {
     print_row("cold, limited-memory Hessian", &r);
     r = run(&lm, R, 1);
     print_row("warm, limited-memory Hessian", &r);
+
+    header("Ipopt's rows (solver.screen_rows), cold, the two solves alternating");
+    {
+      ea_task_t fr = line, k2 = line;
+      fr.path = EA_TASK_PATH_FREE;
+      k2.knots = 200;
+      const struct {
+        const char *name;
+        const ea_task_t *t;
+      } cs[] = {{"paper line", &line}, {"paper line, 200 knots", &k2}, {"free path", &fr}};
+      for (size_t i = 0; i < sizeof cs / sizeof *cs; ++i) {
+        row_t ra, rb;
+        run_screen_pair(cs[i].t, cs[i].t->knots >= 200 ? (R < 5 ? R : 5) : R, &ra, &rb);
+        char nm[64];
+        snprintf(nm, sizeof nm, "%s: screened", cs[i].name);
+        print_row(nm, &ra);
+        snprintf(nm, sizeof nm, "%s: every row", cs[i].name);
+        print_row(nm, &rb);
+      }
+    }
 
     header("replanning from a previous plan (EA_PLAN_FROM_TRAJ, 100 knots)");
     r = run_traj(&line, &line, R);
@@ -535,8 +588,8 @@ int main(int argc, char **argv) {
     snprintf(name, sizeof name, "%d knots", ks[i]);
     r = run(&t, ks[i] >= 1000 ? 1 : ks[i] >= 200 ? (R < 3 ? R : 3) : R, 0);
     print_row(name, &r);
-    printf("%-34s %5s %5s %6s %9.2f  (per iteration); t_f / (D/v + v/a) - 1 = %.2e\n", "", "", "",
-           "", r.iters > 0 ? 1e3 * r.total / r.iters : 0.0, r.dur / tmin - 1.0);
+    printf("%-34s %5s %5s %6s %5s %9.2f  (per iteration); t_f / (D/v + v/a) - 1 = %.2e\n", "", "",
+           "", "", "", r.iters > 0 ? 1e3 * r.total / r.iters : 0.0, r.dur / tmin - 1.0);
   }
   polyline_rows();
   if (refine_rows(&line) || robust_rows(&line)) return 1;

@@ -61,6 +61,7 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->solver.print_level = 0;
   t->solver.regularization = 1e-4;
   t->solver.hessian_exact = 2;
+  t->solver.screen_rows = 1;
   t->start = ea_task_point_planar(NAN, NAN, 0.0);
   t->goal = t->start;
 }

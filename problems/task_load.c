@@ -99,10 +99,17 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
 
 static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver_t *s,
                                    ea_error_t *err) {
-  static const char *const keys[] = {
-      "max_iter",        "tol",         "constr_viol_tol", "max_time_s",
-      "derivative_test", "print_level", "regularization",  "hessian",
-      "transcription",   NULL};
+  static const char *const keys[] = {"max_iter",
+                                     "tol",
+                                     "constr_viol_tol",
+                                     "max_time_s",
+                                     "derivative_test",
+                                     "print_level",
+                                     "regularization",
+                                     "hessian",
+                                     "transcription",
+                                     "screen_rows",
+                                     NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
   if (st) return st;
   long v = s->max_iter;
@@ -118,6 +125,7 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   if ((st = ea__ymap_double(d, n, "regularization", 0, 0.0, 1e6, &s->regularization, err)))
     return st;
   if ((st = ea__ymap_bool(d, n, "derivative_test", 0, &s->derivative_test, err))) return st;
+  if ((st = ea__ymap_bool(d, n, "screen_rows", 0, &s->screen_rows, err))) return st;
   static const char *const hess[] = {"limited-memory", "exact", "partial", NULL};
   int h = s->hessian_exact;
   if ((st = ea__ymap_enum(d, n, "hessian", 0, hess, &h, err))) return st;

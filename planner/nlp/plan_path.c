@@ -1465,7 +1465,8 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
      * solved again from the same start with it (and its like) in */
     if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
       return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
-    if (pl->task.solver.derivative_test || !ea__pp_cb_g(pp->n, pp->x, TRUE, pp->m, pp->g, pl))
+    if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||
+        !ea__pp_cb_g(pp->n, pp->x, TRUE, pp->m, pp->g, pl))
       ea__screen_all(pp->scr);
     else
       ea__screen_select(pp->scr, pp->g, EA__SCREEN_BAND, pp->rfam, pp->nfam);

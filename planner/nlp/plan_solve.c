@@ -1158,7 +1158,8 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
     pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
   } else {
-    if (pl->task.solver.derivative_test || ea__plan_eval_g(pl, pl->x, pl->g))
+    if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||
+        ea__plan_eval_g(pl, pl->x, pl->g))
       ea__screen_all(pl->scr);
     else
       ea__screen_select(pl->scr, pl->g, EA__SCREEN_BAND, pl->rfam, pl->nfam);

@@ -115,6 +115,9 @@ typedef struct ea_task_solver {
                               with it (second-order statics by differences of the exact
                               sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
   ea_task_transcription_t transcription; /**< "auto" (default), "knots" or "path" */
+  int screen_rows; /**< 1 (default): limit rows whose family stays inside half its range at the
+                        start are left out of Ipopt's problem (and put back if one reaches its
+                        limit; docs/planner.md, "Measurements"); 0: Ipopt sees every row */
 } ea_task_solver_t;
 
 /** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */
