@@ -622,13 +622,15 @@ pub "tests/test_plan_hess (worst Hessian entry of a dynamics row, both tasks)" d
   "exact gradient over all its variables, modal states included: within {} of the row's largest" \
   "$(sci %.1e "$hw")"
 # sw KIND: planned, infeasible, failures, iterations of the sweep's KIND paths, then the
-# worst relative excess and the re-solves of the limits line after it
+# worst relative excess and the re-solves of the limits line after it, then the Ipopt solves
+# repeated for a row left out of its problem
 sw() {
   awk -v k="$1" 'index($0, "sweep of 200 (" k " paths)") { f = 1; n = split($0, w, /[ ;(),:]+/)
       for (i = 1; i <= n; i++) { if (w[i + 1] == "planned") p = w[i]; if (w[i + 1] == "reported") r = w[i]
-        if (w[i + 1] == "failures") fl = w[i]; if (w[i + 1] == "Ipopt") it = w[i] }; next }
+        if (w[i + 1] == "failures") fl = w[i]; if (w[i + 1] == "Ipopt" && w[i + 2] == "iterations") it = w[i]
+        if (w[i + 1] == "Ipopt" && w[i + 2] == "solves") rs = w[i] }; next }
     f && /every limit re-checked/ { x = $0; sub(/.*excess /, "", x); sub(/ .*/, "", x)
-      y = $0; sub(/ plans re-solved.*/, "", y); sub(/.* /, "", y); print p, r, fl, it, x, y; exit }' \
+      y = $0; sub(/ plans re-solved.*/, "", y); sub(/.* /, "", y); print p, r, fl, it, x, y, rs; exit }' \
     "$R/test_plan_sweep.out"
 }
 set -- $(sw free) $(sw line)
@@ -636,14 +638,16 @@ pub "tests/test_plan_sweep (free paths)" docs/planner.md \
   '3-D, payload factor 0..0.5), free paths: {} planned, {} reported infeasible (20 goals' "$1" "$2"
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
   'beyond the edge on purpose), {} failures, slowest plan {*} s,' "$3"
-pub "tests/test_plan_sweep (free paths)" docs/planner.md '{} Ipopt iterations in all; every plan'"'"'s file' "$4"
+pub "tests/test_plan_sweep (free paths)" docs/planner.md \
+  '{} Ipopt iterations in all, {} solves repeated for a row left out of Ipopt'"'"'s problem; every plan'"'"'s file' \
+  "$4" "$7"
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
   're-checked at 1 kHz: worst relative excess {} (tolerance 0); plans re-solved for a' "$(sci %.1e "$5")"
 pub "tests/test_plan_sweep (free and line paths)" docs/planner.md \
-  'limit between the knots: {}. The same 200 pairs on line paths: {} planned, {} reported' "$6" "$7" "$8"
+  'limit between the knots: {}. The same 200 pairs on line paths: {} planned, {} reported' "$6" "$8" "$9"
 pub "tests/test_plan_sweep (line paths)" docs/planner.md \
-  'infeasible, {} failures, {} Ipopt iterations in all, worst relative excess {}.' "$9" "${10}" \
-  "$(sci %.1e "${11}")"
+  'infeasible, {} failures, {} Ipopt iterations in all ({} solves repeated), worst relative excess {}.' \
+  "${10}" "${11}" "${14}" "$(sci %.1e "${12}")"
 # the line sweep's replans: replans, by the Newton, by Ipopt, failures, worst duration vs cold
 rps=$(awk '/replan sweep \(/ { n = split($0, w, /[ ;(),:]+/)
     for (i = 1; i <= n; i++) { if (w[i + 1] == "replans") a = w[i]; if (w[i + 1] == "by" && w[i + 2] == "the") b = w[i]
