@@ -117,7 +117,8 @@ typedef struct ea_task_solver {
   ea_task_transcription_t transcription; /**< "auto" (default), "knots" or "path" */
   int screen_rows; /**< 1 (default): limit rows whose family stays inside half its range at the
                         start are left out of Ipopt's problem (and put back if one reaches its
-                        limit; docs/planner.md, "Measurements"); 0: Ipopt sees every row */
+                        limit; docs/planner.md, "Measurements"; not in the knot transcription
+                        with dynamics); 0: Ipopt sees every row */
 } ea_task_solver_t;
 
 /** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */
