@@ -534,8 +534,8 @@ int main(int argc, char **argv) {
       /* the steps of a Newton that gave up are not published: how far it goes before it
        * diverges or stalls is not a figure of merit */
       if (r.iters == 0)
-        printf("%-34s (ea_planner_update %.3f ms; active-set Newton: %d steps, no Ipopt)\n", "",
-               1e3 * upd, newton);
+        printf("%-34s (ea_planner_update %.3f ms; active-set Newton: %d steps%s, no Ipopt)\n", "",
+               1e3 * upd, newton, newton ? "" : " (the shifted plan passed the KKT test)");
       else
         printf("%-34s (ea_planner_update %.3f ms; active-set Newton: %s, Ipopt)\n", "", 1e3 * upd,
                newton ? "gave up" : "not tried");
