@@ -1142,7 +1142,7 @@ static void ea__pp_reduce(ea_planner_t *pl, const double *xk, double *xs) {
  * iterations and plan in less time per iteration. */
 static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
-  if (!(pp->rfam = malloc(sizeof(int) * (size_t)(pp->m + 1)))) return NULL;
+  if (!pp->rfam && !(pp->rfam = malloc(sizeof(int) * (size_t)(pp->m + 1)))) return NULL;
   pp->nfam = ea__plan_row_families(pp->rows, pp->m, pp->rfam);
   const ea__screen_nlp_t nlp = {.n = pp->n,
                                 .m = pp->m,
@@ -1460,9 +1460,9 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
     ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
   } else {
-    /* the rows Ipopt sees (plan_screen.c): the inequality rows in the inner half of their
-     * range at the start are left out; a solution at which one of them reaches its limit is
-     * solved again from the same start with it (and its like) in */
+    /* the rows Ipopt sees (plan_screen.c): the limit rows whose family stays in the inner half
+     * of its range at the start are left out; a solution at which one of them reaches its
+     * limit is solved again from the same start with it in */
     if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
       return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
     if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||

@@ -388,12 +388,12 @@ static void ea__acc_scale(ea_planner_t *pl) {
   pl->acc_scale = ct / pl->acc_tol;
 }
 
-/* The Ipopt problem with the planner's bounds and options. Ipopt's C
- * interface copies the bounds at creation, so an update of the task
- * (ea_planner_update) creates it again; every IpoptSolve sets up its
- * algorithm objects (and the MUMPS analysis) anew anyway. A planner that solves in the path
- * coordinate (plan_path.c, its own problem per solve) has none until a knot solve needs it
- * (0.6 ms of an update's 4). */
+/* The Ipopt problem with the planner's bounds, its rows of the next solve (plan_screen.c) and
+ * the options. Every Ipopt solve creates it (ea__solve_ipopt: the rows it sees change from
+ * solve to solve, and Ipopt's C interface copies the bounds at creation; every IpoptSolve sets
+ * up its algorithm objects and the MUMPS analysis anew anyway), so a change of the task needs
+ * no call here; ea_planner_alloc creates one to report a backend that cannot. A planner that
+ * solves in the path coordinate (plan_path.c, its own problem per solve) has none. */
 static ea_status_t ea__ipopt_create(ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   if (pl->ip) FreeIpoptProblem(pl->ip);
@@ -639,8 +639,6 @@ ea_status_t ea_planner_update(ea_planner_t *pl, const ea_task_t *task, ea_error_
   pl->cache_val = pl->cache_sens = 0;
   ea_status_t st = ea__pp_update(pl, err);
   if (st) return st;
-  if (ea__ipopt_create(pl))
-    return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
   if (pl->have_solution) pl->updated = 1;
   return ea_error_set(err, EA_OK, "ok");
 }
@@ -959,7 +957,6 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
                msg, worst, pass, n ? "; use more knots" : " (at pinned knots)");
       return ea_error_set(err, info->status, "%s", info->message);
     }
-    ea__ipopt_create(pl);
     pl->refining = 1;
     st = ea__plan_solve_once(pl, EA_PLAN_WARM, NULL, info, err);
     iters += info->iterations;
@@ -1323,17 +1320,12 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   } else {
     st = ea__solve_start_point(pl, start, prev, warm, replan, info, err);
     info->time_guess_s = ea__mono_s() - t0;
-    if (!st && !pl->ip && ea__ipopt_create(pl))
-      st = ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
     if (st) return ea__solve_abort(pl, info, st, t0, err);
     char tmpl[64] = "";
     rs = ea__solve_ipopt(pl, start, warm, replan, tmpl, info, &obj, &iters, &t_ipopt);
-    if (pl->task.solver.derivative_test) {
-      AddIpoptStrOption(pl->ip, "derivative_test", "none");
-      if (tmpl[0]) {
-        info->deriv_errors = ea__deriv_errors(tmpl);
-        remove(tmpl);
-      }
+    if (tmpl[0]) {
+      info->deriv_errors = ea__deriv_errors(tmpl);
+      remove(tmpl);
     }
   }
   ea__solve_outcome(pl, info, rs, obj, iters, path_mode);
@@ -1392,7 +1384,5 @@ ea_status_t ea_planner_set_terminal_modes_model(ea_planner_t *pl, int model, con
   }
   if (model > 0) return EA_OK; /* a corner's centre is in its row's value only */
   ea__bounds(pl);
-  if (ea__ipopt_create(pl))
-    return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
   return EA_OK;
 }
