@@ -109,6 +109,7 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
                                      "hessian",
                                      "transcription",
                                      "screen_rows",
+                                     "nlp",
                                      NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
   if (st) return st;
@@ -134,6 +135,10 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   int tr = (int)s->transcription;
   if ((st = ea__ymap_enum(d, n, "transcription", 0, trans, &tr, err))) return st;
   s->transcription = (ea_task_transcription_t)tr;
+  static const char *const nlp[] = {"auto", "ipopt", NULL};
+  int nl = s->nlp_ipopt;
+  if ((st = ea__ymap_enum(d, n, "nlp", 0, nlp, &nl, err))) return st;
+  s->nlp_ipopt = nl;
   return EA_OK;
 }
 

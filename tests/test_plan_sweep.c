@@ -118,6 +118,10 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
   int n_between = 0; /* plans re-solved for a limit exceeded between knots */
   int line_left = 0; /* line paths the planner reported leaving the workspace */
   long iters = 0, resolves = 0;
+  /* the path transcription's cold solves by the own interior point (solver.nlp auto) against
+   * the same tasks solved by Ipopt (solver.nlp ipopt) */
+  int ipm = 0, ipm_fallback = 0, ipm_cmp = 0, ipm_bad = 0;
+  double ipm_worst = 0.0;
   ea_sweep_rp_t rp = {0, 0, 0, 0, 0, 0.0, -INFINITY, 0.0};
   for (int i = 0; i < n; ++i) {
     ea_task_t t;
@@ -205,6 +209,21 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
       iters += info.iterations;
       resolves += info.screen_resolves;
       ++planned;
+      if (info.ipm_iterations) {
+        ipm += !info.ipm_fallback;
+        ipm_fallback += info.ipm_fallback;
+        ea_task_t ti = t;
+        ti.solver.nlp_ipopt = 1;
+        ea_planner_t *pi = NULL;
+        ea_plan_info_t ii;
+        ++ipm_cmp;
+        if (ea_planner_alloc(&ti, &pi, &e) || ea_planner_solve(pi, EA_PLAN_COLD, NULL, &ii, &e) ||
+            ii.ipm_iterations)
+          ++ipm_bad;
+        else
+          ipm_worst = fmax(ipm_worst, fabs(info.duration_s / ii.duration_s - 1.0));
+        ea_planner_free(pi);
+      }
     }
     if (!ok) {
       ++failures;
@@ -233,6 +252,14 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
            chk_worst, EA_SWEEP_LIMIT_TOL, th_dev, n_between);
   ea_test_true(chk_worst <= EA_SWEEP_LIMIT_TOL, what);
   ea_test_true(planned >= n / 3, "sweep: at least a third of the pairs are feasible and planned");
+  if (path == EA_TASK_PATH_LINE) {
+    snprintf(what, sizeof what,
+             "sweep: %d cold plans by the own interior point, %d by Ipopt after it gave no "
+             "plan that passed the KKT test; each against the task solved by Ipopt (solver.nlp "
+             "ipopt): worst duration difference %.2g (1e-6), %d Ipopt solves failed",
+             ipm, ipm_fallback, ipm_worst, ipm_bad);
+    ea_test_true(ipm_cmp > 0 && ipm_bad == 0 && ipm_worst <= 1e-6, what);
+  }
   ea_test_true(outside_reported == n / 10, "sweep: every goal beyond the edge reported");
   if (path == EA_TASK_PATH_LINE) {
     snprintf(what, sizeof what,

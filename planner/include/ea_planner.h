@@ -52,6 +52,11 @@ typedef struct ea_plan_info {
                                   inequality rows far inside their limits, docs/planner.md); 0: no
                                   Ipopt solve */
   int screen_resolves;       /**< Ipopt solves repeated because a left-out row reached its limit */
+  int ipm_iterations;        /**< iterations of the planner's own interior point (solver.nlp auto,
+                                  the path transcription's cold solves; docs/planner.md): the plan's
+                                  when ipm_fallback is 0; 0: not tried */
+  int ipm_fallback;          /**< 1: it ran and gave no plan that passed the KKT test (Ipopt then
+                                  solved from the same start) */
   int n_var, n_con, nnz_jac; /**< problem size */
   double objective;          /**< final objective value */
   double duration_s;         /**< [s] t_f */

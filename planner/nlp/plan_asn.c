@@ -28,21 +28,6 @@
 #define EA__ASN_NEWTON 6
 #define EA__ASN_SWAPS 2
 
-struct ea__asn {
-  ea__asn_nlp_t p;
-  ea__asn_tol_t tol;  /* the current solve's */
-  int *act_x, *act_g; /* -1 lower, +1 upper, 0 free / inactive, 2 fixed / equality */
-  int *kx, *kg;       /* KKT index of a free variable / an active row (-1: none) */
-  int nk, nnz_k;
-  int *Ap, *Ai, *cnt; /* KKT pattern (CSC, full symmetric) */
-  double *Ax;
-  int *pj[2], *ph[2]; /* positions of each Jacobian / Hessian entry in Ax (-1: none) */
-  int *pd;            /* position of each diagonal */
-  double *gf, *g, *jv, *hv, *lam, *rhs, *r;
-  klu_common c;
-  klu_symbolic *sym;
-};
-
 void ea__asn_free(ea__asn_t *a) {
   if (!a) return;
   if (a->sym) klu_free_symbolic(&a->sym, &a->c);
@@ -99,9 +84,7 @@ static void ea__asn_entry(ea__asn_t *a, int i, int j, int *pos) {
   *pos = q;
 }
 
-/* The KKT pattern of the current active set (free variables, then active rows) and its
- * symbolic analysis. 0, or -1 (nothing free, or KLU failed). */
-static int ea__asn_pattern(ea__asn_t *a) {
+int ea__asn_pattern(ea__asn_t *a) {
   const ea__asn_nlp_t *p = &a->p;
   int nk = 0;
   for (int i = 0; i < p->n; ++i)
@@ -149,8 +132,7 @@ static int ea__asn_pattern(ea__asn_t *a) {
   return a->sym ? 0 : -1;
 }
 
-/* Gradient, rows, Jacobian and (with the multipliers lam) the Lagrangian's Hessian at x. */
-static int ea__asn_eval(ea__asn_t *a, double *x, int hess) {
+int ea__asn_eval(ea__asn_t *a, double *x, int hess) {
   const ea__asn_nlp_t *p = &a->p;
   void *ud = p->ud;
   if (!p->grad_f(p->n, x, TRUE, a->gf, ud) || !p->g(p->n, x, FALSE, p->m, a->g, ud) ||

@@ -3,6 +3,7 @@
 #define EA_PLAN_ASN_IMPL_H
 
 #include <coin/IpStdCInterface.h>
+#include <klu.h>
 
 /** The NLP as Ipopt sees it: sizes, bounds, the Jacobian's and the Hessian's (lower triangle)
  *  structures, the callbacks and their user data. */
@@ -25,6 +26,22 @@ typedef struct ea__asn_tol {
   double ptol, dtol, margin;
 } ea__asn_tol_t;
 
+/* The workspace; its KKT matrix (pattern, values, KLU's analysis) also serves the interior
+ * point of plan_ipm.c. */
+struct ea__asn {
+  ea__asn_nlp_t p;
+  ea__asn_tol_t tol;  /* the current solve's */
+  int *act_x, *act_g; /* -1 lower, +1 upper, 0 free / inactive, 2 fixed / equality */
+  int *kx, *kg;       /* KKT index of a free variable / an active row (-1: none) */
+  int nk, nnz_k, nx; /* KKT size, its entries; nx: free variables (plan_ipm.c) */
+  int *Ap, *Ai, *cnt; /* KKT pattern (CSC, full symmetric) */
+  double *Ax;
+  int *pj[2], *ph[2]; /* positions of each Jacobian / Hessian entry in Ax (-1: none) */
+  int *pd;            /* position of each diagonal */
+  double *gf, *g, *jv, *hv, *lam, *rhs, *r;
+  klu_common c;
+  klu_symbolic *sym;
+};
 typedef struct ea__asn ea__asn_t;
 
 /** Workspace for the NLP p (its arrays are referenced, not copied); NULL when out of memory. */
@@ -38,5 +55,13 @@ void ea__asn_free(ea__asn_t *a);
  *  *iters: Newton steps taken. */
 int ea__asn_solve(ea__asn_t *a, const ea__asn_tol_t *tol, const double *x_ref, const double *g_ref,
                   double *x, double *mult_g, double *mult_xl, double *mult_xu, int *iters);
+
+/** The KKT pattern of the variables with act_x 0 and the rows with act_g != 0 (in that order:
+ *  kx, kg), its positions (pj, ph, pd) and KLU's symbolic analysis. 0, or -1 (nothing free, or
+ *  KLU failed). */
+int ea__asn_pattern(ea__asn_t *a);
+/** Gradient (gf), rows (g), Jacobian (jv) and, hess != 0, the Lagrangian's Hessian (hv, the
+ *  multipliers lam) at x; r = grad f + J' lam. 0, or -1 (a callback failed, not finite). */
+int ea__asn_eval(ea__asn_t *a, double *x, int hess);
 
 #endif

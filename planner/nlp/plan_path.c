@@ -24,6 +24,7 @@
  */
 #include "plan_asn_impl.h"
 #include "plan_impl.h"
+#include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
 
 #include <math.h>
@@ -809,10 +810,10 @@ static int ea__pp_kkt_ok(ea_planner_t *pl) {
  * plan's multipliers and active set, taken when the result passes the KKT test of the whole
  * problem (ea__pp_kkt_ok). 1: pp->x and pp->mult_* are the solution; 0: they are the start
  * again (restored from pp->x0 and the old plan's multipliers). */
-static int ea__pp_newton_start(ea_planner_t *pl, int *steps) {
+/* The workspace of the active-set Newton and the interior point (plan_asn.c, plan_ipm.c) on the
+ * path NLP: 0, or -1 (out of memory). */
+static int ea__pp_asn(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
-  const ea_task_t *t = &pl->task;
-  *steps = 0;
   if (!pp->asn) {
     const ea__asn_nlp_t nlp = {.n = pp->n,
                                .m = pp->m,
@@ -831,8 +832,37 @@ static int ea__pp_newton_start(ea_planner_t *pl, int *steps) {
                                .jac = ea__pp_cb_jac,
                                .h = ea__pp_cb_h,
                                .ud = pl};
-    if (!(pp->asn = ea__asn_alloc(&nlp))) return 0;
+    if (!(pp->asn = ea__asn_alloc(&nlp))) return -1;
   }
+  return 0;
+}
+
+/* A cold start solved without Ipopt: the interior point of plan_ipm.c from pp->x, taken when
+ * its result passes the KKT test of the whole problem (ea__pp_kkt_ok). 1: pp->x and
+ * pp->mult_* are the solution; 0: pp->x is the start again. */
+static int ea__pp_ipm_start(ea_planner_t *pl, int *iters) {
+  ea__pp_t *pp = pl->pp;
+  const ea_task_t *t = &pl->task;
+  *iters = 0;
+  if (ea__pp_asn(pl)) return 0;
+  const ea__ipm_opt_t o = {.tol = t->solver.tol,
+                           .ptol = fmax(1e-9, t->solver.constr_tol),
+                           .mu_init = 1e-4,
+                           .push = 1e-6,
+                           .max_iter = 40};
+  memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
+  if (!ea__ipm_solve(pp->asn, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters) &&
+      ea__pp_kkt_ok(pl))
+    return 1;
+  memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
+  return 0;
+}
+
+static int ea__pp_newton_start(ea_planner_t *pl, int *steps) {
+  ea__pp_t *pp = pl->pp;
+  const ea_task_t *t = &pl->task;
+  *steps = 0;
+  if (ea__pp_asn(pl)) return 0;
   /* the task's tolerances (ea_planner_update may change them): 0.2 of the KKT test's primal
    * one (the rows' rounding floor after the Newton is ~1.1e-10), inside a margin of that
    * tolerance; 1e-1 of its dual one */
@@ -1456,6 +1486,13 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     at_solution = 1; /* the predicted point is already the solution */
   if (!at_solution && warm && !pl->task.solver.derivative_test)
     at_solution = ea__pp_newton_start(pl, &info->newton_steps);
+  /* a cold quasi-static solve: the own interior point first (plan_ipm.c) */
+  if (!at_solution && !warm && !pl->rom && !pl->task.solver.derivative_test &&
+      !pl->task.solver.nlp_ipopt) {
+    at_solution = ea__pp_ipm_start(pl, &info->ipm_iterations);
+    info->ipm_fallback = !at_solution;
+    if (at_solution) *iters = info->ipm_iterations;
+  }
   if (at_solution) {
     *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
     ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);

@@ -119,6 +119,10 @@ typedef struct ea_task_solver {
                         start are left out of Ipopt's problem (and put back if one reaches its
                         limit; docs/planner.md, "Measurements"; not in the knot transcription
                         with dynamics); 0: Ipopt sees every row */
+  int nlp_ipopt;   /**< 0 "auto" (default): a quasi-static plan on a prescribed path (the path
+                        transcription) solved cold by the planner's own interior point (KKT
+                        systems by KLU), by Ipopt when its result fails the KKT test of the
+                        whole problem; every other solve by Ipopt; 1 "ipopt": Ipopt always */
 } ea_task_solver_t;
 
 /** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */

@@ -1,0 +1,396 @@
+/* A primal-dual interior point on an NLP given by Ipopt's callbacks (docs/planner.md,
+ * "Measurements"): Ipopt's monotone barrier algorithm (Waechter & Biegler 2006, sec. 2-3:
+ * slacks for the inequality rows, the primal-dual system condensed to [W + Sigma_x, J';
+ * J, -D], the fraction-to-the-boundary rule, the barrier parameter decreased by
+ * min(kappa_mu mu, mu^theta) once the barrier problem is solved to kappa_eps mu) without its
+ * line search, inertia correction or restoration phase, its KKT system factored by KLU
+ * (plan_asn.c's pattern: BTF + AMD, diagonal pivots) instead of MUMPS. On the small banded
+ * KKT systems of a prescribed path (~1100 unknowns at 100 knots) a KLU factorization costs
+ * a fraction of a millisecond, an Ipopt iteration through MUMPS 2-3 ms of per-front overhead.
+ *
+ * It is a fast path, not a replacement: from a good start (the path's time-optimal guess) it
+ * returns a candidate that the caller verifies by the KKT test of the whole problem, and the
+ * caller solves with Ipopt when it returns none or the test fails. Calls nothing above it. */
+#include "plan_ipm_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define EA__IPM_INF 1e19     /* |bound| >= this: no bound (Ipopt's nlp_lower/upper_bound_inf) */
+#define EA__IPM_KAPPA_EPS 10 /* barrier problem solved: its error <= kappa_eps mu */
+#define EA__IPM_KAPPA_MU 0.2 /* mu <- max(mu_min, min(kappa_mu mu, mu^theta_mu)) */
+#define EA__IPM_THETA_MU 1.5
+#define EA__IPM_KAPPA_SIGMA 1e10 /* bound multipliers kept within this factor of mu / gap */
+#define EA__IPM_SMAX 100.0       /* Ipopt's s_max: the dual error's scaling */
+/* The equality rows' diagonal (Ipopt's delta_c) and KLU's pivot threshold here: always the
+ * diagonal pivot (threshold 0), as the quasi-definite matrix [W + Sigma_x, J'; J, -D] allows
+ * in any symmetric order where W + Sigma_x is positive definite; a pivot that spoils the solve
+ * shows in its residual (checked, refined) or its inertia, and the Hessian's diagonal is
+ * raised. On the paper line (bench_plan) delta_c 1e-10 .. 1e-6 took 10-11 iterations; with
+ * the threshold 1e-8 .. 1e-12 (plan_asn.c's: 1e-8) KLU pivoted off the diagonal at the small
+ * delta_c, or at 400 knots at the first iterate's nearly singular Hessian, and its fill made a
+ * factorization 20-25x costlier (400 knots: 160 ms instead of 52); delta_c 1e-4 (plan_asn.c's)
+ * perturbed the steps: 15 iterations. */
+#define EA__IPM_DELTA_C 1e-8
+#define EA__IPM_PIVTOL 0.0
+#define EA__IPM_REFINE 3 /* refinements of a solve whose residual is above 1e-10 of its rhs */
+
+typedef struct {
+  double *s, *zl, *zu, *vl, *vu, *y;
+  double *dx, *ds, *dzl, *dzu, *dvl, *dvu, *rs;
+  double *b, *res; /* the KKT system's right-hand side, its residual */
+} ea__ipm_ws_t;
+
+static int ea__lo(double b) { return b > -EA__IPM_INF; }
+static int ea__hi(double b) { return b < EA__IPM_INF; }
+
+/* v moved inside [lo, hi] by Ipopt's push (bound_push = bound_frac = push). */
+static double ea__ipm_push(double v, double lo, double hi, double push) {
+  const double w = ea__lo(lo) && ea__hi(hi) ? hi - lo : INFINITY;
+  if (ea__lo(lo)) v = fmax(v, lo + fmin(push * fmax(1.0, fabs(lo)), push * w));
+  if (ea__hi(hi)) v = fmin(v, hi - fmin(push * fmax(1.0, fabs(hi)), push * w));
+  if (ea__lo(lo) && ea__hi(hi) && !(v > lo && v < hi)) v = 0.5 * (lo + hi);
+  return v;
+}
+
+/* The largest step in (0, 1] that keeps v + alpha dv at least (1 - tau) of its gap g from its
+ * bound (g: v's distance, dv: the change of that distance). */
+static double ea__ftb(double alpha, double g, double dg, double tau) {
+  return dg < 0.0 ? fmin(alpha, -tau * g / dg) : alpha;
+}
+
+/* z kept within [mu / (kappa gap), kappa mu / gap] (Ipopt's safeguard of the bound
+ * multipliers' drift from the central path). */
+static double ea__ipm_clip(double z, double mu, double gap) {
+  return fmax(fmin(z, EA__IPM_KAPPA_SIGMA * mu / gap), mu / (EA__IPM_KAPPA_SIGMA * gap));
+}
+
+/* Errors at the current point for barrier parameter mu: *dual (unscaled, max over the
+ * variables and slacks), *prim (rows), *comp (|gap z - mu|, max); returns Ipopt's E_mu (the
+ * dual error scaled by s_d, the complementarity by s_c). */
+static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const double *x, double mu,
+                          double *dual, double *prim, double *comp) {
+  const ea__asn_nlp_t *p = &a->p;
+  double d = 0.0, c = 0.0, q = 0.0, sy = 0.0, sz = 0.0;
+  int nz = 0;
+  for (int i = 0; i < p->n; ++i) {
+    if (a->kx[i] < 0) continue;
+    d = fmax(d, fabs(a->r[i] - w->zl[i] + w->zu[i]));
+    if (ea__lo(p->xl[i])) q = fmax(q, fabs((x[i] - p->xl[i]) * w->zl[i] - mu)), sz += w->zl[i], ++nz;
+    if (ea__hi(p->xu[i])) q = fmax(q, fabs((p->xu[i] - x[i]) * w->zu[i] - mu)), sz += w->zu[i], ++nz;
+  }
+  for (int i = 0; i < p->m; ++i) {
+    sy += fabs(w->y[i]);
+    if (p->gl[i] == p->gu[i]) {
+      c = fmax(c, fabs(a->g[i] - p->gl[i]));
+      continue;
+    }
+    c = fmax(c, fabs(a->g[i] - w->s[i]));
+    d = fmax(d, fabs(-w->y[i] - w->vl[i] + w->vu[i]));
+    if (ea__lo(p->gl[i]))
+      q = fmax(q, fabs((w->s[i] - p->gl[i]) * w->vl[i] - mu)), sz += w->vl[i], ++nz;
+    if (ea__hi(p->gu[i]))
+      q = fmax(q, fabs((p->gu[i] - w->s[i]) * w->vu[i] - mu)), sz += w->vu[i], ++nz;
+  }
+  *dual = d, *prim = c, *comp = q;
+  const double sd = fmax(EA__IPM_SMAX, (sy + sz) / fmax(1, p->m + nz)) / EA__IPM_SMAX;
+  const double sc = fmax(EA__IPM_SMAX, sz / fmax(1, nz)) / EA__IPM_SMAX;
+  return fmax(d / sd, fmax(c, q / sc));
+}
+
+static void ea__ipm_ws_free(ea__ipm_ws_t *w) {
+  double **f[] = {&w->s, &w->zl, &w->zu, &w->vl, &w->vu, &w->y, &w->dx,
+                  &w->ds, &w->dzl, &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b, &w->res};
+  for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
+    free(*f[i]), *f[i] = NULL;
+}
+
+static int ea__ipm_ws_alloc(ea__ipm_ws_t *w, int n, int m) {
+  const size_t N = (size_t)n + 1, M = (size_t)m + 1;
+  memset(w, 0, sizeof *w);
+  w->s = calloc(M, sizeof(double)), w->vl = calloc(M, sizeof(double));
+  w->vu = calloc(M, sizeof(double)), w->y = calloc(M, sizeof(double));
+  w->ds = calloc(M, sizeof(double)), w->dvl = calloc(M, sizeof(double));
+  w->dvu = calloc(M, sizeof(double)), w->rs = calloc(M, sizeof(double));
+  w->zl = calloc(N, sizeof(double)), w->zu = calloc(N, sizeof(double));
+  w->dx = calloc(N, sizeof(double)), w->dzl = calloc(N, sizeof(double));
+  w->dzu = calloc(N, sizeof(double));
+  w->b = calloc(N + M, sizeof(double)), w->res = calloc(N + M, sizeof(double));
+  if (w->s && w->vl && w->vu && w->y && w->ds && w->dvl && w->dvu && w->rs && w->zl && w->zu &&
+      w->dx && w->dzl && w->dzu && w->b && w->res)
+    return 0;
+  ea__ipm_ws_free(w);
+  return -1;
+}
+
+/* The solve of K d = rhs (a->rhs, overwritten by d) with the factors num, refined while its
+ * residual is above 1e-10 of |rhs|: 1, or 0 (not reached in EA__IPM_REFINE refinements). */
+static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w, klu_numeric *num) {
+  const int nk = a->nk;
+  double *b = w->b, *res = w->res;
+  memcpy(b, a->rhs, sizeof(double) * (size_t)nk);
+  if (!klu_solve(a->sym, num, nk, 1, a->rhs, &a->c)) return 0;
+  double bn = 0.0;
+  for (int k = 0; k < nk; ++k)
+    bn = fmax(bn, fabs(b[k]));
+  for (int ref = 0;; ++ref) {
+    memcpy(res, b, sizeof(double) * (size_t)nk);
+    for (int j = 0; j < nk; ++j)
+      for (int q = a->Ap[j]; q < a->Ap[j + 1]; ++q)
+        res[a->Ai[q]] -= a->Ax[q] * a->rhs[j];
+    double rn = 0.0;
+    for (int k = 0; k < nk; ++k)
+      rn = fmax(rn, fabs(res[k]));
+    if (rn <= 1e-10 * bn) return 1;
+    if (ref == EA__IPM_REFINE || !isfinite(rn) || !klu_solve(a->sym, num, nk, 1, res, &a->c))
+      break;
+    for (int k = 0; k < nk; ++k)
+      a->rhs[k] += res[k];
+  }
+  memcpy(a->rhs, b, sizeof(double) * (size_t)nk);
+  return 0;
+}
+
+/* Solve the KKT system in a->Ax, a->rhs (d into a->rhs) with the Hessian's diagonal raised
+ * until the matrix has the inertia of [W + Sigma_x + dw I, J'; J, -D] at a minimum (as many
+ * negative pivots as rows) and the solve refines to 1e-10: Ipopt's inertia correction and its
+ * constants. The inertia is the signs of U's diagonal: diagonal pivots in a symmetric
+ * ordering without BTF, rows scaled by positive factors. *dw: the last iteration's raise in,
+ * this one's out. 0, or -1 (no raise up to 1e20 did). */
+static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw) {
+  const ea__asn_nlp_t *p = &a->p;
+  const double tol0 = a->c.tol;
+  double cur = 0.0, next = 0.0;
+  int rc = -1;
+  a->c.tol = EA__IPM_PIVTOL;
+  for (;;) {
+    for (int i = 0; i < p->n; ++i)
+      if (a->kx[i] >= 0) a->Ax[a->pd[a->kx[i]]] += next - cur;
+    cur = next;
+    klu_numeric *num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);
+    int good = num && a->c.status == KLU_OK && a->c.noffdiag == 0;
+    if (good) {
+      const double *u = num->Udiag;
+      int neg = 0;
+      for (int k = 0; k < a->nk; ++k)
+        neg += u[k] < 0.0;
+      good = neg == a->nk - a->nx && ea__ipm_refined(a, w, num);
+    }
+    if (num) klu_free_numeric(&num, &a->c);
+    if (good) {
+      *dw = cur;
+      rc = 0;
+      break;
+    }
+    if (cur == 0.0)
+      next = *dw == 0.0 ? 1e-4 : fmax(1e-20, *dw / 3);
+    else
+      next = cur * (*dw == 0.0 ? 100.0 : 8.0);
+    if (next > 1e20) break;
+  }
+  a->c.tol = tol0;
+  return rc;
+}
+
+/* The Newton step of the barrier problem mu at the current point (a->r, a->g, a->jv, a->hv
+ * evaluated there; *dw: the Hessian's raise, ea__ipm_factor): dx, dy (in a->rhs), ds and the
+ * bound multipliers' steps. 0, or -1 (no factorization, or a solve that refinement did not
+ * bring to 1e-10 of its right-hand side). */
+static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double mu, double *dw) {
+  const ea__asn_nlp_t *p = &a->p;
+  memset(a->Ax, 0, sizeof(double) * (size_t)a->nnz_k);
+  for (int e = 0; e < p->nnz_h; ++e) {
+    if (a->ph[0][e] >= 0) a->Ax[a->ph[0][e]] += a->hv[e];
+    if (a->ph[1][e] >= 0) a->Ax[a->ph[1][e]] += a->hv[e];
+  }
+  for (int e = 0; e < p->nnz_j; ++e) {
+    if (a->pj[0][e] >= 0) a->Ax[a->pj[0][e]] += a->jv[e];
+    if (a->pj[1][e] >= 0) a->Ax[a->pj[1][e]] += a->jv[e];
+  }
+  for (int i = 0; i < p->n; ++i) {
+    const int k = a->kx[i];
+    if (k < 0) continue;
+    double sig = 0.0, rb = a->r[i]; /* grad f + J' y + the barrier's gradient */
+    if (ea__lo(p->xl[i])) {
+      const double gap = x[i] - p->xl[i];
+      sig += w->zl[i] / gap, rb -= mu / gap;
+    }
+    if (ea__hi(p->xu[i])) {
+      const double gap = p->xu[i] - x[i];
+      sig += w->zu[i] / gap, rb += mu / gap;
+    }
+    a->Ax[a->pd[k]] += sig;
+    a->rhs[k] = -rb;
+  }
+  for (int i = 0; i < p->m; ++i) {
+    const int k = a->kg[i];
+    if (p->gl[i] == p->gu[i]) {
+      a->Ax[a->pd[k]] = -EA__IPM_DELTA_C;
+      a->rhs[k] = -(a->g[i] - p->gl[i]);
+      continue;
+    }
+    double sig = 0.0, rt = -w->y[i]; /* Sigma_s and r~_s = -y - mu / (s - gl) + mu / (gu - s) */
+    if (ea__lo(p->gl[i])) {
+      const double gap = w->s[i] - p->gl[i];
+      sig += w->vl[i] / gap, rt -= mu / gap;
+    }
+    if (ea__hi(p->gu[i])) {
+      const double gap = p->gu[i] - w->s[i];
+      sig += w->vu[i] / gap, rt += mu / gap;
+    }
+    sig = fmax(sig, 1e-20);
+    w->rs[i] = rt;
+    w->ds[i] = sig; /* Sigma_s until the solve */
+    a->Ax[a->pd[k]] = -1.0 / sig;
+    a->rhs[k] = -(a->g[i] - w->s[i]) - rt / sig;
+  }
+  if (ea__ipm_kkt(a, w, dw)) return -1;
+  for (int i = 0; i < p->n; ++i) {
+    const int k = a->kx[i];
+    const double dx = k < 0 ? 0.0 : a->rhs[k];
+    w->dx[i] = dx;
+    w->dzl[i] = w->dzu[i] = 0.0;
+    if (k < 0) continue;
+    if (ea__lo(p->xl[i])) {
+      const double gap = x[i] - p->xl[i];
+      w->dzl[i] = mu / gap - w->zl[i] - w->zl[i] / gap * dx;
+    }
+    if (ea__hi(p->xu[i])) {
+      const double gap = p->xu[i] - x[i];
+      w->dzu[i] = mu / gap - w->zu[i] + w->zu[i] / gap * dx;
+    }
+  }
+  for (int i = 0; i < p->m; ++i) {
+    w->dvl[i] = w->dvu[i] = 0.0;
+    if (p->gl[i] == p->gu[i]) {
+      w->ds[i] = 0.0;
+      continue;
+    }
+    const double dy = a->rhs[a->kg[i]];
+    const double ds = (dy - w->rs[i]) / w->ds[i];
+    w->ds[i] = ds;
+    if (ea__lo(p->gl[i])) {
+      const double gap = w->s[i] - p->gl[i];
+      w->dvl[i] = mu / gap - w->vl[i] - w->vl[i] / gap * ds;
+    }
+    if (ea__hi(p->gu[i])) {
+      const double gap = p->gu[i] - w->s[i];
+      w->dvu[i] = mu / gap - w->vu[i] + w->vu[i] / gap * ds;
+    }
+  }
+  return 0;
+}
+
+/* The step's lengths by the fraction-to-the-boundary rule: primal (x, s), dual (z, v). */
+static void ea__ipm_alphas(const ea__asn_t *a, const ea__ipm_ws_t *w, const double *x,
+                           double tau, double *apr, double *adu) {
+  const ea__asn_nlp_t *p = &a->p;
+  double ap = 1.0, ad = 1.0;
+  for (int i = 0; i < p->n; ++i) {
+    if (a->kx[i] < 0) continue;
+    if (ea__lo(p->xl[i]))
+      ap = ea__ftb(ap, x[i] - p->xl[i], w->dx[i], tau), ad = ea__ftb(ad, w->zl[i], w->dzl[i], tau);
+    if (ea__hi(p->xu[i]))
+      ap = ea__ftb(ap, p->xu[i] - x[i], -w->dx[i], tau), ad = ea__ftb(ad, w->zu[i], w->dzu[i], tau);
+  }
+  for (int i = 0; i < p->m; ++i) {
+    if (p->gl[i] == p->gu[i]) continue;
+    if (ea__lo(p->gl[i]))
+      ap = ea__ftb(ap, w->s[i] - p->gl[i], w->ds[i], tau),
+      ad = ea__ftb(ad, w->vl[i], w->dvl[i], tau);
+    if (ea__hi(p->gu[i]))
+      ap = ea__ftb(ap, p->gu[i] - w->s[i], -w->ds[i], tau),
+      ad = ea__ftb(ad, w->vu[i], w->dvu[i], tau);
+  }
+  *apr = ap, *adu = ad;
+}
+
+int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g,
+                  double *mult_xl, double *mult_xu, int *iters) {
+  const ea__asn_nlp_t *p = &a->p;
+  *iters = 0;
+  ea__ipm_ws_t w;
+  if (ea__ipm_ws_alloc(&w, p->n, p->m)) return -1;
+  /* every free variable and every row in the KKT matrix */
+  for (int i = 0; i < p->n; ++i)
+    a->act_x[i] = p->xl[i] == p->xu[i] ? 2 : 0;
+  for (int i = 0; i < p->m; ++i)
+    a->act_g[i] = 2;
+  int rc = -1;
+  const int btf0 = a->c.btf;
+  a->c.btf = 0; /* a symmetric ordering: U's diagonal is the inertia (ea__ipm_factor) */
+  const int pat = ea__asn_pattern(a);
+  a->c.btf = btf0;
+  if (pat) goto done;
+  a->nx = 0;
+  for (int i = 0; i < p->n; ++i)
+    a->nx += a->kx[i] >= 0;
+  double mu = o->mu_init, dw = 0.0;
+  const double mu_min = 0.1 * o->tol;
+  /* the start: inside its bounds, the slacks the rows' values inside theirs, the bound
+   * multipliers on the central path (mu / gap), the rows' zero */
+  for (int i = 0; i < p->n; ++i) {
+    if (a->kx[i] < 0) {
+      x[i] = p->xl[i];
+      continue;
+    }
+    x[i] = ea__ipm_push(x[i], p->xl[i], p->xu[i], o->push);
+    if (ea__lo(p->xl[i])) w.zl[i] = mu / (x[i] - p->xl[i]);
+    if (ea__hi(p->xu[i])) w.zu[i] = mu / (p->xu[i] - x[i]);
+  }
+  memset(a->lam, 0, sizeof(double) * (size_t)p->m);
+  if (ea__asn_eval(a, x, 0)) goto done;
+  for (int i = 0; i < p->m; ++i) {
+    if (p->gl[i] == p->gu[i]) continue;
+    w.s[i] = ea__ipm_push(a->g[i], p->gl[i], p->gu[i], o->push);
+    if (ea__lo(p->gl[i])) w.vl[i] = mu / (w.s[i] - p->gl[i]);
+    if (ea__hi(p->gu[i])) w.vu[i] = mu / (p->gu[i] - w.s[i]);
+  }
+  for (int it = 0;; ++it) {
+    memcpy(a->lam, w.y, sizeof(double) * (size_t)p->m);
+    if (ea__asn_eval(a, x, 1)) goto done;
+    double dual, prim, comp;
+    ea__ipm_err(a, &w, x, 0.0, &dual, &prim, &comp);
+    if (dual <= 0.5 * o->tol && prim <= 0.5 * o->ptol && comp <= 0.5 * o->tol) {
+      rc = 0;
+      break;
+    }
+    /* the barrier problem solved: the next mu (more than once if the point allows) */
+    while (mu > mu_min &&
+           ea__ipm_err(a, &w, x, mu, &dual, &prim, &comp) <= EA__IPM_KAPPA_EPS * mu)
+      mu = fmax(mu_min, fmin(EA__IPM_KAPPA_MU * mu, pow(mu, EA__IPM_THETA_MU)));
+    if (it == o->max_iter) goto done;
+    if (ea__ipm_step(a, &w, x, mu, &dw)) goto done;
+    const double tau = fmax(0.99, 1.0 - mu);
+    double apr, adu;
+    ea__ipm_alphas(a, &w, x, tau, &apr, &adu);
+    if (!(apr > 1e-12)) goto done;
+    for (int i = 0; i < p->n; ++i) {
+      if (a->kx[i] < 0) continue;
+      x[i] += apr * w.dx[i];
+      if (ea__lo(p->xl[i]))
+        w.zl[i] = ea__ipm_clip(w.zl[i] + adu * w.dzl[i], mu, x[i] - p->xl[i]);
+      if (ea__hi(p->xu[i]))
+        w.zu[i] = ea__ipm_clip(w.zu[i] + adu * w.dzu[i], mu, p->xu[i] - x[i]);
+    }
+    for (int i = 0; i < p->m; ++i) {
+      w.y[i] += apr * a->rhs[a->kg[i]];
+      if (p->gl[i] == p->gu[i]) continue;
+      w.s[i] += apr * w.ds[i];
+      if (ea__lo(p->gl[i]))
+        w.vl[i] = ea__ipm_clip(w.vl[i] + adu * w.dvl[i], mu, w.s[i] - p->gl[i]);
+      if (ea__hi(p->gu[i]))
+        w.vu[i] = ea__ipm_clip(w.vu[i] + adu * w.dvu[i], mu, p->gu[i] - w.s[i]);
+    }
+    ++*iters;
+  }
+  memcpy(mult_g, w.y, sizeof(double) * (size_t)p->m);
+  for (int i = 0; i < p->n; ++i) {
+    mult_xl[i] = a->kx[i] < 0 ? 0.0 : w.zl[i];
+    mult_xu[i] = a->kx[i] < 0 ? 0.0 : w.zu[i];
+  }
+done:
+  ea__ipm_ws_free(&w);
+  return rc;
+}

@@ -1,0 +1,23 @@
+/* Private: a primal-dual interior point on an NLP given by Ipopt's callbacks, its KKT system
+ * factored by KLU (plan_ipm.c). */
+#ifndef EA_PLAN_IPM_IMPL_H
+#define EA_PLAN_IPM_IMPL_H
+
+#include "plan_asn_impl.h"
+
+/** Settings: tol (unscaled stationarity, as the caller's KKT test), ptol (rows), mu_init (the
+ *  first barrier parameter; monotone from there), push (the start moved this far inside its
+ *  bounds, relative to max(1, |bound|)), max_iter. */
+typedef struct ea__ipm_opt {
+  double tol, ptol, mu_init, push;
+  int max_iter;
+} ea__ipm_opt_t;
+
+/** From x: 0 when x and the multipliers (Ipopt's signs) are a candidate KKT point of the NLP
+ *  of a (for the caller to verify), -1 when none was found (a singular KKT matrix, a failed
+ *  callback, max_iter reached, steps that stopped making progress; x and the multipliers are
+ *  then undefined). *iters: iterations taken. The workspace a keeps KLU's analysis. */
+int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g,
+                  double *mult_xl, double *mult_xu, int *iters);
+
+#endif
