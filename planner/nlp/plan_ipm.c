@@ -154,11 +154,13 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w, klu_numeric *num) {
 
 /* Solve the KKT system in a->Ax, a->rhs (d into a->rhs) with the Hessian's diagonal raised
  * until the matrix has the inertia of [W + Sigma_x + dw I, J'; J, -D] at a minimum (as many
- * negative pivots as rows) and the solve refines to 1e-10: Ipopt's inertia correction and its
- * constants. The inertia is the signs of U's diagonal: diagonal pivots in a symmetric
- * ordering without BTF, rows scaled by positive factors. *dw: the last iteration's raise in,
- * this one's out. 0, or -1 (no raise up to 1e20 did). */
-static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw) {
+ * negative pivots as rows: Ipopt's inertia correction and its constants) and the solve refines
+ * to 1e-10. The inertia is the signs of U's diagonal: diagonal pivots in a symmetric ordering
+ * without BTF, rows scaled by positive factors. A solve that does not refine with the right
+ * inertia has a small pivot in the rows: the equality rows' diagonal -dc is raised 100-fold up
+ * to 1e-4 first. *dw: the last iteration's in, this one's out; *dc: this iteration's. 0, or -1
+ * (nothing up to dw 1e20 did). */
+static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
   const ea__asn_nlp_t *p = &a->p;
   const double tol0 = a->c.tol;
   double cur = 0.0, next = 0.0;
@@ -169,19 +171,26 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw) {
       if (a->kx[i] >= 0) a->Ax[a->pd[a->kx[i]]] += next - cur;
     cur = next;
     klu_numeric *num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);
-    int good = num && a->c.status == KLU_OK && a->c.noffdiag == 0;
-    if (good) {
+    int inertia = 0, good = 0;
+    if (num && a->c.status == KLU_OK && a->c.noffdiag == 0) {
       const double *u = num->Udiag;
       int neg = 0;
       for (int k = 0; k < a->nk; ++k)
         neg += u[k] < 0.0;
-      good = neg == a->nk - a->nx && ea__ipm_refined(a, w, num);
+      inertia = neg == a->nk - a->nx;
+      good = inertia && ea__ipm_refined(a, w, num);
     }
     if (num) klu_free_numeric(&num, &a->c);
     if (good) {
       *dw = cur;
       rc = 0;
       break;
+    }
+    if (inertia && *dc < 1e-4) {
+      *dc *= 100.0;
+      for (int i = 0; i < p->m; ++i)
+        if (p->gl[i] == p->gu[i]) a->Ax[a->pd[a->kg[i]]] = -*dc;
+      continue;
     }
     if (cur == 0.0)
       next = *dw == 0.0 ? 1e-4 : fmax(1e-20, *dw / 3);
@@ -197,7 +206,8 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw) {
  * evaluated there; *dw: the Hessian's raise, ea__ipm_factor): dx, dy (in a->rhs), ds and the
  * bound multipliers' steps. 0, or -1 (no factorization, or a solve that refinement did not
  * bring to 1e-10 of its right-hand side). */
-static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double mu, double *dw) {
+static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double mu, double *dw,
+                        double *dc) {
   const ea__asn_nlp_t *p = &a->p;
   memset(a->Ax, 0, sizeof(double) * (size_t)a->nnz_k);
   for (int e = 0; e < p->nnz_h; ++e) {
@@ -226,7 +236,7 @@ static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double m
   for (int i = 0; i < p->m; ++i) {
     const int k = a->kg[i];
     if (p->gl[i] == p->gu[i]) {
-      a->Ax[a->pd[k]] = -EA__IPM_DELTA_C;
+      a->Ax[a->pd[k]] = -*dc;
       a->rhs[k] = -(a->g[i] - p->gl[i]);
       continue;
     }
@@ -245,7 +255,7 @@ static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double m
     a->Ax[a->pd[k]] = -1.0 / sig;
     a->rhs[k] = -(a->g[i] - w->s[i]) - rt / sig;
   }
-  if (ea__ipm_kkt(a, w, dw)) return -1;
+  if (ea__ipm_kkt(a, w, dw, dc)) return -1;
   for (int i = 0; i < p->n; ++i) {
     const int k = a->kx[i];
     const double dx = k < 0 ? 0.0 : a->rhs[k];
@@ -326,7 +336,7 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
   a->nx = 0;
   for (int i = 0; i < p->n; ++i)
     a->nx += a->kx[i] >= 0;
-  double mu = o->mu_init, dw = 0.0;
+  double mu = o->mu_init, dw = 0.0, dc = EA__IPM_DELTA_C;
   const double mu_min = 0.1 * o->tol;
   /* the start: inside its bounds, the slacks the rows' values inside theirs, the bound
    * multipliers on the central path (mu / gap), the rows' zero */
@@ -343,7 +353,7 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
   if (ea__asn_eval(a, x, 0)) goto done;
   for (int i = 0; i < p->m; ++i) {
     if (p->gl[i] == p->gu[i]) continue;
-    w.s[i] = ea__ipm_push(a->g[i], p->gl[i], p->gu[i], o->push);
+    w.s[i] = ea__ipm_push(a->g[i], p->gl[i], p->gu[i], o->push_s);
     if (ea__lo(p->gl[i])) w.vl[i] = mu / (w.s[i] - p->gl[i]);
     if (ea__hi(p->gu[i])) w.vu[i] = mu / (p->gu[i] - w.s[i]);
   }
@@ -361,7 +371,8 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
            ea__ipm_err(a, &w, x, mu, &dual, &prim, &comp) <= EA__IPM_KAPPA_EPS * mu)
       mu = fmax(mu_min, fmin(EA__IPM_KAPPA_MU * mu, pow(mu, EA__IPM_THETA_MU)));
     if (it == o->max_iter) goto done;
-    if (ea__ipm_step(a, &w, x, mu, &dw)) goto done;
+    dc = EA__IPM_DELTA_C;
+    if (ea__ipm_step(a, &w, x, mu, &dw, &dc)) goto done;
     const double tau = fmax(0.99, 1.0 - mu);
     double apr, adu;
     ea__ipm_alphas(a, &w, x, tau, &apr, &adu);

@@ -6,10 +6,11 @@
 #include "plan_asn_impl.h"
 
 /** Settings: tol (unscaled stationarity, as the caller's KKT test), ptol (rows), mu_init (the
- *  first barrier parameter; monotone from there), push (the start moved this far inside its
- *  bounds, relative to max(1, |bound|)), max_iter. */
+ *  first barrier parameter; monotone from there), push and push_s (the start and the slacks of
+ *  the inequality rows moved this far inside their bounds: Ipopt's bound_push and bound_frac,
+ *  slack_bound_push and slack_bound_frac), max_iter. */
 typedef struct ea__ipm_opt {
-  double tol, ptol, mu_init, push;
+  double tol, ptol, mu_init, push, push_s;
   int max_iter;
 } ea__ipm_opt_t;
 

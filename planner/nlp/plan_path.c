@@ -837,18 +837,30 @@ static int ea__pp_asn(ea_planner_t *pl) {
   return 0;
 }
 
-/* A cold start solved without Ipopt: the interior point of plan_ipm.c from pp->x, taken when
- * its result passes the KKT test of the whole problem (ea__pp_kkt_ok). 1: pp->x and
- * pp->mult_* are the solution; 0: pp->x is the start again. */
-static int ea__pp_ipm_start(ea_planner_t *pl, int *iters) {
+/* A cold start solved without Ipopt: the interior point of plan_ipm.c from pp->x with the
+ * barrier of Ipopt's cold solve (ea__pp_run: mu_init 1e-4 from the cold guess, 1e-7 from a plan
+ * file that holds this task's rows), taken when its result passes the KKT test of the whole
+ * problem (ea__pp_kkt_ok). 1: pp->x and pp->mult_* are the solution; 0: pp->x is the start
+ * again. */
+static int ea__pp_ipm_start(ea_planner_t *pl, double mu_init, int *iters) {
   ea__pp_t *pp = pl->pp;
   const ea_task_t *t = &pl->task;
   *iters = 0;
   if (ea__pp_asn(pl)) return 0;
   const ea__ipm_opt_t o = {.tol = t->solver.tol,
                            .ptol = fmax(1e-9, t->solver.constr_tol),
-                           .mu_init = 1e-4,
+                           .mu_init = mu_init,
+                           /* the start 1e-6 inside (Ipopt's setting here, ea__pp_ipopt), the
+                            * slacks 1e-2 (Ipopt's default): with 1e-6 the rows the time-optimal
+                            * guess holds at their limits gave pivots so small that in 5-7 of
+                            * the line sweep's ~100 plans (test_plan_sweep) no raise of the
+                            * diagonals made the first solve refine (they went to Ipopt), with
+                            * 1e-3 or 1e-2 none; 1e-2 took the paper line 10 -> 9 iterations,
+                            * the sweep 1052 -> 1002; the start itself 1e-2 inside: 25. From a
+                            * plan file that holds the task's rows (mu_init 1e-7) 1e-6: the
+                            * paper line's own file in 5 iterations, 16 with 1e-2 */
                            .push = 1e-6,
+                           .push_s = mu_init < 1e-6 ? 1e-6 : 1e-2,
                            .max_iter = 40};
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
   if (!ea__ipm_solve(pp->asn, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters) &&
@@ -1489,7 +1501,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   /* a cold quasi-static solve: the own interior point first (plan_ipm.c) */
   if (!at_solution && !warm && !pl->rom && !pl->task.solver.derivative_test &&
       !pl->task.solver.nlp_ipopt) {
-    at_solution = ea__pp_ipm_start(pl, &info->ipm_iterations);
+    at_solution = ea__pp_ipm_start(pl, traj_exact ? 1e-7 : 1e-4, &info->ipm_iterations);
     info->ipm_fallback = !at_solution;
     if (at_solution) *iters = info->ipm_iterations;
   }
