@@ -94,34 +94,31 @@ static row_t run(const ea_task_t *t, int R, int warm) {
   return r;
 }
 
-/* Medians of R cold solves of t with Ipopt's rows screened (*a) and with every row (*b), the
- * two planners' solves alternating so that both see the same machine. */
-static void run_screen_pair(const ea_task_t *t, int R, row_t *a, row_t *b) {
-  samples_t Sa, Sb;
-  memset(a, 0, sizeof *a), memset(b, 0, sizeof *b);
-  a->ok = b->ok = 1;
-  if (R > 64) R = 64;
-  ea_task_t tb = *t;
-  tb.solver.screen_rows = 0;
-  ea_planner_t *pa = NULL, *pb = NULL;
+/* Medians of R cold solves of each of the nt variants ts of a task (solver settings), the
+ * variants' solves alternating so that all see the same machine. */
+static void run_alternating(const ea_task_t *ts, int nt, int R, row_t *rows) {
+  samples_t S[3];
+  ea_planner_t *pl[3] = {NULL, NULL, NULL};
   ea_error_t e;
-  if (ea_planner_alloc(t, &pa, &e) || ea_planner_alloc(&tb, &pb, &e)) {
-    fprintf(stderr, "bench_plan: %s\n", e.msg);
-    a->ok = b->ok = 0;
-    ea_planner_free(pa);
-    return;
+  if (R > 64) R = 64;
+  for (int v = 0; v < nt; ++v) {
+    memset(&rows[v], 0, sizeof rows[v]);
+    rows[v].ok = 1;
+    if (ea_planner_alloc(&ts[v], &pl[v], &e)) {
+      fprintf(stderr, "bench_plan: %s\n", e.msg);
+      rows[v].ok = 0;
+    }
   }
   ea_plan_info_t info;
-  for (int i = 0; i < R; ++i) {
-    if (ea_planner_solve(pa, EA_PLAN_COLD, NULL, &info, &e)) a->ok = 0;
-    record(&Sa, i, &info, a);
-    if (ea_planner_solve(pb, EA_PLAN_COLD, NULL, &info, &e)) b->ok = 0;
-    record(&Sb, i, &info, b);
+  for (int i = 0; i < R; ++i)
+    for (int v = 0; v < nt; ++v) {
+      if (!pl[v] || ea_planner_solve(pl[v], EA_PLAN_COLD, NULL, &info, &e)) rows[v].ok = 0;
+      record(&S[v], i, &info, &rows[v]);
+    }
+  for (int v = 0; v < nt; ++v) {
+    summarize(&S[v], R, &rows[v]);
+    ea_planner_free(pl[v]);
   }
-  summarize(&Sa, R, a);
-  summarize(&Sb, R, b);
-  ea_planner_free(pa);
-  ea_planner_free(pb);
 }
 
 /* Median of R plans of task t started from the trajectory of a plan of
@@ -162,7 +159,7 @@ static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
  * to task t (ea_planner_update, timed apart: *upd) and solves it warm
  * (EA_PLAN_WARM from the previous plan and multipliers). */
 static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double *upd,
-                        int *newton) {
+                        int *newton, int *by_ipm) {
   samples_t S;
   double up[64];
   row_t r;
@@ -185,6 +182,7 @@ static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double
     if (ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e)) r.ok = 0;
     record(&S, i, &info, &r);
     *newton = info.newton_steps; /* deterministic */
+    *by_ipm = info.ipm_iterations > 0 && !info.ipm_fallback;
     ea_planner_free(pl);
   }
   summarize(&S, R, &r);
@@ -412,11 +410,13 @@ int main(int argc, char **argv) {
   }
   printf("bench_plan: paper line (eq. 18), payload factor 0, minimum time; medians of %d\n", R);
   print_load("before");
-  printf("vars, cons = the knot layout's variables and rows; rows = the rows of Ipopt's last "
-         "solve (0: none;\nthe path transcription has its own, limit rows far inside their "
-         "limits left out); statics = shots\nwith sensitivities in Ipopt's callbacks (Jacobian, "
-         "Hessian), ipopt = Ipopt without callbacks\n(linear algebra, line search), rest = other "
-         "callback work + checks; targets: <= 15 ms cold, <= 5 ms warm\n");
+  printf("vars, cons = the knot layout's variables and rows; iters = Ipopt's iterations, or "
+         "the own interior\npoint's (a prescribed path's cold plans, solver.nlp auto); rows = the "
+         "rows of Ipopt's last solve (0: none;\nthe path transcription has its own, limit rows "
+         "far inside their limits left out); statics = shots\nwith sensitivities in Ipopt's "
+         "callbacks (Jacobian, Hessian), ipopt = the solver without callbacks\n(linear algebra, "
+         "line search; KLU for the own interior point), rest = other callback work + checks;\n"
+         "targets: <= 15 ms cold, <= 5 ms warm\n");
   row_t r;
   if (only_poly) {
     polyline_rows();
@@ -465,7 +465,7 @@ int main(int argc, char **argv) {
     r = run(&lm, R, 1);
     print_row("warm, limited-memory Hessian", &r);
 
-    header("Ipopt's rows (solver.screen_rows), cold, the two solves alternating");
+    header("cold solvers (solver.nlp, solver.screen_rows), the variants' solves alternating");
     {
       ea_task_t fr = line, k2 = line;
       fr.path = EA_TASK_PATH_FREE;
@@ -475,13 +475,21 @@ int main(int argc, char **argv) {
         const ea_task_t *t;
       } cs[] = {{"paper line", &line}, {"paper line, 200 knots", &k2}, {"free path", &fr}};
       for (size_t i = 0; i < sizeof cs / sizeof *cs; ++i) {
-        row_t ra, rb;
-        run_screen_pair(cs[i].t, cs[i].t->knots >= 200 ? (R < 5 ? R : 5) : R, &ra, &rb);
-        char nm[64];
-        snprintf(nm, sizeof nm, "%s: screened", cs[i].name);
-        print_row(nm, &ra);
-        snprintf(nm, sizeof nm, "%s: every row", cs[i].name);
-        print_row(nm, &rb);
+        /* the default (own interior point on a prescribed path), Ipopt with its rows screened,
+         * Ipopt with every row; a free path: the last two */
+        const int path = cs[i].t->path != EA_TASK_PATH_FREE;
+        ea_task_t ts[3] = {*cs[i].t, *cs[i].t, *cs[i].t};
+        ts[1].solver.nlp_ipopt = ts[2].solver.nlp_ipopt = 1;
+        ts[2].solver.screen_rows = 0;
+        static const char *const what[3] = {"own interior point", "Ipopt, rows screened",
+                                            "Ipopt, every row"};
+        row_t rr[3];
+        run_alternating(ts + !path, 3 - !path, cs[i].t->knots >= 200 ? (R < 5 ? R : 5) : R, rr);
+        for (int v = !path; v < 3; ++v) {
+          char nm[64];
+          snprintf(nm, sizeof nm, "%s: %s", cs[i].name, what[v]);
+          print_row(nm, &rr[v - !path]);
+        }
       }
     }
 
@@ -527,8 +535,8 @@ int main(int argc, char **argv) {
       r = run(&ch[i], R, 0);
       snprintf(name, sizeof name, "%s: cold", nm[i]);
       print_row(name, &r);
-      int newton = 0;
-      r = run_update(&base[i], &ch[i], R, &upd, &newton);
+      int newton = 0, by_ipm = 0;
+      r = run_update(&base[i], &ch[i], R, &upd, &newton, &by_ipm);
       snprintf(name, sizeof name, "%s: replan", nm[i]);
       print_row(name, &r);
       /* the steps of a Newton that gave up are not published: how far it goes before it
@@ -537,8 +545,9 @@ int main(int argc, char **argv) {
         printf("%-34s (ea_planner_update %.3f ms; active-set Newton: %d steps%s, no Ipopt)\n", "",
                1e3 * upd, newton, newton ? "" : " (the shifted plan passed the KKT test)");
       else
-        printf("%-34s (ea_planner_update %.3f ms; active-set Newton: %s, Ipopt)\n", "", 1e3 * upd,
-               newton ? "gave up" : "not tried");
+        printf("%-34s (ea_planner_update %.3f ms; active-set Newton: %s, %s)\n", "", 1e3 * upd,
+               newton ? "gave up" : "not tried",
+               by_ipm ? "the own interior point from the cold guess" : "Ipopt");
     }
   }
 
