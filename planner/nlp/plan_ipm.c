@@ -34,7 +34,7 @@
  * perturbed the steps: 15 iterations. */
 #define EA__IPM_DELTA_C 1e-8
 #define EA__IPM_PIVTOL 0.0
-#define EA__IPM_REFINE 3 /* refinements of a solve whose residual is above 1e-10 of its rhs */
+#define EA__IPM_REFINE 10 /* refinements of a solve (Ipopt's max_refinement_steps) */
 
 typedef struct {
   double *s, *zl, *zu, *vl, *vu, *y;
@@ -124,14 +124,17 @@ static int ea__ipm_ws_alloc(ea__ipm_ws_t *w, int n, int m) {
   return -1;
 }
 
-/* The solve of K d = rhs (a->rhs, overwritten by d) with the factors num, refined while its
- * residual is above 1e-10 of |rhs|: 1, or 0 (not reached in EA__IPM_REFINE refinements). */
+/* The solve of K d = rhs (a->rhs, overwritten by d) with the factors num, refined as Ipopt
+ * refines its solves: until the residual ratio |rhs - K d| / (|d| + |rhs|) (max norms) is at
+ * most 1e-10 (residual_ratio_max), while it improves (by half at least), at most
+ * EA__IPM_REFINE times; then accepted at 1e-5 (residual_ratio_singular). 1: accepted, 0: a
+ * small pivot spoilt it (the caller raises the diagonals). */
 static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w, klu_numeric *num) {
   const int nk = a->nk;
   double *b = w->b, *res = w->res;
   memcpy(b, a->rhs, sizeof(double) * (size_t)nk);
   if (!klu_solve(a->sym, num, nk, 1, a->rhs, &a->c)) return 0;
-  double bn = 0.0;
+  double bn = 0.0, prev = INFINITY;
   for (int k = 0; k < nk; ++k)
     bn = fmax(bn, fabs(b[k]));
   for (int ref = 0;; ++ref) {
@@ -139,12 +142,18 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w, klu_numeric *num) {
     for (int j = 0; j < nk; ++j)
       for (int q = a->Ap[j]; q < a->Ap[j + 1]; ++q)
         res[a->Ai[q]] -= a->Ax[q] * a->rhs[j];
-    double rn = 0.0;
+    double rn = 0.0, dn = 0.0;
     for (int k = 0; k < nk; ++k)
-      rn = fmax(rn, fabs(res[k]));
-    if (rn <= 1e-10 * bn) return 1;
-    if (ref == EA__IPM_REFINE || !isfinite(rn) || !klu_solve(a->sym, num, nk, 1, res, &a->c))
+      rn = fmax(rn, fabs(res[k])), dn = fmax(dn, fabs(a->rhs[k]));
+    const double ratio = rn / (dn + bn);
+    if (ratio <= 1e-10) return 1;
+    if (!isfinite(ratio)) break;
+    if (ref == EA__IPM_REFINE || !(ratio < 0.5 * prev) ||
+        !klu_solve(a->sym, num, nk, 1, res, &a->c)) {
+      if (ratio <= 1e-5) return 1;
       break;
+    }
+    prev = ratio;
     for (int k = 0; k < nk; ++k)
       a->rhs[k] += res[k];
   }

@@ -1503,11 +1503,11 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     at_solution = 1; /* the predicted point is already the solution */
   if (!at_solution && warm && !pl->task.solver.derivative_test)
     at_solution = ea__pp_newton_start(pl, &info->newton_steps);
-  /* a cold quasi-static solve, or a replan the active-set Newton gave up: the own interior
+  /* a cold solve, or a replan the active-set Newton gave up: the own interior
    * point first (plan_ipm.c), from the cold guess (a replan's too: from its predicted point
    * the paper line's goal moved 20 mm took 18 iterations instead of the cold guess's 9, its
    * start moved 5 mm 10 instead of 11 but in more time) */
-  if (!at_solution && (!warm || replan) && !pl->rom && !pl->task.solver.derivative_test &&
+  if (!at_solution && (!warm || replan) && !pl->task.solver.derivative_test &&
       !pl->task.solver.nlp_ipopt) {
     if (replan) {
       memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x); /* the predicted point */
@@ -1517,7 +1517,9 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       for (int i = 0; i < pp->n; ++i)
         pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
     }
-    at_solution = ea__pp_ipm_start(pl, traj_exact ? 1e-7 : 1e-4, &info->ipm_iterations);
+    /* the barrier's start as Ipopt's (ea__pp_run; with dynamics the knot transcription's) */
+    at_solution = ea__pp_ipm_start(pl, traj_exact ? 1e-7 : pl->rom ? 1e-3 : 1e-4,
+                                   &info->ipm_iterations);
     info->ipm_fallback = !at_solution;
     if (at_solution) *iters = info->ipm_iterations;
     if (!at_solution && replan) memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);

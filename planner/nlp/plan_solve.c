@@ -3,6 +3,7 @@
  * much). Everything is allocated in ea_planner_alloc; the callbacks do not
  * allocate. */
 #include "plan_impl.h"
+#include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
 
 #include <float.h>
@@ -20,6 +21,7 @@ void ea_planner_free(ea_planner_t *pl) {
   if (!pl) return;
   if (pl->ip) FreeIpoptProblem(pl->ip);
   ea__screen_free(pl->scr);
+  ea__asn_free(pl->asn);
   free(pl->rfam);
   free(pl->xstart);
   ea__plan_hess_free(pl);
@@ -1127,6 +1129,60 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_pla
                                                         int warm, double mono_mu, double *obj,
                                                         int *iters);
 
+/* A cold start of the knot transcription solved by the own interior point (plan_ipm.c) where
+ * Ipopt would start its monotone barrier (a cold guess timed along the path, a plan file; with
+ * dynamics any cold start) from the same mu_init, taken when it passes the KKT test of the
+ * whole problem (ea__kkt_ok). 1: pl->x, pl->mult_* and *obj are the plan's (*iters its
+ * iterations); 0: pl->x is the start again (info->ipm_fallback when it ran). */
+static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, double mono_mu,
+                         ea_plan_info_t *info, double *obj, int *iters) {
+  const ea_task_t *t = &pl->task;
+  const int mono =
+      !warm && (pl->rom ? start == EA_PLAN_COLD
+                        : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+  if (!mono || t->solver.nlp_ipopt || t->solver.derivative_test || !pl->hess_exact) return 0;
+  if (!pl->asn) {
+    const ea__asn_nlp_t nlp = {.n = pl->n,
+                               .m = pl->m,
+                               .nnz_j = pl->nnz,
+                               .nnz_h = pl->nnz_h,
+                               .xl = pl->xl,
+                               .xu = pl->xu,
+                               .gl = pl->gl,
+                               .gu = pl->gu,
+                               .jrow = pl->irow,
+                               .jcol = pl->jcol,
+                               .hrow = pl->hirow,
+                               .hcol = pl->hjcol,
+                               .grad_f = ea__cb_grad_f,
+                               .g = ea__cb_g,
+                               .jac = ea__cb_jac,
+                               .h = ea__cb_h,
+                               .ud = pl};
+    if (!(pl->asn = ea__asn_alloc(&nlp))) return 0;
+  }
+  const ea__ipm_opt_t o = {.tol = t->solver.tol,
+                           .ptol = fmax(1e-9, t->solver.constr_tol),
+                           .mu_init = mono_mu,
+                           .push = 1e-6,
+                           .push_s = 1e-2, /* as the path transcription's (plan_path.c) */
+                           .max_iter = 40};
+  memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
+  const int ok = !ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu,
+                                &info->ipm_iterations) &&
+                 ea__kkt_ok(pl, pl->x);
+  info->ipm_fallback = !ok;
+  if (!ok) {
+    memcpy(pl->x, pl->x0, (size_t)pl->n * sizeof *pl->x);
+    return 0;
+  }
+  *iters = info->ipm_iterations;
+  *obj = 0.0;
+  for (int i = 0; i < pl->n_terms; ++i)
+    *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
+  return 1;
+}
+
 /* Ipopt from pl->x (knot transcription); a warm start that already is the solution takes
  * no iteration. Ipopt sees the rows that can matter (plan_screen.c): selected at the start,
  * and if a row left out reaches its limit at the solution, solved again from the start with
@@ -1154,6 +1210,8 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
     for (int i = 0; i < pl->n_terms; ++i)
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
     pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
+  } else if (ea__solve_ipm(pl, start, warm, mono_mu, info, obj, iters)) {
+    rs = Solve_Succeeded; /* the own interior point's plan passed the KKT test */
   } else {
     /* not with dynamics: the at-rest paper line keeps every row anyway (each family has a row
      * near its limit at the cold guess), and test_rom_modes' plans took 1-2 iterations more */
