@@ -627,10 +627,16 @@ pub "tests/test_plan_hess (worst Hessian entry of a dynamics row, both tasks)" d
 sw() {
   awk -v k="$1" 'index($0, "sweep of 200 (" k " paths)") { f = 1; n = split($0, w, /[ ;(),:]+/)
       for (i = 1; i <= n; i++) { if (w[i + 1] == "planned") p = w[i]; if (w[i + 1] == "reported") r = w[i]
-        if (w[i + 1] == "failures") fl = w[i]; if (w[i + 1] == "Ipopt" && w[i + 2] == "iterations") it = w[i]
+        if (w[i + 1] == "failures") fl = w[i]; if (w[i + 1] == "iterations" && w[i + 2] == "in") it = w[i]
         if (w[i + 1] == "Ipopt" && w[i + 2] == "solves") rs = w[i] }; next }
     f && /every limit re-checked/ { x = $0; sub(/.*excess /, "", x); sub(/ .*/, "", x)
-      y = $0; sub(/ plans re-solved.*/, "", y); sub(/.* /, "", y); print p, r, fl, it, x, y, rs; exit }' \
+      y = $0; sub(/ plans re-solved.*/, "", y); sub(/.* /, "", y); f = 2
+      if (k == "free") { print p, r, fl, it, x, y, rs; exit }; next }
+    f == 2 && index($0, "sweep (" k " paths): ") { n = split($0, w, /[ ;(),:]+/)
+      for (i = 1; i <= n; i++) { if (w[i + 1] == "cold" && w[i + 2] == "plans") a = w[i]
+        if (w[i + 1] == "by" && w[i + 2] == "Ipopt" && w[i + 3] == "after") b = w[i]
+        if (w[i] == "difference") d = w[i + 1] }
+      print p, r, fl, it, x, y, rs, a, b, d; exit }' \
     "$R/test_plan_sweep.out"
 }
 set -- $(sw free) $(sw line)
@@ -639,33 +645,44 @@ pub "tests/test_plan_sweep (free paths)" docs/planner.md \
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
   'beyond the edge on purpose), {} failures, slowest plan {*} s,' "$3"
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
-  '{} Ipopt iterations in all, {} solves repeated for a row left out of Ipopt'"'"'s problem; every plan'"'"'s file' \
+  '{} iterations in all, {} Ipopt solves repeated for a row left out of its problem; every plan'"'"'s file' \
   "$4" "$7"
 pub "tests/test_plan_sweep (free paths)" docs/planner.md \
   're-checked at 1 kHz: worst relative excess {} (tolerance 0); plans re-solved for a' "$(sci %.1e "$5")"
 pub "tests/test_plan_sweep (free and line paths)" docs/planner.md \
   'limit between the knots: {}. The same 200 pairs on line paths: {} planned, {} reported' "$6" "$8" "$9"
 pub "tests/test_plan_sweep (line paths)" docs/planner.md \
-  'infeasible, {} failures, {} Ipopt iterations in all ({} solves repeated), worst relative excess {}.' \
-  "${10}" "${11}" "${14}" "$(sci %.1e "${12}")"
-# the line sweep's replans: replans, by the Newton, by Ipopt, failures, worst duration vs cold
+  'infeasible, {} failures, {} iterations in all ({} Ipopt solves repeated), worst relative' \
+  "${10}" "${11}" "${14}"
+pub "tests/test_plan_sweep (line paths)" docs/planner.md \
+  'excess {}; {} plans by the own interior point and {} by Ipopt after it, their durations' \
+  "$(sci %.1e "${12}")" "${15}" "${16}"
+pub "tests/test_plan_sweep (line paths, own interior point)" docs/planner.md \
+  'within {} of Ipopt'"'"'s plans of the same tasks (`solver.nlp: ipopt`).' "$(sci %.1e "${17}")"
+# the line sweep's replans: replans, by the Newton, by the own interior point, by Ipopt,
+# failures, worst duration vs Ipopt's cold plans
 rps=$(awk '/replan sweep \(/ { n = split($0, w, /[ ;(),:]+/)
-    for (i = 1; i <= n; i++) { if (w[i + 1] == "replans") a = w[i]; if (w[i + 1] == "by" && w[i + 2] == "the") b = w[i]
+    for (i = 1; i <= n; i++) { if (w[i + 1] == "replans") a = w[i]
+      if (w[i + 1] == "by" && w[i + 3] == "active-set") b = w[i]
+      if (w[i + 1] == "by" && w[i + 3] == "own") f = w[i]
       if (w[i + 1] == "by" && w[i + 2] == "Ipopt") c = w[i]; if (w[i + 1] == "failures") d = w[i]
-      if (w[i] == "cold" && w[i - 1] == "vs") e = w[i + 1] }; print a, b, c, d, e; exit }' \
+      if (w[i] == "plan" && w[i - 1] == "cold" && w[i - 2] == "Ipopt'"'"'s") e = w[i + 1] }
+    print a, b, f, c, d, e; exit }' \
   "$R/test_plan_sweep.out")
 set -- $rps
 pub "tests/test_plan_sweep (line replans)" docs/planner.md \
-  'up to 5 mm and 0.01 rad: {} replans, {} by the active-set Newton, {} by Ipopt, {}' "$1" "$2" "$3" "$4"
+  'up to 5 mm and 0.01 rad: {} replans, {} by the active-set Newton, {} by the own interior' \
+  "$1" "$2" "$3"
 pub "tests/test_plan_sweep (line replans)" docs/planner.md \
-  'failures, durations as cold plans'"'"' within {}, every limit from the written files.' "$(sci %.1e "$5")"
+  'point after it, {} by Ipopt, {} failures, durations as Ipopt'"'"'s cold plans'"'"' within {}, every' \
+  "$4" "$5" "$(sci %.1e "$6")"
 set -- $(dyn 100 knots) $(dyn 400 knots)
 pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
   'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \
   "$(calc %.2f "$3*100")" "$(calc %.3f "$8-$4")"
 set -- $(dyn 100 knots)
 pub "bench/bench_dyn (iterations of the at-rest paper line, the default knot transcription)" docs/planner.md \
-  'plans in about {*} s of CPU cold ({} Ipopt' "$1"
+  'plans in about {*} s of CPU cold ({} iterations of the own interior' "$1"
 grid() { awk -v g="$1" '$1 == g { print $2, $3, $4, $5, $7, $8; exit }' "$R/bench_dyn.out"; }
 set -- $(grid default) $(grid x1/2)
 pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner.md \

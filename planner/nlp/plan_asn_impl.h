@@ -11,6 +11,7 @@ typedef struct ea__asn_nlp {
   int n, m, nnz_j, nnz_h;
   const double *xl, *xu, *gl, *gu;
   const int *jrow, *jcol, *hrow, *hcol;
+  Eval_F_CB f; /* the objective (plan_ipm.c's acceptable termination; NULL: none) */
   Eval_Grad_F_CB grad_f;
   Eval_G_CB g;
   Eval_Jac_G_CB jac;

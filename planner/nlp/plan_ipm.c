@@ -366,14 +366,29 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
     if (ea__lo(p->gl[i])) w.vl[i] = mu / (w.s[i] - p->gl[i]);
     if (ea__hi(p->gu[i])) w.vu[i] = mu / (p->gu[i] - w.s[i]);
   }
+  int n_acc = 0;
+  double f_prev = NAN;
   for (int it = 0;; ++it) {
     memcpy(a->lam, w.y, sizeof(double) * (size_t)p->m);
     if (ea__asn_eval(a, x, 1)) goto done;
     double dual, prim, comp;
-    ea__ipm_err(a, &w, x, 0.0, &dual, &prim, &comp);
+    const double e0 = ea__ipm_err(a, &w, x, 0.0, &dual, &prim, &comp);
     if (dual <= 0.5 * o->tol && prim <= 0.5 * o->ptol && comp <= 0.5 * o->tol) {
       rc = 0;
       break;
+    }
+    /* Ipopt's acceptable termination */
+    if (o->acc_iter > 0 && p->f) {
+      double f;
+      if (!p->f(p->n, x, FALSE, &f, p->ud) || !isfinite(f)) goto done;
+      const int acc = e0 <= o->acc_tol && prim <= o->ptol &&
+                      fabs(f - f_prev) <= o->acc_obj * fmax(1.0, fabs(f));
+      n_acc = acc ? n_acc + 1 : 0;
+      f_prev = f;
+      if (n_acc >= o->acc_iter) {
+        rc = 1;
+        break;
+      }
     }
     /* the barrier problem solved: the next mu (more than once if the point allows) */
     while (mu > mu_min &&

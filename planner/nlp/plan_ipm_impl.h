@@ -8,14 +8,18 @@
 /** Settings: tol (unscaled stationarity, as the caller's KKT test), ptol (rows), mu_init (the
  *  first barrier parameter; monotone from there), push and push_s (the start and the slacks of
  *  the inequality rows moved this far inside their bounds: Ipopt's bound_push and bound_frac,
- *  slack_bound_push and slack_bound_frac), max_iter. */
+ *  slack_bound_push and slack_bound_frac), max_iter; acc_iter > 0 (and the NLP's f): Ipopt's
+ *  acceptable termination, acc_iter iterations in a row with the optimality error (scaled as
+ *  Ipopt's) at most acc_tol, the rows within ptol and the objective's relative change at most
+ *  acc_obj. */
 typedef struct ea__ipm_opt {
-  double tol, ptol, mu_init, push, push_s;
-  int max_iter;
+  double tol, ptol, mu_init, push, push_s, acc_tol, acc_obj;
+  int max_iter, acc_iter;
 } ea__ipm_opt_t;
 
 /** From x: 0 when x and the multipliers (Ipopt's signs) are a candidate KKT point of the NLP
- *  of a (for the caller to verify), -1 when none was found (a singular KKT matrix, a failed
+ *  of a (for the caller to verify), 1 when the acceptable termination stopped it (a candidate
+ *  to acc_tol), -1 when none was found (a singular KKT matrix, a failed
  *  callback, max_iter reached, steps that stopped making progress; x and the multipliers are
  *  then undefined). *iters: iterations taken. The workspace a keeps KLU's analysis. */
 int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g,

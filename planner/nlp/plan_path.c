@@ -772,10 +772,10 @@ static Bool ea__pp_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Numb
  * from the planner's own solution of an unchanged problem, or of one whose change left it
  * optimal (a limit loosened that was not active), then needs no Ipopt solve: Ipopt would set
  * up its algorithm and MUMPS' analysis and take one iteration (6-12 ms at 100 knots). */
-static int ea__pp_kkt_ok(ea_planner_t *pl) {
+static int ea__pp_kkt_ok_tol(ea_planner_t *pl, double dtol) {
   ea__pp_t *pp = pl->pp;
   const ea_task_t *t = &pl->task;
-  const double ptol = fmax(1e-9, t->solver.constr_tol), dtol = t->solver.tol;
+  const double ptol = fmax(1e-9, t->solver.constr_tol);
   double *x = pp->x, *r = pp->xx;
   for (int i = 0; i < pp->n; ++i)
     if (x[i] < pp->xl[i] - ptol || x[i] > pp->xu[i] + ptol) return 0;
@@ -806,6 +806,10 @@ static int ea__pp_kkt_ok(ea_planner_t *pl) {
   return ok;
 }
 
+static int ea__pp_kkt_ok(ea_planner_t *pl) {
+  return ea__pp_kkt_ok_tol(pl, pl->task.solver.tol);
+}
+
 /* A warm start solved without Ipopt: the active-set Newton (plan_asn.c) from pp->x with the old
  * plan's multipliers and active set, taken when the result passes the KKT test of the whole
  * problem (ea__pp_kkt_ok). 1: pp->x and pp->mult_* are the solution; 0: they are the start
@@ -827,6 +831,7 @@ static int ea__pp_asn(ea_planner_t *pl) {
                                .jcol = pp->jcol,
                                .hrow = pp->hirow,
                                .hcol = pp->hjcol,
+                               .f = ea__pp_cb_f,
                                .grad_f = ea__pp_cb_grad_f,
                                .g = ea__pp_cb_g,
                                .jac = ea__pp_cb_jac,
@@ -861,11 +866,14 @@ static int ea__pp_ipm_start(ea_planner_t *pl, double mu_init, int *iters) {
                             * paper line's own file in 5 iterations, 16 with 1e-2 */
                            .push = 1e-6,
                            .push_s = mu_init < 1e-6 ? 1e-6 : 1e-2,
-                           .max_iter = 40};
+                           .max_iter = 40,
+                           /* Ipopt's acceptable termination as set for it (ea__pp_ipopt) */
+                           .acc_tol = fmax(1e-4, t->solver.tol),
+                           .acc_obj = 1e-8,
+                           .acc_iter = 8};
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
-  if (!ea__ipm_solve(pp->asn, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters) &&
-      ea__pp_kkt_ok(pl))
-    return 1;
+  const int rc = ea__ipm_solve(pp->asn, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters);
+  if (rc >= 0 && ea__pp_kkt_ok_tol(pl, rc ? o.acc_tol : t->solver.tol)) return 1;
   memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
   if (pp->have_solution) { /* a warm start's multipliers (Ipopt's start after this) */
     memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
