@@ -531,7 +531,7 @@ iters() {
     for (i = 1; i <= NF; i++) if ($i ~ /^[0-9]+$/ && $(i + 1) ~ /^[0-9]+$/ && $(i + 2) ~ /^[0-9]+$/) { print $(i + 2); exit } }' \
     "$R/bench_plan.out"
 }
-pub "bench/bench_plan (cold, partial Hessian (default))" README.md 'in {*}-{*} ms with {} Ipopt iterations,' \
+pub "bench/bench_plan (cold, partial Hessian (default))" README.md 'in {*}-{*} ms with {} iterations of its own interior point,' \
   "$(iters "cold, partial Hessian (default)")"
 pub "bench/bench_plan (warm (previous solution); same task from a plan file)" README.md \
   'task takes {} iterations (a KKT test of the previous solution, {*} ms), and replanning from a previous plan file {} iterations' \
@@ -542,7 +542,7 @@ for c in "goal moved 1 mm" "goal moved 5 mm" "goal moved 20 mm" "start moved 5 m
   [ "$c" = "payload +5 %" ] && bc="payload +5 % (factor 0.2 -> 0.21)"
   # the Newton's steps where its point was taken, else what it did ("gave up", "not tried")
   nw=$(awk -v c="$bc: replan" 'index($0, c) == 1 { f = 1; next }
-    f { sub(/.*active-set Newton: /, ""); sub(/ steps.*/, ""); sub(/, Ipopt.*/, ""); print; exit }' \
+    f { sub(/.*active-set Newton: /, ""); sub(/ steps.*/, ""); sub(/, (Ipopt|the own interior point).*/, ""); print; exit }' \
     "$R/bench_plan.out")
   case $nw in
   *[!0-9]*)
