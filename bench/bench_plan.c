@@ -158,8 +158,8 @@ static row_t run_traj(const ea_task_t *prev, const ea_task_t *t, int R) {
 /* Median of R replans: a planner solves prev cold (not timed), is updated
  * to task t (ea_planner_update, timed apart: *upd) and solves it warm
  * (EA_PLAN_WARM from the previous plan and multipliers). */
-static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double *upd,
-                        int *newton, int *by_ipm) {
+static row_t run_update(const ea_task_t *prev, const ea_task_t *t, int R, double *upd, int *newton,
+                        int *by_ipm) {
   samples_t S;
   double up[64];
   row_t r;

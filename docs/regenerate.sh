@@ -574,7 +574,7 @@ pub "plan paper-line.yaml --knots 2000, 3000, 4000 (duration_s, iterations)" doc
   'knots {} s ({}), 3000 ({}), 4000 ({}) iterations; the closed form is' \
   "$(kd 2000)" "$(ki 2000)" "$(ki 3000)" "$(ki 4000)"
 
-pub "plan paper-line.yaml (iterations)" docs/planner.md 'Ipopt needs {} iterations (36 with the' \
+pub "plan paper-line.yaml (iterations)" docs/planner.md 'the cold solve needs {} iterations (the own interior point;' \
   "$(jnum "$R/paper-line.json" iterations)"
 
 # --- README.md: the FE model's checks (tests/test_fe)
@@ -608,7 +608,7 @@ for k in 25 50 100 200 400; do
   ch=$(sci %.1e "$3")
   [ $k = 400 ] && ch=$(calc %.0f "$3")
   # the path transcription's iteration count at 400 knots is not reproducible
-  # across machines and builds (81, 83 and 85 seen, rounding-sensitive
+  # across machines and builds with Ipopt (81, 83 and 85 seen, rounding-sensitive
   # barrier steps): that one count is published as measured with Debian's
   # reference BLAS and not checked
   ip='{}'

@@ -77,8 +77,7 @@ int main(void) {
   /* 1. two rows, one of them an equality, both active */
   {
     g_case = 1;
-    const double xl[2] = {-inf, -5.0}, xu[2] = {5.0, inf}, gl[2] = {-10.0, 0.2},
-                 gu[2] = {2.0, 0.2};
+    const double xl[2] = {-inf, -5.0}, xu[2] = {5.0, inf}, gl[2] = {-10.0, 0.2}, gu[2] = {2.0, 0.2};
     const int jr[4] = {0, 0, 1, 1}, jcl[4] = {0, 1, 0, 1}, hr[2] = {0, 1}, hc[2] = {0, 1};
     p.n = 2, p.m = 2, p.nnz_j = 4, p.nnz_h = 2;
     p.xl = xl, p.xu = xu, p.gl = gl, p.gu = gu, p.jrow = jr, p.jcol = jcl, p.hrow = hr;
@@ -87,8 +86,8 @@ int main(void) {
     double x[2] = {0.0, 0.0}, mg[2] = {0, 0}, ml[2] = {0, 0}, mu[2] = {0, 0};
     const int rc = a ? ea__ipm_solve(a, &o, x, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg,
-             "two rows: rc %d after %d iterations, x = (%.12g, %.12g), multipliers %.12g %.12g",
-             rc, it, x[0], x[1], mg[0], mg[1]);
+             "two rows: rc %d after %d iterations, x = (%.12g, %.12g), multipliers %.12g %.12g", rc,
+             it, x[0], x[1], mg[0], mg[1]);
     ea_test_true(rc == 0 && it > 0, msg);
     ea_test_abs(x[0], 1.1, 1e-8, "two rows: x = 1.1");
     ea_test_abs(x[1], 0.9, 1e-8, "two rows: y = 0.9");
@@ -112,8 +111,8 @@ int main(void) {
     ea__asn_t *a = ea__asn_alloc(&p);
     double x[1] = {0.5}, mg[1] = {0}, ml[1] = {0}, mu[1] = {0};
     const int rc = a ? ea__ipm_solve(a, &o, x, mg, ml, mu, &it) : -2;
-    snprintf(msg, sizeof msg, "concave: rc %d after %d iterations, x = %.12g, z_U = %.12g", rc,
-             it, x[0], mu[0]);
+    snprintf(msg, sizeof msg, "concave: rc %d after %d iterations, x = %.12g, z_U = %.12g", rc, it,
+             x[0], mu[0]);
     ea_test_true(rc == 0, msg);
     ea_test_abs(x[0], 2.0, 1e-8, "concave: the minimum at the upper bound (not the maximum 0)");
     ea_test_abs(mu[0], 4.0, 1e-7, "concave: its multiplier -f'(2) = 4");

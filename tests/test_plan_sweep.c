@@ -112,7 +112,10 @@ static void ea_sweep_replan(ea_planner_t *pl, const ea_task_t *t0, unsigned long
     ++rp->failures;
     snprintf(what, sizeof what,
              "replan sweep: goal moved %.4f m, %.4f rad: warm %.12g s (%s) vs cold %.12g s", dL, da,
-             w.duration_s, newton ? "Newton" : by_ipm ? "own interior point" : "Ipopt",
+             w.duration_s,
+             newton   ? "Newton"
+             : by_ipm ? "own interior point"
+                      : "Ipopt",
              c.duration_s);
     ea_test_true(0, what);
   }

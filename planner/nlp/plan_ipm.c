@@ -42,8 +42,12 @@ typedef struct {
   double *b, *res; /* the KKT system's right-hand side, its residual */
 } ea__ipm_ws_t;
 
-static int ea__lo(double b) { return b > -EA__IPM_INF; }
-static int ea__hi(double b) { return b < EA__IPM_INF; }
+static int ea__lo(double b) {
+  return b > -EA__IPM_INF;
+}
+static int ea__hi(double b) {
+  return b < EA__IPM_INF;
+}
 
 /* v moved inside [lo, hi] by Ipopt's push (bound_push = bound_frac = push). */
 static double ea__ipm_push(double v, double lo, double hi, double push) {
@@ -77,8 +81,10 @@ static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const doubl
   for (int i = 0; i < p->n; ++i) {
     if (a->kx[i] < 0) continue;
     d = fmax(d, fabs(a->r[i] - w->zl[i] + w->zu[i]));
-    if (ea__lo(p->xl[i])) q = fmax(q, fabs((x[i] - p->xl[i]) * w->zl[i] - mu)), sz += w->zl[i], ++nz;
-    if (ea__hi(p->xu[i])) q = fmax(q, fabs((p->xu[i] - x[i]) * w->zu[i] - mu)), sz += w->zu[i], ++nz;
+    if (ea__lo(p->xl[i]))
+      q = fmax(q, fabs((x[i] - p->xl[i]) * w->zl[i] - mu)), sz += w->zl[i], ++nz;
+    if (ea__hi(p->xu[i]))
+      q = fmax(q, fabs((p->xu[i] - x[i]) * w->zu[i] - mu)), sz += w->zu[i], ++nz;
   }
   for (int i = 0; i < p->m; ++i) {
     sy += fabs(w->y[i]);
@@ -100,8 +106,8 @@ static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const doubl
 }
 
 static void ea__ipm_ws_free(ea__ipm_ws_t *w) {
-  double **f[] = {&w->s, &w->zl, &w->zu, &w->vl, &w->vu, &w->y, &w->dx,
-                  &w->ds, &w->dzl, &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b, &w->res};
+  double **f[] = {&w->s,   &w->zl,  &w->zu,  &w->vl,  &w->vu, &w->y, &w->dx, &w->ds,
+                  &w->dzl, &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b, &w->res};
   for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
     free(*f[i]), *f[i] = NULL;
 }
@@ -302,8 +308,8 @@ static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double m
 }
 
 /* The step's lengths by the fraction-to-the-boundary rule: primal (x, s), dual (z, v). */
-static void ea__ipm_alphas(const ea__asn_t *a, const ea__ipm_ws_t *w, const double *x,
-                           double tau, double *apr, double *adu) {
+static void ea__ipm_alphas(const ea__asn_t *a, const ea__ipm_ws_t *w, const double *x, double tau,
+                           double *apr, double *adu) {
   const ea__asn_nlp_t *p = &a->p;
   double ap = 1.0, ad = 1.0;
   for (int i = 0; i < p->n; ++i) {
@@ -325,8 +331,8 @@ static void ea__ipm_alphas(const ea__asn_t *a, const ea__ipm_ws_t *w, const doub
   *apr = ap, *adu = ad;
 }
 
-int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g,
-                  double *mult_xl, double *mult_xu, int *iters) {
+int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
+                  double *mult_xu, int *iters) {
   const ea__asn_nlp_t *p = &a->p;
   *iters = 0;
   ea__ipm_ws_t w;
@@ -391,8 +397,7 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
       }
     }
     /* the barrier problem solved: the next mu (more than once if the point allows) */
-    while (mu > mu_min &&
-           ea__ipm_err(a, &w, x, mu, &dual, &prim, &comp) <= EA__IPM_KAPPA_EPS * mu)
+    while (mu > mu_min && ea__ipm_err(a, &w, x, mu, &dual, &prim, &comp) <= EA__IPM_KAPPA_EPS * mu)
       mu = fmax(mu_min, fmin(EA__IPM_KAPPA_MU * mu, pow(mu, EA__IPM_THETA_MU)));
     if (it == o->max_iter) goto done;
     dc = EA__IPM_DELTA_C;
@@ -404,19 +409,15 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
     for (int i = 0; i < p->n; ++i) {
       if (a->kx[i] < 0) continue;
       x[i] += apr * w.dx[i];
-      if (ea__lo(p->xl[i]))
-        w.zl[i] = ea__ipm_clip(w.zl[i] + adu * w.dzl[i], mu, x[i] - p->xl[i]);
-      if (ea__hi(p->xu[i]))
-        w.zu[i] = ea__ipm_clip(w.zu[i] + adu * w.dzu[i], mu, p->xu[i] - x[i]);
+      if (ea__lo(p->xl[i])) w.zl[i] = ea__ipm_clip(w.zl[i] + adu * w.dzl[i], mu, x[i] - p->xl[i]);
+      if (ea__hi(p->xu[i])) w.zu[i] = ea__ipm_clip(w.zu[i] + adu * w.dzu[i], mu, p->xu[i] - x[i]);
     }
     for (int i = 0; i < p->m; ++i) {
       w.y[i] += apr * a->rhs[a->kg[i]];
       if (p->gl[i] == p->gu[i]) continue;
       w.s[i] += apr * w.ds[i];
-      if (ea__lo(p->gl[i]))
-        w.vl[i] = ea__ipm_clip(w.vl[i] + adu * w.dvl[i], mu, w.s[i] - p->gl[i]);
-      if (ea__hi(p->gu[i]))
-        w.vu[i] = ea__ipm_clip(w.vu[i] + adu * w.dvu[i], mu, p->gu[i] - w.s[i]);
+      if (ea__lo(p->gl[i])) w.vl[i] = ea__ipm_clip(w.vl[i] + adu * w.dvl[i], mu, w.s[i] - p->gl[i]);
+      if (ea__hi(p->gu[i])) w.vu[i] = ea__ipm_clip(w.vu[i] + adu * w.dvu[i], mu, p->gu[i] - w.s[i]);
     }
     ++*iters;
   }

@@ -22,7 +22,7 @@ typedef struct ea__ipm_opt {
  *  to acc_tol), -1 when none was found (a singular KKT matrix, a failed
  *  callback, max_iter reached, steps that stopped making progress; x and the multipliers are
  *  then undefined). *iters: iterations taken. The workspace a keeps KLU's analysis. */
-int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g,
-                  double *mult_xl, double *mult_xu, int *iters);
+int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
+                  double *mult_xu, int *iters);
 
 #endif

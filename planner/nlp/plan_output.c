@@ -304,10 +304,10 @@ ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_
    * Newton of a replan, none (the start passed the KKT test), or Ipopt */
   const int by_ipm = info->ipm_iterations > 0 && !info->ipm_fallback;
   ea_json_str(&j, "solver",
-              by_ipm                  ? "interior-point-klu"
-              : info->iterations > 0  ? "ipopt"
+              by_ipm                   ? "interior-point-klu"
+              : info->iterations > 0   ? "ipopt"
               : info->newton_steps > 0 ? "active-set-newton"
-                                      : "kkt-test");
+                                       : "kkt-test");
   ea_json_str(&j, "ipopt_status", info->ipopt_status_name);
   ea_json_num(&j, "objective_value", info->objective);
   ea_json_num(&j, "solve_time_s", info->time_total_s);

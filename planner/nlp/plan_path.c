@@ -1526,7 +1526,10 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
         pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
     }
     /* the barrier's start as Ipopt's (ea__pp_run; with dynamics the knot transcription's) */
-    at_solution = ea__pp_ipm_start(pl, traj_exact ? 1e-7 : pl->rom ? 1e-3 : 1e-4,
+    at_solution = ea__pp_ipm_start(pl,
+                                   traj_exact ? 1e-7
+                                   : pl->rom  ? 1e-3
+                                              : 1e-4,
                                    &info->ipm_iterations);
     info->ipm_fallback = !at_solution;
     if (at_solution) *iters = info->ipm_iterations;
