@@ -7,7 +7,9 @@
  *     without the inertia correction heads for the maximum at 0): the minimum x = 2 with the
  *     bound's multiplier 4, where the Hessian's diagonal had to be raised;
  *  3. x = 0 and x = 1 (contradictory equality rows): no candidate (-1), as the caller must
- *     then solve with Ipopt.
+ *     then solve with Ipopt;
+ *  4. problem 1 with a stop that asks to stop (the caller's wall-clock limit): -1 before the
+ *     first step.
  * The interior point's answers hold its barrier's last parameter (tol / 10) inside the active
  * limits, so the tolerances below are ~1e-8, its stationarity 1e-9. */
 #include "ea_test.h"
@@ -17,6 +19,11 @@
 #include <string.h>
 
 static int g_case; /* which NLP the callbacks evaluate */
+
+static int stop_now(void *ud) {
+  (void)ud;
+  return 1;
+}
 
 static Bool grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud) {
   (void)n, (void)new_x, (void)ud;
@@ -98,6 +105,13 @@ int main(void) {
     const double r0 = 2.0 * (x[0] - 2.0) + mg[0] + mg[1] + mu[0];
     const double r1 = 2.0 * (x[1] - 1.0) + mg[0] - mg[1] - ml[1];
     ea_test_abs(fmax(fabs(r0), fabs(r1)), 0.0, 1e-9, "two rows: stationarity");
+    /* 4. the same, told to stop */
+    ea__ipm_opt_t os = o;
+    os.stop = stop_now;
+    double xs[2] = {0.0, 0.0};
+    const int rs = a ? ea__ipm_solve(a, &os, xs, mg, ml, mu, &it) : -2;
+    snprintf(msg, sizeof msg, "stop: rc %d after %d iterations (want -1 after 0)", rs, it);
+    ea_test_true(rs == -1 && it == 0, msg);
     ea__asn_free(a);
   }
   /* 2. a concave objective on an interval */

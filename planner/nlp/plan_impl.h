@@ -207,6 +207,9 @@ void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, 
                           double ga[2][5]);
 /** Shoot every knot at x with sensitivities (sens is kept for the callers'
  *  intent; a knot whose p is unchanged is not shot again). */
+/** Nonzero when the solve's wall-clock limit (solver.max_time_s) has passed (ud: the
+ *  planner; the own interior point's stop, plan_ipm.c). */
+int ea__plan_time_up(void *ud);
 ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens);
 /** The rows' families (m): one limit of one coordinate (an interval's start and end rows of
  *  a limit together), for leaving rows out of Ipopt's problem (plan_screen.c); returns the

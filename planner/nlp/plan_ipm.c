@@ -399,7 +399,7 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
     /* the barrier problem solved: the next mu (more than once if the point allows) */
     while (mu > mu_min && ea__ipm_err(a, &w, x, mu, &dual, &prim, &comp) <= EA__IPM_KAPPA_EPS * mu)
       mu = fmax(mu_min, fmin(EA__IPM_KAPPA_MU * mu, pow(mu, EA__IPM_THETA_MU)));
-    if (it == o->max_iter) goto done;
+    if (it == o->max_iter || (o->stop && o->stop(p->ud))) goto done;
     dc = EA__IPM_DELTA_C;
     if (ea__ipm_step(a, &w, x, mu, &dw, &dc)) goto done;
     const double tau = fmax(0.99, 1.0 - mu);

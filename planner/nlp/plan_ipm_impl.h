@@ -11,10 +11,12 @@
  *  slack_bound_push and slack_bound_frac), max_iter; acc_iter > 0 (and the NLP's f): Ipopt's
  *  acceptable termination, acc_iter iterations in a row with the optimality error (scaled as
  *  Ipopt's) at most acc_tol, the rows within ptol and the objective's relative change at most
- *  acc_obj. */
+ *  acc_obj; stop (may be NULL): asked before every iteration, nonzero stops the solve (-1; the
+ *  caller's wall-clock limit). */
 typedef struct ea__ipm_opt {
   double tol, ptol, mu_init, push, push_s, acc_tol, acc_obj;
   int max_iter, acc_iter;
+  int (*stop)(void *ud);
 } ea__ipm_opt_t;
 
 /** From x: 0 when x and the multipliers (Ipopt's signs) are a candidate KKT point of the NLP

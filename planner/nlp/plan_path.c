@@ -866,7 +866,9 @@ static int ea__pp_ipm_start(ea_planner_t *pl, double mu_init, int *iters) {
                             * paper line's own file in 5 iterations, 16 with 1e-2 */
                            .push = 1e-6,
                            .push_s = mu_init < 1e-6 ? 1e-6 : 1e-2,
-                           .max_iter = 40,
+                           .max_iter =
+                               pl->task.solver.max_iter < 40 ? pl->task.solver.max_iter : 40,
+                           .stop = ea__plan_time_up,
                            /* Ipopt's acceptable termination as set for it (ea__pp_ipopt) */
                            .acc_tol = fmax(1e-4, t->solver.tol),
                            .acc_obj = 1e-8,

@@ -143,6 +143,11 @@ static Bool ea__cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number 
   return st == EA_OK;
 }
 
+int ea__plan_time_up(void *ud) {
+  const ea_planner_t *pl = ud;
+  return !(ea__mono_s() - pl->t_start < pl->max_time);
+}
+
 static Bool ea__cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
                         Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
                         Index ls, UserDataPtr ud) {
@@ -1181,7 +1186,8 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, doub
                            .mu_init = mono_mu,
                            .push = 1e-6,
                            .push_s = 1e-2, /* as the path transcription's (plan_path.c) */
-                           .max_iter = 40,
+                           .max_iter = t->solver.max_iter < 40 ? t->solver.max_iter : 40,
+                           .stop = ea__plan_time_up,
                            .acc_tol = fmax(1e-4, t->solver.tol),
                            .acc_obj = 1e-8,
                            .acc_iter = 8};
