@@ -697,7 +697,7 @@ pub "bench/bench_dyn (grid halved)" docs/planner.md '{} mm. The table is built i
   "$(calc %.3f "$6-${12}")"
 set -- $(awk '$1 == "warm" || $1 == "cold" { print $2 }' "$R/bench_dyn.out")
 pub "bench/bench_dyn (replanning after a 5 mm goal move)" docs/planner.md \
-  're-plans warm after a 5 mm goal move in {} iterations (cold: {}). The cold guess is the' "$1" "$2"
+  're-plans after a 5 mm goal move in {} iterations (cold: {}), from the cold guess by the' "$1" "$2"
 # the FE cable tension of the at-rest paper line (plan --verify) against the planned minimum
 pub "plan paper-line-rest.yaml --verify (verify.measured_tension_min_N)" docs/planner.md \
   '{} N after the motion against the planned minimum of {} N' \

@@ -1143,12 +1143,17 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_pla
  * dynamics any cold start) from the same mu_init, taken when it passes the KKT test of the
  * whole problem (ea__kkt_ok). 1: pl->x, pl->mult_* and *obj are the plan's (*iters its
  * iterations); 0: pl->x is the start again (info->ipm_fallback when it ran). */
-static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, double mono_mu,
-                         ea_plan_info_t *info, double *obj, int *iters) {
+static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
+                         double mono_mu, ea_plan_info_t *info, double *obj, int *iters) {
   const ea_task_t *t = &pl->task;
+  /* a replan with dynamics from the cold guess: bench_dyn's at-rest paper line with its goal
+   * moved 5 mm took Ipopt 14 iterations from the shifted plan, and more time than the cold
+   * plan by the own interior point */
+  const int from_cold = warm && replan && pl->rom;
   const int mono =
-      !warm && (pl->rom ? start == EA_PLAN_COLD
-                        : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+      from_cold ||
+      (!warm && (pl->rom ? start == EA_PLAN_COLD
+                         : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed)));
   if (!mono || t->solver.nlp_ipopt || t->solver.derivative_test || !pl->hess_exact) return 0;
   /* not on free paths, nor with the corner models of robust rest: there its candidates failed
    * the KKT test often enough to cost more than they saved (test_plan_sweep's free paths: 27
@@ -1191,13 +1196,25 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, doub
                            .acc_tol = fmax(1e-4, t->solver.tol),
                            .acc_obj = 1e-8,
                            .acc_iter = 8};
-  memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
+  memcpy(pl->xstart, pl->x, (size_t)pl->n * sizeof *pl->x);
+  if (from_cold) {
+    ea_error_t e = {0};
+    if (ea__plan_guess(pl, pl->x, info, &e)) return 0;
+    ea__plan_dyn_guess(pl, pl->x);
+    for (int i = 0; i < pl->n; ++i)
+      pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
+  }
   const int rc = ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu,
                                &info->ipm_iterations);
   const int ok = rc >= 0 && ea__kkt_ok_tol(pl, pl->x, rc ? o.acc_tol : t->solver.tol);
   info->ipm_fallback = !ok;
-  if (!ok) {
-    memcpy(pl->x, pl->x0, (size_t)pl->n * sizeof *pl->x);
+  if (!ok) { /* Ipopt's start again */
+    memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x);
+    if (warm) {
+      memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
+      memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
+      memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
+    }
     return 0;
   }
   *iters = info->ipm_iterations;
@@ -1234,7 +1251,7 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
     for (int i = 0; i < pl->n_terms; ++i)
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
     pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
-  } else if (ea__solve_ipm(pl, start, warm, mono_mu, info, obj, iters)) {
+  } else if (ea__solve_ipm(pl, start, warm, replan, mono_mu, info, obj, iters)) {
     rs = Solve_Succeeded; /* the own interior point's plan passed the KKT test */
   } else {
     /* not with dynamics: the at-rest paper line keeps every row anyway (each family has a row
