@@ -1151,9 +1151,9 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
    * plan by the own interior point */
   const int from_cold = warm && replan && pl->rom;
   const int mono =
-      from_cold ||
-      (!warm && (pl->rom ? start == EA_PLAN_COLD
-                         : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed)));
+      from_cold || (!warm && (pl->rom ? start == EA_PLAN_COLD
+                                      : start == EA_PLAN_FROM_TRAJ ||
+                                            (start == EA_PLAN_COLD && pl->guess_timed)));
   if (!mono || t->solver.nlp_ipopt || t->solver.derivative_test || !pl->hess_exact) return 0;
   /* not on free paths, nor with the corner models of robust rest: there its candidates failed
    * the KKT test often enough to cost more than they saved (test_plan_sweep's free paths: 27
