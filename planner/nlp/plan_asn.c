@@ -132,6 +132,19 @@ int ea__asn_pattern(ea__asn_t *a) {
   return a->sym ? 0 : -1;
 }
 
+void ea__asn_fill(ea__asn_t *a) {
+  const ea__asn_nlp_t *p = &a->p;
+  memset(a->Ax, 0, sizeof(double) * (size_t)a->nnz_k);
+  for (int e = 0; e < p->nnz_h; ++e) {
+    if (a->ph[0][e] >= 0) a->Ax[a->ph[0][e]] += a->hv[e];
+    if (a->ph[1][e] >= 0) a->Ax[a->ph[1][e]] += a->hv[e];
+  }
+  for (int e = 0; e < p->nnz_j; ++e) {
+    if (a->pj[0][e] >= 0) a->Ax[a->pj[0][e]] += a->jv[e];
+    if (a->pj[1][e] >= 0) a->Ax[a->pj[1][e]] += a->jv[e];
+  }
+}
+
 int ea__asn_eval(ea__asn_t *a, double *x, int hess) {
   const ea__asn_nlp_t *p = &a->p;
   void *ud = p->ud;
@@ -179,17 +192,9 @@ static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
     if (it == 0) first = res;
     if (it == EA__ASN_NEWTON || !(res < 1e3 * first)) return -1;
     /* K [dx; dlam] = -[r_free; g_A - b_A] */
-    memset(a->Ax, 0, sizeof(double) * (size_t)a->nnz_k);
-    for (int e = 0; e < p->nnz_h; ++e) {
-      if (a->ph[0][e] >= 0) a->Ax[a->ph[0][e]] += a->hv[e];
-      if (a->ph[1][e] >= 0) a->Ax[a->ph[1][e]] += a->hv[e];
-    }
+    ea__asn_fill(a);
     for (int i = 0; i < p->m; ++i)
       if (a->kg[i] >= 0) a->Ax[a->pd[a->kg[i]]] = -EA__ASN_DREG;
-    for (int e = 0; e < p->nnz_j; ++e) {
-      if (a->pj[0][e] >= 0) a->Ax[a->pj[0][e]] += a->jv[e];
-      if (a->pj[1][e] >= 0) a->Ax[a->pj[1][e]] += a->jv[e];
-    }
     for (int i = 0; i < p->n; ++i)
       if (a->kx[i] >= 0) a->rhs[a->kx[i]] = -a->r[i];
     for (int i = 0; i < p->m; ++i)

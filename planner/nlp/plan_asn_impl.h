@@ -61,6 +61,9 @@ int ea__asn_solve(ea__asn_t *a, const ea__asn_tol_t *tol, const double *x_ref, c
  *  kx, kg), its positions (pj, ph, pd) and KLU's symbolic analysis. 0, or -1 (nothing free, or
  *  KLU failed). */
 int ea__asn_pattern(ea__asn_t *a);
+/** The KKT matrix's values from the Hessian (hv) and Jacobian (jv) at their positions of the
+ *  current pattern, every other entry (the diagonals of the rows among them) zero. */
+void ea__asn_fill(ea__asn_t *a);
 /** Gradient (gf), rows (g), Jacobian (jv) and, hess != 0, the Lagrangian's Hessian (hv, the
  *  multipliers lam) at x; r = grad f + J' lam. 0, or -1 (a callback failed, not finite). */
 int ea__asn_eval(ea__asn_t *a, double *x, int hess);

@@ -335,6 +335,12 @@ void ea__plan_schedule(ea_planner_t *pl, double w);
  * the position of a key among nnz sorted ones (-1: absent). */
 /* Ipopt's mu_init and warm-start pushes for a cold, warm or updated start (plan_solve.c). */
 void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated);
+struct ea__ipm_opt;
+/** The own interior point's settings for both transcriptions (plan_ipm.c): the task's
+ *  tolerances, Ipopt's acceptable termination as the planner sets it for Ipopt, at most
+ *  min(40, max_iter) iterations, the solve's wall-clock limit; the barrier's start mu_init and
+ *  the slacks' push push_s are the caller's. */
+void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s, struct ea__ipm_opt *o);
 /* Ipopt's derivative checker (second: of the Hessian too) writing to a temporary file whose
  * name goes to tmpl ("" when none could be made); the count of errors it reported there (-1:
  * unknown) (plan_shared.c). */

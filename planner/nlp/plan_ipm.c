@@ -2,9 +2,10 @@
  * "Measurements"): Ipopt's monotone barrier algorithm (Waechter & Biegler 2006, sec. 2-3:
  * slacks for the inequality rows, the primal-dual system condensed to [W + Sigma_x, J';
  * J, -D], the fraction-to-the-boundary rule, the barrier parameter decreased by
- * min(kappa_mu mu, mu^theta) once the barrier problem is solved to kappa_eps mu) without its
- * line search, inertia correction or restoration phase, its KKT system factored by KLU
- * (plan_asn.c's pattern: BTF + AMD, diagonal pivots) instead of MUMPS. On the small banded
+ * min(kappa_mu mu, mu^theta) once the barrier problem is solved to kappa_eps mu, the inertia
+ * correction, the iterative refinement, the acceptable termination) without its line search,
+ * second-order corrections or restoration phase, its KKT system factored by KLU (plan_asn.c's
+ * pattern, without BTF, diagonal pivots) instead of MUMPS. On the small banded
  * KKT systems of a prescribed path (~1100 unknowns at 100 knots) a KLU factorization costs
  * a fraction of a millisecond, an Ipopt iteration through MUMPS 2-3 ms of per-front overhead.
  *
@@ -218,21 +219,13 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
 }
 
 /* The Newton step of the barrier problem mu at the current point (a->r, a->g, a->jv, a->hv
- * evaluated there; *dw: the Hessian's raise, ea__ipm_factor): dx, dy (in a->rhs), ds and the
- * bound multipliers' steps. 0, or -1 (no factorization, or a solve that refinement did not
- * bring to 1e-10 of its right-hand side). */
+ * evaluated there; *dw, *dc: the diagonals' raises, ea__ipm_kkt): dx, dy (in a->rhs), ds and
+ * the bound multipliers' steps. 0, or -1 (no raise gave a factorization with the right inertia
+ * whose solve refined). */
 static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double mu, double *dw,
                         double *dc) {
   const ea__asn_nlp_t *p = &a->p;
-  memset(a->Ax, 0, sizeof(double) * (size_t)a->nnz_k);
-  for (int e = 0; e < p->nnz_h; ++e) {
-    if (a->ph[0][e] >= 0) a->Ax[a->ph[0][e]] += a->hv[e];
-    if (a->ph[1][e] >= 0) a->Ax[a->ph[1][e]] += a->hv[e];
-  }
-  for (int e = 0; e < p->nnz_j; ++e) {
-    if (a->pj[0][e] >= 0) a->Ax[a->pj[0][e]] += a->jv[e];
-    if (a->pj[1][e] >= 0) a->Ax[a->pj[1][e]] += a->jv[e];
-  }
+  ea__asn_fill(a);
   for (int i = 0; i < p->n; ++i) {
     const int k = a->kx[i];
     if (k < 0) continue;
@@ -344,7 +337,7 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
     a->act_g[i] = 2;
   int rc = -1;
   const int btf0 = a->c.btf;
-  a->c.btf = 0; /* a symmetric ordering: U's diagonal is the inertia (ea__ipm_factor) */
+  a->c.btf = 0; /* a symmetric ordering: U's diagonal is the inertia (ea__ipm_kkt) */
   const int pat = ea__asn_pattern(a);
   a->c.btf = btf0;
   if (pat) goto done;

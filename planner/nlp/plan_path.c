@@ -821,6 +821,13 @@ static int ea__pp_kkt_ok(ea_planner_t *pl) {
  * plan's multipliers and active set, taken when the result passes the KKT test of the whole
  * problem (ea__pp_kkt_ok). 1: pp->x and pp->mult_* are the solution; 0: they are the start
  * again (restored from pp->x0 and the old plan's multipliers). */
+/* The last plan's multipliers as the current ones (a warm start's). */
+static void ea__pp_mult_from_sol(ea__pp_t *pp) {
+  memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
+  memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
+  memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
+}
+
 /* The workspace of the active-set Newton and the interior point (plan_asn.c, plan_ipm.c) on the
  * path NLP: 0, or -1 (out of memory). */
 static int ea__pp_asn(ea_planner_t *pl) {
@@ -859,36 +866,19 @@ static int ea__pp_ipm_start(ea_planner_t *pl, double mu_init, int *iters) {
   const ea_task_t *t = &pl->task;
   *iters = 0;
   if (ea__pp_asn(pl)) return 0;
-  const ea__ipm_opt_t o = {.tol = t->solver.tol,
-                           .ptol = fmax(1e-9, t->solver.constr_tol),
-                           .mu_init = mu_init,
-                           /* the start 1e-6 inside (Ipopt's setting here, ea__pp_ipopt), the
-                            * slacks 1e-2 (Ipopt's default): with 1e-6 the rows the time-optimal
-                            * guess holds at their limits gave pivots so small that in 5-7 of
-                            * the line sweep's ~100 plans (test_plan_sweep) no raise of the
-                            * diagonals made the first solve refine (they went to Ipopt), with
-                            * 1e-3 or 1e-2 none; 1e-2 took the paper line 10 -> 9 iterations,
-                            * the sweep 1052 -> 1002; the start itself 1e-2 inside: 25. From a
-                            * plan file that holds the task's rows (mu_init 1e-7) 1e-6: the
-                            * paper line's own file in 5 iterations, 16 with 1e-2 */
-                           .push = 1e-6,
-                           .push_s = mu_init < 1e-6 ? 1e-6 : 1e-2,
-                           .max_iter =
-                               pl->task.solver.max_iter < 40 ? pl->task.solver.max_iter : 40,
-                           .stop = ea__plan_time_up,
-                           /* Ipopt's acceptable termination as set for it (ea__pp_ipopt) */
-                           .acc_tol = fmax(1e-4, t->solver.tol),
-                           .acc_obj = 1e-8,
-                           .acc_iter = 8};
+  /* the start 1e-6 inside (Ipopt's setting here, ea__pp_ipopt), the slacks 1e-2 (Ipopt's
+   * default): with 1e-6 the rows the time-optimal guess holds at their limits gave pivots so
+   * small that in 5-7 of the line sweep's ~100 plans (test_plan_sweep) no raise of the
+   * diagonals made the first solve refine (they went to Ipopt), with 1e-3 or 1e-2 none; 1e-2
+   * took the paper line 10 -> 9 iterations, the sweep 1052 -> 1002; the start itself 1e-2
+   * inside: 25. From a plan file that holds the task's rows (mu_init 1e-7) 1e-6: the paper
+   * line's own file in 5 iterations, 16 with 1e-2 */
+  ea__ipm_opt_t o;
+  ea__plan_ipm_opt(pl, mu_init, mu_init < 1e-6 ? 1e-6 : 1e-2, &o);
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
   const int rc = ea__ipm_solve(pp->asn, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters);
   if (rc >= 0 && ea__pp_kkt_ok_tol(pl, rc ? o.acc_tol : t->solver.tol)) return 1;
   memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
-  if (pp->have_solution) { /* a warm start's multipliers (Ipopt's start after this) */
-    memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
-    memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
-  }
   return 0;
 }
 
@@ -909,9 +899,7 @@ static int ea__pp_newton_start(ea_planner_t *pl, int *steps) {
       ea__pp_kkt_ok(pl))
     return 1;
   memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
-  memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
-  memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
-  memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
+  ea__pp_mult_from_sol(pp);
   return 0;
 }
 
@@ -1421,6 +1409,19 @@ ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err) {
   return EA_OK;
 }
 
+/* The cold guess (timed along the path, modal states along it) as the path vector pp->x,
+ * inside its bounds. */
+static ea_status_t ea__pp_cold_guess(ea_planner_t *pl, ea_plan_info_t *info, ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  const ea_status_t st = ea__plan_guess(pl, pl->x, info, err);
+  if (st) return st;
+  ea__plan_dyn_guess(pl, pl->x);
+  ea__pp_reduce(pl, pl->x, pp->x);
+  for (int i = 0; i < pp->n; ++i)
+    pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
+  return EA_OK;
+}
+
 /* One Ipopt solve of the problem just created (ea__pp_ipopt) from pp->x with the start's
  * options: a timed cold guess or a plan file's plan with the monotone barrier, and if that
  * fails the adaptive one from the same start. The derivative checker's output goes to tmpl
@@ -1472,9 +1473,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   ea_status_t st = EA_OK;
   if (warm) {
     memcpy(pp->x, pp->x_sol, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
-    memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
+    ea__pp_mult_from_sol(pp);
     if (replan && !limits_changed) ea__pp_predict(pl); /* the task changed */
   }
   int at_solution = 0; /* the old plan under the new limits */
@@ -1499,16 +1498,13 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     if (!traj_exact) start = EA_PLAN_COLD;
   }
   if (!warm && !traj_exact) {
-    if (start == EA_PLAN_FROM_TRAJ)
-      st = ea__plan_guess_traj(pl, prev, pl->x, err);
-    else
-      st = ea__plan_guess(pl, pl->x, info, err);
-    if (st) return st;
-    if (start == EA_PLAN_FROM_TRAJ)
+    if (start == EA_PLAN_FROM_TRAJ) {
+      if ((st = ea__plan_guess_traj(pl, prev, pl->x, err))) return st;
       ea__plan_dyn_fill(pl, pl->x);
-    else
-      ea__plan_dyn_guess(pl, pl->x);
-    ea__pp_reduce(pl, pl->x, pp->x);
+      ea__pp_reduce(pl, pl->x, pp->x);
+    } else if ((st = ea__pp_cold_guess(pl, info, err))) {
+      return st;
+    }
   }
   info->time_guess_s = ea__mono_s() - t0;
   for (int i = 0; i < pp->n; ++i)
@@ -1528,11 +1524,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       !pl->task.solver.nlp_ipopt) {
     if (replan) {
       memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x); /* the predicted point */
-      if ((st = ea__plan_guess(pl, pl->x, info, err))) return st;
-      ea__plan_dyn_guess(pl, pl->x);
-      ea__pp_reduce(pl, pl->x, pp->x);
-      for (int i = 0; i < pp->n; ++i)
-        pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
+      if ((st = ea__pp_cold_guess(pl, info, err))) return st;
     }
     /* the barrier's start as Ipopt's (ea__pp_run; with dynamics the knot transcription's) */
     at_solution = ea__pp_ipm_start(pl,
@@ -1542,7 +1534,10 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
                                    &info->ipm_iterations);
     info->ipm_fallback = !at_solution;
     if (at_solution) *iters = info->ipm_iterations;
-    if (!at_solution && replan) memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
+    if (!at_solution && replan) { /* Ipopt's warm start: the predicted point, the multipliers */
+      memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
+      ea__pp_mult_from_sol(pp);
+    }
   }
   if (at_solution) {
     *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
@@ -1563,9 +1558,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       if (round) {
         memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
         if (warm) {
-          memcpy(pp->mult_g, pp->mult_g_sol, (size_t)pp->m * sizeof *pp->x);
-          memcpy(pp->mult_xl, pp->mult_xl_sol, (size_t)pp->n * sizeof *pp->x);
-          memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
+          ea__pp_mult_from_sol(pp);
         }
       }
       if ((st = ea__pp_ipopt(pl)))

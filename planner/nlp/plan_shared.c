@@ -1,9 +1,10 @@
 /* What both transcriptions (plan_solve.c: knots, plan_path.c: the path coordinate) and the
  * row families (plan_nlp.c, plan_vib.c, plan_dyn.c) share: the duration variable, the end
  * accelerations of an interval's cubic Hermite, the tip from the actuator coordinates, the
- * (L_c, alpha) box a task covers, the Ipopt barrier start and its derivative checker. Calls
- * nothing above it. */
+ * (L_c, alpha) box a task covers, the Ipopt barrier start and its derivative checker, the own
+ * interior point's settings. Calls nothing above it. */
 #include "plan_impl.h"
+#include "plan_ipm_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -146,6 +147,21 @@ void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
   AddIpoptNumOption(ip, "warm_start_bound_push", push);
   AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
   AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
+}
+
+void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s,
+                      struct ea__ipm_opt *o) {
+  const ea_task_solver_t *s = &pl->task.solver;
+  *o = (ea__ipm_opt_t){.tol = s->tol,
+                       .ptol = fmax(1e-9, s->constr_tol),
+                       .mu_init = mu_init,
+                       .push = 1e-6, /* Ipopt's bound_push and bound_frac as set for it */
+                       .push_s = push_s,
+                       .max_iter = s->max_iter < 40 ? s->max_iter : 40,
+                       .stop = ea__plan_time_up,
+                       .acc_tol = fmax(1e-4, s->tol),
+                       .acc_obj = 1e-8,
+                       .acc_iter = 8};
 }
 
 /* Count of derivative checker errors in Ipopt's output file (-1: unknown). */

@@ -1088,15 +1088,20 @@ static ea_status_t ea__solve_abort(ea_planner_t *pl, ea_plan_info_t *info, ea_st
 }
 
 /* The start point in pl->x (knot transcription), inside the bounds. */
+/* The last plan's multipliers as the current ones (a warm start's). */
+static void ea__mult_from_sol(ea_planner_t *pl) {
+  memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
+  memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
+  memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
+}
+
 static ea_status_t ea__solve_start_point(ea_planner_t *pl, ea_plan_start_t start,
                                          const ea_traj_t *prev, int warm, int replan,
                                          ea_plan_info_t *info, ea_error_t *err) {
   ea_status_t st = EA_OK;
   if (warm) {
     memcpy(pl->x, pl->x_sol, (size_t)pl->n * sizeof *pl->x);
-    memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
-    memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
-    memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
+    ea__mult_from_sol(pl);
     /* the task changed (ea_planner_update): shift the solution along */
     /* A prescribed path: the cold guess (statics along the straight
      * interpolation) proves infeasibility when the new path leaves the
@@ -1138,6 +1143,14 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_pla
                                                         int warm, double mono_mu, double *obj,
                                                         int *iters);
 
+/* A start from which the barrier decreases monotonically (near-optimal: a cold guess timed
+ * along the path, a plan file; with dynamics any cold start; ea__solve_ipopt). */
+static int ea__mono_start(const ea_planner_t *pl, ea_plan_start_t start, int warm) {
+  return !warm &&
+         (pl->rom ? start == EA_PLAN_COLD
+                  : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+}
+
 /* A cold start of the knot transcription solved by the own interior point (plan_ipm.c) where
  * Ipopt would start its monotone barrier (a cold guess timed along the path, a plan file; with
  * dynamics any cold start) from the same mu_init, taken when it passes the KKT test of the
@@ -1150,11 +1163,9 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
    * moved 5 mm took Ipopt 14 iterations from the shifted plan, and more time than the cold
    * plan by the own interior point */
   const int from_cold = warm && replan && pl->rom;
-  const int mono =
-      from_cold || (!warm && (pl->rom ? start == EA_PLAN_COLD
-                                      : start == EA_PLAN_FROM_TRAJ ||
-                                            (start == EA_PLAN_COLD && pl->guess_timed)));
-  if (!mono || t->solver.nlp_ipopt || t->solver.derivative_test || !pl->hess_exact) return 0;
+  if (!(from_cold || ea__mono_start(pl, start, warm)) || t->solver.nlp_ipopt ||
+      t->solver.derivative_test || !pl->hess_exact)
+    return 0;
   /* not on free paths, nor with the corner models of robust rest: there its candidates failed
    * the KKT test often enough to cost more than they saved (test_plan_sweep's free paths: 27
    * of 98 after 40 iterations; the pick-place-3d example 229 ms against Ipopt's 55, the robust
@@ -1182,27 +1193,17 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
                                .ud = pl};
     if (!(pl->asn = ea__asn_alloc(&nlp))) return 0;
   }
-  /* Ipopt's acceptable termination as Ipopt's is set (ea__ipopt_create): the partial Hessian
-   * lacks the statics rows' curvature, and on a third of test_plan_sweep's free paths the
-   * iterates then stalled with the stationarity near 3e-7 (Ipopt stops there by this rule);
-   * its candidate is verified to acc_tol */
-  const ea__ipm_opt_t o = {.tol = t->solver.tol,
-                           .ptol = fmax(1e-9, t->solver.constr_tol),
-                           .mu_init = mono_mu,
-                           .push = 1e-6,
-                           .push_s = 1e-2, /* as the path transcription's (plan_path.c) */
-                           .max_iter = t->solver.max_iter < 40 ? t->solver.max_iter : 40,
-                           .stop = ea__plan_time_up,
-                           .acc_tol = fmax(1e-4, t->solver.tol),
-                           .acc_obj = 1e-8,
-                           .acc_iter = 8};
+  /* with Ipopt's acceptable termination (the partial Hessian lacks the statics rows'
+   * curvature: on a third of test_plan_sweep's free paths the iterates stalled with the
+   * stationarity near 3e-7, where Ipopt stops by this rule), its candidate verified to
+   * acc_tol; the slacks pushed as the path transcription's (plan_path.c) */
+  ea__ipm_opt_t o;
+  ea__plan_ipm_opt(pl, mono_mu, 1e-2, &o);
   memcpy(pl->xstart, pl->x, (size_t)pl->n * sizeof *pl->x);
-  if (from_cold) {
-    ea_error_t e = {0};
-    if (ea__plan_guess(pl, pl->x, info, &e)) return 0;
-    ea__plan_dyn_guess(pl, pl->x);
-    for (int i = 0; i < pl->n; ++i)
-      pl->x[i] = fmax(pl->xl[i], fmin(pl->xu[i], pl->x[i]));
+  ea_error_t e = {0};
+  if (from_cold && ea__solve_start_point(pl, EA_PLAN_COLD, NULL, 0, 0, info, &e)) {
+    memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x); /* no cold guess: Ipopt's start */
+    return 0;
   }
   const int rc = ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu,
                                &info->ipm_iterations);
@@ -1210,17 +1211,11 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
   info->ipm_fallback = !ok;
   if (!ok) { /* Ipopt's start again */
     memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x);
-    if (warm) {
-      memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
-      memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
-      memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
-    }
+    if (warm) ea__mult_from_sol(pl);
     return 0;
   }
   *iters = info->ipm_iterations;
-  *obj = 0.0;
-  for (int i = 0; i < pl->n_terms; ++i)
-    *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
+  ea__cb_f(pl->n, pl->x, FALSE, obj, pl);
   return 1;
 }
 
@@ -1266,9 +1261,7 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
       if (round) {
         memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x);
         if (warm) {
-          memcpy(pl->mult_g, pl->mult_g_sol, (size_t)pl->m * sizeof *pl->x);
-          memcpy(pl->mult_xl, pl->mult_xl_sol, (size_t)pl->n * sizeof *pl->x);
-          memcpy(pl->mult_xu, pl->mult_xu_sol, (size_t)pl->n * sizeof *pl->x);
+          ea__mult_from_sol(pl);
         }
       }
       if (ea__ipopt_create(pl)) break;
@@ -1291,9 +1284,7 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_pla
                                                         int warm, double mono_mu, double *obj,
                                                         int *iters) {
   enum ApplicationReturnStatus rs = Internal_Error;
-  int mono =
-      !warm && (pl->rom ? start == EA_PLAN_COLD
-                        : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+  int mono = ea__mono_start(pl, start, warm);
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   {
     for (;;) {
