@@ -186,9 +186,21 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
     for (int i = 0; i < p->n; ++i)
       if (a->kx[i] >= 0) a->Ax[a->pd[a->kx[i]]] += next - cur;
     cur = next;
-    klu_numeric *num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);
+    /* With a pivot threshold of 0 KLU takes every diagonal pivot it finds, so a factorization
+     * that took no other is a symmetric one in sym's order: later matrices of the pattern are
+     * refactored in that order (the same factors, without KLU's pivot search). */
+    klu_numeric *num = NULL;
+    int offdiag = 0;
+    if (a->num) {
+      a->c.status = KLU_OK;
+      num = klu_refactor(a->Ap, a->Ai, a->Ax, a->sym, a->num, &a->c) ? a->num : NULL;
+    } else {
+      num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);
+      offdiag = num ? a->c.noffdiag : 0;
+      if (num && a->c.status == KLU_OK && !offdiag) a->num = num;
+    }
     int inertia = 0, good = 0;
-    if (num && a->c.status == KLU_OK && a->c.noffdiag == 0) {
+    if (num && a->c.status == KLU_OK && !offdiag) {
       const double *u = num->Udiag;
       int neg = 0;
       for (int k = 0; k < a->nk; ++k)
@@ -196,7 +208,7 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
       inertia = neg == a->nk - a->nx;
       good = inertia && ea__ipm_refined(a, w, num);
     }
-    if (num) klu_free_numeric(&num, &a->c);
+    if (num && num != a->num) klu_free_numeric(&num, &a->c);
     if (good) {
       *dw = cur;
       rc = 0;
