@@ -175,7 +175,8 @@ static double ea__asn_target(const ea__asn_t *a, int i) {
  * the residuals fell below the tolerances, 1 when it is stationary with the active rows off
  * their bounds (no point holds them all: the regularised system's least-squares fixed
  * point), -1 when it failed. */
-static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
+static int ea__asn_newton_steps(ea__asn_t *a, double *x, int *iters, klu_numeric **num,
+                                double *rcond0) {
   const ea__asn_nlp_t *p = &a->p;
   const ea__asn_tol_t *tl = &a->tol;
   double first = INFINITY, rp_prev = INFINITY;
@@ -201,17 +202,32 @@ static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
       if (a->kx[i] >= 0) a->rhs[a->kx[i]] = -a->r[i];
     for (int i = 0; i < p->m; ++i)
       if (a->kg[i] >= 0) a->rhs[a->kg[i]] = -(a->g[i] - ea__asn_target(a, i));
-    klu_numeric *num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);
-    if (!num) return -1;
-    const int ok = a->c.status == KLU_OK && klu_solve(a->sym, num, a->nk, 1, a->rhs, &a->c);
-    klu_free_numeric(&num, &a->c);
-    if (!ok) return -1;
+    /* the first step's pivot order kept for the next steps (klu_refactor), unless it lost
+     * more than a factor 1e3 in the pivots' ratio min |u_kk| / max |u_kk| */
+    if (*num && (!klu_refactor(a->Ap, a->Ai, a->Ax, a->sym, *num, &a->c) ||
+                 a->c.status != KLU_OK || !klu_rcond(a->sym, *num, &a->c) ||
+                 !(a->c.rcond >= 1e-3 * *rcond0)))
+      klu_free_numeric(num, &a->c);
+    if (!*num) {
+      *num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);
+      if (!*num) return -1;
+      *rcond0 = a->c.status == KLU_OK && klu_rcond(a->sym, *num, &a->c) ? a->c.rcond : 0.0;
+    }
+    if (a->c.status != KLU_OK || !klu_solve(a->sym, *num, a->nk, 1, a->rhs, &a->c)) return -1;
     for (int i = 0; i < p->n; ++i)
       if (a->kx[i] >= 0) x[i] += a->rhs[a->kx[i]];
     for (int i = 0; i < p->m; ++i)
       if (a->kg[i] >= 0) a->lam[i] += a->rhs[a->kg[i]];
     ++*iters;
   }
+}
+
+static int ea__asn_newton(ea__asn_t *a, double *x, int *iters) {
+  klu_numeric *num = NULL;
+  double rcond0 = 0.0;
+  const int rc = ea__asn_newton_steps(a, x, iters, &num, &rcond0);
+  if (num) klu_free_numeric(&num, &a->c);
+  return rc;
 }
 
 int ea__asn_solve(ea__asn_t *a, const ea__asn_tol_t *tol, const double *x_ref, const double *g_ref,
