@@ -204,9 +204,8 @@ static int ea__asn_newton_steps(ea__asn_t *a, double *x, int *iters, klu_numeric
       if (a->kg[i] >= 0) a->rhs[a->kg[i]] = -(a->g[i] - ea__asn_target(a, i));
     /* the first step's pivot order kept for the next steps (klu_refactor), unless it lost
      * more than a factor 1e3 in the pivots' ratio min |u_kk| / max |u_kk| */
-    if (*num && (!klu_refactor(a->Ap, a->Ai, a->Ax, a->sym, *num, &a->c) ||
-                 a->c.status != KLU_OK || !klu_rcond(a->sym, *num, &a->c) ||
-                 !(a->c.rcond >= 1e-3 * *rcond0)))
+    if (*num && (!klu_refactor(a->Ap, a->Ai, a->Ax, a->sym, *num, &a->c) || a->c.status != KLU_OK ||
+                 !klu_rcond(a->sym, *num, &a->c) || !(a->c.rcond >= 1e-3 * *rcond0)))
       klu_free_numeric(num, &a->c);
     if (!*num) {
       *num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);

@@ -5,7 +5,8 @@
  * min(kappa_mu mu, mu^theta) once the barrier problem is solved to kappa_eps mu, the inertia
  * correction, the iterative refinement, the acceptable termination) without its line search,
  * second-order corrections or restoration phase, its KKT system factored by KLU (plan_asn.c's
- * pattern, without BTF, diagonal pivots) instead of MUMPS. On the small banded
+ * pattern, without BTF, diagonal pivots, later matrices refactored in the first one's order)
+ * instead of MUMPS. On the small banded
  * KKT systems of a prescribed path (~1100 unknowns at 100 knots) a KLU factorization costs
  * a fraction of a millisecond, an Ipopt iteration through MUMPS 2-3 ms of per-front overhead.
  *
@@ -18,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define EA__IPM_INF 1e19     /* |bound| >= this: no bound (Ipopt's nlp_lower/upper_bound_inf) */
+#define EA__IPM_INF 1e19 /* |bound| >= this: no bound (Ipopt's nlp_lower/upper_bound_inf) */
 /* A barrier problem is solved when its error is <= kappa_eps mu. Ipopt's 10 re-centred each
  * barrier problem in 5-7 iterations after the dual error jumped at the new mu; 1e4 lowers mu
  * as soon as the error is within 1e4 mu (the overall test stays tol): the 200 random lines of
