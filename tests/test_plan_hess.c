@@ -8,7 +8,10 @@
  * (the rows are affine in them): its modal-modal blocks must vanish, and the planner's
  * symmetric fill of the modal-trajectory entries must match it. Two tasks: the paper line at
  * payload factor 0.25 with 2 modes, a tip-deviation bound and a 1 mm residual (every row
- * kind), and the robust paper line (nominal and four corner models, 1 mode each). */
+ * kind), and the robust paper line (nominal and four corner models, 1 mode each). Also the
+ * closed-form Hessians of the kinematic rows and objective pieces (acceleration, continuity,
+ * speed, effort, jerk: ea__plan_row_hess) against the same reference, with t_f free (the
+ * at-rest line) and fixed (polyline-effort with min_effort and min_jerk). */
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_test.h"
@@ -26,6 +29,8 @@
 #define HESS_TOL 1e-5
 /* the reference's modal-modal blocks: rounding of its differences only */
 #define AFFINE_TOL 1e-8
+/* closed forms (ea__plan_row_hess) against the reference: its truncation (h^4) and rounding */
+#define KIN_TOL 1e-6
 
 static const char *src;
 
@@ -159,6 +164,99 @@ out:
   ea_planner_free(pl);
 }
 
+static int is_kin(int kind) {
+  return kind == EA__ROW_ACC_START || kind == EA__ROW_ACC_END || kind == EA__ROW_ACC_CONT ||
+         kind == EA__ROW_SPEED_CTRL || kind == EA__ROW_OBJ_ACC || kind == EA__ROW_OBJ_JERK;
+}
+
+/* The closed-form Hessians of the kinematic rows and objective pieces (ea__plan_row_hess,
+ * what ea__plan_hess_fd_local hands the Hessian for them) against the same Richardson
+ * reference, at a generic point near an 8-knot plan's solution. */
+static void check_kin(ea_task_t *t, const char *name) {
+  ea_error_t e = {0};
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t info;
+  t->knots = 8;
+  t->solver.transcription = EA_TASK_TRANSCRIPTION_KNOTS;
+  ea_status_t st = ea_task_check(t, &e);
+  if (!st) st = ea_planner_alloc(t, &pl, &e);
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+  char w[240];
+  snprintf(w, sizeof w, "%s: 8-knot plan (%.160s)", name, st ? e.msg : "ok");
+  ea_test_true(!st, w);
+  if (st) {
+    ea_planner_free(pl);
+    return;
+  }
+  const int n = pl->n;
+  double *x = malloc((size_t)n * sizeof *x), *xx = malloc((size_t)n * sizeof *xx);
+  if (!x || !xx) {
+    ea_test_true(0, "allocation");
+    free(x);
+    free(xx);
+    ea_planner_free(pl);
+    return;
+  }
+  unsigned long long s = 54321;
+  for (int i = 0; i < n; ++i) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double u = (double)(s >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+    x[i] = pl->x_sol[i] + 1e-4 * u * fmax(fabs(pl->x_sol[i]), 1e-2);
+  }
+  memcpy(xx, x, (size_t)n * sizeof *x);
+  int nrows = 0, kinds[EA__ROW_KIND_COUNT] = {0};
+  double worst = 0.0;
+  int worst_kind = -1, misplaced = 0;
+  for (int r = 0; r < pl->m + pl->n_orows; ++r) {
+    const ea__row_t *row = r < pl->m ? &pl->rows[r] : &pl->orows[r - pl->m];
+    if (!is_kin(row->kind)) continue;
+    int cols[EA__ROW_MAX];
+    const int nc = ea__plan_row_eval(pl, x, row, NULL, cols, NULL);
+    double R[EA__ROW_MAX][EA__ROW_MAX], big = 0.0;
+    for (int a = 0; a < nc; ++a) {
+      const double h = 1e-4 * fmax(1.0, fabs(x[cols[a]]));
+      double D1[EA__ROW_MAX], D2[EA__ROW_MAX];
+      grad_diff(pl, row, xx, cols[a], h, nc, D1);
+      grad_diff(pl, row, xx, cols[a], 0.5 * h, nc, D2);
+      for (int b = 0; b < nc; ++b) {
+        R[a][b] = (4.0 * D2[b] - D1[b]) / 3.0;
+        big = fmax(big, fabs(R[a][b]));
+      }
+    }
+    int hc[1][EA__ROW_MAX], hn[1];
+    double Hl[1][EA__ROW_MAX][EA__ROW_MAX];
+    const double one = 1.0;
+    ea__plan_hess_fd_local(pl, ea__plan_row_eval, x, xx, row, &one, 1, hc, hn, Hl);
+    int same = hn[0] == nc;
+    for (int a = 0; a < nc && same; ++a)
+      same = hc[0][a] == cols[a];
+    if (!same) {
+      ++misplaced;
+      continue;
+    }
+    for (int a = 0; a < nc; ++a)
+      for (int b = 0; b < nc; ++b) {
+        const double err = fabs(Hl[0][a][b] - 0.5 * (R[a][b] + R[b][a])) / fmax(big, 1e-300);
+        if (err > worst) worst = err, worst_kind = row->kind;
+      }
+    ++nrows;
+    ++kinds[row->kind];
+  }
+  printf("  %s: %d kinematic rows and objective pieces (acceleration %d, continuity %d, speed "
+         "%d, effort %d, jerk %d); worst entry %.2e of the row's largest (kind %d)\n",
+         name, nrows, kinds[EA__ROW_ACC_START] + kinds[EA__ROW_ACC_END], kinds[EA__ROW_ACC_CONT],
+         kinds[EA__ROW_SPEED_CTRL], kinds[EA__ROW_OBJ_ACC], kinds[EA__ROW_OBJ_JERK], worst,
+         worst_kind);
+  snprintf(w, sizeof w,
+           "%s: closed-form Hessians of %d kinematic rows within %.0e (worst %.2e), %d with "
+           "other entries than the row's",
+           name, nrows, KIN_TOL, worst, misplaced);
+  ea_test_true(nrows > 0 && worst <= KIN_TOL && !misplaced, w);
+  free(x);
+  free(xx);
+  ea_planner_free(pl);
+}
+
 int main(void) {
   gsl_set_error_handler_off();
   src = getenv("EA_SOURCE_DIR");
@@ -175,6 +273,12 @@ int main(void) {
     check_task(&t, "paper line, payload 0.25, 2 modes");
   } else {
     ea_test_true(0, "paper-line-rest.yaml");
+  }
+  if (!ea_test_load_example(src, "paper-line-rest.yaml", &t)) check_kin(&t, "paper line at rest");
+  if (!ea_test_load_example(src, "polyline-effort.yaml", &t)) {
+    check_kin(&t, "polyline-effort (min_effort)");
+    t.objective = EA_TASK_MIN_JERK;
+    check_kin(&t, "polyline-effort (min_jerk)");
   }
   if (!ea_test_load_example(src, "paper-line-robust.yaml", &t))
     check_task(&t, "robust paper line");

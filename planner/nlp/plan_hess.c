@@ -239,6 +239,14 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
                             int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
   int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
+  /* rows whose curvature is the Hermite's in t_f: closed form (ea__plan_row_hess) */
+  if (g == 1 && fn == ea__plan_row_eval) {
+    const int n = w[0] != 0.0 ? ea__plan_row_hess(pl, x, &rows[0], cols[0], Hl[0]) : 0;
+    if (n >= 0) {
+      nc[0] = n;
+      return;
+    }
+  }
   /* variables the row is affine in (jointly): not perturbed; their entries are the
    * perturbed variables' (symmetry) and zero among themselves (ea__plan_dyn_affine) */
   unsigned char aff[EA__HGROUP_MAX][EA__ROW_MAX];

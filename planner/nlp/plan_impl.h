@@ -223,6 +223,12 @@ int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double
  *  returns the entry count (<= EA__ROW_MAX). Statics rows read the cached sensitivities. */
 int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                       int *cols, double *vals);
+/** The closed-form Hessian of a row whose curvature is the Hermite's in t_f (acceleration,
+ *  acceleration continuity, the speed rows' middle coefficient, the acceleration and jerk
+ *  objective pieces): H[a][b] over the row's entries (cols, in ea__plan_row_eval's order);
+ *  returns their count, or -1 for any other kind. */
+int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
+                      double H[][EA__ROW_MAX]);
 /** Does the Lagrangian Hessian take the row's curvature? Not the statics rows (their own
  *  blocks, plan_hess.c) nor the linear rest rows. (Leaving out the modal defects' curvature
  *  was tried: 60 % less work per iteration, but a payload-0.5 at-rest plan no longer

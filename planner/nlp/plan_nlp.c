@@ -205,6 +205,108 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
   return n;
 }
 
+/* d^2 a_e / dh d(q0, q1, v0, v1) and d^2 a_e / dh^2 of the Hermite's end accelerations
+ * (ea__plan_hermite_acc; e: 0 start, 1 end), which are linear in (q, v) for a fixed h. */
+static void ea__hermite_acc_hh(double q0, double q1, double v0, double v1, double h,
+                               double H[2][5]) {
+  const double dq = q1 - q0, ih = 1.0 / h, ih2 = ih * ih, ih3 = ih2 * ih;
+  H[0][0] = 12.0 * ih3;
+  H[0][1] = -12.0 * ih3;
+  H[0][2] = 4.0 * ih2;
+  H[0][3] = 2.0 * ih2;
+  H[0][4] = 36.0 * dq * ih3 * ih - 2.0 * (4.0 * v0 + 2.0 * v1) * ih3;
+  H[1][0] = -12.0 * ih3;
+  H[1][1] = 12.0 * ih3;
+  H[1][2] = -2.0 * ih2;
+  H[1][3] = -4.0 * ih2;
+  H[1][4] = -36.0 * dq * ih3 * ih + 2.0 * (2.0 * v0 + 4.0 * v1) * ih3;
+}
+
+int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
+                      double H[][EA__ROW_MAX]) {
+  const int k = r->knot, c = r->coord;
+  const ea__row_kind_t kind = (ea__row_kind_t)r->kind;
+  if (kind != EA__ROW_ACC_START && kind != EA__ROW_ACC_END && kind != EA__ROW_ACC_CONT &&
+      kind != EA__ROW_SPEED_CTRL && kind != EA__ROW_OBJ_ACC && kind != EA__ROW_OBJ_JERK)
+    return -1;
+  const int n = ea__plan_row_eval(pl, x, r, NULL, cols, NULL);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b)
+      H[a][b] = 0.0;
+  const int t = n - 1; /* t_f's entry, the last (when pl->has_tf) */
+  double q0, q1, v0, v1, h, ds, Hh[2][5];
+  if (kind == EA__ROW_ACC_CONT) { /* a_end(interval k-1) - a_start(interval k) */
+    double q2, v2, h1, ds1, Hh1[2][5];
+    ea__interval(pl, x, k - 1, c, &q0, &q1, &v0, &v1, &h, &ds);
+    ea__interval(pl, x, k, c, &q1, &q2, &v1, &v2, &h1, &ds1);
+    if (!pl->has_tf) return n;
+    ea__hermite_acc_hh(q0, q1, v0, v1, h, Hh);
+    ea__hermite_acc_hh(q1, q2, v1, v2, h1, Hh1);
+    /* entries: q_k-1, q_k, q_k+1, v_k-1, v_k, v_k+1, t_f */
+    const double e[6] = {ds * Hh[1][0], ds * Hh[1][1] - ds1 * Hh1[0][0], -ds1 * Hh1[0][1],
+                         ds * Hh[1][2], ds * Hh[1][3] - ds1 * Hh1[0][2], -ds1 * Hh1[0][3]};
+    for (int a = 0; a < 6; ++a)
+      H[t][a] = H[a][t] = pl->acc_scale * e[a];
+    H[t][t] = pl->acc_scale * (ds * ds * Hh[1][4] - ds1 * ds1 * Hh1[0][4]);
+    return n;
+  }
+  ea__interval(pl, x, k, c, &q0, &q1, &v0, &v1, &h, &ds);
+  /* entries q0, q1, v0, v1[, t_f]: the Hessian in y = (q0, q1, v0, v1, h), then h -> t_f */
+  double Hy[5][5] = {{0}};
+  ea__hermite_acc_hh(q0, q1, v0, v1, h, Hh);
+  if (kind == EA__ROW_ACC_START || kind == EA__ROW_ACC_END) {
+    const int e = kind == EA__ROW_ACC_END;
+    for (int a = 0; a < 4; ++a)
+      Hy[4][a] = Hy[a][4] = pl->acc_scale * Hh[e][a];
+    Hy[4][4] = pl->acc_scale * Hh[e][4];
+  } else if (kind == EA__ROW_SPEED_CTRL) { /* 3 (q1 - q0) / h - v0 - v1 */
+    Hy[4][0] = Hy[0][4] = 3.0 / (h * h);
+    Hy[4][1] = Hy[1][4] = -3.0 / (h * h);
+    Hy[4][4] = 6.0 * (q1 - q0) / (h * h * h);
+  } else { /* f(a0, a1, h): the chain rule through the end accelerations */
+    double a[2], ga[2][5];
+    ea__plan_hermite_acc(q0, q1, v0, v1, h, a, ga);
+    const double is = 1.0 / (pl->aref[c] * pl->aref[c]);
+    double fa[2], faa[2][2], fah[2], fhh;
+    if (kind == EA__ROW_OBJ_ACC) { /* h / 3 (a0^2 + a0 a1 + a1^2) */
+      fa[0] = h / 3.0 * (2.0 * a[0] + a[1]) * is;
+      fa[1] = h / 3.0 * (a[0] + 2.0 * a[1]) * is;
+      faa[0][0] = faa[1][1] = 2.0 * h / 3.0 * is;
+      faa[0][1] = faa[1][0] = h / 3.0 * is;
+      fah[0] = (2.0 * a[0] + a[1]) / 3.0 * is;
+      fah[1] = (a[0] + 2.0 * a[1]) / 3.0 * is;
+      fhh = 0.0;
+    } else { /* (a1 - a0)^2 / h */
+      const double j = a[1] - a[0];
+      fa[0] = -2.0 * j / h * is;
+      fa[1] = 2.0 * j / h * is;
+      faa[0][0] = faa[1][1] = 2.0 / h * is;
+      faa[0][1] = faa[1][0] = -2.0 / h * is;
+      fah[0] = 2.0 * j / (h * h) * is;
+      fah[1] = -2.0 * j / (h * h) * is;
+      fhh = 2.0 * j * j / (h * h * h) * is;
+    }
+    for (int p = 0; p < 5; ++p)
+      for (int q = 0; q < 5; ++q) {
+        double v = 0.0;
+        for (int e = 0; e < 2; ++e)
+          for (int f = 0; f < 2; ++f)
+            v += faa[e][f] * ga[e][p] * ga[f][q];
+        for (int e = 0; e < 2; ++e) {
+          if (p == 4) v += fah[e] * ga[e][q] + fa[e] * Hh[e][q];
+          if (q == 4) v += fah[e] * ga[e][p] + (p == 4 ? 0.0 : fa[e] * Hh[e][p]);
+        }
+        if (p == 4 && q == 4) v += fhh;
+        Hy[p][q] = v;
+      }
+  }
+  const int m = pl->has_tf ? 5 : 4;
+  for (int p = 0; p < m; ++p)
+    for (int q = 0; q < m; ++q)
+      H[p][q] = Hy[p][q] * (p == 4 ? ds : 1.0) * (q == 4 ? ds : 1.0);
+  return n;
+}
+
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g) {
   ea_status_t st = ea__plan_shoot_all(pl, x, 0);
   if (st) return st;
