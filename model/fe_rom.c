@@ -565,8 +565,9 @@ void ea_rom_table_info(const ea_rom_table_t *tb, ea_rom_table_info_t *info) {
   if (tb && info) *info = tb->info;
 }
 
-void ea_rom_table_eval(const ea_rom_table_t *tb, double Lc, double alpha, ea_rom_point_t *v,
-                       ea_rom_point_t *dL, ea_rom_point_t *da) {
+void ea_rom_table_eval2(const ea_rom_table_t *tb, double Lc, double alpha, ea_rom_point_t *v,
+                        ea_rom_point_t *dL, ea_rom_point_t *da, ea_rom_point_t *dLL,
+                        ea_rom_point_t *dLa, ea_rom_point_t *daa) {
   const int nL = tb->nL, na = tb->na, nf = tb->nf;
   /* clamp to the box (the planner keeps its knots inside) */
   const double x = fmin(fmax(Lc, tb->Lg[0]), tb->Lg[nL - 1]);
@@ -578,13 +579,15 @@ void ea_rom_table_eval(const ea_rom_table_t *tb, double Lc, double alpha, ea_rom
   const double u = (x - tb->Lg[i]) / hx, w = (y - tb->ag[j]) / hy;
   const double U[4] = {1, u, u * u, u * u * u}, W[4] = {1, w, w * w, w * w * w};
   const double dU[4] = {0, 1, 2 * u, 3 * u * u}, dW[4] = {0, 1, 2 * w, 3 * w * w};
+  const double d2U[4] = {0, 0, 2, 6 * u}, d2W[4] = {0, 0, 2, 6 * w};
   const int inside_L = Lc >= tb->Lg[0] && Lc <= tb->Lg[nL - 1];
   const int inside_a = alpha >= tb->ag[0] && alpha <= tb->ag[na - 1];
-  double fv[EA__ROM_PER_MODE * EA_ROM_MAX_MODES + 2], fx[EA__ROM_PER_MODE * EA_ROM_MAX_MODES + 2],
-      fy[EA__ROM_PER_MODE * EA_ROM_MAX_MODES + 2];
+  const int second = dLL || dLa || daa;
+  enum { NF = EA__ROM_PER_MODE * EA_ROM_MAX_MODES + 2 };
+  double fv[NF], fx[NF], fy[NF], fxx[NF], fxy[NF], fyy[NF];
   const double *cf = tb->coef + ((size_t)j * (nL - 1) + i) * nf * 16;
   for (int f = 0; f < nf; ++f, cf += 16) {
-    double s = 0, sx = 0, sy = 0;
+    double s = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
     for (int a = 0; a < 4; ++a) {
       const double ra =
           cf[4 * a] * W[0] + cf[4 * a + 1] * W[1] + cf[4 * a + 2] * W[2] + cf[4 * a + 3] * W[3];
@@ -592,12 +595,30 @@ void ea_rom_table_eval(const ea_rom_table_t *tb, double Lc, double alpha, ea_rom
       s += U[a] * ra;
       sx += dU[a] * ra;
       sy += U[a] * rb;
+      if (second) {
+        sxx += d2U[a] * ra;
+        sxy += dU[a] * rb;
+        syy += U[a] * (cf[4 * a + 2] * d2W[2] + cf[4 * a + 3] * d2W[3]);
+      }
     }
     fv[f] = s;
     fx[f] = inside_L ? sx / hx : 0.0;
     fy[f] = inside_a ? sy / hy : 0.0;
+    if (second) {
+      fxx[f] = inside_L ? sxx / (hx * hx) : 0.0;
+      fxy[f] = inside_L && inside_a ? sxy / (hx * hy) : 0.0;
+      fyy[f] = inside_a ? syy / (hy * hy) : 0.0;
+    }
   }
   if (v) ea__rom_unpack(fv, tb->K, v);
   if (dL) ea__rom_unpack(fx, tb->K, dL);
   if (da) ea__rom_unpack(fy, tb->K, da);
+  if (dLL) ea__rom_unpack(fxx, tb->K, dLL);
+  if (dLa) ea__rom_unpack(fxy, tb->K, dLa);
+  if (daa) ea__rom_unpack(fyy, tb->K, daa);
+}
+
+void ea_rom_table_eval(const ea_rom_table_t *tb, double Lc, double alpha, ea_rom_point_t *v,
+                       ea_rom_point_t *dL, ea_rom_point_t *da) {
+  ea_rom_table_eval2(tb, Lc, alpha, v, dL, da, NULL, NULL, NULL);
 }

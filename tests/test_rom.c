@@ -203,6 +203,26 @@ static void test_point_and_table(void) {
     const double ga = (vp.omega2[0] - vm.omega2[0]) / (2 * h);
     ea_test_rel(dL.B[0][0], gL, 1e-6, "table: exact d B / d L_c of the interpolant");
     ea_test_rel(da.omega2[0], ga, 1e-6, "table: exact d omega^2 / d alpha of the interpolant");
+    /* its second derivatives (ea_rom_table_eval2) against central differences of the exact
+     * first ones, inside one cell */
+    ea_rom_point_t v2, dL2, da2, dLL, dLa, daa, pL, pa, mL, ma;
+    ea_rom_table_eval2(tb, L, a, &v2, &dL2, &da2, &dLL, &dLa, &daa);
+    ea_test_true(
+        v2.omega2[0] == v0.omega2[0] && dL2.B[0][0] == dL.B[0][0] &&
+            da2.dtension[1] == da.dtension[1],
+        "table: ea_rom_table_eval2's values and first derivatives are ea_rom_table_eval's");
+    ea_rom_table_eval(tb, L + h, a, NULL, &pL, &pa);
+    ea_rom_table_eval(tb, L - h, a, NULL, &mL, &ma);
+    ea_test_rel(dLL.dtension[0], (pL.dtension[0] - mL.dtension[0]) / (2 * h), 1e-5,
+                "table: exact d2 (tension per mode) / d L_c^2 of the interpolant");
+    ea_test_rel(dLa.dtorque[1], (pa.dtorque[1] - ma.dtorque[1]) / (2 * h), 1e-5,
+                "table: exact d2 (torque per mode) / d L_c d alpha of the interpolant");
+    ea_rom_table_eval(tb, L, a + h, NULL, &pL, &pa);
+    ea_rom_table_eval(tb, L, a - h, NULL, &mL, &ma);
+    ea_test_rel(daa.dtension[1], (pa.dtension[1] - ma.dtension[1]) / (2 * h), 1e-5,
+                "table: exact d2 (tension per mode) / d alpha^2 of the interpolant");
+    ea_test_rel(dLa.omega2[0], (pL.omega2[0] - mL.omega2[0]) / (2 * h), 1e-5,
+                "table: exact d2 omega^2 / d alpha d L_c of the interpolant");
   }
   ea_rom_table_free(tb);
   ea_rom_free(r);

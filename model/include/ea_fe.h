@@ -408,6 +408,12 @@ void ea_rom_table_free(ea_rom_table_t *tb);
  *  p_centre and rest_length fields are not tabulated (0). No allocation. */
 void ea_rom_table_eval(const ea_rom_table_t *tb, double cable_length, double cable_angle,
                        ea_rom_point_t *v, ea_rom_point_t *dL, ea_rom_point_t *da);
+/** ea_rom_table_eval plus the interpolant's exact second derivatives (dLL, dLa, daa; 0
+ *  outside the box in the coordinate that left it). Piecewise: they jump across the cells'
+ *  edges (the bicubic is C1). Any output may be NULL. No allocation. */
+void ea_rom_table_eval2(const ea_rom_table_t *tb, double cable_length, double cable_angle,
+                        ea_rom_point_t *v, ea_rom_point_t *dL, ea_rom_point_t *da,
+                        ea_rom_point_t *dLL, ea_rom_point_t *dLa, ea_rom_point_t *daa);
 
 #ifdef __cplusplus
 }

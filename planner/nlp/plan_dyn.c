@@ -388,6 +388,35 @@ int ea__plan_dyn_affine(const ea_planner_t *pl, const ea__row_t *r, int v) {
   }
 }
 
+int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
+                          double H[][EA__ROW_MAX]) {
+  if (r->kind != EA__ROW_DYN_TENSION && r->kind != EA__ROW_DYN_TORQUE) return -1;
+  /* T (or EI kappa0) + sum_i f_i(L_c, alpha) eta_i: entries L_c, alpha, T or kappa0, eta_i */
+  const int k = r->knot, j = r->coord, K = pl->Kper;
+  const int n = 3 + K; /* ea__dyn_knot's entries */
+  cols[0] = EA__IQ(pl, k, 0);
+  cols[1] = EA__IQ(pl, k, 1);
+  cols[2] = r->kind == EA__ROW_DYN_TORQUE ? EA__IP(pl, k, 2) : EA__IP(pl, k, 0);
+  for (int i = 0; i < K; ++i)
+    cols[3 + i] = EA__IE(pl, k, j * K + i);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b)
+      H[a][b] = 0.0;
+  ea_rom_point_t dL, da, dLL, dLa, daa;
+  ea_rom_table_eval2(pl->roms[j], x[cols[0]], x[cols[1]], NULL, &dL, &da, &dLL, &dLa, &daa);
+  const int tq = r->kind == EA__ROW_DYN_TORQUE;
+  for (int i = 0; i < K; ++i) {
+    const double e = x[cols[3 + i]];
+    H[0][0] += e * (tq ? dLL.dtorque[i] : dLL.dtension[i]);
+    H[0][1] += e * (tq ? dLa.dtorque[i] : dLa.dtension[i]);
+    H[1][1] += e * (tq ? daa.dtorque[i] : daa.dtension[i]);
+    H[0][3 + i] = H[3 + i][0] = tq ? dL.dtorque[i] : dL.dtension[i];
+    H[1][3 + i] = H[3 + i][1] = tq ? da.dtorque[i] : da.dtension[i];
+  }
+  H[1][0] = H[0][1];
+  return n;
+}
+
 int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                      int *cols, double *vals) {
   switch ((ea__row_kind_t)r->kind) {

@@ -236,7 +236,8 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr) {
 
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
                             const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
-                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
+                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
+                            double g0[][EA__ROW_MAX]) {
   double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
   int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
   /* rows whose curvature is the Hermite's in t_f: closed form (ea__plan_row_hess) */
@@ -244,6 +245,7 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
     const int n = w[0] != 0.0 ? ea__plan_row_hess(pl, x, &rows[0], cols[0], Hl[0]) : 0;
     if (n >= 0) {
       nc[0] = n;
+      if (g0 && n) fn(pl, x, &rows[0], NULL, NULL, g0[0]);
       return;
     }
   }
@@ -268,10 +270,13 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
    * problems need (the paper line at 2000 knots: 29 iterations; forward: no convergence). */
   const int fwd =
       g > 0 && (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL);
-  if (fwd) {
-    double g0[EA__HGROUP_MAX][EA__ROW_MAX];
+  double gx[EA__HGROUP_MAX][EA__ROW_MAX]; /* the gradients at x (forward differences) */
+  if (!fwd && g0)
     for (int r = 0; r < g; ++r)
       if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, g0[r]);
+  if (fwd) {
+    for (int r = 0; r < g; ++r)
+      if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, gx[r]);
     for (int u = 0; u < nu; ++u) {
       const int v = uni[u];
       xx[v] = x[v] + 1e-7 * fmax(1.0, fabs(x[v]));
@@ -283,10 +288,13 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
         if (a == nc[r] || aff[r][a]) continue;
         fn(pl, xx, &rows[r], NULL, NULL, gp);
         for (int b = 0; b < nc[r]; ++b)
-          Hl[r][a][b] = (gp[b] - g0[r][b]) / hd;
+          Hl[r][a][b] = (gp[b] - gx[r][b]) / hd;
       }
       xx[v] = x[v];
     }
+    if (g0)
+      for (int r = 0; r < g; ++r)
+        memcpy(g0[r], gx[r], sizeof gx[r]);
   }
   for (int u = 0; u < nu && !fwd; ++u) {
     const int v = uni[u];
@@ -317,7 +325,7 @@ void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *
                             double *values) {
   int cols[EA__HGROUP_MAX][EA__ROW_MAX], nc[EA__HGROUP_MAX];
   double Hl[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
-  ea__plan_hess_fd_local(pl, fn, x, xx, rows, w, g, cols, nc, Hl);
+  ea__plan_hess_fd_local(pl, fn, x, xx, rows, w, g, cols, nc, Hl, NULL);
   for (int r = 0; r < g; ++r) {
     const int *p = hpos[r];
     for (int a = 0; a < nc[r]; ++a)

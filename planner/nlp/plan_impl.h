@@ -225,10 +225,15 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
                       int *cols, double *vals);
 /** The closed-form Hessian of a row whose curvature is the Hermite's in t_f (acceleration,
  *  acceleration continuity, the speed rows' middle coefficient, the acceleration and jerk
- *  objective pieces): H[a][b] over the row's entries (cols, in ea__plan_row_eval's order);
- *  returns their count, or -1 for any other kind. */
+ *  objective pieces) or the table's (the tension and torque rows with the modal parts): H[a][b]
+ * over the row's entries (cols, in ea__plan_row_eval's order); returns their count, or -1 for any
+ * other kind. */
 int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
                       double H[][EA__ROW_MAX]);
+/** The same for the tension and torque rows with the modal parts (plan_dyn.c: the table's
+ *  exact second derivatives); -1 for any other kind. */
+int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
+                          double H[][EA__ROW_MAX]);
 /** Does the Lagrangian Hessian take the row's curvature? Not the statics rows (their own
  *  blocks, plan_hess.c) nor the linear rest rows. (Leaving out the modal defects' curvature
  *  was tried: 60 % less work per iteration, but a payload-0.5 at-rest plan no longer
@@ -244,10 +249,12 @@ typedef int (*ea__rowfn)(const ea_planner_t *pl, const double *x, const ea__row_
 /** Rows r.. that the Hessian differences together (>= 1). */
 int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
 /** The differences of ea__plan_hess_fd_group as local matrices: row r's entries cols[r]
- *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a]. */
+ *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a]; g0 (NULL:
+ *  not wanted) the rows' gradients at x in the same order. */
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
                             const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
-                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
+                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
+                            double g0[][EA__ROW_MAX]);
 /** Central differences of the exact gradients of g rows (rows[0..g-1], weights w) over the
  *  union of their variables (xx: a scratch copy of x), added as w 0.5 (H + H^T) at each row's
  *  Hessian positions hpos[r]. */

@@ -226,6 +226,8 @@ int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *
                       double H[][EA__ROW_MAX]) {
   const int k = r->knot, c = r->coord;
   const ea__row_kind_t kind = (ea__row_kind_t)r->kind;
+  if (kind == EA__ROW_DYN_TENSION || kind == EA__ROW_DYN_TORQUE)
+    return ea__plan_dyn_row_hess(pl, x, r, cols, H);
   if (kind != EA__ROW_ACC_START && kind != EA__ROW_ACC_END && kind != EA__ROW_ACC_CONT &&
       kind != EA__ROW_SPEED_CTRL && kind != EA__ROW_OBJ_ACC && kind != EA__ROW_OBJ_JERK)
     return -1;

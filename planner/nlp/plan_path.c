@@ -626,11 +626,10 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
   const ea__pp_t *pp = pl->pp;
   int kc[EA__HGROUP_MAX][EA__ROW_MAX], nkc[EA__HGROUP_MAX];
   double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
-  ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, pp->xkx, rows, w, g, kc, nkc, Hk);
+  double gk[EA__HGROUP_MAX][EA__ROW_MAX]; /* the knot rows' gradients, in kc[r]'s order */
+  ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, pp->xkx, rows, w, g, kc, nkc, Hk, gk);
   for (int r = 0; r < g; ++r) {
     if (!nkc[r]) continue;
-    double gk[EA__ROW_MAX]; /* the knot row's gradient, in kc[r]'s order */
-    ea__plan_row_eval(pl, pp->xk, &rows[r], NULL, NULL, gk);
     /* the path entries in ea__pp_row's order, each knot entry's place and factor */
     int lc[EA__ROW_MAX], pos[EA__ROW_MAX], n = 0;
     double f[EA__ROW_MAX], Hp[EA__ROW_MAX][EA__ROW_MAX];
@@ -652,7 +651,7 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
       if (pos[a] < 0) continue;
       double ca;
       f[a] = ea__pp_factor(pp, kc[r][a], &ca);
-      Hp[pos[a]][pos[a]] += gk[a] * ca;
+      Hp[pos[a]][pos[a]] += gk[r][a] * ca;
     }
     for (int a = 0; a < nkc[r]; ++a)
       for (int b = 0; b < nkc[r]; ++b)
