@@ -15,7 +15,9 @@
  *    and for each robust corner (robust residual_m).
  * Each row is a small function of <= 13 variables; its gradient is exact by forward-mode
  * differentiation (ea__dual_t) through the Hermite and the table's exact interpolant
- * derivatives. */
+ * derivatives, and so are the Hessians of the defects (second-order forward mode over an
+ * interval's trajectory variables, ea__plan_dyn_defect_hess) and of the tension and torque
+ * rows (ea__plan_dyn_row_hess), from the table's exact second derivatives. */
 #include "ea_simulate.h"
 #include "plan_impl.h"
 
@@ -181,15 +183,19 @@ typedef struct {
   ea__dual_t pos, vel;
 } ea__dyn_mcache_t;
 
+struct ea__hz_fields;
+
 struct ea__dyn_cache {
-  ea__dyn_icache_t *ic; /* (N - 1) M: per interval and model */
-  ea__dyn_mcache_t *mc; /* (N - 1) K: per interval and modal coordinate */
+  ea__dyn_icache_t *ic;     /* (N - 1) M: per interval and model */
+  ea__dyn_mcache_t *mc;     /* (N - 1) K: per interval and modal coordinate */
+  struct ea__hz_fields *hz; /* 3: the defects' Hessian's fields at an interval's points */
 };
 
 void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
   if (!c) return;
   free(c->ic);
   free(c->mc);
+  free(c->hz);
   free(c);
 }
 
@@ -388,6 +394,302 @@ int ea__plan_dyn_affine(const ea_planner_t *pl, const ea__row_t *r, int v) {
   }
 }
 
+/* ---- the defects' Hessian in closed form ---------------------------------
+ * Second-order forward mode over an interval's 9 trajectory variables z (L_c: q0 q1 v0 v1,
+ * alpha: q0 q1 v0 v1, t_f; the defect's local variables 4..12): value, gradient and packed
+ * lower-triangle Hessian. The defects are affine in the modal states e = (eta_k, eta'_k,
+ * eta_k+1, eta'_k+1) (plan_dyn.c's header): pos, vel = sum_j e_j C_j(z) + C_4(z), with
+ *   acc_P = F_P - W_P eta_P - c_P eta'_P at the ends (W = omega^2, c = 2 zeta omega,
+ *   F = -B . a - v^T C v), d = acc_0 - acc_1,
+ *   pos / s = eta_1 - eta_0 - h/2 (eta'_0 + eta'_1) - h^2/12 d,
+ *   em = (eta_0 + eta_1)/2 + h/8 (eta'_0 - eta'_1), edm = (eta'_0 + eta'_1)/2 + h/8 d,
+ *   accm = F_m - W_m em - c_m edm at the midpoint,
+ *   vel / s = eta'_1 - eta'_0 - h/6 (acc_0 + acc_1) - 2h/3 accm,
+ * so the Hessian is: z-z sum_j e_j C_j'' + C_4'', z-e_j C_j', e-e 0. */
+#define EA__HZ 9
+#define EA__HP (EA__HZ * (EA__HZ + 1) / 2)
+typedef struct {
+  double v, g[EA__HZ], H[EA__HP];
+} ea__hz_t;
+
+static void ea__hz_c(ea__hz_t *r, double v) {
+  memset(r, 0, sizeof *r);
+  r->v = v;
+}
+static void ea__hz_var(ea__hz_t *r, double v, int i) {
+  ea__hz_c(r, v);
+  r->g[i] = 1.0;
+}
+/* r = a x + b y (r may be x or y) */
+static void ea__hz_lin(ea__hz_t *r, double a, const ea__hz_t *x, double b, const ea__hz_t *y) {
+  r->v = a * x->v + b * y->v;
+  for (int i = 0; i < EA__HZ; ++i)
+    r->g[i] = a * x->g[i] + b * y->g[i];
+  for (int p = 0; p < EA__HP; ++p)
+    r->H[p] = a * x->H[p] + b * y->H[p];
+}
+static void ea__hz_addc(ea__hz_t *r, double c) {
+  r->v += c;
+}
+/* r = x y (r not x or y) */
+static void ea__hz_mul(ea__hz_t *r, const ea__hz_t *x, const ea__hz_t *y) {
+  r->v = x->v * y->v;
+  for (int i = 0; i < EA__HZ; ++i)
+    r->g[i] = x->g[i] * y->v + x->v * y->g[i];
+  int p = 0;
+  for (int a = 0; a < EA__HZ; ++a)
+    for (int b = 0; b <= a; ++b, ++p)
+      r->H[p] = x->H[p] * y->v + x->v * y->H[p] + x->g[a] * y->g[b] + x->g[b] * y->g[a];
+}
+/* r = f(x) from f, f', f'' at x->v (r may be x) */
+static void ea__hz_fn(ea__hz_t *r, const ea__hz_t *x, double f, double f1, double f2) {
+  int p = 0;
+  for (int a = 0; a < EA__HZ; ++a)
+    for (int b = 0; b <= a; ++b, ++p)
+      r->H[p] = f1 * x->H[p] + f2 * x->g[a] * x->g[b];
+  for (int i = 0; i < EA__HZ; ++i)
+    r->g[i] = f1 * x->g[i];
+  r->v = f;
+}
+/* A tabulated field at (L, a), both functions of z: value f, derivatives fL, fa, fLL, fLa, faa */
+static void ea__hz_field(ea__hz_t *r, const ea__hz_t *L, const ea__hz_t *A, const double f[6]) {
+  r->v = f[0];
+  for (int i = 0; i < EA__HZ; ++i)
+    r->g[i] = f[1] * L->g[i] + f[2] * A->g[i];
+  int p = 0;
+  for (int a = 0; a < EA__HZ; ++a)
+    for (int b = 0; b <= a; ++b, ++p)
+      r->H[p] = f[1] * L->H[p] + f[2] * A->H[p] + f[3] * L->g[a] * L->g[b] +
+                f[4] * (L->g[a] * A->g[b] + A->g[a] * L->g[b]) + f[5] * A->g[a] * A->g[b];
+}
+
+/* The model's fields at one point: omega^2, 2 zeta omega per mode (c), B, C. */
+typedef struct ea__hz_fields {
+  ea__hz_t W[EA_ROM_MAX_MODES], c[EA_ROM_MAX_MODES], B[EA_ROM_MAX_MODES][2], C[EA_ROM_MAX_MODES][3];
+} ea__hz_fields_t;
+
+static void ea__hz_point(const ea_planner_t *pl, int j, const ea__hz_t *L, const ea__hz_t *A,
+                         ea__hz_fields_t *o) {
+  ea_rom_point_t v, dL, da, dLL, dLa, daa;
+  ea_rom_table_eval2(pl->roms[j], L->v, A->v, &v, &dL, &da, &dLL, &dLa, &daa);
+  for (int k = 0; k < pl->Kper; ++k) {
+    const double w[6] = {v.omega2[k],   dL.omega2[k],  da.omega2[k],
+                         dLL.omega2[k], dLa.omega2[k], daa.omega2[k]};
+    ea__hz_field(&o->W[k], L, A, w);
+    const double zeta = pl->zeta[j * pl->Kper + k];
+    if (zeta > 0) { /* 2 zeta sqrt(W) */
+      const double sw = sqrt(o->W[k].v);
+      ea__hz_fn(&o->c[k], &o->W[k], 2 * zeta * sw, zeta / sw, -0.5 * zeta / (sw * o->W[k].v));
+    } else {
+      ea__hz_c(&o->c[k], 0.0);
+    }
+    for (int c = 0; c < 2; ++c) {
+      const double b[6] = {v.B[k][c],   dL.B[k][c],  da.B[k][c],
+                           dLL.B[k][c], dLa.B[k][c], daa.B[k][c]};
+      ea__hz_field(&o->B[k][c], L, A, b);
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double f[6] = {v.C[k][c],   dL.C[k][c],  da.C[k][c],
+                           dLL.C[k][c], dLa.C[k][c], daa.C[k][c]};
+      ea__hz_field(&o->C[k][c], L, A, f);
+    }
+  }
+}
+
+/* F = -(B . a + C0 v0^2 + 2 C1 v0 v1 + C2 v1^2) of mode k; vv = (v0^2, v0 v1, v1^2) */
+static void ea__hz_force(ea__hz_t *F, const ea__hz_fields_t *m, int k, const ea__hz_t a[2],
+                         const ea__hz_t vv[3]) {
+  ea__hz_t t;
+  ea__hz_mul(F, &m->B[k][0], &a[0]);
+  ea__hz_mul(&t, &m->B[k][1], &a[1]);
+  ea__hz_lin(F, -1.0, F, -1.0, &t);
+  for (int c = 0; c < 3; ++c) {
+    ea__hz_mul(&t, &m->C[k][c], &vv[c]);
+    ea__hz_lin(F, 1.0, F, c == 1 ? -2.0 : -1.0, &t);
+  }
+}
+
+/* The interval's kinematics along the trajectory's Hermite: per point (0, 1, midpoint) its
+ * (L_c, alpha), accelerations and velocity products; h. */
+typedef struct {
+  ea__hz_t h, q[3][2], a[3][2], vv[3][3];
+} ea__hz_kin_t;
+
+static void ea__hz_kin(const ea_planner_t *pl, const double *x, int k, ea__hz_kin_t *o) {
+  const double ds = pl->s[k + 1] - pl->s[k];
+  const double tf = pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
+  ea__hz_t tfz, ih, ih2, t, u, v[3][2];
+  if (pl->has_tf)
+    ea__hz_var(&tfz, tf, 8);
+  else
+    ea__hz_c(&tfz, tf);
+  ea__hz_lin(&o->h, ds, &tfz, 0.0, &tfz);
+  const double hv = o->h.v;
+  ea__hz_fn(&ih, &o->h, 1.0 / hv, -1.0 / (hv * hv), 2.0 / (hv * hv * hv));
+  ea__hz_mul(&ih2, &ih, &ih);
+  for (int c = 0; c < 2; ++c) {
+    ea__hz_t q0, q1, dq;
+    ea__hz_var(&q0, x[EA__IQ(pl, k, c)], 4 * c);
+    ea__hz_var(&q1, x[EA__IQ(pl, k + 1, c)], 4 * c + 1);
+    ea__hz_var(&v[0][c], x[EA__IV(pl, k, c)], 4 * c + 2);
+    ea__hz_var(&v[1][c], x[EA__IV(pl, k + 1, c)], 4 * c + 3);
+    o->q[0][c] = q0;
+    o->q[1][c] = q1;
+    ea__hz_lin(&dq, 1.0, &q1, -1.0, &q0);
+    ea__hz_t t6;
+    ea__hz_mul(&t6, &dq, &ih2); /* dq / h^2 */
+    /* a0 = 6 dq / h^2 - (4 v0 + 2 v1) / h, a1 = -6 dq / h^2 + (2 v0 + 4 v1) / h */
+    ea__hz_lin(&t, 4.0, &v[0][c], 2.0, &v[1][c]);
+    ea__hz_mul(&u, &t, &ih);
+    ea__hz_lin(&o->a[0][c], 6.0, &t6, -1.0, &u);
+    ea__hz_lin(&t, 2.0, &v[0][c], 4.0, &v[1][c]);
+    ea__hz_mul(&u, &t, &ih);
+    ea__hz_lin(&o->a[1][c], -6.0, &t6, 1.0, &u);
+    /* qm = (q0 + q1)/2 + h (v0 - v1)/8, vm = 3/2 dq / h - (v0 + v1)/4, am = (a0 + a1)/2 */
+    ea__hz_lin(&t, 1.0, &v[0][c], -1.0, &v[1][c]);
+    ea__hz_mul(&u, &o->h, &t);
+    ea__hz_lin(&t, 0.5, &q0, 0.5, &q1);
+    ea__hz_lin(&o->q[2][c], 1.0, &t, 0.125, &u);
+    ea__hz_mul(&u, &dq, &ih);
+    ea__hz_lin(&t, 1.0, &v[0][c], 1.0, &v[1][c]);
+    ea__hz_lin(&v[2][c], 1.5, &u, -0.25, &t);
+    ea__hz_lin(&o->a[2][c], 0.5, &o->a[0][c], 0.5, &o->a[1][c]);
+  }
+  for (int P = 0; P < 3; ++P) {
+    ea__hz_mul(&o->vv[P][0], &v[P][0], &v[P][0]);
+    ea__hz_mul(&o->vv[P][1], &v[P][0], &v[P][1]);
+    ea__hz_mul(&o->vv[P][2], &v[P][1], &v[P][1]);
+  }
+}
+
+/* The coefficients C_j (j < 4: of e_j; 4: the rest) of the pos (0) and vel (1) defects of
+ * mode k (unscaled). */
+static void ea__hz_defect(const ea__hz_kin_t *kin, const ea__hz_fields_t *m[3], int k,
+                          ea__hz_t cf[2][5]) {
+  ea__hz_t F[3], t, dF, h2, hv;
+  for (int P = 0; P < 3; ++P)
+    ea__hz_force(&F[P], m[P], k, kin->a[P], kin->vv[P]);
+  const ea__hz_t *h = &kin->h, *W0 = &m[0]->W[k], *W1 = &m[1]->W[k], *c0 = &m[0]->c[k],
+                 *c1 = &m[1]->c[k];
+  ea__hz_lin(&dF, 1.0, &F[0], -1.0, &F[1]);
+  ea__hz_mul(&h2, h, h);
+  ea__hz_lin(&h2, 1.0 / 12.0, &h2, 0.0, &h2);
+  /* pos: -1 + h2 W0, -h/2 + h2 c0, 1 - h2 W1, -h/2 - h2 c1, -h2 dF */
+  ea__hz_mul(&cf[0][0], &h2, W0);
+  ea__hz_addc(&cf[0][0], -1.0);
+  ea__hz_mul(&t, &h2, c0);
+  ea__hz_lin(&cf[0][1], -0.5, h, 1.0, &t);
+  ea__hz_mul(&cf[0][2], &h2, W1);
+  ea__hz_lin(&cf[0][2], -1.0, &cf[0][2], 0.0, &cf[0][2]);
+  ea__hz_addc(&cf[0][2], 1.0);
+  ea__hz_mul(&t, &h2, c1);
+  ea__hz_lin(&cf[0][3], -0.5, h, -1.0, &t);
+  ea__hz_mul(&cf[0][4], &h2, &dF);
+  ea__hz_lin(&cf[0][4], -1.0, &cf[0][4], 0.0, &cf[0][4]);
+  /* edm: D = (-h/8 W0, 1/2 - h/8 c0, h/8 W1, 1/2 + h/8 c1, h/8 dF); em: E = (1/2, h/8, 1/2,
+   * -h/8, 0); accm: M_j = -W_m E_j - c_m D_j, M_4 = F_m - c_m D_4 */
+  ea__hz_t D[5], M[5], Wh;
+  ea__hz_mul(&D[0], h, W0);
+  ea__hz_lin(&D[0], -0.125, &D[0], 0.0, &D[0]);
+  ea__hz_mul(&D[1], h, c0);
+  ea__hz_lin(&D[1], -0.125, &D[1], 0.0, &D[1]);
+  ea__hz_addc(&D[1], 0.5);
+  ea__hz_mul(&D[2], h, W1);
+  ea__hz_lin(&D[2], 0.125, &D[2], 0.0, &D[2]);
+  ea__hz_mul(&D[3], h, c1);
+  ea__hz_lin(&D[3], 0.125, &D[3], 0.0, &D[3]);
+  ea__hz_addc(&D[3], 0.5);
+  ea__hz_mul(&D[4], h, &dF);
+  ea__hz_lin(&D[4], 0.125, &D[4], 0.0, &D[4]);
+  const ea__hz_t *Wm = &m[2]->W[k], *cm = &m[2]->c[k];
+  ea__hz_mul(&Wh, Wm, h); /* W_m h: E_1 = h/8, E_3 = -h/8 */
+  for (int q = 0; q < 5; ++q) {
+    ea__hz_mul(&t, cm, &D[q]);
+    if (q == 4)
+      ea__hz_lin(&M[q], 1.0, &F[2], -1.0, &t);
+    else if (q == 0 || q == 2)
+      ea__hz_lin(&M[q], -0.5, Wm, -1.0, &t);
+    else
+      ea__hz_lin(&M[q], q == 1 ? -0.125 : 0.125, &Wh, -1.0, &t);
+  }
+  /* vel: h/6 W0 - 2h/3 M0, -1 + h/6 c0 - 2h/3 M1, h/6 W1 - 2h/3 M2, 1 + h/6 c1 - 2h/3 M3,
+   * -h/6 (F0 + F1) - 2h/3 M4 */
+  const ea__hz_t *e6[4] = {W0, c0, W1, c1};
+  for (int q = 0; q < 5; ++q) {
+    if (q < 4) {
+      ea__hz_mul(&t, h, e6[q]);
+    } else {
+      ea__hz_lin(&hv, 1.0, &F[0], 1.0, &F[1]);
+      ea__hz_mul(&t, h, &hv);
+      ea__hz_lin(&t, -1.0, &t, 0.0, &t);
+    }
+    ea__hz_mul(&hv, h, &M[q]);
+    ea__hz_lin(&cf[1][q], 1.0 / 6.0, &t, -2.0 / 3.0, &hv);
+    if (q == 1) ea__hz_addc(&cf[1][q], -1.0);
+    if (q == 3) ea__hz_addc(&cf[1][q], 1.0);
+  }
+}
+
+void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
+                              const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
+                              double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
+  const int k = rows[0].knot;
+  ea__hz_kin_t kin;
+  ea__hz_kin(pl, x, k, &kin);
+  ea__hz_fields_t *F = pl->dync->hz;
+  int have_model = -1, have_coord = -1;
+  const ea__hz_fields_t *m[3] = {&F[0], &F[1], &F[2]};
+  ea__hz_t cf[2][5];
+  for (int r = 0; r < g; ++r) {
+    nc[r] = 0;
+    if (w[r] == 0.0) continue;
+    const int i = rows[r].coord, j = i / pl->Kper, mi = i % pl->Kper;
+    const int vel = rows[r].kind == EA__ROW_DYN_DEF_VEL;
+    if (j != have_model) {
+      for (int P = 0; P < 3; ++P)
+        ea__hz_point(pl, j, &kin.q[P][0], &kin.q[P][1], &F[P]);
+      have_model = j;
+    }
+    if (i != have_coord) { /* pos and vel of one mode share the coefficients */
+      ea__hz_defect(&kin, m, mi, cf);
+      have_coord = i;
+    }
+    const double e[4] = {x[EA__IE(pl, k, i)], x[EA__IED(pl, k, i)], x[EA__IE(pl, k + 1, i)],
+                         x[EA__IED(pl, k + 1, i)]};
+    /* the 13 local variables (ea__dyn_defect's order), t_f's dropped when fixed */
+    const int nloc = pl->has_tf ? 13 : 12;
+    nc[r] = nloc;
+    cols[r][0] = EA__IE(pl, k, i);
+    cols[r][1] = EA__IED(pl, k, i);
+    cols[r][2] = EA__IE(pl, k + 1, i);
+    cols[r][3] = EA__IED(pl, k + 1, i);
+    for (int c = 0; c < 2; ++c) {
+      cols[r][4 + 4 * c] = EA__IQ(pl, k, c);
+      cols[r][5 + 4 * c] = EA__IQ(pl, k + 1, c);
+      cols[r][6 + 4 * c] = EA__IV(pl, k, c);
+      cols[r][7 + 4 * c] = EA__IV(pl, k + 1, c);
+    }
+    if (pl->has_tf) cols[r][12] = EA__ITF(pl);
+    const double s = pl->dyn_scale;
+    const ea__hz_t *C = cf[vel];
+    for (int a = 0; a < nloc; ++a)
+      for (int b = 0; b < nloc; ++b)
+        Hl[r][a][b] = 0.0;
+    int p = 0;
+    for (int a = 0; a < EA__HZ; ++a)
+      for (int b = 0; b <= a; ++b, ++p) {
+        if (a >= nloc - 4 || b >= nloc - 4) continue;
+        double v = C[4].H[p];
+        for (int q = 0; q < 4; ++q)
+          v += e[q] * C[q].H[p];
+        Hl[r][4 + a][4 + b] = Hl[r][4 + b][4 + a] = s * v;
+      }
+    for (int q = 0; q < 4; ++q)
+      for (int a = 0; a < nloc - 4; ++a)
+        Hl[r][q][4 + a] = Hl[r][4 + a][q] = s * C[q].g[a];
+  }
+}
+
 int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
                           double H[][EA__ROW_MAX]) {
   if (r->kind != EA__ROW_DYN_TENSION && r->kind != EA__ROW_DYN_TORQUE) return -1;
@@ -510,8 +812,9 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   if (pl->dync) {
     pl->dync->ic = calloc(ni * (size_t)pl->M, sizeof *pl->dync->ic);
     pl->dync->mc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->mc);
+    pl->dync->hz = malloc(3 * sizeof *pl->dync->hz);
   }
-  if (!pl->dync || !pl->dync->ic || !pl->dync->mc)
+  if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->hz)
     return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");
   /* each model's mode mi damped by the arm file's measured ratio of mode mi + 1 (modes beyond
    * the measured ones, and an arm without damping: undamped, the worst case) */

@@ -240,6 +240,16 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
                             double g0[][EA__ROW_MAX]) {
   double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
   int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
+  /* an interval's modal defects: closed form (ea__plan_dyn_defect_hess; forward differences
+   * of their exact gradients before: the at-rest paper line 64-66 -> 42-47 ms, the same
+   * iterations) */
+  if (fn == ea__plan_row_eval && g > 0 &&
+      (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
+    ea__plan_dyn_defect_hess(pl, x, rows, w, g, cols, nc, Hl);
+    for (int r = 0; r < g && g0; ++r)
+      if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, g0[r]);
+    return;
+  }
   /* rows whose curvature is the Hermite's in t_f: closed form (ea__plan_row_hess) */
   if (g == 1 && fn == ea__plan_row_eval) {
     const int n = w[0] != 0.0 ? ea__plan_row_hess(pl, x, &rows[0], cols[0], Hl[0]) : 0;
@@ -263,40 +273,12 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
       if (!seen) uni[nu++] = cols[r][a];
     }
   }
-  /* The modal defect rows (a group holds one interval's; plan_dyn.c): forward differences from
-   * the gradients at x, one evaluation per variable instead of two (step 1e-7: truncation
-   * ~1e-7, rounding ~1e-9 relative; at-rest paper line 1.26 -> 0.94 s CPU, the same
-   * iterations). Every other row: central differences, whose accuracy the ill-conditioned
-   * problems need (the paper line at 2000 knots: 29 iterations; forward: no convergence). */
-  const int fwd =
-      g > 0 && (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL);
-  double gx[EA__HGROUP_MAX][EA__ROW_MAX]; /* the gradients at x (forward differences) */
-  if (!fwd && g0)
+  /* central differences of the exact gradients, whose accuracy the ill-conditioned problems
+   * need (the paper line at 2000 knots: 29 iterations; forward ones: no convergence) */
+  if (g0)
     for (int r = 0; r < g; ++r)
       if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, g0[r]);
-  if (fwd) {
-    for (int r = 0; r < g; ++r)
-      if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, gx[r]);
-    for (int u = 0; u < nu; ++u) {
-      const int v = uni[u];
-      xx[v] = x[v] + 1e-7 * fmax(1.0, fabs(x[v]));
-      const double hd = xx[v] - x[v]; /* the step as represented */
-      for (int r = 0; r < g; ++r) {
-        int a = 0;
-        while (a < nc[r] && cols[r][a] != v)
-          ++a;
-        if (a == nc[r] || aff[r][a]) continue;
-        fn(pl, xx, &rows[r], NULL, NULL, gp);
-        for (int b = 0; b < nc[r]; ++b)
-          Hl[r][a][b] = (gp[b] - gx[r][b]) / hd;
-      }
-      xx[v] = x[v];
-    }
-    if (g0)
-      for (int r = 0; r < g; ++r)
-        memcpy(g0[r], gx[r], sizeof gx[r]);
-  }
-  for (int u = 0; u < nu && !fwd; ++u) {
+  for (int u = 0; u < nu; ++u) {
     const int v = uni[u];
     const double d = 1e-6 * fmax(1.0, fabs(x[v]));
     for (int sgn = 0; sgn < 2; ++sgn) {

@@ -230,6 +230,11 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
  * other kind. */
 int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
                       double H[][EA__ROW_MAX]);
+/** The closed-form Hessians of one interval's modal defect rows (a group of
+ *  ea__plan_hess_group_len: rows[0..g-1], weights w; ea__plan_hess_fd_local's outputs). */
+void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
+                              const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
+                              double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
 /** The same for the tension and torque rows with the modal parts (plan_dyn.c: the table's
  *  exact second derivatives); -1 for any other kind. */
 int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
