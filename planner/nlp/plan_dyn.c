@@ -316,23 +316,45 @@ static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k
                                       : (kind == EA__ROW_DYN_TENSION ? EA__IP(pl, k, 0) : -1);
   for (int i = 0; i < K; ++i)
     col[3 + i] = EA__IE(pl, k, j * K + i);
+  if (kind != EA__ROW_DYN_DEVIATION) { /* affine in the modal states: directly */
+    const int tq = kind == EA__ROW_DYN_TORQUE;
+    if (cols) memcpy(cols, col, sizeof(int) * (size_t)nloc);
+    if (!value && !vals) return nloc;
+    ea_rom_point_t v, dL, da;
+    ea_rom_table_eval(pl->roms[j], x[col[0]], x[col[1]], &v, vals ? &dL : NULL, vals ? &da : NULL);
+    const double base = tq ? pl->task.arm.EI : 1.0;
+    double r = base * x[col[2]], gL = 0.0, ga = 0.0;
+    for (int i = 0; i < K; ++i) {
+      const double e = x[col[3 + i]];
+      r += e * (tq ? v.dtorque[i] : v.dtension[i]);
+      if (vals) {
+        gL += e * (tq ? dL.dtorque[i] : dL.dtension[i]);
+        ga += e * (tq ? da.dtorque[i] : da.dtension[i]);
+      }
+    }
+    if (value) *value = r;
+    if (vals) {
+      vals[0] = gL;
+      vals[1] = ga;
+      vals[2] = base;
+      for (int i = 0; i < K; ++i)
+        vals[3 + i] = tq ? v.dtorque[i] : v.dtension[i];
+    }
+    return nloc;
+  }
   ea__dual_t loc[EA__DN];
   for (int q = 0; q < nloc; ++q)
     loc[q] = col[q] >= 0 ? ea__dvar(x[col[q]], q) : ea__dc(0.0);
   ea__drom_t m;
   ea__drom(pl, j, loc[0], loc[1], &m);
   ea__dual_t r;
-  if (kind == EA__ROW_DYN_DEVIATION) {
+  {
     ea__dual_t dx = ea__dc(0.0), dy = ea__dc(0.0);
     for (int i = 0; i < K; ++i) {
       dx = ea__dadd(dx, ea__dmul(m.tip[i][0], loc[3 + i]));
       dy = ea__dadd(dy, ea__dmul(m.tip[i][1], loc[3 + i]));
     }
     r = ea__dadd(ea__dmul(dx, dx), ea__dmul(dy, dy));
-  } else {
-    r = kind == EA__ROW_DYN_TORQUE ? ea__dscale(loc[2], pl->task.arm.EI) : loc[2];
-    for (int i = 0; i < K; ++i)
-      r = ea__dadd(r, ea__dmul(kind == EA__ROW_DYN_TORQUE ? m.dM[i] : m.dT[i], loc[3 + i]));
   }
   int n = 0;
   ea__emit(&r, col, nloc, value, cols, vals, &n);
