@@ -1,7 +1,8 @@
 /* bench_dyn: plans that arrive at rest (task key dynamics), judged by the FE transient.
  *  1. knots: the at-rest paper line (payload 0, 2 modes) at 25..400 knots, both
- *     transcriptions: Ipopt iterations, median wall and CPU time of a cold plan, the duration and
- *     its change against 400 knots, the model's predicted residual and the FE-measured one
+ *     transcriptions, alternating: the solver's iterations, median wall and CPU time of a cold
+ *     plan (ea_planner_alloc + ea_planner_solve) and wall time of its solve alone, the duration
+ *     and its change against 400 knots, the model's predicted residual and the FE-measured one
  *     (ea_traj_simulate defaults: 12 elements, generalized-alpha, dt 1 ms, 3 s settle);
  *  2. the reduced-model table: built (empty cache) against loaded (cached);
  *  3. the table's grid: interpolation error at the cell centres against the model computed
@@ -33,8 +34,66 @@ static int load(const char *name, ea_task_t *t) {
 
 typedef struct {
   int ok, iters;
-  double wall, cpu, dur, pred, fe;
+  double wall, cpu, solve, dur, pred, fe;
 } res_t;
+
+/* One cold plan of t: wall and CPU time of ea_planner_alloc + ea_planner_solve, wall time of
+ * the solve alone, its info; its trajectory into tr (when not NULL). 0, or 1 (printed). */
+static int plan_once(const ea_task_t *t, double *wall, double *cpu, double *solve,
+                     ea_plan_info_t *info, ea_traj_t *tr) {
+  ea_error_t e;
+  ea_planner_t *pl = NULL;
+  const double w0 = ea_bench_now(), c0 = ea_bench_cpu_now();
+  ea_status_t st = ea_planner_alloc(t, &pl, &e);
+  const double w1 = ea_bench_now();
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, info, &e);
+  *wall = ea_bench_now() - w0;
+  *cpu = ea_bench_cpu_now() - c0;
+  *solve = ea_bench_now() - w1;
+  if (!st && tr) st = ea_planner_trajectory(pl, tr, &e);
+  ea_planner_free(pl);
+  if (st) fprintf(stderr, "bench_dyn: %s\n", e.msg);
+  return st != EA_OK;
+}
+
+static double fe_residual(const ea_task_t *t, const ea_traj_t *tr) {
+  ea_sim_settings_t s;
+  ea_sim_settings_default(&s);
+  ea_sim_info_t si;
+  ea_error_t e;
+  return ea_traj_simulate(&t->arm, tr, 0.0, &s, NULL, &si, &e) ? NAN : si.residual_peak;
+}
+
+/* R cold plans of each of the two tasks, alternating (the machine's pace drifts): medians;
+ * the last plans' FE residuals. */
+static void plan_pair(const ea_task_t t[2], int R, res_t out[2]) {
+  double w[2][64], c[2][64], sv[2][64];
+  R = R > 64 ? 64 : R;
+  ea_traj_t tr[2] = {{0}, {0}};
+  for (int m = 0; m < 2; ++m)
+    out[m] = (res_t){.ok = 1, .fe = NAN};
+  for (int i = 0; i < R; ++i)
+    for (int m = 0; m < 2; ++m) {
+      ea_plan_info_t info;
+      if (!out[m].ok) continue;
+      if (plan_once(&t[m], &w[m][i], &c[m][i], &sv[m][i], &info, i == R - 1 ? &tr[m] : NULL)) {
+        out[m].ok = 0;
+        continue;
+      }
+      out[m].iters = info.iterations;
+      out[m].dur = info.duration_s;
+      out[m].pred = info.predicted_residual_m;
+    }
+  for (int m = 0; m < 2; ++m) {
+    if (out[m].ok) {
+      out[m].wall = ea_bench_median(w[m], R);
+      out[m].cpu = ea_bench_median(c[m], R);
+      out[m].solve = ea_bench_median(sv[m], R);
+      out[m].fe = fe_residual(&t[m], &tr[m]);
+    }
+    ea_traj_free(&tr[m]);
+  }
+}
 
 /* R cold plans (median times); the last plan's FE residual when fe. */
 static res_t plan_rows(const ea_task_t *t, int R, int fe) {
@@ -79,30 +138,36 @@ static res_t plan_rows(const ea_task_t *t, int R, int fe) {
 }
 
 static void table_knots(const ea_task_t *base, int R) {
-  printf("\n1. at-rest paper line (payload 0, 2 modes), cold plans: medians of %d\n", R);
-  printf("%-6s %-6s %6s %9s %9s %12s %11s %10s %10s\n", "knots", "trans", "iters", "wall ms",
-         "cpu ms", "t_f [s]", "dt_f/t_f", "pred mm", "FE mm");
+  printf("\n1. at-rest paper line (payload 0, 2 modes), cold plans: medians of %d (200 and 400 "
+         "knots: 1), the two transcriptions alternating; wall and cpu: ea_planner_alloc + "
+         "ea_planner_solve, solve: ea_planner_solve alone\n",
+         R);
+  printf("%-6s %-6s %6s %9s %9s %9s %12s %11s %10s %10s\n", "knots", "trans", "iters", "wall ms",
+         "cpu ms", "solve ms", "t_f [s]", "dt_f/t_f", "pred mm", "FE mm");
   const int ks[5] = {25, 50, 100, 200, 400};
   const ea_task_transcription_t tk[2] = {EA_TASK_TRANSCRIPTION_PATH, EA_TASK_TRANSCRIPTION_KNOTS};
-  for (int m = 0; m < 2; ++m) {
-    res_t rs[5];
-    for (int i = 0; i < 5; ++i) {
-      ea_task_t t = *base;
-      t.knots = ks[i];
-      t.solver.transcription = tk[m];
+  res_t rs[5][2];
+  for (int i = 0; i < 5; ++i) {
+    ea_task_t t[2] = {*base, *base};
+    for (int m = 0; m < 2; ++m) {
+      t[m].knots = ks[i];
+      t[m].solver.transcription = tk[m];
       ea_error_t e;
-      if (ea_task_check(&t, &e)) {
+      if (ea_task_check(&t[m], &e)) {
         fprintf(stderr, "bench_dyn: %s\n", e.msg);
         return;
       }
-      rs[i] = plan_rows(&t, ks[i] >= 200 ? 1 : R, 1);
     }
-    for (int i = 0; i < 5; ++i)
-      printf("%-6d %-6s %6d %9.1f %9.1f %12.6f %11.2e %10.4f %10.4f%s\n", ks[i],
-             m ? "knots" : "path", rs[i].iters, 1e3 * rs[i].wall, 1e3 * rs[i].cpu, rs[i].dur,
-             (rs[i].dur - rs[4].dur) / rs[4].dur, 1e3 * rs[i].pred, 1e3 * rs[i].fe,
-             rs[i].ok ? "" : "  FAILED");
+    plan_pair(t, ks[i] >= 200 ? 1 : R, rs[i]);
   }
+  for (int m = 0; m < 2; ++m)
+    for (int i = 0; i < 5; ++i) {
+      const res_t *r = &rs[i][m];
+      printf("%-6d %-6s %6d %9.1f %9.1f %9.1f %12.6f %11.2e %10.4f %10.4f%s\n", ks[i],
+             m ? "knots" : "path", r->iters, 1e3 * r->wall, 1e3 * r->cpu, 1e3 * r->solve, r->dur,
+             (r->dur - rs[4][m].dur) / rs[4][m].dur, 1e3 * r->pred, 1e3 * r->fe,
+             r->ok ? "" : "  FAILED");
+    }
 }
 
 static void table_cache(const ea_task_t *t) {

@@ -599,7 +599,7 @@ pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, s
   "$(calc %.1f "$(jnum "$R/simulate.out" static_offset_start_m)*1e6")"
 
 # --- docs/planner.md: bench_dyn (section 1: knots; 3: grid; 4: replanning)
-dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $6, $7, $9; exit }' "$R/bench_dyn.out"; }
+dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $7, $8, $10; exit }' "$R/bench_dyn.out"; }
 for k in 25 50 100 200 400; do
   itp=$(dyn $k path | awk '{ print $1 }')
   set -- $(dyn $k knots)
@@ -607,12 +607,7 @@ for k in 25 50 100 200 400; do
   [ $k = 100 ] && label="100 (default)"
   ch=$(sci %.1e "$3")
   [ $k = 400 ] && ch=$(calc %.0f "$3")
-  # the path transcription's iteration count at 400 knots is not reproducible
-  # across machines and builds with Ipopt (81, 83 and 85 seen, rounding-sensitive
-  # barrier steps): that one count is published as measured with Debian's
-  # reference BLAS and not checked
   ip='{}'
-  [ $k = 400 ] && ip='{*}' itp=
   pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / $ip | {} | {} | {} |" \
     "$1" ${itp:+"$itp"} "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
 done

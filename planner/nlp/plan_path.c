@@ -964,10 +964,15 @@ int ea__pp_supported(const ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   if (t->solver.transcription == EA_TASK_TRANSCRIPTION_KNOTS) return 0;
   if (t->path == EA_TASK_PATH_FREE) return 0;
-  /* with dynamics (auto) the knots: fewer Ipopt iterations and less time on every measured
-   * task, the same durations to 1e-5 (bench_dyn; paper line at rest 34 -> 27 iterations,
-   * payload 0.25 37 -> 27, 0.5 34 -> 25, robust 72 -> 40) */
-  if (t->solver.transcription == EA_TASK_TRANSCRIPTION_AUTO && t->dynamics.modes > 0) return 0;
+  /* with dynamics (auto) the path when the own interior point solves it (one model): the
+   * same iterations within 1-3 and less time on every measured task (no statics shots; the
+   * at-rest paper line about 44 -> 34 ms); with Ipopt (solver.nlp: ipopt, robust corner
+   * models) the knots: fewer Ipopt iterations and less time on every measured task, the same
+   * durations to 1e-5 (bench_dyn; paper line at rest 34 -> 27 iterations, payload 0.25 37 ->
+   * 27, 0.5 34 -> 25, robust 72 -> 40) */
+  if (t->solver.transcription == EA_TASK_TRANSCRIPTION_AUTO && t->dynamics.modes > 0 &&
+      (t->solver.nlp_ipopt || pl->M > 1))
+    return 0;
   /* the frequency-model rows and the f1-weighted min_vibration stay with the knots */
   if (pl->fm) return 0;
   /* the derivative checker: the knots, unless the path is asked for (its own check) */
@@ -1513,7 +1518,9 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   char tmpl[64] = "";
   if (!at_solution && warm && !pl->task.solver.derivative_test && ea__pp_kkt_ok(pl))
     at_solution = 1; /* the predicted point is already the solution */
-  if (!at_solution && warm && !pl->task.solver.derivative_test)
+  /* not with dynamics: on the at-rest paper line the Newton gave up after 6 steps for goal
+   * moves of 0.2, 1, 2 and 5 mm alike (the knot transcription does not try it either) */
+  if (!at_solution && warm && !pl->task.solver.derivative_test && pl->K == 0)
     at_solution = ea__pp_newton_start(pl, &info->newton_steps);
   /* a cold solve, or a replan the active-set Newton gave up: the own interior
    * point first (plan_ipm.c), from the cold guess (a replan's too: from its predicted point
