@@ -93,7 +93,7 @@ static void check_task(ea_task_t *t, const char *name) {
   }
   memcpy(xx, x, (size_t)n * sizeof *x);
   int nrows = 0, kinds[EA__ROW_DYN_TERMINAL + 1] = {0};
-  double worst = 0.0, worst_affine = 0.0, worst_sym = 0.0, worst_tt = 0.0;
+  double worst = 0.0, worst_affine = 0.0, worst_sym = 0.0, worst_tt = 0.0, worst_vg = 0.0;
   int worst_row = -1;
   for (int r = 0; r < pl->m; ++r) {
     const ea__row_t *row = &pl->rows[r];
@@ -112,6 +112,9 @@ static void check_task(ea_task_t *t, const char *name) {
         big = fmax(big, fabs(R[a][b]));
       }
     }
+    /* the row at x by its dual numbers (the differences above left its cache elsewhere) */
+    double v1, g1[EA__ROW_MAX], v2, g2[EA__ROW_MAX];
+    ea__plan_row_eval(pl, x, row, &v1, NULL, g1);
     /* the planner's, for this row alone */
     lam[r] = 1.0;
     st = ea__plan_hess_values(pl, x, 0.0, lam, values);
@@ -120,6 +123,14 @@ static void check_task(ea_task_t *t, const char *name) {
       ea_test_true(0, "ea__plan_hess_values");
       goto out;
     }
+    /* a defect's value and gradient as the Hessian's closed form leaves them in its cache */
+    ea__plan_row_eval(pl, x, row, &v2, NULL, g2);
+    double gbig = fabs(v1);
+    for (int b = 0; b < nc; ++b)
+      gbig = fmax(gbig, fabs(g1[b]));
+    worst_vg = fmax(worst_vg, fabs(v2 - v1) / fmax(gbig, 1e-300));
+    for (int b = 0; b < nc; ++b)
+      worst_vg = fmax(worst_vg, fabs(g2[b] - g1[b]) / fmax(gbig, 1e-300));
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b < nc; ++b) {
         const double ref = 0.5 * (R[a][b] + R[b][a]);
@@ -157,6 +168,11 @@ static void check_task(ea_task_t *t, const char *name) {
   snprintf(w, sizeof w, "%s: every dynamics row's Hessian within %.0e (worst %.2e, %s)", name,
            HESS_TOL, worst, rn);
   ea_test_true(nrows > 0 && worst <= HESS_TOL, w);
+  snprintf(w, sizeof w,
+           "%s: every dynamics row's value and gradient after the Hessian (the defects' from its "
+           "closed form) as its dual numbers give them: within %.1e (1e-12)",
+           name, worst_vg);
+  ea_test_true(worst_vg <= 1e-12, w);
   snprintf(w, sizeof w, "%s: defects, tension and torque affine in the modal states (%.1e)", name,
            worst_affine);
   ea_test_true(worst_affine <= AFFINE_TOL, w);

@@ -150,10 +150,12 @@ void ea__asn_fill(ea__asn_t *a) {
 int ea__asn_eval(ea__asn_t *a, double *x, int hess) {
   const ea__asn_nlp_t *p = &a->p;
   void *ud = p->ud;
-  if (!p->grad_f(p->n, x, TRUE, a->gf, ud) || !p->g(p->n, x, FALSE, p->m, a->g, ud) ||
+  /* the Hessian first: the modal defects' closed form leaves their values and gradients at x
+   * for the rows (plan_dyn.c) */
+  if (!p->grad_f(p->n, x, TRUE, a->gf, ud) ||
+      (hess && !p->h(p->n, x, FALSE, 1.0, p->m, a->lam, TRUE, p->nnz_h, NULL, NULL, a->hv, ud)) ||
+      !p->g(p->n, x, FALSE, p->m, a->g, ud) ||
       !p->jac(p->n, x, FALSE, p->m, p->nnz_j, NULL, NULL, a->jv, ud))
-    return -1;
-  if (hess && !p->h(p->n, x, FALSE, 1.0, p->m, a->lam, TRUE, p->nnz_h, NULL, NULL, a->hv, ud))
     return -1;
   /* stationarity of every variable: grad f + J' lam */
   memcpy(a->r, a->gf, sizeof(double) * (size_t)p->n);

@@ -652,6 +652,42 @@ static void ea__hz_defect(const ea__hz_kin_t *kin, const ea__hz_fields_t *m[3], 
   }
 }
 
+/* The values and gradients of mode i's defects from their coefficients, into the rows'
+ * cache (ea__dyn_defect's, keyed by its 13 local values): the row evaluations at the same x
+ * (the interior point evaluates the Hessian first) then need no dual numbers. */
+static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i, const double e[4],
+                        ea__hz_t cf[2][5]) {
+  ea__dyn_mcache_t *mc = &pl->dync->mc[k * pl->K + i];
+  for (int q = 0; q < 4; ++q)
+    mc->key[q] = e[q];
+  for (int c = 0; c < 2; ++c) {
+    mc->key[4 + 4 * c] = x[EA__IQ(pl, k, c)];
+    mc->key[5 + 4 * c] = x[EA__IQ(pl, k + 1, c)];
+    mc->key[6 + 4 * c] = x[EA__IV(pl, k, c)];
+    mc->key[7 + 4 * c] = x[EA__IV(pl, k + 1, c)];
+  }
+  mc->key[12] = pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
+  const double s = pl->dyn_scale;
+  for (int d = 0; d < 2; ++d) {
+    ea__dual_t *r = d ? &mc->vel : &mc->pos;
+    const ea__hz_t *C = cf[d];
+    double v = C[4].v;
+    for (int q = 0; q < 4; ++q) {
+      v += e[q] * C[q].v;
+      r->d[q] = s * C[q].v;
+    }
+    r->v = s * v;
+    for (int a = 0; a < EA__HZ; ++a) {
+      double g = C[4].g[a];
+      for (int q = 0; q < 4; ++q)
+        g += e[q] * C[q].g[a];
+      r->d[4 + a] = s * g;
+    }
+    if (!pl->has_tf) r->d[12] = 0.0;
+  }
+  mc->valid = 1;
+}
+
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
                               const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
@@ -672,12 +708,13 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
         ea__hz_point(pl, j, &kin.q[P][0], &kin.q[P][1], &F[P]);
       have_model = j;
     }
+    const double e[4] = {x[EA__IE(pl, k, i)], x[EA__IED(pl, k, i)], x[EA__IE(pl, k + 1, i)],
+                         x[EA__IED(pl, k + 1, i)]};
     if (i != have_coord) { /* pos and vel of one mode share the coefficients */
       ea__hz_defect(&kin, m, mi, cf);
       have_coord = i;
+      ea__hz_fill(pl, x, k, i, e, cf);
     }
-    const double e[4] = {x[EA__IE(pl, k, i)], x[EA__IED(pl, k, i)], x[EA__IE(pl, k + 1, i)],
-                         x[EA__IED(pl, k + 1, i)]};
     /* the 13 local variables (ea__dyn_defect's order), t_f's dropped when fixed */
     const int nloc = pl->has_tf ? 13 : 12;
     nc[r] = nloc;
