@@ -185,9 +185,18 @@ typedef struct {
 
 struct ea__hz_fields;
 
+/* The table at a knot's (L_c, alpha) with its exact first and second derivatives: shared by
+ * the knot's tension and torque rows and the closed-form Hessians of both intervals at it. */
+typedef struct {
+  int valid;
+  double key[2];
+  ea_rom_point_t v, dL, da, dLL, dLa, daa;
+} ea__dyn_kcache_t;
+
 struct ea__dyn_cache {
   ea__dyn_icache_t *ic;     /* (N - 1) M: per interval and model */
   ea__dyn_mcache_t *mc;     /* (N - 1) K: per interval and modal coordinate */
+  ea__dyn_kcache_t *kc;     /* N M: per knot and model */
   struct ea__hz_fields *hz; /* 3: the defects' Hessian's fields at an interval's points */
 };
 
@@ -195,8 +204,23 @@ void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
   if (!c) return;
   free(c->ic);
   free(c->mc);
+  free(c->kc);
   free(c->hz);
   free(c);
+}
+
+/* The table of model j at knot k's (L_c, alpha) in x. */
+static const ea__dyn_kcache_t *ea__dyn_at_knot(const ea_planner_t *pl, const double *x, int k,
+                                               int j) {
+  ea__dyn_kcache_t *c = &pl->dync->kc[k * pl->M + j];
+  const double key[2] = {x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)]};
+  if (!c->valid || memcmp(c->key, key, sizeof key)) {
+    ea_rom_table_eval2(pl->roms[j], key[0], key[1], &c->v, &c->dL, &c->da, &c->dLL, &c->dLa,
+                       &c->daa);
+    memcpy(c->key, key, sizeof key);
+    c->valid = 1;
+  }
+  return c;
 }
 
 static const ea__drom_t *ea__dyn_end(const ea_planner_t *pl, int j, ea__dyn_icache_t *ic, int e,
@@ -320,17 +344,16 @@ static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k
     const int tq = kind == EA__ROW_DYN_TORQUE;
     if (cols) memcpy(cols, col, sizeof(int) * (size_t)nloc);
     if (!value && !vals) return nloc;
-    ea_rom_point_t v, dL, da;
-    ea_rom_table_eval(pl->roms[j], x[col[0]], x[col[1]], &v, vals ? &dL : NULL, vals ? &da : NULL);
+    const ea__dyn_kcache_t *c = ea__dyn_at_knot(pl, x, k, j);
+    const double *f = tq ? c->v.dtorque : c->v.dtension, *fL = tq ? c->dL.dtorque : c->dL.dtension,
+                 *fa = tq ? c->da.dtorque : c->da.dtension;
     const double base = tq ? pl->task.arm.EI : 1.0;
     double r = base * x[col[2]], gL = 0.0, ga = 0.0;
     for (int i = 0; i < K; ++i) {
       const double e = x[col[3 + i]];
-      r += e * (tq ? v.dtorque[i] : v.dtension[i]);
-      if (vals) {
-        gL += e * (tq ? dL.dtorque[i] : dL.dtension[i]);
-        ga += e * (tq ? da.dtorque[i] : da.dtension[i]);
-      }
+      r += e * f[i];
+      gL += e * fL[i];
+      ga += e * fa[i];
     }
     if (value) *value = r;
     if (vals) {
@@ -338,7 +361,7 @@ static int ea__dyn_knot(const ea_planner_t *pl, const double *x, int kind, int k
       vals[1] = ga;
       vals[2] = base;
       for (int i = 0; i < K; ++i)
-        vals[3 + i] = tq ? v.dtorque[i] : v.dtension[i];
+        vals[3 + i] = f[i];
     }
     return nloc;
   }
@@ -485,19 +508,41 @@ static void ea__hz_field(ea__hz_t *r, const ea__hz_t *L, const ea__hz_t *A, cons
                 f[4] * (L->g[a] * A->g[b] + A->g[a] * L->g[b]) + f[5] * A->g[a] * A->g[b];
 }
 
+/* The same where L and A are the variables iL and iA (iA > iL): three Hessian entries. */
+static void ea__hz_field_var(ea__hz_t *r, int iL, int iA, const double f[6]) {
+  memset(r, 0, sizeof *r);
+  r->v = f[0];
+  r->g[iL] = f[1];
+  r->g[iA] = f[2];
+  r->H[iL * (iL + 1) / 2 + iL] = f[3];
+  r->H[iA * (iA + 1) / 2 + iL] = f[4];
+  r->H[iA * (iA + 1) / 2 + iA] = f[5];
+}
+
 /* The model's fields at one point: omega^2, 2 zeta omega per mode (c), B, C. */
 typedef struct ea__hz_fields {
   ea__hz_t W[EA_ROM_MAX_MODES], c[EA_ROM_MAX_MODES], B[EA_ROM_MAX_MODES][2], C[EA_ROM_MAX_MODES][3];
 } ea__hz_fields_t;
 
-static void ea__hz_point(const ea_planner_t *pl, int j, const ea__hz_t *L, const ea__hz_t *A,
-                         ea__hz_fields_t *o) {
-  ea_rom_point_t v, dL, da, dLL, dLa, daa;
-  ea_rom_table_eval2(pl->roms[j], L->v, A->v, &v, &dL, &da, &dLL, &dLa, &daa);
+/* The fields of model j at (L, A) from the table's values and derivatives there. */
+static void ea__hz_field_any(ea__hz_t *r, const ea__hz_t *L, const ea__hz_t *A, int iL,
+                             const double f[6]) {
+  if (iL >= 0)
+    ea__hz_field_var(r, iL, iL + 4, f);
+  else
+    ea__hz_field(r, L, A, f);
+}
+
+static void ea__hz_point_from(const ea_planner_t *pl, int j, const ea__hz_t *L, const ea__hz_t *A,
+                              const ea_rom_point_t *vp, const ea_rom_point_t *dLp,
+                              const ea_rom_point_t *dap, const ea_rom_point_t *dLLp,
+                              const ea_rom_point_t *dLap, const ea_rom_point_t *daap, int iL,
+                              ea__hz_fields_t *o) {
+  /* iL >= 0: L and A are the variables iL and iL + 4 (an interval's end) */
   for (int k = 0; k < pl->Kper; ++k) {
-    const double w[6] = {v.omega2[k],   dL.omega2[k],  da.omega2[k],
-                         dLL.omega2[k], dLa.omega2[k], daa.omega2[k]};
-    ea__hz_field(&o->W[k], L, A, w);
+    const double w[6] = {vp->omega2[k],   dLp->omega2[k],  dap->omega2[k],
+                         dLLp->omega2[k], dLap->omega2[k], daap->omega2[k]};
+    ea__hz_field_any(&o->W[k], L, A, iL, w);
     const double zeta = pl->zeta[j * pl->Kper + k];
     if (zeta > 0) { /* 2 zeta sqrt(W) */
       const double sw = sqrt(o->W[k].v);
@@ -506,16 +551,30 @@ static void ea__hz_point(const ea_planner_t *pl, int j, const ea__hz_t *L, const
       ea__hz_c(&o->c[k], 0.0);
     }
     for (int c = 0; c < 2; ++c) {
-      const double b[6] = {v.B[k][c],   dL.B[k][c],  da.B[k][c],
-                           dLL.B[k][c], dLa.B[k][c], daa.B[k][c]};
-      ea__hz_field(&o->B[k][c], L, A, b);
+      const double b[6] = {vp->B[k][c],   dLp->B[k][c],  dap->B[k][c],
+                           dLLp->B[k][c], dLap->B[k][c], daap->B[k][c]};
+      ea__hz_field_any(&o->B[k][c], L, A, iL, b);
     }
     for (int c = 0; c < 3; ++c) {
-      const double f[6] = {v.C[k][c],   dL.C[k][c],  da.C[k][c],
-                           dLL.C[k][c], dLa.C[k][c], daa.C[k][c]};
-      ea__hz_field(&o->C[k][c], L, A, f);
+      const double f[6] = {vp->C[k][c],   dLp->C[k][c],  dap->C[k][c],
+                           dLLp->C[k][c], dLap->C[k][c], daap->C[k][c]};
+      ea__hz_field_any(&o->C[k][c], L, A, iL, f);
     }
   }
+}
+
+/* The fields of model j at (L, A): the table there (at a knot: the knot's cached one; iL as
+ * ea__hz_point_from's). */
+static void ea__hz_point(const ea_planner_t *pl, int j, const ea__hz_t *L, const ea__hz_t *A,
+                         const ea__dyn_kcache_t *knot, int iL, ea__hz_fields_t *o) {
+  if (knot) {
+    ea__hz_point_from(pl, j, L, A, &knot->v, &knot->dL, &knot->da, &knot->dLL, &knot->dLa,
+                      &knot->daa, iL, o);
+    return;
+  }
+  ea_rom_point_t v, dL, da, dLL, dLa, daa;
+  ea_rom_table_eval2(pl->roms[j], L->v, A->v, &v, &dL, &da, &dLL, &dLa, &daa);
+  ea__hz_point_from(pl, j, L, A, &v, &dL, &da, &dLL, &dLa, &daa, -1, o);
 }
 
 /* F = -(B . a + C0 v0^2 + 2 C1 v0 v1 + C2 v1^2) of mode k; vv = (v0^2, v0 v1, v1^2) */
@@ -705,7 +764,8 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
     const int vel = rows[r].kind == EA__ROW_DYN_DEF_VEL;
     if (j != have_model) {
       for (int P = 0; P < 3; ++P)
-        ea__hz_point(pl, j, &kin.q[P][0], &kin.q[P][1], &F[P]);
+        ea__hz_point(pl, j, &kin.q[P][0], &kin.q[P][1],
+                     P < 2 ? ea__dyn_at_knot(pl, x, k + P, j) : NULL, P < 2 ? P : -1, &F[P]);
       have_model = j;
     }
     const double e[4] = {x[EA__IE(pl, k, i)], x[EA__IED(pl, k, i)], x[EA__IE(pl, k + 1, i)],
@@ -763,16 +823,15 @@ int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b)
       H[a][b] = 0.0;
-  ea_rom_point_t dL, da, dLL, dLa, daa;
-  ea_rom_table_eval2(pl->roms[j], x[cols[0]], x[cols[1]], NULL, &dL, &da, &dLL, &dLa, &daa);
+  const ea__dyn_kcache_t *c = ea__dyn_at_knot(pl, x, k, j);
   const int tq = r->kind == EA__ROW_DYN_TORQUE;
   for (int i = 0; i < K; ++i) {
     const double e = x[cols[3 + i]];
-    H[0][0] += e * (tq ? dLL.dtorque[i] : dLL.dtension[i]);
-    H[0][1] += e * (tq ? dLa.dtorque[i] : dLa.dtension[i]);
-    H[1][1] += e * (tq ? daa.dtorque[i] : daa.dtension[i]);
-    H[0][3 + i] = H[3 + i][0] = tq ? dL.dtorque[i] : dL.dtension[i];
-    H[1][3 + i] = H[3 + i][1] = tq ? da.dtorque[i] : da.dtension[i];
+    H[0][0] += e * (tq ? c->dLL.dtorque[i] : c->dLL.dtension[i]);
+    H[0][1] += e * (tq ? c->dLa.dtorque[i] : c->dLa.dtension[i]);
+    H[1][1] += e * (tq ? c->daa.dtorque[i] : c->daa.dtension[i]);
+    H[0][3 + i] = H[3 + i][0] = tq ? c->dL.dtorque[i] : c->dL.dtension[i];
+    H[1][3 + i] = H[3 + i][1] = tq ? c->da.dtorque[i] : c->da.dtension[i];
   }
   H[1][0] = H[0][1];
   return n;
@@ -871,9 +930,10 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   if (pl->dync) {
     pl->dync->ic = calloc(ni * (size_t)pl->M, sizeof *pl->dync->ic);
     pl->dync->mc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->mc);
+    pl->dync->kc = calloc((size_t)pl->N * (size_t)pl->M, sizeof *pl->dync->kc);
     pl->dync->hz = malloc(3 * sizeof *pl->dync->hz);
   }
-  if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->hz)
+  if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->kc || !pl->dync->hz)
     return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");
   /* each model's mode mi damped by the arm file's measured ratio of mode mi + 1 (modes beyond
    * the measured ones, and an arm without damping: undamped, the worst case) */
