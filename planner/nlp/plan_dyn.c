@@ -291,6 +291,15 @@ static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i,
     col[7 + 4 * c] = EA__IV(pl, k + 1, c);
   }
   col[12] = pl->has_tf ? EA__ITF(pl) : -1;
+  if (!value && !vals) { /* the entries alone (patterns) */
+    int n = 0;
+    for (int j = 0; j < EA__DN; ++j)
+      if (col[j] >= 0) {
+        if (cols) cols[n] = col[j];
+        ++n;
+      }
+    return n;
+  }
   double xv[EA__DN];
   for (int j = 0; j < EA__DN; ++j)
     xv[j] = col[j] >= 0 ? x[col[j]] : pl->tf_fixed;

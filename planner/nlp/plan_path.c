@@ -515,7 +515,7 @@ static int ea__pp_row(const ea_planner_t *pl, const double *xs, const ea__row_t 
   if (pl->has_tf) pp->xk[EA__ITF(pl)] = xs[pp->itf];
   int kc[EA__ROW_MAX], lc[EA__ROW_MAX];
   double kv[EA__ROW_MAX], lv[EA__ROW_MAX];
-  const int nk = ea__plan_row_eval(pl, pp->xk, r, value, kc, kv);
+  const int nk = ea__plan_row_eval(pl, pp->xk, r, value, kc, vals ? kv : NULL);
   int n = 0;
   for (int e = 0; e < nk; ++e) {
     const int i = kc[e], col = pp->kidx[i];
@@ -532,7 +532,7 @@ static int ea__pp_row(const ea_planner_t *pl, const double *xs, const ea__row_t 
       lc[n] = col;
       lv[n++] = 0.0;
     }
-    lv[q] += kv[e] * f;
+    if (vals) lv[q] += kv[e] * f;
   }
   if (cols) memcpy(cols, lc, sizeof(int) * (size_t)n);
   if (vals) memcpy(vals, lv, sizeof(double) * (size_t)n);
