@@ -611,7 +611,7 @@ for k in 25 50 100 200 400; do
   pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / $ip | {} | {} | {} |" \
     "$1" ${itp:+"$itp"} "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
 done
-hw=$(awk '/worst entry/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v); if (v + 0 > m) m = v + 0 }
+hw=$(awk '/worst entry/ && !/kinematic/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v); if (v + 0 > m) m = v + 0 }
   END { print m }' "$R/test_plan_hess.out")
 pub "tests/test_plan_hess (worst Hessian entry of a dynamics row, both tasks)" docs/planner.md \
   "exact gradient over all its variables, modal states included: within {} of the row's largest" \
@@ -675,9 +675,9 @@ set -- $(dyn 100 knots) $(dyn 400 knots)
 pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
   'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \
   "$(calc %.2f "$3*100")" "$(calc %.3f "$8-$4")"
-set -- $(dyn 100 knots)
-pub "bench/bench_dyn (iterations of the at-rest paper line, the default knot transcription)" docs/planner.md \
-  'plans in about {*} s of CPU cold ({} iterations of the own interior' "$1"
+set -- $(dyn 100 path)
+pub "bench/bench_dyn (iterations of the at-rest paper line, the default path transcription)" docs/planner.md \
+  '{} iterations of the own interior point, KKT systems by KLU; with Ipopt 19 iterations and 0.2' "$1"
 grid() { awk -v g="$1" '$1 == g { print $2, $3, $4, $5, $7, $8; exit }' "$R/bench_dyn.out"; }
 set -- $(grid default) $(grid x1/2)
 pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner.md \
