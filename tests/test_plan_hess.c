@@ -60,7 +60,28 @@ static void grad_diff(ea_planner_t *pl, const ea__row_t *row, double *xx, int v,
     D[b] = (gp[b] - gm[b]) / (2.0 * h);
 }
 
-static void check_task(ea_task_t *t, const char *name) {
+/* Row row's reference Hessian at x (xx: a scratch copy of x): central differences of its
+ * exact gradient, Richardson-extrapolated from steps h and h/2 (h = 1e-4 relative), in the
+ * order of its entries cols; *big: its largest entry. Returns the entry count. */
+static int reference(ea_planner_t *pl, const ea__row_t *row, const double *x, double *xx, int *cols,
+                     double R[][EA__ROW_MAX], double *big) {
+  const int nc = ea__plan_row_eval(pl, x, row, NULL, cols, NULL);
+  *big = 0.0;
+  for (int a = 0; a < nc; ++a) {
+    const double h = 1e-4 * fmax(1.0, fabs(x[cols[a]]));
+    double D1[EA__ROW_MAX], D2[EA__ROW_MAX];
+    grad_diff(pl, row, xx, cols[a], h, nc, D1);
+    grad_diff(pl, row, xx, cols[a], 0.5 * h, nc, D2);
+    for (int b = 0; b < nc; ++b) {
+      R[a][b] = (4.0 * D2[b] - D1[b]) / 3.0;
+      *big = fmax(*big, fabs(R[a][b]));
+    }
+  }
+  return nc;
+}
+
+/* The task planned cold at 8 knots in the knot transcription (NULL, reported, when it fails). */
+static ea_planner_t *plan8(ea_task_t *t, const char *name, const char *what) {
   ea_error_t e = {0};
   ea_planner_t *pl = NULL;
   ea_plan_info_t info;
@@ -70,9 +91,33 @@ static void check_task(ea_task_t *t, const char *name) {
   if (!st) st = ea_planner_alloc(t, &pl, &e);
   if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
   char w[240];
-  snprintf(w, sizeof w, "%s: 8-knot at-rest plan (%.160s)", name, st ? e.msg : "ok");
-  ea_test_true(!st && pl->hpos && pl->K > 0, w);
-  if (st || !pl->hpos || pl->K == 0) {
+  snprintf(w, sizeof w, "%s: 8-knot %s (%.160s)", name, what, st ? e.msg : "ok");
+  ea_test_true(!st, w);
+  if (st) {
+    ea_planner_free(pl);
+    return NULL;
+  }
+  return pl;
+}
+
+/* A generic point near the solution: every variable moved by a pseudo-random 1e-4 relative
+ * (an LCG: the same point every run). */
+static void generic_point(const ea_planner_t *pl, unsigned long long s, double *x) {
+  for (int i = 0; i < pl->n; ++i) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double u = (double)(s >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+    x[i] = pl->x_sol[i] + 1e-4 * u * fmax(fabs(pl->x_sol[i]), 1e-2);
+  }
+}
+
+static void check_task(ea_task_t *t, const char *name) {
+  ea_planner_t *pl = plan8(t, name, "at-rest plan");
+  if (!pl) return;
+  char w[240];
+  ea_status_t st = EA_OK;
+  snprintf(w, sizeof w, "%s: the plan has dynamics and an exact Hessian", name);
+  ea_test_true(pl->hpos && pl->K > 0, w);
+  if (!pl->hpos || pl->K == 0) {
     ea_planner_free(pl);
     return;
   }
@@ -84,13 +129,7 @@ static void check_task(ea_task_t *t, const char *name) {
     ea_test_true(0, "allocation");
     goto out;
   }
-  /* a generic point near the solution (an LCG: the same point every run) */
-  unsigned long long s = 12345;
-  for (int i = 0; i < n; ++i) {
-    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-    const double u = (double)(s >> 11) / 9007199254740992.0 * 2.0 - 1.0;
-    x[i] = pl->x_sol[i] + 1e-4 * u * fmax(fabs(pl->x_sol[i]), 1e-2);
-  }
+  generic_point(pl, 12345, x);
   memcpy(xx, x, (size_t)n * sizeof *x);
   int nrows = 0, kinds[EA__ROW_DYN_TERMINAL + 1] = {0};
   double worst = 0.0, worst_affine = 0.0, worst_sym = 0.0, worst_tt = 0.0, worst_vg = 0.0;
@@ -99,19 +138,8 @@ static void check_task(ea_task_t *t, const char *name) {
     const ea__row_t *row = &pl->rows[r];
     if (!is_dyn(row->kind)) continue;
     int cols[EA__ROW_MAX];
-    const int nc = ea__plan_row_eval(pl, x, row, NULL, cols, NULL);
-    /* the reference: Richardson from h and h/2 */
-    double R[EA__ROW_MAX][EA__ROW_MAX], big = 0.0;
-    for (int a = 0; a < nc; ++a) {
-      const double h = 1e-4 * fmax(1.0, fabs(x[cols[a]]));
-      double D1[EA__ROW_MAX], D2[EA__ROW_MAX];
-      grad_diff(pl, row, xx, cols[a], h, nc, D1);
-      grad_diff(pl, row, xx, cols[a], 0.5 * h, nc, D2);
-      for (int b = 0; b < nc; ++b) {
-        R[a][b] = (4.0 * D2[b] - D1[b]) / 3.0;
-        big = fmax(big, fabs(R[a][b]));
-      }
-    }
+    double R[EA__ROW_MAX][EA__ROW_MAX], big;
+    const int nc = reference(pl, row, x, xx, cols, R, &big);
     /* the row at x by its dual numbers (the differences above left its cache elsewhere) */
     double v1, g1[EA__ROW_MAX], v2, g2[EA__ROW_MAX];
     ea__plan_row_eval(pl, x, row, &v1, NULL, g1);
@@ -193,21 +221,9 @@ static int is_kin(int kind) {
  * what ea__plan_hess_fd_local hands the Hessian for them) against the same Richardson
  * reference, at a generic point near an 8-knot plan's solution. */
 static void check_kin(ea_task_t *t, const char *name) {
-  ea_error_t e = {0};
-  ea_planner_t *pl = NULL;
-  ea_plan_info_t info;
-  t->knots = 8;
-  t->solver.transcription = EA_TASK_TRANSCRIPTION_KNOTS;
-  ea_status_t st = ea_task_check(t, &e);
-  if (!st) st = ea_planner_alloc(t, &pl, &e);
-  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+  ea_planner_t *pl = plan8(t, name, "plan");
+  if (!pl) return;
   char w[240];
-  snprintf(w, sizeof w, "%s: 8-knot plan (%.160s)", name, st ? e.msg : "ok");
-  ea_test_true(!st, w);
-  if (st) {
-    ea_planner_free(pl);
-    return;
-  }
   const int n = pl->n;
   double *x = malloc((size_t)n * sizeof *x), *xx = malloc((size_t)n * sizeof *xx);
   if (!x || !xx) {
@@ -217,12 +233,7 @@ static void check_kin(ea_task_t *t, const char *name) {
     ea_planner_free(pl);
     return;
   }
-  unsigned long long s = 54321;
-  for (int i = 0; i < n; ++i) {
-    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-    const double u = (double)(s >> 11) / 9007199254740992.0 * 2.0 - 1.0;
-    x[i] = pl->x_sol[i] + 1e-4 * u * fmax(fabs(pl->x_sol[i]), 1e-2);
-  }
+  generic_point(pl, 54321, x);
   memcpy(xx, x, (size_t)n * sizeof *x);
   int nrows = 0, kinds[EA__ROW_KIND_COUNT] = {0};
   double worst = 0.0;
@@ -231,18 +242,8 @@ static void check_kin(ea_task_t *t, const char *name) {
     const ea__row_t *row = r < pl->m ? &pl->rows[r] : &pl->orows[r - pl->m];
     if (!is_kin(row->kind)) continue;
     int cols[EA__ROW_MAX];
-    const int nc = ea__plan_row_eval(pl, x, row, NULL, cols, NULL);
-    double R[EA__ROW_MAX][EA__ROW_MAX], big = 0.0;
-    for (int a = 0; a < nc; ++a) {
-      const double h = 1e-4 * fmax(1.0, fabs(x[cols[a]]));
-      double D1[EA__ROW_MAX], D2[EA__ROW_MAX];
-      grad_diff(pl, row, xx, cols[a], h, nc, D1);
-      grad_diff(pl, row, xx, cols[a], 0.5 * h, nc, D2);
-      for (int b = 0; b < nc; ++b) {
-        R[a][b] = (4.0 * D2[b] - D1[b]) / 3.0;
-        big = fmax(big, fabs(R[a][b]));
-      }
-    }
+    double R[EA__ROW_MAX][EA__ROW_MAX], big;
+    const int nc = reference(pl, row, x, xx, cols, R, &big);
     int hc[1][EA__ROW_MAX], hn[1];
     double Hl[1][EA__ROW_MAX][EA__ROW_MAX];
     const double one = 1.0;
