@@ -97,24 +97,13 @@ static void plan_pair(const ea_task_t t[2], int R, res_t out[2]) {
 
 /* R cold plans (median times); the last plan's FE residual when fe. */
 static res_t plan_rows(const ea_task_t *t, int R, int fe) {
-  res_t r = {0};
-  double w[64], c[64];
+  res_t r = {.ok = 1, .fe = NAN};
+  double w[64], c[64], sv[64];
   R = R > 64 ? 64 : R;
   ea_traj_t tr = {0};
-  r.ok = 1;
   for (int i = 0; i < R; ++i) {
-    ea_error_t e;
-    ea_planner_t *pl = NULL;
     ea_plan_info_t info;
-    const double w0 = ea_bench_now(), c0 = ea_bench_cpu_now();
-    ea_status_t st = ea_planner_alloc(t, &pl, &e);
-    if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
-    w[i] = ea_bench_now() - w0;
-    c[i] = ea_bench_cpu_now() - c0;
-    if (!st && i == R - 1) st = ea_planner_trajectory(pl, &tr, &e);
-    ea_planner_free(pl);
-    if (st) {
-      fprintf(stderr, "bench_dyn: %s\n", e.msg);
+    if (plan_once(t, &w[i], &c[i], &sv[i], &info, i == R - 1 && fe ? &tr : NULL)) {
       r.ok = 0;
       ea_traj_free(&tr);
       return r;
@@ -125,14 +114,8 @@ static res_t plan_rows(const ea_task_t *t, int R, int fe) {
   }
   r.wall = ea_bench_median(w, R);
   r.cpu = ea_bench_median(c, R);
-  r.fe = NAN;
-  if (fe) {
-    ea_sim_settings_t s;
-    ea_sim_settings_default(&s);
-    ea_sim_info_t si;
-    ea_error_t e;
-    if (!ea_traj_simulate(&t->arm, &tr, 0.0, &s, NULL, &si, &e)) r.fe = si.residual_peak;
-  }
+  r.solve = ea_bench_median(sv, R);
+  if (fe) r.fe = fe_residual(t, &tr);
   ea_traj_free(&tr);
   return r;
 }

@@ -104,21 +104,29 @@ typedef struct {
       tip[EA_ROM_MAX_MODES][2], dT[EA_ROM_MAX_MODES], dM[EA_ROM_MAX_MODES];
 } ea__drom_t;
 
-/* The fields of model j (its table, its pl->Kper modes). */
+/* The fields of model j (its pl->Kper modes) from its table's values and derivatives at
+ * (L, a). */
+static void ea__drom_from(const ea_planner_t *pl, ea__dual_t L, ea__dual_t a,
+                          const ea_rom_point_t *v, const ea_rom_point_t *dL,
+                          const ea_rom_point_t *da, ea__drom_t *o) {
+  for (int k = 0; k < pl->Kper; ++k) {
+    o->w2[k] = ea__dfield(v->omega2[k], dL->omega2[k], da->omega2[k], L, a);
+    for (int c = 0; c < 2; ++c) {
+      o->B[k][c] = ea__dfield(v->B[k][c], dL->B[k][c], da->B[k][c], L, a);
+      o->tip[k][c] = ea__dfield(v->tip[k][c], dL->tip[k][c], da->tip[k][c], L, a);
+    }
+    for (int c = 0; c < 3; ++c)
+      o->C[k][c] = ea__dfield(v->C[k][c], dL->C[k][c], da->C[k][c], L, a);
+    o->dT[k] = ea__dfield(v->dtension[k], dL->dtension[k], da->dtension[k], L, a);
+    o->dM[k] = ea__dfield(v->dtorque[k], dL->dtorque[k], da->dtorque[k], L, a);
+  }
+}
+
+/* The fields of model j at (L, a): its table there. */
 static void ea__drom(const ea_planner_t *pl, int j, ea__dual_t L, ea__dual_t a, ea__drom_t *o) {
   ea_rom_point_t v, dL, da;
   ea_rom_table_eval(pl->roms[j], L.v, a.v, &v, &dL, &da);
-  for (int k = 0; k < pl->Kper; ++k) {
-    o->w2[k] = ea__dfield(v.omega2[k], dL.omega2[k], da.omega2[k], L, a);
-    for (int c = 0; c < 2; ++c) {
-      o->B[k][c] = ea__dfield(v.B[k][c], dL.B[k][c], da.B[k][c], L, a);
-      o->tip[k][c] = ea__dfield(v.tip[k][c], dL.tip[k][c], da.tip[k][c], L, a);
-    }
-    for (int c = 0; c < 3; ++c)
-      o->C[k][c] = ea__dfield(v.C[k][c], dL.C[k][c], da.C[k][c], L, a);
-    o->dT[k] = ea__dfield(v.dtension[k], dL.dtension[k], da.dtension[k], L, a);
-    o->dM[k] = ea__dfield(v.dtorque[k], dL.dtorque[k], da.dtorque[k], L, a);
-  }
+  ea__drom_from(pl, L, a, &v, &dL, &da, o);
 }
 
 /* Modal forcing of mode k: -B . a - v^T C v. */
@@ -152,29 +160,15 @@ static void ea__emit(const ea__dual_t *r, const int *col, int nloc, double *valu
   }
 }
 
-/* The model's fields at one end of an interval, by the end's (L_c, alpha) values (as duals
- * over the defect's local variables, whose layout fixes their derivative vectors). */
-typedef struct {
-  int valid;
-  double key[2];
-  ea__drom_t m;
-} ea__dyn_end_t;
-
-/* The defect rows' work, cached per interval: the Hermite of (L_c, alpha) and the model's
- * fields at the midpoint, by the values of the interval's 9 trajectory variables (the same
- * for every mode; the Hessian's differences perturb one variable at a time), the fields at
- * each end by that end's (L_c, alpha) alone, in two slots (the differences alternate the
- * end's perturbed and unperturbed values: a rate or t_f perturbed, or the other end's
- * value, finds them), and the pos and vel defects of each mode by the 9 plus its 4 modal
- * variables. */
+/* The defect rows' work, cached per interval by the values of its 9 trajectory variables
+ * (the same for every mode): the Hermite of (L_c, alpha) and the model's fields at its ends
+ * (from the knots' tables, ea__dyn_at_knot) and midpoint; the pos and vel defects of each
+ * mode are cached by the 9 plus its 4 modal variables. */
 typedef struct {
   int valid;
   double key[9];
   ea__dual_t h, v0[2], v1[2], a0[2], a1[2], vm[2], am[2];
-  ea__drom_t mm;
-  ea__dyn_end_t end[2][2];
-  int last[2]; /* the slot each end used last (the other one is replaced) */
-  const ea__drom_t *m0, *m1;
+  ea__drom_t m0, m1, mm;
 } ea__dyn_icache_t;
 
 typedef struct {
@@ -223,25 +217,8 @@ static const ea__dyn_kcache_t *ea__dyn_at_knot(const ea_planner_t *pl, const dou
   return c;
 }
 
-static const ea__drom_t *ea__dyn_end(const ea_planner_t *pl, int j, ea__dyn_icache_t *ic, int e,
-                                     ea__dual_t L, ea__dual_t a) {
-  const double key[2] = {L.v, a.v};
-  ea__dyn_end_t *sl = ic->end[e];
-  for (int q = 0; q < 2; ++q)
-    if (sl[q].valid && !memcmp(sl[q].key, key, sizeof key)) {
-      ic->last[e] = q;
-      return &sl[q].m;
-    }
-  const int q = !sl[0].valid ? 0 : !sl[1].valid ? 1 : 1 - ic->last[e];
-  ea__drom(pl, j, L, a, &sl[q].m);
-  memcpy(sl[q].key, key, sizeof key);
-  sl[q].valid = 1;
-  ic->last[e] = q;
-  return &sl[q].m;
-}
-
-static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, int k, int j,
-                                                const double *xv, const ea__dual_t *loc) {
+static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, const double *x, int k,
+                                                int j, const double *xv, const ea__dual_t *loc) {
   ea__dyn_icache_t *ic = &pl->dync->ic[k * pl->M + j];
   if (ic->valid && !memcmp(ic->key, xv + 4, sizeof ic->key)) return ic;
   const double ds = pl->s[k + 1] - pl->s[k];
@@ -266,8 +243,9 @@ static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, int k, i
     ic->am[c] = ea__dscale(ea__dadd(ic->a0[c], ic->a1[c]), 0.5);
   }
   ic->h = h;
-  ic->m0 = ea__dyn_end(pl, j, ic, 0, q0[0], q0[1]);
-  ic->m1 = ea__dyn_end(pl, j, ic, 1, q1[0], q1[1]);
+  const ea__dyn_kcache_t *e0 = ea__dyn_at_knot(pl, x, k, j), *e1 = ea__dyn_at_knot(pl, x, k + 1, j);
+  ea__drom_from(pl, q0[0], q0[1], &e0->v, &e0->dL, &e0->da, &ic->m0);
+  ea__drom_from(pl, q1[0], q1[1], &e1->v, &e1->dL, &e1->da, &ic->m1);
   ea__drom(pl, j, qm[0], qm[1], &ic->mm);
   memcpy(ic->key, xv + 4, sizeof ic->key);
   ic->valid = 1;
@@ -277,9 +255,7 @@ static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, int k, i
 /* Hermite-Simpson defects of mode i over interval k (pos: 0, vel: 1). Local variables:
  * 0 eta_k, 1 eta'_k, 2 eta_k+1, 3 eta'_k+1, 4..7 (q0, q1, v0, v1) of L_c, 8..11 of alpha,
  * 12 t_f. */
-static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i, int vel,
-                          double *value, int *cols, double *vals) {
-  int col[EA__DN];
+static void ea__defect_cols(const ea_planner_t *pl, int k, int i, int col[EA__DN]) {
   col[0] = EA__IE(pl, k, i);
   col[1] = EA__IED(pl, k, i);
   col[2] = EA__IE(pl, k + 1, i);
@@ -291,6 +267,19 @@ static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i,
     col[7 + 4 * c] = EA__IV(pl, k + 1, c);
   }
   col[12] = pl->has_tf ? EA__ITF(pl) : -1;
+}
+
+/* The defect's local values (t_f's when fixed: pl->tf_fixed), its rows' cache key. */
+static void ea__defect_values(const ea_planner_t *pl, const double *x, const int col[EA__DN],
+                              double xv[EA__DN]) {
+  for (int j = 0; j < EA__DN; ++j)
+    xv[j] = col[j] >= 0 ? x[col[j]] : pl->tf_fixed;
+}
+
+static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i, int vel,
+                          double *value, int *cols, double *vals) {
+  int col[EA__DN];
+  ea__defect_cols(pl, k, i, col);
   if (!value && !vals) { /* the entries alone (patterns) */
     int n = 0;
     for (int j = 0; j < EA__DN; ++j)
@@ -301,8 +290,7 @@ static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i,
     return n;
   }
   double xv[EA__DN];
-  for (int j = 0; j < EA__DN; ++j)
-    xv[j] = col[j] >= 0 ? x[col[j]] : pl->tf_fixed;
+  ea__defect_values(pl, x, col, xv);
   ea__dyn_mcache_t *mc = &pl->dync->mc[k * pl->K + i];
   if (!mc->valid || memcmp(mc->key, xv, sizeof mc->key)) {
     ea__dual_t loc[EA__DN];
@@ -310,13 +298,13 @@ static int ea__dyn_defect(const ea_planner_t *pl, const double *x, int k, int i,
       loc[j] = col[j] >= 0 ? ea__dvar(xv[j], j) : ea__dc(xv[j]);
     /* modal coordinate i: mode mi of model j */
     const int j = i / pl->Kper, mi = i % pl->Kper;
-    const ea__dyn_icache_t *ic = ea__dyn_interval(pl, k, j, xv, loc);
+    const ea__dyn_icache_t *ic = ea__dyn_interval(pl, x, k, j, xv, loc);
     const double zeta = pl->zeta[i];
     const ea__dual_t e0 = loc[0], ed0 = loc[1], e1 = loc[2], ed1 = loc[3];
     const ea__dual_t acc0 =
-        ea__dacc(ic->m0, mi, zeta, e0, ed0, ea__dforce(ic->m0, mi, ic->v0, ic->a0));
+        ea__dacc(&ic->m0, mi, zeta, e0, ed0, ea__dforce(&ic->m0, mi, ic->v0, ic->a0));
     const ea__dual_t acc1 =
-        ea__dacc(ic->m1, mi, zeta, e1, ed1, ea__dforce(ic->m1, mi, ic->v1, ic->a1));
+        ea__dacc(&ic->m1, mi, zeta, e1, ed1, ea__dforce(&ic->m1, mi, ic->v1, ic->a1));
     const ea__dual_t h8 = ea__dscale(ic->h, 0.125), h6 = ea__dscale(ic->h, 1.0 / 6.0);
     const ea__dual_t em =
         ea__dadd(ea__dscale(ea__dadd(e0, e1), 0.5), ea__dmul(h8, ea__dsub(ed0, ed1)));
@@ -427,25 +415,6 @@ static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, doub
   int n = 0;
   ea__emit(&r, col, nloc, value, cols, vals, &n);
   return n;
-}
-
-/* The defects are affine in the modal states (the accelerations are -omega^2 eta - 2 zeta
- * omega eta' + F with F and the coefficients functions of the trajectory alone, the
- * midpoint state is linear in the ends'); the tension and torque rows are T (EI kappa0) plus
- * sum_i dT_i(q) eta_i. */
-int ea__plan_dyn_affine(const ea_planner_t *pl, const ea__row_t *r, int v) {
-  const int modal = v >= pl->ie0 && v < pl->ie0 + 2 * pl->K * pl->N;
-  switch ((ea__row_kind_t)r->kind) {
-  case EA__ROW_DYN_DEF_POS:
-  case EA__ROW_DYN_DEF_VEL:
-    return modal;
-  case EA__ROW_DYN_TENSION:
-    return modal || v == EA__IP(pl, r->knot, 0);
-  case EA__ROW_DYN_TORQUE:
-    return modal || v == EA__IP(pl, r->knot, 2);
-  default:
-    return 0;
-  }
 }
 
 /* ---- the defects' Hessian in closed form ---------------------------------
@@ -723,18 +692,11 @@ static void ea__hz_defect(const ea__hz_kin_t *kin, const ea__hz_fields_t *m[3], 
 /* The values and gradients of mode i's defects from their coefficients, into the rows'
  * cache (ea__dyn_defect's, keyed by its 13 local values): the row evaluations at the same x
  * (the interior point evaluates the Hessian first) then need no dual numbers. */
-static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i, const double e[4],
-                        ea__hz_t cf[2][5]) {
+static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i,
+                        const int col[EA__DN], ea__hz_t cf[2][5]) {
   ea__dyn_mcache_t *mc = &pl->dync->mc[k * pl->K + i];
-  for (int q = 0; q < 4; ++q)
-    mc->key[q] = e[q];
-  for (int c = 0; c < 2; ++c) {
-    mc->key[4 + 4 * c] = x[EA__IQ(pl, k, c)];
-    mc->key[5 + 4 * c] = x[EA__IQ(pl, k + 1, c)];
-    mc->key[6 + 4 * c] = x[EA__IV(pl, k, c)];
-    mc->key[7 + 4 * c] = x[EA__IV(pl, k + 1, c)];
-  }
-  mc->key[12] = pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
+  ea__defect_values(pl, x, col, mc->key);
+  const double *e = mc->key; /* the modal values: locals 0..3 */
   const double s = pl->dyn_scale;
   for (int d = 0; d < 2; ++d) {
     ea__dual_t *r = d ? &mc->vel : &mc->pos;
@@ -777,27 +739,19 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
                      P < 2 ? ea__dyn_at_knot(pl, x, k + P, j) : NULL, P < 2 ? P : -1, &F[P]);
       have_model = j;
     }
-    const double e[4] = {x[EA__IE(pl, k, i)], x[EA__IED(pl, k, i)], x[EA__IE(pl, k + 1, i)],
-                         x[EA__IED(pl, k + 1, i)]};
+    int col[EA__DN]; /* ea__dyn_defect's 13 local variables, t_f (the last) dropped if fixed */
+    ea__defect_cols(pl, k, i, col);
+    const int nloc = pl->has_tf ? 13 : 12;
+    nc[r] = nloc;
+    memcpy(cols[r], col, sizeof(int) * (size_t)nloc);
+    double e[4];
+    for (int q = 0; q < 4; ++q)
+      e[q] = x[col[q]];
     if (i != have_coord) { /* pos and vel of one mode share the coefficients */
       ea__hz_defect(&kin, m, mi, cf);
       have_coord = i;
-      ea__hz_fill(pl, x, k, i, e, cf);
+      ea__hz_fill(pl, x, k, i, col, cf);
     }
-    /* the 13 local variables (ea__dyn_defect's order), t_f's dropped when fixed */
-    const int nloc = pl->has_tf ? 13 : 12;
-    nc[r] = nloc;
-    cols[r][0] = EA__IE(pl, k, i);
-    cols[r][1] = EA__IED(pl, k, i);
-    cols[r][2] = EA__IE(pl, k + 1, i);
-    cols[r][3] = EA__IED(pl, k + 1, i);
-    for (int c = 0; c < 2; ++c) {
-      cols[r][4 + 4 * c] = EA__IQ(pl, k, c);
-      cols[r][5 + 4 * c] = EA__IQ(pl, k + 1, c);
-      cols[r][6 + 4 * c] = EA__IV(pl, k, c);
-      cols[r][7 + 4 * c] = EA__IV(pl, k + 1, c);
-    }
-    if (pl->has_tf) cols[r][12] = EA__ITF(pl);
     const double s = pl->dyn_scale;
     const ea__hz_t *C = cf[vel];
     for (int a = 0; a < nloc; ++a)
@@ -823,12 +777,7 @@ int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row
   if (r->kind != EA__ROW_DYN_TENSION && r->kind != EA__ROW_DYN_TORQUE) return -1;
   /* T (or EI kappa0) + sum_i f_i(L_c, alpha) eta_i: entries L_c, alpha, T or kappa0, eta_i */
   const int k = r->knot, j = r->coord, K = pl->Kper;
-  const int n = 3 + K; /* ea__dyn_knot's entries */
-  cols[0] = EA__IQ(pl, k, 0);
-  cols[1] = EA__IQ(pl, k, 1);
-  cols[2] = r->kind == EA__ROW_DYN_TORQUE ? EA__IP(pl, k, 2) : EA__IP(pl, k, 0);
-  for (int i = 0; i < K; ++i)
-    cols[3 + i] = EA__IE(pl, k, j * K + i);
+  const int n = ea__dyn_knot(pl, x, r->kind, k, j, NULL, cols, NULL);
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b)
       H[a][b] = 0.0;

@@ -234,50 +234,23 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr) {
   return g;
 }
 
-void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
-                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
-                            double g0[][EA__ROW_MAX]) {
+/* Central differences of the exact gradients of rows[0..g-1] over the union of their
+ * variables, whose accuracy the ill-conditioned problems need (the paper line at 2000 knots:
+ * 29 iterations; forward ones: no convergence). */
+static void ea__hess_fd(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                        const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
+                        int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   double gp[EA__ROW_MAX], gm[EA__ROW_MAX];
   int uni[EA__HGROUP_MAX * EA__ROW_MAX], nu = 0;
-  /* an interval's modal defects: closed form (ea__plan_dyn_defect_hess; forward differences
-   * of their exact gradients before: the at-rest paper line 64-66 -> 42-47 ms, the same
-   * iterations) */
-  if (fn == ea__plan_row_eval && g > 0 &&
-      (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
-    ea__plan_dyn_defect_hess(pl, x, rows, w, g, cols, nc, Hl);
-    for (int r = 0; r < g && g0; ++r)
-      if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, g0[r]);
-    return;
-  }
-  /* rows whose curvature is the Hermite's in t_f: closed form (ea__plan_row_hess) */
-  if (g == 1 && fn == ea__plan_row_eval) {
-    const int n = w[0] != 0.0 ? ea__plan_row_hess(pl, x, &rows[0], cols[0], Hl[0]) : 0;
-    if (n >= 0) {
-      nc[0] = n;
-      if (g0 && n) fn(pl, x, &rows[0], NULL, NULL, g0[0]);
-      return;
-    }
-  }
-  /* variables the row is affine in (jointly): not perturbed; their entries are the
-   * perturbed variables' (symmetry) and zero among themselves (ea__plan_dyn_affine) */
-  unsigned char aff[EA__HGROUP_MAX][EA__ROW_MAX];
   for (int r = 0; r < g; ++r) {
     nc[r] = w[r] != 0.0 ? fn(pl, x, &rows[r], NULL, cols[r], NULL) : 0;
     for (int a = 0; a < nc[r]; ++a) {
-      aff[r][a] = (unsigned char)ea__plan_dyn_affine(pl, &rows[r], cols[r][a]);
-      if (aff[r][a]) continue;
       int seen = 0;
       for (int u = 0; u < nu && !seen; ++u)
         seen = uni[u] == cols[r][a];
       if (!seen) uni[nu++] = cols[r][a];
     }
   }
-  /* central differences of the exact gradients, whose accuracy the ill-conditioned problems
-   * need (the paper line at 2000 knots: 29 iterations; forward ones: no convergence) */
-  if (g0)
-    for (int r = 0; r < g; ++r)
-      if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, g0[r]);
   for (int u = 0; u < nu; ++u) {
     const int v = uni[u];
     const double d = 1e-6 * fmax(1.0, fabs(x[v]));
@@ -287,7 +260,7 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
         int a = 0;
         while (a < nc[r] && cols[r][a] != v)
           ++a;
-        if (a == nc[r] || aff[r][a]) continue;
+        if (a == nc[r]) continue;
         fn(pl, xx, &rows[r], NULL, NULL, sgn ? gm : gp);
         for (int b = 0; b < nc[r]; ++b)
           Hl[r][a][b] = sgn ? (Hl[r][a][b] - gm[b]) / (2.0 * d) : gp[b];
@@ -295,11 +268,30 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
     }
     xx[v] = x[v];
   }
-  for (int r = 0; r < g; ++r)
-    for (int a = 0; a < nc[r]; ++a)
-      if (aff[r][a])
-        for (int b = 0; b < nc[r]; ++b)
-          Hl[r][a][b] = aff[r][b] ? 0.0 : Hl[r][b][a];
+}
+
+void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
+                            const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
+                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
+                            double g0[][EA__ROW_MAX]) {
+  const int closed = fn == ea__plan_row_eval;
+  /* an interval's modal defects: closed form (ea__plan_dyn_defect_hess; forward differences
+   * of their exact gradients before: the at-rest paper line 64-66 -> 42-47 ms, the same
+   * iterations) */
+  if (closed && g > 0 &&
+      (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
+    ea__plan_dyn_defect_hess(pl, x, rows, w, g, cols, nc, Hl);
+  } else {
+    /* a row with a closed form of its own (ea__plan_row_hess; -1: none), else differences */
+    int n = -1;
+    if (closed && g == 1) n = w[0] != 0.0 ? ea__plan_row_hess(pl, x, &rows[0], cols[0], Hl[0]) : 0;
+    if (n >= 0)
+      nc[0] = n;
+    else
+      ea__hess_fd(pl, fn, x, xx, rows, w, g, cols, nc, Hl);
+  }
+  for (int r = 0; r < g && g0; ++r)
+    if (nc[r]) fn(pl, x, &rows[r], NULL, NULL, g0[r]);
 }
 
 void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,

@@ -253,16 +253,18 @@ typedef int (*ea__rowfn)(const ea_planner_t *pl, const double *x, const ea__row_
 #define EA__HGROUP_MAX (2 * EA__DYN_MAX)
 /** Rows r.. that the Hessian differences together (>= 1). */
 int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
-/** The differences of ea__plan_hess_fd_group as local matrices: row r's entries cols[r]
- *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a]; g0 (NULL:
- *  not wanted) the rows' gradients at x in the same order. */
+/** The Hessians of ea__plan_hess_fd_group as local matrices: row r's entries cols[r]
+ *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a] (closed forms
+ *  where a row kind has one, with fn = ea__plan_row_eval: ea__plan_row_hess,
+ *  ea__plan_dyn_defect_hess; else central differences of the exact gradients); g0 (NULL: not
+ *  wanted) the rows' gradients at x in the same order. */
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
                             const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
                             int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
                             double g0[][EA__ROW_MAX]);
-/** Central differences of the exact gradients of g rows (rows[0..g-1], weights w) over the
- *  union of their variables (xx: a scratch copy of x), added as w 0.5 (H + H^T) at each row's
- *  Hessian positions hpos[r]. */
+/** The Hessians of g rows (rows[0..g-1], weights w; ea__plan_hess_fd_local: closed forms or
+ *  central differences over the union of their variables, xx a scratch copy of x), added as
+ *  w 0.5 (H + H^T) at each row's Hessian positions hpos[r]. */
 void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
                             const ea__row_t *rows, const double *w, int g, const int *const *hpos,
                             double *values);
@@ -311,11 +313,6 @@ int ea__plan_between(ea_planner_t *pl, const double *x, double *worst, char *msg
  *  the task, the table from the cache or built (plan_dyn.c). */
 ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err);
 void ea__plan_dyn_cache_free(struct ea__dyn_cache *c);
-/** Is the row affine in variable v jointly with every other variable this says so of (its
- *  second derivatives in such variables are exactly zero: the Hessian's differences need not
- *  perturb them)? The modal states in the defects, tension and torque rows; T and kappa0 in
- *  the latter two. */
-int ea__plan_dyn_affine(const ea_planner_t *pl, const ea__row_t *r, int v);
 /** Rows of the dynamic kinds; same contract as ea__plan_row_eval. */
 int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                      int *cols, double *vals);
