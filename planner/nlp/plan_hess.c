@@ -160,6 +160,28 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
         pl->orows[i] = (ea__row_t){(unsigned char)kind, (unsigned char)c, k};
         pl->oweight[i++] = w;
       }
+  return EA_OK;
+}
+
+/* Out of memory making the pattern: nothing of it kept (the next need tries again). */
+static ea_status_t ea__pattern_fail(ea_planner_t *pl, int64_t *keys) {
+  free(keys);
+  free(pl->hpos_start);
+  free(pl->hpos_stat);
+  free(pl->hirow);
+  free(pl->hjcol);
+  pl->hpos_start = pl->hpos_stat = pl->hirow = pl->hjcol = NULL;
+  pl->nnz_h = 0;
+  return EA_ERR_NOMEM;
+}
+
+/* The knot transcription's Hessian pattern and each row's positions in it, made when a knot
+ * solve first needs them (ea__ipopt_create, the own interior point's knot solve): a planner
+ * that solves in the path coordinate (plan_path.c, its own pattern) never does; they took
+ * half of ea_planner_alloc for the at-rest paper line (~3 of 6 ms). */
+ea_status_t ea__plan_hess_pattern(ea_planner_t *pl) {
+  if (pl->hpos) return EA_OK;
+  const int N = pl->N;
   /* Pairs. */
   const int nr = pl->m + pl->n_orows;
   int cols[EA__ROW_MAX];
@@ -173,10 +195,7 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
   int64_t *keys = malloc(cap * sizeof *keys);
   pl->hpos_start = calloc((size_t)nr + 1, sizeof *pl->hpos_start);
   pl->hpos_stat = calloc((size_t)N * 15, sizeof *pl->hpos_stat);
-  if (!keys || !pl->hpos_start || !pl->hpos_stat) {
-    free(keys);
-    return EA_ERR_NOMEM;
-  }
+  if (!keys || !pl->hpos_start || !pl->hpos_stat) return ea__pattern_fail(pl, keys);
   size_t nk = 0;
   for (int k = 0; k < N; ++k) {
     int v[5];
@@ -196,11 +215,8 @@ ea_status_t ea__plan_hess_setup(ea_planner_t *pl) {
     npos += (size_t)nc * (nc + 1) / 2;
   }
   ea_status_t st = ea__hpattern(keys, nk, pl->n, &pl->nnz_h, &pl->hirow, &pl->hjcol);
-  pl->hpos = calloc(npos + 1, sizeof *pl->hpos);
-  if (st || !pl->hpos) {
-    free(keys);
-    return EA_ERR_NOMEM;
-  }
+  pl->hpos = st ? NULL : calloc(npos + 1, sizeof *pl->hpos);
+  if (!pl->hpos) return ea__pattern_fail(pl, keys);
   for (int k = 0; k < N; ++k) {
     int v[5], e = 0;
     ea__stat_vars(pl, k, v);

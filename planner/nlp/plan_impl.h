@@ -270,6 +270,7 @@ void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *
                             double *values);
 /** Hessian setup (structure, positions) and values (lower triangle). */
 ea_status_t ea__plan_hess_setup(ea_planner_t *pl);
+ea_status_t ea__plan_hess_pattern(ea_planner_t *pl);
 ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double obj_factor,
                                  const double *lambda, double *values);
 void ea__plan_hess_free(ea_planner_t *pl);

@@ -406,6 +406,7 @@ static ea_status_t ea__ipopt_create(ea_planner_t *pl) {
   if (pl->ip) FreeIpoptProblem(pl->ip);
   pl->ip = NULL;
   if (pl->pp && !pl->pp_off) return EA_OK;
+  if (pl->hess_exact && ea__plan_hess_pattern(pl)) return EA_ERR_NOMEM;
   /* the rows of the next solve (plan_screen.c; every row until a solve selects them) */
   if (!pl->scr) {
     const ea__screen_nlp_t nlp = {.n = pl->n,
@@ -543,9 +544,10 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
     ea_planner_free(pl);
     return st;
   }
-  if (ea__ipopt_create(pl)) {
+  if ((st = ea__ipopt_create(pl))) {
     ea_planner_free(pl);
-    return ea_error_set(err, EA_ERR_BACKEND, "Ipopt: cannot create the problem");
+    return st == EA_ERR_NOMEM ? ea_error_set(err, st, "out of memory building the transcription")
+                              : ea_error_set(err, st, "Ipopt: cannot create the problem");
   }
   *out = pl;
   return ea_error_set(err, EA_OK, "ok");
@@ -1171,7 +1173,7 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
    * of 98 after 40 iterations; the pick-place-3d example 229 ms against Ipopt's 55, the robust
    * paper line 1.9 s against 1.2 s; the partial Hessian lacks the statics rows' curvature and
    * the own interior point has no line search or second-order correction to make up for it) */
-  if (t->path == EA_TASK_PATH_FREE || pl->M > 1) return 0;
+  if (t->path == EA_TASK_PATH_FREE || pl->M > 1 || ea__plan_hess_pattern(pl)) return 0;
   if (!pl->asn) {
     const ea__asn_nlp_t nlp = {.n = pl->n,
                                .m = pl->m,
