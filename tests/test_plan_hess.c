@@ -12,7 +12,9 @@
  * models, 1 mode each). Also the
  * closed-form Hessians of the kinematic rows and objective pieces (acceleration, continuity,
  * speed, effort, jerk: ea__plan_row_hess) against the same reference, with t_f free (the
- * at-rest line) and fixed (polyline-effort with min_effort and min_jerk). */
+ * at-rest line) and fixed (polyline-effort with min_effort and min_jerk). And the path
+ * transcription's whole Lagrangian Hessian with dynamics (the chain rule, a mode's two defects
+ * through it at once) against the same differences of its Lagrangian's gradient. */
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_test.h"
@@ -33,6 +35,9 @@
 #define AFFINE_TOL 1e-8
 /* closed forms (ea__plan_row_hess) against the reference: its truncation (h^4) and rounding */
 #define KIN_TOL 1e-6
+/* the path transcription's whole Hessian against the same reference */
+#define PATH_TOL 1e-7
+#define EA__PATH_TEST_MAXN 512
 
 static const char *src;
 
@@ -278,6 +283,119 @@ static void check_kin(ea_task_t *t, const char *name) {
   ea_planner_free(pl);
 }
 
+/* The Lagrangian gradient of the path layout at xs, sum_r lambda_r grad row_r, into G (n). */
+static void pp_lagrangian_grad(ea_planner_t *pl, const double *xs, int n, int m, const double *lam,
+                               double *G) {
+  memset(G, 0, (size_t)n * sizeof *G);
+  int cols[EA__ROW_MAX];
+  double v, g[EA__ROW_MAX];
+  for (int r = 0; r < m; ++r) {
+    const int nc = ea__pp_test_row(pl, xs, r, &v, cols, g);
+    for (int a = 0; a < nc; ++a)
+      G[cols[a]] += lam[r] * g[a];
+  }
+}
+
+/* The path transcription with dynamics (plan_path.c): its Hessian is the knot rows' through
+ * the chain rule, a mode's two defects through it at once. The whole Lagrangian Hessian
+ * (pseudo-random multipliers in [-1, 1] on every row, no objective) at a generic point near
+ * the 8-knot plan's solution against central differences of the Lagrangian's exact gradient
+ * (every path row's ea__pp_row), Richardson-extrapolated from steps h and h/2 (h = 1e-4
+ * relative); each entry against the largest reference entry of its Hessian row. */
+static void check_path(ea_task_t *t, const char *name) {
+  t->knots = 8;
+  t->solver.transcription = EA_TASK_TRANSCRIPTION_PATH;
+  ea_error_t e = {0};
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t info;
+  ea_status_t st = ea_task_check(t, &e);
+  if (!st) st = ea_planner_alloc(t, &pl, &e);
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+  int n = 0, m = 0, nnz = 0;
+  const double *xsol = NULL;
+  const int *hr = NULL, *hc = NULL;
+  char w[300];
+  snprintf(w, sizeof w, "%s: 8-knot plan in the path transcription with dynamics (%.160s)", name,
+           st ? e.msg : "ok");
+  ea_test_true(!st && !ea__pp_test_dims(pl, &n, &m, &xsol, &nnz, &hr, &hc) && pl->K > 0, w);
+  if (st || !n) {
+    ea_planner_free(pl);
+    return;
+  }
+  double *xs = malloc((size_t)n * sizeof *xs), *lam = malloc((size_t)m * sizeof *lam);
+  double *vals = malloc((size_t)(nnz + 1) * sizeof *vals);
+  double *H = calloc((size_t)n * n, sizeof *H), *R = calloc((size_t)n * n, sizeof *R);
+  double *Gp = malloc((size_t)n * sizeof *Gp), *Gm = malloc((size_t)n * sizeof *Gm);
+  if (!xs || !lam || !vals || !H || !R || !Gp || !Gm) {
+    ea_test_true(0, "allocation");
+    goto out;
+  }
+  unsigned long long sd = 777;
+  for (int i = 0; i < n; ++i) {
+    sd = sd * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double u = (double)(sd >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+    xs[i] = xsol[i] + 1e-4 * u * fmax(fabs(xsol[i]), 1e-2);
+  }
+  for (int r = 0; r < m; ++r) {
+    sd = sd * 6364136223846793005ULL + 1442695040888963407ULL;
+    lam[r] = (double)(sd >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+  }
+  ea__pp_test_hess(pl, xs, 0.0, lam, vals);
+  for (int q = 0; q < nnz; ++q) {
+    H[(size_t)hr[q] * n + hc[q]] += vals[q];
+    if (hr[q] != hc[q]) H[(size_t)hc[q] * n + hr[q]] += vals[q];
+  }
+  for (int v = 0; v < n; ++v) {
+    const double h0 = 1e-4 * fmax(1.0, fabs(xs[v])), x0 = xs[v];
+    double D[2][EA__PATH_TEST_MAXN];
+    for (int s2 = 0; s2 < 2; ++s2) {
+      const double h = s2 ? 0.5 * h0 : h0;
+      xs[v] = x0 + h;
+      pp_lagrangian_grad(pl, xs, n, m, lam, Gp);
+      xs[v] = x0 - h;
+      pp_lagrangian_grad(pl, xs, n, m, lam, Gm);
+      xs[v] = x0;
+      for (int b = 0; b < n && b < EA__PATH_TEST_MAXN; ++b)
+        D[s2][b] = (Gp[b] - Gm[b]) / (2.0 * h);
+    }
+    for (int b = 0; b < n && b < EA__PATH_TEST_MAXN; ++b)
+      R[(size_t)v * n + b] = (4.0 * D[1][b] - D[0][b]) / 3.0;
+  }
+  pp_lagrangian_grad(pl, xs, n, m, lam, Gp); /* the rows' expansion back at xs */
+  double worst = 0.0, biggest = 0.0;
+  int wi = -1, wj = -1, nonzero = 0;
+  for (int i = 0; i < n; ++i) {
+    double big = 0.0;
+    for (int j = 0; j < n; ++j)
+      big = fmax(big, fabs(0.5 * (R[(size_t)i * n + j] + R[(size_t)j * n + i])));
+    biggest = fmax(biggest, big);
+    for (int j = 0; j < n; ++j) {
+      const double ref = 0.5 * (R[(size_t)i * n + j] + R[(size_t)j * n + i]);
+      const double err = fabs(H[(size_t)i * n + j] - ref) / fmax(big, 1e-300);
+      nonzero += H[(size_t)i * n + j] != 0.0;
+      if (big > 0 && err > worst) worst = err, wi = i, wj = j;
+    }
+  }
+  printf("  %s: path layout %d variables, %d rows, %d Hessian entries (%d nonzero in the full "
+         "matrix); worst entry %.2e of its Hessian row's largest reference entry (%d, %d), largest "
+         "entry %.3g\n",
+         name, n, m, nnz, nonzero, worst, wi, wj, biggest);
+  snprintf(w, sizeof w,
+           "%s: the path transcription's Lagrangian Hessian within %.0e of the differences of its "
+           "gradient (worst %.2e)",
+           name, PATH_TOL, worst);
+  ea_test_true(n <= EA__PATH_TEST_MAXN && nonzero > 0 && worst <= PATH_TOL, w);
+out:
+  free(xs);
+  free(lam);
+  free(vals);
+  free(H);
+  free(R);
+  free(Gp);
+  free(Gm);
+  ea_planner_free(pl);
+}
+
 int main(void) {
   gsl_set_error_handler_off();
   src = getenv("EA_SOURCE_DIR");
@@ -301,6 +419,12 @@ int main(void) {
     ea_test_true(0, "paper-line-rest.yaml");
   }
   if (!ea_test_load_example(src, "paper-line-rest.yaml", &t)) check_kin(&t, "paper line at rest");
+  if (!ea_test_load_example(src, "paper-line-rest.yaml", &t)) {
+    t.arm.n_damping = 2;
+    t.arm.damping_ratio[0] = 0.02;
+    t.arm.damping_ratio[1] = 0.05;
+    check_path(&t, "paper line at rest, damped 2 % and 5 %");
+  }
   if (!ea_test_load_example(src, "polyline-effort.yaml", &t)) {
     check_kin(&t, "polyline-effort (min_effort)");
     t.objective = EA_TASK_MIN_JERK;

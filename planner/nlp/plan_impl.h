@@ -342,6 +342,17 @@ ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err);
 ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                          ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
                          int *iters, ea_error_t *err);
+/** For tests (tests/test_plan_hess.c): the path layout's size, its last solution and Hessian
+ *  pattern (lower triangle); 0, or -1 without a path transcription. */
+int ea__pp_test_dims(const ea_planner_t *pl, int *n, int *m, const double **x_sol, int *nnz_h,
+                     const int **hrow, const int **hcol);
+/** Path row r at xs: value, entries (cols) and gradient (vals); the entry count. */
+int ea__pp_test_row(const ea_planner_t *pl, const double *xs, int r, double *value, int *cols,
+                    double *vals);
+/** The Lagrangian Hessian of the path layout at xs (objective weight sigma, multipliers lambda)
+ *  into values (the pattern's order), as Ipopt and the own interior point get it. */
+void ea__pp_test_hess(ea_planner_t *pl, const double *xs, double sigma, const double *lambda,
+                      double *values);
 /** The (L_c, alpha) box the task's path covers, with a margin (plan_vib.c). */
 void ea__plan_box(const ea_planner_t *pl, double box[4]);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */

@@ -620,7 +620,9 @@ static double ea__pp_factor(const ea__pp_t *pp, int i, double *curv) {
  * x_k = phi(x_s): J^T H_k J + sum_i (d row / d x_k,i) phi_i'', with H_k the knot row's
  * (ea__plan_hess_fd_local: differences of its exact gradient at x_k, no spline in the loop)
  * and phi'' the path's and the statics splines' second derivatives in sigma. Added as w at
- * each row's positions hpos[r] (the pairs of ea__pp_row's entries). */
+ * each row's positions hpos[r] (the pairs of ea__pp_row's entries). Consecutive rows on the
+ * same knot entries (a mode's two defects) go through the chain rule once, their weighted
+ * sum: the map is linear and their positions are the same. */
 static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, const double *w, int g,
                              const int *const *hpos, double *values) {
   const ea__pp_t *pp = pl->pp;
@@ -628,39 +630,61 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
   double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
   double gk[EA__HGROUP_MAX][EA__ROW_MAX]; /* the knot rows' gradients, in kc[r]'s order */
   ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, pp->xkx, rows, w, g, kc, nkc, Hk, gk);
-  for (int r = 0; r < g; ++r) {
-    if (!nkc[r]) continue;
+  for (int r = 0; r < g;) {
+    const int nk = nkc[r];
+    if (!nk) {
+      ++r;
+      continue;
+    }
+    /* rows r .. r + run - 1 share the knot entries: H, grad = their weighted sum */
+    int run = 1;
+    while (r + run < g && nkc[r + run] == nk &&
+           !memcmp(kc[r + run], kc[r], sizeof(int) * (size_t)nk))
+      ++run;
+    double H[EA__ROW_MAX][EA__ROW_MAX], gs[EA__ROW_MAX];
+    for (int a = 0; a < nk; ++a) {
+      gs[a] = 0.0;
+      for (int b = 0; b < nk; ++b)
+        H[a][b] = 0.0;
+    }
+    for (int q = r; q < r + run; ++q) {
+      const double wq = w[q];
+      for (int a = 0; a < nk; ++a) {
+        gs[a] += wq * gk[q][a];
+        for (int b = 0; b < nk; ++b)
+          H[a][b] += wq * 0.5 * (Hk[q][a][b] + Hk[q][b][a]);
+      }
+    }
     /* the path entries in ea__pp_row's order, each knot entry's place and factor */
     int lc[EA__ROW_MAX], pos[EA__ROW_MAX], n = 0;
-    double f[EA__ROW_MAX], Hp[EA__ROW_MAX][EA__ROW_MAX];
-    for (int e = 0; e < nkc[r]; ++e) {
+    double f[EA__ROW_MAX], c[EA__ROW_MAX];
+    for (int e = 0; e < nk; ++e) {
       const int col = pp->kidx[kc[r][e]];
       pos[e] = -1;
       if (col < 0) continue;
       int q = 0;
       while (q < n && lc[q] != col)
         ++q;
-      if (q == n) {
-        lc[n++] = col;
-        for (int b = 0; b < EA__ROW_MAX; ++b)
-          Hp[q][b] = Hp[b][q] = 0.0;
-      }
+      if (q == n) lc[n++] = col;
       pos[e] = q;
+      f[e] = ea__pp_factor(pp, kc[r][e], &c[e]);
     }
-    for (int a = 0; a < nkc[r]; ++a) {
-      if (pos[a] < 0) continue;
-      double ca;
-      f[a] = ea__pp_factor(pp, kc[r][a], &ca);
-      Hp[pos[a]][pos[a]] += gk[r][a] * ca;
+    double Hp[EA__ROW_MAX][EA__ROW_MAX];
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b)
+        Hp[a][b] = 0.0;
+    for (int a = 0; a < nk; ++a) {
+      const int pa = pos[a];
+      if (pa < 0) continue;
+      Hp[pa][pa] += gs[a] * c[a];
+      for (int b = 0; b < nk; ++b)
+        if (pos[b] >= 0) Hp[pa][pos[b]] += f[a] * f[b] * H[a][b];
     }
-    for (int a = 0; a < nkc[r]; ++a)
-      for (int b = 0; b < nkc[r]; ++b)
-        if (pos[a] >= 0 && pos[b] >= 0)
-          Hp[pos[a]][pos[b]] += f[a] * f[b] * 0.5 * (Hk[r][a][b] + Hk[r][b][a]);
     const int *p = hpos[r];
     for (int a = 0; a < n; ++a)
       for (int b = 0; b <= a; ++b)
-        values[*p++] += w[r] * Hp[a][b];
+        values[*p++] += Hp[a][b];
+    r += run;
   }
 }
 
@@ -688,6 +712,29 @@ static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
     const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
     ea__pp_hess_rows(pl, row, &w, 1, hp, values);
   }
+}
+
+int ea__pp_test_dims(const ea_planner_t *pl, int *n, int *m, const double **x_sol, int *nnz_h,
+                     const int **hrow, const int **hcol) {
+  const ea__pp_t *pp = pl->pp;
+  if (!pp) return -1;
+  *n = pp->n;
+  *m = pp->m;
+  *x_sol = pp->x_sol;
+  *nnz_h = pp->nnz_h;
+  *hrow = pp->hirow;
+  *hcol = pp->hjcol;
+  return 0;
+}
+
+int ea__pp_test_row(const ea_planner_t *pl, const double *xs, int r, double *value, int *cols,
+                    double *vals) {
+  return ea__pp_row(pl, xs, &pl->pp->rows[r], value, cols, vals);
+}
+
+void ea__pp_test_hess(ea_planner_t *pl, const double *xs, double sigma, const double *lambda,
+                      double *values) {
+  ea__pp_hess_values(pl, xs, sigma, lambda, values);
 }
 
 static Bool ea__pp_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
