@@ -428,7 +428,8 @@ static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, doub
  *   em = (eta_0 + eta_1)/2 + h/8 (eta'_0 - eta'_1), edm = (eta'_0 + eta'_1)/2 + h/8 d,
  *   accm = F_m - W_m em - c_m edm at the midpoint,
  *   vel / s = eta'_1 - eta'_0 - h/6 (acc_0 + acc_1) - 2h/3 accm,
- * so the Hessian is: z-z sum_j e_j C_j'' + C_4'', z-e_j C_j', e-e 0. */
+ * so the Hessian is: z-z sum_j e_j C_j'' + C_4'' (the second-order mode of the defect with e
+ * as numbers, ea__hz_defect), z-e_j C_j' (first order), e-e 0. */
 #define EA__HZ 9
 #define EA__HP (EA__HZ * (EA__HZ + 1) / 2)
 typedef struct {
@@ -621,98 +622,121 @@ static void ea__hz_kin(const ea_planner_t *pl, const double *x, int k, ea__hz_ki
   }
 }
 
-/* The coefficients C_j (j < 4: of e_j; 4: the rest) of the pos (0) and vel (1) defects of
- * mode k (unscaled). */
+/* First order over the same z: value and gradient (the defects' coefficients of the modal
+ * states, whose Hessian entries are the z-e ones: gradients only). */
+typedef struct {
+  double v, g[EA__HZ];
+} ea__dz_t;
+
+static void ea__dz_of(ea__dz_t *r, const ea__hz_t *x) {
+  r->v = x->v;
+  memcpy(r->g, x->g, sizeof r->g);
+}
+/* r = a x + b y + c (r may be x or y) */
+static void ea__dz_lin(ea__dz_t *r, double a, const ea__dz_t *x, double b, const ea__dz_t *y,
+                       double c) {
+  r->v = a * x->v + b * y->v + c;
+  for (int i = 0; i < EA__HZ; ++i)
+    r->g[i] = a * x->g[i] + b * y->g[i];
+}
+/* r = x y (r not x or y) */
+static void ea__dz_mul(ea__dz_t *r, const ea__dz_t *x, const ea__dz_t *y) {
+  r->v = x->v * y->v;
+  for (int i = 0; i < EA__HZ; ++i)
+    r->g[i] = x->g[i] * y->v + x->v * y->g[i];
+}
+
+/* Mode k's pos (0) and vel (1) defects (unscaled) at the modal states e = (eta_0, eta'_0,
+ * eta_1, eta'_1): phi, to second order in z with e fixed (the z-z Hessian entries), and their
+ * coefficients of e, C[d][j] = d defect / d e_j, to first order (the z-e entries; e-e: none).
+ * The defects evaluated at e as numbers take half the second-order products of their five
+ * coefficients each (the at-rest paper line's defect Hessians ~35 % cheaper). */
 static void ea__hz_defect(const ea__hz_kin_t *kin, const ea__hz_fields_t *m[3], int k,
-                          ea__hz_t cf[2][5]) {
-  ea__hz_t F[3], t, dF, h2, hv;
+                          const double e[4], ea__hz_t phi[2], ea__dz_t C[2][4]) {
+  ea__hz_t F[3], t, u, acc0, acc1, d, em, edm, accm;
   for (int P = 0; P < 3; ++P)
     ea__hz_force(&F[P], m[P], k, kin->a[P], kin->vv[P]);
   const ea__hz_t *h = &kin->h, *W0 = &m[0]->W[k], *W1 = &m[1]->W[k], *c0 = &m[0]->c[k],
-                 *c1 = &m[1]->c[k];
-  ea__hz_lin(&dF, 1.0, &F[0], -1.0, &F[1]);
-  ea__hz_mul(&h2, h, h);
-  ea__hz_lin(&h2, 1.0 / 12.0, &h2, 0.0, &h2);
-  /* pos: -1 + h2 W0, -h/2 + h2 c0, 1 - h2 W1, -h/2 - h2 c1, -h2 dF */
-  ea__hz_mul(&cf[0][0], &h2, W0);
-  ea__hz_addc(&cf[0][0], -1.0);
-  ea__hz_mul(&t, &h2, c0);
-  ea__hz_lin(&cf[0][1], -0.5, h, 1.0, &t);
-  ea__hz_mul(&cf[0][2], &h2, W1);
-  ea__hz_lin(&cf[0][2], -1.0, &cf[0][2], 0.0, &cf[0][2]);
-  ea__hz_addc(&cf[0][2], 1.0);
-  ea__hz_mul(&t, &h2, c1);
-  ea__hz_lin(&cf[0][3], -0.5, h, -1.0, &t);
-  ea__hz_mul(&cf[0][4], &h2, &dF);
-  ea__hz_lin(&cf[0][4], -1.0, &cf[0][4], 0.0, &cf[0][4]);
-  /* edm: D = (-h/8 W0, 1/2 - h/8 c0, h/8 W1, 1/2 + h/8 c1, h/8 dF); em: E = (1/2, h/8, 1/2,
-   * -h/8, 0); accm: M_j = -W_m E_j - c_m D_j, M_4 = F_m - c_m D_4 */
-  ea__hz_t D[5], M[5], Wh;
-  ea__hz_mul(&D[0], h, W0);
-  ea__hz_lin(&D[0], -0.125, &D[0], 0.0, &D[0]);
-  ea__hz_mul(&D[1], h, c0);
-  ea__hz_lin(&D[1], -0.125, &D[1], 0.0, &D[1]);
-  ea__hz_addc(&D[1], 0.5);
-  ea__hz_mul(&D[2], h, W1);
-  ea__hz_lin(&D[2], 0.125, &D[2], 0.0, &D[2]);
-  ea__hz_mul(&D[3], h, c1);
-  ea__hz_lin(&D[3], 0.125, &D[3], 0.0, &D[3]);
-  ea__hz_addc(&D[3], 0.5);
-  ea__hz_mul(&D[4], h, &dF);
-  ea__hz_lin(&D[4], 0.125, &D[4], 0.0, &D[4]);
-  const ea__hz_t *Wm = &m[2]->W[k], *cm = &m[2]->c[k];
-  ea__hz_mul(&Wh, Wm, h); /* W_m h: E_1 = h/8, E_3 = -h/8 */
-  for (int q = 0; q < 5; ++q) {
-    ea__hz_mul(&t, cm, &D[q]);
-    if (q == 4)
-      ea__hz_lin(&M[q], 1.0, &F[2], -1.0, &t);
-    else if (q == 0 || q == 2)
-      ea__hz_lin(&M[q], -0.5, Wm, -1.0, &t);
+                 *c1 = &m[1]->c[k], *Wm = &m[2]->W[k], *cm = &m[2]->c[k];
+  /* acc_P = F_P - W_P eta_P - c_P eta'_P at the ends, d = acc_0 - acc_1 */
+  ea__hz_lin(&acc0, 1.0, &F[0], -e[0], W0);
+  ea__hz_lin(&acc0, 1.0, &acc0, -e[1], c0);
+  ea__hz_lin(&acc1, 1.0, &F[1], -e[2], W1);
+  ea__hz_lin(&acc1, 1.0, &acc1, -e[3], c1);
+  ea__hz_lin(&d, 1.0, &acc0, -1.0, &acc1);
+  /* pos = eta_1 - eta_0 - h/2 (eta'_0 + eta'_1) - h^2/12 d */
+  ea__hz_mul(&t, h, h);
+  ea__hz_mul(&u, &t, &d);
+  ea__hz_lin(&phi[0], -0.5 * (e[1] + e[3]), h, -1.0 / 12.0, &u);
+  ea__hz_addc(&phi[0], e[2] - e[0]);
+  /* em = (eta_0 + eta_1)/2 + h/8 (eta'_0 - eta'_1), edm = (eta'_0 + eta'_1)/2 + h/8 d,
+   * accm = F_m - W_m em - c_m edm */
+  ea__hz_lin(&em, 0.125 * (e[1] - e[3]), h, 0.0, h);
+  ea__hz_addc(&em, 0.5 * (e[0] + e[2]));
+  ea__hz_mul(&t, h, &d);
+  ea__hz_lin(&edm, 0.125, &t, 0.0, &t);
+  ea__hz_addc(&edm, 0.5 * (e[1] + e[3]));
+  ea__hz_mul(&t, Wm, &em);
+  ea__hz_lin(&accm, 1.0, &F[2], -1.0, &t);
+  ea__hz_mul(&t, cm, &edm);
+  ea__hz_lin(&accm, 1.0, &accm, -1.0, &t);
+  /* vel = eta'_1 - eta'_0 - h/6 (acc_0 + acc_1) - 2h/3 accm */
+  ea__hz_lin(&d, 1.0, &acc0, 1.0, &acc1);
+  ea__hz_mul(&t, h, &d);
+  ea__hz_mul(&u, h, &accm);
+  ea__hz_lin(&phi[1], -1.0 / 6.0, &t, -2.0 / 3.0, &u);
+  ea__hz_addc(&phi[1], e[3] - e[1]);
+  /* the coefficients: pos -1 + h2 W0, -h/2 + h2 c0, 1 - h2 W1, -h/2 - h2 c1 (h2 = h^2/12);
+   * vel h/6 X_j - 2h/3 M_j (-1, +1 at j = 1, 3) with X = (W0, c0, W1, c1),
+   * M_j = -W_m E_j - c_m D_j, E = (1/2, h/8, 1/2, -h/8),
+   * D = (-h/8 W0, 1/2 - h/8 c0, h/8 W1, 1/2 + h/8 c1) */
+  ea__dz_t hd, h2, X[4], wm, c, hx, a, b;
+  ea__dz_of(&hd, h);
+  ea__dz_mul(&a, &hd, &hd);
+  ea__dz_lin(&h2, 1.0 / 12.0, &a, 0.0, &a, 0.0);
+  ea__dz_of(&X[0], W0);
+  ea__dz_of(&X[1], c0);
+  ea__dz_of(&X[2], W1);
+  ea__dz_of(&X[3], c1);
+  ea__dz_of(&wm, Wm);
+  ea__dz_of(&c, cm);
+  for (int j = 0; j < 4; ++j) {
+    const double sg = j < 2 ? 1.0 : -1.0;
+    ea__dz_mul(&a, &h2, &X[j]);
+    if (j % 2 == 0)
+      ea__dz_lin(&C[0][j], sg, &a, 0.0, &a, -sg); /* -1 + h2 W0, 1 - h2 W1 */
     else
-      ea__hz_lin(&M[q], q == 1 ? -0.125 : 0.125, &Wh, -1.0, &t);
-  }
-  /* vel: h/6 W0 - 2h/3 M0, -1 + h/6 c0 - 2h/3 M1, h/6 W1 - 2h/3 M2, 1 + h/6 c1 - 2h/3 M3,
-   * -h/6 (F0 + F1) - 2h/3 M4 */
-  const ea__hz_t *e6[4] = {W0, c0, W1, c1};
-  for (int q = 0; q < 5; ++q) {
-    if (q < 4) {
-      ea__hz_mul(&t, h, e6[q]);
+      ea__dz_lin(&C[0][j], -0.5, &hd, sg, &a, 0.0);
+    ea__dz_mul(&hx, &hd, &X[j]);
+    /* D_j = -/+ h/8 X_j (+ 1/2 for j odd); M_j = -W_m E_j - c_m D_j */
+    ea__dz_lin(&a, -0.125 * sg, &hx, 0.0, &hx, j % 2 ? 0.5 : 0.0);
+    ea__dz_mul(&b, &c, &a);
+    if (j % 2 == 0) {
+      ea__dz_lin(&a, -0.5, &wm, -1.0, &b, 0.0);
     } else {
-      ea__hz_lin(&hv, 1.0, &F[0], 1.0, &F[1]);
-      ea__hz_mul(&t, h, &hv);
-      ea__hz_lin(&t, -1.0, &t, 0.0, &t);
+      ea__dz_mul(&a, &wm, &hd);
+      ea__dz_lin(&a, -0.125 * sg, &a, -1.0, &b, 0.0);
     }
-    ea__hz_mul(&hv, h, &M[q]);
-    ea__hz_lin(&cf[1][q], 1.0 / 6.0, &t, -2.0 / 3.0, &hv);
-    if (q == 1) ea__hz_addc(&cf[1][q], -1.0);
-    if (q == 3) ea__hz_addc(&cf[1][q], 1.0);
+    ea__dz_mul(&b, &hd, &a);
+    ea__dz_lin(&C[1][j], 1.0 / 6.0, &hx, -2.0 / 3.0, &b, j == 1 ? -1.0 : j == 3 ? 1.0 : 0.0);
   }
 }
 
-/* The values and gradients of mode i's defects from their coefficients, into the rows'
- * cache (ea__dyn_defect's, keyed by its 13 local values): the row evaluations at the same x
- * (the interior point evaluates the Hessian first) then need no dual numbers. */
+/* The values and gradients of mode i's defects, into the rows' cache (ea__dyn_defect's, keyed
+ * by its 13 local values): the row evaluations at the same x (the interior point evaluates the
+ * Hessian first) then need no dual numbers. */
 static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i,
-                        const int col[EA__DN], ea__hz_t cf[2][5]) {
+                        const int col[EA__DN], const ea__hz_t phi[2], ea__dz_t C[2][4]) {
   ea__dyn_mcache_t *mc = &pl->dync->mc[k * pl->K + i];
   ea__defect_values(pl, x, col, mc->key);
-  const double *e = mc->key; /* the modal values: locals 0..3 */
   const double s = pl->dyn_scale;
   for (int d = 0; d < 2; ++d) {
     ea__dual_t *r = d ? &mc->vel : &mc->pos;
-    const ea__hz_t *C = cf[d];
-    double v = C[4].v;
-    for (int q = 0; q < 4; ++q) {
-      v += e[q] * C[q].v;
-      r->d[q] = s * C[q].v;
-    }
-    r->v = s * v;
-    for (int a = 0; a < EA__HZ; ++a) {
-      double g = C[4].g[a];
-      for (int q = 0; q < 4; ++q)
-        g += e[q] * C[q].g[a];
-      r->d[4 + a] = s * g;
-    }
+    for (int q = 0; q < 4; ++q)
+      r->d[q] = s * C[d][q].v;
+    r->v = s * phi[d].v;
+    for (int a = 0; a < EA__HZ; ++a)
+      r->d[4 + a] = s * phi[d].g[a];
     if (!pl->has_tf) r->d[12] = 0.0;
   }
   mc->valid = 1;
@@ -727,7 +751,8 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
   ea__hz_fields_t *F = pl->dync->hz;
   int have_model = -1, have_coord = -1;
   const ea__hz_fields_t *m[3] = {&F[0], &F[1], &F[2]};
-  ea__hz_t cf[2][5];
+  ea__hz_t phi[2];
+  ea__dz_t C[2][4];
   for (int r = 0; r < g; ++r) {
     nc[r] = 0;
     if (w[r] == 0.0) continue;
@@ -744,31 +769,27 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
     const int nloc = pl->has_tf ? 13 : 12;
     nc[r] = nloc;
     memcpy(cols[r], col, sizeof(int) * (size_t)nloc);
-    double e[4];
-    for (int q = 0; q < 4; ++q)
-      e[q] = x[col[q]];
-    if (i != have_coord) { /* pos and vel of one mode share the coefficients */
-      ea__hz_defect(&kin, m, mi, cf);
+    if (i != have_coord) { /* pos and vel of one mode: one evaluation */
+      double e[4];
+      for (int q = 0; q < 4; ++q)
+        e[q] = x[col[q]];
+      ea__hz_defect(&kin, m, mi, e, phi, C);
       have_coord = i;
-      ea__hz_fill(pl, x, k, i, col, cf);
+      ea__hz_fill(pl, x, k, i, col, phi, C);
     }
     const double s = pl->dyn_scale;
-    const ea__hz_t *C = cf[vel];
-    for (int a = 0; a < nloc; ++a)
-      for (int b = 0; b < nloc; ++b)
-        Hl[r][a][b] = 0.0;
+    const ea__hz_t *P = &phi[vel];
+    const int nz = nloc - 4;
+    for (int q = 0; q < 4; ++q)
+      for (int b = 0; b < 4; ++b)
+        Hl[r][q][b] = 0.0;
     int p = 0;
     for (int a = 0; a < EA__HZ; ++a)
-      for (int b = 0; b <= a; ++b, ++p) {
-        if (a >= nloc - 4 || b >= nloc - 4) continue;
-        double v = C[4].H[p];
-        for (int q = 0; q < 4; ++q)
-          v += e[q] * C[q].H[p];
-        Hl[r][4 + a][4 + b] = Hl[r][4 + b][4 + a] = s * v;
-      }
+      for (int b = 0; b <= a; ++b, ++p)
+        if (a < nz) Hl[r][4 + a][4 + b] = Hl[r][4 + b][4 + a] = s * P->H[p];
     for (int q = 0; q < 4; ++q)
-      for (int a = 0; a < nloc - 4; ++a)
-        Hl[r][q][4 + a] = Hl[r][4 + a][q] = s * C[q].g[a];
+      for (int a = 0; a < nz; ++a)
+        Hl[r][q][4 + a] = Hl[r][4 + a][q] = s * C[vel][q].g[a];
   }
 }
 
