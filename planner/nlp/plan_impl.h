@@ -374,8 +374,11 @@ void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s, str
 void ea__deriv_test_options(IpoptProblem ip, int second, char tmpl[64]);
 int ea__deriv_errors(const char *path);
 int64_t ea__hkey(int n, int i, int j);
-ea_status_t ea__hpattern(int64_t *keys, size_t nk, int n, int *nnz, int **irow, int **jcol);
-int ea__hpos(const int64_t *keys, int nnz, int64_t k);
+/* The pattern of nk keys (ea__hkey of an n-column matrix, repeats allowed; keys is scratch):
+ * its sorted unique entries as triplets (irow, jcol malloc'd, *nnz of them) and pos[q] = the
+ * entry of keys[q]. */
+ea_status_t ea__hpattern(int64_t *keys, size_t nk, int n, int *nnz, int **irow, int **jcol,
+                         int *pos);
 /** Build the frequency model when the task needs it (pl->fm; NULL otherwise). */
 ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err);
 void ea__plan_freq_free(ea__freq_model_t *fm);

@@ -574,31 +574,20 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
   }
   size_t nk = 0;
   for (int r = 0; r < nr; ++r) {
+    pp->hpos_start[r] = (int)nk;
     if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
     const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
         keys[nk++] = ea__pp_key(pp, cols[a], cols[b]);
   }
-  const size_t npos = nk;
-  ea_status_t st = ea__hpattern(keys, nk, pp->n, &pp->nnz_h, &pp->hirow, &pp->hjcol);
-  pp->hpos = calloc(npos + 1, sizeof *pp->hpos);
-  if (st || !pp->hpos) {
-    free(keys);
-    return EA_ERR_NOMEM;
-  }
-  int p = 0;
-  for (int r = 0; r < nr; ++r) {
-    pp->hpos_start[r] = p;
-    if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
-    const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
-    for (int a = 0; a < nc; ++a)
-      for (int b = 0; b <= a; ++b)
-        pp->hpos[p++] = ea__hpos(keys, pp->nnz_h, ea__pp_key(pp, cols[a], cols[b]));
-  }
-  pp->hpos_start[nr] = p;
+  pp->hpos_start[nr] = (int)nk;
+  pp->hpos = malloc((nk + 1) * sizeof *pp->hpos);
+  const ea_status_t st =
+      pp->hpos ? ea__hpattern(keys, nk, pp->n, &pp->nnz_h, &pp->hirow, &pp->hjcol, pp->hpos)
+               : EA_ERR_NOMEM;
   free(keys);
-  return EA_OK;
+  return st;
 }
 
 /* Factor of knot-layout entry i in the path layout (d x_k / d x_s) and its curvature. */
