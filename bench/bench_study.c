@@ -22,6 +22,7 @@
 
 #include "bench_util.h"
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 static const char *k_fig3 = "name: fig3\n"
@@ -255,6 +256,36 @@ static const char *k_rest = "name: rest4\n"
                             "metrics:\n"
                             "  at_rest: {task: %s/problems/examples/studies/line-to-0.5.yaml}\n";
 
+/* The machine's own ceiling for 2 workers: the reference kernel of bench_util.h (arithmetic
+ * and libm, no memory traffic, nothing shared) as 4 runs in 1 process against 2 forked
+ * processes of 2 runs each: a study's speed-up is bounded by it (on a virtual machine whose
+ * two cores share the host's, it is below 2). Median over reps; NAN when fork fails. */
+static double kernel_ceiling(int reps) {
+  double one[64], two[64];
+  reps = reps > 64 ? 64 : reps;
+  for (int r = 0; r < reps; ++r) {
+    double t0 = ea_bench_now();
+    for (int i = 0; i < 4; ++i)
+      (void)ea_bench_pace_ms();
+    one[r] = ea_bench_now() - t0;
+    t0 = ea_bench_now();
+    pid_t kid[2];
+    for (int w = 0; w < 2; ++w) {
+      kid[w] = fork();
+      if (kid[w] == 0) {
+        for (int i = 0; i < 2; ++i)
+          (void)ea_bench_pace_ms();
+        _exit(0);
+      }
+      if (kid[w] < 0) return NAN;
+    }
+    for (int w = 0; w < 2; ++w)
+      waitpid(kid[w], NULL, 0);
+    two[r] = ea_bench_now() - t0;
+  }
+  return ea_bench_median(one, reps) / ea_bench_median(two, reps);
+}
+
 static void planner_rows(int reps) {
   char text[4096];
   ea_study_t sw, re;
@@ -290,6 +321,9 @@ int main(int argc, char **argv) {
     printf("\nload average %s at the end; CPU/wall = cores the run got (worker processes "
            "included)\n",
            loadavg());
+    printf("the machine's ceiling: the reference kernel of bench_util.h, 2 processes against 1: "
+           "speed-up %.2fx\n",
+           kernel_ceiling(reps));
     return 0;
   }
   const char *usage = "bench_study [repetitions 1..1000 [plan-repetitions 1..1000]] | "

@@ -4,6 +4,7 @@
 #define EA_BENCH_UTIL_H
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -46,6 +47,31 @@ static inline int ea_bench_count(int argc, char **argv, int i, int dflt, int max
     return -1;
   }
   return (int)v;
+}
+
+/* The machine's pace, so that timing tables of different machines can be compared: the
+ * median wall time [ms] of 5 runs of a fixed floating-point kernel (RK4 of the pendulum
+ * theta'' = -sin(theta), 200000 steps: libm and scalar arithmetic, like the shooting and the
+ * planner's callbacks); its result goes to a volatile, so the kernel is not optimised away. */
+static inline double ea_bench_pace_ms(void) {
+  double t[5];
+  for (int r = 0; r < 5; ++r) {
+    const double t0 = ea_bench_now();
+    double th = 1.0, om = 0.0;
+    const double h = 1e-4;
+    for (int i = 0; i < 200000; ++i) {
+      const double k1 = om, l1 = -sin(th);
+      const double k2 = om + 0.5 * h * l1, l2 = -sin(th + 0.5 * h * k1);
+      const double k3 = om + 0.5 * h * l2, l3 = -sin(th + 0.5 * h * k2);
+      const double k4 = om + h * l3, l4 = -sin(th + h * k3);
+      th += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+      om += h / 6.0 * (l1 + 2.0 * l2 + 2.0 * l3 + l4);
+    }
+    t[r] = 1e3 * (ea_bench_now() - t0);
+    volatile double keep = th + om;
+    (void)keep;
+  }
+  return ea_bench_median(t, 5);
 }
 
 #endif
