@@ -312,9 +312,7 @@ int main(int argc, char **argv) {
     fclose(fp);
   }
   printf("bench_dyn: load average %s", buf);
-  printf("machine pace: %.2f ms (fixed reference kernel of bench_util.h, median of 5; lower is "
-         "faster)\n",
-         ea_bench_pace_ms());
+  ea_bench_print_pace();
   table_cache(&t);
   table_knots(&t, R < 1 ? 1 : R);
   table_grid(&t);

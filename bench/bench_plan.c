@@ -35,12 +35,6 @@ static void print_load(const char *when) {
   printf("load average %s: %s", when, buf);
 }
 
-/* The machine's pace (bench_util.h): tables of different machines compare through it. */
-static void print_pace(void) {
-  printf("machine pace: %.2f ms (fixed reference kernel, median of 5; lower is faster)\n",
-         ea_bench_pace_ms());
-}
-
 typedef struct {
   double total, guess, statics, ipopt, rest, iters, dur;
   int ok, nvar, ncon, nrow;
@@ -416,7 +410,7 @@ int main(int argc, char **argv) {
   }
   printf("bench_plan: paper line (eq. 18), payload factor 0, minimum time; medians of %d\n", R);
   print_load("before");
-  print_pace();
+  ea_bench_print_pace();
   printf("vars, cons = the knot layout's variables and rows; iters = Ipopt's iterations, or "
          "the own interior\npoint's (a prescribed path's cold plans, solver.nlp auto); rows = the "
          "rows of Ipopt's last solve (0: none;\nthe path transcription has its own, limit rows "

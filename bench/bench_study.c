@@ -277,7 +277,10 @@ static double kernel_ceiling(int reps) {
           (void)ea_bench_pace_ms();
         _exit(0);
       }
-      if (kid[w] < 0) return NAN;
+      if (kid[w] < 0) {
+        if (w) waitpid(kid[0], NULL, 0);
+        return NAN;
+      }
     }
     for (int w = 0; w < 2; ++w)
       waitpid(kid[w], NULL, 0);

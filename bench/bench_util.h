@@ -74,4 +74,11 @@ static inline double ea_bench_pace_ms(void) {
   return ea_bench_median(t, 5);
 }
 
+/* The pace as a line of a bench's header. */
+static inline void ea_bench_print_pace(void) {
+  printf("machine pace: %.2f ms (fixed reference kernel of bench_util.h, median of 5; lower is "
+         "faster)\n",
+         ea_bench_pace_ms());
+}
+
 #endif
