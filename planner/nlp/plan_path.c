@@ -27,6 +27,7 @@
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
 
+#include <gsl/gsl_chebyshev.h>
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -279,18 +280,26 @@ static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], do
                (h * h);
 }
 
+/* The scaled difference of statics y (T, theta0, kappa0) from sample c (sigma, p[3], dp[3]):
+ * T relative to 1 + T, theta0 [rad], kappa0 L. */
+static double ea__pp_err(const ea_planner_t *pl, const double y[3], const double c[7]) {
+  double worst = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double scale = k == 0 ? 1.0 + fabs(c[1]) : (k == 1 ? 1.0 : 1.0 / pl->task.arm.length);
+    worst = fmax(worst, fabs(y[k] - c[1 + k]) / scale);
+  }
+  return worst;
+}
+
 /* The error estimate of the Hermite interpolant of samples a and b (sigma, p[3], dp[3]) at
- * their midpoint's sample c (T relative to 1 + T, theta0 [rad], kappa0 L). */
+ * their midpoint's sample c. */
 static double ea__pp_mid_err(const ea_planner_t *pl, const double a[7], const double b[7],
                              const double c[7]) {
   const double h = b[0] - a[0];
-  double worst = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double y = ea__herm(h, a[1 + k], a[4 + k], b[1 + k], b[4 + k], 0.5, NULL);
-    const double scale = k == 0 ? 1.0 + fabs(c[1]) : (k == 1 ? 1.0 : 1.0 / pl->task.arm.length);
-    worst = fmax(worst, fabs(y - c[1 + k]) / scale);
-  }
-  return worst;
+  double y[3];
+  for (int k = 0; k < 3; ++k)
+    y[k] = ea__herm(h, a[1 + k], a[4 + k], b[1 + k], b[4 + k], 0.5, NULL);
+  return ea__pp_err(pl, y, c);
 }
 
 /* Append sample v (sigma, p, dp) to the splines' arrays. */
@@ -306,24 +315,62 @@ static ea_status_t ea__pp_push(ea__pp_t *pp, int *n, const double v[7], int j, e
   return EA_OK;
 }
 
-/* Samples of segment j in (a, b], in order: the midpoint's sample (warm-started from the
- * Hermite interpolant of a and b, which is also the error estimate); an interval whose estimate
- * is >= 16 tol is bisected again. The spline on the accepted samples misses by ~1/16 of the
- * estimate (O(h^4)). */
-static ea_status_t ea__pp_refine(ea_planner_t *pl, int j, const double a[7], const double b[7],
-                                 int depth, int *n, double *err_est, ea_error_t *err) {
+/* The statics of a piece of a segment as Chebyshev interpolants (GSL's Chebyshev series) of
+ * (T, theta0, kappa0) in sigma, with their derivatives: coefficients from samples at the
+ * N + 1 Chebyshev-Lobatto points of [lo, hi] (the discrete cosine transform, y = -cos(pi i / N)
+ * at sample i in sigma order). */
+#define EA__PP_NMAX 64 /* Lobatto levels 8, 16, 32, 64 intervals; beyond: the piece is halved */
+
+typedef struct {
+  gsl_cheb_series f[3], d[3];
+  double c[6][EA__PP_NMAX + 1];
+} ea__pp_cheb_t;
+
+static void ea__pp_cheb_fit(ea__pp_cheb_t *ch, double lo, double hi, int N, const double *ps) {
+  double ct[2 * EA__PP_NMAX];
+  for (int m = 0; m < 2 * N; ++m)
+    ct[m] = cos(M_PI * m / N);
+  for (int c = 0; c < 3; ++c) {
+    gsl_cheb_series *f = &ch->f[c], *d = &ch->d[c];
+    f->c = ch->c[c];
+    d->c = ch->c[3 + c];
+    f->order = d->order = f->order_sp = d->order_sp = (size_t)N;
+    f->a = lo;
+    f->b = hi;
+    f->f = d->f = NULL;
+    for (int k = 0; k <= N; ++k) {
+      double sum = 0.5 * (ps[c] + ps[3 * N + c] * ct[(N * k) % (2 * N)]);
+      for (int i = 1; i < N; ++i)
+        sum += ps[3 * i + c] * ct[(i * k) % (2 * N)];
+      f->c[k] = (k % 2 ? -2.0 : 2.0) * sum / N * (k == N ? 0.5 : 1.0);
+    }
+    gsl_cheb_calc_deriv(d, f);
+  }
+}
+
+/* Sample v (sigma, p, dp) of the interpolants at sigma. */
+static void ea__pp_cheb_at(const ea__pp_cheb_t *ch, double sig, double v[7]) {
+  v[0] = sig;
+  for (int c = 0; c < 3; ++c) {
+    v[1 + c] = gsl_cheb_eval(&ch->f[c], sig);
+    v[4 + c] = gsl_cheb_eval(&ch->d[c], sig);
+  }
+}
+
+/* The Hermite samples of segment j in (a, b] from the interpolants, in order: an interval
+ * whose midpoint the Hermite of its ends misses by >= 16 EA__PP_HTOL is bisected (the spline
+ * on the accepted samples misses by ~1/16 of that, O(h^4)). No shots: the interpolants are
+ * the statics here. */
+#define EA__PP_HTOL 1e-11
+static ea_status_t ea__pp_refine(ea_planner_t *pl, const ea__pp_cheb_t *ch, int j,
+                                 const double a[7], const double b[7], int depth, int *n,
+                                 double *err_est, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
-  double c[7], q[3], dq[3];
-  c[0] = 0.5 * (a[0] + b[0]);
-  ea__pp_q(pl, j, c[0], q, dq);
-  double gs[EA_NP] = {q[1], 0, 0, 0};
-  for (int k = 0; k < 3; ++k)
-    gs[1 + k] = ea__herm(b[0] - a[0], a[1 + k], a[4 + k], b[1 + k], b[4 + k], 0.5, NULL);
-  int hv = 1;
-  ea_status_t st = ea__pp_statics(pl, j, c[0], gs, &hv, c + 1, c + 4, err);
-  if (st) return st;
+  double c[7];
+  ea__pp_cheb_at(ch, 0.5 * (a[0] + b[0]), c);
   const double e = ea__pp_mid_err(pl, a, b, c);
-  if (e < 16 * EA__PP_TOL) {
+  ea_status_t st;
+  if (e < 16 * EA__PP_HTOL) {
     *err_est = fmax(*err_est, e / 16);
     if ((st = ea__pp_push(pp, n, c, j, err))) return st;
     return ea__pp_push(pp, n, b, j, err);
@@ -332,8 +379,107 @@ static ea_status_t ea__pp_refine(ea_planner_t *pl, int j, const double a[7], con
     return ea_error_set(err, EA_ERR_NOCONV,
                         "path statics: the splines do not reach 1e-10 (segment %d, %.3g)", j + 1,
                         e);
-  if ((st = ea__pp_refine(pl, j, a, c, depth + 1, n, err_est, err))) return st;
-  return ea__pp_refine(pl, j, c, b, depth + 1, n, err_est, err);
+  if ((st = ea__pp_refine(pl, ch, j, a, c, depth + 1, n, err_est, err))) return st;
+  return ea__pp_refine(pl, ch, j, c, b, depth + 1, n, err_est, err);
+}
+
+/* The piece [lo, hi] of segment j: statics samples at the Chebyshev-Lobatto points of 8
+ * intervals (in order, each warm-started from the one before and its slope; guess/have: the
+ * chain's, left at hi), then each level's new midpoints (2N intervals) warm-started from the
+ * N-interval interpolant, whose misses there are its error estimate: below EA__PP_TOL the
+ * 2N-interval interpolant is taken (it is closer still: on the paper line the 16-interval
+ * interpolant misses independent re-solves by 7e-11, the 32-interval one by < 1e-12). Not
+ * there at 64 intervals: the piece is halved. Its Hermite samples (4 intervals, bisected) are
+ * appended. The paper line with its goal moved 5 mm: ~40 samples of 1-2 shots against 131
+ * Hermite samples of one solve each before. */
+static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi,
+                                double guess[EA_NP], int *have, int depth, int *n,
+                                double *err_est, ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  double ps[3 * (EA__PP_NMAX + 1)], pn[3 * (EA__PP_NMAX + 1)], p[3], dp[3], dprev[3] = {0};
+  ea__pp_cheb_t ch;
+  int N = 8;
+  ea_status_t st;
+  for (int i = 0; i <= N; ++i) {
+    const double sig = lo + 0.5 * (hi - lo) * (1.0 - cos(M_PI * i / N));
+    if (i > 0 && *have) {
+      const double ds = sig - (lo + 0.5 * (hi - lo) * (1.0 - cos(M_PI * (i - 1) / N)));
+      for (int c = 0; c < 3; ++c)
+        guess[1 + c] = ps[3 * (i - 1) + c] + dprev[c] * ds;
+    }
+    if ((st = ea__pp_statics(pl, j, sig, guess, have, p, dp, err))) return st;
+    if (*n == 0 && i == 0 && j == 0) { /* the first sample: an update's warm start */
+      double q[3], dq[3];
+      ea__pp_q(pl, 0, sig, q, dq);
+      memcpy(pp->g_first, guess, sizeof pp->g_first);
+      pp->q_first[0] = q[0];
+      pp->q_first[1] = q[1];
+      pp->have_first = 1;
+    }
+    memcpy(ps + 3 * i, p, sizeof p);
+    memcpy(dprev, dp, sizeof dp);
+  }
+  double end_guess[EA_NP];
+  memcpy(end_guess, guess, sizeof end_guess);
+  double e = INFINITY;
+  for (;;) {
+    ea__pp_cheb_fit(&ch, lo, hi, N, ps);
+    if (e < EA__PP_TOL || N == EA__PP_NMAX) break;
+    e = 0.0;
+    for (int i = 0; i <= 2 * N; ++i) {
+      if (i % 2 == 0) {
+        memcpy(pn + 3 * i, ps + 3 * (i / 2), 3 * sizeof(double));
+        continue;
+      }
+      const double sig = lo + 0.5 * (hi - lo) * (1.0 - cos(M_PI * i / (2 * N)));
+      double v[7], q[3], dq[3], g[EA_NP];
+      ea__pp_cheb_at(&ch, sig, v);
+      ea__pp_q(pl, j, sig, q, dq);
+      g[EA_P_ALPHA] = q[1];
+      memcpy(g + 1, v + 1, 3 * sizeof(double));
+      int hv = 1;
+      if ((st = ea__pp_statics(pl, j, sig, g, &hv, p, dp, err))) return st;
+      const double c7[7] = {sig, p[0], p[1], p[2], dp[0], dp[1], dp[2]};
+      e = fmax(e, ea__pp_err(pl, v + 1, c7)); /* the interpolant against the sample */
+      memcpy(pn + 3 * i, p, sizeof p);
+    }
+    N *= 2;
+    memcpy(ps, pn, (size_t)(3 * (N + 1)) * sizeof(double));
+  }
+  memcpy(guess, end_guess, sizeof end_guess);
+  if (!(e < EA__PP_TOL)) { /* not resolved at 64 intervals: halve the piece */
+    if (depth >= 12)
+      return ea_error_set(err, EA_ERR_NOCONV,
+                          "path statics: the splines do not reach 1e-10 (segment %d, %.3g "
+                          "over %.3g m)",
+                          j + 1, e, hi - lo);
+    const double mid = 0.5 * (lo + hi);
+    /* the chain restarts at lo: its sample there */
+    double q[3], dq[3];
+    ea__pp_q(pl, j, lo, q, dq);
+    guess[EA_P_ALPHA] = q[1];
+    memcpy(guess + 1, ps, 3 * sizeof(double));
+    if ((st = ea__pp_piece(pl, j, lo, mid, guess, have, depth + 1, n, err_est, err))) return st;
+    return ea__pp_piece(pl, j, mid, hi, guess, have, depth + 1, n, err_est, err);
+  }
+  *err_est = fmax(*err_est, e);
+  /* the Hermite samples: from the last one pushed (this piece's lo) or lo */
+  double v[5][7];
+  for (int i = 0; i <= 4; ++i)
+    ea__pp_cheb_at(&ch, lo + (hi - lo) * i / 4.0, v[i]);
+  if (*n > pp->soff[j]) {
+    v[0][0] = pp->ssig[*n - 1];
+    memcpy(v[0] + 1, pp->sp + 3 * (*n - 1), 3 * sizeof(double));
+    memcpy(v[0] + 4, pp->sdp + 3 * (*n - 1), 3 * sizeof(double));
+  } else if ((st = ea__pp_push(pp, n, v[0], j, err))) {
+    return st;
+  }
+  v[4][0] = hi;
+  double herr = 0.0;
+  for (int i = 0; i < 4; ++i)
+    if ((st = ea__pp_refine(pl, &ch, j, v[i], v[i + 1], 0, n, &herr, err))) return st;
+  *err_est = fmax(*err_est, herr);
+  return EA_OK;
 }
 
 /* Segment j's geometry as the samples' key: start, direction, length, start sigma. */
@@ -387,29 +533,27 @@ static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   for (int j = j0; j < pl->n_seg; ++j) {
     const double a = pp->sig0[j], len = pl->segLen[j];
     pp->soff[j] = n;
-    const int m = len < 1e-12 ? 8 : 4; /* a point: 9 equal samples, as the spline wants h > 0 */
-    double v[5][7], seg_err = 0.0;
-    /* the first level in order, each sample warm-started from the one before */
-    for (int i = 0; i <= m; ++i) {
-      double *vi = v[i < 5 ? i : 4];
-      vi[0] = a + len * i / m;
-      ea_status_t st = ea__pp_statics(pl, j, vi[0], guess, &have, vi + 1, vi + 4, err);
-      if (!st && (i == 0 || len < 1e-12)) st = ea__pp_push(pp, &n, vi, j, err);
-      if (!st && i == 0 && j == 0) {
-        double q[3], dq[3];
-        ea__pp_q(pl, 0, vi[0], q, dq);
-        memcpy(pp->g_first, guess, sizeof guess);
-        pp->q_first[0] = q[0];
-        pp->q_first[1] = q[1];
-        pp->have_first = 1;
-      }
-      if (st) return st;
-    }
-    if (len >= 1e-12)
-      for (int i = 0; i < m; ++i) {
-        ea_status_t st = ea__pp_refine(pl, j, v[i], v[i + 1], 0, &n, &seg_err, err);
+    double seg_err = 0.0;
+    if (len < 1e-12) { /* a point: 9 equal samples, as the spline wants h > 0 */
+      for (int i = 0; i <= 8; ++i) {
+        double vi[7];
+        vi[0] = a;
+        ea_status_t st = ea__pp_statics(pl, j, a, guess, &have, vi + 1, vi + 4, err);
+        if (!st) st = ea__pp_push(pp, &n, vi, j, err);
+        if (!st && i == 0 && j == 0) {
+          double q[3], dq[3];
+          ea__pp_q(pl, 0, a, q, dq);
+          memcpy(pp->g_first, guess, sizeof guess);
+          pp->q_first[0] = q[0];
+          pp->q_first[1] = q[1];
+          pp->have_first = 1;
+        }
         if (st) return st;
       }
+    } else {
+      ea_status_t st = ea__pp_piece(pl, j, a, a + len, guess, &have, 0, &n, &seg_err, err);
+      if (st) return st;
+    }
     /* guess: the segment's end, where the next one starts */
     ea__pp_seg_key(pl, j, pp->key_seg[j]);
     pp->key_err[j] = seg_err;
