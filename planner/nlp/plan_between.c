@@ -75,6 +75,10 @@ static double ea__sample_max(const double *y, int n) {
 /* Rates of (T, theta0, kappa0) at knot k along (dL_c/dt, dalpha/dt): the
  * statics residual's implicit derivative, from the cached sensitivities. */
 static void ea__statics_rates(const ea_planner_t *pl, const double *x, int k, double pd[3]) {
+  if (pl->pp) { /* the path transcription: the splines' partials (no sensitivities shot) */
+    if (ea__pp_statics_rates(pl, x, k, pd)) pd[0] = pd[1] = pd[2] = 0.0;
+    return;
+  }
   if (ea__plan_statics_slope(pl->S + 16 * k, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)],
                              x[EA__IV(pl, k, 0)], x[EA__IV(pl, k, 1)], pd))
     pd[0] = pd[1] = pd[2] = 0.0;
@@ -194,7 +198,7 @@ static int ea__bw_statics_samples(ea_planner_t *pl, const double *x, int k, doub
 static void ea__bw_statics(ea_planner_t *pl, const double *x, double tf, ea__bw_t *b) {
   const ea_task_t *t = &pl->task;
   const ea_task_limits_t *l = &t->limits;
-  if (ea__plan_shoot_all(pl, x, 1) != EA_OK) {
+  if (ea__plan_shoot_all(pl, x, pl->pp == NULL) != EA_OK) {
     ea__bw_note(b, INFINITY, "static equilibrium (shooting failed)", 0, NAN);
     return;
   }

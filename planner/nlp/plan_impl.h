@@ -153,7 +153,7 @@ struct ea_planner {
   double *xL;            /* N x 4 tip states */
   double *S;             /* N x 16 sensitivities */
   double *pkey;          /* N x 4 p of the cached shot */
-  unsigned char *kvalid; /* N: 1 = xL, S hold the shot at pkey */
+  unsigned char *kvalid; /* N: xL (1), xL and S (2) hold the shot at pkey */
   int cache_val, cache_sens;
   /* last converged solution (warm start) */
   int have_solution;
@@ -205,8 +205,8 @@ int ea__plan_statics_slope(const double *S, double L, double alpha, double dL, d
  *  gradients wrt (q0, q1, v0, v1, h). */
 void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, double a[2],
                           double ga[2][5]);
-/** Shoot every knot at x with sensitivities (sens is kept for the callers'
- *  intent; a knot whose p is unchanged is not shot again). */
+/** Shoot every knot at x, with sensitivities when sens (a knot whose p is unchanged and
+ *  whose shot has what is asked is not shot again). */
 /** Nonzero when the solve's wall-clock limit (solver.max_time_s) has passed (ud: the
  *  planner; the own interior point's stop, plan_ipm.c). */
 int ea__plan_time_up(void *ud);
@@ -217,6 +217,8 @@ ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens);
 int ea__plan_row_families(const ea__row_t *rows, int m, int *fam);
 /** Constraint values at x into g (m). */
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g);
+/** The same from shots without sensitivities (a check of the rows' values only). */
+ea_status_t ea__plan_eval_g_values(ea_planner_t *pl, const double *x, double *g);
 /** Jacobian: structure (values NULL) or values (irow/jcol NULL). Returns nnz. */
 int ea__plan_jac(ea_planner_t *pl, const double *x, int *irow, int *jcol, double *values);
 /** One row (constraint or objective piece): value and entries (col, val);
@@ -335,6 +337,10 @@ int ea__pp_supported(const ea_planner_t *pl);
 /** Build it (after the knot planner's rows, bounds and Hessian structure). */
 ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err);
 void ea__pp_free(struct ea__pp *pp);
+/** The rates of the statics (T, theta0, kappa0) at knot k of the knot-layout plan x along its
+ *  (L_c, alpha) rates, from the path's tabulated partial derivatives (the limits between the
+ *  knots' screen, plan_between.c); 0, or -1 without a path transcription. */
+int ea__pp_statics_rates(const ea_planner_t *pl, const double *x, int k, double pd[3]);
 /** After ea_planner_update: the path moved: statics splines and bounds again. */
 ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err);
 /** A solve in the path coordinate: guess (start), Ipopt; pl->x gets the plan in the knot

@@ -8,26 +8,28 @@
 #include <string.h>
 
 ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens) {
-  (void)sens; /* always with sensitivities: the Jacobian follows g at the same x */
-  if (pl->cache_val) return EA_OK;
+  if (pl->cache_val && (pl->cache_sens || !sens)) return EA_OK;
   const double t0 = ea__mono_s();
   ea_status_t st = EA_OK;
+  /* kvalid: 1 the tip state, 2 also its sensitivities */
+  const unsigned char want = sens ? 2 : 1;
   for (int k = 0; k < pl->N && !st; ++k) {
     const double p[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
                              x[EA__IP(pl, k, 2)]};
     double *key = pl->pkey + 4 * k;
-    if (pl->kvalid[k] && key[0] == p[0] && key[1] == p[1] && key[2] == p[2] && key[3] == p[3])
+    if (pl->kvalid[k] >= want && key[0] == p[0] && key[1] == p[1] && key[2] == p[2] &&
+        key[3] == p[3])
       continue;
     pl->kvalid[k] = 0;
-    st = ea_shoot(pl->sh, p, pl->xL + 4 * k, pl->S + 16 * k);
+    st = ea_shoot(pl->sh, p, pl->xL + 4 * k, sens ? pl->S + 16 * k : NULL);
     if (st) break;
     memcpy(key, p, sizeof p);
-    pl->kvalid[k] = 1;
+    pl->kvalid[k] = want;
   }
   pl->t_statics += ea__mono_s() - t0;
   if (st) return st;
   pl->cache_val = 1;
-  pl->cache_sens = 1;
+  pl->cache_sens = sens != 0;
   return EA_OK;
 }
 
@@ -310,6 +312,14 @@ int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *
 }
 
 ea_status_t ea__plan_eval_g(ea_planner_t *pl, const double *x, double *g) {
+  ea_status_t st = ea__plan_shoot_all(pl, x, 1); /* the Jacobian follows at the same x */
+  if (st) return st;
+  for (int i = 0; i < pl->m; ++i)
+    ea__plan_row_eval(pl, x, &pl->rows[i], &g[i], NULL, NULL);
+  return EA_OK;
+}
+
+ea_status_t ea__plan_eval_g_values(ea_planner_t *pl, const double *x, double *g) {
   ea_status_t st = ea__plan_shoot_all(pl, x, 0);
   if (st) return st;
   for (int i = 0; i < pl->m; ++i)

@@ -786,7 +786,7 @@ static void ea__stats(ea_planner_t *pl, const double *x, ea_plan_info_t *info) {
         fmax(info->peak_shoulder_torque_Nm, fabs(t->arm.EI * x[EA__IP(pl, k, 2)]));
   }
   pl->cache_val = pl->cache_sens = 0;
-  ea__plan_eval_g(pl, x, pl->g);
+  ea__plan_eval_g_values(pl, x, pl->g);
   info->max_statics_residual = 0.0;
   for (int i = 0; i < 3 * pl->N; ++i)
     info->max_statics_residual = fmax(info->max_statics_residual, fabs(pl->g[i]));
