@@ -17,6 +17,10 @@ typedef struct ea__asn_nlp {
   Eval_Jac_G_CB jac;
   Eval_H_CB h;
   void *ud;
+  /* 1: the Hessian after the rows, and only where a step follows (the rows share nothing with
+   * it: no modal defects); 0: before them (plan_dyn.c's defects leave their values and
+   * gradients for the rows) */
+  int hess_last;
 } ea__asn_nlp_t;
 
 /** What a converged point is (the caller's solver settings, given at every solve): rows at

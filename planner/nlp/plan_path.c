@@ -454,16 +454,17 @@ static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi,
   ea__pp_t *pp = pl->pp;
   enum { W = EA__PP_NF };
   double ps[W * (EA__PP_NMAX + 1)], pn[W * (EA__PP_NMAX + 1)], dp[3], dprev[3] = {0};
+  double d2[3] = {0}, sprev = lo;
   ea__pp_cheb_t ch;
   int N = 8;
   ea_status_t st;
   for (int i = 0; i <= N; ++i) {
     const double sig = lo + 0.5 * (hi - lo) * (1.0 - cos(M_PI * i / N));
-    if (i > 0 && *have) {
-      const double ds = sig - (lo + 0.5 * (hi - lo) * (1.0 - cos(M_PI * (i - 1) / N)));
+    /* the guess: the sample before, its slope and (from the third on) the curvature of the
+     * last two slopes (the paper line with its goal moved 5 mm: 60 -> 57 shots in all) */
+    if (i > 0 && *have)
       for (int c = 0; c < 3; ++c)
-        guess[1 + c] = ps[W * (i - 1) + c] + dprev[c] * ds;
-    }
+        guess[1 + c] = ps[W * (i - 1) + c] + (dprev[c] + 0.5 * d2[c] * (sig - sprev)) * (sig - sprev);
     if ((st = ea__pp_statics(pl, j, sig, guess, have, ps + W * i, dp, ps + W * i + 3, err)))
       return st;
     if (*n == 0 && i == 0 && j == 0) { /* the first sample: an update's warm start */
@@ -474,7 +475,10 @@ static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi,
       pp->q_first[1] = q[1];
       pp->have_first = 1;
     }
+    for (int c = 0; c < 3 && i > 0; ++c)
+      d2[c] = (dp[c] - dprev[c]) / (sig - sprev);
     memcpy(dprev, dp, sizeof dp);
+    sprev = sig;
   }
   double end_guess[EA_NP];
   memcpy(end_guess, guess, sizeof end_guess);
@@ -1085,7 +1089,8 @@ static int ea__pp_asn(ea_planner_t *pl) {
                                .g = ea__pp_cb_g,
                                .jac = ea__pp_cb_jac,
                                .h = ea__pp_cb_h,
-                               .ud = pl};
+                               .ud = pl,
+                               .hess_last = pl->K == 0};
     if (!(pp->asn = ea__asn_alloc(&nlp))) return -1;
   }
   return 0;

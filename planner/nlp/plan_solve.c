@@ -1192,7 +1192,8 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
                                .g = ea__cb_g,
                                .jac = ea__cb_jac,
                                .h = ea__cb_h,
-                               .ud = pl};
+                               .ud = pl,
+                               .hess_last = pl->K == 0};
     if (!(pl->asn = ea__asn_alloc(&nlp))) return 0;
   }
   /* with Ipopt's acceptable termination (the partial Hessian lacks the statics rows'
