@@ -834,18 +834,19 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
     while (r + run < g && nkc[r + run] == nk &&
            !memcmp(kc[r + run], kc[r], sizeof(int) * (size_t)nk))
       ++run;
+    /* the lower triangle (b <= a) of the symmetrised sum */
     double H[EA__ROW_MAX][EA__ROW_MAX], gs[EA__ROW_MAX];
     for (int a = 0; a < nk; ++a) {
       gs[a] = 0.0;
-      for (int b = 0; b < nk; ++b)
+      for (int b = 0; b <= a; ++b)
         H[a][b] = 0.0;
     }
     for (int q = r; q < r + run; ++q) {
-      const double wq = w[q];
+      const double wq = w[q], hq = 0.5 * wq;
       for (int a = 0; a < nk; ++a) {
         gs[a] += wq * gk[q][a];
-        for (int b = 0; b < nk; ++b)
-          H[a][b] += wq * 0.5 * (Hk[q][a][b] + Hk[q][b][a]);
+        for (int b = 0; b <= a; ++b)
+          H[a][b] += hq * (Hk[q][a][b] + Hk[q][b][a]);
       }
     }
     /* the path entries in ea__pp_row's order, each knot entry's place and factor */
@@ -864,14 +865,25 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
     }
     double Hp[EA__ROW_MAX][EA__ROW_MAX];
     for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b)
+      for (int b = 0; b <= a; ++b)
         Hp[a][b] = 0.0;
+    /* Hp's lower triangle in the path entries' order: an entry (a, b) of H below the diagonal
+     * and its mirror (b, a) go to (pa, pb) and (pb, pa), of which one is in it */
     for (int a = 0; a < nk; ++a) {
       const int pa = pos[a];
       if (pa < 0) continue;
-      Hp[pa][pa] += gs[a] * c[a];
-      for (int b = 0; b < nk; ++b)
-        if (pos[b] >= 0) Hp[pa][pos[b]] += f[a] * f[b] * H[a][b];
+      Hp[pa][pa] += gs[a] * c[a] + f[a] * f[a] * H[a][a];
+      for (int b = 0; b < a; ++b) {
+        const int pb = pos[b];
+        if (pb < 0) continue;
+        const double v = f[a] * f[b] * H[a][b];
+        if (pa > pb)
+          Hp[pa][pb] += v;
+        else if (pa < pb)
+          Hp[pb][pa] += v;
+        else
+          Hp[pa][pa] += 2.0 * v;
+      }
     }
     const int *p = hpos[r];
     for (int a = 0; a < n; ++a)
