@@ -4,17 +4,20 @@
  * J, -D], the fraction-to-the-boundary rule, the barrier parameter decreased by
  * min(kappa_mu mu, mu^theta) once the barrier problem is solved to kappa_eps mu, the inertia
  * correction, the iterative refinement, the acceptable termination) without its line search,
- * second-order corrections or restoration phase, its KKT system factored by KLU (plan_asn.c's
- * pattern, without BTF, diagonal pivots, later matrices refactored in the first one's order)
- * instead of MUMPS. On the small banded
- * KKT systems of a prescribed path (~1100 unknowns at 100 knots) a KLU factorization costs
- * a fraction of a millisecond, an Ipopt iteration through MUMPS 2-3 ms of per-front overhead.
+ * second-order corrections or restoration phase, its KKT system factored as L D L' by
+ * SuiteSparse's LDL (plan_asn.c's pattern in the AMD order of its KLU analysis without BTF:
+ * the diagonal pivots of a quasi-definite matrix) instead of MUMPS. On the small banded KKT
+ * systems of a prescribed path (~1100 unknowns at 100 knots) a factorization costs a fraction
+ * of a millisecond, an Ipopt iteration through MUMPS 2-3 ms of per-front overhead. KLU's LU
+ * with a pivot threshold of 0 took the same pivots at twice the work: the at-rest paper line
+ * 465 -> 423 M instructions with LDL, the same iterations and plan.
  *
  * It is a fast path, not a replacement: from a good start (the path's time-optimal guess) it
  * returns a candidate that the caller verifies by the KKT test of the whole problem, and the
  * caller solves with Ipopt when it returns none or the test fails. Calls nothing above it. */
 #include "plan_ipm_impl.h"
 
+#include <ldl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,8 +34,8 @@
 #define EA__IPM_THETA_MU 1.5
 #define EA__IPM_KAPPA_SIGMA 1e10 /* bound multipliers kept within this factor of mu / gap */
 #define EA__IPM_SMAX 100.0       /* Ipopt's s_max: the dual error's scaling */
-/* The equality rows' diagonal (Ipopt's delta_c) and KLU's pivot threshold here: always the
- * diagonal pivot (threshold 0), as the quasi-definite matrix [W + Sigma_x, J'; J, -D] allows
+/* The equality rows' diagonal (Ipopt's delta_c). Always the diagonal pivot (measured with
+ * KLU's pivot threshold before LDL), as the quasi-definite matrix [W + Sigma_x, J'; J, -D] allows
  * in any symmetric order where W + Sigma_x is positive definite; a pivot that spoils the solve
  * shows in its residual (checked, refined) or its inertia, and the Hessian's diagonal is
  * raised. On the paper line (bench_plan) delta_c 1e-10 .. 1e-6 took 10-11 iterations; with
@@ -41,13 +44,15 @@
  * factorization 20-25x costlier (400 knots: 160 ms instead of 52); delta_c 1e-4 (plan_asn.c's)
  * perturbed the steps: 15 iterations. */
 #define EA__IPM_DELTA_C 1e-8
-#define EA__IPM_PIVTOL 0.0
 #define EA__IPM_REFINE 10 /* refinements of a solve (Ipopt's max_refinement_steps) */
 
 typedef struct {
   double *s, *zl, *zu, *vl, *vu, *y;
   double *dx, *ds, *dzl, *dzu, *dvl, *dvu, *rs;
   double *b, *res; /* the KKT system's right-hand side, its residual */
+  /* LDL' of the KKT matrix in the order P (the AMD order of plan_asn.c's KLU analysis) */
+  int *P, *Pinv, *Lp, *Parent, *Lnz, *Flag, *Pattern, *Li;
+  double *Lx, *D, *Y;
 } ea__ipm_ws_t;
 
 static int ea__lo(double b) {
@@ -114,10 +119,42 @@ static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const doubl
 }
 
 static void ea__ipm_ws_free(ea__ipm_ws_t *w) {
-  double **f[] = {&w->s,   &w->zl,  &w->zu,  &w->vl,  &w->vu, &w->y, &w->dx, &w->ds,
-                  &w->dzl, &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b, &w->res};
+  double **f[] = {&w->s,   &w->zl,  &w->zu, &w->vl, &w->vu,  &w->y,  &w->dx, &w->ds, &w->dzl,
+                  &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b, &w->res, &w->Lx, &w->D,  &w->Y};
   for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
     free(*f[i]), *f[i] = NULL;
+  int **g[] = {&w->P, &w->Pinv, &w->Lp, &w->Parent, &w->Lnz, &w->Flag, &w->Pattern, &w->Li};
+  for (size_t i = 0; i < sizeof g / sizeof *g; ++i)
+    free(*g[i]), *g[i] = NULL;
+}
+
+/* The LDL' workspace of the KKT pattern in a (its KLU analysis: the AMD order, no BTF) and its
+ * symbolic factorization (elimination tree, L's column counts). 0, or -1 (out of memory). */
+static int ea__ipm_ldl_alloc(ea__ipm_ws_t *w, const ea__asn_t *a) {
+  const size_t nk = (size_t)a->nk + 1;
+  w->P = malloc(nk * sizeof(int)), w->Pinv = malloc(nk * sizeof(int));
+  w->Lp = malloc((nk + 1) * sizeof(int)), w->Parent = malloc(nk * sizeof(int));
+  w->Lnz = malloc(nk * sizeof(int)), w->Flag = malloc(nk * sizeof(int));
+  w->Pattern = malloc(nk * sizeof(int));
+  w->D = malloc(nk * sizeof(double)), w->Y = malloc(nk * sizeof(double));
+  if (!w->P || !w->Pinv || !w->Lp || !w->Parent || !w->Lnz || !w->Flag || !w->Pattern || !w->D ||
+      !w->Y)
+    return -1;
+  memcpy(w->P, a->sym->Q, sizeof(int) * (size_t)a->nk);
+  ldl_symbolic(a->nk, a->Ap, a->Ai, w->Lp, w->Parent, w->Lnz, w->Flag, w->P, w->Pinv);
+  const size_t lnz = (size_t)w->Lp[a->nk] + 1;
+  w->Li = malloc(lnz * sizeof(int)), w->Lx = malloc(lnz * sizeof(double));
+  return w->Li && w->Lx ? 0 : -1;
+}
+
+/* x <- K^-1 x from the LDL' factors. */
+static void ea__ipm_ldl_solve(const ea__asn_t *a, ea__ipm_ws_t *w, double *x) {
+  const int nk = a->nk;
+  ldl_perm(nk, w->Y, x, w->P);
+  ldl_lsolve(nk, w->Y, w->Lp, w->Li, w->Lx);
+  ldl_dsolve(nk, w->Y, w->D);
+  ldl_ltsolve(nk, w->Y, w->Lp, w->Li, w->Lx);
+  ldl_permt(nk, x, w->Y, w->P);
 }
 
 static int ea__ipm_ws_alloc(ea__ipm_ws_t *w, int n, int m) {
@@ -143,11 +180,11 @@ static int ea__ipm_ws_alloc(ea__ipm_ws_t *w, int n, int m) {
  * most 1e-10 (residual_ratio_max), while it improves (by half at least), at most
  * EA__IPM_REFINE times; then accepted at 1e-5 (residual_ratio_singular). 1: accepted, 0: a
  * small pivot spoilt it (the caller raises the diagonals). */
-static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w, klu_numeric *num) {
+static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w) {
   const int nk = a->nk;
   double *b = w->b, *res = w->res;
   memcpy(b, a->rhs, sizeof(double) * (size_t)nk);
-  if (!klu_solve(a->sym, num, nk, 1, a->rhs, &a->c)) return 0;
+  ea__ipm_ldl_solve(a, w, a->rhs);
   double bn = 0.0, prev = INFINITY;
   for (int k = 0; k < nk; ++k)
     bn = fmax(bn, fabs(b[k]));
@@ -162,11 +199,11 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w, klu_numeric *num) {
     const double ratio = rn / (dn + bn);
     if (ratio <= 1e-10) return 1;
     if (!isfinite(ratio)) break;
-    if (ref == EA__IPM_REFINE || !(ratio < 0.5 * prev) ||
-        !klu_solve(a->sym, num, nk, 1, res, &a->c)) {
+    if (ref == EA__IPM_REFINE || !(ratio < 0.5 * prev)) {
       if (ratio <= 1e-5) return 1;
       break;
     }
+    ea__ipm_ldl_solve(a, w, res);
     prev = ratio;
     for (int k = 0; k < nk; ++k)
       a->rhs[k] += res[k];
@@ -178,44 +215,30 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w, klu_numeric *num) {
 /* Solve the KKT system in a->Ax, a->rhs (d into a->rhs) with the Hessian's diagonal raised
  * until the matrix has the inertia of [W + Sigma_x + dw I, J'; J, -D] at a minimum (as many
  * negative pivots as rows: Ipopt's inertia correction and its constants) and the solve refines
- * to 1e-10. The inertia is the signs of U's diagonal: diagonal pivots in a symmetric ordering
- * without BTF, rows scaled by positive factors. A solve that does not refine with the right
+ * to 1e-10. The inertia is the signs of D. A solve that does not refine with the right
  * inertia has a small pivot in the rows: the equality rows' diagonal -dc is raised 100-fold up
  * to 1e-4 first. *dw: the last iteration's in, this one's out; *dc: this iteration's. 0, or -1
  * (nothing up to dw 1e20 did). */
 static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
   const ea__asn_nlp_t *p = &a->p;
-  const double tol0 = a->c.tol;
   double cur = 0.0, next = 0.0;
   int rc = -1;
-  a->c.tol = EA__IPM_PIVTOL;
   for (;;) {
     for (int i = 0; i < p->n; ++i)
       if (a->kx[i] >= 0) a->Ax[a->pd[a->kx[i]]] += next - cur;
     cur = next;
-    /* With a pivot threshold of 0 KLU takes every diagonal pivot it finds, so a factorization
-     * that took no other is a symmetric one in sym's order: later matrices of the pattern are
-     * refactored in that order (the same factors, without KLU's pivot search). */
-    klu_numeric *num = NULL;
-    int offdiag = 0;
-    if (a->num) {
-      a->c.status = KLU_OK;
-      num = klu_refactor(a->Ap, a->Ai, a->Ax, a->sym, a->num, &a->c) ? a->num : NULL;
-    } else {
-      num = klu_factor(a->Ap, a->Ai, a->Ax, a->sym, &a->c);
-      offdiag = num ? a->c.noffdiag : 0;
-      if (num && a->c.status == KLU_OK && !offdiag) a->num = num;
-    }
+    /* the diagonal pivots in the AMD order: LDL' (SuiteSparse's LDL), D's signs the inertia;
+     * a zero pivot stops it (d < nk) */
+    const int d = ldl_numeric(a->nk, a->Ap, a->Ai, a->Ax, w->Lp, w->Parent, w->Lnz, w->Li, w->Lx,
+                              w->D, w->Y, w->Pattern, w->Flag, w->P, w->Pinv);
     int inertia = 0, good = 0;
-    if (num && a->c.status == KLU_OK && !offdiag) {
-      const double *u = num->Udiag;
+    if (d == a->nk) {
       int neg = 0;
       for (int k = 0; k < a->nk; ++k)
-        neg += u[k] < 0.0;
+        neg += w->D[k] < 0.0;
       inertia = neg == a->nk - a->nx;
-      good = inertia && ea__ipm_refined(a, w, num);
+      good = inertia && ea__ipm_refined(a, w);
     }
-    if (num && num != a->num) klu_free_numeric(&num, &a->c);
     if (good) {
       *dw = cur;
       rc = 0;
@@ -233,7 +256,6 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
       next = cur * (*dw == 0.0 ? 100.0 : 8.0);
     if (next > 1e20) break;
   }
-  a->c.tol = tol0;
   return rc;
 }
 
@@ -356,10 +378,10 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
     a->act_g[i] = 2;
   int rc = -1;
   const int btf0 = a->c.btf;
-  a->c.btf = 0; /* a symmetric ordering: U's diagonal is the inertia (ea__ipm_kkt) */
+  a->c.btf = 0; /* a symmetric ordering (AMD's, for the LDL' of ea__ipm_kkt) */
   const int pat = ea__asn_pattern(a);
   a->c.btf = btf0;
-  if (pat) goto done;
+  if (pat || ea__ipm_ldl_alloc(&w, a)) goto done;
   a->nx = 0;
   for (int i = 0; i < p->n; ++i)
     a->nx += a->kx[i] >= 0;
