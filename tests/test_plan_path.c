@@ -1,12 +1,12 @@
 /* The path transcription's statics splines (planner/nlp/plan_path.c) against independent
  * statics solves: on a prescribed path the planner tabulates (T, theta0, kappa0) along the path
  * coordinate as cubic Hermites from Chebyshev interpolants of statics samples whose error
- * estimate is below 1e-10, and the plans' statics at every knot come from them. Reference: a chain of ea_statics_solve
- * solves on a shooter of our own (the first from the T = 0 edge by continuation, each next one
- * warm-started from the one before), at 1001 points per segment, most of them between the
- * splines' samples. Stated: theta0 within 3e-10 rad, T within 3e-10 (1 + T) N, kappa0 within
- * 3e-10 / L (the splines' estimate is 1e-10; the reference's residual tolerance 1e-12).
- * Tasks: the paper line (payload 0), a planar polyline with two vias (payload factor 0.25),
+ * estimate is below 1e-10, and the plans' statics at every knot come from them. Reference: a chain
+ * of ea_statics_solve solves on a shooter of our own (the first from the T = 0 edge by
+ * continuation, each next one warm-started from the one before), at 1001 points per segment, most
+ * of them between the splines' samples. Stated: theta0 within 3e-10 rad, T within 3e-10 (1 + T) N,
+ * kappa0 within 3e-10 / L (the splines' estimate is 1e-10; the reference's residual tolerance
+ * 1e-12). Tasks: the paper line (payload 0), a planar polyline with two vias (payload factor 0.25),
  * and that polyline's planner after live updates (ea_planner_update_*): its limits (every
  * segment's samples kept), its goal moved 5 mm (the first two kept), its payload +10 % and its
  * start moved 5 mm (none kept). An update's splines must be those of the changed task: a kept

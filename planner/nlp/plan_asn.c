@@ -198,8 +198,8 @@ static int ea__asn_newton_steps(ea__asn_t *a, double *x, int *iters, klu_numeric
     if (it == EA__ASN_NEWTON || !(res < 1e3 * first)) return -1;
     /* a converged point needs no Hessian: after the test when the rows allow (the replan of
      * the paper line's goal moved 5 mm: one of its four, 2 M instructions of 39 M) */
-    if (p->hess_last && !p->h(p->n, x, FALSE, 1.0, p->m, a->lam, TRUE, p->nnz_h, NULL, NULL,
-                              a->hv, p->ud))
+    if (p->hess_last &&
+        !p->h(p->n, x, FALSE, 1.0, p->m, a->lam, TRUE, p->nnz_h, NULL, NULL, a->hv, p->ud))
       return -1;
     /* K [dx; dlam] = -[r_free; g_A - b_A] */
     ea__asn_fill(a);

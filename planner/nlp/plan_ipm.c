@@ -119,8 +119,8 @@ static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const doubl
 }
 
 static void ea__ipm_ws_free(ea__ipm_ws_t *w) {
-  double **f[] = {&w->s,   &w->zl,  &w->zu, &w->vl, &w->vu,  &w->y,  &w->dx, &w->ds, &w->dzl,
-                  &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b, &w->res, &w->Lx, &w->D,  &w->Y};
+  double **f[] = {&w->s,   &w->zl,  &w->zu,  &w->vl, &w->vu, &w->y,   &w->dx, &w->ds, &w->dzl,
+                  &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b,  &w->res, &w->Lx, &w->D,  &w->Y};
   for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
     free(*f[i]), *f[i] = NULL;
   int **g[] = {&w->P, &w->Pinv, &w->Lp, &w->Parent, &w->Lnz, &w->Flag, &w->Pattern, &w->Li};

@@ -20,10 +20,10 @@
  * random line sweep: the plans must hold 1e-9, the knots' too). Measured against independent
  * re-solves between the samples: 5.4e-12 on the paper line, 9.9e-12 on a polyline
  * (test_plan_path; the Hermite bisection of shot samples before: 1.0e-10, and the paper line
- * with its goal moved 5 mm took 131 samples where it takes 33 now). The table also holds dp/dL_c and dp/dalpha per sample (the
- * limits between the knots take the statics' rates from them). An update keeps the samples of
- * the leading segments whose geometry, arm, tip mass and base angle did not change
- * (ea_planner_update of the limits: all of them).
+ * with its goal moved 5 mm took 131 samples where it takes 33 now). The table also holds dp/dL_c
+ * and dp/dalpha per sample (the limits between the knots take the statics' rates from them). An
+ * update keeps the samples of the leading segments whose geometry, arm, tip mass and base angle did
+ * not change (ea_planner_update of the limits: all of them).
  */
 #include "plan_asn_impl.h"
 #include "plan_impl.h"
@@ -49,7 +49,7 @@ struct ea__pp {
   /* statics splines: ns samples sorted in sigma; per sample p = (T, theta0, kappa0), dp/dsigma */
   int ns, soff[EA_TASK_MAX_VIA + 2]; /* samples; segment j's are soff[j] .. soff[j + 1] - 1 */
   double *ssig, *sp, *sdp;
-  double *spa; /* per sample dp/dL_c, dp/dalpha (the limits between the knots' rates) */
+  double *spa;       /* per sample dp/dL_c, dp/dalpha (the limits between the knots' rates) */
   double spline_err; /* estimated max error (theta0 [rad]; T relative) */
   /* what the samples were built for (ea__pp_update keeps the segments that did not change):
    * per segment its geometry and estimated error; the arm, tip mass and fixed base angle */
@@ -451,9 +451,8 @@ static ea_status_t ea__pp_refine(ea_planner_t *pl, const ea__pp_cheb_t *ch, int 
  * there at 64 intervals: the piece is halved. Its Hermite samples (4 intervals, bisected) are
  * appended. The paper line: 33 samples of 1-2 shots against 131 Hermite samples of one solve
  * each before. */
-static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi,
-                                double guess[EA_NP], int *have, int depth, int *n,
-                                double *err_est, ea_error_t *err) {
+static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi, double guess[EA_NP],
+                                int *have, int depth, int *n, double *err_est, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
   enum { W = EA__PP_NF };
   double ps[W * (EA__PP_NMAX + 1)], pn[W * (EA__PP_NMAX + 1)], dp[3], dprev[3] = {0};
@@ -467,7 +466,8 @@ static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi,
      * last two slopes (the paper line with its goal moved 5 mm: 60 -> 57 shots in all) */
     if (i > 0 && *have)
       for (int c = 0; c < 3; ++c)
-        guess[1 + c] = ps[W * (i - 1) + c] + (dprev[c] + 0.5 * d2[c] * (sig - sprev)) * (sig - sprev);
+        guess[1 + c] =
+            ps[W * (i - 1) + c] + (dprev[c] + 0.5 * d2[c] * (sig - sprev)) * (sig - sprev);
     if ((st = ea__pp_statics(pl, j, sig, guess, have, ps + W * i, dp, ps + W * i + 3, err)))
       return st;
     if (*n == 0 && i == 0 && j == 0) { /* the first sample: an update's warm start */
@@ -662,7 +662,6 @@ static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
 }
 
 /* ---- layouts --------------------------------------------------------------- */
-
 
 /* Expand knot k of the path vector into pp->xk (and the slopes into pp->dq). */
 static void ea__pp_expand_knot(const ea_planner_t *pl, const double *xs, int k) {
@@ -1341,9 +1340,9 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
                     &pp->x0,      &pp->xx,    &pp->xstart};
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
     *arr[i] = calloc(n, sizeof(double));
-  if (!pp->ssig || !pp->sp || !pp->sdp || !pp->spa || !pp->kidx || !pp->kkind || !pp->kcoord || !pp->kknot ||
-      !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->dq2 || !pp->sd_sol || !pp->xkx ||
-      !pp->rows || !pp->rmap || !pp->gl || !pp->gu)
+  if (!pp->ssig || !pp->sp || !pp->sdp || !pp->spa || !pp->kidx || !pp->kkind || !pp->kcoord ||
+      !pp->kknot || !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->dq2 || !pp->sd_sol ||
+      !pp->xkx || !pp->rows || !pp->rmap || !pp->gl || !pp->gu)
     return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
     if (!*arr[i]) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
