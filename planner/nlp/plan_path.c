@@ -264,15 +264,12 @@ static double ea__herm(double h, double y0, double d0, double y1, double d1, dou
          (u3 - u2) * h * d1;
 }
 
-/* The statics splines of segment j at sigma: p (T, theta0, kappa0) and dp/dsigma (each
- * segment has its own samples: at a corner the slopes differ). */
-static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], double dp[3],
-                          double d2p[3]) {
+/* The table interval of segment j (its first sample's index) holding sigma, the end ones
+ * beyond its ends. */
+static int ea__pp_interval(const ea__pp_t *pp, int j, double sig) {
   int lo = pp->soff[j], hi = pp->soff[j + 1] - 1;
-  if (sig <= pp->ssig[lo])
-    hi = lo + 1;
-  else if (sig >= pp->ssig[hi])
-    lo = hi - 1;
+  if (sig <= pp->ssig[lo]) return lo;
+  if (sig >= pp->ssig[hi]) return hi - 1;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
     if (pp->ssig[mid] <= sig)
@@ -280,6 +277,14 @@ static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], do
     else
       hi = mid;
   }
+  return lo;
+}
+
+/* The statics splines of segment j at sigma: p (T, theta0, kappa0) and dp/dsigma (each
+ * segment has its own samples: at a corner the slopes differ). */
+static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], double dp[3],
+                          double d2p[3]) {
+  const int lo = ea__pp_interval(pp, j, sig), hi = lo + 1;
   const double h = pp->ssig[hi] - pp->ssig[lo], u = (sig - pp->ssig[lo]) / h;
   for (int c = 0; c < 3; ++c)
     p[c] = ea__herm(h, pp->sp[3 * lo + c], pp->sdp[3 * lo + c], pp->sp[3 * hi + c],
@@ -297,14 +302,7 @@ static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], do
  * derivative from shots with sensitivities: for the screen of the limits between the knots,
  * whose band is 1e-3 of each limit). */
 static void ea__pp_partials(const ea__pp_t *pp, int j, double sig, double pa[6]) {
-  int lo = pp->soff[j], hi = pp->soff[j + 1] - 1;
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    if (pp->ssig[mid] <= sig)
-      lo = mid;
-    else
-      hi = mid;
-  }
+  const int lo = ea__pp_interval(pp, j, sig), hi = lo + 1;
   const double h = pp->ssig[hi] - pp->ssig[lo];
   const double u = h > 0.0 ? fmin(fmax((sig - pp->ssig[lo]) / h, 0.0), 1.0) : 0.0;
   for (int c = 0; c < 6; ++c)
