@@ -11,6 +11,8 @@
  * segment's samples kept), its goal moved 5 mm (the first two kept), its payload +10 % and its
  * start moved 5 mm (none kept). An update's splines must be those of the changed task: a kept
  * segment checked against the re-solve is what shows the key did not keep a stale one.
+ * The statics' rates at a plan's knots from the splines' tabulated partials (the limits between
+ * the knots use them) against shots with sensitivities, on the paper line and the polyline.
  * Warm starts of the path transcription (no Ipopt solve when the start is a KKT point; a
  * replan with other limits from the cold guess; a plan file of the task or of another one)
  * on the paper line. */
@@ -244,6 +246,51 @@ static void newton_replans(const ea_task_t *t0) {
   ea_planner_free(pl);
 }
 
+/* The statics' rates at the knots of pl's plan (solved) as the limits between the knots take
+ * them on a prescribed path (ea__pp_statics_rates: the splines' tabulated dp/dL_c, dp/dalpha
+ * along the knots' (L_c, alpha) rates) against the implicit derivative from a shot with
+ * sensitivities at each knot on a shooter of our own. Stated: 1e-3 of the largest rate of each
+ * of T, theta0, kappa0 over the plan (the screen's band is 1e-3 of each limit; measured
+ * 2.4e-6 on the paper line, 1.7e-6 on the polyline). */
+static void rates_check(const ea_planner_t *pl, const ea_task_t *t, const char *name) {
+  ea_shooter_t *sh = NULL;
+  ea_error_t e;
+  char msg[256];
+  if (ea_shooter_alloc(&t->arm, NULL, &sh, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  const ea_load_t load = {ea_arm_tip_mass(&t->arm, t->payload_kg)};
+  ea_shooter_set_load(sh, &load);
+  const double *x = pl->x_sol;
+  double worst[3] = {0}, scale[3] = {0};
+  int bad = 0;
+  for (int k = 0; k < pl->N; ++k) {
+    const double p[EA_NP] = {x[EA__IQ(pl, k, 1)], x[EA__IP(pl, k, 0)], x[EA__IP(pl, k, 1)],
+                             x[EA__IP(pl, k, 2)]};
+    double xL[EA_NX], S[EA_NX * EA_NP], ref[3], got[3];
+    if (ea_shoot(sh, p, xL, S) ||
+        ea__plan_statics_slope(S, x[EA__IQ(pl, k, 0)], x[EA__IQ(pl, k, 1)], x[EA__IV(pl, k, 0)],
+                               x[EA__IV(pl, k, 1)], ref) ||
+        ea__pp_statics_rates(pl, x, k, got)) {
+      bad = 1;
+      break;
+    }
+    for (int c = 0; c < 3; ++c) {
+      worst[c] = fmax(worst[c], fabs(got[c] - ref[c]));
+      scale[c] = fmax(scale[c], fabs(ref[c]));
+    }
+  }
+  ea_shooter_free(sh);
+  const double r =
+      bad ? INFINITY : fmax(worst[0] / scale[0], fmax(worst[1] / scale[1], worst[2] / scale[2]));
+  snprintf(msg, sizeof msg,
+           "%s: statics rates from the splines' partials vs shots, worst %.2g of the largest "
+           "rate (<= 1e-3)",
+           name, r);
+  ea_test_true(r <= 1e-3, msg);
+}
+
 int main(void) {
   gsl_set_error_handler_off();
   ea_error_t e;
@@ -259,6 +306,7 @@ int main(void) {
   } else {
     check(pl, &line, "paper line, payload 0");
     warm_starts(pl, &line);
+    rates_check(pl, &line, "paper line");
     newton_replans(&line);
   }
   ea_planner_free(pl);
@@ -279,6 +327,11 @@ int main(void) {
     return ea_test_summary("test_plan_path");
   }
   check(pl, &poly, "polyline, 2 vias, payload factor 0.25");
+  ea_plan_info_t pinfo;
+  if (ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pinfo, &e))
+    ea_test_true(0, e.msg);
+  else
+    rates_check(pl, &poly, "polyline");
   ea_task_t t = poly;
   t.limits.cable_speed_max *= 0.8;
   update_check(pl, &t, "polyline after a limits update");
