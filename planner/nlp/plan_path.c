@@ -299,8 +299,8 @@ static void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], do
 /* The partial derivatives of the statics in (L_c, alpha) on segment j at sigma (dp/dL_c,
  * dp/dalpha): linear between the samples, ~1 mm apart (the rates at the knots of the paper
  * line's and the effort polyline's plans within 1e-4 relative, 4e-6 absolute, of the implicit
- * derivative from shots with sensitivities: for the screen of the limits between the knots,
- * whose band is 1e-3 of each limit). */
+ * derivative from shots with sensitivities, 2.4e-6 of the largest rate, test_plan_path: for
+ * the screen of the limits between the knots, whose band is 1e-3 of each limit). */
 static void ea__pp_partials(const ea__pp_t *pp, int j, double sig, double pa[6]) {
   const int lo = ea__pp_interval(pp, j, sig), hi = lo + 1;
   const double h = pp->ssig[hi] - pp->ssig[lo];
