@@ -680,7 +680,7 @@ pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
   "$(calc %.2f "$3*100")" "$(calc %.3f "$8-$4")"
 set -- $(dyn 100 path)
 pub "bench/bench_dyn (iterations of the at-rest paper line, the default path transcription)" docs/planner.md \
-  '{} iterations of the own interior point, KKT systems by KLU; with Ipopt 19 iterations and 0.2' "$1"
+  '{} iterations of the own interior point, KKT systems by KLU then; with Ipopt 19 iterations and' "$1"
 grid() { awk -v g="$1" '$1 == g { print $2, $3, $4, $5, $7, $8; exit }' "$R/bench_dyn.out"; }
 set -- $(grid default) $(grid x1/2)
 pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner.md \
