@@ -30,7 +30,6 @@
 
 void ea__asn_free(ea__asn_t *a) {
   if (!a) return;
-  if (a->num) klu_free_numeric(&a->num, &a->c);
   if (a->sym) klu_free_symbolic(&a->sym, &a->c);
   free(a->act_x), free(a->act_g), free(a->kx), free(a->kg), free(a->Ap), free(a->Ai);
   free(a->cnt), free(a->Ax), free(a->pd), free(a->pj[0]), free(a->pj[1]), free(a->ph[0]),
@@ -128,7 +127,6 @@ int ea__asn_pattern(ea__asn_t *a) {
       a->nnz_k = s;
     }
   }
-  if (a->num) klu_free_numeric(&a->num, &a->c);
   if (a->sym) klu_free_symbolic(&a->sym, &a->c);
   a->sym = klu_analyze(nk, a->Ap, a->Ai, &a->c);
   return a->sym ? 0 : -1;

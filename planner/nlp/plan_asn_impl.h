@@ -46,9 +46,6 @@ struct ea__asn {
   double *gf, *g, *jv, *hv, *lam, *rhs, *r;
   klu_common c;
   klu_symbolic *sym;
-  /* the interior point's factors (plan_ipm.c): diagonal pivots in sym's order, so a later
-   * matrix of the same pattern is refactored in that order (NULL: none yet) */
-  klu_numeric *num;
 };
 typedef struct ea__asn ea__asn_t;
 

@@ -346,6 +346,17 @@ static double ea__pp_mid_err(const ea_planner_t *pl, const double a[7], const do
   return ea__pp_err(pl, y, c);
 }
 
+/* The path's first sample (sigma on segment 0, its statics g): an update's warm start. */
+static void ea__pp_keep_first(ea_planner_t *pl, double sig, const double g[EA_NP]) {
+  ea__pp_t *pp = pl->pp;
+  double q[3], dq[3];
+  ea__pp_q(pl, 0, sig, q, dq);
+  memcpy(pp->g_first, g, sizeof pp->g_first);
+  pp->q_first[0] = q[0];
+  pp->q_first[1] = q[1];
+  pp->have_first = 1;
+}
+
 /* A sample: sigma, p = (T, theta0, kappa0), dp/dsigma, dp/dL_c, dp/dalpha. */
 #define EA__PP_V 13
 
@@ -468,21 +479,13 @@ static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi, d
             ps[W * (i - 1) + c] + (dprev[c] + 0.5 * d2[c] * (sig - sprev)) * (sig - sprev);
     if ((st = ea__pp_statics(pl, j, sig, guess, have, ps + W * i, dp, ps + W * i + 3, err)))
       return st;
-    if (*n == 0 && i == 0 && j == 0) { /* the first sample: an update's warm start */
-      double q[3], dq[3];
-      ea__pp_q(pl, 0, sig, q, dq);
-      memcpy(pp->g_first, guess, sizeof pp->g_first);
-      pp->q_first[0] = q[0];
-      pp->q_first[1] = q[1];
-      pp->have_first = 1;
-    }
+    if (*n == 0 && i == 0 && j == 0) ea__pp_keep_first(pl, sig, guess);
     for (int c = 0; c < 3 && i > 0; ++c)
       d2[c] = (dp[c] - dprev[c]) / (sig - sprev);
     memcpy(dprev, dp, sizeof dp);
     sprev = sig;
   }
-  double end_guess[EA_NP];
-  memcpy(end_guess, guess, sizeof end_guess);
+  /* guess stays at hi: the later levels warm-start their own copies */
   double e = INFINITY;
   for (;;) {
     ea__pp_cheb_fit(&ch, lo, hi, N, ps);
@@ -508,7 +511,6 @@ static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi, d
     N *= 2;
     memcpy(ps, pn, (size_t)(W * (N + 1)) * sizeof(double));
   }
-  memcpy(guess, end_guess, sizeof end_guess);
   if (!(e < EA__PP_TOL)) { /* not resolved at 64 intervals: halve the piece */
     if (depth >= 12)
       return ea_error_set(err, EA_ERR_NOCONV,
@@ -603,14 +605,7 @@ static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
         vi[0] = a;
         ea_status_t st = ea__pp_statics(pl, j, a, guess, &have, vi + 1, vi + 4, vi + 7, err);
         if (!st) st = ea__pp_push(pp, &n, vi, j, err);
-        if (!st && i == 0 && j == 0) {
-          double q[3], dq[3];
-          ea__pp_q(pl, 0, a, q, dq);
-          memcpy(pp->g_first, guess, sizeof guess);
-          pp->q_first[0] = q[0];
-          pp->q_first[1] = q[1];
-          pp->have_first = 1;
-        }
+        if (!st && i == 0 && j == 0) ea__pp_keep_first(pl, a, guess);
         if (st) return st;
       }
     } else {
