@@ -355,7 +355,7 @@ ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
                         "points");
   if (!(t->solver.max_iter >= 1) || !(t->solver.tol > 0) || !(t->solver.constr_tol > 0) ||
       !(t->solver.max_time_s > 0) || !(t->solver.regularization >= 0) ||
-      !isfinite(t->solver.regularization))
+      !isfinite(t->solver.regularization) || t->solver.threads < 0 || t->solver.threads > 2)
     return ea_error_set(err, EA_ERR_INPUT, "solver options out of range");
   if ((st = ea__check_refine(t, err))) return st;
 

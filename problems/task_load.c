@@ -110,6 +110,7 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
                                      "transcription",
                                      "screen_rows",
                                      "nlp",
+                                     "threads",
                                      NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "solver", err);
   if (st) return st;
@@ -119,6 +120,9 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   v = s->print_level;
   if ((st = ea__ymap_int(d, n, "print_level", 0, 0, 12, &v, err))) return st;
   s->print_level = (int)v;
+  v = s->threads;
+  if ((st = ea__ymap_int(d, n, "threads", 0, 0, 2, &v, err))) return st;
+  s->threads = (int)v;
   if ((st = ea__ymap_double(d, n, "tol", 0, 1e-14, 1.0, &s->tol, err))) return st;
   if ((st = ea__ymap_double(d, n, "constr_viol_tol", 0, 1e-14, 1.0, &s->constr_tol, err)))
     return st;

@@ -430,6 +430,44 @@ static void test_transcriptions(void) {
   }
 }
 
+/* solver.threads: the path transcription's two parts (planner/nlp/plan_par.c) on one thread
+ * or two give the same plan bit for bit (the parts and their sums are the same); an even and an
+ * odd knot count, payload factors 0 and 0.5 (goal (0.5, -0.2) m, as test_paper_line). */
+static void test_threads(void) {
+  const int kn[3] = {100, 37, 60};
+  const double gam[3] = {0.0, 0.0, 0.5};
+  for (int c = 0; c < 3; ++c) {
+    ea_task_t t;
+    if (load("paper-line-rest.yaml", &t)) return;
+    t.knots = kn[c];
+    t.payload_factor = gam[c];
+    t.payload_kg = ea_arm_payload_from_factor(&t.arm, gam[c]);
+    if (c == 2) t.goal = ea_task_point_planar(0.5, -0.2, 0.0);
+    t.solver.transcription = EA_TASK_TRANSCRIPTION_PATH;
+    ea_traj_t tr[2] = {{0}, {0}};
+    ea_plan_info_t info[2];
+    int ok = 1;
+    for (int th = 0; th < 2; ++th) {
+      t.solver.threads = th + 1;
+      ok = ok && plan(&t, &tr[th], &info[th]) == EA_OK;
+    }
+    int same = ok && tr[0].n == tr[1].n && info[0].iterations == info[1].iterations &&
+               info[0].duration_s == info[1].duration_s;
+    for (int i = 0; same && i < tr[0].n * EA_TRAJ_NCOL; ++i)
+      same = memcmp(&tr[0].data[i], &tr[1].data[i], sizeof(double)) == 0;
+    printf("threads 1 and 2, %d knots, payload factor %g: %.12g s (%d iterations), %.12g s (%d)\n",
+           kn[c], gam[c], info[0].duration_s, info[0].iterations, info[1].duration_s,
+           info[1].iterations);
+    char w[160];
+    snprintf(w, sizeof w,
+             "at rest, %d knots, payload factor %g: the same plan on 1 and 2 threads", kn[c],
+             gam[c]);
+    ea_test_true(same, w);
+    ea_traj_free(&tr[0]);
+    ea_traj_free(&tr[1]);
+  }
+}
+
 int main(void) {
   gsl_set_error_handler_off();
   src = getenv("EA_SOURCE_DIR");
@@ -437,6 +475,7 @@ int main(void) {
     printf("EA_SOURCE_DIR not set (run through ctest)\n");
     return EXIT_FAILURE;
   }
+  test_threads();
   test_transcriptions();
   test_paper_line();
   test_terminal_state();

@@ -76,6 +76,8 @@ static const ea_case_t cases[] = {
      "'figure'"},
     {"solver bool", OKTASK "solver: {derivative_test: maybe}\n", EA_ERR_INPUT, "bad.yaml:3:27",
      "'derivative_test'"},
+    {"solver threads out of range", OKTASK "solver: {threads: 3}\n", EA_ERR_INPUT, "bad.yaml:3:19",
+     "outside [0, 2]"},
     {"YAML syntax error", OKTASK "limits: [1, 2\n", EA_ERR_PARSE, "bad.yaml:4:1", "YAML"},
     {"top level not a mapping", "- 1\n- 2\n", EA_ERR_INPUT, "bad.yaml:1:1", "mapping"},
     {"missing arm file", "arm_file: /nonexistent/arm.yaml\n" OKTASK, EA_ERR_IO, "bad.yaml:1:11",

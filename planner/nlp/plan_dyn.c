@@ -191,7 +191,8 @@ struct ea__dyn_cache {
   ea__dyn_icache_t *ic;     /* (N - 1) M: per interval and model */
   ea__dyn_mcache_t *mc;     /* (N - 1) K: per interval and modal coordinate */
   ea__dyn_kcache_t *kc;     /* N M: per knot and model */
-  struct ea__hz_fields *hz; /* 3: the defects' Hessian's fields at an interval's points */
+  struct ea__hz_fields *hz; /* 2 x 3: the defects' Hessian's fields at an interval's points
+                             (per slot of ea__plan_dyn_defect_hess) */
 };
 
 void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
@@ -215,6 +216,11 @@ static const ea__dyn_kcache_t *ea__dyn_at_knot(const ea_planner_t *pl, const dou
     c->valid = 1;
   }
   return c;
+}
+
+void ea__plan_dyn_warm(const ea_planner_t *pl, const double *x, int k) {
+  for (int j = 0; j < pl->M; ++j)
+    ea__dyn_at_knot(pl, x, k, j);
 }
 
 static const ea__dyn_icache_t *ea__dyn_interval(const ea_planner_t *pl, const double *x, int k,
@@ -743,12 +749,12 @@ static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i,
 }
 
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
-                              const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
+                              const double *w, int g, int slot, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   const int k = rows[0].knot;
   ea__hz_kin_t kin;
   ea__hz_kin(pl, x, k, &kin);
-  ea__hz_fields_t *F = pl->dync->hz;
+  ea__hz_fields_t *F = pl->dync->hz + 3 * slot;
   int have_model = -1, have_coord = -1;
   const ea__hz_fields_t *m[3] = {&F[0], &F[1], &F[2]};
   ea__hz_t phi[2];
@@ -910,7 +916,7 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
     pl->dync->ic = calloc(ni * (size_t)pl->M, sizeof *pl->dync->ic);
     pl->dync->mc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->mc);
     pl->dync->kc = calloc((size_t)pl->N * (size_t)pl->M, sizeof *pl->dync->kc);
-    pl->dync->hz = malloc(3 * sizeof *pl->dync->hz);
+    pl->dync->hz = malloc(6 * sizeof *pl->dync->hz);
   }
   if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->kc || !pl->dync->hz)
     return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");

@@ -45,6 +45,17 @@ typedef enum ea__row_kind {
 
 typedef struct ea__pp ea__pp_t;
 
+/** A worker thread for two-part evaluations (plan_par.c). */
+typedef struct ea__par ea__par_t;
+/** Start the worker (NULL: no thread could be started; ea__par_run then runs both parts). */
+ea__par_t *ea__par_new(void);
+void ea__par_free(ea__par_t *p);
+/** fn(ctx, 1) on the worker while the caller runs fn(ctx, 0); returns when both are done
+ *  (p NULL: both on the caller, part 0 first). */
+void ea__par_run(ea__par_t *p, void (*fn)(void *ctx, int part), void *ctx);
+/** Processors online (>= 1). */
+int ea__par_cpus(void);
+
 /** Most models of a robust plan (the nominal arm and four corners), and modal coordinates. */
 #define EA__DYN_MAX_MODELS 5
 #define EA__DYN_MAX (EA__DYN_MAX_MODELS * EA_ROM_MAX_MODES)
@@ -233,10 +244,15 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
 int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
                       double H[][EA__ROW_MAX]);
 /** The closed-form Hessians of one interval's modal defect rows (a group of
- *  ea__plan_hess_group_len: rows[0..g-1], weights w; ea__plan_hess_fd_local's outputs). */
+ *  ea__plan_hess_group_len: rows[0..g-1], weights w; ea__plan_hess_fd_local's outputs; slot 0
+ *  or 1: the scratch of the caller or of the worker of plan_par.c). */
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
-                              const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
+                              const double *w, int g, int slot, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
+/** Make the tables at knot k's (L_c, alpha) in x current (the knot's cache, which the rows of
+ *  the intervals on both sides of it read: at the knot where plan_path.c splits its rows in two
+ *  parts, before their evaluation in parallel). */
+void ea__plan_dyn_warm(const ea_planner_t *pl, const double *x, int k);
 /** The same for the tension and torque rows with the modal parts (plan_dyn.c: the table's
  *  exact second derivatives); -1 for any other kind. */
 int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
@@ -259,9 +275,11 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
  *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a] (closed forms
  *  where a row kind has one, with fn = ea__plan_row_eval: ea__plan_row_hess,
  *  ea__plan_dyn_defect_hess; else central differences of the exact gradients); g0 (NULL: not
- *  wanted) the rows' gradients at x in the same order. */
+ *  wanted) the rows' gradients at x in the same order; xx a scratch copy of x and slot
+ *  (ea__plan_dyn_defect_hess) of the calling thread. */
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
+                            int slot, const ea__row_t *rows, const double *w, int g,
+                            int cols[][EA__ROW_MAX],
                             int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
                             double g0[][EA__ROW_MAX]);
 /** The Hessians of g rows (rows[0..g-1], weights w; ea__plan_hess_fd_local: closed forms or

@@ -91,6 +91,13 @@ struct ea__pp {
   double *oweight;
   int n_orows;
   double *gk, *xx; /* knot-layout gradient scratch; perturbed path vector */
+  /* with dynamics the rows, Jacobian and Hessian are evaluated in two parts, the rows of the
+   * knots below split and the rest (plan_par.c; par NULL: both parts on the caller) */
+  ea__par_t *par;
+  int split;
+  int *jstart;  /* each row's first Jacobian entry */
+  double *xkx1; /* part 1's knot-layout scratch */
+  double *hv1;  /* part 1's Hessian values */
   IpoptProblem ip;
   int iter;
 };
@@ -711,7 +718,8 @@ static int ea__pp_row(const ea_planner_t *pl, const double *xs, const ea__row_t 
   /* only the knots the row can touch (k - 1 .. k + 1) and t_f */
   for (int k = r->knot > 0 ? r->knot - 1 : 0; k <= r->knot + 1 && k < pl->N; ++k)
     if (ea__pp_knot_dirty(pp, pl, xs, k)) ea__pp_expand_knot(pl, xs, k);
-  if (pl->has_tf) pp->xk[EA__ITF(pl)] = xs[pp->itf];
+  /* (written only when it changed: the two parts of plan_par.c read it at once) */
+  if (pl->has_tf && pp->xk[EA__ITF(pl)] != xs[pp->itf]) pp->xk[EA__ITF(pl)] = xs[pp->itf];
   int kc[EA__ROW_MAX], lc[EA__ROW_MAX];
   double kv[EA__ROW_MAX], lv[EA__ROW_MAX];
   const int nk = ea__plan_row_eval(pl, pp->xk, r, value, kc, vals ? kv : NULL);
@@ -812,12 +820,12 @@ static double ea__pp_factor(const ea__pp_t *pp, int i, double *curv) {
  * same knot entries (a mode's two defects) go through the chain rule once, their weighted
  * sum: the map is linear and their positions are the same. */
 static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, const double *w, int g,
-                             const int *const *hpos, double *values) {
+                             const int *const *hpos, double *values, double *xx, int slot) {
   const ea__pp_t *pp = pl->pp;
   int kc[EA__HGROUP_MAX][EA__ROW_MAX], nkc[EA__HGROUP_MAX];
   double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
   double gk[EA__HGROUP_MAX][EA__ROW_MAX]; /* the knot rows' gradients, in kc[r]'s order */
-  ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, pp->xkx, rows, w, g, kc, nkc, Hk, gk);
+  ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, xx, slot, rows, w, g, kc, nkc, Hk, gk);
   for (int r = 0; r < g;) {
     const int nk = nkc[r];
     if (!nk) {
@@ -888,6 +896,72 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
   }
 }
 
+/* The rows' part (ea__par_t's) with dynamics, -1 without. */
+static int ea__pp_part(const ea__pp_t *pp, const ea__row_t *r) {
+  return pp->split < 0 ? -1 : r->knot >= pp->split;
+}
+
+/* One part's work of a callback at x (part -1: all rows; ea__pp_prepare done). */
+typedef struct {
+  ea_planner_t *pl;
+  const double *x, *lambda;
+  double *out;
+  int what; /* 0 rows' values, 1 Jacobian, 2 Hessian */
+} ea__pp_job_t;
+
+#ifdef EA_PAR_PROF
+double ea_par_prof[2][3];
+static void ea__pp_job_part0(void *ctx, int part);
+static void ea__pp_job_part(void *ctx, int part) {
+  const double t0 = ea__mono_s();
+  ea__pp_job_part0(ctx, part);
+  ea_par_prof[part > 0][((const ea__pp_job_t *)ctx)->what] += ea__mono_s() - t0;
+}
+static void ea__pp_job_part0(void *ctx, int part) {
+#else
+static void ea__pp_job_part(void *ctx, int part) {
+#endif
+  const ea__pp_job_t *jb = ctx;
+  ea_planner_t *pl = jb->pl;
+  ea__pp_t *pp = pl->pp;
+  if (jb->what < 2) {
+    for (int i = 0; i < pp->m; ++i) {
+      if (ea__pp_part(pp, &pp->rows[i]) != part) continue;
+      if (jb->what == 0)
+        ea__pp_row(pl, jb->x, &pp->rows[i], &jb->out[i], NULL, NULL);
+      else
+        ea__pp_row(pl, jb->x, &pp->rows[i], NULL, NULL, jb->out + pp->jstart[i]);
+    }
+    return;
+  }
+  double *values = part == 1 ? pp->hv1 : jb->out, *xx = part == 1 ? pp->xkx1 : pp->xkx;
+  for (int r = 0; r < pp->m;) {
+    const int g = ea__plan_hess_group_len(pp->rows, r, pp->m);
+    if (ea__pp_part(pp, &pp->rows[r]) == part && ea__plan_row_curved(&pp->rows[r])) {
+      const int *hp[EA__HGROUP_MAX];
+      for (int q = 0; q < g; ++q)
+        hp[q] = pp->hpos + pp->hpos_start[r + q];
+      ea__pp_hess_rows(pl, &pp->rows[r], jb->lambda + r, g, hp, values, xx, part > 0);
+    }
+    r += g;
+  }
+}
+
+/* Run a callback's work on all rows: in two parts with dynamics, else at once. The parts'
+ * rows (the knots' below pp->split and the rest) share the expansion of x and the tables at the
+ * knot pp->split (a row of knot k reads the expansion at knots k - 1 .. k + 1, its model tables
+ * at k and k + 1), made current first; every other cache they fill is of their own knots. */
+static void ea__pp_job(ea__pp_job_t *jb) {
+  ea__pp_t *pp = jb->pl->pp;
+  if (pp->split < 0) {
+    ea__pp_job_part(jb, -1);
+    return;
+  }
+  ea__pp_expand(jb->pl, jb->x);
+  ea__plan_dyn_warm(jb->pl, pp->xk, pp->split);
+  ea__par_run(pp->par, ea__pp_job_part, jb);
+}
+
 /* Hessian values: the chain rule through the knot layout (ea__pp_hess_rows). */
 static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
                                const double *lambda, double *values) {
@@ -895,22 +969,21 @@ static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
   memset(values, 0, (size_t)pp->nnz_h * sizeof *values);
   ea__pp_expand(pl, x);
   memcpy(pp->xkx, pp->xk, (size_t)pl->n * sizeof *pp->xk);
-  for (int r = 0; r < pp->m;) {
-    const int g = ea__plan_hess_group_len(pp->rows, r, pp->m);
-    if (ea__plan_row_curved(&pp->rows[r])) {
-      const int *hp[EA__HGROUP_MAX];
-      for (int q = 0; q < g; ++q)
-        hp[q] = pp->hpos + pp->hpos_start[r + q];
-      ea__pp_hess_rows(pl, &pp->rows[r], lambda + r, g, hp, values);
-    }
-    r += g;
+  if (pp->split >= 0) {
+    memset(pp->hv1, 0, (size_t)pp->nnz_h * sizeof *values);
+    memcpy(pp->xkx1, pp->xk, (size_t)pl->n * sizeof *pp->xk);
   }
+  ea__pp_job_t jb = {pl, x, lambda, values, 2};
+  ea__pp_job(&jb);
+  if (pp->split >= 0)
+    for (int i = 0; i < pp->nnz_h; ++i)
+      values[i] += pp->hv1[i];
   for (int o = 0; o < pl->n_orows; ++o) {
     const ea__row_t *row = &pl->orows[o];
     const double w = sigma * pl->oweight[o];
     if (!ea__plan_row_curved(row)) continue;
     const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
-    ea__pp_hess_rows(pl, row, &w, 1, hp, values);
+    ea__pp_hess_rows(pl, row, &w, 1, hp, values, pp->xkx, 0);
   }
 }
 
@@ -977,8 +1050,8 @@ static Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, User
   ea_planner_t *pl = ud;
   (void)n, (void)new_x, (void)m;
   const double t0 = ea__mono_s();
-  for (int i = 0; i < pl->pp->m; ++i)
-    ea__pp_row(pl, x, &pl->pp->rows[i], &g[i], NULL, NULL);
+  ea__pp_job_t jb = {pl, x, NULL, g, 0};
+  ea__pp_job(&jb);
   if (pl->info) pl->info->evals_g++;
   pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
@@ -995,9 +1068,8 @@ static Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, I
     return TRUE;
   }
   const double t0 = ea__mono_s();
-  int nz = 0;
-  for (int i = 0; i < pp->m; ++i)
-    nz += ea__pp_row(pl, x, &pp->rows[i], NULL, NULL, values + nz);
+  ea__pp_job_t jb = {pl, x, NULL, values, 1};
+  ea__pp_job(&jb);
   if (pl->info) pl->info->evals_jac++;
   pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
@@ -1176,6 +1248,10 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->dq);
   free(pp->dq2);
   free(pp->xkx);
+  ea__par_free(pp->par);
+  free(pp->jstart);
+  free(pp->xkx1);
+  free(pp->hv1);
   free(pp->rows);
   free(pp->rmap);
   free(pp->x);
@@ -1411,9 +1487,12 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   pp->irow = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
   pp->jcol = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
   if (!pp->irow || !pp->jcol) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  pp->jstart = malloc(sizeof(int) * (size_t)(m + 1));
+  if (!pp->jstart) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
   int nz = 0;
   for (int i = 0; i < m; ++i) {
     const int c = ea__pp_row(pl, pp->x, &pp->rows[i], NULL, cols, NULL);
+    pp->jstart[i] = nz;
     for (int j = 0; j < c; ++j) {
       pp->irow[nz + j] = i;
       pp->jcol[nz + j] = cols[j];
@@ -1421,6 +1500,18 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
     nz += c;
   }
   if (ea__pp_hess_setup(pl)) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  /* with dynamics: the evaluations in two parts (the rows of the first half of the knots and
+   * the rest), the second on a worker thread when the task allows two (solver.threads) and
+   * the machine has two processors */
+  pp->split = -1;
+  if (K > 0) {
+    pp->split = N / 2;
+    pp->xkx1 = malloc(sizeof(double) * nk);
+    pp->hv1 = malloc(sizeof(double) * (size_t)(pp->nnz_h + 1));
+    if (!pp->xkx1 || !pp->hv1) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+    const int th = pl->task.solver.threads;
+    if (th == 2 || (th == 0 && ea__par_cpus() >= 2)) pp->par = ea__par_new();
+  }
   return EA_OK;
 }
 

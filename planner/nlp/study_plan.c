@@ -29,6 +29,9 @@ static ea_status_t ea__plan_task(const ea_study_t *s, unsigned metric, const cha
                                  ea_task_t *t, char *key, size_t key_len, ea_error_t *err) {
   ea_status_t st = ea_study_metric_task_load(s, metric, default_arm, t, key, key_len, err);
   if (st) return st;
+  /* the study's workers run cases in parallel: each plan on one thread (the same plan as on
+   * two, solver.threads) */
+  t->solver.threads = 1;
   if (t->objective == EA_TASK_MIN_TIME) return EA_OK;
   const int rest = metric == EA_STUDY_M_AT_REST;
   const char *name =

@@ -123,6 +123,10 @@ typedef struct ea_task_solver {
                         transcription) solved cold by the planner's own interior point (KKT
                         systems by KLU), by Ipopt when its result fails the KKT test of the
                         whole problem; every other solve by Ipopt; 1 "ipopt": Ipopt always */
+  int threads;     /**< threads of a plan with dynamics on a prescribed path: its rows, Jacobian
+                        and Hessian in two parts by knot, the second on a worker thread (2), or
+                        both in turn (1); 0 "auto" (default): 2 when the machine has two
+                        processors online. The plan is the same either way. */
 } ea_task_solver_t;
 
 /** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */
