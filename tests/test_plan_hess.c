@@ -13,8 +13,10 @@
  * closed-form Hessians of the kinematic rows and objective pieces (acceleration, continuity,
  * speed, effort, jerk: ea__plan_row_hess) against the same reference, with t_f free (the
  * at-rest line) and fixed (polyline-effort with min_effort and min_jerk). And the path
- * transcription's whole Lagrangian Hessian with dynamics (the chain rule, a mode's two defects
- * through it at once) against the same differences of its Lagrangian's gradient. */
+ * transcription's whole Lagrangian Hessian with dynamics (the modal defects' in the path
+ * variables directly, the rest through the chain rule) against the same differences of its
+ * Lagrangian's gradient, and the defects' values and gradients it keeps against the knot
+ * layout's through the chain rule. */
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_test.h"
@@ -296,8 +298,9 @@ static void pp_lagrangian_grad(ea_planner_t *pl, const double *xs, int n, int m,
   }
 }
 
-/* The path transcription with dynamics (plan_path.c): its Hessian is the knot rows' through
- * the chain rule, a mode's two defects through it at once. The whole Lagrangian Hessian
+/* The path transcription with dynamics (plan_path.c): its Hessian is the modal defects' in the
+ * path variables directly (ea__plan_dyn_defect_hess_pp), every other row's the knot row's
+ * through the chain rule. The whole Lagrangian Hessian
  * (pseudo-random multipliers in [-1, 1] on every row, no objective) at a generic point near
  * the 8-knot plan's solution against central differences of the Lagrangian's exact gradient
  * (every path row's ea__pp_row), Richardson-extrapolated from steps h and h/2 (h = 1e-4
@@ -341,6 +344,38 @@ static void check_path(ea_task_t *t, const char *name) {
     lam[r] = (double)(sd >> 11) / 9007199254740992.0 * 2.0 - 1.0;
   }
   ea__pp_test_hess(pl, xs, 0.0, lam, vals);
+  {
+    /* the defects' values and gradients the Hessian kept in the path layout
+     * (ea__plan_dyn_defect_hess_pp) against the knot layout's through the chain rule (what
+     * the rows give once they are forgotten); each row against its largest entry */
+    int cols[2][EA__ROW_MAX], nc[2];
+    double v[2], g[2][EA__ROW_MAX];
+    double gap = 0.0;
+    int same_cols = 1;
+    for (int r = 0; r < m; ++r) {
+      nc[0] = ea__pp_test_row(pl, xs, r, &v[0], cols[0], g[0]);
+      ea__plan_dyn_pp_forget(pl);
+      nc[1] = ea__pp_test_row(pl, xs, r, &v[1], cols[1], g[1]);
+      ea__pp_test_hess(pl, xs, 0.0, lam, vals); /* kept again for the next row */
+      same_cols = same_cols && nc[0] == nc[1] &&
+                  !memcmp(cols[0], cols[1], sizeof(int) * (size_t)nc[0]);
+      double big = fabs(v[1]);
+      for (int a = 0; a < nc[1]; ++a)
+        big = fmax(big, fabs(g[1][a]));
+      double d = fabs(v[0] - v[1]);
+      for (int a = 0; a < nc[0] && a < nc[1]; ++a)
+        d = fmax(d, fabs(g[0][a] - g[1][a]));
+      gap = fmax(gap, d / fmax(big, 1e-300));
+    }
+    printf("  %s: path-layout defects (direct %d) against the knot layout's: %.2e of the row's "
+           "largest entry\n",
+           name, ea__pp_test_direct(pl), gap);
+    snprintf(w, sizeof w,
+             "%s: the defects' values and gradients kept in the path layout equal the knot "
+             "layout's through the chain rule (1e-12 of the row's largest entry)",
+             name);
+    ea_test_true(ea__pp_test_direct(pl) && same_cols && gap <= 1e-12, w);
+  }
   for (int q = 0; q < nnz; ++q) {
     H[(size_t)hr[q] * n + hc[q]] += vals[q];
     if (hr[q] != hc[q]) H[(size_t)hc[q] * n + hr[q]] += vals[q];

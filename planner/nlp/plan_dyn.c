@@ -187,18 +187,28 @@ typedef struct {
   ea_rom_point_t v, dL, da, dLL, dLa, daa;
 } ea__dyn_kcache_t;
 
+/* A mode's two defects over an interval in the path layout (ea__plan_dyn_defect_hess_pp):
+ * keyed by the 11 path values (EA__PP_DKEY), the values and gradients over them. */
+typedef struct {
+  int valid;
+  double key[EA__PP_DKEY];
+  double v[2], g[2][EA__PP_DKEY];
+} ea__dyn_pcache_t;
+
 struct ea__dyn_cache {
   ea__dyn_icache_t *ic;     /* (N - 1) M: per interval and model */
   ea__dyn_mcache_t *mc;     /* (N - 1) K: per interval and modal coordinate */
+  ea__dyn_pcache_t *pc;     /* (N - 1) K: the same in the path layout */
   ea__dyn_kcache_t *kc;     /* N M: per knot and model */
-  struct ea__hz_fields *hz; /* 2 x 3: the defects' Hessian's fields at an interval's points
-                             (per slot of ea__plan_dyn_defect_hess) */
+  struct ea__hz_fields *hz; /* 2: the defects' Hessians' scratch (per slot of
+                             ea__plan_dyn_defect_hess) */
 };
 
 void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
   if (!c) return;
   free(c->ic);
   free(c->mc);
+  free(c->pc);
   free(c->kc);
   free(c->hz);
   free(c);
@@ -436,303 +446,53 @@ static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, doub
  *   vel / s = eta'_1 - eta'_0 - h/6 (acc_0 + acc_1) - 2h/3 accm,
  * so the Hessian is: z-z sum_j e_j C_j'' + C_4'' (the second-order mode of the defect with e
  * as numbers, ea__hz_defect), z-e_j C_j' (first order), e-e 0. */
+/* An interval's end in the second-order mode: its (L_c, alpha) are the variables iL and iA (the
+ * knot layout) or, iA < 0, functions of the one variable iL (the path layout's sigma) with
+ * first and second derivatives d, d2 there. */
+typedef struct {
+  int iL, iA;
+  double d[2], d2[2];
+} ea__hz_end_t;
+
+#define EA__HZCAT2(a, b) a##b
+#define EA__HZCAT(a, b) EA__HZCAT2(a, b)
+#define EA__HZN(name) EA__HZCAT(name, EA__HZ)
 #define EA__HZ 9
-#define EA__HP (EA__HZ * (EA__HZ + 1) / 2)
-typedef struct {
-  double v, g[EA__HZ], H[EA__HP];
-} ea__hz_t;
+#include "plan_dyn_hz.h"
+#undef EA__HZ
+#define EA__HZ 7
+#include "plan_dyn_hz.h"
+#undef EA__HZ
 
-static void ea__hz_c(ea__hz_t *r, double v) {
-  memset(r, 0, sizeof *r);
-  r->v = v;
-}
-static void ea__hz_var(ea__hz_t *r, double v, int i) {
-  ea__hz_c(r, v);
-  r->g[i] = 1.0;
-}
-/* r = a x + b y (r may be x or y) */
-static void ea__hz_lin(ea__hz_t *r, double a, const ea__hz_t *x, double b, const ea__hz_t *y) {
-  r->v = a * x->v + b * y->v;
-  for (int i = 0; i < EA__HZ; ++i)
-    r->g[i] = a * x->g[i] + b * y->g[i];
-  for (int p = 0; p < EA__HP; ++p)
-    r->H[p] = a * x->H[p] + b * y->H[p];
-}
-static void ea__hz_addc(ea__hz_t *r, double c) {
-  r->v += c;
-}
-/* r = x y (r not x or y) */
-static void ea__hz_mul(ea__hz_t *r, const ea__hz_t *x, const ea__hz_t *y) {
-  r->v = x->v * y->v;
-  for (int i = 0; i < EA__HZ; ++i)
-    r->g[i] = x->g[i] * y->v + x->v * y->g[i];
-  int p = 0;
-  for (int a = 0; a < EA__HZ; ++a)
-    for (int b = 0; b <= a; ++b, ++p)
-      r->H[p] = x->H[p] * y->v + x->v * y->H[p] + x->g[a] * y->g[b] + x->g[b] * y->g[a];
-}
-/* r = f(x) from f, f', f'' at x->v (r may be x) */
-static void ea__hz_fn(ea__hz_t *r, const ea__hz_t *x, double f, double f1, double f2) {
-  int p = 0;
-  for (int a = 0; a < EA__HZ; ++a)
-    for (int b = 0; b <= a; ++b, ++p)
-      r->H[p] = f1 * x->H[p] + f2 * x->g[a] * x->g[b];
-  for (int i = 0; i < EA__HZ; ++i)
-    r->g[i] = f1 * x->g[i];
-  r->v = f;
-}
-/* A tabulated field at (L, a), both functions of z: value f, derivatives fL, fa, fLL, fLa, faa */
-static void ea__hz_field(ea__hz_t *r, const ea__hz_t *L, const ea__hz_t *A, const double f[6]) {
-  r->v = f[0];
-  for (int i = 0; i < EA__HZ; ++i)
-    r->g[i] = f[1] * L->g[i] + f[2] * A->g[i];
-  int p = 0;
-  for (int a = 0; a < EA__HZ; ++a)
-    for (int b = 0; b <= a; ++b, ++p)
-      r->H[p] = f[1] * L->H[p] + f[2] * A->H[p] + f[3] * L->g[a] * L->g[b] +
-                f[4] * (L->g[a] * A->g[b] + A->g[a] * L->g[b]) + f[5] * A->g[a] * A->g[b];
-}
+struct ea__hz_fields { /* a slot's scratch: the fields at an interval's three points */
+  ea__hz_fields_t9 f9[3];
+  ea__hz_fields_t7 f7[3];
+};
 
-/* The same where L and A are the variables iL and iA (iA > iL): three Hessian entries. */
-static void ea__hz_field_var(ea__hz_t *r, int iL, int iA, const double f[6]) {
-  memset(r, 0, sizeof *r);
-  r->v = f[0];
-  r->g[iL] = f[1];
-  r->g[iA] = f[2];
-  r->H[iL * (iL + 1) / 2 + iL] = f[3];
-  r->H[iA * (iA + 1) / 2 + iL] = f[4];
-  r->H[iA * (iA + 1) / 2 + iA] = f[5];
-}
-
-/* The model's fields at one point: omega^2, 2 zeta omega per mode (c), B, C. */
-typedef struct ea__hz_fields {
-  ea__hz_t W[EA_ROM_MAX_MODES], c[EA_ROM_MAX_MODES], B[EA_ROM_MAX_MODES][2], C[EA_ROM_MAX_MODES][3];
-} ea__hz_fields_t;
-
-/* The fields of model j at (L, A) from the table's values and derivatives there. */
-static void ea__hz_field_any(ea__hz_t *r, const ea__hz_t *L, const ea__hz_t *A, int iL,
-                             const double f[6]) {
-  if (iL >= 0)
-    ea__hz_field_var(r, iL, iL + 4, f);
-  else
-    ea__hz_field(r, L, A, f);
-}
-
-static void ea__hz_point_from(const ea_planner_t *pl, int j, const ea__hz_t *L, const ea__hz_t *A,
-                              const ea_rom_point_t *vp, const ea_rom_point_t *dLp,
-                              const ea_rom_point_t *dap, const ea_rom_point_t *dLLp,
-                              const ea_rom_point_t *dLap, const ea_rom_point_t *daap, int iL,
-                              ea__hz_fields_t *o) {
-  /* iL >= 0: L and A are the variables iL and iL + 4 (an interval's end) */
-  for (int k = 0; k < pl->Kper; ++k) {
-    const double w[6] = {vp->omega2[k],   dLp->omega2[k],  dap->omega2[k],
-                         dLLp->omega2[k], dLap->omega2[k], daap->omega2[k]};
-    ea__hz_field_any(&o->W[k], L, A, iL, w);
-    const double zeta = pl->zeta[j * pl->Kper + k];
-    if (zeta > 0) { /* 2 zeta sqrt(W) */
-      const double sw = sqrt(o->W[k].v);
-      ea__hz_fn(&o->c[k], &o->W[k], 2 * zeta * sw, zeta / sw, -0.5 * zeta / (sw * o->W[k].v));
-    } else {
-      ea__hz_c(&o->c[k], 0.0);
-    }
-    for (int c = 0; c < 2; ++c) {
-      const double b[6] = {vp->B[k][c],   dLp->B[k][c],  dap->B[k][c],
-                           dLLp->B[k][c], dLap->B[k][c], daap->B[k][c]};
-      ea__hz_field_any(&o->B[k][c], L, A, iL, b);
-    }
-    for (int c = 0; c < 3; ++c) {
-      const double f[6] = {vp->C[k][c],   dLp->C[k][c],  dap->C[k][c],
-                           dLLp->C[k][c], dLap->C[k][c], daap->C[k][c]};
-      ea__hz_field_any(&o->C[k][c], L, A, iL, f);
-    }
-  }
-}
-
-/* The fields of model j at (L, A): the table there (at a knot: the knot's cached one; iL as
- * ea__hz_point_from's). */
-static void ea__hz_point(const ea_planner_t *pl, int j, const ea__hz_t *L, const ea__hz_t *A,
-                         const ea__dyn_kcache_t *knot, int iL, ea__hz_fields_t *o) {
-  if (knot) {
-    ea__hz_point_from(pl, j, L, A, &knot->v, &knot->dL, &knot->da, &knot->dLL, &knot->dLa,
-                      &knot->daa, iL, o);
-    return;
-  }
-  ea_rom_point_t v, dL, da, dLL, dLa, daa;
-  ea_rom_table_eval2(pl->roms[j], L->v, A->v, &v, &dL, &da, &dLL, &dLa, &daa);
-  ea__hz_point_from(pl, j, L, A, &v, &dL, &da, &dLL, &dLa, &daa, -1, o);
-}
-
-/* F = -(B . a + C0 v0^2 + 2 C1 v0 v1 + C2 v1^2) of mode k; vv = (v0^2, v0 v1, v1^2) */
-static void ea__hz_force(ea__hz_t *F, const ea__hz_fields_t *m, int k, const ea__hz_t a[2],
-                         const ea__hz_t vv[3]) {
-  ea__hz_t t;
-  ea__hz_mul(F, &m->B[k][0], &a[0]);
-  ea__hz_mul(&t, &m->B[k][1], &a[1]);
-  ea__hz_lin(F, -1.0, F, -1.0, &t);
-  for (int c = 0; c < 3; ++c) {
-    ea__hz_mul(&t, &m->C[k][c], &vv[c]);
-    ea__hz_lin(F, 1.0, F, c == 1 ? -2.0 : -1.0, &t);
-  }
-}
-
-/* The interval's kinematics along the trajectory's Hermite: per point (0, 1, midpoint) its
- * (L_c, alpha), accelerations and velocity products; h. */
-typedef struct {
-  ea__hz_t h, q[3][2], a[3][2], vv[3][3];
-} ea__hz_kin_t;
-
-static void ea__hz_kin(const ea_planner_t *pl, const double *x, int k, ea__hz_kin_t *o) {
+/* The knot layout's kinematics of interval k: z = (L_c q0 q1 v0 v1, alpha q0 q1 v0 v1, t_f). */
+static void ea__hz_kin(const ea_planner_t *pl, const double *x, int k, ea__hz_kin_t9 *o) {
   const double ds = pl->s[k + 1] - pl->s[k];
   const double tf = pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
-  ea__hz_t tfz, ih, ih2, t, u, v[3][2];
+  ea__hz_t9 tfz, h, q[2][2], v[3][2];
   if (pl->has_tf)
-    ea__hz_var(&tfz, tf, 8);
+    ea__hz_var9(&tfz, tf, 8);
   else
-    ea__hz_c(&tfz, tf);
-  ea__hz_lin(&o->h, ds, &tfz, 0.0, &tfz);
-  const double hv = o->h.v;
-  ea__hz_fn(&ih, &o->h, 1.0 / hv, -1.0 / (hv * hv), 2.0 / (hv * hv * hv));
-  ea__hz_mul(&ih2, &ih, &ih);
+    ea__hz_c9(&tfz, tf);
+  ea__hz_lin9(&h, ds, &tfz, 0.0, &tfz);
   for (int c = 0; c < 2; ++c) {
-    ea__hz_t q0, q1, dq;
-    ea__hz_var(&q0, x[EA__IQ(pl, k, c)], 4 * c);
-    ea__hz_var(&q1, x[EA__IQ(pl, k + 1, c)], 4 * c + 1);
-    ea__hz_var(&v[0][c], x[EA__IV(pl, k, c)], 4 * c + 2);
-    ea__hz_var(&v[1][c], x[EA__IV(pl, k + 1, c)], 4 * c + 3);
-    o->q[0][c] = q0;
-    o->q[1][c] = q1;
-    ea__hz_lin(&dq, 1.0, &q1, -1.0, &q0);
-    ea__hz_t t6;
-    ea__hz_mul(&t6, &dq, &ih2); /* dq / h^2 */
-    /* a0 = 6 dq / h^2 - (4 v0 + 2 v1) / h, a1 = -6 dq / h^2 + (2 v0 + 4 v1) / h */
-    ea__hz_lin(&t, 4.0, &v[0][c], 2.0, &v[1][c]);
-    ea__hz_mul(&u, &t, &ih);
-    ea__hz_lin(&o->a[0][c], 6.0, &t6, -1.0, &u);
-    ea__hz_lin(&t, 2.0, &v[0][c], 4.0, &v[1][c]);
-    ea__hz_mul(&u, &t, &ih);
-    ea__hz_lin(&o->a[1][c], -6.0, &t6, 1.0, &u);
-    /* qm = (q0 + q1)/2 + h (v0 - v1)/8, vm = 3/2 dq / h - (v0 + v1)/4, am = (a0 + a1)/2 */
-    ea__hz_lin(&t, 1.0, &v[0][c], -1.0, &v[1][c]);
-    ea__hz_mul(&u, &o->h, &t);
-    ea__hz_lin(&t, 0.5, &q0, 0.5, &q1);
-    ea__hz_lin(&o->q[2][c], 1.0, &t, 0.125, &u);
-    ea__hz_mul(&u, &dq, &ih);
-    ea__hz_lin(&t, 1.0, &v[0][c], 1.0, &v[1][c]);
-    ea__hz_lin(&v[2][c], 1.5, &u, -0.25, &t);
-    ea__hz_lin(&o->a[2][c], 0.5, &o->a[0][c], 0.5, &o->a[1][c]);
+    ea__hz_var9(&q[0][c], x[EA__IQ(pl, k, c)], 4 * c);
+    ea__hz_var9(&q[1][c], x[EA__IQ(pl, k + 1, c)], 4 * c + 1);
+    ea__hz_var9(&v[0][c], x[EA__IV(pl, k, c)], 4 * c + 2);
+    ea__hz_var9(&v[1][c], x[EA__IV(pl, k + 1, c)], 4 * c + 3);
   }
-  for (int P = 0; P < 3; ++P) {
-    ea__hz_mul(&o->vv[P][0], &v[P][0], &v[P][0]);
-    ea__hz_mul(&o->vv[P][1], &v[P][0], &v[P][1]);
-    ea__hz_mul(&o->vv[P][2], &v[P][1], &v[P][1]);
-  }
-}
-
-/* First order over the same z: value and gradient (the defects' coefficients of the modal
- * states, whose Hessian entries are the z-e ones: gradients only). */
-typedef struct {
-  double v, g[EA__HZ];
-} ea__dz_t;
-
-static void ea__dz_of(ea__dz_t *r, const ea__hz_t *x) {
-  r->v = x->v;
-  memcpy(r->g, x->g, sizeof r->g);
-}
-/* r = a x + b y + c (r may be x or y) */
-static void ea__dz_lin(ea__dz_t *r, double a, const ea__dz_t *x, double b, const ea__dz_t *y,
-                       double c) {
-  r->v = a * x->v + b * y->v + c;
-  for (int i = 0; i < EA__HZ; ++i)
-    r->g[i] = a * x->g[i] + b * y->g[i];
-}
-/* r = x y (r not x or y) */
-static void ea__dz_mul(ea__dz_t *r, const ea__dz_t *x, const ea__dz_t *y) {
-  r->v = x->v * y->v;
-  for (int i = 0; i < EA__HZ; ++i)
-    r->g[i] = x->g[i] * y->v + x->v * y->g[i];
-}
-
-/* Mode k's pos (0) and vel (1) defects (unscaled) at the modal states e = (eta_0, eta'_0,
- * eta_1, eta'_1): phi, to second order in z with e fixed (the z-z Hessian entries), and their
- * coefficients of e, C[d][j] = d defect / d e_j, to first order (the z-e entries; e-e: none).
- * The defects evaluated at e as numbers take half the second-order products of their five
- * coefficients each (the at-rest paper line's defect Hessians ~35 % cheaper). */
-static void ea__hz_defect(const ea__hz_kin_t *kin, const ea__hz_fields_t *m[3], int k,
-                          const double e[4], ea__hz_t phi[2], ea__dz_t C[2][4]) {
-  ea__hz_t F[3], t, u, acc0, acc1, d, em, edm, accm;
-  for (int P = 0; P < 3; ++P)
-    ea__hz_force(&F[P], m[P], k, kin->a[P], kin->vv[P]);
-  const ea__hz_t *h = &kin->h, *W0 = &m[0]->W[k], *W1 = &m[1]->W[k], *c0 = &m[0]->c[k],
-                 *c1 = &m[1]->c[k], *Wm = &m[2]->W[k], *cm = &m[2]->c[k];
-  /* acc_P = F_P - W_P eta_P - c_P eta'_P at the ends, d = acc_0 - acc_1 */
-  ea__hz_lin(&acc0, 1.0, &F[0], -e[0], W0);
-  ea__hz_lin(&acc0, 1.0, &acc0, -e[1], c0);
-  ea__hz_lin(&acc1, 1.0, &F[1], -e[2], W1);
-  ea__hz_lin(&acc1, 1.0, &acc1, -e[3], c1);
-  ea__hz_lin(&d, 1.0, &acc0, -1.0, &acc1);
-  /* pos = eta_1 - eta_0 - h/2 (eta'_0 + eta'_1) - h^2/12 d */
-  ea__hz_mul(&t, h, h);
-  ea__hz_mul(&u, &t, &d);
-  ea__hz_lin(&phi[0], -0.5 * (e[1] + e[3]), h, -1.0 / 12.0, &u);
-  ea__hz_addc(&phi[0], e[2] - e[0]);
-  /* em = (eta_0 + eta_1)/2 + h/8 (eta'_0 - eta'_1), edm = (eta'_0 + eta'_1)/2 + h/8 d,
-   * accm = F_m - W_m em - c_m edm */
-  ea__hz_lin(&em, 0.125 * (e[1] - e[3]), h, 0.0, h);
-  ea__hz_addc(&em, 0.5 * (e[0] + e[2]));
-  ea__hz_mul(&t, h, &d);
-  ea__hz_lin(&edm, 0.125, &t, 0.0, &t);
-  ea__hz_addc(&edm, 0.5 * (e[1] + e[3]));
-  ea__hz_mul(&t, Wm, &em);
-  ea__hz_lin(&accm, 1.0, &F[2], -1.0, &t);
-  ea__hz_mul(&t, cm, &edm);
-  ea__hz_lin(&accm, 1.0, &accm, -1.0, &t);
-  /* vel = eta'_1 - eta'_0 - h/6 (acc_0 + acc_1) - 2h/3 accm */
-  ea__hz_lin(&d, 1.0, &acc0, 1.0, &acc1);
-  ea__hz_mul(&t, h, &d);
-  ea__hz_mul(&u, h, &accm);
-  ea__hz_lin(&phi[1], -1.0 / 6.0, &t, -2.0 / 3.0, &u);
-  ea__hz_addc(&phi[1], e[3] - e[1]);
-  /* the coefficients: pos -1 + h2 W0, -h/2 + h2 c0, 1 - h2 W1, -h/2 - h2 c1 (h2 = h^2/12);
-   * vel h/6 X_j - 2h/3 M_j (-1, +1 at j = 1, 3) with X = (W0, c0, W1, c1),
-   * M_j = -W_m E_j - c_m D_j, E = (1/2, h/8, 1/2, -h/8),
-   * D = (-h/8 W0, 1/2 - h/8 c0, h/8 W1, 1/2 + h/8 c1) */
-  ea__dz_t hd, h2, X[4], wm, c, hx, a, b;
-  ea__dz_of(&hd, h);
-  ea__dz_mul(&a, &hd, &hd);
-  ea__dz_lin(&h2, 1.0 / 12.0, &a, 0.0, &a, 0.0);
-  ea__dz_of(&X[0], W0);
-  ea__dz_of(&X[1], c0);
-  ea__dz_of(&X[2], W1);
-  ea__dz_of(&X[3], c1);
-  ea__dz_of(&wm, Wm);
-  ea__dz_of(&c, cm);
-  for (int j = 0; j < 4; ++j) {
-    const double sg = j < 2 ? 1.0 : -1.0;
-    ea__dz_mul(&a, &h2, &X[j]);
-    if (j % 2 == 0)
-      ea__dz_lin(&C[0][j], sg, &a, 0.0, &a, -sg); /* -1 + h2 W0, 1 - h2 W1 */
-    else
-      ea__dz_lin(&C[0][j], -0.5, &hd, sg, &a, 0.0);
-    ea__dz_mul(&hx, &hd, &X[j]);
-    /* D_j = -/+ h/8 X_j (+ 1/2 for j odd); M_j = -W_m E_j - c_m D_j */
-    ea__dz_lin(&a, -0.125 * sg, &hx, 0.0, &hx, j % 2 ? 0.5 : 0.0);
-    ea__dz_mul(&b, &c, &a);
-    if (j % 2 == 0) {
-      ea__dz_lin(&a, -0.5, &wm, -1.0, &b, 0.0);
-    } else {
-      ea__dz_mul(&a, &wm, &hd);
-      ea__dz_lin(&a, -0.125 * sg, &a, -1.0, &b, 0.0);
-    }
-    ea__dz_mul(&b, &hd, &a);
-    ea__dz_lin(&C[1][j], 1.0 / 6.0, &hx, -2.0 / 3.0, &b, j == 1 ? -1.0 : j == 3 ? 1.0 : 0.0);
-  }
+  ea__hz_kin_from9(q, v, &h, o);
 }
 
 /* The values and gradients of mode i's defects, into the rows' cache (ea__dyn_defect's, keyed
  * by its 13 local values): the row evaluations at the same x (the interior point evaluates the
  * Hessian first) then need no dual numbers. */
 static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i,
-                        const int col[EA__DN], const ea__hz_t phi[2], ea__dz_t C[2][4]) {
+                        const int col[EA__DN], const ea__hz_t9 phi[2], ea__dz_t9 C[2][4]) {
   ea__dyn_mcache_t *mc = &pl->dync->mc[k * pl->K + i];
   ea__defect_values(pl, x, col, mc->key);
   const double s = pl->dyn_scale;
@@ -741,7 +501,7 @@ static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i,
     for (int q = 0; q < 4; ++q)
       r->d[q] = s * C[d][q].v;
     r->v = s * phi[d].v;
-    for (int a = 0; a < EA__HZ; ++a)
+    for (int a = 0; a < 9; ++a)
       r->d[4 + a] = s * phi[d].g[a];
     if (!pl->has_tf) r->d[12] = 0.0;
   }
@@ -752,22 +512,24 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
                               const double *w, int g, int slot, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   const int k = rows[0].knot;
-  ea__hz_kin_t kin;
+  ea__hz_kin_t9 kin;
   ea__hz_kin(pl, x, k, &kin);
-  ea__hz_fields_t *F = pl->dync->hz + 3 * slot;
+  ea__hz_fields_t9 *F = pl->dync->hz[slot].f9;
   int have_model = -1, have_coord = -1;
-  const ea__hz_fields_t *m[3] = {&F[0], &F[1], &F[2]};
-  ea__hz_t phi[2];
-  ea__dz_t C[2][4];
+  const ea__hz_fields_t9 *m[3] = {&F[0], &F[1], &F[2]};
+  ea__hz_t9 phi[2];
+  ea__dz_t9 C[2][4];
   for (int r = 0; r < g; ++r) {
     nc[r] = 0;
     if (w[r] == 0.0) continue;
     const int i = rows[r].coord, j = i / pl->Kper, mi = i % pl->Kper;
     const int vel = rows[r].kind == EA__ROW_DYN_DEF_VEL;
     if (j != have_model) {
-      for (int P = 0; P < 3; ++P)
-        ea__hz_point(pl, j, &kin.q[P][0], &kin.q[P][1],
-                     P < 2 ? ea__dyn_at_knot(pl, x, k + P, j) : NULL, P < 2 ? P : -1, &F[P]);
+      for (int P = 0; P < 3; ++P) {
+        const ea__hz_end_t e = {P, P + 4, {0, 0}, {0, 0}};
+        ea__hz_point9(pl, j, &kin.q[P][0], &kin.q[P][1],
+                      P < 2 ? ea__dyn_at_knot(pl, x, k + P, j) : NULL, P < 2 ? &e : NULL, &F[P]);
+      }
       have_model = j;
     }
     int col[EA__DN]; /* ea__dyn_defect's 13 local variables, t_f (the last) dropped if fixed */
@@ -779,24 +541,133 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
       double e[4];
       for (int q = 0; q < 4; ++q)
         e[q] = x[col[q]];
-      ea__hz_defect(&kin, m, mi, e, phi, C);
+      ea__hz_defect9(&kin, m, mi, e, phi, C);
       have_coord = i;
       ea__hz_fill(pl, x, k, i, col, phi, C);
     }
     const double s = pl->dyn_scale;
-    const ea__hz_t *P = &phi[vel];
+    const ea__hz_t9 *P = &phi[vel];
     const int nz = nloc - 4;
     for (int q = 0; q < 4; ++q)
       for (int b = 0; b < 4; ++b)
         Hl[r][q][b] = 0.0;
     int p = 0;
-    for (int a = 0; a < EA__HZ; ++a)
+    for (int a = 0; a < 9; ++a)
       for (int b = 0; b <= a; ++b, ++p)
         if (a < nz) Hl[r][4 + a][4 + b] = Hl[r][4 + b][4 + a] = s * P->H[p];
     for (int q = 0; q < 4; ++q)
       for (int a = 0; a < nz; ++a)
         Hl[r][q][4 + a] = Hl[r][4 + a][q] = s * C[vel][q].g[a];
   }
+}
+
+/* The path layout's kinematics of interval k (plan_path.c): z = (sigma_k, sigma_k+1, the rates
+ * of L_c and alpha at k and k + 1, t_f); (L_c, alpha) at the ends are functions of sigma with
+ * slopes and curvatures dq[P], d2q[P]. */
+static void ea__hz_kin_pp(const ea_planner_t *pl, const double *x, int k, const double *dq[2],
+                          const double *d2q[2], ea__hz_kin_t7 *o) {
+  const double ds = pl->s[k + 1] - pl->s[k];
+  const double tf = pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
+  ea__hz_t7 tfz, h, q[2][2], v[3][2];
+  if (pl->has_tf)
+    ea__hz_var7(&tfz, tf, 6);
+  else
+    ea__hz_c7(&tfz, tf);
+  ea__hz_lin7(&h, ds, &tfz, 0.0, &tfz);
+  for (int P = 0; P < 2; ++P)
+    for (int c = 0; c < 2; ++c) {
+      ea__hz_c7(&q[P][c], x[EA__IQ(pl, k + P, c)]);
+      q[P][c].g[P] = dq[P][c];
+      q[P][c].H[P * (P + 1) / 2 + P] = d2q[P][c];
+      ea__hz_var7(&v[P][c], x[EA__IV(pl, k + P, c)], 2 + 2 * c + P);
+    }
+  ea__hz_kin_from7(q, v, &h, o);
+}
+
+int ea__plan_dyn_defect_hess_pp(const ea_planner_t *pl, const double *x, const double sig[2],
+                                const double *dq[2], const double *d2q[2], const ea__row_t *rows,
+                                const double *w, int g, int slot,
+                                double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
+  const int k = rows[0].knot, n = pl->has_tf ? EA__PP_DKEY : EA__PP_DKEY - 1, nz = n - 4;
+  ea__hz_kin_t7 kin;
+  ea__hz_kin_pp(pl, x, k, dq, d2q, &kin);
+  ea__hz_fields_t7 *F = pl->dync->hz[slot].f7;
+  int have_model = -1, have_coord = -1;
+  const ea__hz_fields_t7 *m[3] = {&F[0], &F[1], &F[2]};
+  ea__hz_t7 phi[2];
+  ea__dz_t7 C[2][4];
+  const double s = pl->dyn_scale;
+  for (int r = 0; r < g; ++r) {
+    if (w[r] == 0.0) continue;
+    const int i = rows[r].coord, j = i / pl->Kper, mi = i % pl->Kper;
+    const int vel = rows[r].kind == EA__ROW_DYN_DEF_VEL;
+    if (j != have_model) {
+      for (int P = 0; P < 3; ++P) {
+        const ea__hz_end_t e = {P, -1, {P < 2 ? dq[P][0] : 0, P < 2 ? dq[P][1] : 0},
+                                {P < 2 ? d2q[P][0] : 0, P < 2 ? d2q[P][1] : 0}};
+        ea__hz_point7(pl, j, &kin.q[P][0], &kin.q[P][1],
+                      P < 2 ? ea__dyn_at_knot(pl, x, k + P, j) : NULL, P < 2 ? &e : NULL, &F[P]);
+      }
+      have_model = j;
+    }
+    if (i != have_coord) { /* pos and vel of one mode: one evaluation, cached for the rows */
+      int col[EA__DN];
+      ea__defect_cols(pl, k, i, col);
+      double e[4];
+      for (int q = 0; q < 4; ++q)
+        e[q] = x[col[q]];
+      ea__hz_defect7(&kin, m, mi, e, phi, C);
+      have_coord = i;
+      ea__dyn_pcache_t *pc = &pl->dync->pc[k * pl->K + i];
+      for (int q = 0; q < 4; ++q)
+        pc->key[q] = e[q];
+      const double zk[7] = {sig[0],
+                            sig[1],
+                            x[EA__IV(pl, k, 0)],
+                            x[EA__IV(pl, k + 1, 0)],
+                            x[EA__IV(pl, k, 1)],
+                            x[EA__IV(pl, k + 1, 1)],
+                            pl->has_tf ? x[EA__ITF(pl)] : 0.0};
+      memcpy(pc->key + 4, zk, sizeof zk);
+      for (int d = 0; d < 2; ++d) {
+        pc->v[d] = s * phi[d].v;
+        for (int q = 0; q < 4; ++q)
+          pc->g[d][q] = s * C[d][q].v;
+        for (int a = 0; a < 7; ++a)
+          pc->g[d][4 + a] = s * phi[d].g[a];
+      }
+      pc->valid = 1;
+    }
+    const ea__hz_t7 *P = &phi[vel];
+    for (int q = 0; q < 4; ++q)
+      for (int b = 0; b <= q; ++b)
+        Hl[r][q][b] = 0.0;
+    int p = 0;
+    for (int a = 0; a < 7; ++a)
+      for (int b = 0; b <= a; ++b, ++p)
+        if (a < nz) Hl[r][4 + a][4 + b] = s * P->H[p];
+    for (int q = 0; q < 4; ++q)
+      for (int a = 0; a < nz; ++a)
+        Hl[r][4 + a][q] = s * C[vel][q].g[a];
+  }
+  return n;
+}
+
+int ea__plan_dyn_defect_pp_cached(const ea_planner_t *pl, int k, int i, int vel,
+                                  const double key[EA__PP_DKEY], double *value, double *vals) {
+  const ea__dyn_pcache_t *pc = &pl->dync->pc[k * pl->K + i];
+  if (!pc->valid || memcmp(pc->key, key, sizeof pc->key)) return 0;
+  const int n = pl->has_tf ? EA__PP_DKEY : EA__PP_DKEY - 1;
+  if (value) *value = pc->v[vel];
+  if (vals) memcpy(vals, pc->g[vel], sizeof(double) * (size_t)n);
+  return n;
+}
+
+void ea__plan_dyn_pp_forget(const ea_planner_t *pl) {
+  if (!pl->dync) return;
+  const size_t ni = (size_t)(pl->N > 1 ? pl->N - 1 : 1) * (size_t)pl->K;
+  for (size_t q = 0; q < ni; ++q)
+    pl->dync->pc[q].valid = 0;
 }
 
 int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
@@ -915,10 +786,12 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
   if (pl->dync) {
     pl->dync->ic = calloc(ni * (size_t)pl->M, sizeof *pl->dync->ic);
     pl->dync->mc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->mc);
+    pl->dync->pc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->pc);
     pl->dync->kc = calloc((size_t)pl->N * (size_t)pl->M, sizeof *pl->dync->kc);
-    pl->dync->hz = malloc(6 * sizeof *pl->dync->hz);
+    pl->dync->hz = malloc(2 * sizeof *pl->dync->hz);
   }
-  if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->kc || !pl->dync->hz)
+  if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->pc || !pl->dync->kc ||
+      !pl->dync->hz)
     return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");
   /* each model's mode mi damped by the arm file's measured ratio of mode mi + 1 (modes beyond
    * the measured ones, and an arm without damping: undamped, the worst case) */

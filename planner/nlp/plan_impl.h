@@ -249,6 +249,27 @@ int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
                               const double *w, int g, int slot, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
+/** The path layout's local variables of a mode's defect rows over an interval (plan_path.c):
+ *  eta_k, eta'_k, eta_k+1, eta'_k+1, sigma_k, sigma_k+1, the rates of L_c and alpha at k and
+ *  k + 1, t_f (the order of the rows' entries in that layout; t_f dropped if fixed). */
+#define EA__PP_DKEY 11
+/** The closed-form Hessians of interval k's modal defect rows (rows[0..g-1], weights w: those
+ *  with w = 0 skipped) in the path layout: second-order forward mode over the interval's path
+ *  variables (sigma_k, sigma_k+1: sig; (L_c, alpha) at the ends functions of them with slopes
+ *  dq[P] and curvatures d2q[P]), no chain rule. Hl[r]'s lower triangle over the row's
+ *  EA__PP_DKEY entries (returned: their count), unweighted. x: the knot-layout expansion.
+ *  Each mode's values and path gradients are kept for ea__plan_dyn_defect_pp_cached. */
+int ea__plan_dyn_defect_hess_pp(const ea_planner_t *pl, const double *x, const double sig[2],
+                                const double *dq[2], const double *d2q[2], const ea__row_t *rows,
+                                const double *w, int g, int slot,
+                                double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
+/** Mode i's pos (vel 0) or vel defect over interval k at the path values key (the order of
+ *  EA__PP_DKEY, t_f 0 if fixed) when ea__plan_dyn_defect_hess_pp left them: its value and
+ *  gradient (either may be NULL); returns the entry count, 0 if not kept. */
+int ea__plan_dyn_defect_pp_cached(const ea_planner_t *pl, int k, int i, int vel,
+                                  const double key[EA__PP_DKEY], double *value, double *vals);
+/** Forget what ea__plan_dyn_defect_hess_pp kept (the path's statics or geometry changed). */
+void ea__plan_dyn_pp_forget(const ea_planner_t *pl);
 /** Make the tables at knot k's (L_c, alpha) in x current (the knot's cache, which the rows of
  *  the intervals on both sides of it read: at the knot where plan_path.c splits its rows in two
  *  parts, before their evaluation in parallel). */
@@ -377,6 +398,9 @@ int ea__pp_test_row(const ea_planner_t *pl, const double *xs, int r, double *val
  *  into values (the pattern's order), as Ipopt and the own interior point get it. */
 void ea__pp_test_hess(ea_planner_t *pl, const double *xs, double sigma, const double *lambda,
                       double *values);
+/** Are the modal defects' Hessians and gradients kept in the path layout directly
+ *  (ea__plan_dyn_defect_hess_pp)? 1 yes, 0 through the knot layout. */
+int ea__pp_test_direct(const ea_planner_t *pl);
 /** The (L_c, alpha) box the task's path covers, with a margin (plan_vib.c). */
 void ea__plan_box(const ea_planner_t *pl, double box[4]);
 /** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */

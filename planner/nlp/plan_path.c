@@ -97,6 +97,8 @@ struct ea__pp {
   int split;
   int *jstart;  /* each row's first Jacobian entry */
   double *xkx1; /* part 1's knot-layout scratch */
+  int dyn_direct; /* the modal defects' Hessians and cached gradients in this layout directly
+                     (ea__plan_dyn_defect_hess_pp; 0: through the knot layout) */
   double *hv1;  /* part 1's Hessian values */
   IpoptProblem ip;
   int iter;
@@ -569,6 +571,7 @@ static void ea__pp_seg_key(const ea_planner_t *pl, int j, double key[8]) {
  * shoulder range) at the samples and the spline's extrema between them. */
 static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
+  if (pl->K > 0) ea__plan_dyn_pp_forget(pl); /* the defects kept at sigma values */
   const ea_task_t *t = &pl->task;
   int n = 0;
   double err_est = 0.0;
@@ -712,9 +715,44 @@ static void ea__pp_expand(const ea_planner_t *pl, const double *xs) {
 
 /* One row at the path vector: the knot row at the expansion, its entries mapped (entries on
  * the same path variable summed, in the order of first appearance). */
+/* A modal defect row's path entries (the order of EA__PP_DKEY) and their values in xs (t_f: 0
+ * if fixed); returns their count. */
+static int ea__pp_defect_entries(const ea_planner_t *pl, const double *xs, const ea__row_t *r,
+                                 int cols[EA__PP_DKEY], double key[EA__PP_DKEY]) {
+  const ea__pp_t *pp = pl->pp;
+  const int k = r->knot, i = r->coord;
+  const int c[EA__PP_DKEY] = {pp->kidx[EA__IE(pl, k, i)],
+                              pp->kidx[EA__IED(pl, k, i)],
+                              pp->kidx[EA__IE(pl, k + 1, i)],
+                              pp->kidx[EA__IED(pl, k + 1, i)],
+                              EA__PS(pp, k),
+                              EA__PS(pp, k + 1),
+                              EA__PR(pp, k, 0),
+                              EA__PR(pp, k + 1, 0),
+                              EA__PR(pp, k, 1),
+                              EA__PR(pp, k + 1, 1),
+                              pl->has_tf ? pp->itf : -1};
+  for (int q = 0; q < EA__PP_DKEY; ++q) {
+    cols[q] = c[q];
+    key[q] = c[q] >= 0 ? xs[c[q]] : 0.0;
+  }
+  return pl->has_tf ? EA__PP_DKEY : EA__PP_DKEY - 1;
+}
+
 static int ea__pp_row(const ea_planner_t *pl, const double *xs, const ea__row_t *r, double *value,
                       int *cols, double *vals) {
   ea__pp_t *pp = pl->pp;
+  if (pp->dyn_direct && (r->kind == EA__ROW_DYN_DEF_POS || r->kind == EA__ROW_DYN_DEF_VEL)) {
+    /* kept by the Hessian at these values (ea__plan_dyn_defect_hess_pp) */
+    int dc[EA__PP_DKEY];
+    double key[EA__PP_DKEY];
+    const int n = ea__pp_defect_entries(pl, xs, r, dc, key);
+    if (ea__plan_dyn_defect_pp_cached(pl, r->knot, r->coord, r->kind == EA__ROW_DYN_DEF_VEL, key,
+                                      value, vals)) {
+      if (cols) memcpy(cols, dc, sizeof(int) * (size_t)n);
+      return n;
+    }
+  }
   /* only the knots the row can touch (k - 1 .. k + 1) and t_f */
   for (int k = r->knot > 0 ? r->knot - 1 : 0; k <= r->knot + 1 && k < pl->N; ++k)
     if (ea__pp_knot_dirty(pp, pl, xs, k)) ea__pp_expand_knot(pl, xs, k);
@@ -822,8 +860,24 @@ static double ea__pp_factor(const ea__pp_t *pp, int i, double *curv) {
 static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, const double *w, int g,
                              const int *const *hpos, double *values, double *xx, int slot) {
   const ea__pp_t *pp = pl->pp;
-  int kc[EA__HGROUP_MAX][EA__ROW_MAX], nkc[EA__HGROUP_MAX];
   double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
+  if (pp->dyn_direct && (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
+    /* an interval's modal defects: their Hessians in the path variables directly */
+    const int k = rows[0].knot;
+    const double sig[2] = {pp->xs_last[EA__PS(pp, k)], pp->xs_last[EA__PS(pp, k + 1)]};
+    const double *dq[2] = {pp->dq + 6 * k, pp->dq + 6 * (k + 1)};
+    const double *d2q[2] = {pp->dq2 + 6 * k, pp->dq2 + 6 * (k + 1)};
+    const int n = ea__plan_dyn_defect_hess_pp(pl, pp->xk, sig, dq, d2q, rows, w, g, slot, Hk);
+    for (int r = 0; r < g; ++r) {
+      if (w[r] == 0.0) continue;
+      const int *p = hpos[r];
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b <= a; ++b)
+          values[*p++] += w[r] * Hk[r][a][b];
+    }
+    return;
+  }
+  int kc[EA__HGROUP_MAX][EA__ROW_MAX], nkc[EA__HGROUP_MAX];
   double gk[EA__HGROUP_MAX][EA__ROW_MAX]; /* the knot rows' gradients, in kc[r]'s order */
   ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, xx, slot, rows, w, g, kc, nkc, Hk, gk);
   for (int r = 0; r < g;) {
@@ -998,6 +1052,10 @@ int ea__pp_test_dims(const ea_planner_t *pl, int *n, int *m, const double **x_so
   *hrow = pp->hirow;
   *hcol = pp->hjcol;
   return 0;
+}
+
+int ea__pp_test_direct(const ea_planner_t *pl) {
+  return pl->pp && pl->pp->dyn_direct;
 }
 
 int ea__pp_test_row(const ea_planner_t *pl, const double *xs, int r, double *value, int *cols,
@@ -1505,6 +1563,19 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
    * the machine has two processors */
   pp->split = -1;
   if (K > 0) {
+    /* the modal defects in the path variables directly where their entries are those of the
+     * knot layout's mapped (ea__pp_row: the same order) */
+    pp->dyn_direct = 1;
+    for (int i = 0; i < m && pp->dyn_direct; ++i) {
+      const ea__row_t *r = &pp->rows[i];
+      if (r->kind != EA__ROW_DYN_DEF_POS && r->kind != EA__ROW_DYN_DEF_VEL) continue;
+      int dc[EA__PP_DKEY];
+      double key[EA__PP_DKEY];
+      const int nd = ea__pp_defect_entries(pl, pp->x, r, dc, key);
+      pp->dyn_direct = 0;
+      const int c = ea__pp_row(pl, pp->x, r, NULL, cols, NULL);
+      pp->dyn_direct = c == nd && !memcmp(cols, dc, sizeof(int) * (size_t)nd);
+    }
     pp->split = N / 2;
     pp->xkx1 = malloc(sizeof(double) * nk);
     pp->hv1 = malloc(sizeof(double) * (size_t)(pp->nnz_h + 1));
