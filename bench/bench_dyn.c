@@ -64,16 +64,16 @@ static double fe_residual(const ea_task_t *t, const ea_traj_t *tr) {
   return ea_traj_simulate(&t->arm, tr, 0.0, &s, NULL, &si, &e) ? NAN : si.residual_peak;
 }
 
-/* R cold plans of each of the two tasks, alternating (the machine's pace drifts): medians;
+/* R cold plans of each of the M (<= 3) tasks, alternating (the machine's pace drifts): medians;
  * the last plans' FE residuals. */
-static void plan_pair(const ea_task_t t[2], int R, res_t out[2]) {
-  double w[2][64], c[2][64], sv[2][64];
+static void plan_set(const ea_task_t *t, int M, int R, res_t *out) {
+  double w[3][64], c[3][64], sv[3][64];
   R = R > 64 ? 64 : R;
-  ea_traj_t tr[2] = {{0}, {0}};
-  for (int m = 0; m < 2; ++m)
+  ea_traj_t tr[3] = {{0}, {0}, {0}};
+  for (int m = 0; m < M; ++m)
     out[m] = (res_t){.ok = 1, .fe = NAN};
   for (int i = 0; i < R; ++i)
-    for (int m = 0; m < 2; ++m) {
+    for (int m = 0; m < M; ++m) {
       ea_plan_info_t info;
       if (!out[m].ok) continue;
       if (plan_once(&t[m], &w[m][i], &c[m][i], &sv[m][i], &info, i == R - 1 ? &tr[m] : NULL)) {
@@ -84,7 +84,7 @@ static void plan_pair(const ea_task_t t[2], int R, res_t out[2]) {
       out[m].dur = info.duration_s;
       out[m].pred = info.predicted_residual_m;
     }
-  for (int m = 0; m < 2; ++m) {
+  for (int m = 0; m < M; ++m) {
     if (out[m].ok) {
       out[m].wall = ea_bench_median(w[m], R);
       out[m].cpu = ea_bench_median(c[m], R);
@@ -122,32 +122,38 @@ static res_t plan_rows(const ea_task_t *t, int R, int fe) {
 
 static void table_knots(const ea_task_t *base, int R) {
   printf("\n1. at-rest paper line (payload 0, 2 modes), cold plans: medians of %d (200 and 400 "
-         "knots: 1), the two transcriptions alternating; wall and cpu: ea_planner_alloc + "
-         "ea_planner_solve, solve: ea_planner_solve alone\n",
-         R);
-  printf("%-6s %-6s %6s %9s %9s %9s %12s %11s %10s %10s\n", "knots", "trans", "iters", "wall ms",
+         "knots: 1), the path transcription on 2 threads (path; solver.threads, the default with 2 "
+         "processors) and "
+         "on 1, and the knot transcription, alternating; wall and cpu: ea_planner_alloc + "
+         "ea_planner_solve, solve: ea_planner_solve alone (%d processors online)\n",
+         R, (int)sysconf(_SC_NPROCESSORS_ONLN));
+  printf("%-6s %-8s %6s %9s %9s %9s %12s %11s %10s %10s\n", "knots", "trans", "iters", "wall ms",
          "cpu ms", "solve ms", "t_f [s]", "dt_f/t_f", "pred mm", "FE mm");
   const int ks[5] = {25, 50, 100, 200, 400};
-  const ea_task_transcription_t tk[2] = {EA_TASK_TRANSCRIPTION_PATH, EA_TASK_TRANSCRIPTION_KNOTS};
-  res_t rs[5][2];
+  const ea_task_transcription_t tk[3] = {EA_TASK_TRANSCRIPTION_PATH, EA_TASK_TRANSCRIPTION_PATH,
+                                         EA_TASK_TRANSCRIPTION_KNOTS};
+  const int th[3] = {2, 1, 0};
+  const char *name[3] = {"path", "path-1t", "knots"};
+  res_t rs[5][3];
   for (int i = 0; i < 5; ++i) {
-    ea_task_t t[2] = {*base, *base};
-    for (int m = 0; m < 2; ++m) {
+    ea_task_t t[3] = {*base, *base, *base};
+    for (int m = 0; m < 3; ++m) {
       t[m].knots = ks[i];
       t[m].solver.transcription = tk[m];
+      t[m].solver.threads = th[m];
       ea_error_t e;
       if (ea_task_check(&t[m], &e)) {
         fprintf(stderr, "bench_dyn: %s\n", e.msg);
         return;
       }
     }
-    plan_pair(t, ks[i] >= 200 ? 1 : R, rs[i]);
+    plan_set(t, 3, ks[i] >= 200 ? 1 : R, rs[i]);
   }
-  for (int m = 0; m < 2; ++m)
+  for (int m = 0; m < 3; ++m)
     for (int i = 0; i < 5; ++i) {
       const res_t *r = &rs[i][m];
-      printf("%-6d %-6s %6d %9.1f %9.1f %9.1f %12.6f %11.2e %10.4f %10.4f%s\n", ks[i],
-             m ? "knots" : "path", r->iters, 1e3 * r->wall, 1e3 * r->cpu, 1e3 * r->solve, r->dur,
+      printf("%-6d %-8s %6d %9.1f %9.1f %9.1f %12.6f %11.2e %10.4f %10.4f%s\n", ks[i], name[m],
+             r->iters, 1e3 * r->wall, 1e3 * r->cpu, 1e3 * r->solve, r->dur,
              (r->dur - rs[4][m].dur) / rs[4][m].dur, 1e3 * r->pred, 1e3 * r->fe,
              r->ok ? "" : "  FAILED");
     }

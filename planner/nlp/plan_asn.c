@@ -238,6 +238,7 @@ int ea__asn_solve(ea__asn_t *a, const ea__asn_tol_t *tol, const double *x_ref, c
                   double *x, double *mult_g, double *mult_xl, double *mult_xu, int *iters) {
   const ea__asn_nlp_t *p = &a->p;
   a->tol = *tol;
+  a->ipm_ready = 0; /* its own pattern follows */
   *iters = 0;
   /* the active set of the nearby solution: a multiplier larger than its gap */
   for (int i = 0; i < p->n; ++i) {

@@ -365,22 +365,30 @@ static void ea__ipm_alphas(const ea__asn_t *a, const ea__ipm_ws_t *w, const doub
   *apr = ap, *adu = ad;
 }
 
+int ea__ipm_prepare(ea__asn_t *a) {
+  const ea__asn_nlp_t *p = &a->p;
+  /* every free variable and every row in the KKT matrix */
+  for (int i = 0; i < p->n; ++i)
+    a->act_x[i] = p->xl[i] == p->xu[i] ? 2 : 0;
+  for (int i = 0; i < p->m; ++i)
+    a->act_g[i] = 2;
+  const int btf0 = a->c.btf;
+  a->c.btf = 0; /* a symmetric ordering (AMD's, for the LDL' of ea__ipm_kkt) */
+  const int pat = ea__asn_pattern(a);
+  a->c.btf = btf0;
+  a->ipm_ready = !pat;
+  return pat ? -1 : 0;
+}
+
 int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
                   double *mult_xu, int *iters) {
   const ea__asn_nlp_t *p = &a->p;
   *iters = 0;
   ea__ipm_ws_t w;
   if (ea__ipm_ws_alloc(&w, p->n, p->m)) return -1;
-  /* every free variable and every row in the KKT matrix */
-  for (int i = 0; i < p->n; ++i)
-    a->act_x[i] = p->xl[i] == p->xu[i] ? 2 : 0;
-  for (int i = 0; i < p->m; ++i)
-    a->act_g[i] = 2;
   int rc = -1;
-  const int btf0 = a->c.btf;
-  a->c.btf = 0; /* a symmetric ordering (AMD's, for the LDL' of ea__ipm_kkt) */
-  const int pat = ea__asn_pattern(a);
-  a->c.btf = btf0;
+  const int pat = a->ipm_ready ? 0 : ea__ipm_prepare(a);
+  a->ipm_ready = 0;
   if (pat || ea__ipm_ldl_alloc(&w, a)) goto done;
   a->nx = 0;
   for (int i = 0; i < p->n; ++i)

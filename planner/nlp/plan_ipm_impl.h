@@ -24,6 +24,10 @@ typedef struct ea__ipm_opt {
  *  to acc_tol), -1 when none was found (a singular KKT matrix, a failed
  *  callback, max_iter reached, steps that stopped making progress; x and the multipliers are
  *  then undefined). *iters: iterations taken. The workspace a keeps KLU's analysis. */
+/** The KKT pattern and its symbolic analysis for the next ea__ipm_solve on a (the bounds as
+ *  they are then: none may change between), which may run beside other work on another
+ *  thread (plan_path.c: beside the cold guess). 0, or -1 (no pattern). */
+int ea__ipm_prepare(ea__asn_t *a);
 int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
                   double *mult_xu, int *iters);
 

@@ -24,6 +24,7 @@ struct ea__par {
   atomic_int quit;
   void (*fn)(void *ctx, int part);
   void *ctx;
+  int busy; /* a run is on (the caller's alone) */
 };
 
 /* Spins of a wait before the worker yields between its checks or the caller starts to yield
@@ -100,11 +101,14 @@ void ea__par_free(ea__par_t *p) {
 }
 
 void ea__par_run(ea__par_t *p, void (*fn)(void *ctx, int part), void *ctx) {
-  if (!p) {
+  /* both parts here without a worker, and for a run from within a run's part (the worker is
+   * busy with the outer part 1, or this is the worker) */
+  if (!p || p->busy || pthread_equal(pthread_self(), p->th)) {
     fn(ctx, 0);
     fn(ctx, 1);
     return;
   }
+  p->busy = 1;
   p->fn = fn;
   p->ctx = ctx;
   pthread_mutex_lock(&p->mu);
@@ -114,6 +118,7 @@ void ea__par_run(ea__par_t *p, void (*fn)(void *ctx, int part), void *ctx) {
   fn(ctx, 0);
   for (int spin = 0; atomic_load_explicit(&p->done, memory_order_acquire) != want;)
     if (++spin > EA__PAR_SPIN) sched_yield();
+  p->busy = 0;
 }
 
 int ea__par_cpus(void) {

@@ -960,7 +960,8 @@ typedef struct {
   ea_planner_t *pl;
   const double *x, *lambda;
   double *out;
-  int what; /* 0 rows' values, 1 Jacobian, 2 Hessian */
+  double sigma; /* the objective's weight (Hessian) */
+  int what;     /* 0 rows' values, 1 Jacobian, 2 Hessian */
 } ea__pp_job_t;
 
 #ifdef EA_PAR_PROF
@@ -999,6 +1000,14 @@ static void ea__pp_job_part(void *ctx, int part) {
     }
     r += g;
   }
+  /* the objective's pieces (of the part's knots too) */
+  for (int o = 0; o < pl->n_orows; ++o) {
+    const ea__row_t *row = &pl->orows[o];
+    const double w = jb->sigma * pl->oweight[o];
+    if (ea__pp_part(pp, row) != part || !ea__plan_row_curved(row)) continue;
+    const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
+    ea__pp_hess_rows(pl, row, &w, 1, hp, values, xx, part > 0);
+  }
 }
 
 /* Run a callback's work on all rows: in two parts with dynamics, else at once. The parts'
@@ -1027,18 +1036,11 @@ static void ea__pp_hess_values(ea_planner_t *pl, const double *x, double sigma,
     memset(pp->hv1, 0, (size_t)pp->nnz_h * sizeof *values);
     memcpy(pp->xkx1, pp->xk, (size_t)pl->n * sizeof *pp->xk);
   }
-  ea__pp_job_t jb = {pl, x, lambda, values, 2};
+  ea__pp_job_t jb = {pl, x, lambda, values, sigma, 2};
   ea__pp_job(&jb);
   if (pp->split >= 0)
     for (int i = 0; i < pp->nnz_h; ++i)
       values[i] += pp->hv1[i];
-  for (int o = 0; o < pl->n_orows; ++o) {
-    const ea__row_t *row = &pl->orows[o];
-    const double w = sigma * pl->oweight[o];
-    if (!ea__plan_row_curved(row)) continue;
-    const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
-    ea__pp_hess_rows(pl, row, &w, 1, hp, values, pp->xkx, 0);
-  }
 }
 
 int ea__pp_test_dims(const ea_planner_t *pl, int *n, int *m, const double **x_sol, int *nnz_h,
@@ -1108,7 +1110,7 @@ static Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, User
   ea_planner_t *pl = ud;
   (void)n, (void)new_x, (void)m;
   const double t0 = ea__mono_s();
-  ea__pp_job_t jb = {pl, x, NULL, g, 0};
+  ea__pp_job_t jb = {pl, x, NULL, g, 0.0, 0};
   ea__pp_job(&jb);
   if (pl->info) pl->info->evals_g++;
   pl->t_callbacks += ea__mono_s() - t0;
@@ -1126,7 +1128,7 @@ static Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, I
     return TRUE;
   }
   const double t0 = ea__mono_s();
-  ea__pp_job_t jb = {pl, x, NULL, values, 1};
+  ea__pp_job_t jb = {pl, x, NULL, values, 0.0, 1};
   ea__pp_job(&jb);
   if (pl->info) pl->info->evals_jac++;
   pl->t_callbacks += ea__mono_s() - t0;
@@ -1588,6 +1590,24 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
 
 /* ---- solve -------------------------------------------------------------------- */
 
+/* The cold guess (part 0) beside the interior point's preparation (part 1, ea__ipm_prepare). */
+typedef struct {
+  ea_planner_t *pl;
+  ea_plan_info_t *info;
+  ea_error_t *err;
+  ea_status_t st;
+} ea__pp_guess_job_t;
+
+static ea_status_t ea__pp_cold_guess(ea_planner_t *pl, ea_plan_info_t *info, ea_error_t *err);
+
+static void ea__pp_guess_part(void *ctx, int part) {
+  ea__pp_guess_job_t *jb = ctx;
+  if (part == 0)
+    jb->st = ea__pp_cold_guess(jb->pl, jb->info, jb->err);
+  else
+    ea__ipm_prepare(jb->pl->pp->asn); /* (failing: the solve makes the pattern again) */
+}
+
 /* The knot-layout vector xk (a guess or a previous plan) in the path layout. */
 static void ea__pp_reduce(ea_planner_t *pl, const double *xk, double *xs) {
   ea__pp_t *pp = pl->pp;
@@ -1919,6 +1939,13 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       if ((st = ea__plan_guess_traj(pl, prev, pl->x, err))) return st;
       ea__plan_dyn_fill(pl, pl->x);
       ea__pp_reduce(pl, pl->x, pp->x);
+    } else if (pp->par && !pl->task.solver.derivative_test && !pl->task.solver.nlp_ipopt &&
+               !ea__pp_asn(pl)) {
+      /* a cold solve by the own interior point with a worker: its KKT pattern and ordering
+       * (plan_ipm.c) there while the cold guess is made here */
+      ea__pp_guess_job_t jb = {pl, info, err, EA_OK};
+      ea__par_run(pp->par, ea__pp_guess_part, &jb);
+      if ((st = jb.st)) return st;
     } else if ((st = ea__pp_cold_guess(pl, info, err))) {
       return st;
     }
