@@ -466,6 +466,30 @@ static void test_threads(void) {
     ea_traj_free(&tr[0]);
     ea_traj_free(&tr[1]);
   }
+  /* quasi-static plans on a prescribed path (the statics samples' levels on the worker, the
+   * cold guess beside the interior point's preparation): the paper line and the polyline */
+  const char *qs[2] = {"paper-line.yaml", "polyline-effort.yaml"};
+  for (int c = 0; c < 2; ++c) {
+    ea_task_t t;
+    if (load(qs[c], &t)) return;
+    ea_traj_t tr[2] = {{0}, {0}};
+    ea_plan_info_t info[2];
+    int ok = 1;
+    for (int th = 0; th < 2; ++th) {
+      t.solver.threads = th + 1;
+      ok = ok && plan(&t, &tr[th], &info[th]) == EA_OK;
+    }
+    int same = ok && tr[0].n == tr[1].n && info[0].iterations == info[1].iterations;
+    for (int i = 0; same && i < tr[0].n * EA_TRAJ_NCOL; ++i)
+      same = memcmp(&tr[0].data[i], &tr[1].data[i], sizeof(double)) == 0;
+    printf("threads 1 and 2, %s: %.12g s (%d iterations), %.12g s (%d)\n", qs[c],
+           info[0].duration_s, info[0].iterations, info[1].duration_s, info[1].iterations);
+    char w[160];
+    snprintf(w, sizeof w, "%s: the same plan on 1 and 2 threads", qs[c]);
+    ea_test_true(same, w);
+    ea_traj_free(&tr[0]);
+    ea_traj_free(&tr[1]);
+  }
 }
 
 int main(void) {

@@ -97,6 +97,7 @@ struct ea__pp {
   int split;
   int *jstart;  /* each row's first Jacobian entry */
   double *xkx1; /* part 1's knot-layout scratch */
+  ea_shooter_t *sh1; /* the worker's shooter (the statics samples; NULL without a worker) */
   int dyn_direct; /* the modal defects' Hessians and cached gradients in this layout directly
                      (ea__plan_dyn_defect_hess_pp; 0: through the knot layout) */
   double *hv1;  /* part 1's Hessian values */
@@ -186,8 +187,8 @@ static double ea__pp_sigma_of(const ea_planner_t *pl, int j, const double q[3]) 
  * the samples' own error made the splines miss independent re-solves by 3.6e-10, at 1e-12 by
  * 1.0e-10, test_plan_path), 1-2 shots from the spline refinement's guesses instead of
  * ea_statics_solve's 3-4 plus the slopes' shot (xL: the last shot's, before a final step). */
-static int ea__pp_newton(const ea_planner_t *pl, const double q[3], double g[EA_NP],
-                         double xL[EA_NX], double *S) {
+static int ea__pp_newton(const ea_planner_t *pl, ea_shooter_t *sh, const double q[3],
+                         double g[EA_NP], double xL[EA_NX], double *S) {
   ea_statics_settings_t set;
   ea_statics_settings_default(&set);
   const ea_arm_t *arm = &pl->task.arm;
@@ -196,7 +197,7 @@ static int ea__pp_newton(const ea_planner_t *pl, const double q[3], double g[EA_
   double nr_prev = INFINITY;
   g[EA_P_ALPHA] = q[1];
   for (int it = 0; it <= 5; ++it) {
-    if (ea_shoot(pl->sh, g, xL, S)) return 0;
+    if (ea_shoot(sh, g, xL, S)) return 0;
     const double r[3] = {xL[EA_X_KAPPA], xL[EA_X_X] - arm->x_c - q[0] * ca,
                          xL[EA_X_Y] - arm->y_c - q[0] * sa};
     const double nr = fmax(fabs(r[0]), fmax(fabs(r[1]), fabs(r[2])));
@@ -224,23 +225,24 @@ static int ea__pp_newton(const ea_planner_t *pl, const double q[3], double g[EA_
   return 0;
 }
 
-/* Statics at sigma (warm-started from guess, which is updated) and its slopes dp/dsigma. */
-static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, double guess[EA_NP],
-                                  int *have, double p[3], double dp[3], double pa[6],
-                                  ea_error_t *err) {
+/* Statics at sigma (warm-started from guess, which is updated) and its slopes dp/dsigma, by the
+ * shooter sh (the planner's, or a worker's: the same shots). */
+static ea_status_t ea__pp_statics_sh(const ea_planner_t *pl, ea_shooter_t *sh, int j, double sig,
+                                     double guess[EA_NP], int *have, double p[3], double dp[3],
+                                     double pa[6], ea_error_t *err) {
   double q[3], dq[3];
   ea__pp_q(pl, j, sig, q, dq);
   double xL[EA_NX], S[EA_NX * EA_NP], g[EA_NP];
   ea_status_t st;
   memcpy(g, guess, sizeof g);
-  if (*have && ea__pp_newton(pl, q, g, xL, S)) {
+  if (*have && ea__pp_newton(pl, sh, q, g, xL, S)) {
     memcpy(guess, g, sizeof g);
   } else {
     ea_statics_problem_t pr = ea_statics_problem_cable(q[0], q[1]);
     ea_statics_solution_t sol;
     ea_error_t e = {0};
-    st = ea_statics_solve(pl->sh, &pr, NULL, *have ? guess : NULL, &sol, &e);
-    if (st && *have) st = ea_statics_solve(pl->sh, &pr, NULL, NULL, &sol, &e);
+    st = ea_statics_solve(sh, &pr, NULL, *have ? guess : NULL, &sol, &e);
+    if (st && *have) st = ea_statics_solve(sh, &pr, NULL, NULL, &sol, &e);
     if (st)
       return ea_error_set(err, st == EA_ERR_INADMISSIBLE ? EA_ERR_INFEASIBLE : st,
                           "the path leaves the workspace at L_c = %.6g m, alpha = %.6g rad: %s",
@@ -248,9 +250,9 @@ static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, dou
     memcpy(guess, sol.p, sizeof(double) * EA_NP);
     *have = 1;
     memcpy(g, sol.p, sizeof g); /* polished to the samples' tolerance, its slopes' shot */
-    if (ea__pp_newton(pl, q, g, xL, S))
+    if (ea__pp_newton(pl, sh, q, g, xL, S))
       memcpy(guess, g, sizeof g);
-    else if ((st = ea_shoot(pl->sh, sol.p, xL, S)))
+    else if ((st = ea_shoot(sh, sol.p, xL, S)))
       return ea_error_set(err, st, "shooting failed");
   }
   if (ea__plan_statics_slope(S, q[0], q[1], dq[0], dq[1], dp) ||
@@ -261,6 +263,12 @@ static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, dou
   p[1] = guess[EA_P_THETA0];
   p[2] = guess[EA_P_KAPPA0];
   return EA_OK;
+}
+
+static ea_status_t ea__pp_statics(const ea_planner_t *pl, int j, double sig, double guess[EA_NP],
+                                  int *have, double p[3], double dp[3], double pa[6],
+                                  ea_error_t *err) {
+  return ea__pp_statics_sh(pl, pl->sh, j, sig, guess, have, p, dp, pa, err);
 }
 
 static double ea__herm(double h, double y0, double d0, double y1, double d1, double u, double *dy) {
@@ -469,6 +477,43 @@ static ea_status_t ea__pp_refine(ea_planner_t *pl, const ea__pp_cheb_t *ch, int 
  * there at 64 intervals: the piece is halved. Its Hermite samples (4 intervals, bisected) are
  * appended. The paper line: 33 samples of 1-2 shots against 131 Hermite samples of one solve
  * each before. */
+/* One level's new samples of ea__pp_piece (the odd Chebyshev-Lobatto points of 2N intervals),
+ * part 0 those below the middle, part 1 the rest; e: the interpolant's worst error there. */
+typedef struct {
+  ea_planner_t *pl;
+  const ea__pp_cheb_t *ch;
+  int j;
+  double lo, hi;
+  int N;
+  double *pn;
+  double e[2];
+  ea_status_t st[2];
+  ea_error_t err[2];
+} ea__pp_level_job_t;
+
+static void ea__pp_level_part(void *ctx, int part) {
+  ea__pp_level_job_t *jb = ctx;
+  const ea_planner_t *pl = jb->pl;
+  ea_shooter_t *sh = part && pl->pp->sh1 ? pl->pp->sh1 : pl->sh;
+  enum { W = EA__PP_NF };
+  const int N = jb->N;
+  for (int i = part ? N + 1 : 1; i < (part ? 2 * N : N); i += 2) {
+    const double sig = jb->lo + 0.5 * (jb->hi - jb->lo) * (1.0 - cos(M_PI * i / (2 * N)));
+    double v[EA__PP_V], q[3], dq[3], g[EA_NP], c[EA__PP_V];
+    ea__pp_cheb_at(jb->ch, sig, v);
+    ea__pp_q(pl, jb->j, sig, q, dq);
+    g[EA_P_ALPHA] = q[1];
+    memcpy(g + 1, v + 1, 3 * sizeof(double));
+    int hv = 1;
+    if ((jb->st[part] =
+             ea__pp_statics_sh(pl, sh, jb->j, sig, g, &hv, c + 1, c + 4, c + 7, &jb->err[part])))
+      return;
+    jb->e[part] = fmax(jb->e[part], ea__pp_err(pl, v + 1, c)); /* the interpolant's error */
+    memcpy(jb->pn + W * i, c + 1, 3 * sizeof(double));
+    memcpy(jb->pn + W * i + 3, c + 7, 6 * sizeof(double));
+  }
+}
+
 static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi, double guess[EA_NP],
                                 int *have, int depth, int *n, double *err_est, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
@@ -499,24 +544,18 @@ static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi, d
   for (;;) {
     ea__pp_cheb_fit(&ch, lo, hi, N, ps);
     if (e < EA__PP_TOL || N == EA__PP_NMAX) break;
-    e = 0.0;
-    for (int i = 0; i <= 2 * N; ++i) {
-      if (i % 2 == 0) {
-        memcpy(pn + W * i, ps + W * (i / 2), W * sizeof(double));
-        continue;
+    for (int i = 0; i <= 2 * N; i += 2)
+      memcpy(pn + W * i, ps + W * (i / 2), W * sizeof(double));
+    /* the new samples, each from the interpolant's guess: the first and the second half on
+     * the two parts of plan_par.c (the worker with its own shooter) */
+    ea__pp_level_job_t jb = {pl, &ch, j, lo, hi, N, pn, {0.0, 0.0}, {EA_OK, EA_OK}, {{0}, {0}}};
+    ea__par_run(pp->sh1 ? pp->par : NULL, ea__pp_level_part, &jb);
+    for (int q = 0; q < 2; ++q)
+      if (jb.st[q]) {
+        if (err) *err = jb.err[q];
+        return jb.st[q];
       }
-      const double sig = lo + 0.5 * (hi - lo) * (1.0 - cos(M_PI * i / (2 * N)));
-      double v[EA__PP_V], q[3], dq[3], g[EA_NP], c[EA__PP_V];
-      ea__pp_cheb_at(&ch, sig, v);
-      ea__pp_q(pl, j, sig, q, dq);
-      g[EA_P_ALPHA] = q[1];
-      memcpy(g + 1, v + 1, 3 * sizeof(double));
-      int hv = 1;
-      if ((st = ea__pp_statics(pl, j, sig, g, &hv, c + 1, c + 4, c + 7, err))) return st;
-      e = fmax(e, ea__pp_err(pl, v + 1, c)); /* the interpolant against the sample */
-      memcpy(pn + W * i, c + 1, 3 * sizeof(double));
-      memcpy(pn + W * i + 3, c + 7, 6 * sizeof(double));
-    }
+    e = fmax(jb.e[0], jb.e[1]);
     N *= 2;
     memcpy(ps, pn, (size_t)(W * (N + 1)) * sizeof(double));
   }
@@ -572,6 +611,10 @@ static void ea__pp_seg_key(const ea_planner_t *pl, int j, double key[8]) {
 static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
   if (pl->K > 0) ea__plan_dyn_pp_forget(pl); /* the defects kept at sigma values */
+  if (pp->sh1) { /* the worker's shooter: the planner's load */
+    const ea_load_t load = {pl->tip_mass};
+    ea_shooter_set_load(pp->sh1, &load);
+  }
   const ea_task_t *t = &pl->task;
   int n = 0;
   double err_est = 0.0;
@@ -1309,6 +1352,7 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->dq2);
   free(pp->xkx);
   ea__par_free(pp->par);
+  ea_shooter_free(pp->sh1);
   free(pp->jstart);
   free(pp->xkx1);
   free(pp->hv1);
@@ -1515,6 +1559,14 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   if (!pp->g || !pp->mult_g || !pp->mult_g_sol || !pp->g_sol)
     return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
   ea__pp_path(pl);
+  /* a worker (plan_par.c) when the task allows two threads (solver.threads) and the machine
+   * has two processors: the statics samples' refinement levels, the cold guess beside the
+   * interior point's preparation and, with dynamics, the rows' evaluations in two parts */
+  const int th = pl->task.solver.threads;
+  if (th == 2 || (th == 0 && ea__par_cpus() >= 2)) {
+    pp->par = ea__par_new();
+    if (pp->par && ea_shooter_alloc(&pl->task.arm, NULL, &pp->sh1, NULL)) pp->sh1 = NULL;
+  }
   ea_error_t e = {0};
   pp->path_status = ea__pp_build_splines(pl, &e);
   snprintf(pp->path_msg, sizeof pp->path_msg, "%s", e.msg);
@@ -1582,8 +1634,6 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
     pp->xkx1 = malloc(sizeof(double) * nk);
     pp->hv1 = malloc(sizeof(double) * (size_t)(pp->nnz_h + 1));
     if (!pp->xkx1 || !pp->hv1) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
-    const int th = pl->task.solver.threads;
-    if (th == 2 || (th == 0 && ea__par_cpus() >= 2)) pp->par = ea__par_new();
   }
   return EA_OK;
 }
