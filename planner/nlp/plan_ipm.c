@@ -189,10 +189,14 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w) {
   for (int k = 0; k < nk; ++k)
     bn = fmax(bn, fabs(b[k]));
   for (int ref = 0;; ++ref) {
-    memcpy(res, b, sizeof(double) * (size_t)nk);
-    for (int j = 0; j < nk; ++j)
-      for (int q = a->Ap[j]; q < a->Ap[j + 1]; ++q)
-        res[a->Ai[q]] -= a->Ax[q] * a->rhs[j];
+    /* res = b - K d, row i of the symmetric K being its column i (the pattern holds both
+     * triangles, with the same values) */
+    for (int i = 0; i < nk; ++i) {
+      double r = b[i];
+      for (int q = a->Ap[i]; q < a->Ap[i + 1]; ++q)
+        r -= a->Ax[q] * a->rhs[a->Ai[q]];
+      res[i] = r;
+    }
     double rn = 0.0, dn = 0.0;
     for (int k = 0; k < nk; ++k)
       rn = fmax(rn, fabs(res[k])), dn = fmax(dn, fabs(a->rhs[k]));
