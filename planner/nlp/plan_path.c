@@ -101,6 +101,10 @@ struct ea__pp {
   int dyn_direct; /* the modal defects' Hessians and cached gradients in this layout directly
                      (ea__plan_dyn_defect_hess_pp; 0: through the knot layout) */
   double *hv1;  /* part 1's Hessian values */
+  /* with dynamics the rows' values come with their Jacobian's (one pass over the rows), kept
+   * for the Jacobian at the same x */
+  double *jv_keep, *jv_x;
+  int jv_valid;
   IpoptProblem ip;
   int iter;
 };
@@ -611,6 +615,7 @@ static void ea__pp_seg_key(const ea_planner_t *pl, int j, double key[8]) {
 static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
   if (pl->K > 0) ea__plan_dyn_pp_forget(pl); /* the defects kept at sigma values */
+  pp->jv_valid = 0;                            /* and the Jacobian */
   if (pp->sh1) { /* the worker's shooter: the planner's load */
     const ea_load_t load = {pl->tip_mass};
     ea_shooter_set_load(pp->sh1, &load);
@@ -1007,25 +1012,16 @@ typedef struct {
   int what;     /* 0 rows' values, 1 Jacobian, 2 Hessian */
 } ea__pp_job_t;
 
-#ifdef EA_PAR_PROF
-double ea_par_prof[2][3];
-static void ea__pp_job_part0(void *ctx, int part);
 static void ea__pp_job_part(void *ctx, int part) {
-  const double t0 = ea__mono_s();
-  ea__pp_job_part0(ctx, part);
-  ea_par_prof[part > 0][((const ea__pp_job_t *)ctx)->what] += ea__mono_s() - t0;
-}
-static void ea__pp_job_part0(void *ctx, int part) {
-#else
-static void ea__pp_job_part(void *ctx, int part) {
-#endif
   const ea__pp_job_t *jb = ctx;
   ea_planner_t *pl = jb->pl;
   ea__pp_t *pp = pl->pp;
   if (jb->what < 2) {
     for (int i = 0; i < pp->m; ++i) {
       if (ea__pp_part(pp, &pp->rows[i]) != part) continue;
-      if (jb->what == 0)
+      if (jb->what == 0 && pp->jv_keep)
+        ea__pp_row(pl, jb->x, &pp->rows[i], &jb->out[i], NULL, pp->jv_keep + pp->jstart[i]);
+      else if (jb->what == 0)
         ea__pp_row(pl, jb->x, &pp->rows[i], &jb->out[i], NULL, NULL);
       else
         ea__pp_row(pl, jb->x, &pp->rows[i], NULL, NULL, jb->out + pp->jstart[i]);
@@ -1153,8 +1149,13 @@ static Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, User
   ea_planner_t *pl = ud;
   (void)n, (void)new_x, (void)m;
   const double t0 = ea__mono_s();
+  ea__pp_t *pp = pl->pp;
   ea__pp_job_t jb = {pl, x, NULL, g, 0.0, 0};
   ea__pp_job(&jb);
+  if (pp->jv_keep) {
+    memcpy(pp->jv_x, x, (size_t)pp->n * sizeof *x);
+    pp->jv_valid = 1;
+  }
   if (pl->info) pl->info->evals_g++;
   pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
@@ -1171,8 +1172,12 @@ static Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, I
     return TRUE;
   }
   const double t0 = ea__mono_s();
-  ea__pp_job_t jb = {pl, x, NULL, values, 0.0, 1};
-  ea__pp_job(&jb);
+  if (pp->jv_valid && !memcmp(pp->jv_x, x, (size_t)pp->n * sizeof *x)) {
+    memcpy(values, pp->jv_keep, (size_t)pp->nnz * sizeof *values); /* the rows' pass had them */
+  } else {
+    ea__pp_job_t jb = {pl, x, NULL, values, 0.0, 1};
+    ea__pp_job(&jb);
+  }
   if (pl->info) pl->info->evals_jac++;
   pl->t_callbacks += ea__mono_s() - t0;
   return TRUE;
@@ -1356,6 +1361,8 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->jstart);
   free(pp->xkx1);
   free(pp->hv1);
+  free(pp->jv_keep);
+  free(pp->jv_x);
   free(pp->rows);
   free(pp->rmap);
   free(pp->x);
@@ -1633,7 +1640,10 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
     pp->split = N / 2;
     pp->xkx1 = malloc(sizeof(double) * nk);
     pp->hv1 = malloc(sizeof(double) * (size_t)(pp->nnz_h + 1));
-    if (!pp->xkx1 || !pp->hv1) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+    pp->jv_keep = malloc(sizeof(double) * (size_t)(pp->nnz + 1));
+    pp->jv_x = malloc(sizeof(double) * n);
+    if (!pp->xkx1 || !pp->hv1 || !pp->jv_keep || !pp->jv_x)
+      return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
   }
   return EA_OK;
 }
