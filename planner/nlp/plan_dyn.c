@@ -579,6 +579,7 @@ static void ea__hz_kin_pp(const ea_planner_t *pl, const double *x, int k, const 
       ea__hz_c7(&q[P][c], x[EA__IQ(pl, k + P, c)]);
       q[P][c].g[P] = dq[P][c];
       q[P][c].H[P * (P + 1) / 2 + P] = d2q[P][c];
+      q[P][c].s1 = P;
       ea__hz_var7(&v[P][c], x[EA__IV(pl, k + P, c)], 2 + 2 * c + P);
     }
   ea__hz_kin_from7(q, v, &h, o);

@@ -12,20 +12,26 @@
 #define KIN EA__HZN(ea__hz_kin_t)
 #define FN(name) EA__HZN(name)
 
+/* s1 >= 0: the number depends on variable s1 alone (g and H zero elsewhere), which a product
+ * uses (ea__hz_mul: the same sums, without their zero terms) */
 typedef struct {
   double v, g[EA__HZ], H[EA__HP];
+  int s1;
 } HZ;
 
 static void FN(ea__hz_c)(HZ *r, double v) {
   memset(r, 0, sizeof *r);
   r->v = v;
+  r->s1 = -1;
 }
 static void FN(ea__hz_var)(HZ *r, double v, int i) {
   FN(ea__hz_c)(r, v);
   r->g[i] = 1.0;
+  r->s1 = i;
 }
 /* r = a x + b y (r may be x or y) */
 static void FN(ea__hz_lin)(HZ *r, double a, const HZ *x, double b, const HZ *y) {
+  r->s1 = -1;
   r->v = a * x->v + b * y->v;
   for (int i = 0; i < EA__HZ; ++i)
     r->g[i] = a * x->g[i] + b * y->g[i];
@@ -35,8 +41,37 @@ static void FN(ea__hz_lin)(HZ *r, double a, const HZ *x, double b, const HZ *y) 
 static void FN(ea__hz_addc)(HZ *r, double c) {
   r->v += c;
 }
+/* r = x y where x depends on variable i alone: ea__hz_mul's sums without their zero terms (the
+ * same values) */
+static void FN(ea__hz_mul1)(HZ *r, const HZ *x, const HZ *y) {
+  const int i = x->s1;
+  const double xv = x->v, yv = y->v, xg = x->g[i];
+  r->s1 = -1;
+  r->v = xv * yv;
+  for (int j = 0; j < EA__HZ; ++j)
+    r->g[j] = xv * y->g[j];
+  r->g[i] = xg * yv + xv * y->g[i];
+  for (int p = 0; p < EA__HP; ++p)
+    r->H[p] = xv * y->H[p];
+  const int ii = i * (i + 1) / 2;
+  for (int b = 0; b < i; ++b) /* row i: (i, b) */
+    r->H[ii + b] += xg * y->g[b];
+  for (int a = i + 1; a < EA__HZ; ++a) /* column i: (a, i) */
+    r->H[a * (a + 1) / 2 + i] += xg * y->g[a];
+  r->H[ii + i] = x->H[ii + i] * yv + xv * y->H[ii + i] + xg * y->g[i] + xg * y->g[i];
+}
+
 /* r = x y (r not x or y) */
 static void FN(ea__hz_mul)(HZ *r, const HZ *x, const HZ *y) {
+  if (x->s1 >= 0) {
+    FN(ea__hz_mul1)(r, x, y);
+    return;
+  }
+  if (y->s1 >= 0) {
+    FN(ea__hz_mul1)(r, y, x);
+    return;
+  }
+  r->s1 = -1;
   r->v = x->v * y->v;
   for (int i = 0; i < EA__HZ; ++i)
     r->g[i] = x->g[i] * y->v + x->v * y->g[i];
@@ -47,6 +82,7 @@ static void FN(ea__hz_mul)(HZ *r, const HZ *x, const HZ *y) {
 }
 /* r = f(x) from f, f', f'' at x->v (r may be x) */
 static void FN(ea__hz_fn)(HZ *r, const HZ *x, double f, double f1, double f2) {
+  r->s1 = x->s1;
   int p = 0;
   for (int a = 0; a < EA__HZ; ++a)
     for (int b = 0; b <= a; ++b, ++p)
@@ -57,6 +93,7 @@ static void FN(ea__hz_fn)(HZ *r, const HZ *x, double f, double f1, double f2) {
 }
 /* A tabulated field at (L, a), both functions of z: value f, derivatives fL, fa, fLL, fLa, faa */
 static void FN(ea__hz_field)(HZ *r, const HZ *L, const HZ *A, const double f[6]) {
+  r->s1 = -1;
   r->v = f[0];
   for (int i = 0; i < EA__HZ; ++i)
     r->g[i] = f[1] * L->g[i] + f[2] * A->g[i];
@@ -69,8 +106,7 @@ static void FN(ea__hz_field)(HZ *r, const HZ *L, const HZ *A, const double f[6])
 
 /* The same at an interval's end, where (L, a) depends on few variables (ea__hz_end_t). */
 static void FN(ea__hz_field_end)(HZ *r, const ea__hz_end_t *e, const double f[6]) {
-  memset(r, 0, sizeof *r);
-  r->v = f[0];
+  FN(ea__hz_c)(r, f[0]);
   if (e->iA >= 0) { /* L and A the variables iL and iA (iA > iL): three Hessian entries */
     r->g[e->iL] = f[1];
     r->g[e->iA] = f[2];
@@ -78,6 +114,7 @@ static void FN(ea__hz_field_end)(HZ *r, const ea__hz_end_t *e, const double f[6]
     r->H[e->iA * (e->iA + 1) / 2 + e->iL] = f[4];
     r->H[e->iA * (e->iA + 1) / 2 + e->iA] = f[5];
   } else { /* L = L(s), A = A(s) of the one variable s = iL: f(s) to second order */
+    r->s1 = e->iL;
     const double L1 = e->d[0], A1 = e->d[1], L2 = e->d2[0], A2 = e->d2[1];
     r->g[e->iL] = f[1] * L1 + f[2] * A1;
     r->H[e->iL * (e->iL + 1) / 2 + e->iL] =
