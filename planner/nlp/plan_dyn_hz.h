@@ -91,17 +91,32 @@ static void FN(ea__hz_fn)(HZ *r, const HZ *x, double f, double f1, double f2) {
     r->g[i] = f1 * x->g[i];
   r->v = f;
 }
-/* A tabulated field at (L, a), both functions of z: value f, derivatives fL, fa, fLL, fLa, faa */
-static void FN(ea__hz_field)(HZ *r, const HZ *L, const HZ *A, const double f[6]) {
+/* The products of the gradients of (L, A) that every field at the same point takes: L L', the
+ * symmetrised L A' and A A' (packed lower triangles). */
+typedef struct {
+  double LL[EA__HP], LA[EA__HP], AA[EA__HP];
+} FN(ea__hz_outer_t);
+
+static void FN(ea__hz_outer)(FN(ea__hz_outer_t) * o, const HZ *L, const HZ *A) {
+  int p = 0;
+  for (int a = 0; a < EA__HZ; ++a)
+    for (int b = 0; b <= a; ++b, ++p) {
+      o->LL[p] = L->g[a] * L->g[b];
+      o->LA[p] = L->g[a] * A->g[b] + A->g[a] * L->g[b];
+      o->AA[p] = A->g[a] * A->g[b];
+    }
+}
+
+/* A tabulated field at (L, a), both functions of z (value f, derivatives fL, fa, fLL, fLa,
+ * faa), with the outer products of ea__hz_outer */
+static void FN(ea__hz_field_o)(HZ *r, const HZ *L, const HZ *A, const FN(ea__hz_outer_t) * o,
+                               const double f[6]) {
   r->s1 = -1;
   r->v = f[0];
   for (int i = 0; i < EA__HZ; ++i)
     r->g[i] = f[1] * L->g[i] + f[2] * A->g[i];
-  int p = 0;
-  for (int a = 0; a < EA__HZ; ++a)
-    for (int b = 0; b <= a; ++b, ++p)
-      r->H[p] = f[1] * L->H[p] + f[2] * A->H[p] + f[3] * L->g[a] * L->g[b] +
-                f[4] * (L->g[a] * A->g[b] + A->g[a] * L->g[b]) + f[5] * A->g[a] * A->g[b];
+  for (int p = 0; p < EA__HP; ++p)
+    r->H[p] = f[1] * L->H[p] + f[2] * A->H[p] + f[3] * o->LL[p] + f[4] * o->LA[p] + f[5] * o->AA[p];
 }
 
 /* The same at an interval's end, where (L, a) depends on few variables (ea__hz_end_t). */
@@ -134,13 +149,15 @@ static void FN(ea__hz_point_from)(const ea_planner_t *pl, int j, const HZ *L, co
                                   const ea_rom_point_t *dap, const ea_rom_point_t *dLLp,
                                   const ea_rom_point_t *dLap, const ea_rom_point_t *daap,
                                   const ea__hz_end_t *e, FIELDS *o) {
+  FN(ea__hz_outer_t) op;
+  if (!e) FN(ea__hz_outer)(&op, L, A);
   for (int k = 0; k < pl->Kper; ++k) {
     const double w[6] = {vp->omega2[k],   dLp->omega2[k],  dap->omega2[k],
                          dLLp->omega2[k], dLap->omega2[k], daap->omega2[k]};
     if (e)
       FN(ea__hz_field_end)(&o->W[k], e, w);
     else
-      FN(ea__hz_field)(&o->W[k], L, A, w);
+      FN(ea__hz_field_o)(&o->W[k], L, A, &op, w);
     const double zeta = pl->zeta[j * pl->Kper + k];
     if (zeta > 0) { /* 2 zeta sqrt(W) */
       const double sw = sqrt(o->W[k].v);
@@ -154,7 +171,7 @@ static void FN(ea__hz_point_from)(const ea_planner_t *pl, int j, const HZ *L, co
       if (e)
         FN(ea__hz_field_end)(&o->B[k][c], e, b);
       else
-        FN(ea__hz_field)(&o->B[k][c], L, A, b);
+        FN(ea__hz_field_o)(&o->B[k][c], L, A, &op, b);
     }
     for (int c = 0; c < 3; ++c) {
       const double f[6] = {vp->C[k][c],   dLp->C[k][c],  dap->C[k][c],
@@ -162,7 +179,7 @@ static void FN(ea__hz_point_from)(const ea_planner_t *pl, int j, const HZ *L, co
       if (e)
         FN(ea__hz_field_end)(&o->C[k][c], e, f);
       else
-        FN(ea__hz_field)(&o->C[k][c], L, A, f);
+        FN(ea__hz_field_o)(&o->C[k][c], L, A, &op, f);
     }
   }
 }
