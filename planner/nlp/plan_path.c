@@ -848,15 +848,14 @@ static int ea__pp_npieces(const ea_planner_t *pl) {
 }
 
 /* Structure of the Lagrangian's Hessian: every pair of a row's (or objective piece's)
- * entries. */
-static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
+ * entries (rn[r] of them in rc[r * EA__ROW_MAX ..]). */
+static ea_status_t ea__pp_hess_setup(ea_planner_t *pl, const int *rc, const int *rn) {
   ea__pp_t *pp = pl->pp;
   const int nr = ea__pp_npieces(pl);
-  int cols[EA__ROW_MAX];
   size_t cap = 1;
   for (int r = 0; r < nr; ++r) {
     if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
-    const size_t nc = (size_t)ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
+    const size_t nc = (size_t)rn[r];
     cap += nc * (nc + 1) / 2;
   }
   int64_t *keys = malloc(cap * sizeof *keys);
@@ -869,7 +868,7 @@ static ea_status_t ea__pp_hess_setup(ea_planner_t *pl) {
   for (int r = 0; r < nr; ++r) {
     pp->hpos_start[r] = (int)nk;
     if (!ea__plan_row_curved(ea__pp_hrow(pl, r))) continue;
-    const int nc = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, cols, NULL);
+    const int nc = rn[r], *cols = rc + (size_t)r * EA__ROW_MAX;
     for (int a = 0; a < nc; ++a)
       for (int b = 0; b <= a; ++b)
         keys[nk++] = ea__pp_key(pp, cols[a], cols[b]);
@@ -1599,26 +1598,33 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
                    : 0.0;
   if (pl->has_tf) pp->x[pp->itf] = 1.0;
   memset(pp->xs_last, 0xff, sizeof(double) * n); /* NaN: every knot dirty */
+  /* every row's and objective piece's entries, once: the Jacobian's and the Hessian's
+   * structure */
+  const int npc = ea__pp_npieces(pl);
+  int *rc = malloc(sizeof(int) * (size_t)(npc + 1) * EA__ROW_MAX);
+  int *rn = malloc(sizeof(int) * (size_t)(npc + 1));
+  if (!rc || !rn) {
+    free(rc);
+    free(rn);
+    return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  }
   pp->nnz = 0;
-  int cols[EA__ROW_MAX];
-  for (int i = 0; i < m; ++i)
-    pp->nnz += ea__pp_row(pl, pp->x, &pp->rows[i], NULL, cols, NULL);
+  for (int r = 0; r < npc; ++r) {
+    rn[r] = ea__pp_row(pl, pp->x, ea__pp_hrow(pl, r), NULL, rc + (size_t)r * EA__ROW_MAX, NULL);
+    if (r < m) pp->nnz += rn[r];
+  }
   pp->irow = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
   pp->jcol = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
-  if (!pp->irow || !pp->jcol) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
   pp->jstart = malloc(sizeof(int) * (size_t)(m + 1));
-  if (!pp->jstart) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
-  int nz = 0;
-  for (int i = 0; i < m; ++i) {
-    const int c = ea__pp_row(pl, pp->x, &pp->rows[i], NULL, cols, NULL);
+  ea_status_t st = !pp->irow || !pp->jcol || !pp->jstart ? EA_ERR_NOMEM : EA_OK;
+  for (int i = 0, nz = 0; i < m && !st; nz += rn[i++]) {
     pp->jstart[i] = nz;
-    for (int j = 0; j < c; ++j) {
+    for (int j = 0; j < rn[i]; ++j) {
       pp->irow[nz + j] = i;
-      pp->jcol[nz + j] = cols[j];
+      pp->jcol[nz + j] = rc[(size_t)i * EA__ROW_MAX + j];
     }
-    nz += c;
   }
-  if (ea__pp_hess_setup(pl)) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+  if (!st) st = ea__pp_hess_setup(pl, rc, rn);
   /* with dynamics: the evaluations in two parts (the rows of the first half of the knots and
    * the rest), the second on a worker thread when the task allows two (solver.threads) and
    * the machine has two processors */
@@ -1633,19 +1639,19 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
       int dc[EA__PP_DKEY];
       double key[EA__PP_DKEY];
       const int nd = ea__pp_defect_entries(pl, pp->x, r, dc, key);
-      pp->dyn_direct = 0;
-      const int c = ea__pp_row(pl, pp->x, r, NULL, cols, NULL);
-      pp->dyn_direct = c == nd && !memcmp(cols, dc, sizeof(int) * (size_t)nd);
+      pp->dyn_direct =
+          rn[i] == nd && !memcmp(rc + (size_t)i * EA__ROW_MAX, dc, sizeof(int) * (size_t)nd);
     }
     pp->split = N / 2;
     pp->xkx1 = malloc(sizeof(double) * nk);
     pp->hv1 = malloc(sizeof(double) * (size_t)(pp->nnz_h + 1));
     pp->jv_keep = malloc(sizeof(double) * (size_t)(pp->nnz + 1));
     pp->jv_x = malloc(sizeof(double) * n);
-    if (!pp->xkx1 || !pp->hv1 || !pp->jv_keep || !pp->jv_x)
-      return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+    if (!pp->xkx1 || !pp->hv1 || !pp->jv_keep || !pp->jv_x) st = EA_ERR_NOMEM;
   }
-  return EA_OK;
+  free(rc);
+  free(rn);
+  return st ? ea_error_set(err, st, "out of memory") : EA_OK;
 }
 
 /* ---- solve -------------------------------------------------------------------- */
