@@ -619,6 +619,9 @@ pub "tests/test_plan_hess (worst Hessian entry of a dynamics row, both tasks)" d
 hp=$(awk '/path layout/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v); print v; exit }' "$R/test_plan_hess.out")
 pub "tests/test_plan_hess (the path transcription's Lagrangian Hessian with dynamics)" docs/planner.md \
   "its Hessian row's largest reference entry: {} (stated 1e-7;" "$(sci %.1e "$hp")"
+hk=$(awk '/path-layout defects/ { v = $0; sub(/.*knot layout.s: /, "", v); sub(/ .*/, "", v); print v; exit }' "$R/test_plan_hess.out")
+pub "tests/test_plan_hess (the path layout's kept defect values against the knot layout's)" docs/planner.md \
+  "rule: within {} of each row's largest entry (stated 1e-12)." "$(sci %.1e "$hk")"
 # sw KIND: planned, infeasible, failures, iterations of the sweep's KIND paths, then the
 # worst relative excess and the re-solves of the limits line after it, then the Ipopt solves
 # repeated for a row left out of its problem

@@ -357,8 +357,8 @@ static void check_path(ea_task_t *t, const char *name) {
       ea__plan_dyn_pp_forget(pl);
       nc[1] = ea__pp_test_row(pl, xs, r, &v[1], cols[1], g[1]);
       ea__pp_test_hess(pl, xs, 0.0, lam, vals); /* kept again for the next row */
-      same_cols = same_cols && nc[0] == nc[1] &&
-                  !memcmp(cols[0], cols[1], sizeof(int) * (size_t)nc[0]);
+      same_cols =
+          same_cols && nc[0] == nc[1] && !memcmp(cols[0], cols[1], sizeof(int) * (size_t)nc[0]);
       double big = fabs(v[1]);
       for (int a = 0; a < nc[1]; ++a)
         big = fmax(big, fabs(g[1][a]));

@@ -459,9 +459,8 @@ static void test_threads(void) {
            kn[c], gam[c], info[0].duration_s, info[0].iterations, info[1].duration_s,
            info[1].iterations);
     char w[160];
-    snprintf(w, sizeof w,
-             "at rest, %d knots, payload factor %g: the same plan on 1 and 2 threads", kn[c],
-             gam[c]);
+    snprintf(w, sizeof w, "at rest, %d knots, payload factor %g: the same plan on 1 and 2 threads",
+             kn[c], gam[c]);
     ea_test_true(same, w);
     ea_traj_free(&tr[0]);
     ea_traj_free(&tr[1]);

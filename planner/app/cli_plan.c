@@ -423,10 +423,11 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
            figure && !rc ? ", " : "", figure && !rc ? figure : "");
     const int by_ipm = info->ipm_iterations > 0 && !info->ipm_fallback;
     printf("time: %.2f ms total (guess %.2f, statics Jacobians %.2f, %s %.2f, rest %.2f); "
-           "%d variables, %d constraints\n",
+           "%d variables, %d constraints; %d thread%s\n",
            1e3 * info->time_total_s, 1e3 * info->time_guess_s, 1e3 * info->time_statics_s,
            by_ipm ? "interior point (LDL)" : "Ipopt", 1e3 * info->time_ipopt_s,
-           1e3 * info->time_rest_s, info->n_var, info->n_con);
+           1e3 * info->time_rest_s, info->n_var, info->n_con, info->threads,
+           info->threads == 1 ? "" : "s");
     if (info->deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info->deriv_errors);
     if (r->ver) ea__plan_verify_text(r->ver);
   }

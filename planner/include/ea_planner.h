@@ -57,6 +57,8 @@ typedef struct ea_plan_info {
                                   when ipm_fallback is 0; 0: not tried */
   int ipm_fallback;          /**< 1: it ran and gave no plan that passed the KKT test (Ipopt then
                                   solved from the same start) */
+  int threads;               /**< threads the plan's evaluations ran on: 2 with the path
+                                  transcription's worker (solver.threads), else 1 */
   int n_var, n_con, nnz_jac; /**< problem size */
   double objective;          /**< final objective value */
   double duration_s;         /**< [s] t_f */

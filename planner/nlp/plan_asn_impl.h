@@ -39,7 +39,7 @@ struct ea__asn {
   int *act_x, *act_g; /* -1 lower, +1 upper, 0 free / inactive, 2 fixed / equality */
   int *kx, *kg;       /* KKT index of a free variable / an active row (-1: none) */
   int nk, nnz_k, nx;  /* KKT size, its entries; nx: free variables (plan_ipm.c) */
-  int ipm_ready;      /* the pattern is the interior point's (ea__ipm_prepare), for its next solve */
+  int ipm_ready; /* the pattern is the interior point's (ea__ipm_prepare), for its next solve */
   int *Ap, *Ai, *cnt; /* KKT pattern (CSC, full symmetric) */
   double *Ax;
   int *pj[2], *ph[2]; /* positions of each Jacobian / Hessian entry in Ax (-1: none) */

@@ -604,7 +604,9 @@ int ea__plan_dyn_defect_hess_pp(const ea_planner_t *pl, const double *x, const d
     const int vel = rows[r].kind == EA__ROW_DYN_DEF_VEL;
     if (j != have_model) {
       for (int P = 0; P < 3; ++P) {
-        const ea__hz_end_t e = {P, -1, {P < 2 ? dq[P][0] : 0, P < 2 ? dq[P][1] : 0},
+        const ea__hz_end_t e = {P,
+                                -1,
+                                {P < 2 ? dq[P][0] : 0, P < 2 ? dq[P][1] : 0},
                                 {P < 2 ? d2q[P][0] : 0, P < 2 ? d2q[P][1] : 0}};
         ea__hz_point7(pl, j, &kin.q[P][0], &kin.q[P][1],
                       P < 2 ? ea__dyn_at_knot(pl, x, k + P, j) : NULL, P < 2 ? &e : NULL, &F[P]);

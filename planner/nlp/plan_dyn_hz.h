@@ -189,8 +189,8 @@ static void FN(ea__hz_point_from)(const ea_planner_t *pl, int j, const HZ *L, co
 static void FN(ea__hz_point)(const ea_planner_t *pl, int j, const HZ *L, const HZ *A,
                              const ea__dyn_kcache_t *knot, const ea__hz_end_t *e, FIELDS *o) {
   if (knot) {
-    FN(ea__hz_point_from)(pl, j, L, A, &knot->v, &knot->dL, &knot->da, &knot->dLL, &knot->dLa,
-                          &knot->daa, e, o);
+    FN(ea__hz_point_from)
+    (pl, j, L, A, &knot->v, &knot->dL, &knot->da, &knot->dLL, &knot->dLa, &knot->daa, e, o);
     return;
   }
   ea_rom_point_t v, dL, da, dLL, dLa, daa;
@@ -287,8 +287,8 @@ static void FN(ea__hz_defect)(const KIN *kin, const FIELDS *m[3], int k, const d
   HZ F[3], t, u, acc0, acc1, d, em, edm, accm;
   for (int P = 0; P < 3; ++P)
     FN(ea__hz_force)(&F[P], m[P], k, kin->a[P], kin->vv[P]);
-  const HZ *h = &kin->h, *W0 = &m[0]->W[k], *W1 = &m[1]->W[k], *c0 = &m[0]->c[k],
-           *c1 = &m[1]->c[k], *Wm = &m[2]->W[k], *cm = &m[2]->c[k];
+  const HZ *h = &kin->h, *W0 = &m[0]->W[k], *W1 = &m[1]->W[k], *c0 = &m[0]->c[k], *c1 = &m[1]->c[k],
+           *Wm = &m[2]->W[k], *cm = &m[2]->c[k];
   /* acc_P = F_P - W_P eta_P - c_P eta'_P at the ends, d = acc_0 - acc_1 */
   FN(ea__hz_lin)(&acc0, 1.0, &F[0], -e[0], W0);
   FN(ea__hz_lin)(&acc0, 1.0, &acc0, -e[1], c0);

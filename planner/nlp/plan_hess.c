@@ -302,8 +302,8 @@ static void ea__hess_fd(const ea_planner_t *pl, ea__rowfn fn, const double *x, d
 }
 
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            int slot, const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
-                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
+                            int slot, const ea__row_t *rows, const double *w, int g,
+                            int cols[][EA__ROW_MAX], int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
                             double g0[][EA__ROW_MAX]) {
   const int closed = fn == ea__plan_row_eval;
   /* an interval's modal defects: closed form (ea__plan_dyn_defect_hess; forward differences

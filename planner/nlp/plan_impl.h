@@ -300,8 +300,7 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
  *  (ea__plan_dyn_defect_hess) of the calling thread. */
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
                             int slot, const ea__row_t *rows, const double *w, int g,
-                            int cols[][EA__ROW_MAX],
-                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
+                            int cols[][EA__ROW_MAX], int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
                             double g0[][EA__ROW_MAX]);
 /** The Hessians of g rows (rows[0..g-1], weights w; ea__plan_hess_fd_local: closed forms or
  *  central differences over the union of their variables, xx a scratch copy of x), added as
@@ -398,6 +397,8 @@ int ea__pp_test_row(const ea_planner_t *pl, const double *xs, int r, double *val
  *  into values (the pattern's order), as Ipopt and the own interior point get it. */
 void ea__pp_test_hess(ea_planner_t *pl, const double *xs, double sigma, const double *lambda,
                       double *values);
+/** Threads of the path transcription's evaluations (2 with its worker), 1 without it. */
+int ea__pp_threads(const ea_planner_t *pl);
 /** Are the modal defects' Hessians and gradients kept in the path layout directly
  *  (ea__plan_dyn_defect_hess_pp)? 1 yes, 0 through the knot layout. */
 int ea__pp_test_direct(const ea_planner_t *pl);

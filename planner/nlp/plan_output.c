@@ -308,6 +308,7 @@ ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_
               : info->iterations > 0   ? "ipopt"
               : info->newton_steps > 0 ? "active-set-newton"
                                        : "kkt-test");
+  ea_json_int(&j, "threads", info->threads);
   ea_json_str(&j, "ipopt_status", info->ipopt_status_name);
   ea_json_num(&j, "objective_value", info->objective);
   ea_json_num(&j, "solve_time_s", info->time_total_s);

@@ -95,12 +95,12 @@ struct ea__pp {
    * knots below split and the rest (plan_par.c; par NULL: both parts on the caller) */
   ea__par_t *par;
   int split;
-  int *jstart;  /* each row's first Jacobian entry */
-  double *xkx1; /* part 1's knot-layout scratch */
+  int *jstart;       /* each row's first Jacobian entry */
+  double *xkx1;      /* part 1's knot-layout scratch */
   ea_shooter_t *sh1; /* the worker's shooter (the statics samples; NULL without a worker) */
-  int dyn_direct; /* the modal defects' Hessians and cached gradients in this layout directly
-                     (ea__plan_dyn_defect_hess_pp; 0: through the knot layout) */
-  double *hv1;  /* part 1's Hessian values */
+  int dyn_direct;    /* the modal defects' Hessians and cached gradients in this layout directly
+                        (ea__plan_dyn_defect_hess_pp; 0: through the knot layout) */
+  double *hv1;       /* part 1's Hessian values */
   /* with dynamics the rows' values come with their Jacobian's (one pass over the rows), kept
    * for the Jacobian at the same x */
   double *jv_keep, *jv_x;
@@ -615,8 +615,8 @@ static void ea__pp_seg_key(const ea_planner_t *pl, int j, double key[8]) {
 static ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
   if (pl->K > 0) ea__plan_dyn_pp_forget(pl); /* the defects kept at sigma values */
-  pp->jv_valid = 0;                            /* and the Jacobian */
-  if (pp->sh1) { /* the worker's shooter: the planner's load */
+  pp->jv_valid = 0;                          /* and the Jacobian */
+  if (pp->sh1) {                             /* the worker's shooter: the planner's load */
     const ea_load_t load = {pl->tip_mass};
     ea_shooter_set_load(pp->sh1, &load);
   }
@@ -908,7 +908,8 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
                              const int *const *hpos, double *values, double *xx, int slot) {
   const ea__pp_t *pp = pl->pp;
   double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
-  if (pp->dyn_direct && (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
+  if (pp->dyn_direct &&
+      (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
     /* an interval's modal defects: their Hessians in the path variables directly */
     const int k = rows[0].knot;
     const double sig[2] = {pp->xs_last[EA__PS(pp, k)], pp->xs_last[EA__PS(pp, k + 1)]};
@@ -1092,6 +1093,10 @@ int ea__pp_test_dims(const ea_planner_t *pl, int *n, int *m, const double **x_so
   *hrow = pp->hirow;
   *hcol = pp->hjcol;
   return 0;
+}
+
+int ea__pp_threads(const ea_planner_t *pl) {
+  return pl->pp && pl->pp->par ? 2 : 1;
 }
 
 int ea__pp_test_direct(const ea_planner_t *pl) {

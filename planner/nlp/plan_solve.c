@@ -1068,6 +1068,7 @@ static double ea__solve_begin(ea_planner_t *pl, ea_plan_info_t *info) {
   info->n_var = pl->n;
   info->n_con = pl->m;
   info->nnz_jac = pl->nnz;
+  info->threads = ea__pp_threads(pl);
   info->status = EA_ERR_NOCONV;
   const double t0 = ea__mono_s();
   pl->t_start = t0;
