@@ -616,7 +616,7 @@ hw=$(awk '/worst entry/ && !/kinematic/ && !/path layout/ { v = $0; sub(/.*worst
 pub "tests/test_plan_hess (worst Hessian entry of a dynamics row, both tasks)" docs/planner.md \
   "exact gradient over all its variables, modal states included: within {} of the row's largest" \
   "$(sci %.1e "$hw")"
-hp=$(awk '/path layout/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v); print v; exit }' "$R/test_plan_hess.out")
+hp=$(awk '/path layout [0-9]+ variables/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v); print v; exit }' "$R/test_plan_hess.out")
 pub "tests/test_plan_hess (the path transcription's Lagrangian Hessian with dynamics)" docs/planner.md \
   "its Hessian row's largest reference entry: {} (stated 1e-7;" "$(sci %.1e "$hp")"
 hk=$(awk '/path-layout defects/ { v = $0; sub(/.*knot layout.s: /, "", v); sub(/ .*/, "", v); print v; exit }' "$R/test_plan_hess.out")
