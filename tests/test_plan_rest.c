@@ -430,12 +430,36 @@ static void test_transcriptions(void) {
   }
 }
 
+/* Plan t on 1 and on 2 threads (solver.threads): 1 when both plans succeed with the same
+ * iterations, duration and trajectory bit for bit; what printed. */
+static int same_on_threads(ea_task_t *t, const char *what) {
+  ea_traj_t tr[2] = {{0}, {0}};
+  ea_plan_info_t info[2];
+  int ok = 1;
+  for (int th = 0; th < 2; ++th) {
+    t->solver.threads = th + 1;
+    ok = ok && plan(t, &tr[th], &info[th]) == EA_OK;
+  }
+  int same = ok && tr[0].n == tr[1].n && info[0].iterations == info[1].iterations &&
+             memcmp(&info[0].duration_s, &info[1].duration_s, sizeof(double)) == 0;
+  for (int i = 0; same && i < tr[0].n * EA_TRAJ_NCOL; ++i)
+    same = memcmp(&tr[0].data[i], &tr[1].data[i], sizeof(double)) == 0;
+  printf("threads 1 and 2, %s: %.12g s (%d iterations), %.12g s (%d)\n", what, info[0].duration_s,
+         info[0].iterations, info[1].duration_s, info[1].iterations);
+  ea_traj_free(&tr[0]);
+  ea_traj_free(&tr[1]);
+  return same;
+}
+
 /* solver.threads: the path transcription's two parts (planner/nlp/plan_par.c) on one thread
- * or two give the same plan bit for bit (the parts and their sums are the same); an even and an
- * odd knot count, payload factors 0 and 0.5 (goal (0.5, -0.2) m, as test_paper_line). */
+ * or two give the same plan bit for bit (the parts and their sums are the same): at rest at
+ * an even and an odd knot count, payload factors 0 and 0.5 (goal (0.5, -0.2) m, as
+ * test_paper_line); quasi-static plans (the statics samples' levels on the worker, the cold
+ * guess beside the interior point's preparation) on the paper line and the polyline. */
 static void test_threads(void) {
   const int kn[3] = {100, 37, 60};
   const double gam[3] = {0.0, 0.0, 0.5};
+  char what[96], w[160];
   for (int c = 0; c < 3; ++c) {
     ea_task_t t;
     if (load("paper-line-rest.yaml", &t)) return;
@@ -444,50 +468,16 @@ static void test_threads(void) {
     t.payload_kg = ea_arm_payload_from_factor(&t.arm, gam[c]);
     if (c == 2) t.goal = ea_task_point_planar(0.5, -0.2, 0.0);
     t.solver.transcription = EA_TASK_TRANSCRIPTION_PATH;
-    ea_traj_t tr[2] = {{0}, {0}};
-    ea_plan_info_t info[2];
-    int ok = 1;
-    for (int th = 0; th < 2; ++th) {
-      t.solver.threads = th + 1;
-      ok = ok && plan(&t, &tr[th], &info[th]) == EA_OK;
-    }
-    int same = ok && tr[0].n == tr[1].n && info[0].iterations == info[1].iterations &&
-               info[0].duration_s == info[1].duration_s;
-    for (int i = 0; same && i < tr[0].n * EA_TRAJ_NCOL; ++i)
-      same = memcmp(&tr[0].data[i], &tr[1].data[i], sizeof(double)) == 0;
-    printf("threads 1 and 2, %d knots, payload factor %g: %.12g s (%d iterations), %.12g s (%d)\n",
-           kn[c], gam[c], info[0].duration_s, info[0].iterations, info[1].duration_s,
-           info[1].iterations);
-    char w[160];
-    snprintf(w, sizeof w, "at rest, %d knots, payload factor %g: the same plan on 1 and 2 threads",
-             kn[c], gam[c]);
-    ea_test_true(same, w);
-    ea_traj_free(&tr[0]);
-    ea_traj_free(&tr[1]);
+    snprintf(what, sizeof what, "at rest, %d knots, payload factor %g", kn[c], gam[c]);
+    snprintf(w, sizeof w, "%s: the same plan on 1 and 2 threads", what);
+    ea_test_true(same_on_threads(&t, what), w);
   }
-  /* quasi-static plans on a prescribed path (the statics samples' levels on the worker, the
-   * cold guess beside the interior point's preparation): the paper line and the polyline */
   const char *qs[2] = {"paper-line.yaml", "polyline-effort.yaml"};
   for (int c = 0; c < 2; ++c) {
     ea_task_t t;
     if (load(qs[c], &t)) return;
-    ea_traj_t tr[2] = {{0}, {0}};
-    ea_plan_info_t info[2];
-    int ok = 1;
-    for (int th = 0; th < 2; ++th) {
-      t.solver.threads = th + 1;
-      ok = ok && plan(&t, &tr[th], &info[th]) == EA_OK;
-    }
-    int same = ok && tr[0].n == tr[1].n && info[0].iterations == info[1].iterations;
-    for (int i = 0; same && i < tr[0].n * EA_TRAJ_NCOL; ++i)
-      same = memcmp(&tr[0].data[i], &tr[1].data[i], sizeof(double)) == 0;
-    printf("threads 1 and 2, %s: %.12g s (%d iterations), %.12g s (%d)\n", qs[c],
-           info[0].duration_s, info[0].iterations, info[1].duration_s, info[1].iterations);
-    char w[160];
     snprintf(w, sizeof w, "%s: the same plan on 1 and 2 threads", qs[c]);
-    ea_test_true(same, w);
-    ea_traj_free(&tr[0]);
-    ea_traj_free(&tr[1]);
+    ea_test_true(same_on_threads(&t, qs[c]), w);
   }
 }
 

@@ -471,14 +471,8 @@ struct ea__hz_fields { /* a slot's scratch: the fields at an interval's three po
 
 /* The knot layout's kinematics of interval k: z = (L_c q0 q1 v0 v1, alpha q0 q1 v0 v1, t_f). */
 static void ea__hz_kin(const ea_planner_t *pl, const double *x, int k, ea__hz_kin_t9 *o) {
-  const double ds = pl->s[k + 1] - pl->s[k];
-  const double tf = pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
-  ea__hz_t9 tfz, h, q[2][2], v[3][2];
-  if (pl->has_tf)
-    ea__hz_var9(&tfz, tf, 8);
-  else
-    ea__hz_c9(&tfz, tf);
-  ea__hz_lin9(&h, ds, &tfz, 0.0, &tfz);
+  ea__hz_t9 h, q[2][2], v[3][2];
+  ea__hz_step9(pl, x, k, 8, &h);
   for (int c = 0; c < 2; ++c) {
     ea__hz_var9(&q[0][c], x[EA__IQ(pl, k, c)], 4 * c);
     ea__hz_var9(&q[1][c], x[EA__IQ(pl, k + 1, c)], 4 * c + 1);
@@ -566,14 +560,8 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
  * slopes and curvatures dq[P], d2q[P]. */
 static void ea__hz_kin_pp(const ea_planner_t *pl, const double *x, int k, const double *dq[2],
                           const double *d2q[2], ea__hz_kin_t7 *o) {
-  const double ds = pl->s[k + 1] - pl->s[k];
-  const double tf = pl->has_tf ? x[EA__ITF(pl)] : pl->tf_fixed;
-  ea__hz_t7 tfz, h, q[2][2], v[3][2];
-  if (pl->has_tf)
-    ea__hz_var7(&tfz, tf, 6);
-  else
-    ea__hz_c7(&tfz, tf);
-  ea__hz_lin7(&h, ds, &tfz, 0.0, &tfz);
+  ea__hz_t7 h, q[2][2], v[3][2];
+  ea__hz_step7(pl, x, k, 6, &h);
   for (int P = 0; P < 2; ++P)
     for (int c = 0; c < 2; ++c) {
       ea__hz_c7(&q[P][c], x[EA__IQ(pl, k + P, c)]);

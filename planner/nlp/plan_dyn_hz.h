@@ -216,6 +216,16 @@ typedef struct {
   HZ h, q[3][2], a[3][2], vv[3][3];
 } KIN;
 
+/* Interval k's step h = (s_k+1 - s_k) t_f, t_f the variable itf (fixed: a number). */
+static void FN(ea__hz_step)(const ea_planner_t *pl, const double *x, int k, int itf, HZ *h) {
+  HZ tfz;
+  if (pl->has_tf)
+    FN(ea__hz_var)(&tfz, x[EA__ITF(pl)], itf);
+  else
+    FN(ea__hz_c)(&tfz, pl->tf_fixed);
+  FN(ea__hz_lin)(h, pl->s[k + 1] - pl->s[k], &tfz, 0.0, &tfz);
+}
+
 /* The kinematics from the ends' (L_c, alpha) q[P][c], rates v[P][c] and h, functions of z. */
 static void FN(ea__hz_kin_from)(HZ q[2][2], HZ v[3][2], const HZ *h, KIN *o) {
   HZ ih, ih2, t, u;
