@@ -1281,7 +1281,8 @@ static int ea__pp_asn(ea_planner_t *pl) {
                                .jac = ea__pp_cb_jac,
                                .h = ea__pp_cb_h,
                                .ud = pl,
-                               .hess_last = pl->K == 0};
+                               .hess_last = pl->K == 0,
+                               .par = pp->par};
     if (!(pp->asn = ea__asn_alloc(&nlp))) return -1;
   }
   return 0;
