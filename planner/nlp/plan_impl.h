@@ -46,6 +46,7 @@ typedef enum ea__row_kind {
 
 typedef struct ea__pp ea__pp_t;
 
+
 /** Most models of a robust plan (the nominal arm and four corners), and modal coordinates. */
 #define EA__DYN_MAX_MODELS 5
 #define EA__DYN_MAX (EA__DYN_MAX_MODELS * EA_ROM_MAX_MODES)
