@@ -5,8 +5,6 @@
 #include <coin/IpStdCInterface.h>
 #include <klu.h>
 
-#include "plan_par.h"
-
 /** The NLP as Ipopt sees it: sizes, bounds, the Jacobian's and the Hessian's (lower triangle)
  *  structures, the callbacks and their user data. */
 typedef struct ea__asn_nlp {
@@ -23,9 +21,6 @@ typedef struct ea__asn_nlp {
    * it: no modal defects); 0: before them (plan_dyn.c's defects leave their values and
    * gradients for the rows) */
   int hess_last;
-  /* a worker for the interior point's refinement residuals (plan_ipm.c: the KKT matrix's rows
-   * in two halves, the same sums either way); NULL: none */
-  ea__par_t *par;
 } ea__asn_nlp_t;
 
 /** What a converged point is (the caller's solver settings, given at every solve): rows at

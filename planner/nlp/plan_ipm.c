@@ -180,27 +180,6 @@ static int ea__ipm_ws_alloc(ea__ipm_ws_t *w, int n, int m) {
  * most 1e-10 (residual_ratio_max), while it improves (by half at least), at most
  * EA__IPM_REFINE times; then accepted at 1e-5 (residual_ratio_singular). 1: accepted, 0: a
  * small pivot spoilt it (the caller raises the diagonals). */
-/* res = b - K d of ea__ipm_refined, row i of the symmetric K being its column i (the pattern
- * holds both triangles, with the same values): the first half of the rows (part 0) or the
- * rest. */
-typedef struct {
-  const ea__asn_t *a;
-  const double *b;
-  double *res;
-} ea__ipm_res_t;
-
-static void ea__ipm_res_part(void *ctx, int part) {
-  const ea__ipm_res_t *j = ctx;
-  const ea__asn_t *a = j->a;
-  const int h = a->nk / 2;
-  for (int i = part ? h : 0; i < (part ? a->nk : h); ++i) {
-    double r = j->b[i];
-    for (int q = a->Ap[i]; q < a->Ap[i + 1]; ++q)
-      r -= a->Ax[q] * a->rhs[a->Ai[q]];
-    j->res[i] = r;
-  }
-}
-
 static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w) {
   const int nk = a->nk;
   double *b = w->b, *res = w->res;
@@ -210,8 +189,14 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w) {
   for (int k = 0; k < nk; ++k)
     bn = fmax(bn, fabs(b[k]));
   for (int ref = 0;; ++ref) {
-    ea__ipm_res_t job = {a, b, res};
-    ea__par_run(a->p.par, ea__ipm_res_part, &job);
+    /* res = b - K d, row i of the symmetric K being its column i (the pattern holds both
+     * triangles, with the same values) */
+    for (int i = 0; i < nk; ++i) {
+      double r = b[i];
+      for (int q = a->Ap[i]; q < a->Ap[i + 1]; ++q)
+        r -= a->Ax[q] * a->rhs[a->Ai[q]];
+      res[i] = r;
+    }
     double rn = 0.0, dn = 0.0;
     for (int k = 0; k < nk; ++k)
       rn = fmax(rn, fabs(res[k])), dn = fmax(dn, fabs(a->rhs[k]));

@@ -7,9 +7,7 @@
  * for a few milliseconds, then blocked on a condition variable; the caller waits for the
  * worker's part spinning (the two parts take about as long). */
 #define _POSIX_C_SOURCE 200809L
-#include "plan_par.h"
-
-#include "ea_util.h"
+#include "plan_impl.h"
 
 #include <pthread.h>
 #include <sched.h>

@@ -1281,8 +1281,7 @@ static int ea__pp_asn(ea_planner_t *pl) {
                                .jac = ea__pp_cb_jac,
                                .h = ea__pp_cb_h,
                                .ud = pl,
-                               .hess_last = pl->K == 0,
-                               .par = pp->par};
+                               .hess_last = pl->K == 0};
     if (!(pp->asn = ea__asn_alloc(&nlp))) return -1;
   }
   return 0;
