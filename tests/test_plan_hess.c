@@ -254,7 +254,7 @@ static void check_kin(ea_task_t *t, const char *name) {
     int hc[1][EA__ROW_MAX], hn[1];
     double Hl[1][EA__ROW_MAX][EA__ROW_MAX];
     const double one = 1.0;
-    ea__plan_hess_fd_local(pl, ea__plan_row_eval, x, xx, 0, row, &one, 1, hc, hn, Hl, NULL);
+    ea__plan_hess_fd_local(pl, ea__plan_row_eval, x, xx, row, &one, 1, hc, hn, Hl, NULL);
     int same = hn[0] == nc;
     for (int a = 0; a < nc && same; ++a)
       same = hc[0][a] == cols[a];

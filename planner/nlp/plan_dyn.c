@@ -196,12 +196,10 @@ typedef struct {
 } ea__dyn_pcache_t;
 
 struct ea__dyn_cache {
-  ea__dyn_icache_t *ic;     /* (N - 1) M: per interval and model */
-  ea__dyn_mcache_t *mc;     /* (N - 1) K: per interval and modal coordinate */
-  ea__dyn_pcache_t *pc;     /* (N - 1) K: the same in the path layout */
-  ea__dyn_kcache_t *kc;     /* N M: per knot and model */
-  struct ea__hz_fields *hz; /* 2: the defects' Hessians' scratch (per slot of
-                             ea__plan_dyn_defect_hess) */
+  ea__dyn_icache_t *ic; /* (N - 1) M: per interval and model */
+  ea__dyn_mcache_t *mc; /* (N - 1) K: per interval and modal coordinate */
+  ea__dyn_pcache_t *pc; /* (N - 1) K: the same in the path layout */
+  ea__dyn_kcache_t *kc; /* N M: per knot and model */
 };
 
 void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
@@ -210,7 +208,6 @@ void ea__plan_dyn_cache_free(struct ea__dyn_cache *c) {
   free(c->mc);
   free(c->pc);
   free(c->kc);
-  free(c->hz);
   free(c);
 }
 
@@ -464,11 +461,6 @@ typedef struct {
 #include "plan_dyn_hz.h"
 #undef EA__HZ
 
-struct ea__hz_fields { /* a slot's scratch: the fields at an interval's three points */
-  ea__hz_fields_t9 f9[3];
-  ea__hz_fields_t7 f7[3];
-};
-
 /* The knot layout's kinematics of interval k: z = (L_c q0 q1 v0 v1, alpha q0 q1 v0 v1, t_f). */
 static void ea__hz_kin(const ea_planner_t *pl, const double *x, int k, ea__hz_kin_t9 *o) {
   ea__hz_t9 h, q[2][2], v[3][2];
@@ -503,12 +495,12 @@ static void ea__hz_fill(const ea_planner_t *pl, const double *x, int k, int i,
 }
 
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
-                              const double *w, int g, int slot, int cols[][EA__ROW_MAX], int *nc,
+                              const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   const int k = rows[0].knot;
   ea__hz_kin_t9 kin;
   ea__hz_kin(pl, x, k, &kin);
-  ea__hz_fields_t9 *F = pl->dync->hz[slot].f9;
+  ea__hz_fields_t9 F[3]; /* the fields at the interval's ends and midpoint */
   int have_model = -1, have_coord = -1;
   const ea__hz_fields_t9 *m[3] = {&F[0], &F[1], &F[2]};
   ea__hz_t9 phi[2];
@@ -575,12 +567,11 @@ static void ea__hz_kin_pp(const ea_planner_t *pl, const double *x, int k, const 
 
 int ea__plan_dyn_defect_hess_pp(const ea_planner_t *pl, const double *x, const double sig[2],
                                 const double *dq[2], const double *d2q[2], const ea__row_t *rows,
-                                const double *w, int g, int slot,
-                                double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
+                                const double *w, int g, double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
   const int k = rows[0].knot, n = pl->has_tf ? EA__PP_DKEY : EA__PP_DKEY - 1, nz = n - 4;
   ea__hz_kin_t7 kin;
   ea__hz_kin_pp(pl, x, k, dq, d2q, &kin);
-  ea__hz_fields_t7 *F = pl->dync->hz[slot].f7;
+  ea__hz_fields_t7 F[3]; /* the fields at the interval's ends and midpoint */
   int have_model = -1, have_coord = -1;
   const ea__hz_fields_t7 *m[3] = {&F[0], &F[1], &F[2]};
   ea__hz_t7 phi[2];
@@ -779,10 +770,8 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
     pl->dync->mc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->mc);
     pl->dync->pc = calloc(ni * (size_t)pl->K, sizeof *pl->dync->pc);
     pl->dync->kc = calloc((size_t)pl->N * (size_t)pl->M, sizeof *pl->dync->kc);
-    pl->dync->hz = malloc(2 * sizeof *pl->dync->hz);
   }
-  if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->pc || !pl->dync->kc ||
-      !pl->dync->hz)
+  if (!pl->dync || !pl->dync->ic || !pl->dync->mc || !pl->dync->pc || !pl->dync->kc)
     return ea_error_set(err, EA_ERR_NOMEM, "dynamics: out of memory");
   /* each model's mode mi damped by the arm file's measured ratio of mode mi + 1 (modes beyond
    * the measured ones, and an arm without damping: undamped, the worst case) */

@@ -142,6 +142,15 @@ typedef struct {
   HZ W[EA_ROM_MAX_MODES], c[EA_ROM_MAX_MODES], B[EA_ROM_MAX_MODES][2], C[EA_ROM_MAX_MODES][3];
 } FIELDS;
 
+/* A field at an end (e not NULL: ea__hz_field_end) or at (L, A) with their outer products op. */
+static void FN(ea__hz_field_at)(HZ *r, const ea__hz_end_t *e, const HZ *L, const HZ *A,
+                                const FN(ea__hz_outer_t) * op, const double f[6]) {
+  if (e)
+    FN(ea__hz_field_end)(r, e, f);
+  else
+    FN(ea__hz_field_o)(r, L, A, op, f);
+}
+
 /* The fields of model j at (L, A) (functions of z) from the table's values and derivatives
  * there; at an end (e not NULL) by ea__hz_field_end. */
 static void FN(ea__hz_point_from)(const ea_planner_t *pl, int j, const HZ *L, const HZ *A,
@@ -154,10 +163,7 @@ static void FN(ea__hz_point_from)(const ea_planner_t *pl, int j, const HZ *L, co
   for (int k = 0; k < pl->Kper; ++k) {
     const double w[6] = {vp->omega2[k],   dLp->omega2[k],  dap->omega2[k],
                          dLLp->omega2[k], dLap->omega2[k], daap->omega2[k]};
-    if (e)
-      FN(ea__hz_field_end)(&o->W[k], e, w);
-    else
-      FN(ea__hz_field_o)(&o->W[k], L, A, &op, w);
+    FN(ea__hz_field_at)(&o->W[k], e, L, A, &op, w);
     const double zeta = pl->zeta[j * pl->Kper + k];
     if (zeta > 0) { /* 2 zeta sqrt(W) */
       const double sw = sqrt(o->W[k].v);
@@ -168,18 +174,12 @@ static void FN(ea__hz_point_from)(const ea_planner_t *pl, int j, const HZ *L, co
     for (int c = 0; c < 2; ++c) {
       const double b[6] = {vp->B[k][c],   dLp->B[k][c],  dap->B[k][c],
                            dLLp->B[k][c], dLap->B[k][c], daap->B[k][c]};
-      if (e)
-        FN(ea__hz_field_end)(&o->B[k][c], e, b);
-      else
-        FN(ea__hz_field_o)(&o->B[k][c], L, A, &op, b);
+      FN(ea__hz_field_at)(&o->B[k][c], e, L, A, &op, b);
     }
     for (int c = 0; c < 3; ++c) {
       const double f[6] = {vp->C[k][c],   dLp->C[k][c],  dap->C[k][c],
                            dLLp->C[k][c], dLap->C[k][c], daap->C[k][c]};
-      if (e)
-        FN(ea__hz_field_end)(&o->C[k][c], e, f);
-      else
-        FN(ea__hz_field_o)(&o->C[k][c], L, A, &op, f);
+      FN(ea__hz_field_at)(&o->C[k][c], e, L, A, &op, f);
     }
   }
 }

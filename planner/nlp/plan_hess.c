@@ -302,8 +302,8 @@ static void ea__hess_fd(const ea_planner_t *pl, ea__rowfn fn, const double *x, d
 }
 
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            int slot, const ea__row_t *rows, const double *w, int g,
-                            int cols[][EA__ROW_MAX], int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
+                            const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
+                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
                             double g0[][EA__ROW_MAX]) {
   const int closed = fn == ea__plan_row_eval;
   /* an interval's modal defects: closed form (ea__plan_dyn_defect_hess; forward differences
@@ -311,7 +311,7 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
    * iterations) */
   if (closed && g > 0 &&
       (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
-    ea__plan_dyn_defect_hess(pl, x, rows, w, g, slot, cols, nc, Hl);
+    ea__plan_dyn_defect_hess(pl, x, rows, w, g, cols, nc, Hl);
   } else {
     /* a row with a closed form of its own (ea__plan_row_hess; -1: none), else differences */
     int n = -1;
@@ -330,7 +330,7 @@ void ea__plan_hess_fd_group(const ea_planner_t *pl, ea__rowfn fn, const double *
                             double *values) {
   int cols[EA__HGROUP_MAX][EA__ROW_MAX], nc[EA__HGROUP_MAX];
   double Hl[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
-  ea__plan_hess_fd_local(pl, fn, x, xx, 0, rows, w, g, cols, nc, Hl, NULL);
+  ea__plan_hess_fd_local(pl, fn, x, xx, rows, w, g, cols, nc, Hl, NULL);
   for (int r = 0; r < g; ++r) {
     const int *p = hpos[r];
     for (int a = 0; a < nc[r]; ++a)

@@ -244,10 +244,9 @@ int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *
 int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
                       double H[][EA__ROW_MAX]);
 /** The closed-form Hessians of one interval's modal defect rows (a group of
- *  ea__plan_hess_group_len: rows[0..g-1], weights w; ea__plan_hess_fd_local's outputs; slot 0
- *  or 1: the scratch of the caller or of the worker of plan_par.c). */
+ *  ea__plan_hess_group_len: rows[0..g-1], weights w; ea__plan_hess_fd_local's outputs). */
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
-                              const double *w, int g, int slot, int cols[][EA__ROW_MAX], int *nc,
+                              const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
 /** The path layout's local variables of a mode's defect rows over an interval (plan_path.c):
  *  eta_k, eta'_k, eta_k+1, eta'_k+1, sigma_k, sigma_k+1, the rates of L_c and alpha at k and
@@ -261,8 +260,7 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
  *  Each mode's values and path gradients are kept for ea__plan_dyn_defect_pp_cached. */
 int ea__plan_dyn_defect_hess_pp(const ea_planner_t *pl, const double *x, const double sig[2],
                                 const double *dq[2], const double *d2q[2], const ea__row_t *rows,
-                                const double *w, int g, int slot,
-                                double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
+                                const double *w, int g, double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
 /** Mode i's pos (vel 0) or vel defect over interval k at the path values key (the order of
  *  EA__PP_DKEY, t_f 0 if fixed) when ea__plan_dyn_defect_hess_pp left them: its value and
  *  gradient (either may be NULL); returns the entry count, 0 if not kept. */
@@ -296,11 +294,11 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr);
  *  (nc[r] of them; 0 where w[r] = 0) and Hl[r][a][b] = d grad_b / d x_cols[r][a] (closed forms
  *  where a row kind has one, with fn = ea__plan_row_eval: ea__plan_row_hess,
  *  ea__plan_dyn_defect_hess; else central differences of the exact gradients); g0 (NULL: not
- *  wanted) the rows' gradients at x in the same order; xx a scratch copy of x and slot
- *  (ea__plan_dyn_defect_hess) of the calling thread. */
+ *  wanted) the rows' gradients at x in the same order; xx a scratch copy of x (one per
+ *  thread). */
 void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
-                            int slot, const ea__row_t *rows, const double *w, int g,
-                            int cols[][EA__ROW_MAX], int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
+                            const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
+                            int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
                             double g0[][EA__ROW_MAX]);
 /** The Hessians of g rows (rows[0..g-1], weights w; ea__plan_hess_fd_local: closed forms or
  *  central differences over the union of their variables, xx a scratch copy of x), added as

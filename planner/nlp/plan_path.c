@@ -472,15 +472,6 @@ static ea_status_t ea__pp_refine(ea_planner_t *pl, const ea__pp_cheb_t *ch, int 
   return ea__pp_refine(pl, ch, j, c, b, depth + 1, n, err_est, err);
 }
 
-/* The piece [lo, hi] of segment j: statics samples at the Chebyshev-Lobatto points of 8
- * intervals (in order, each warm-started from the one before and its slope; guess/have: the
- * chain's, left at hi), then each level's new midpoints (2N intervals) warm-started from the
- * N-interval interpolant, whose misses there are its error estimate: below EA__PP_TOL the
- * 2N-interval interpolant is taken (it is closer still: on the paper line the 16-interval
- * interpolant misses independent re-solves by 7e-11, the 32-interval one by < 1e-11). Not
- * there at 64 intervals: the piece is halved. Its Hermite samples (4 intervals, bisected) are
- * appended. The paper line: 33 samples of 1-2 shots against 131 Hermite samples of one solve
- * each before. */
 /* One level's new samples of ea__pp_piece (the odd Chebyshev-Lobatto points of 2N intervals),
  * part 0 those below the middle, part 1 the rest; e: the interpolant's worst error there. */
 typedef struct {
@@ -518,6 +509,15 @@ static void ea__pp_level_part(void *ctx, int part) {
   }
 }
 
+/* The piece [lo, hi] of segment j: statics samples at the Chebyshev-Lobatto points of 8
+ * intervals (in order, each warm-started from the one before and its slope; guess/have: the
+ * chain's, left at hi), then each level's new midpoints (2N intervals) warm-started from the
+ * N-interval interpolant, whose misses there are its error estimate: below EA__PP_TOL the
+ * 2N-interval interpolant is taken (it is closer still: on the paper line the 16-interval
+ * interpolant misses independent re-solves by 7e-11, the 32-interval one by < 1e-11). Not
+ * there at 64 intervals: the piece is halved. Its Hermite samples (4 intervals, bisected) are
+ * appended. The paper line: 33 samples of 1-2 shots against 131 Hermite samples of one solve
+ * each before. */
 static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi, double guess[EA_NP],
                                 int *have, int depth, int *n, double *err_est, ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
@@ -761,8 +761,6 @@ static void ea__pp_expand(const ea_planner_t *pl, const double *xs) {
   if (pl->has_tf) pp->xk[EA__ITF(pl)] = xs[pp->itf];
 }
 
-/* One row at the path vector: the knot row at the expansion, its entries mapped (entries on
- * the same path variable summed, in the order of first appearance). */
 /* A modal defect row's path entries (the order of EA__PP_DKEY) and their values in xs (t_f: 0
  * if fixed); returns their count. */
 static int ea__pp_defect_entries(const ea_planner_t *pl, const double *xs, const ea__row_t *r,
@@ -787,11 +785,13 @@ static int ea__pp_defect_entries(const ea_planner_t *pl, const double *xs, const
   return pl->has_tf ? EA__PP_DKEY : EA__PP_DKEY - 1;
 }
 
+/* One row at the path vector: the knot row at the expansion, its entries mapped (entries on
+ * the same path variable summed, in the order of first appearance); a modal defect's kept by
+ * the Hessian at the same values (ea__plan_dyn_defect_hess_pp) when there. */
 static int ea__pp_row(const ea_planner_t *pl, const double *xs, const ea__row_t *r, double *value,
                       int *cols, double *vals) {
   ea__pp_t *pp = pl->pp;
   if (pp->dyn_direct && (r->kind == EA__ROW_DYN_DEF_POS || r->kind == EA__ROW_DYN_DEF_VEL)) {
-    /* kept by the Hessian at these values (ea__plan_dyn_defect_hess_pp) */
     int dc[EA__PP_DKEY];
     double key[EA__PP_DKEY];
     const int n = ea__pp_defect_entries(pl, xs, r, dc, key);
@@ -905,7 +905,7 @@ static double ea__pp_factor(const ea__pp_t *pp, int i, double *curv) {
  * same knot entries (a mode's two defects) go through the chain rule once, their weighted
  * sum: the map is linear and their positions are the same. */
 static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, const double *w, int g,
-                             const int *const *hpos, double *values, double *xx, int slot) {
+                             const int *const *hpos, double *values, double *xx) {
   const ea__pp_t *pp = pl->pp;
   double Hk[EA__HGROUP_MAX][EA__ROW_MAX][EA__ROW_MAX];
   if (pp->dyn_direct &&
@@ -915,7 +915,7 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
     const double sig[2] = {pp->xs_last[EA__PS(pp, k)], pp->xs_last[EA__PS(pp, k + 1)]};
     const double *dq[2] = {pp->dq + 6 * k, pp->dq + 6 * (k + 1)};
     const double *d2q[2] = {pp->dq2 + 6 * k, pp->dq2 + 6 * (k + 1)};
-    const int n = ea__plan_dyn_defect_hess_pp(pl, pp->xk, sig, dq, d2q, rows, w, g, slot, Hk);
+    const int n = ea__plan_dyn_defect_hess_pp(pl, pp->xk, sig, dq, d2q, rows, w, g, Hk);
     for (int r = 0; r < g; ++r) {
       if (w[r] == 0.0) continue;
       const int *p = hpos[r];
@@ -927,7 +927,7 @@ static void ea__pp_hess_rows(const ea_planner_t *pl, const ea__row_t *rows, cons
   }
   int kc[EA__HGROUP_MAX][EA__ROW_MAX], nkc[EA__HGROUP_MAX];
   double gk[EA__HGROUP_MAX][EA__ROW_MAX]; /* the knot rows' gradients, in kc[r]'s order */
-  ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, xx, slot, rows, w, g, kc, nkc, Hk, gk);
+  ea__plan_hess_fd_local(pl, ea__plan_row_eval, pp->xk, xx, rows, w, g, kc, nkc, Hk, gk);
   for (int r = 0; r < g;) {
     const int nk = nkc[r];
     if (!nk) {
@@ -1003,7 +1003,7 @@ static int ea__pp_part(const ea__pp_t *pp, const ea__row_t *r) {
   return pp->split < 0 ? -1 : r->knot >= pp->split;
 }
 
-/* One part's work of a callback at x (part -1: all rows; ea__pp_prepare done). */
+/* One part's work of a callback at x (part -1: all rows; ea__pp_job's). */
 typedef struct {
   ea_planner_t *pl;
   const double *x, *lambda;
@@ -1017,15 +1017,12 @@ static void ea__pp_job_part(void *ctx, int part) {
   ea_planner_t *pl = jb->pl;
   ea__pp_t *pp = pl->pp;
   if (jb->what < 2) {
-    for (int i = 0; i < pp->m; ++i) {
-      if (ea__pp_part(pp, &pp->rows[i]) != part) continue;
-      if (jb->what == 0 && pp->jv_keep)
-        ea__pp_row(pl, jb->x, &pp->rows[i], &jb->out[i], NULL, pp->jv_keep + pp->jstart[i]);
-      else if (jb->what == 0)
-        ea__pp_row(pl, jb->x, &pp->rows[i], &jb->out[i], NULL, NULL);
-      else
-        ea__pp_row(pl, jb->x, &pp->rows[i], NULL, NULL, jb->out + pp->jstart[i]);
-    }
+    /* the values come with the Jacobian's where it is kept (pp->jv_keep) */
+    double *jac = jb->what == 1 ? jb->out : pp->jv_keep;
+    for (int i = 0; i < pp->m; ++i)
+      if (ea__pp_part(pp, &pp->rows[i]) == part)
+        ea__pp_row(pl, jb->x, &pp->rows[i], jb->what == 0 ? &jb->out[i] : NULL, NULL,
+                   jac ? jac + pp->jstart[i] : NULL);
     return;
   }
   double *values = part == 1 ? pp->hv1 : jb->out, *xx = part == 1 ? pp->xkx1 : pp->xkx;
@@ -1035,7 +1032,7 @@ static void ea__pp_job_part(void *ctx, int part) {
       const int *hp[EA__HGROUP_MAX];
       for (int q = 0; q < g; ++q)
         hp[q] = pp->hpos + pp->hpos_start[r + q];
-      ea__pp_hess_rows(pl, &pp->rows[r], jb->lambda + r, g, hp, values, xx, part > 0);
+      ea__pp_hess_rows(pl, &pp->rows[r], jb->lambda + r, g, hp, values, xx);
     }
     r += g;
   }
@@ -1045,7 +1042,7 @@ static void ea__pp_job_part(void *ctx, int part) {
     const double w = jb->sigma * pl->oweight[o];
     if (ea__pp_part(pp, row) != part || !ea__plan_row_curved(row)) continue;
     const int *hp[1] = {pp->hpos + pp->hpos_start[pp->m + o]};
-    ea__pp_hess_rows(pl, row, &w, 1, hp, values, xx, part > 0);
+    ea__pp_hess_rows(pl, row, &w, 1, hp, values, xx);
   }
 }
 
