@@ -6,7 +6,6 @@
  * The worker waits for its next part checking for it (yielding the processor between checks)
  * for a few milliseconds, then blocked on a condition variable; the caller waits for the
  * worker's part spinning (the two parts take about as long). */
-#define _POSIX_C_SOURCE 200809L
 #include "plan_impl.h"
 
 #include <pthread.h>
