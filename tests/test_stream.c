@@ -12,6 +12,7 @@
 #include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -319,19 +320,24 @@ static ea_setpoint_t *g_sp;
 static int g_n;
 static fx_move_t g_move;
 
-/* A controlled stop longer than the streamer's ramp buffer (20 s of setpoints):
- * an arm whose cable may accelerate at 1e-5 m/s^2, moving at 0.01 m/s, needs about
- * 1.5 v / (0.9 a) = 1,700 s to stop. After the controller's NACK the stream must say
- * that no controlled stop was sent (before: "controlled stop in 0 frames"). */
+/* A controlled stop longer than the streamer's ramp buffer (20 s of setpoints): an arm
+ * whose cable may accelerate at 1e-4 m/s^2 speeds up from rest at that limit for 40 s
+ * and slows down for 40 s (setpoints at 100 Hz, sent as fast as the link takes them);
+ * the controller corrupts frame 3900, when the cable moves at 0.039 m/s, and stopping
+ * from there takes about 1.5 v / (0.9 a + a) = 31 s. After the NACK the stream must say
+ * that no controlled stop was sent (not "controlled stop in 0 frames"). */
 static void test_stop_too_long(void) {
   ea_arm_t slow = arm;
-  slow.act.cable_accel_max = 1e-5;
-  enum { N = 400 };
-  ea_setpoint_t sp[N];
+  const double a = 1e-4, rate = 100.0, th = 40.0;
+  slow.act.cable_accel_max = a;
+  enum { N = 8001 };
+  ea_setpoint_t *sp = malloc(N * sizeof *sp);
   for (int k = 0; k < N; ++k) {
+    const double t = k / rate, u = 2 * th - t;
     ea_joint_state_t q = {0};
-    q.cable_length = 0.45 + 0.01 * k * 1e-3;
-    q.cable_length_rate = 0.01;
+    q.cable_length = 0.45 + (t <= th ? 0.5 * a * t * t : a * th * th - 0.5 * a * u * u);
+    q.cable_length_rate = t <= th ? a * t : a * u;
+    q.cable_length_acc = t <= th ? a : -a;
     q.theta0 = 0.5 * (slow.act.shoulder_angle_min + slow.act.shoulder_angle_max);
     q.base_angle = 0.5 * (slow.act.base_angle_min + slow.act.base_angle_max);
     q.tension = 0.5 * (slow.act.tension_min + slow.act.tension_max);
@@ -340,26 +346,31 @@ static void test_stop_too_long(void) {
   ea_ctrl_settings_t cs;
   ea_ctrl_settings_default(&cs);
   cs.fault = EA_FAULT_CORRUPT_EVERY;
-  cs.fault_arg = 100;
+  cs.fault_arg = 3900;
   cs.timeout_s = 3.0;
+  cs.buffer_capacity = 60000; /* the frames arrive faster than real time */
   sim_thread_t sim;
   memset(&sim, 0, sizeof sim);
   ea_error_t err = {0};
   if (ea_ctrl_open(&slow, "127.0.0.1:0", &cs, &sim.c, &err)) {
     ea_test_true(0, err.msg);
+    free(sp);
     return;
   }
-  pthread_t th;
-  pthread_create(&th, NULL, sim_main, &sim);
+  pthread_t th_sim;
+  pthread_create(&th_sim, NULL, sim_main, &sim);
   char url[64];
   snprintf(url, sizeof url, "tcp://127.0.0.1:%d", ea_ctrl_port(sim.c));
   ea_stream_settings_t ss;
   ea_stream_settings_default(&ss);
+  ss.rate_hz = rate;
+  ss.realtime = 0;
   ss.end_timeout_s = 0.3;
   ea_stream_info_t info;
   const ea_status_t st = ea_stream_run(&slow, sp, N, url, &ss, &info, &err);
-  pthread_join(th, NULL);
+  pthread_join(th_sim, NULL);
   ea_ctrl_free(sim.c);
+  free(sp);
   printf("stop too long: %s: %s\n", ea_stream_end_name(info.end), err.msg);
   ea_test_true(st == EA_ERR_PROTOCOL && info.end == EA_STREAM_STOP_NACK && info.stop_frames == 0 &&
                    strstr(err.msg, "no controlled stop") != NULL,

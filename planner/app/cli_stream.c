@@ -251,17 +251,27 @@ int ea__cli_stream(int argc, char **argv) {
   free(sp);
   if (o.json) {
     ea__stream_json(&o, &s, arm_used, st, &err, &info);
+  } else if (info.end == EA_STREAM_ERROR && !info.frames_sent) {
+    fprintf(out, "stream %s -> %s: not sent (%d setpoints at %g Hz)\n", o.traj_path, o.to,
+            info.setpoints, s.rate_hz);
   } else {
     fprintf(out,
             "stream %s -> %s: %s\n"
-            "  setpoints %d at %g Hz, frames sent %d (stop ramp %d), acknowledged %d, late %d\n"
-            "  acks %d, nacks %d, controller rejected %d, buffer level %d..%d\n"
-            "  send jitter p50 %.1f us, p99 %.1f us, max %.1f us; max ACK latency %.2f ms; "
-            "%.3f s\n",
+            "  setpoints %d at %g Hz%s, frames sent %d (stop ramp %d), acknowledged %d, late %d\n",
             o.traj_path, o.to, ea_stream_end_name(info.end), info.setpoints, s.rate_hz,
-            info.frames_sent, info.stop_frames, info.frames_acked, info.frames_late, info.acks,
-            info.nacks, info.ctrl_rejected, info.buffer_min, info.buffer_max, info.jitter_p50_us,
-            info.jitter_p99_us, info.jitter_max_us, info.ack_latency_max_ms, info.duration_s);
+            info.rest_frame ? " and one at rest after them" : "", info.frames_sent,
+            info.stop_frames, info.frames_acked, info.frames_late);
+    if (s.wait_acks)
+      fprintf(out, "  acks %d, nacks %d, controller rejected %d, buffer level %d..%d\n", info.acks,
+              info.nacks, info.ctrl_rejected, info.buffer_min, info.buffer_max);
+    if (isnan(info.jitter_p50_us))
+      fprintf(out, "  not paced (written as fast as possible); %.3f s\n", info.duration_s);
+    else
+      fprintf(out,
+              "  send jitter p50 %.1f us, p99 %.1f us, max %.1f us; max ACK latency %.2f ms; "
+              "%.3f s\n",
+              info.jitter_p50_us, info.jitter_p99_us, info.jitter_max_us, info.ack_latency_max_ms,
+              info.duration_s);
   }
   if (st) {
     fprintf(stderr, "elasticarm %s: %s\n", cmd, err.msg[0] ? err.msg : ea_strerror(st));
@@ -575,8 +585,8 @@ static void ea__ctrl_report(const ea__ctrl_opts_t *o, ea_status_t st, const ea_e
       ea_json_str(&j, "sim_tip_file", o->sim_path);
       ea_json_int(&j, "sim_samples", sim->samples);
       ea_json_int(&j, "sim_skipped", sim->skipped);
-      ea_json_int(&j, "o->sim_elements", (int)o->sim_elements);
-      ea_json_num(&j, "o->sim_payload_kg", o->sim_payload);
+      ea_json_int(&j, "sim_elements", (int)o->sim_elements);
+      ea_json_num(&j, "sim_payload_kg", o->sim_payload);
       ea_json_num(&j, "sim_t_first_s", sim->t_first);
       ea_json_num(&j, "sim_motion_duration_s", sim->duration);
       ea_json_num(&j, "sim_settle_s", sim->settle);

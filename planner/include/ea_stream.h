@@ -78,6 +78,22 @@ ea_status_t ea_stream_setpoints_traj(const ea_arm_t *arm, double tip_mass, const
 ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp, double tol,
                                    ea_error_t *err);
 
+/** The protocol's continuity rule between consecutive setpoints (docs/protocol.md,
+ *  "What each side checks"), dt [s] apart: per axis (spool, shoulder, base)
+ *  |p1 - p0 - (v0 + v1) dt / 2| <= tol v_max dt + a_max dt^2 and
+ *  |v1 - v0| <= (1 + tol) a_max dt, limits from the arm file in motor units. The
+ *  controller applies it to every setpoint after the first (tol 0.05 by default); the
+ *  streamer applies the same rule before it sends anything. EA_ERR_INADMISSIBLE with
+ *  err->msg naming the axis, the jump and the bound. */
+ea_status_t ea_stream_check_continuity(const ea_arm_t *arm, const ea_setpoint_t *prev,
+                                       const ea_setpoint_t *next, double dt, double tol,
+                                       ea_error_t *err);
+
+/** sp held at rest: the same positions and feed-forwards, zero rates and accelerations
+ *  (what a controller does after the last setpoint, and where it stands before the
+ *  first). */
+void ea_stream_at_rest(const ea_setpoint_t *sp, ea_setpoint_t *rest);
+
 /** Evaluate a trajectory at time t [s] (clamped to its span): quintic
  *  Hermite of value, rate and acceleration for cable length and base angle;
  *  theta0 quintic with the accelerations of the cubic Hermite of theta0 and
@@ -147,6 +163,7 @@ typedef enum ea_nack_reason {
 typedef struct ea_stream_settings {
   double rate_hz;             /**< setpoint rate (default 1000) */
   double limit_tol;           /**< relative slack of the limits check (default 1e-6) */
+  double continuity_tol;      /**< slack of the continuity rule (default 0.05, the protocol's) */
   double stop_margin;         /**< stop ramp uses at most this fraction of the accel limits (0.9) */
   double ack_timeout_s;       /**< outstanding frames without an ACK this long -> stop (0.1) */
   double handshake_timeout_s; /**< wait for the HELLO answer (1.0) */
@@ -170,6 +187,7 @@ typedef enum ea_stream_end {
   EA_STREAM_STOP_ACK_TIMEOUT, /**< acknowledgements stopped: controlled stop */
   EA_STREAM_STOP_INTERRUPT,   /**< stop requested (SIGINT): controlled stop */
   EA_STREAM_DISCONNECTED,     /**< link lost: the controller's watchdog must stop */
+  EA_STREAM_CTRL_FAULT,       /**< controller reported FAULT: it stopped on its own */
   EA_STREAM_ERROR             /**< could not start (connect, handshake timeout) */
 } ea_stream_end_t;
 
@@ -182,6 +200,8 @@ typedef struct ea_stream_info {
   int setpoints;              /**< setpoints of the resampled trajectory */
   int frames_sent;            /**< setpoint frames written (stop ramp included) */
   int stop_frames;            /**< of which stop ramp */
+  int stop_from;              /**< setpoint index the stop ramp started from (-1: no ramp) */
+  int rest_frame;             /**< 1: a frame at rest was appended after the last setpoint */
   int frames_acked;           /**< setpoints the controller reported accepted */
   int frames_late;            /**< sent more than half a period after their deadline */
   int nacks;                  /**< NACK frames received */

@@ -295,27 +295,6 @@ static void ea__ctrl_own_stop(ea_ctrl_t *c) {
 
 /* ---- Checks ---------------------------------------------------------------------- */
 
-/* Is sp continuous with the last accepted setpoint over dt seconds? Position
- * change must match the trapezoid of the velocities, velocity change the
- * acceleration limit, each within continuity_tol of the limit. */
-static int ea__ctrl_continuous(const ea_ctrl_t *c, const ea_setpoint_t *sp, double dt) {
-  const ea_actuators_t *a = &c->arm.act;
-  const double ks = a->spool_gear_ratio / a->spool_radius, tol = c->s.continuity_tol;
-  const ea_setpoint_t *l = &c->last;
-  const double p0[3] = {l->spool_pos[0], l->shoulder_pos, l->base_pos};
-  const double p1[3] = {sp->spool_pos[0], sp->shoulder_pos, sp->base_pos};
-  const double v0[3] = {l->spool_vel[0], l->shoulder_vel, l->base_vel};
-  const double v1[3] = {sp->spool_vel[0], sp->shoulder_vel, sp->base_vel};
-  const double vmax[3] = {a->cable_speed_max * ks, a->shoulder_speed_max, a->base_speed_max};
-  const double amax[3] = {a->cable_accel_max * ks, a->shoulder_accel_max, a->base_accel_max};
-  for (int i = 0; i < 3; ++i) {
-    const double dp = p1[i] - p0[i] - 0.5 * (v0[i] + v1[i]) * dt;
-    if (fabs(dp) > tol * vmax[i] * dt + amax[i] * dt * dt + 1e-9) return 0;
-    if (fabs(v1[i] - v0[i]) > amax[i] * dt * (1 + tol) + 1e-9) return 0;
-  }
-  return 1;
-}
-
 static void ea__ctrl_reject(ea_ctrl_t *c, uint32_t seq, int reason) {
   ++c->info.rejected;
   switch (reason) {
@@ -411,7 +390,7 @@ static int ea__ctrl_frame(ea_ctrl_t *c, const ea_frame_t *f) {
     }
     if (c->have_last) {
       const double dt = ((double)f->time_us - (double)c->last_time_us) * 1e-6;
-      if (!(dt > 0) || !ea__ctrl_continuous(c, &f->sp, dt)) {
+      if (ea_stream_check_continuity(&c->arm, &c->last, &f->sp, dt, c->s.continuity_tol, NULL)) {
         ea__ctrl_reject(c, f->seq, EA_NACK_CONTINUITY);
         return 0;
       }

@@ -163,6 +163,51 @@ ea_status_t ea_stream_check_limits(const ea_arm_t *arm, const ea_setpoint_t *sp,
   return EA_OK;
 }
 
+/* The protocol's continuity rule (docs/protocol.md, "What each side checks"): over dt
+ * seconds each axis's position change must match the trapezoid of its velocities within
+ * tol v_max dt + a_max dt^2, and its velocity change must stay within (1 + tol) a_max dt
+ * (1e-9 rad absolute slack on both, as the controller's check). */
+ea_status_t ea_stream_check_continuity(const ea_arm_t *arm, const ea_setpoint_t *prev,
+                                       const ea_setpoint_t *next, double dt, double tol,
+                                       ea_error_t *err) {
+  static const char *const axis[3] = {"spool", "shoulder", "base"};
+  if (!(dt > 0) || !isfinite(dt))
+    return ea_error_set(err, EA_ERR_INADMISSIBLE, "setpoint times do not increase (dt %g s)", dt);
+  const ea_actuators_t *a = &arm->act;
+  const double ks = a->spool_gear_ratio / a->spool_radius;
+  const double p0[3] = {prev->spool_pos[0], prev->shoulder_pos, prev->base_pos};
+  const double p1[3] = {next->spool_pos[0], next->shoulder_pos, next->base_pos};
+  const double v0[3] = {prev->spool_vel[0], prev->shoulder_vel, prev->base_vel};
+  const double v1[3] = {next->spool_vel[0], next->shoulder_vel, next->base_vel};
+  const double vmax[3] = {a->cable_speed_max * ks, a->shoulder_speed_max, a->base_speed_max};
+  const double amax[3] = {a->cable_accel_max * ks, a->shoulder_accel_max, a->base_accel_max};
+  for (int i = 0; i < 3; ++i) {
+    const double dp = p1[i] - p0[i] - 0.5 * (v0[i] + v1[i]) * dt;
+    const double dp_max = tol * vmax[i] * dt + amax[i] * dt * dt + 1e-9;
+    if (!(fabs(dp) <= dp_max))
+      return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                          "%s motor jumps: moves %.6g rad in %g s where its velocities "
+                          "(%.6g, %.6g rad/s) allow %.6g +- %.3g rad",
+                          axis[i], p1[i] - p0[i], dt, v0[i], v1[i], 0.5 * (v0[i] + v1[i]) * dt,
+                          dp_max);
+    const double dv_max = amax[i] * dt * (1 + tol) + 1e-9;
+    if (!(fabs(v1[i] - v0[i]) <= dv_max))
+      return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                          "%s motor velocity jumps from %.6g to %.6g rad/s in %g s (at most "
+                          "%.6g rad/s at its acceleration limit)",
+                          axis[i], v0[i], v1[i], dt, dv_max);
+  }
+  return EA_OK;
+}
+
+void ea_stream_at_rest(const ea_setpoint_t *sp, ea_setpoint_t *rest) {
+  *rest = *sp;
+  for (int i = 0; i < 2; ++i)
+    rest->spool_vel[i] = rest->spool_acc[i] = 0.0;
+  rest->shoulder_vel = rest->shoulder_acc = 0.0;
+  rest->base_vel = rest->base_acc = 0.0;
+}
+
 /* ---- Interpolation ----------------------------------------------------------- */
 
 /* Quintic Hermite on [0, h]: value, rate and acceleration at both ends. */
@@ -248,17 +293,20 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
   const int n = tr->n;
   if (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t) || t >= EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t)) {
     const int i = (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t)) ? 0 : n - 1;
-    /* Outside the span: hold the end values with their rates (a plan starts
-     * and ends at rest; these are the plan's own numbers). */
-    q->cable_length = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length);
+    /* At an end sample: its values. Beyond it: the end's rates held, positions moving
+     * with them, no acceleration (a hold, for a plan that starts and ends at rest; a
+     * consistent continuation otherwise, which the streamer then refuses as not at
+     * rest). */
+    const double u = t - EA_TRAJ_AT(tr, i, EA_TRAJ_t), at = u == 0.0;
     q->cable_length_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_rate);
-    q->cable_length_acc = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_acc);
-    q->theta0 = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0);
+    q->cable_length = EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length) + u * q->cable_length_rate;
+    q->cable_length_acc = at ? EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length_acc) : 0.0;
     q->theta0_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0_rate);
-    q->theta0_acc = ea__hermite_acc(tr, i, EA_TRAJ_theta0, EA_TRAJ_theta0_rate);
-    q->base_angle = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle);
+    q->theta0 = EA_TRAJ_AT(tr, i, EA_TRAJ_theta0) + u * q->theta0_rate;
+    q->theta0_acc = at ? ea__hermite_acc(tr, i, EA_TRAJ_theta0, EA_TRAJ_theta0_rate) : 0.0;
     q->base_angle_rate = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle_rate);
-    q->base_angle_acc = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle_acc);
+    q->base_angle = EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle) + u * q->base_angle_rate;
+    q->base_angle_acc = at ? EA_TRAJ_AT(tr, i, EA_TRAJ_base_angle_acc) : 0.0;
     q->tension = EA_TRAJ_AT(tr, i, EA_TRAJ_tension);
     q->kappa0 = EA_TRAJ_AT(tr, i, EA_TRAJ_kappa0);
     return EA_OK;
@@ -295,6 +343,55 @@ ea_status_t ea_stream_traj_eval(const ea_traj_t *tr, double t, ea_joint_state_t 
   return EA_OK;
 }
 
+/* The joint state at plan time tp, played time_scale times slower, as a setpoint. */
+static void ea__scaled_setpoint(const ea_traj_t *tr, const ea_arm_t *arm, double tp,
+                                double time_scale, ea_setpoint_t *sp) {
+  const double is = 1.0 / time_scale, is2 = is * is;
+  ea_joint_state_t q;
+  ea_stream_traj_eval(tr, tp, &q);
+  q.cable_length_rate *= is;
+  q.theta0_rate *= is;
+  q.base_angle_rate *= is;
+  q.cable_length_acc *= is2;
+  q.theta0_acc *= is2;
+  q.base_angle_acc *= is2;
+  ea_stream_map(arm, &q, sp);
+}
+
+/* Points per sample interval at which the interpolant is checked besides the grid. */
+enum { EA__INTERIOR_CHECKS = 8 };
+
+/* The trajectory between its samples, before any resampling: every interval at least one
+ * stream period long (played time_scale slower), so that no motion hides between two
+ * setpoints, and the interpolant within the arm's limits at EA__INTERIOR_CHECKS interior
+ * points of each interval. Names the rows (1 = the first data row). */
+static ea_status_t ea__check_intervals(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
+                                       double time_scale, double tol, ea_error_t *err) {
+  const double period = 1.0 / rate_hz;
+  for (int r = 0; r + 1 < tr->n; ++r) {
+    const double ta = EA_TRAJ_AT(tr, r, EA_TRAJ_t), tb = EA_TRAJ_AT(tr, r + 1, EA_TRAJ_t);
+    const double h = tb - ta;
+    if (!(h * time_scale >= period * (1 - 1e-9)))
+      return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                          "rows %d and %d (t = %.9g and %.9g s) are %.3g s apart%s, less than "
+                          "the stream period %.3g s (%g Hz): a motion between them would not "
+                          "be streamed; nothing sent",
+                          r + 1, r + 2, ta, tb, h * time_scale,
+                          time_scale != 1.0 ? " played slower" : "", period, rate_hz);
+    for (int j = 1; j <= EA__INTERIOR_CHECKS; ++j) {
+      const double tp = ta + h * j / (EA__INTERIOR_CHECKS + 1.0);
+      ea_setpoint_t sp;
+      ea__scaled_setpoint(tr, arm, tp, time_scale, &sp);
+      ea_error_t e = {0};
+      if (ea_stream_check_limits(arm, &sp, tol, &e))
+        return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                            "between rows %d and %d, at t = %.6f s of the plan: %s; nothing sent",
+                            r + 1, r + 2, tp, e.msg);
+    }
+  }
+  return EA_OK;
+}
+
 ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, double rate_hz,
                                       double time_scale, double tol, ea_setpoint_t **out, int *n,
                                       ea_error_t *err) {
@@ -307,6 +404,8 @@ ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, 
   if (!(time_scale >= 1.0) || time_scale > 1e3 || !isfinite(time_scale))
     return ea_error_set(err, EA_ERR_ARG, "time scale %g outside [1, 1000]", time_scale);
   if (tr->n < 1 || !tr->data) return ea_error_set(err, EA_ERR_INPUT, "trajectory has no samples");
+  ea_status_t st = ea__check_intervals(tr, arm, rate_hz, time_scale, tol, err);
+  if (st) return st;
   const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
   const double dur = (EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0) * time_scale;
   const double nf = ceil(dur * rate_hz - 1e-9) + 1.0;
@@ -316,18 +415,11 @@ ea_status_t ea_stream_resample_scaled(const ea_traj_t *tr, const ea_arm_t *arm, 
   const int m = (int)nf;
   ea_setpoint_t *sp = malloc((size_t)m * sizeof *sp);
   if (!sp) return ea_error_set(err, EA_ERR_NOMEM, "stream resample: %d setpoints", m);
-  const double is = 1.0 / time_scale, is2 = is * is;
   for (int k = 0; k < m; ++k) {
-    const double t = fmin(k / rate_hz, dur); /* streamed time */
-    ea_joint_state_t q;
-    ea_stream_traj_eval(tr, t0 + t * is, &q);
-    q.cable_length_rate *= is;
-    q.theta0_rate *= is;
-    q.base_angle_rate *= is;
-    q.cable_length_acc *= is2;
-    q.theta0_acc *= is2;
-    q.base_angle_acc *= is2;
-    ea_stream_map(arm, &q, &sp[k]);
+    /* The k-th setpoint goes on the wire at k / rate (docs/protocol.md); the last one, at
+     * or after the end, holds the end at rest. */
+    const double t = k / rate_hz;
+    ea__scaled_setpoint(tr, arm, t0 + t / time_scale, time_scale, &sp[k]);
     ea_error_t e = {0};
     if (ea_stream_check_limits(arm, &sp[k], tol, &e) != EA_OK) {
       free(sp);
@@ -355,10 +447,19 @@ ea_status_t ea_stream_min_time_scale(const ea_traj_t *tr, const ea_arm_t *arm, d
   const ea_actuators_t *a = &arm->act;
   const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), dur = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
   const long m = (long)ceil(dur * rate_hz * 4) + 1;
-  double rv = 0, ra = 0;
-  for (long k = 0; k < m && m < 200000000L; ++k) {
+  const long mi = (long)(tr->n - 1) * EA__INTERIOR_CHECKS; /* inside every interval too */
+  double rv = 0, ra = 0, h_min = INFINITY;
+  for (int r = 0; r + 1 < tr->n; ++r)
+    h_min = fmin(h_min, EA_TRAJ_AT(tr, r + 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, r, EA_TRAJ_t));
+  for (long k = 0; k < m + mi && m < 200000000L; ++k) {
     ea_joint_state_t q;
-    ea_stream_traj_eval(tr, t0 + fmin(k / (4 * rate_hz), dur), &q);
+    double t = t0 + fmin(k / (4 * rate_hz), dur);
+    if (k >= m) {
+      const long r = (k - m) / EA__INTERIOR_CHECKS, j = (k - m) % EA__INTERIOR_CHECKS + 1;
+      const double ta = EA_TRAJ_AT(tr, r, EA_TRAJ_t), tb = EA_TRAJ_AT(tr, r + 1, EA_TRAJ_t);
+      t = ta + (tb - ta) * j / (EA__INTERIOR_CHECKS + 1.0);
+    }
+    ea_stream_traj_eval(tr, t, &q);
     rv = fmax(rv, fmax(fabs(q.cable_length_rate) / a->cable_speed_max,
                        fmax(fabs(q.theta0_rate) / a->shoulder_speed_max,
                             fabs(q.base_angle_rate) / a->base_speed_max)));
@@ -366,7 +467,14 @@ ea_status_t ea_stream_min_time_scale(const ea_traj_t *tr, const ea_arm_t *arm, d
                        fmax(fabs(q.theta0_acc) / a->shoulder_accel_max,
                             fabs(q.base_angle_acc) / a->base_accel_max)));
   }
-  double s = fmax(1.0, fmax(rv, sqrt(ra)));
+  /* every interval at least one stream period long once played slower */
+  double s = fmax(fmax(1.0, fmax(rv, sqrt(ra))), h_min > 0 ? 1.0 / (rate_hz * h_min) : 1.0);
+  if (!(s <= 1e3))
+    return ea_error_set(err, EA_ERR_INADMISSIBLE,
+                        "no time scale up to 1000 meets the limits (it would take %.3g: speed "
+                        "%.3g, acceleration %.3g times its limit between the samples, or "
+                        "samples %.3g s apart)",
+                        s, rv, ra, h_min);
   /* Confirm on the actual grid; grow by 0.1 % while the check still fails on
    * speed or acceleration (the streamed grid differs from the fine grid). */
   for (int it = 0; it < 50; ++it) {
