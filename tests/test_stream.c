@@ -299,6 +299,40 @@ static void test_stop_ramp(void) {
   const double dp = ramp[0].spool_pos[0] - sp.spool_pos[0];
   ea_test_abs(dp, 0.5 * (sp.spool_vel[0] + ramp[0].spool_vel[0]) * 1e-3, 1e-5,
               "first ramp step continues the motion (trapezoid)");
+  /* Every axis's speed only falls (no speeding up on the way to rest), and each ramp
+   * frame is continuous with the one before it by the protocol's rule. */
+  int mono = 1, cont = ea_stream_check_continuity(&arm, &sp, &ramp[0], 1e-3, 0.05, NULL) == 0;
+  for (int j = 1; j < k; ++j) {
+    mono &= fabs(ramp[j].spool_vel[0]) <= fabs(ramp[j - 1].spool_vel[0]) + 1e-12 &&
+            fabs(ramp[j].shoulder_vel) <= fabs(ramp[j - 1].shoulder_vel) + 1e-12 &&
+            fabs(ramp[j].base_vel) <= fabs(ramp[j - 1].base_vel) + 1e-12;
+    cont &= ea_stream_check_continuity(&arm, &ramp[j - 1], &ramp[j], 1e-3, 0.05, NULL) == 0;
+  }
+  ea_test_true(mono && fabs(ramp[0].shoulder_vel) <= fabs(sp.shoulder_vel),
+               "stop ramp from an accelerating state: no axis speeds up");
+  ea_test_true(cont, "stop ramp: every frame continuous with the one before (protocol rule)");
+
+  /* Braking at the acceleration limit already: the ramp's acceleration peaks just after
+   * its start, between any fixed samples of s; every frame must stay within the limit. */
+  ea_arm_t slow = arm;
+  slow.act.cable_accel_max = 1e-4;
+  ea_joint_state_t qb = {0};
+  qb.cable_length = 0.6;
+  qb.cable_length_rate = 7.78e-4; /* 7.78 s of braking at 1e-4 m/s^2 left */
+  qb.cable_length_acc = -1e-4;
+  qb.theta0 = 0.5 * (slow.act.shoulder_angle_min + slow.act.shoulder_angle_max);
+  qb.base_angle = 0.5 * (slow.act.base_angle_min + slow.act.base_angle_max);
+  qb.tension = 0.5 * (slow.act.tension_min + slow.act.tension_max);
+  ea_setpoint_t spb;
+  ea_stream_map(&slow, &qb, &spb);
+  static ea_setpoint_t rb[20000];
+  const int kb = ea_stream_stop_ramp(&slow, &spb, 100.0, 0.9, rb, 20000);
+  int within = kb > 1;
+  for (int j = 0; j < kb; ++j)
+    within &= ea_stream_check_limits(&slow, &rb[j], 1e-6, NULL) == 0;
+  snprintf(what, sizeof what,
+           "stop ramp braking at the acceleration limit: %d frames, every one within it", kb);
+  ea_test_true(within, what);
 }
 
 /* ---- Loopback sessions ------------------------------------------------------------ */
@@ -323,8 +357,9 @@ static fx_move_t g_move;
 /* A controlled stop longer than the streamer's ramp buffer (20 s of setpoints): an arm
  * whose cable may accelerate at 1e-4 m/s^2 speeds up from rest at that limit for 40 s
  * and slows down for 40 s (setpoints at 100 Hz, sent as fast as the link takes them);
- * the controller corrupts frame 3900, when the cable moves at 0.039 m/s, and stopping
- * from there takes about 1.5 v / (0.9 a + a) = 31 s. After the NACK the stream must say
+ * the controller corrupts frame 2000, when the cable moves at 0.02 m/s, and stopping
+ * from there takes about 1.5 v / (0.9 a) = 33 s (later, while the NACK is on its way,
+ * longer). After the NACK the stream must say
  * that no controlled stop was sent (not "controlled stop in 0 frames"). */
 static void test_stop_too_long(void) {
   ea_arm_t slow = arm;
@@ -346,7 +381,7 @@ static void test_stop_too_long(void) {
   ea_ctrl_settings_t cs;
   ea_ctrl_settings_default(&cs);
   cs.fault = EA_FAULT_CORRUPT_EVERY;
-  cs.fault_arg = 3900;
+  cs.fault_arg = 2000;
   cs.timeout_s = 3.0;
   cs.buffer_capacity = 60000; /* the frames arrive faster than real time */
   sim_thread_t sim;
@@ -386,6 +421,7 @@ typedef struct {
   int interrupt_ms; /* SIGINT to the streamer after this many ms */
   ea_stream_end_t want_end;
   ea_status_t want_status;
+  double ctrl_shoulder_speed; /* [rad/s] the controller's shoulder speed limit (0: the arm's) */
 } scenario_t;
 
 static volatile sig_atomic_t g_stop = 0;
@@ -452,7 +488,9 @@ static void run_scenario(const scenario_t *sc, double *p99_out) {
   sim_thread_t sim;
   memset(&sim, 0, sizeof sim);
   ea_error_t err = {0};
-  if (ea_ctrl_open(&arm, "127.0.0.1:0", &cs, &sim.c, &err)) {
+  ea_arm_t carm = arm; /* the controller's arm: stricter than the streamer's when asked */
+  if (sc->ctrl_shoulder_speed > 0) carm.act.shoulder_speed_max = sc->ctrl_shoulder_speed;
+  if (ea_ctrl_open(&carm, "127.0.0.1:0", &cs, &sim.c, &err)) {
     ea_test_true(0, err.msg);
     return;
   }
@@ -532,11 +570,31 @@ static void run_scenario(const scenario_t *sc, double *p99_out) {
     ea_test_true(sim.info.own_stop_frames > 0, what);
     check_log(sim.c, sc->name, 1);
     break;
-  default:
+  case EA_STREAM_CTRL_FAULT:
+    snprintf(what, sizeof what,
+             "%s: streamer stopped at the FAULT (%d of %d sent, no ramp), END received; the "
+             "controller stopped by itself (%d setpoints)",
+             sc->name, info.frames_sent, g_n, sim.info.own_stop_frames);
+    ea_test_true(info.frames_sent < g_n && info.stop_frames == 0 && sim.info.end_received &&
+                     sim.info.own_stop_frames > 0,
+                 what);
+    check_log(sim.c, sc->name, 1);
+    break;
+  default: {
     snprintf(what, sizeof what, "%s: controlled stop sent (%d setpoints) and END received",
              sc->name, info.stop_frames);
     ea_test_true(info.stop_frames > 0 && sim.info.end_received, what);
     check_log(sim.c, sc->name, 1);
+    /* the ramp starts from the last setpoint the controller accepted: it accepts every
+     * ramp frame (a ramp from a refused setpoint is refused frame by frame) */
+    int n = 0, ramp_rows = 0;
+    const ea_ctrl_log_row_t *log = ea_ctrl_log(sim.c, &n);
+    for (int i = 0; i < n; ++i)
+      ramp_rows += log[i].source == 1;
+    snprintf(what, sizeof what, "%s: the controller accepted %d of the %d ramp frames", sc->name,
+             ramp_rows, info.stop_frames);
+    ea_test_true(ramp_rows == info.stop_frames, what);
+  }
     if (sc->fault == EA_FAULT_CORRUPT_EVERY) {
       snprintf(what, sizeof what, "%s: corrupted frames rejected and counted (%d)", sc->name,
                sim.info.rejected_crc);
@@ -654,20 +712,24 @@ int main(void) {
   ea_traj_free(&tr);
 
   const scenario_t sc[] = {
-      {"tcp 1 kHz", 0, EA_FAULT_NONE, 0, 0, 0, EA_STREAM_COMPLETE, EA_OK},
-      {"udp 1 kHz", 1, EA_FAULT_NONE, 0, 0, 0, EA_STREAM_COMPLETE, EA_OK},
-      {"handshake mismatch", 0, EA_FAULT_NONE, 0, 1, 0, EA_STREAM_REFUSED, EA_ERR_INADMISSIBLE},
+      {"tcp 1 kHz", 0, EA_FAULT_NONE, 0, 0, 0, EA_STREAM_COMPLETE, EA_OK, 0},
+      {"udp 1 kHz", 1, EA_FAULT_NONE, 0, 0, 0, EA_STREAM_COMPLETE, EA_OK, 0},
+      {"handshake mismatch", 0, EA_FAULT_NONE, 0, 1, 0, EA_STREAM_REFUSED, EA_ERR_INADMISSIBLE, 0},
       {"fault drop-after=200", 0, EA_FAULT_DROP_AFTER, 200, 0, 0, EA_STREAM_DISCONNECTED,
-       EA_ERR_NET},
-      {"fault delay-ack-ms=20", 0, EA_FAULT_DELAY_ACK, 20, 0, 0, EA_STREAM_COMPLETE, EA_OK},
+       EA_ERR_NET, 0},
+      {"fault delay-ack-ms=20", 0, EA_FAULT_DELAY_ACK, 20, 0, 0, EA_STREAM_COMPLETE, EA_OK, 0},
       {"fault delay-ack-ms=300", 0, EA_FAULT_DELAY_ACK, 300, 0, 0, EA_STREAM_STOP_ACK_TIMEOUT,
-       EA_ERR_NET},
+       EA_ERR_NET, 0},
       {"fault withhold-ack", 0, EA_FAULT_WITHHOLD_ACK, 0, 0, 0, EA_STREAM_STOP_ACK_TIMEOUT,
-       EA_ERR_NET},
+       EA_ERR_NET, 0},
       {"fault corrupt-every=150", 0, EA_FAULT_CORRUPT_EVERY, 150, 0, 0, EA_STREAM_STOP_NACK,
-       EA_ERR_PROTOCOL},
+       EA_ERR_PROTOCOL, 0},
       {"SIGINT after 250 ms", 0, EA_FAULT_NONE, 0, 0, 250, EA_STREAM_STOP_INTERRUPT,
-       EA_ERR_INTERRUPTED},
+       EA_ERR_INTERRUPTED, 0},
+      {"fault fault-after=200", 0, EA_FAULT_STATE_AFTER, 200, 0, 0, EA_STREAM_CTRL_FAULT,
+       EA_ERR_PROTOCOL, 0},
+      {"controller's shoulder speed limit 0.5 rad/s", 0, EA_FAULT_NONE, 0, 0, 0,
+       EA_STREAM_STOP_NACK, EA_ERR_PROTOCOL, 0.5},
   };
   double p99 = NAN;
   for (size_t i = 0; i < sizeof sc / sizeof *sc; ++i)

@@ -300,6 +300,7 @@ static const char *ea__ctrl_help =
     "  --initial L,TH,B      report cable length [m], theta0, base [rad] at HELLO\n"
     "                        (default: the trajectory's start, as if homed there)\n"
     "  --fault F             drop-after=N | delay-ack-ms=D | withhold-ack | corrupt-every=N\n"
+    "                        | fault-after=N (state FAULT after N setpoints)\n"
     "  --json                summary as JSON on stdout\n"
     "  --simulate TIP.csv    after the session, run the FE transient (docs/fe.md) driven by\n"
     "                        the setpoints accepted (the log, stop ramps included: what the\n"
@@ -414,13 +415,16 @@ static int ea__parse_fault(const char *cmd, const char *v, ea_ctrl_settings_t *s
   } else if (!strcmp(v, "withhold-ack")) {
     n = 0;
     s->fault = EA_FAULT_WITHHOLD_ACK;
+  } else if (!strncmp(v, "fault-after=", 12)) {
+    if (ea__cli_int(cmd, "--fault fault-after", v + 12, 1, 100000000, &n)) return -1;
+    s->fault = EA_FAULT_STATE_AFTER;
   } else if (!strncmp(v, "corrupt-every=", 14)) {
     if (ea__cli_int(cmd, "--fault corrupt-every", v + 14, 1, 100000000, &n)) return -1;
     s->fault = EA_FAULT_CORRUPT_EVERY;
   } else {
     ea__cli_usage_error(cmd,
-                        "--fault: '%s' is not drop-after=N, delay-ack-ms=D, withhold-ack "
-                        "or corrupt-every=N",
+                        "--fault: '%s' is not drop-after=N, delay-ack-ms=D, withhold-ack, "
+                        "corrupt-every=N or fault-after=N",
                         v);
     return -1;
   }

@@ -127,7 +127,8 @@ ea_status_t ea_stream_min_time_scale(const ea_traj_t *tr, const ea_arm_t *arm, d
 
 /** Controlled stop from sp (position, velocity, acceleration of each axis):
  *  every axis follows v(s) = v0 h00(s) + T a0 h10(s) (cubic Hermite in
- *  s = t / T to v = a = 0), all axes with one common duration T, the
+ *  s = t / T to v = a = 0; a0 = 0 for an axis accelerating away from rest, v0 a0 > 0,
+ *  so that no axis speeds up), all axes with one common duration T, the
  *  shortest multiple of 1/rate_hz that keeps every |acceleration| within
  *  margin * limit. Feed-forwards are held. Writes at most max setpoints
  *  (the last at rest) to out; returns their number (>= 1), or -1 if max is

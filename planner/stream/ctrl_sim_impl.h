@@ -12,7 +12,8 @@ typedef enum ea_ctrl_fault {
   EA_FAULT_DROP_AFTER,   /**< close the link after N accepted setpoints */
   EA_FAULT_DELAY_ACK,    /**< delay every ACK by N ms */
   EA_FAULT_WITHHOLD_ACK, /**< answer HELLO, never acknowledge setpoints */
-  EA_FAULT_CORRUPT_EVERY /**< flip a byte of every N-th received frame */
+  EA_FAULT_CORRUPT_EVERY, /**< flip a byte of every N-th received frame */
+  EA_FAULT_STATE_AFTER    /**< enter FAULT after N accepted setpoints (own stop; ACK says so) */
 } ea_ctrl_fault_t;
 
 /** Simulator settings (ea_ctrl_settings_default fills them). */
@@ -51,6 +52,7 @@ typedef struct ea_ctrl_info {
   int rejected_crc, rejected_seq, rejected_limit, rejected_continuity;
   int gaps;            /**< setpoints missing between accepted sequence numbers */
   int own_stop_frames; /**< setpoints of the simulator's own stop */
+  int fault_state;     /**< 1: entered FAULT by the injected drive fault */
   int end_received;    /**< 1 if END arrived */
   uint32_t end_reason; /**< its reason */
   int final_state;     /**< ::ea_ctrl_state_t at exit */

@@ -418,6 +418,12 @@ static int ea__ctrl_frame(ea_ctrl_t *c, const ea_frame_t *f) {
     ++c->info.accepted;
     ea__ctrl_log(c, f->seq, f->time_us * 1e-6, now, (f->flags & EA_SP_FLAG_STOP) ? 1 : 0, &f->sp);
     c->state = (f->flags & EA_SP_FLAG_STOP) ? EA_CTRL_STOPPING : EA_CTRL_RUNNING;
+    if (c->s.fault == EA_FAULT_STATE_AFTER && c->info.accepted >= c->s.fault_arg) {
+      /* a drive fault: stop on its own, report FAULT, take no more setpoints */
+      ea__ctrl_own_stop(c);
+      c->state = EA_CTRL_FAULT;
+      c->info.fault_state = 1;
+    }
     ea__ctrl_answer(c, f->seq, 0, 0);
     if (c->s.fault == EA_FAULT_DROP_AFTER && c->info.accepted >= c->s.fault_arg) return 2;
     if (c->s.max_frames > 0 && c->info.accepted >= c->s.max_frames) return 2;
@@ -599,6 +605,10 @@ static ea_status_t ea__ctrl_outcome(const ea_ctrl_t *c, const ea__ctrl_end_t *e,
                         "watchdog: no frame for %g s while moving; own stop in "
                         "%d setpoints",
                         s->watchdog_s, in->own_stop_frames);
+  if (in->fault_state)
+    return ea_error_set(err, EA_ERR_PROTOCOL,
+                        "fault injected: state FAULT after %d setpoints; own stop in %d setpoints",
+                        (int)s->fault_arg, in->own_stop_frames);
   if (in->rejected)
     return ea_error_set(err, EA_ERR_PROTOCOL,
                         "%d frames rejected (crc %d, sequence %d, limit %d, "
@@ -608,6 +618,10 @@ static ea_status_t ea__ctrl_outcome(const ea_ctrl_t *c, const ea__ctrl_end_t *e,
   if (in->end_received && in->end_reason != EA_END_COMPLETE)
     return ea_error_set(err, EA_ERR_INTERRUPTED, "stream ended early (END reason %u)",
                         (unsigned)in->end_reason);
+  if (in->own_stop_frames)
+    return ea_error_set(err, EA_ERR_PROTOCOL,
+                        "the stream ended while the arm still moved: own stop in %d setpoints",
+                        in->own_stop_frames);
   return EA_OK;
 }
 

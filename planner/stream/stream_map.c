@@ -502,13 +502,16 @@ typedef struct {
   double p0, v0, a0, amax;
 } ea__axis_t;
 
-/* Peak |acceleration| of the stop profile of one axis over duration T. */
+/* Peak |acceleration| of the stop profile of one axis over duration T: the acceleration
+ * a(s) = A s^2 + B s + C is a quadratic in s, so its extremes on [0, 1] are at the ends
+ * and at the vertex (a sampled maximum misses a peak just after s = 0 when the axis
+ * already brakes at its limit). */
 static double ea__stop_peak_acc(const ea__axis_t *x, double T) {
-  double peak = 0.0;
-  for (int i = 0; i <= 64; ++i) {
-    const double s = i / 64.0;
-    const double acc = x->v0 * (6 * s * s - 6 * s) / T + x->a0 * (3 * s * s - 4 * s + 1);
-    peak = fmax(peak, fabs(acc));
+  const double A = 6 * x->v0 / T + 3 * x->a0, B = -6 * x->v0 / T - 4 * x->a0, C = x->a0;
+  double peak = fmax(fabs(C), fabs(A + B + C));
+  if (A != 0) {
+    const double s = -B / (2 * A);
+    if (s > 0 && s < 1) peak = fmax(peak, fabs(C + s * (B + s * A)));
   }
   return peak;
 }
@@ -530,6 +533,11 @@ int ea_stream_stop_ramp(const ea_arm_t *arm, const ea_setpoint_t *sp, double rat
       {sp->spool_pos[0], sp->spool_vel[0], sp->spool_acc[0], ac->cable_accel_max * ks},
       {sp->shoulder_pos, sp->shoulder_vel, sp->shoulder_acc, ac->shoulder_accel_max},
       {sp->base_pos, sp->base_vel, sp->base_acc, ac->base_accel_max}};
+  /* An axis still accelerating away from rest starts braking at once (its acceleration
+   * steps to the ramp's): the ramp then never speeds an axis up, so it stays within any
+   * speed limit the last setpoint met. */
+  for (int i = 0; i < 3; ++i)
+    if (ax[i].v0 * ax[i].a0 > 0) ax[i].a0 = 0.0;
   const double dt = 1.0 / rate_hz;
   /* Lower bound on T from the velocity term (peak |h00'| = 1.5), then step
    * up one period at a time until every axis is within its budget. */
