@@ -380,6 +380,60 @@ static void test_recorded_arm(const char *arm_src, const fx_move_t *m) {
     remove(tmp[i]);
 }
 
+/* Edited trajectories the outside review streamed as "complete" (two plans joined, a row
+ * 1e-7 s after another with a 3 rad base step after it, a plan cut short): refused with
+ * exit 1 and a message naming what is wrong, nothing written. */
+static void test_refused_edits(const ea_arm_t *arm, const char *arm_src, const fx_move_t *m) {
+  ea_traj_t a = {0}, b = {0};
+  fx_make_traj(m, arm, 0.02, &a);
+  snprintf(a.arm_file, sizeof a.arm_file, "%s", arm_src);
+  const int n = a.n;
+  const double T = EA_TRAJ_AT(&a, n - 1, EA_TRAJ_t);
+  struct {
+    const char *name, *want;
+  } c[3] = {{"joined", "between rows"}, {"row 1e-7 s after", "apart"}, {"cut", "end at rest"}};
+  for (int k = 0; k < 3; ++k) {
+    if (k == 0) { /* a second copy starting 1 ms after the first ends, base + 1 rad */
+      ea_traj_alloc(&b, 2 * n);
+      for (int i = 0; i < 2 * n; ++i)
+        memcpy(&EA_TRAJ_AT(&b, i, 0), &EA_TRAJ_AT(&a, i % n, 0), EA_TRAJ_NCOL * sizeof(double));
+      for (int i = n; i < 2 * n; ++i) {
+        EA_TRAJ_AT(&b, i, EA_TRAJ_t) += T + 1e-3;
+        EA_TRAJ_AT(&b, i, EA_TRAJ_base_angle) += 1.0;
+      }
+    } else if (k == 1) { /* row 10 repeated 1e-7 s later, base + 3 rad from there on */
+      ea_traj_alloc(&b, n + 1);
+      for (int i = 0; i <= n; ++i)
+        memcpy(&EA_TRAJ_AT(&b, i, 0), &EA_TRAJ_AT(&a, i <= 10 ? i : i - 1, 0),
+               EA_TRAJ_NCOL * sizeof(double));
+      for (int i = 11; i <= n; ++i) {
+        EA_TRAJ_AT(&b, i, EA_TRAJ_t) += 1e-7;
+        EA_TRAJ_AT(&b, i, EA_TRAJ_base_angle) += 3.0;
+      }
+    } else { /* cut at its middle, still moving */
+      ea_traj_alloc(&b, n / 2);
+      memcpy(b.data, a.data, (size_t)(n / 2) * EA_TRAJ_NCOL * sizeof(double));
+    }
+    snprintf(b.arm_file, sizeof b.arm_file, "%s", arm_src);
+    ea_traj_write(&b, "cli_edit.csv", NULL);
+    remove("cli_edit.bin");
+    char *argv[] = {(char *)bin, "stream", "cli_edit.csv", "--to", "file:cli_edit.bin", NULL};
+    const int rc = wait_for(spawn(argv, "cli_edit.out", "cli_edit.err"), 10000);
+    char err[4096];
+    slurp("cli_edit.err", err, sizeof err);
+    char what[200];
+    snprintf(what, sizeof what, "%s trajectory: refused (exit %d), nothing written, says '%s'",
+             c[k].name, rc, c[k].want);
+    ea_test_true(rc == 1 && access("cli_edit.bin", F_OK) != 0 && strstr(err, c[k].want), what);
+    if (rc != 1 || !strstr(err, c[k].want)) printf("  stderr: %s\n", err);
+  }
+  ea_traj_free(&a);
+  ea_traj_free(&b);
+  remove("cli_edit.csv");
+  remove("cli_edit.out");
+  remove("cli_edit.err");
+}
+
 int main(void) {
   /* Run outside CTest this test cannot work: a failure, not a silent pass. */
   bin = getenv("EA_BINARY");
@@ -410,6 +464,7 @@ int main(void) {
   ea_traj_write(&tr, "cli_fast.csv", NULL);
   ea_traj_free(&tr);
   test_recorded_arm(arm_src, &m);
+  test_refused_edits(&arm, arm_src, &m);
 
   /* 1. Clean session. */
   int port = 0;
@@ -495,6 +550,9 @@ int main(void) {
     const int n = tip_rows("cli_tip.csv", &t0, &t1, last);
     printf("tip rows %d, t %g .. %g s\n", n, t0, t1);
     ea_test_true(strstr(js, "\"sim_status\": \"EA_OK\"") != NULL, "JSON: sim_status EA_OK");
+    ea_test_true(strstr(js, "\"sim_elements\":") && strstr(js, "\"sim_payload_kg\":") &&
+                     !strstr(js, "o->"),
+                 "JSON: the keys sim_elements and sim_payload_kg (no C expressions as keys)");
     ea_test_true(n == 1001 && fabs(t0) < 1e-9 && fabs(t1 - (Tm + 0.5)) < 1e-6,
                  "tip file: 1001 rows over the 0.5 s of setpoints + 0.5 s settling");
     ea_statics_problem_t pr = ea_statics_problem_cable(Lp + dLp, ap + dap);

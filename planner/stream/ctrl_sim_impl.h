@@ -9,9 +9,9 @@
 /** Faults the simulator injects. */
 typedef enum ea_ctrl_fault {
   EA_FAULT_NONE = 0,
-  EA_FAULT_DROP_AFTER,   /**< close the link after N accepted setpoints */
-  EA_FAULT_DELAY_ACK,    /**< delay every ACK by N ms */
-  EA_FAULT_WITHHOLD_ACK, /**< answer HELLO, never acknowledge setpoints */
+  EA_FAULT_DROP_AFTER,    /**< close the link after N accepted setpoints */
+  EA_FAULT_DELAY_ACK,     /**< delay every ACK by N ms */
+  EA_FAULT_WITHHOLD_ACK,  /**< answer HELLO, never acknowledge setpoints */
   EA_FAULT_CORRUPT_EVERY, /**< flip a byte of every N-th received frame */
   EA_FAULT_STATE_AFTER    /**< enter FAULT after N accepted setpoints (own stop; ACK says so) */
 } ea_ctrl_fault_t;
@@ -81,5 +81,18 @@ void ea_ctrl_free(ea_ctrl_t *c);
  *  master); c takes ownership of fd. */
 ea_status_t ea__ctrl_open_fd(const ea_arm_t *arm, int fd, const ea_ctrl_settings_t *s,
                              ea_ctrl_t **out, ea_error_t *err);
+
+/** A controller without a transport, for checking a frame sequence offline (the
+ *  property tests): frames go in by ea__ctrl_feed_bytes, answers are dropped. The
+ *  same checks as ea_ctrl_run's, except the buffer (set buffer_capacity high: frames
+ *  arrive faster than real time). */
+ea_status_t ea__ctrl_open_mem(const ea_arm_t *arm, const ea_ctrl_settings_t *s, ea_ctrl_t **out,
+                              ea_error_t *err);
+/** A new session on the same controller: state IDLE, counters and log cleared. */
+void ea__ctrl_reset(ea_ctrl_t *c);
+/** Feed n received bytes; returns 1 once the session ended (END handled). */
+int ea__ctrl_feed_bytes(ea_ctrl_t *c, const uint8_t *b, size_t n);
+/** The session's counters so far. */
+const ea_ctrl_info_t *ea__ctrl_info(const ea_ctrl_t *c);
 
 #endif

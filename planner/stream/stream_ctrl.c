@@ -669,3 +669,44 @@ ea_status_t ea_ctrl_log_write(const ea_ctrl_t *c, const char *path, ea_error_t *
   }
   return ea_afile_commit(&f, err);
 }
+
+/* ---- Offline (no transport) --------------------------------------------------------- */
+
+ea_status_t ea__ctrl_open_mem(const ea_arm_t *arm, const ea_ctrl_settings_t *s, ea_ctrl_t **out,
+                              ea_error_t *err) {
+  if (!arm || !out) return ea_error_set(err, EA_ERR_ARG, "controller-sim: NULL");
+  *out = NULL;
+  ea_ctrl_t *c = NULL;
+  ea_status_t st = ea__ctrl_new(arm, s, &c, err);
+  if (st) return st;
+  c->kind = EA__TR_SERIAL; /* a byte stream; fd -1: answers go nowhere */
+  *out = c;
+  return EA_OK;
+}
+
+void ea__ctrl_reset(ea_ctrl_t *c) {
+  if (!c) return;
+  ea_frame_parser_init(&c->parser);
+  c->parser_bad_seen = 0;
+  c->state = EA_CTRL_IDLE;
+  c->rate_hz = 0;
+  c->last_seq = 0;
+  c->have_last = 0;
+  c->last_time_us = 0;
+  c->first_recv_ns = c->last_frame_ns = 0;
+  c->setpoint_frames = 0;
+  memset(&c->info, 0, sizeof c->info);
+  c->info.final_state = EA_CTRL_IDLE;
+  c->pend_head = c->pend_n = 0;
+  c->log_n = 0;
+}
+
+int ea__ctrl_feed_bytes(ea_ctrl_t *c, const uint8_t *b, size_t n) {
+  ea__ctrl_end_t e = {0};
+  ea__ctrl_feed(c, b, n, &e);
+  return e.done;
+}
+
+const ea_ctrl_info_t *ea__ctrl_info(const ea_ctrl_t *c) {
+  return c ? &c->info : NULL;
+}

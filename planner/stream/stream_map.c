@@ -378,6 +378,9 @@ static ea_status_t ea__check_intervals(const ea_traj_t *tr, const ea_arm_t *arm,
                           "be streamed; nothing sent",
                           r + 1, r + 2, ta, tb, h * time_scale,
                           time_scale != 1.0 ? " played slower" : "", period, rate_hz);
+  }
+  for (int r = 0; r + 1 < tr->n; ++r) { /* then the interpolant, which spans neighbours */
+    const double ta = EA_TRAJ_AT(tr, r, EA_TRAJ_t), h = EA_TRAJ_AT(tr, r + 1, EA_TRAJ_t) - ta;
     for (int j = 1; j <= EA__INTERIOR_CHECKS; ++j) {
       const double tp = ta + h * j / (EA__INTERIOR_CHECKS + 1.0);
       ea_setpoint_t sp;
