@@ -62,6 +62,9 @@ static const char *ea__stream_help =
     "file, then send it in real time (docs/protocol.md, docs/streaming.md).\n\n"
     "  --to DEST             tcp://HOST:PORT | udp://HOST:PORT | serial:DEVICE[@BAUD]\n"
     "                        | file:PATH (dry run, binary frames; file:- = stdout)\n"
+    "                        | csv:PATH (dry run, the frames decoded: a table of motor\n"
+    "                        and task-space values) | ros-yaml:PATH (dry run, the\n"
+    "                        setpoints as a ROS JointTrajectory in YAML)\n"
     "  --rate-hz R           setpoint rate (default 1000)\n"
     "  --arm FILE            arm parameters: the trajectory's '# arm_file:' by default\n"
     "                        (said on stderr), else the default arm file (see\n"
@@ -231,9 +234,10 @@ int ea__cli_stream(int argc, char **argv) {
   o.time_scale = 1.0;
   int rc = ea__stream_parse(argc, argv, &o, &s);
   if (rc) return rc < 0 ? EA_EXIT_OK : rc;
-  const int to_file = !strncmp(o.to, "file:", 5);
-  const int to_stdout = !strcmp(o.to, "file:-");
-  if (o.json && to_stdout) return ea__cli_usage_error(cmd, "--json needs stdout: not with file:-");
+  const int to_file = ea__url_is_dry_run(o.to);
+  const int to_stdout = to_file && !strcmp(strchr(o.to, ':') + 1, "-");
+  if (o.json && to_stdout)
+    return ea__cli_usage_error(cmd, "--json needs stdout: not with %s", o.to);
   s.realtime = o.realtime >= 0 ? o.realtime : !to_file;
   s.wait_acks = !to_file;
   FILE *out = to_stdout ? stderr : stdout;

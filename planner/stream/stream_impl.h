@@ -19,14 +19,31 @@ double ea__quantile(double *v, int n, double q);
 
 /* ---- Transports ---------------------------------------------------------- */
 
-typedef enum ea__tr_kind { EA__TR_TCP = 0, EA__TR_UDP, EA__TR_SERIAL, EA__TR_FILE } ea__tr_kind_t;
+/** Transports: the network and serial links, and the dry runs into a file (file: the
+ *  frames' bytes; csv: and ros-yaml: the frames decoded, stream_export.c). */
+typedef enum ea__tr_kind {
+  EA__TR_TCP = 0,
+  EA__TR_UDP,
+  EA__TR_SERIAL,
+  EA__TR_FILE,
+  EA__TR_CSV,
+  EA__TR_ROS
+} ea__tr_kind_t;
 
 typedef struct ea__transport {
   ea__tr_kind_t kind;
-  int fd;          /**< socket / tty; -1 for file */
-  ea_afile_t file; /**< file: transport (atomic), "-" = stdout */
+  int fd;              /**< socket / tty; -1 for the dry runs */
+  ea_afile_t file;     /**< dry runs: written atomically, "-" = stdout */
+  const ea_arm_t *arm; /**< csv:, ros-yaml: the arm whose mapping gives the task-space values */
   int is_open;
 } ea__transport_t;
+
+/** Is url a dry run into a file (file:, csv:, ros-yaml:): no controller, no ACKs? */
+int ea__url_is_dry_run(const char *url);
+/** A dry run's transport is one of these kinds. */
+#define EA__TR_IS_DRY(k) ((k) == EA__TR_FILE || (k) == EA__TR_CSV || (k) == EA__TR_ROS)
+/** csv:, ros-yaml: decode the frame in buf and write it as text (stream_export.c). */
+ea_status_t ea__export_frame(ea__transport_t *t, const uint8_t *buf, size_t len, ea_error_t *err);
 
 /** Split "HOST:PORT" ("[v6]:PORT" too); port in [0, 65535]. */
 ea_status_t ea__split_hostport(const char *s, char *host, size_t hcap, int *port, ea_error_t *err);

@@ -178,6 +178,11 @@ static ea_status_t ea__connect(ea__transport_t *t, const char *hostport, int dgr
   return EA_OK;
 }
 
+int ea__url_is_dry_run(const char *url) {
+  return url &&
+         (!strncmp(url, "file:", 5) || !strncmp(url, "csv:", 4) || !strncmp(url, "ros-yaml:", 9));
+}
+
 ea_status_t ea__transport_open(ea__transport_t *t, const char *url, ea_error_t *err) {
   memset(t, 0, sizeof *t);
   t->fd = -1;
@@ -209,14 +214,17 @@ ea_status_t ea__transport_open(ea__transport_t *t, const char *url, ea_error_t *
       close(t->fd);
       t->fd = -1;
     }
-  } else if (!strncmp(url, "file:", 5)) {
-    t->kind = EA__TR_FILE;
-    if (!url[5]) return ea_error_set(err, EA_ERR_ARG, "'%s': no path", url);
-    st = ea_afile_open(&t->file, url + 5, err);
+  } else if (ea__url_is_dry_run(url)) {
+    const char *colon = strchr(url, ':');
+    t->kind = !strncmp(url, "file:", 5)  ? EA__TR_FILE
+              : !strncmp(url, "csv:", 4) ? EA__TR_CSV
+                                         : EA__TR_ROS;
+    if (!colon[1]) return ea_error_set(err, EA_ERR_ARG, "'%s': no path", url);
+    st = ea_afile_open(&t->file, colon + 1, err);
   } else {
     return ea_error_set(err, EA_ERR_ARG,
-                        "'%s': expected tcp://HOST:PORT, udp://HOST:PORT, serial:DEVICE[@BAUD] "
-                        "or file:PATH",
+                        "'%s': expected tcp://HOST:PORT, udp://HOST:PORT, serial:DEVICE[@BAUD], "
+                        "file:PATH, csv:PATH or ros-yaml:PATH",
                         url);
   }
   if (st == EA_OK) t->is_open = 1;
@@ -226,6 +234,7 @@ ea_status_t ea__transport_open(ea__transport_t *t, const char *url, ea_error_t *
 ea_status_t ea__transport_send(ea__transport_t *t, const uint8_t *buf, size_t len,
                                ea_error_t *err) {
   if (!t->is_open) return ea_error_set(err, EA_ERR_NET, "transport closed");
+  if (t->kind == EA__TR_CSV || t->kind == EA__TR_ROS) return ea__export_frame(t, buf, len, err);
   if (t->kind == EA__TR_FILE) {
     if (fwrite(buf, 1, len, t->file.fp) != len)
       return ea_error_set(err, EA_ERR_IO, "write: %s", strerror(errno));
@@ -250,7 +259,7 @@ ea_status_t ea__transport_send(ea__transport_t *t, const uint8_t *buf, size_t le
 
 long ea__transport_recv(ea__transport_t *t, uint8_t *buf, size_t cap, int timeout_ms) {
   if (!t->is_open) return -1;
-  if (t->kind == EA__TR_FILE) return 0;
+  if (EA__TR_IS_DRY(t->kind)) return 0;
   struct pollfd pf = {t->fd, POLLIN, 0};
   int r;
   do
@@ -276,7 +285,7 @@ long ea__transport_recv(ea__transport_t *t, uint8_t *buf, size_t cap, int timeou
 ea_status_t ea__transport_close(ea__transport_t *t, int commit, ea_error_t *err) {
   ea_status_t st = EA_OK;
   if (!t->is_open) return EA_OK;
-  if (t->kind == EA__TR_FILE) {
+  if (EA__TR_IS_DRY(t->kind)) {
     if (commit)
       st = ea_afile_commit(&t->file, err);
     else

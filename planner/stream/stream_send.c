@@ -563,7 +563,8 @@ ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, c
   pc.period_ns = (int64_t)llround(1e9 * pc.period_s);
   int refused = 0;
   if (!(st = ea__transport_open(&x.tr, url, err))) {
-    x.acks_on = s->wait_acks && x.tr.kind != EA__TR_FILE;
+    x.acks_on = s->wait_acks && !EA__TR_IS_DRY(x.tr.kind);
+    x.tr.arm = arm;
     st = ea__handshake(&x, all, n_all, url, hb_ms, &refused, err);
   }
   if (!st) {
