@@ -25,6 +25,8 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
   tr->payload_kg = t->payload_kg;
   tr->tip_mass_kg = pl->tip_mass;
   snprintf(tr->arm_file, sizeof tr->arm_file, "%s", t->arm_file);
+  tr->arm_hash = ea_arm_hash(&t->arm);
+  tr->has_arm_hash = 1;
   snprintf(tr->task, sizeof tr->task, "%s", t->file[0] ? t->file : t->name);
   snprintf(tr->status, sizeof tr->status, "EA_OK");
   const double tf = ea__plan_tf(pl, x);
