@@ -173,6 +173,7 @@ static void ea__summary_dynamics(ea_json_t *j, const ea_planner_t *pl, const ea_
   ea_json_arr_end(j);
   ea_json_int(j, "grid_extrapolated_points", di.table.n_extrapolated);
   ea_json_bool(j, "model_from_cache", di.cache_loaded);
+  if (di.cache_message[0]) ea_json_str(j, "model_cache_warning", di.cache_message);
   ea_json_num(j, "model_time_s", di.time_s);
   ea_json_obj_end(j);
 }
