@@ -3,6 +3,7 @@
 #include "ea_util.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 void ea_arm_default(ea_arm_t *arm) {
@@ -146,4 +147,37 @@ int ea_arm_equal(const ea_arm_t *a, const ea_arm_t *b) {
   for (int i = 0; i < a->n_damping && i < EA_ARM_MAX_DAMPED_MODES; ++i)
     if (!(a->damping_ratio[i] == b->damping_ratio[i])) return 0;
   return 1;
+}
+
+/* FNV-1a (64 bit) of one value's IEEE-754 bit pattern, least significant byte first (the
+ * same bytes on every host); -0 is hashed as +0, as ea_arm_equal compares with ==. */
+static uint64_t ea__fnv_double(uint64_t h, double x) {
+  if (x == 0.0) x = 0.0;
+  uint64_t b;
+  memcpy(&b, &x, sizeof b);
+  for (int k = 0; k < 8; ++k) {
+    h ^= (b >> (8 * k)) & 0xffu;
+    h *= 1099511628211u;
+  }
+  return h;
+}
+
+uint64_t ea_arm_hash(const ea_arm_t *arm) {
+  /* the parameters ea_arm_equal compares, in the order of ea_arm_t */
+  const double f[] = {arm->rho, arm->m_hand, arm->length, arm->EI,       arm->x_c,  arm->y_c,
+                      arm->g,   arm->EA,     arm->GA_s,   arm->EA_cable, arm->I_zz, arm->I_hand};
+  uint64_t h = 14695981039346656037u;
+  for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
+    h = ea__fnv_double(h, f[i]);
+  double x[18];
+  memcpy(x, &arm->act, sizeof x);
+  for (int i = 0; i < 18; ++i)
+    h = ea__fnv_double(h, x[i]);
+  const int nd = arm->n_damping < 0                         ? 0
+                 : arm->n_damping > EA_ARM_MAX_DAMPED_MODES ? EA_ARM_MAX_DAMPED_MODES
+                                                            : arm->n_damping;
+  h = ea__fnv_double(h, (double)arm->n_damping);
+  for (int i = 0; i < nd; ++i)
+    h = ea__fnv_double(h, arm->damping_ratio[i]);
+  return h;
 }

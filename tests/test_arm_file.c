@@ -3,6 +3,7 @@
 #include "ea_problems.h"
 #include "ea_test.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,6 +56,65 @@ static void expect_error(const char *good, const char *from, const char *to, con
   ea_test_true(ok, what);
   printf("  -> %s\n", err.msg);
   free(bad);
+}
+
+/* FNV-1a, 64 bit (Fowler, Noll, Vo; offset basis 14695981039346656037, prime 1099511628211),
+ * over bytes, for the reference below. */
+static uint64_t fnv1a(uint64_t h, const unsigned char *b, size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    h ^= b[i];
+    h *= 1099511628211u;
+  }
+  return h;
+}
+
+/* ea_arm_hash: the documented byte sequence (ea_arm.h: each parameter's IEEE-754 bits, least
+ * significant byte first) through FNV-1a, checked on the published test vector "a"; a
+ * reformatted arm file (comments, number spelling) has the same hash, a gear ratio of 2
+ * another. */
+static void test_arm_hash(const char *good) {
+  ea_test_true(fnv1a(14695981039346656037u, (const unsigned char *)"a", 1) == 0xaf63dc4c8601ec8cu,
+               "FNV-1a 64 of \"a\" = af63dc4c8601ec8c (the published test vector)");
+  ea_arm_t arm;
+  if (ea_arm_load_string("arm.yaml", good, strlen(good), &arm, NULL)) {
+    ea_test_true(0, "arm loads");
+    return;
+  }
+  const double f[] = {arm.rho, arm.m_hand, arm.length, arm.EI,       arm.x_c,  arm.y_c,
+                      arm.g,   arm.EA,     arm.GA_s,   arm.EA_cable, arm.I_zz, arm.I_hand};
+  double v[64];
+  size_t n = 0;
+  for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
+    v[n++] = f[i];
+  memcpy(v + n, &arm.act, sizeof arm.act);
+  n += sizeof arm.act / sizeof(double);
+  v[n++] = arm.n_damping;
+  for (int i = 0; i < arm.n_damping; ++i)
+    v[n++] = arm.damping_ratio[i];
+  uint64_t h = 14695981039346656037u;
+  for (size_t i = 0; i < n; ++i) {
+    uint64_t bits;
+    memcpy(&bits, &v[i], sizeof bits);
+    unsigned char b[8];
+    for (int k = 0; k < 8; ++k)
+      b[k] = (unsigned char)(bits >> (8 * k));
+    h = fnv1a(h, b, 8);
+  }
+  printf("  ea_arm_hash %016llx, reference %016llx (%zu values)\n",
+         (unsigned long long)ea_arm_hash(&arm), (unsigned long long)h, n);
+  ea_test_true(ea_arm_hash(&arm) == h, "ea_arm_hash = FNV-1a of the documented bytes");
+  char *t1 = subst(good, "  EI_Nm2:", "  # a comment\n  EI_Nm2:");
+  char *t2 = t1 ? subst(t1, "0.705", "7.050e-1") : NULL;
+  char *t3 = subst(good, "gear_ratio: 1.0\n", "gear_ratio: 2\n");
+  ea_arm_t a2, a3;
+  const int ok = t2 && t3 && !ea_arm_load_string("arm.yaml", t2, strlen(t2), &a2, NULL) &&
+                 !ea_arm_load_string("arm.yaml", t3, strlen(t3), &a3, NULL);
+  ea_test_true(ok && ea_arm_hash(&a2) == ea_arm_hash(&arm),
+               "a comment and 7.050e-1 for 0.705: the same hash");
+  ea_test_true(ok && ea_arm_hash(&a3) != ea_arm_hash(&arm), "gear ratio 2: another hash");
+  free(t1);
+  free(t2);
+  free(t3);
 }
 
 int main(void) {
@@ -228,6 +288,7 @@ int main(void) {
                      strcmp(e.msg, "sentinel"),
                  "a failed call writes its status and message");
   }
+  test_arm_hash(good);
   free(good);
   return ea_test_summary("test_arm_file");
 }

@@ -417,10 +417,111 @@ static void test_default_arm(const char *arm_path) {
   sh(line);
 }
 
+/* The cache file in dir (the one rom-*.bin), in path; 0 if found. */
+static int find_rom(const char *dir, char *path, size_t len) {
+  DIR *d = opendir(dir);
+  struct dirent *de;
+  int found = 1;
+  while (d && (de = readdir(d)))
+    if (!strncmp(de->d_name, "rom-", 4) && strstr(de->d_name, ".bin")) {
+      snprintf(path, len, "%s/%s", dir, de->d_name);
+      found = 0;
+    }
+  if (d) closedir(d);
+  return found;
+}
+
+/* The reduced-model cache seen from `plan --verify` of the at-rest paper line ($EA_CACHE_DIR
+ * in a temp folder): one exponent bit flipped in each of 140 stored values (the key intact)
+ * is detected, the table rebuilt and a warning printed, and the plan and its FE check are
+ * those of a fresh cache (duration and measured residual equal); a FIFO at the cache path
+ * does not hang the plan (run under timeout 120); a cache that cannot be written is a
+ * warning, exit 0. */
+static void test_rom_cache(const char *src) {
+  char dir[] = "/tmp/ea_test_cli_cache_XXXXXX", args[1400], rom[600], plain[600], cache2[700];
+  if (!mkdtemp(dir)) {
+    ea_test_true(0, "temp dir");
+    return;
+  }
+  const char *old = getenv("EA_CACHE_DIR");
+  char saved[1024] = "";
+  if (old) snprintf(saved, sizeof saved, "%s", old);
+  setenv("EA_CACHE_DIR", dir, 1);
+  snprintf(args, sizeof args,
+           "plan %s/problems/examples/paper-line-rest.yaml -o %s/p.csv --verify --json", src, dir);
+  int rc = run(args);
+  const double d0 = json_num("duration_s"), m0 = json_num("measured_residual_peak_m");
+  ea_test_true(rc == 0 && strstr(out, "\"model_from_cache\": false") && !strstr(out, "warning") &&
+                   d0 > 0 && m0 > 0 && find_rom(dir, rom, sizeof rom) == 0,
+               "plan --verify, empty cache: exit 0, the table built and saved, no warning");
+  FILE *f = fopen(rom, "r+b");
+  long len = -1;
+  if (f && !fseek(f, 0, SEEK_END)) len = ftell(f);
+  for (int k = 1; f && len > 0 && k <= 140; ++k) { /* bit 4 of byte 7: an exponent bit */
+    const long off = len - 4 - 8L * k + 7;
+    int c = EOF;
+    if (fseek(f, off, SEEK_SET) || (c = fgetc(f)) == EOF || fseek(f, off, SEEK_SET) ||
+        fputc(c ^ 0x10, f) == EOF)
+      break;
+  }
+  if (f) fclose(f);
+  rc = run(args);
+  printf("  damaged cache: exit %d, duration %.17g s (fresh %.17g), measured %.6g mm (fresh "
+         "%.6g)\n%.600s\n",
+         rc, json_num("duration_s"), d0, 1e3 * json_num("measured_residual_peak_m"), 1e3 * m0, out);
+  ea_test_true(
+      rc == 0 && strstr(out, "warning: reduced-model cache") && strstr(out, "CRC-32") &&
+          strstr(out, "\"model_cache_warning\"") && strstr(out, "\"model_from_cache\": false"),
+      "plan, 140 flipped values in the cache: detected, rebuilt, a warning (stderr, JSON)");
+  ea_test_true(json_num("duration_s") == d0 && json_num("measured_residual_peak_m") == m0,
+               "plan, damaged cache: the same plan and FE check as with a fresh cache");
+  rc = run(args);
+  ea_test_true(rc == 0 && strstr(out, "\"model_from_cache\": true") && !strstr(out, "warning") &&
+                   json_num("duration_s") == d0,
+               "plan after the rebuild: loaded from the cache, no warning, the same plan");
+  /* a FIFO at the cache path */
+  remove(rom);
+  const char *b0 = bin;
+  char tb[1200];
+  snprintf(tb, sizeof tb, "timeout 120 %s", b0);
+  if (mkfifo(rom, 0600) == 0) {
+    bin = tb;
+    rc = run(args);
+    bin = b0;
+    printf("  FIFO at the cache path: exit %d\n%.400s\n", rc, out);
+    ea_test_true(rc == 0 && strstr(out, "FIFO") && json_num("duration_s") == d0,
+                 "plan, a FIFO at the cache path: no hang, a warning, the same plan");
+  } else {
+    ea_test_true(0, "mkfifo");
+  }
+  remove(rom);
+  /* a cache folder that cannot be made: under a regular file (root too) */
+  snprintf(plain, sizeof plain, "%s/plain", dir);
+  touch(plain, "x");
+  snprintf(cache2, sizeof cache2, "%s/cache", plain);
+  setenv("EA_CACHE_DIR", cache2, 1);
+  rc = run(args);
+  printf("  unwritable cache: exit %d\n%.400s\n", rc, out);
+  ea_test_true(rc == 0 && strstr(out, "warning: reduced-model cache") && strstr(out, "not saved") &&
+                   json_num("duration_s") == d0,
+               "plan, a cache that cannot be written: a warning, exit 0, the same plan");
+  if (old)
+    setenv("EA_CACHE_DIR", saved, 1);
+  else
+    unsetenv("EA_CACHE_DIR");
+  remove(plain);
+  snprintf(args, sizeof args, "%s/p.csv", dir);
+  remove(args);
+  snprintf(args, sizeof args, "%s/p.json", dir);
+  remove(args);
+  rmdir(dir);
+}
+
 int main(void) {
   char arm_path[1024];
   if (cli_setup(arm_path, sizeof arm_path)) return 1;
   const char *src = getenv("EA_SOURCE_DIR");
+  test_rom_cache(src);
 
   /* Usage errors: exit 2, a message naming the flag and the value. */
   expect_usage("", "usage", "no command");

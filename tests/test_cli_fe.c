@@ -392,8 +392,9 @@ int main(void) {
     ea_test_true(ea_traj_write(&tr, rec, NULL) == EA_OK, "trajectory recording the arm written");
     snprintf(args, sizeof args, "simulate %s --json", rec);
     rc = run(args);
-    ea_test_true(rc == 0 && strstr(out, "\"arm_file\": \"test_cli_fe_heavy.yaml\""),
-                 "simulate without --arm: the recorded arm file, named in the JSON");
+    ea_test_true(rc == 0 && strstr(out, "\"arm_file\": \"/") &&
+                     strstr(out, "/test_cli_fe_heavy.yaml\""),
+                 "simulate without --arm: the recorded arm file (absolute), named in the JSON");
     ea_test_rel(json_num("residual_vibration_rms_m"), heavy_rms, 1e-12,
                 "simulate without --arm: = the run with --arm of the recorded file");
     snprintf(args, sizeof args, "simulate %s --arm %s --json", rec, arm_path);

@@ -22,6 +22,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 /* the modal forcing against FE static states differenced in the test (test_forcing_independent):
@@ -501,8 +504,29 @@ static void test_prediction(void) {
   ea_traj_free(&tr);
 }
 
-/* The table cache: built once, then loaded bit for bit; other inputs or a damaged file are
- * never used. */
+/* Flip bit `bit` of byte 7 (sign and high exponent bits) of n stored values, counted from the
+ * last value before the file's 4-byte checksum; the key is left intact. 0 on success. */
+static int flip_values(const char *path, int n, int bit) {
+  FILE *f = fopen(path, "r+b");
+  if (!f || fseek(f, 0, SEEK_END)) {
+    if (f) fclose(f);
+    return 1;
+  }
+  const long len = ftell(f);
+  int bad = 0;
+  for (int k = 1; k <= n && !bad; ++k) {
+    const long off = len - 4 - 8L * k + 7;
+    int c;
+    bad = fseek(f, off, SEEK_SET) || (c = fgetc(f)) == EOF || fseek(f, off, SEEK_SET) ||
+          fputc(c ^ (1 << bit), f) == EOF;
+  }
+  return fclose(f) || bad;
+}
+
+/* The table cache: built once, then loaded bit for bit; other inputs are another file. A file
+ * with flipped bits in its values (key intact), of another format, or a FIFO at the path is
+ * not used: the table is rebuilt (bit-equal to a fresh build) and the info says why; a cache
+ * that cannot be written is reported. */
 static void test_cache(void) {
   ea_arm_t arm;
   ea_arm_default(&arm);
@@ -519,27 +543,112 @@ static void test_cache(void) {
   ea_error_t e;
   int ok = !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &a, &ia, &e) &&
            !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &b, &ib, &e);
-  ea_test_true(ok && ia.built && ia.saved && !ia.loaded && ib.loaded && !ib.built,
-               "cache: built and saved once, then loaded");
+  ea_test_true(ok && ia.built && ia.saved && !ia.loaded && ib.loaded && !ib.built &&
+                   !ia.message[0] && !ib.message[0],
+               "cache: built and saved once, then loaded, nothing to report");
+  size_t na = 0;
+  const double *va = ok ? ea_rom_table_values(a, &na) : NULL;
   if (ok) {
-    size_t na = 0, nb = 0;
-    const double *va = ea_rom_table_values(a, &na), *vb = ea_rom_table_values(b, &nb);
+    size_t nb = 0;
+    const double *vb = ea_rom_table_values(b, &nb);
     ea_test_true(na == nb && !memcmp(va, vb, na * sizeof *va), "cache: loaded values bit-exact");
   }
   /* another tip mass: another file, built */
   ok = !ea_rom_table_cached(&arm, arm.m_hand + 0.05, &s, box, 5, 5, dir, &c, &ic, &e);
   ea_test_true(ok && ic.built && strcmp(ic.path, ia.path), "cache: another payload is rebuilt");
-  /* a damaged file: rebuilt, not used */
+  /* damaged values, the key intact: one exponent bit of each of 140 values (as in the outside
+   * review), then a single flip of the lowest exponent bit of one value */
+  const int flips[2] = {140, 1}, bits[2] = {6, 4};
+  for (int k = 0; k < 2; ++k) {
+    ok = flip_values(ia.path, flips[k], bits[k]) == 0 &&
+         !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &d, &id, &e);
+    size_t nd = 0;
+    const double *vd = ok ? ea_rom_table_values(d, &nd) : NULL;
+    printf("  %d flipped value(s): %s\n", flips[k], id.message);
+    char what[160];
+    snprintf(what, sizeof what,
+             "cache: %d value(s) with a flipped exponent bit: detected (CRC-32), rebuilt and "
+             "saved, said so; the table = a fresh build, bit for bit",
+             flips[k]);
+    ea_test_true(ok && id.rejected && id.built && id.saved && !id.loaded &&
+                     strstr(id.message, "CRC-32") && strstr(id.message, ia.path) && vd &&
+                     nd == na && !memcmp(vd, va, na * sizeof *va),
+                 what);
+    ea_rom_table_free(d);
+    d = NULL;
+  }
+  /* the repaired file loads again */
+  ok = !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &d, &id, &e);
+  ea_test_true(ok && id.loaded && !id.message[0], "cache: the rewritten file loads");
+  ea_rom_table_free(d);
+  d = NULL;
+  /* a file of the previous format (no checksum, no version in the key): not used */
   FILE *f = fopen(ia.path, "r+b");
   if (f) {
-    fseek(f, -8, SEEK_END);
-    fputc(0x7f, f);
+    fputs("elasticarm-rom-table 1\n", f);
     fclose(f);
   }
-  truncate(ia.path, 200);
   ok = !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &d, &id, &e);
-  ea_test_true(ok && id.built && !id.loaded, "cache: a damaged file is rebuilt");
+  printf("  previous format: %s\n", id.message);
+  ea_test_true(ok && id.rejected && id.built && id.saved && strstr(id.message, "format"),
+               "cache: a file of another format is rebuilt, said so");
+  ea_rom_table_free(d);
+  d = NULL;
+  /* a FIFO at the cache path: in a child under a 20 s limit (a plain open blocks for good) */
   remove(ia.path);
+  if (mkfifo(ia.path, 0600) == 0) {
+    int pfd[2];
+    const int piped = pipe(pfd) == 0;
+    const pid_t pid = piped ? fork() : -1;
+    if (pid == 0) {
+      close(pfd[0]);
+      ea_rom_table_t *t = NULL;
+      ea_rom_cache_info_t ii;
+      const int r = ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, dir, &t, &ii, NULL);
+      char msg[sizeof ii.message + 8];
+      snprintf(msg, sizeof msg, "%d%d%d%d %s", r == EA_OK && t, ii.rejected, ii.built,
+               ii.save_failed, ii.message);
+      if (write(pfd[1], msg, strlen(msg) + 1) < 0) _exit(2);
+      _exit(0);
+    }
+    int status = -1, waited = 0;
+    for (; pid > 0 && waited < 2000; ++waited) {
+      if (waitpid(pid, &status, WNOHANG) == pid) break;
+      usleep(10000);
+    }
+    if (pid > 0 && waited == 2000) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+    }
+    char got[2100] = "";
+    if (piped) {
+      close(pfd[1]);
+      const ssize_t r = read(pfd[0], got, sizeof got - 1);
+      got[r > 0 ? r : 0] = '\0';
+      close(pfd[0]);
+    }
+    struct stat sb;
+    printf("  FIFO: %s after %.2f s: %s\n", waited < 2000 ? "returned" : "KILLED", waited * 0.01,
+           got);
+    ea_test_true(waited < 2000 && !strncmp(got, "1111", 4) && strstr(got, "FIFO") &&
+                     stat(ia.path, &sb) == 0 && S_ISFIFO(sb.st_mode),
+                 "cache: a FIFO at the path: no hang; the table built, said so, the FIFO left");
+    remove(ia.path);
+  } else {
+    ea_test_true(0, "mkfifo");
+  }
+  /* a cache folder that cannot be made (under a regular file; as root too): reported */
+  char file[64], under[96];
+  snprintf(file, sizeof file, "%s/plain", dir);
+  f = fopen(file, "w");
+  if (f) fclose(f);
+  snprintf(under, sizeof under, "%s/cache", file);
+  ok = !ea_rom_table_cached(&arm, arm.m_hand, &s, box, 5, 5, under, &d, &id, &e);
+  printf("  unwritable: %s\n", id.message);
+  ea_test_true(ok && d && id.built && id.save_failed && !id.saved &&
+                   strstr(id.message, "not saved"),
+               "cache: an unwritable cache folder: the table built, the failed write reported");
+  remove(file);
   remove(ic.path);
   rmdir(dir);
   ea_rom_table_free(a);

@@ -434,6 +434,205 @@ static void test_refused_edits(const ea_arm_t *arm, const char *arm_src, const f
   remove("cli_edit.err");
 }
 
+/* A copy of the arm file src with the spool's gear ratio replaced. */
+static int write_arm_gear(const char *src, const char *dst, double gear) {
+  FILE *in = fopen(src, "r"), *out = fopen(dst, "w");
+  char line[1024];
+  int done = 0;
+  while (in && out && fgets(line, sizeof line, in)) {
+    if (strstr(line, "gear_ratio:")) {
+      fprintf(out, "    gear_ratio: %.17g\n", gear);
+      ++done;
+    } else {
+      fputs(line, out);
+    }
+  }
+  if (in) fclose(in);
+  if (out) fclose(out);
+  return done == 1 ? 0 : 1;
+}
+
+/* Copy a file; 0 on success. */
+static int copy_file(const char *src, const char *dst) {
+  FILE *in = fopen(src, "rb"), *out = fopen(dst, "wb");
+  char buf[4096];
+  size_t k;
+  int ok = in && out;
+  while (ok && (k = fread(buf, 1, sizeof buf, in)) > 0)
+    ok = fwrite(buf, 1, k, out) == k;
+  if (in) fclose(in);
+  if (out && fclose(out)) ok = 0;
+  return !ok;
+}
+
+/* Run argv in folder dir (stdout and stderr to files there); the exit code, stderr in err. */
+static int run_in(const char *dir, char *const argv[], char *err, size_t len) {
+  char here[4096];
+  if (!getcwd(here, sizeof here) || chdir(dir)) return -2;
+  const int rc = wait_for(spawn(argv, "run.out", "run.err"), 20000);
+  slurp("run.err", err, len);
+  if (chdir(here)) return -2;
+  return rc;
+}
+
+/* A plan names its arm unambiguously: `plan` run in folder A records A's arm file by its
+ * absolute path and the arm's hash. Run from folder B, which has another arm (gear ratio 2)
+ * at the relative path the task names, stream uses A's arm (spool positions of gear 1:
+ * the spool map of docs/protocol.md, (L_c - zero_length) / radius * gear, at the
+ * trajectory's first cable length); an older file (relative arm_file, no hash) is read
+ * relative to its own folder. When A's arm file is replaced, stream, simulate and figure
+ * refuse, naming both hashes; --arm overrides (stream: only with the planned arm). */
+static void test_arm_moved(const char *src) {
+  char D[] = "/tmp/ea_test_armhash_XXXXXX";
+  if (!mkdtemp(D)) {
+    ea_test_true(0, "temp dir");
+    return;
+  }
+  char a[600], b[600], p[900], q[900], arm_a[900], arm_b[900], good[900], err[8192];
+  snprintf(a, sizeof a, "%s/a", D);
+  snprintf(b, sizeof b, "%s/b", D);
+  const char *sub[] = {"a", "a/problems", "a/problems/examples", "a/data",
+                       "b", "b/problems", "b/problems/examples", "b/data"};
+  for (size_t i = 0; i < sizeof sub / sizeof *sub; ++i) {
+    snprintf(p, sizeof p, "%s/%s", D, sub[i]);
+    mkdir(p, 0700);
+  }
+  snprintf(arm_a, sizeof arm_a, "%s/data/elasticarm.yaml", a);
+  snprintf(arm_b, sizeof arm_b, "%s/data/elasticarm.yaml", b);
+  snprintf(good, sizeof good, "%s/good.yaml", D);
+  char arm_src[700], task_src[700], task_a[900];
+  snprintf(arm_src, sizeof arm_src, "%s/data/elasticarm.yaml", src);
+  snprintf(task_src, sizeof task_src, "%s/problems/examples/paper-line-smooth.yaml", src);
+  snprintf(task_a, sizeof task_a, "%s/problems/examples/paper-line-smooth.yaml", a);
+  int ok = write_arm_gear(arm_src, arm_a, 1.0) == 0 && write_arm_gear(arm_src, good, 1.0) == 0 &&
+           write_arm_gear(arm_src, arm_b, 2.0) == 0 && copy_file(task_src, task_a) == 0;
+  ea_arm_t g1, g2;
+  ok = ok && ea_arm_load(arm_a, &g1, NULL) == EA_OK && ea_arm_load(arm_b, &g2, NULL) == EA_OK &&
+       g1.act.spool_gear_ratio == 1.0 && g2.act.spool_gear_ratio == 2.0;
+  ea_test_true(ok, "arm files of gear ratio 1 (folder a) and 2 (folder b), the task in a");
+  if (!ok) return;
+  {
+    char *argv[] = {(char *)bin, "plan",     "problems/examples/paper-line-smooth.yaml",
+                    "-o",        "plan.csv", NULL};
+    ea_test_true(run_in(a, argv, err, sizeof err) == 0, "plan in folder a: exit 0");
+  }
+  snprintf(p, sizeof p, "%s/plan.csv", a);
+  ea_traj_t tr = {0};
+  ok = ea_traj_read(&tr, p, NULL) == EA_OK;
+  printf("plan in a: arm_file '%s', arm hash %s %016llx (ea_arm_hash of gear 1: %016llx)\n",
+         tr.arm_file, tr.has_arm_hash ? "yes" : "no", (unsigned long long)tr.arm_hash,
+         (unsigned long long)ea_arm_hash(&g1));
+  ea_test_true(ok && tr.arm_file[0] == '/' && tr.has_arm_hash && tr.arm_hash == ea_arm_hash(&g1),
+               "the plan records an absolute arm_file and the hash of the arm it was planned for");
+  if (!ok) return;
+  const double L0 = EA_TRAJ_AT(&tr, 0, EA_TRAJ_cable_length);
+  const double want = (L0 - g1.act.spool_zero_length) / g1.act.spool_radius;
+  /* the same file in folder b; and an older file (relative arm_file, no hash) in a */
+  char *line = NULL;
+  size_t cap = 0;
+  FILE *in = fopen(p, "r");
+  snprintf(q, sizeof q, "%s/old.csv", a);
+  FILE *o = fopen(q, "w");
+  while (in && o && getline(&line, &cap, in) > 0) {
+    if (!strncmp(line, "# arm_hash:", 11)) continue;
+    if (!strncmp(line, "# arm_file:", 11))
+      fputs("# arm_file: problems/examples/../../data/elasticarm.yaml\n", o);
+    else
+      fputs(line, o);
+  }
+  free(line);
+  if (in) fclose(in);
+  if (o) fclose(o);
+  ea_traj_free(&tr);
+  /* the planned file, copied to b (its absolute path kept): b's arm is not taken */
+  snprintf(q, sizeof q, "%s/plan.csv", b);
+  ok = ok && copy_file(p, q) == 0;
+  struct {
+    const char *traj, *what;
+  } runs[] = {{"plan.csv", "a plan copied to folder b"},
+              {"../a/old.csv", "an older file (relative arm_file, no hash) in folder a"}};
+  for (int k = 0; k < 2; ++k) {
+    char *argv[] = {(char *)bin, "stream", (char *)runs[k].traj, "--to", "file:sp.bin", NULL};
+    const int rc = run_in(b, argv, err, sizeof err);
+    snprintf(q, sizeof q, "%s/sp.bin", b);
+    ea_setpoint_t sp;
+    memset(&sp, 0, sizeof sp);
+    const int bad = first_setpoint(q, &sp);
+    remove(q);
+    printf("stream %s from b: exit %d, first spool position %.12g rad (gear 1: %.12g)\n%s",
+           runs[k].traj, rc, sp.spool_pos[0], want, err);
+    char msg[200];
+    snprintf(msg, sizeof msg, "stream of %s from folder b: folder a's arm (gear 1), rel 1e-9",
+             runs[k].what);
+    ea_test_true(rc == 0 && !bad && fabs(sp.spool_pos[0] - want) <= 1e-9 * fabs(want), msg);
+    if (k == 1)
+      ea_test_true(strstr(err, "no '# arm_hash:'") != NULL, "older file: a note says unchecked");
+  }
+  /* folder a's arm file replaced by the gear-2 arm: refused, both hashes and the path named */
+  ok = write_arm_gear(arm_src, arm_a, 2.0) == 0;
+  char hx[17], hy[17];
+  snprintf(hx, sizeof hx, "%016llx", (unsigned long long)ea_arm_hash(&g1));
+  snprintf(hy, sizeof hy, "%016llx", (unsigned long long)ea_arm_hash(&g2));
+  const char *cmds[][6] = {{"stream", "plan.csv", "--to", "file:sp.bin", NULL, NULL},
+                           {"simulate", "plan.csv", NULL, NULL, NULL, NULL},
+                           {"figure", "plan.csv", "-o", "fig.svg", NULL, NULL}};
+  for (int k = 0; k < 3; ++k) {
+    char *argv[8] = {(char *)bin};
+    for (int j = 0; j < 5 && cmds[k][j]; ++j)
+      argv[j + 1] = (char *)cmds[k][j];
+    const int rc = run_in(b, argv, err, sizeof err);
+    snprintf(q, sizeof q, "%s/sp.bin", b);
+    const int sent = access(q, F_OK) == 0;
+    printf("%s with a's arm file changed: exit %d: %s", cmds[k][0], rc, err);
+    char msg[200];
+    snprintf(msg, sizeof msg,
+             "%s: the arm file changed since the plan: exit 2 naming both hashes and the path",
+             cmds[k][0]);
+    ea_test_true(ok && rc == 2 && strstr(err, hx) && strstr(err, hy) && strstr(err, arm_a) && !sent,
+                 msg);
+  }
+  {
+    char *argv[] = {(char *)bin, "stream", "plan.csv", "--to", "file:sp.bin", "--arm", good, NULL};
+    const int rc = run_in(b, argv, err, sizeof err);
+    snprintf(q, sizeof q, "%s/sp.bin", b);
+    ea_setpoint_t sp;
+    memset(&sp, 0, sizeof sp);
+    const int bad = first_setpoint(q, &sp);
+    remove(q);
+    ea_test_true(rc == 0 && !bad && fabs(sp.spool_pos[0] - want) <= 1e-9 * fabs(want) &&
+                     strstr(err, hx),
+                 "stream --arm (the planned arm): accepted, a note names its hash");
+  }
+  {
+    char *argv[] = {(char *)bin, "simulate", "plan.csv", "--arm", arm_b, NULL};
+    const int rc = run_in(b, argv, err, sizeof err);
+    ea_test_true(rc == 0 && strstr(err, hx) && strstr(err, hy),
+                 "simulate --arm (another arm): overrides, a note names both hashes");
+  }
+  const char *files[] = {"a/plan.csv",
+                         "a/plan.json",
+                         "a/old.csv",
+                         "a/run.out",
+                         "a/run.err",
+                         "b/plan.csv",
+                         "b/run.out",
+                         "b/run.err",
+                         "b/fig.svg",
+                         "good.yaml",
+                         "a/problems/examples/paper-line-smooth.yaml",
+                         "a/data/elasticarm.yaml",
+                         "b/data/elasticarm.yaml"};
+  for (size_t i = 0; i < sizeof files / sizeof *files; ++i) {
+    snprintf(p, sizeof p, "%s/%s", D, files[i]);
+    remove(p);
+  }
+  for (size_t i = sizeof sub / sizeof *sub; i-- > 0;) {
+    snprintf(p, sizeof p, "%s/%s", D, sub[i]);
+    rmdir(p);
+  }
+  rmdir(D);
+}
+
 int main(void) {
   /* Run outside CTest this test cannot work: a failure, not a silent pass. */
   bin = getenv("EA_BINARY");
@@ -465,6 +664,7 @@ int main(void) {
   ea_traj_free(&tr);
   test_recorded_arm(arm_src, &m);
   test_refused_edits(&arm, arm_src, &m);
+  test_arm_moved(src);
 
   /* 1. Clean session. */
   int port = 0;

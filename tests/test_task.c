@@ -231,6 +231,11 @@ static void test_traj_meta(void) {
        "t.csv:2:15: 'payload_kg': '-0.5' is not a finite mass >= 0", EA_ERR_INPUT},
       {"payload text", "# elasticarm-trajectory 1\n# payload_kg: 0.1 kg\n",
        "t.csv:2:15: 'payload_kg': '0.1 kg'", EA_ERR_INPUT},
+      {"arm hash short", "# elasticarm-trajectory 1\n# arm_hash: 9b1839058\n",
+       "t.csv:2:13: 'arm_hash': '9b1839058' is not 16 hexadecimal digits", EA_ERR_INPUT},
+      {"arm hash text after", "# elasticarm-trajectory 1\n# arm_hash: 9b183905826f2ad8 x\n",
+       "t.csv:2:13: 'arm_hash'", EA_ERR_INPUT},
+      {"arm hash good", "# elasticarm-trajectory 1\n# arm_hash: 9B183905826f2ad8\n", "", EA_OK},
       {"version too large", "# elasticarm-trajectory 4294967297\n",
        "t.csv:1:25: trajectory format version '4294967297', expected 1", EA_ERR_INPUT},
   };
@@ -243,7 +248,11 @@ static void test_traj_meta(void) {
     snprintf(buf, sizeof buf, "trajectory %s -> %s: %s", tcases[i].name, ea_status_name(st), e.msg);
     ea_test_true(st == tcases[i].st && (st == EA_OK || strstr(e.msg, tcases[i].want)), buf);
     if (st == EA_OK) {
-      ea_test_true(tr.n == 2 && tr.tip_mass_kg == 0.23, "good trajectory: 2 rows, tip mass 0.23");
+      if (i == 0)
+        ea_test_true(tr.n == 2 && tr.tip_mass_kg == 0.23, "good trajectory: 2 rows, tip mass 0.23");
+      else
+        ea_test_true(tr.has_arm_hash && tr.arm_hash == 0x9b183905826f2ad8u,
+                     "arm hash read (either case of hexadecimal digits)");
       ea_traj_free(&tr);
     }
   }

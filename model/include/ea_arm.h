@@ -13,6 +13,8 @@
 
 #include "ea_status.h"
 
+#include <stdint.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -83,6 +85,13 @@ double ea_arm_tip_mass(const ea_arm_t *arm, double payload_kg);
 /** 1 when a and b hold the same parameters (the first n_damping damping ratios; the bytes
  *  between and after the fields are not compared), else 0. */
 int ea_arm_equal(const ea_arm_t *a, const ea_arm_t *b);
+/** A 64-bit fingerprint of the parameters ea_arm_equal compares (equal arms: equal hashes;
+ *  an arm file's whitespace, comments and number spelling do not enter): FNV-1a over the
+ *  IEEE-754 bit patterns, least significant byte first, of rho, m_hand, length, EI, x_c, y_c,
+ *  g, EA, GA_s, EA_cable, I_zz, I_hand, the 18 fields of ea_actuators_t in their order,
+ *  n_damping (as a double) and the first n_damping damping ratios; -0 counts as +0.
+ *  Trajectory files carry it ('# arm_hash:', docs/trajectory-format.md). */
+uint64_t ea_arm_hash(const ea_arm_t *arm);
 
 #ifdef __cplusplus
 }

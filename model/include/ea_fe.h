@@ -399,6 +399,10 @@ ea_status_t ea_rom_table_build(ea_rom_t *r, const double box[4], int nL, int na,
 /** The table from its grid values (as ea_rom_table_values gives them): for a cache. */
 ea_status_t ea_rom_table_from_values(int modes, int nL, int na, const double box[4],
                                      const double *values, ea_rom_table_t **out, ea_error_t *err);
+/** What the values of ea_rom_table_values mean (their order, the fields and their sign and
+ *  scale conventions): incremented with every change of any of it in model/fe_rom.c, so a
+ *  stored table (the planner's cache, ea_simulate.h) of another meaning is never used. */
+#define EA_ROM_TABLE_VERSION 2
 /** The grid values (count of them in *count); owned by the table. */
 const double *ea_rom_table_values(const ea_rom_table_t *tb, size_t *count);
 void ea_rom_table_info(const ea_rom_table_t *tb, ea_rom_table_info_t *info);

@@ -751,30 +751,6 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
   return 0;
 }
 
-/* The arm to simulate on: --arm, else the arm file the trajectory records (if it is
- * there), else the default; *which says which, for the summary. */
-static int ea__sim_arm(const char *cmd, const ea__sim_opts_t *o, const ea_traj_t *tr, ea_arm_t *arm,
-                       const char **which) {
-  const char *path = o->arm_file;
-  *which = "--arm";
-  if (!path && tr->arm_file[0]) {
-    if (access(tr->arm_file, R_OK) != 0) {
-      fprintf(stderr,
-              "elasticarm %s: error: %s records the arm file '%s', which cannot be read here: "
-              "give the arm with --arm FILE\n",
-              cmd, o->traj_path, tr->arm_file);
-      return EA_EXIT_USAGE;
-    }
-    path = tr->arm_file;
-    *which = "recorded in the trajectory";
-  }
-  if (!path) {
-    path = ea__cli_default_arm();
-    *which = "default";
-  }
-  return ea__cli_load_arm(cmd, path, arm);
-}
-
 static void ea__sim_json(const ea__sim_opts_t *o, const ea_sim_settings_t *s, int simple, int n,
                          const char *arm_path, const ea_sim_info_t *si) {
   ea_json_t j;
@@ -971,9 +947,14 @@ int ea__cli_simulate(int argc, char **argv) {
   ea_arm_t arm;
   const char *arm_which = "";
   ea_sim_history_t h = {0};
-  if ((rc = ea__sim_arm(cmd, &o, &tr, &arm, &arm_which))) goto done;
-  const char *arm_path =
-      o.arm_file ? o.arm_file : (tr.arm_file[0] ? tr.arm_file : ea__cli_default_arm());
+  /* --arm, else the arm file the trajectory records (checked against its arm hash), else
+   * the default */
+  char arm_used[sizeof tr.arm_file];
+  if ((rc = ea__cli_arm_for_traj(cmd, o.traj_path, o.arm_file, &tr, EA__ARM_QUIET, &arm, arm_used,
+                                 sizeof arm_used)))
+    goto done;
+  arm_which = o.arm_file ? "--arm" : tr.arm_file[0] ? "recorded in the trajectory" : "default";
+  const char *arm_path = arm_used[0] ? arm_used : ea__cli_default_arm();
   ea_sim_settings_t s;
   ea__sim_settings(&o, &s);
   /* the tip mass: the arm's hand plus the trajectory's payload, or the flags' payload */

@@ -3,7 +3,6 @@
 #include "cli_impl.h"
 
 #include <string.h>
-#include <unistd.h>
 
 int ea__cli_figure(int argc, char **argv) {
   const char *cmd = "figure";
@@ -16,7 +15,8 @@ int ea__cli_figure(int argc, char **argv) {
              "in the workspace region of its load; cable length, angles, tension, shoulder\n"
              "torque, cable speed, angular rates and cable acceleration over time, with the\n"
              "arm file's limits near the data dashed.\n"
-             "The arm is --arm, else the file's '# arm_file:' if readable, else the default.\n");
+             "The arm is --arm, else the file's '# arm_file:' (refused when its parameters no\n"
+             "longer match the file's '# arm_hash:'), else the default.\n");
       return EA_EXIT_OK;
     }
     if (!strcmp(a, "-o") || !strcmp(a, "--arm")) {
@@ -41,9 +41,8 @@ int ea__cli_figure(int argc, char **argv) {
   ea_error_t err = {0};
   ea_status_t st = ea_traj_read(&tr, traj, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
-  if (!arm_file && tr.arm_file[0] && access(tr.arm_file, R_OK) == 0) arm_file = tr.arm_file;
   ea_arm_t arm;
-  rc = ea__cli_load_arm(cmd, arm_file, &arm);
+  rc = ea__cli_arm_for_traj(cmd, traj, arm_file, &tr, EA__ARM_QUIET, &arm, NULL, 0);
   ea_shooter_t *sh = NULL;
   if (!rc && (st = ea_shooter_alloc(&arm, NULL, &sh, &err))) rc = ea__cli_fail(cmd, st, &err);
   if (!rc) {

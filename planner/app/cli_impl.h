@@ -82,15 +82,24 @@ int ea__cli_check_output(const char *cmd, const char *path);
  *  no leading '.', at most 100 characters; fallback if nothing is left. */
 void ea__cli_safe_name(const char *name, const char *fallback, char *buf, size_t len);
 
-/** The arm for a trajectory file (stream, figure, simulate): the file's
- *  '# arm_file:' when it has one, else arm_opt, else the default. With both,
- *  the two arms must have the same parameters (else an error naming the first
- *  that differs); a recorded arm file that cannot be read is an error unless
- *  --arm is given (then a warning). used (may be NULL) gets the file loaded
- *  ("" = the default). Unless quiet, says on stderr which arm file it took
- *  from the trajectory. Prints errors; returns 0 or the exit code. */
-int ea__cli_arm_for_traj(const char *cmd, const char *arm_opt, const ea_traj_t *tr, int quiet,
-                         ea_arm_t *arm, char *used, size_t used_len);
+/** ea__cli_arm_for_traj flags. */
+enum {
+  EA__ARM_QUIET = 1, /**< do not say which arm file it took from the trajectory */
+  EA__ARM_STRICT = 2 /**< refuse an --arm that differs from the planned arm (stream) */
+};
+/** The arm for a trajectory file traj_path (stream, figure, simulate). Without arm_opt:
+ *  the file's '# arm_file:' (resolved by ea_traj_read), else the default arm; refused
+ *  (exit 2, naming the path and both hashes) when its parameters' hash (ea_arm_hash)
+ *  differs from the trajectory's '# arm_hash:', or when it cannot be loaded; a trajectory
+ *  without '# arm_hash:' (an older file) is used with a note. With arm_opt: that arm;
+ *  when it differs from the planned one (by the hash, else by the recorded file's
+ *  parameters) EA__ARM_STRICT refuses it (exit 2, naming both hashes and the first
+ *  parameter that differs if known), otherwise a note names both hashes. used (may be NULL)
+ *  gets the file loaded ("" = the default). Prints errors and notes; returns 0 or the exit
+ *  code. */
+int ea__cli_arm_for_traj(const char *cmd, const char *traj_path, const char *arm_opt,
+                         const ea_traj_t *tr, int flags, ea_arm_t *arm, char *used,
+                         size_t used_len);
 
 /** Payload options shared by commands: --payload-factor G | --payload-kg M. */
 typedef struct ea__cli_payload {

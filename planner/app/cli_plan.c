@@ -467,6 +467,9 @@ int ea__cli_plan(int argc, char **argv) {
 
   ea__plan_run_t r = {0};
   if ((st = ea_planner_alloc(&task, &r.pl, &err))) return ea__cli_fail(cmd, st, &err);
+  ea_plan_dyn_info_t di;
+  if (ea_planner_dyn_model(r.pl, &di) == EA_OK && di.cache_message[0])
+    fprintf(stderr, "elasticarm %s: warning: reduced-model cache: %s\n", cmd, di.cache_message);
   st = ea_planner_solve(r.pl, EA_PLAN_COLD, NULL, &r.info, &err);
   if (!st && task.dynamics.refine.enabled) st = ea__plan_refine_cli(&o, &r, &err);
   /* The trajectory to write: the plan's, shaped with --shape; --verify simulates it. */

@@ -157,7 +157,8 @@ static int ea__stream_setpoints(const ea__stream_opts_t *o, const ea_stream_sett
   ea_status_t st = ea_traj_read(&tr, o->traj_path, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
   /* The arm the plan was made for: its limits and motor mapping. */
-  int rc = ea__cli_arm_for_traj(cmd, o->arm_file, &tr, 0, arm, arm_used, len);
+  int rc =
+      ea__cli_arm_for_traj(cmd, o->traj_path, o->arm_file, &tr, EA__ARM_STRICT, arm, arm_used, len);
   if (rc) {
     ea_traj_free(&tr);
     return rc;

@@ -3,6 +3,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <inttypes.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -272,44 +273,105 @@ static const char *ea__arm_diff(const ea_arm_t *a, const ea_arm_t *b) {
   return "";
 }
 
-int ea__cli_arm_for_traj(const char *cmd, const char *arm_opt, const ea_traj_t *tr, int quiet,
-                         ea_arm_t *arm, char *used, size_t used_len) {
+/* "X" for a hash, "(none)" without one. */
+static const char *ea__hash_str(int has, uint64_t h, char buf[17]) {
+  if (!has) return "(none)";
+  snprintf(buf, 17, "%016" PRIx64, h);
+  return buf;
+}
+
+/* The first parameter in which two arms differ, including the damping ratios. */
+static const char *ea__arm_diff_all(const ea_arm_t *a, const ea_arm_t *b) {
+  const char *d = ea__arm_diff(a, b);
+  return d[0] || ea_arm_equal(a, b) ? d : "damping.modal_ratios";
+}
+
+int ea__cli_arm_for_traj(const char *cmd, const char *traj_path, const char *arm_opt,
+                         const ea_traj_t *tr, int flags, ea_arm_t *arm, char *used,
+                         size_t used_len) {
+  const int quiet = flags & EA__ARM_QUIET, strict = flags & EA__ARM_STRICT;
   const char *rec = tr->arm_file[0] ? tr->arm_file : NULL;
+  /* the arm file the plan names: its own, else the default the planner used */
+  const char *planned = rec ? rec : ea__cli_default_arm();
+  char hx[17], hy[17], hz[17];
+  const char *X = ea__hash_str(tr->has_arm_hash, tr->arm_hash, hx);
   if (used && used_len) used[0] = '\0';
-  if (!rec || (arm_opt && access(rec, R_OK) != 0)) {
-    if (rec)
-      fprintf(stderr,
-              "elasticarm %s: warning: the trajectory's arm file '%s' cannot be read: its limits "
-              "are not compared with --arm %s\n",
-              cmd, rec, arm_opt);
-    int rc = ea__cli_load_arm(cmd, arm_opt, arm);
-    if (!rc && used && used_len) snprintf(used, used_len, "%s", arm_opt ? arm_opt : "");
-    return rc;
-  }
+  ea_arm_t recorded;
   ea_error_t err = {0};
-  ea_status_t st = ea_arm_load(rec, arm, &err);
-  if (st) {
-    fprintf(stderr,
-            "elasticarm %s: error: the trajectory was made for the arm file '%s' (its '# "
-            "arm_file:' line), which cannot be loaded: %s\n(give the arm with --arm FILE)\n",
-            cmd, rec, err.msg);
-    return EA_EXIT_USAGE;
-  }
-  if (arm_opt) {
-    ea_arm_t given;
-    int rc = ea__cli_load_arm(cmd, arm_opt, &given);
-    if (rc) return rc;
-    const char *d = ea__arm_diff(arm, &given);
-    if (d[0]) {
+  ea_status_t rst = ea_arm_load(planned, &recorded, &err);
+  const uint64_t Y = rst ? 0 : ea_arm_hash(&recorded);
+  if (!arm_opt) {
+    if (rst && !rec) return ea__cli_fail(cmd, rst, &err);
+    if (rst) {
       fprintf(stderr,
-              "elasticarm %s: error: --arm %s differs from the trajectory's arm file '%s' in %s: "
-              "refused (the plan's limits and motor mapping would not hold)\n",
-              cmd, arm_opt, rec, d);
+              "elasticarm %s: error: %s records the arm file '%s', which cannot be loaded: %s\n"
+              "(give the arm it was planned for with --arm FILE)\n",
+              cmd, traj_path, planned, err.msg);
       return EA_EXIT_USAGE;
     }
-  } else if (!quiet) {
-    fprintf(stderr, "elasticarm %s: using the trajectory's arm file '%s'\n", cmd, rec);
+    if (tr->has_arm_hash && Y != tr->arm_hash) {
+      fprintf(stderr,
+              "elasticarm %s: error: %s was planned for the arm with hash %s ('# arm_hash:'), but "
+              "its arm file '%s' now holds an arm with hash %s: refused (the plan's limits and "
+              "motor mapping would not hold; give the arm it was planned for with --arm FILE)\n",
+              cmd, traj_path, X, planned, ea__hash_str(1, Y, hy));
+      return EA_EXIT_USAGE;
+    }
+    if (rec && !tr->has_arm_hash)
+      fprintf(stderr,
+              "elasticarm %s: note: %s has no '# arm_hash:' line (written by an older "
+              "elasticarm): its arm file '%s' cannot be checked against the plan\n",
+              cmd, traj_path, rec);
+    if (rec && !quiet)
+      fprintf(stderr, "elasticarm %s: using the trajectory's arm file '%s' (arm hash %s)\n", cmd,
+              rec, ea__hash_str(1, Y, hy));
+    *arm = recorded;
+    if (used && used_len) snprintf(used, used_len, "%s", rec ? rec : "");
+    return 0;
   }
-  if (used && used_len) snprintf(used, used_len, "%s", rec);
+  ea_arm_t given;
+  int rc = ea__cli_load_arm(cmd, arm_opt, &given);
+  if (rc) return rc;
+  const uint64_t Z = ea_arm_hash(&given);
+  /* planned for: the hash when the file has one, else the recorded file's parameters */
+  int same;
+  if (tr->has_arm_hash)
+    same = Z == tr->arm_hash;
+  else if (!rst && rec)
+    same = ea_arm_equal(&recorded, &given);
+  else
+    same = -1; /* nothing to compare with */
+  /* the first parameter that differs, when the recorded file still holds the planned arm */
+  const char *d = same == 0 && !rst && (!tr->has_arm_hash || Y == tr->arm_hash)
+                      ? ea__arm_diff_all(&recorded, &given)
+                      : "";
+  if (same == 0 && strict) {
+    fprintf(stderr,
+            "elasticarm %s: error: --arm %s (arm hash %s) differs from the arm %s was planned "
+            "for (%s '%s', arm hash %s)%s%s: refused (the plan's limits and motor mapping "
+            "would not hold)\n",
+            cmd, arm_opt, ea__hash_str(1, Z, hz), traj_path,
+            tr->has_arm_hash ? "arm file then" : "its arm file", planned,
+            tr->has_arm_hash ? X : ea__hash_str(!rst, Y, hy), d[0] ? " in " : "", d);
+    return EA_EXIT_USAGE;
+  }
+  if (same == 0)
+    fprintf(stderr,
+            "elasticarm %s: note: %s was planned for the arm with hash %s (arm file '%s'); it is "
+            "used with --arm %s (arm hash %s)%s%s\n",
+            cmd, traj_path, X, planned, arm_opt, ea__hash_str(1, Z, hz),
+            d[0] ? ", which differs in " : "", d);
+  if (same == -1 && rec)
+    fprintf(stderr,
+            "elasticarm %s: warning: the trajectory's arm file '%s' cannot be read and %s has no "
+            "'# arm_hash:': the arm it was planned for is not compared with --arm %s\n",
+            cmd, rec, traj_path, arm_opt);
+  if (same == 1 && tr->has_arm_hash && (rst || Y != tr->arm_hash) && !quiet)
+    fprintf(stderr,
+            "elasticarm %s: note: the trajectory's arm file '%s' %s; --arm %s holds the arm it "
+            "was planned for (arm hash %s)\n",
+            cmd, planned, rst ? "cannot be loaded" : "has changed since the plan", arm_opt, X);
+  *arm = given;
+  if (used && used_len) snprintf(used, used_len, "%s", arm_opt);
   return 0;
 }

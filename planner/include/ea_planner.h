@@ -110,6 +110,10 @@ typedef struct ea_plan_dyn_info {
   int cache_loaded;          /**< 1: the table came from the cache */
   int cache_saved;           /**< 1: it was built and saved */
   char cache_path[1200];     /**< the cache file ("" = none) */
+  int cache_warnings;        /**< models whose cache file was not used (damaged, another
+                                  format, not a regular file) or could not be written */
+  char cache_message[2400];  /**< what went wrong with the cache, per model ("" = nothing):
+                                  the table was built instead; a warning for the caller */
   double time_s;             /**< [s] to build or load */
 } ea_plan_dyn_info_t;
 

@@ -136,20 +136,26 @@ ea_status_t ea_traj_rom_predict(const ea_rom_table_t *tb, const ea_traj_t *tr, d
 
 /** How ea_rom_table_cached got its table. */
 typedef struct ea_rom_cache_info {
-  int loaded;        /**< 1: read from the cache */
-  int built;         /**< 1: built (ea_rom_table_build) */
-  int saved;         /**< 1: written to the cache */
-  char path[1200];   /**< cache file ("" = no cache) */
-  char message[600]; /**< why it was not saved, if it was not */
+  int loaded;         /**< 1: read from the cache */
+  int built;          /**< 1: built (ea_rom_table_build) */
+  int saved;          /**< 1: written to the cache */
+  int rejected;       /**< 1: a file at the path was not used (damaged: size or CRC-32;
+                           another format or table; not a regular file; unreadable) */
+  int save_failed;    /**< 1: built but could not be written to the cache */
+  char path[1200];    /**< cache file ("" = no cache) */
+  char message[2000]; /**< why a file there was not used and/or why the table was not saved
+                           ("" = neither happened); for the caller to show as a warning */
 } ea_rom_cache_info_t;
 
 /** The cache folder: $EA_CACHE_DIR ("" or "off": none), else $XDG_CACHE_HOME/elasticarm, else
  *  $HOME/.cache/elasticarm; NULL when there is none. */
 const char *ea_rom_cache_dir(char *buf, size_t len);
 /** The reduced-model table for arm, tip mass [kg], settings, box and grid: loaded from
- *  cache_dir when a file there was made from exactly these inputs, else built (and saved,
- *  atomically; a cache that cannot be written is not an error: info->message says why).
- *  cache_dir NULL: always built. */
+ *  cache_dir when a file there was made from exactly these inputs by this table format and
+ *  library version and its CRC-32 holds, else built (and saved, atomically). A file that is
+ *  damaged, of another format, or not a regular file (opened without blocking) is not used
+ *  and a cache that cannot be written is not an error: info->rejected / info->save_failed
+ *  and info->message say so. cache_dir NULL: always built. */
 ea_status_t ea_rom_table_cached(const ea_arm_t *arm, double tip_mass, const ea_rom_settings_t *s,
                                 const double box[4], int nL, int na, const char *cache_dir,
                                 ea_rom_table_t **out, ea_rom_cache_info_t *info, ea_error_t *err);

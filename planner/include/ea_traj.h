@@ -10,6 +10,7 @@
 #include "ea_status.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -52,13 +53,17 @@ const char *ea_traj_column_name(int c);
 /** A trajectory: n samples of EA_TRAJ_NCOL columns, row-major, plus the
  *  metadata the file carries. */
 typedef struct ea_traj {
-  int n;              /**< number of samples */
-  double *data;       /**< n x EA_TRAJ_NCOL, row-major; owned */
-  double payload_kg;  /**< [kg] payload m_p */
-  double tip_mass_kg; /**< [kg] m_L */
-  char arm_file[512]; /**< arm file the plan was made with ("" = defaults) */
-  char task[512];     /**< task name or file */
-  char status[64];    /**< planner status, e.g. "EA_OK" */
+  int n;               /**< number of samples */
+  double *data;        /**< n x EA_TRAJ_NCOL, row-major; owned */
+  double payload_kg;   /**< [kg] payload m_p */
+  double tip_mass_kg;  /**< [kg] m_L */
+  char arm_file[4096]; /**< arm file the plan was made with ("" = defaults); relative paths
+                            are relative to the current folder (ea_traj_read resolves the
+                            file's relative ones against the trajectory's folder) */
+  int has_arm_hash;    /**< 1: arm_hash holds the arm's ea_arm_hash ('# arm_hash:') */
+  uint64_t arm_hash;   /**< ea_arm_hash of the arm the plan was made with */
+  char task[512];      /**< task name or file */
+  char status[64];     /**< planner status, e.g. "EA_OK" */
 } ea_traj_t;
 
 /** Value at sample i, column c. */
@@ -74,11 +79,15 @@ void ea_traj_free(ea_traj_t *tr);
  *  torque EI kappa0, and the tip in the base frame using the sample's base
  *  angle. (Rates and the actuator columns are left alone.) */
 void ea_traj_set_statics(ea_traj_t *tr, int i, const double p[4], const double xL[4], double EI);
-/** Write atomically (CSV with '#' metadata lines). */
+/** Write atomically (CSV with '#' metadata lines). arm_file is written as an absolute
+ *  path when it names an existing file (realpath), else as given; '# arm_hash:' only
+ *  when has_arm_hash. */
 ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err);
-/** Read and validate (header, version, monotonic time, finite values);
- *  errors say file:line:column. tr: zeroed, or a trajectory whose samples
- *  are freed first. */
+/** Read and validate (header, version, monotonic time, finite values, a
+ *  '# arm_hash:' of 16 hexadecimal digits); errors say file:line:column. A
+ *  relative '# arm_file:' is taken relative to the trajectory's folder (tr->arm_file
+ *  gets that folder prefixed). tr: zeroed, or a trajectory whose samples are freed
+ *  first. */
 ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err);
 /** Read the simple CSV form: the header 't_s,cable_length_m,cable_angle_rad', then one
  *  row per sample (time increasing, cable length > 0, at least 2 rows); the rates of

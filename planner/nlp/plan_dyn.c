@@ -755,6 +755,12 @@ ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err) {
                           j ? " (a robust corner)" : "", box[0], box[1], box[2], box[3], e.msg);
     di->model_tip_mass[j] = tm;
     di->model_EI[j] = arm.EI;
+    if (ci.message[0]) { /* the first model's message whole, then as much as fits */
+      const size_t used = strlen(di->cache_message);
+      snprintf(di->cache_message + used, sizeof di->cache_message - used, "%s%s%s",
+               used ? "; " : "", j ? "a robust corner: " : "", ci.message);
+      ++di->cache_warnings;
+    }
     if (j == 0) {
       di->cache_loaded = ci.loaded;
       di->cache_saved = ci.saved;

@@ -25,6 +25,8 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
   tr->payload_kg = t->payload_kg;
   tr->tip_mass_kg = pl->tip_mass;
   snprintf(tr->arm_file, sizeof tr->arm_file, "%s", t->arm_file);
+  tr->arm_hash = ea_arm_hash(&t->arm);
+  tr->has_arm_hash = 1;
   snprintf(tr->task, sizeof tr->task, "%s", t->file[0] ? t->file : t->name);
   snprintf(tr->status, sizeof tr->status, "EA_OK");
   const double tf = ea__plan_tf(pl, x);
@@ -171,6 +173,7 @@ static void ea__summary_dynamics(ea_json_t *j, const ea_planner_t *pl, const ea_
   ea_json_arr_end(j);
   ea_json_int(j, "grid_extrapolated_points", di.table.n_extrapolated);
   ea_json_bool(j, "model_from_cache", di.cache_loaded);
+  if (di.cache_message[0]) ea_json_str(j, "model_cache_warning", di.cache_message);
   ea_json_num(j, "model_time_s", di.time_s);
   ea_json_obj_end(j);
 }

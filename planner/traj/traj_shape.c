@@ -616,6 +616,8 @@ static ea_status_t ea__shape_rows(const ea_traj_t *in, ea__shape_ws_t *w, int nu
   out->payload_kg = in->payload_kg;
   out->tip_mass_kg = in->tip_mass_kg;
   snprintf(out->arm_file, sizeof out->arm_file, "%s", in->arm_file);
+  out->arm_hash = in->arm_hash;
+  out->has_arm_hash = in->has_arm_hash;
   snprintf(out->task, sizeof out->task, "%s", in->task);
   snprintf(out->status, sizeof out->status, "%s", in->status);
   for (int c = 0; c < 3; ++c) {

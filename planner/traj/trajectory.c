@@ -4,6 +4,8 @@
 #include "ea_util.h"
 
 #include <errno.h>
+#include <inttypes.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,8 +48,13 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
   ea_afile_t f;
   ea_status_t st = ea_afile_open(&f, path, err);
   if (st) return st;
+  /* the arm file by its absolute path: a relative one would be read against whatever folder
+   * the reader runs in (and is taken relative to the trajectory's folder, ea_traj_read) */
+  char abs[PATH_MAX];
+  const char *arm_file = tr->arm_file[0] && realpath(tr->arm_file, abs) ? abs : tr->arm_file;
   fprintf(f.fp, "# elasticarm-trajectory %d\n", EA_TRAJ_FORMAT_VERSION);
-  fprintf(f.fp, "# arm_file: %s\n", tr->arm_file);
+  fprintf(f.fp, "# arm_file: %s\n", arm_file);
+  if (tr->has_arm_hash) fprintf(f.fp, "# arm_hash: %016" PRIx64 "\n", tr->arm_hash);
   fprintf(f.fp, "# task: %s\n", tr->task);
   fprintf(f.fp, "# status: %s\n", tr->status);
   fprintf(f.fp, "# payload_kg: %.17g\n", tr->payload_kg);
@@ -78,6 +85,18 @@ static ea_status_t ea__meta(ea_traj_t *tr, const char *line, const char *path, l
   EA__META_STR("task", task)
   EA__META_STR("status", status)
 #undef EA__META_STR
+  static const char hk[] = "# arm_hash: ";
+  if (!strncmp(line, hk, sizeof hk - 1)) {
+    v = line + sizeof hk - 1;
+    const size_t nh = strspn(v, "0123456789abcdefABCDEF");
+    if (nh != 16 || v[16 + strspn(v + 16, " \t\r\n")] != '\0')
+      return ea_error_set(err, EA_ERR_INPUT,
+                          "%s:%ld:%zu: 'arm_hash': '%.*s' is not 16 hexadecimal digits", path,
+                          lineno, sizeof hk, (int)strcspn(v, "\r\n"), v);
+    tr->arm_hash = (uint64_t)strtoull(v, NULL, 16);
+    tr->has_arm_hash = 1;
+    return EA_OK;
+  }
   static const char *const keys[] = {"# payload_kg: ", "# tip_mass_kg: "};
   double *dst[] = {&tr->payload_kg, &tr->tip_mass_kg};
   for (int k = 0; k < 2; ++k) {
@@ -93,6 +112,23 @@ static ea_status_t ea__meta(ea_traj_t *tr, const char *line, const char *path, l
                           (int)strcspn(line + kl, "\r\n"), line + kl);
     *dst[k] = x;
   }
+  return EA_OK;
+}
+
+/* A relative '# arm_file:' names a file beside the trajectory: the trajectory's folder
+ * prefixed, so the arm does not depend on the folder the reader runs in. */
+static ea_status_t ea__arm_file_beside(ea_traj_t *tr, const char *path, ea_error_t *err) {
+  const char *slash = strrchr(path, '/');
+  if (!tr->arm_file[0] || tr->arm_file[0] == '/' || !slash) return EA_OK;
+  char rel[sizeof tr->arm_file];
+  memcpy(rel, tr->arm_file, sizeof rel);
+  const int n =
+      snprintf(tr->arm_file, sizeof tr->arm_file, "%.*s/%s", (int)(slash - path), path, rel);
+  if (n < 0 || (size_t)n >= sizeof tr->arm_file)
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "%s: 'arm_file': '%s' relative to the trajectory's folder is longer "
+                        "than %zu bytes",
+                        path, rel, sizeof tr->arm_file - 1);
   return EA_OK;
 }
 
@@ -212,6 +248,7 @@ ea_status_t ea_traj_read(ea_traj_t *tr, const char *path, ea_error_t *err) {
     st = ea_error_set(err, EA_ERR_INPUT, "%s: no header line: not a trajectory file", path);
   if (!st && tr->n < 2)
     st = ea_error_set(err, EA_ERR_INPUT, "%s: a trajectory needs at least 2 samples", path);
+  if (!st) st = ea__arm_file_beside(tr, path, err);
   if (st) ea_traj_free(tr);
   return st;
 }
