@@ -605,7 +605,9 @@ int ea__cli_plan(int argc, char **argv) {
 
   ea_task_t task;
   ea_error_t err = {0};
+  task.arm_warning[0] = '\0'; /* set by the load once it read the arm file */
   ea_status_t st = ea_task_load(o.task_path, ea__cli_default_arm(), &task, &err);
+  if (task.arm_warning[0]) fprintf(stderr, "elasticarm plan: warning: %s\n", task.arm_warning);
   if (st == EA_ERR_INFEASIBLE) {
     fprintf(stderr, "elasticarm plan: infeasible task: %s\n", err.msg);
     return EA_EXIT_FAIL;

@@ -185,8 +185,11 @@ const char *ea__cli_default_arm_how(void) {
 
 int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm) {
   ea_error_t err = {0};
-  ea_status_t st = ea_arm_load(path ? path : ea__cli_default_arm(), arm, &err);
+  char warning[700];
+  ea_status_t st =
+      ea_arm_load_warn(path ? path : ea__cli_default_arm(), arm, warning, sizeof warning, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
+  if (warning[0]) fprintf(stderr, "elasticarm %s: warning: %s\n", cmd, warning);
   return 0;
 }
 
