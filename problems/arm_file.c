@@ -63,9 +63,10 @@ static ea_status_t ea__read_damping(ea__ydoc_t *d, yaml_node_t *root, ea_arm_t *
  * G = rho g L^3 / EI (the tip of a horizontal cantilever sags G/8 of its length in the linear
  * theory), and the cable's largest bending, B = T_max L^2 / EI (about the bending angle, in
  * rad, that the largest tension pulling at the tip gives). An elastic arm bends under both:
- * the paper's arm has G = 5.3 and B = 71. G outside [0.05, 500] (a hundred times either way)
- * blames EI (or its unit); B < 1 with G plausible (the cable cannot bend the beam by a
- * radian) blames the tension limit. warning gets "" or the message with file:line:column. */
+ * the paper's arm has G = 5.3 and, with data/elasticarm.yaml's 60 N, B = 71. G outside
+ * [0.05, 500] (a hundred times either way) blames EI (or its unit); B < 1 with G plausible
+ * (the cable cannot bend the beam by a radian) blames the tension limit. warning gets "" or
+ * the message with file:line:column. */
 static void ea__arm_plausibility(ea__ydoc_t *d, yaml_node_t *beam, yaml_node_t *ten,
                                  const ea_arm_t *arm, char *warning, size_t wlen) {
   warning[0] = '\0';
@@ -83,7 +84,7 @@ static void ea__arm_plausibility(ea__ydoc_t *d, yaml_node_t *beam, yaml_node_t *
   else if (B < 1.0)
     ea__yerr(d, ea__ymap_get(d, ten, "max_N"), &w, EA_ERR_INPUT,
              "actuators.tension.max_N = %g N looks too low for this beam: at that tension the "
-             "cable bends it by about T L^2 / EI = %.3g rad (the paper's arm 71), so most "
+             "cable bends it by about T L^2 / EI = %.3g rad (data/elasticarm.yaml: 71), so most "
              "tip positions need more tension than allowed; check max_N or beam.EI_Nm2",
              arm->act.tension_max, B);
   snprintf(warning, wlen, "%s", w.msg);
