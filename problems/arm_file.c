@@ -3,6 +3,7 @@
 #include "yaml_impl.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define EA__INF INFINITY
@@ -57,7 +58,41 @@ static ea_status_t ea__read_damping(ea__ydoc_t *d, yaml_node_t *root, ea_arm_t *
   return EA_OK;
 }
 
-static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *err) {
+/* Plausibility of the beam against its load (a warning: such a beam exists, not for this
+ * design). Two dimensionless numbers: the beam's own weight against its stiffness,
+ * G = rho g L^3 / EI (the tip of a horizontal cantilever sags G/8 of its length in the linear
+ * theory), and the cable's largest bending, B = T_max L^2 / EI (about the bending angle, in
+ * rad, that the largest tension pulling at the tip gives). An elastic arm bends under both:
+ * the paper's arm has G = 5.3 and, with data/elasticarm.yaml's 60 N, B = 71. G outside
+ * [0.05, 500] (a hundred times either way) blames EI (or its unit); B < 1 with G plausible
+ * (the cable cannot bend the beam by a radian) blames the tension limit. warning gets "" or
+ * the message with file:line:column. */
+static void ea__arm_plausibility(ea__ydoc_t *d, yaml_node_t *beam, yaml_node_t *ten,
+                                 const ea_arm_t *arm, char *warning, size_t wlen) {
+  warning[0] = '\0';
+  const double L = arm->length, EI = arm->EI;
+  const double G = arm->rho * arm->g * L * L * L / EI, B = arm->act.tension_max * L * L / EI;
+  ea_error_t w = {0};
+  if (arm->rho > 0 && arm->g > 0 && (G < 0.05 || G > 500))
+    ea__yerr(d, ea__ymap_get(d, beam, "EI_Nm2"), &w, EA_ERR_INPUT,
+             "beam.EI_Nm2 = %g N m^2 looks %s for this beam: its own weight against its "
+             "stiffness, rho g L^3 / EI = %.3g (plausible 0.05 .. 500; the paper's arm 5.3), "
+             "the tip of the horizontal beam sagging about %.3g mm under its weight, and the "
+             "cable at max_N = %g N bending it by about T L^2 / EI = %.3g rad; check the value "
+             "and its unit (N m^2)",
+             EI, G < 0.05 ? "too large" : "too small", G, 1e3 * G * L / 8, arm->act.tension_max, B);
+  else if (B < 1.0)
+    ea__yerr(d, ea__ymap_get(d, ten, "max_N"), &w, EA_ERR_INPUT,
+             "actuators.tension.max_N = %g N looks too low for this beam: at that tension the "
+             "cable bends it by about T L^2 / EI = %.3g rad (data/elasticarm.yaml: 71), so most "
+             "tip positions need more tension than allowed; check max_N or beam.EI_Nm2",
+             arm->act.tension_max, B);
+  snprintf(warning, wlen, "%s", w.msg);
+}
+
+static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, char *warning, size_t wlen,
+                                    ea_error_t *err) {
+  if (warning && wlen) warning[0] = '\0';
   yaml_node_t *root, *beam, *hand, *cable, *act, *spool, *ten, *sho, *base;
   ea_status_t st = ea__ydoc_root_map(d, &root, err);
   if (st) return st;
@@ -69,15 +104,18 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
   if ((st = ea__ymap_map(d, root, "hand", 1, &hand, err))) return st;
   if ((st = ea__ymap_map(d, root, "cable", 1, &cable, err))) return st;
   if ((st = ea__ymap_map(d, root, "actuators", 1, &act, err))) return st;
+  /* Physical ranges: generous for any arm of this kind (a beam of metres, not kilometres; a
+   * spool of millimetres to a metre), finite, so that a slip of the exponent or the unit is
+   * caught here and not as a spool position of 1e-309 rad on the wire. */
   static const ea__field_t fb[] = {
-      EA__F("rho_kg_per_m", 0, EA__INF, rho), EA__F("length_m", 1e-6, EA__INF, length),
-      EA__F("EI_Nm2", 1e-12, EA__INF, EI),    EA__F("EA_N", 1e-12, EA__INF, EA),
-      EA__F("GA_N", 1e-12, EA__INF, GA_s),    EA__F("Izz_kg_m", 0, EA__INF, I_zz)};
-  static const ea__field_t fh[] = {EA__F("mass_kg", 0, EA__INF, m_hand),
-                                   EA__F("Izz_kg_m2", 0, EA__INF, I_hand)};
-  static const ea__field_t fc[] = {EA__F("root_x_m", -EA__INF, EA__INF, x_c),
-                                   EA__F("root_y_m", -EA__INF, EA__INF, y_c),
-                                   EA__F("EA_N", 1e-12, EA__INF, EA_cable)};
+      EA__F("rho_kg_per_m", 0, 1e3, rho), EA__F("length_m", 1e-3, 100, length),
+      EA__F("EI_Nm2", 1e-9, 1e9, EI),     EA__F("EA_N", 1e-3, 1e13, EA),
+      EA__F("GA_N", 1e-3, 1e13, GA_s),    EA__F("Izz_kg_m", 0, 1e3, I_zz)};
+  static const ea__field_t fh[] = {EA__F("mass_kg", 0, 1e4, m_hand),
+                                   EA__F("Izz_kg_m2", 0, 1e4, I_hand)};
+  static const ea__field_t fc[] = {EA__F("root_x_m", -100, 100, x_c),
+                                   EA__F("root_y_m", -100, 100, y_c),
+                                   EA__F("EA_N", 1e-3, 1e13, EA_cable)};
   if ((st = ea__read_fields(d, beam, "beam", fb, sizeof fb / sizeof *fb, arm, err))) return st;
   if ((st = ea__read_fields(d, hand, "hand", fh, sizeof fh / sizeof *fh, arm, err))) return st;
   if ((st = ea__read_fields(d, cable, "cable", fc, sizeof fc / sizeof *fc, arm, err))) return st;
@@ -89,27 +127,26 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
   if ((st = ea__ymap_map(d, act, "tension", 1, &ten, err))) return st;
   if ((st = ea__ymap_map(d, act, "shoulder", 1, &sho, err))) return st;
   if ((st = ea__ymap_map(d, act, "base", 1, &base, err))) return st;
-  static const ea__field_t fs[] = {
-      EA__F("radius_m", 1e-9, EA__INF, act.spool_radius),
-      EA__F("gear_ratio", 1e-9, EA__INF, act.spool_gear_ratio),
-      EA__F("zero_length_m", -EA__INF, EA__INF, act.spool_zero_length),
-      EA__F("cable_length_min_m", 1e-9, EA__INF, act.cable_length_min),
-      EA__F("cable_length_max_m", 1e-9, EA__INF, act.cable_length_max),
-      EA__F("speed_max_m_per_s", 1e-12, EA__INF, act.cable_speed_max),
-      EA__F("accel_max_m_per_s2", 1e-12, EA__INF, act.cable_accel_max)};
-  static const ea__field_t ft[] = {EA__F("min_N", 1e-12, EA__INF, act.tension_min),
-                                   EA__F("max_N", 1e-12, EA__INF, act.tension_max)};
-  static const ea__field_t fsh[] = {
-      EA__F("torque_max_Nm", 1e-12, EA__INF, act.shoulder_torque_max),
-      EA__F("speed_max_rad_per_s", 1e-12, EA__INF, act.shoulder_speed_max),
-      EA__F("accel_max_rad_per_s2", 1e-12, EA__INF, act.shoulder_accel_max),
-      EA__F("angle_min_rad", -EA__INF, EA__INF, act.shoulder_angle_min),
-      EA__F("angle_max_rad", -EA__INF, EA__INF, act.shoulder_angle_max)};
-  static const ea__field_t fba[] = {
-      EA__F("speed_max_rad_per_s", 1e-12, EA__INF, act.base_speed_max),
-      EA__F("accel_max_rad_per_s2", 1e-12, EA__INF, act.base_accel_max),
-      EA__F("angle_min_rad", -EA__INF, EA__INF, act.base_angle_min),
-      EA__F("angle_max_rad", -EA__INF, EA__INF, act.base_angle_max)};
+  /* angles within one turn either way; the rest within what a motor and a spool can do */
+  const double turn = 6.2832; /* 2 pi, rounded up */
+  const ea__field_t fs[] = {EA__F("radius_m", 1e-4, 1.0, act.spool_radius),
+                            EA__F("gear_ratio", 1e-3, 1e3, act.spool_gear_ratio),
+                            EA__F("zero_length_m", 0.0, 100.0, act.spool_zero_length),
+                            EA__F("cable_length_min_m", 1e-3, 100.0, act.cable_length_min),
+                            EA__F("cable_length_max_m", 1e-3, 100.0, act.cable_length_max),
+                            EA__F("speed_max_m_per_s", 1e-6, 100.0, act.cable_speed_max),
+                            EA__F("accel_max_m_per_s2", 1e-6, 1e4, act.cable_accel_max)};
+  static const ea__field_t ft[] = {EA__F("min_N", 1e-6, 1e5, act.tension_min),
+                                   EA__F("max_N", 1e-6, 1e5, act.tension_max)};
+  const ea__field_t fsh[] = {EA__F("torque_max_Nm", 1e-6, 1e4, act.shoulder_torque_max),
+                             EA__F("speed_max_rad_per_s", 1e-6, 1e3, act.shoulder_speed_max),
+                             EA__F("accel_max_rad_per_s2", 1e-6, 1e5, act.shoulder_accel_max),
+                             EA__F("angle_min_rad", -turn, turn, act.shoulder_angle_min),
+                             EA__F("angle_max_rad", -turn, turn, act.shoulder_angle_max)};
+  const ea__field_t fba[] = {EA__F("speed_max_rad_per_s", 1e-6, 1e3, act.base_speed_max),
+                             EA__F("accel_max_rad_per_s2", 1e-6, 1e5, act.base_accel_max),
+                             EA__F("angle_min_rad", -turn, turn, act.base_angle_min),
+                             EA__F("angle_max_rad", -turn, turn, act.base_angle_max)};
   if ((st = ea__read_fields(d, spool, "actuators.spool", fs, sizeof fs / sizeof *fs, arm, err)))
     return st;
   if ((st = ea__read_fields(d, ten, "actuators.tension", ft, sizeof ft / sizeof *ft, arm, err)))
@@ -141,24 +178,44 @@ static ea_status_t ea__arm_from_doc(ea__ydoc_t *d, ea_arm_t *arm, ea_error_t *er
   ea_error_t e2 = {0};
   if ((st = ea_arm_validate(arm, &e2)))
     return ea__yerr(d, act, err, st, "inconsistent arm data: %s", e2.msg);
+  /* No configuration has a cable longer than the farthest the tip can be from the cable
+   * root (beam length plus the root's distance from the shoulder): no static solution. */
+  const double reach = arm->length + hypot(arm->x_c, arm->y_c);
+  if (arm->act.cable_length_min >= reach)
+    return ea__yerr(d, ea__ymap_get(d, spool, "cable_length_min_m"), err, EA_ERR_INPUT,
+                    "actuators.spool: cable_length_min_m = %g m: no configuration has a cable "
+                    "this long (the tip is at most beam.length_m + |cable root| = %g m from the "
+                    "cable root): no static solution exists",
+                    arm->act.cable_length_min, reach);
+  if (warning) ea__arm_plausibility(d, beam, ten, arm, warning, wlen);
   return EA_OK;
 }
 
 ea_status_t ea_arm_load_string(const char *name, const char *text, size_t len, ea_arm_t *arm,
                                ea_error_t *err) {
+  return ea_arm_load_string_warn(name, text, len, arm, NULL, 0, err);
+}
+
+ea_status_t ea_arm_load_string_warn(const char *name, const char *text, size_t len, ea_arm_t *arm,
+                                    char *warning, size_t wlen, ea_error_t *err) {
   if (!text || !arm) return ea_error_set(err, EA_ERR_ARG, "ea_arm_load_string: NULL argument");
   ea__ydoc_t d;
   ea_status_t st = ea__ydoc_load(&d, name, text, len, err);
-  if (!st) st = ea__arm_from_doc(&d, arm, err);
+  if (!st) st = ea__arm_from_doc(&d, arm, wlen ? warning : NULL, wlen, err);
   ea__ydoc_free(&d);
   return st;
 }
 
 ea_status_t ea_arm_load(const char *path, ea_arm_t *arm, ea_error_t *err) {
+  return ea_arm_load_warn(path, arm, NULL, 0, err);
+}
+
+ea_status_t ea_arm_load_warn(const char *path, ea_arm_t *arm, char *warning, size_t wlen,
+                             ea_error_t *err) {
   if (!path || !arm) return ea_error_set(err, EA_ERR_ARG, "ea_arm_load: NULL argument");
   ea__ydoc_t d;
   ea_status_t st = ea__ydoc_load(&d, path, NULL, 0, err);
-  if (!st) st = ea__arm_from_doc(&d, arm, err);
+  if (!st) st = ea__arm_from_doc(&d, arm, wlen ? warning : NULL, wlen, err);
   ea__ydoc_free(&d);
   return st;
 }

@@ -249,9 +249,10 @@ static ea_status_t ea__task_arm(ea__ydoc_t *d, yaml_node_t *root, const char *de
   } else if (default_arm) {
     snprintf(arm_path, sizeof arm_path, "%s", default_arm);
   }
+  char warning[sizeof t->arm_warning] = "";
   if (arm_path[0]) {
     ea_error_t e2 = {0};
-    if ((st = ea_arm_load(arm_path, &arm, &e2))) {
+    if ((st = ea_arm_load_warn(arm_path, &arm, warning, sizeof warning, &e2))) {
       yaml_node_t *an = ea__ymap_get(d, root, "arm_file");
       return ea__yerr(d, an ? an : root, err, st, "arm_file: %s", e2.msg);
     }
@@ -259,6 +260,7 @@ static ea_status_t ea__task_arm(ea__ydoc_t *d, yaml_node_t *root, const char *de
     ea_arm_default(&arm);
   }
   ea_task_init(t, &arm);
+  snprintf(t->arm_warning, sizeof t->arm_warning, "%s", warning);
   snprintf(t->arm_file, sizeof t->arm_file, "%s", arm_path);
   snprintf(t->file, sizeof t->file, "%s", d->file);
   ea__ynode_where(d, root, t->where_limits, sizeof t->where_limits);
@@ -383,6 +385,27 @@ static ea_status_t ea__task_objective(ea__ydoc_t *d, yaml_node_t *root, ea_task_
   return EA_OK;
 }
 
+/* solver.transcription: path needs a path the transcription can follow (line, polyline) and
+ * no FE frequency model (its rows stay with the knots): asked for where it cannot run, it is
+ * refused rather than replaced by the knots without a word. */
+static ea_status_t ea__check_transcription(ea__ydoc_t *d, yaml_node_t *solver, const ea_task_t *t,
+                                           ea_error_t *err) {
+  if (t->solver.transcription != EA_TASK_TRANSCRIPTION_PATH) return EA_OK;
+  const char *why = NULL;
+  if (t->path == EA_TASK_PATH_FREE)
+    why = "the task's path is free (the path coordinate needs path: line or polyline)";
+  else if (t->objective == EA_TASK_MIN_VIBRATION && t->dynamics.modes == 0)
+    why = "objective min_vibration without dynamics uses the FE frequency model, whose rows "
+          "only the knot transcription has";
+  else if (t->limits.min_first_frequency_hz > 0.0 || isfinite(t->limits.max_modal_deflection_m))
+    why = "limits min_first_frequency_Hz / max_modal_deflection_m use the FE frequency model, "
+          "whose rows only the knot transcription has";
+  if (!why) return EA_OK;
+  return ea__yerr(d, ea__ymap_get(d, solver, "transcription"), err, EA_ERR_INPUT,
+                  "key 'transcription': 'path' cannot plan this task: %s; use 'knots' or 'auto'",
+                  why);
+}
+
 /* Limits, knots, solver, dynamics and outputs. */
 static ea_status_t ea__task_settings(ea__ydoc_t *d, yaml_node_t *root, ea_task_t *t,
                                      ea_error_t *err) {
@@ -399,10 +422,12 @@ static ea_status_t ea__task_settings(ea__ydoc_t *d, yaml_node_t *root, ea_task_t
   if (t->n_via + 2 > t->knots)
     return ea__yerr(d, ea__ymap_get(d, root, "knots"), err, EA_ERR_INPUT,
                     "key 'knots': %d knots cannot hold %d via points", t->knots, t->n_via);
-  if ((st = ea__ymap_map(d, root, "solver", 0, &n, err))) return st;
-  if (n && (st = ea__load_solver(d, n, &t->solver, err))) return st;
+  yaml_node_t *solver = NULL;
+  if ((st = ea__ymap_map(d, root, "solver", 0, &solver, err))) return st;
+  if (solver && (st = ea__load_solver(d, solver, &t->solver, err))) return st;
   if ((st = ea__ymap_map(d, root, "dynamics", 0, &n, err))) return st;
   if (n && (st = ea__load_dynamics(d, n, &t->dynamics, err))) return st;
+  if (solver && (st = ea__check_transcription(d, solver, t, err))) return st;
   if ((st = ea__ymap_map(d, root, "outputs", 0, &n, err))) return st;
   if (n) {
     static const char *const okeys[] = {"trajectory", "summary", "figure", NULL};

@@ -4,6 +4,7 @@
 #include "ea_test.h"
 
 #include <stdint.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -162,6 +163,52 @@ int main(void) {
                "contradictory limits (tension max below min)");
   expect_error(good, "    radius_m: 0.015", "    radius_m: 0.015\n    radius_m: 0.02",
                "duplicate key 'radius_m'", NULL, "duplicate key");
+  /* physical ranges of the actuator values (issue 31: radius_m 1e308 streamed spool positions
+   * near 1e-309 rad; a negative cable length at motor position 0 was taken) */
+  expect_error(good, "radius_m: 0.015", "radius_m: 1e308", "radius_m", "above the bound 1",
+               "spool radius 1e308 m refused");
+  expect_error(good, "zero_length_m: 0.254", "zero_length_m: -1", "zero_length_m",
+               "below the bound 0", "negative cable length at spool position 0 refused");
+  expect_error(good, "gear_ratio: 1.0", "gear_ratio: 1e9", "gear_ratio", "above the bound",
+               "gear ratio 1e9 refused");
+  expect_error(good, "    angle_max_rad: 3.6651914292", "    angle_max_rad: 100", "angle_max_rad",
+               "above the bound", "shoulder angle beyond a turn refused");
+  expect_error(good, "torque_max_Nm: 4.0", "torque_max_Nm: 1e30", "torque_max_Nm",
+               "above the bound", "shoulder torque 1e30 N m refused");
+  /* no configuration has a cable longer than L + |root| = 0.914 + 0.0982 m */
+  expect_error(good, "cable_length_min_m: 0.254", "cable_length_min_m: 1.1",
+               "cable_length_min_m = 1.1", "no static solution exists",
+               "shortest cable beyond the tip's reach: an error");
+  {
+    /* the position of the value of the first 'key: value' in text: "arm.yaml:L:C:" */
+    char want[64], warn[700];
+    char *stiff = subst(good, "EI_Nm2: 0.705", "EI_Nm2: 705  ");
+    int line = 1;
+    const char *q = stiff, *at = stiff ? strstr(stiff, "EI_Nm2: 705") : NULL;
+    for (const char *c = stiff; at && c < at; ++c)
+      if (*c == '\n') ++line, q = c + 1;
+    snprintf(want, sizeof want, "arm.yaml:%d:%d:", line, at ? (int)(at - q) + 9 : 0);
+    ea_arm_t a;
+    ea_status_t st =
+        ea_arm_load_string_warn("arm.yaml", stiff, strlen(stiff), &a, warn, sizeof warn, &err);
+    /* rho g L^3 / EI = 0.501 * 9.81 * 0.914^3 / 705 */
+    char g[32];
+    snprintf(g, sizeof g, "%.3g", 0.501 * 9.81 * pow(0.914, 3) / 705);
+    ea_test_true(st == EA_OK && strstr(warn, want) && strstr(warn, "EI_Nm2 = 705") &&
+                     strstr(warn, g) && strstr(warn, "too large"),
+                 "EI_Nm2 705 (1000x): loads, with a warning at its line:column naming EI and "
+                 "rho g L^3 / EI");
+    printf("  want %s, %s in: %s\n", want, g, warn);
+    free(stiff);
+    ea_test_true(ea_arm_load_warn(path, &a, warn, sizeof warn, &err) == EA_OK && !warn[0],
+                 "the paper's arm: no warning");
+    char *weak = subst(good, "max_N: 60.0", "max_N: 0.5 ");
+    st = ea_arm_load_string_warn("arm.yaml", weak, strlen(weak), &a, warn, sizeof warn, &err);
+    ea_test_true(st == EA_OK && strstr(warn, "max_N = 0.5") && strstr(warn, "too low"),
+                 "tension max 0.5 N: the cable cannot bend the beam, max_N named");
+    printf("  -> %s\n", warn);
+    free(weak);
+  }
   /* optional measured modal damping ratios */
   ea_test_true(arm.n_damping == 0, "no damping key: undamped");
   {

@@ -58,6 +58,13 @@ static const ea_case_t cases[] = {
      EA_ERR_INPUT, "bad.yaml:4:3", "cable_length_min_m"},
     {"min_time with a duration", OKTASK "objective: {type: min_time, duration_s: 2}\n",
      EA_ERR_INPUT, "bad.yaml:3:41", "duration_s"},
+    /* the path transcription asked for where it cannot run (it fell back to the knots) */
+    {"path transcription on a free path", OKTASK "path: free\nsolver:\n  transcription: path\n",
+     EA_ERR_INPUT, "bad.yaml:5:18", "path is free"},
+    {"path transcription with the frequency model",
+     OKTASK "path: line\nlimits:\n  min_first_frequency_Hz: 0.5\nsolver:\n  transcription: "
+            "path\n",
+     EA_ERR_INPUT, "bad.yaml:7:18", "frequency model"},
     {"min_effort without a duration", OKTASK "objective: {type: min_effort}\n", EA_ERR_INPUT,
      "bad.yaml:3:12", "duration_s"},
     {"unknown objective", OKTASK "objective: fastest\n", EA_ERR_INPUT, "bad.yaml:3:12",

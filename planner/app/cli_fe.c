@@ -939,6 +939,7 @@ int ea__cli_simulate(int argc, char **argv) {
   ea_traj_t tr = {0};
   ea_error_t err = {0};
   int simple = 0;
+  if ((rc = ea__cli_check_plan_pair(cmd, o.traj_path))) return rc;
   ea_status_t st = ea_traj_read_any(&tr, o.traj_path, &simple, &err);
   if (st) {
     ea_traj_free(&tr);

@@ -37,6 +37,7 @@ int ea__cli_figure(int argc, char **argv) {
   if (!traj || !out) return ea__cli_usage_error(cmd, "needs TRAJ.csv and -o OUT");
   int rc = ea__cli_check_figure(cmd, out); /* extension and folder, before the work */
   if (rc) return rc;
+  if ((rc = ea__cli_check_plan_pair(cmd, traj))) return rc;
   ea_traj_t tr = {0};
   ea_error_t err = {0};
   ea_status_t st = ea_traj_read(&tr, traj, &err);

@@ -28,8 +28,12 @@ int ea__cli_study(int argc, char **argv);
 int ea__cli_figure(int argc, char **argv);
 /* EA_CLI_DECL_END */
 
-/** Exit codes. */
-enum { EA_EXIT_OK = 0, EA_EXIT_FAIL = 1, EA_EXIT_USAGE = 2 };
+/** Exit codes: 0 done; 1 failure (not converged, infeasible, inadmissible, an output not
+ *  written); 2 usage or input error; 3 `plan --verify`: the plan and its summary were
+ *  written but the FE transient of the written trajectory failed the verification (the
+ *  transient failed, the cable went slack or below the tension limit, the residual
+ *  vibration above the task's bound). */
+enum { EA_EXIT_OK = 0, EA_EXIT_FAIL = 1, EA_EXIT_USAGE = 2, EA_EXIT_VERIFY = 3 };
 
 /** Print "elasticarm CMD: message" to stderr; returns EA_EXIT_USAGE. */
 int ea__cli_usage_error(const char *cmd, const char *fmt, ...)
@@ -100,6 +104,12 @@ enum {
 int ea__cli_arm_for_traj(const char *cmd, const char *traj_path, const char *arm_opt,
                          const ea_traj_t *tr, int flags, ea_arm_t *arm, char *used,
                          size_t used_len);
+
+/** A plan's trajectory and its summary beside it (TRAJ with .json) must come from the same
+ *  run: when the trajectory has a '# run_id:' line and the summary exists, the summary's
+ *  "run_id" must be the same (read under a shared lock of TRAJ.lock, the lock `plan` holds
+ *  while it renames the pair). Prints the error; returns 0 or EA_EXIT_USAGE. */
+int ea__cli_check_plan_pair(const char *cmd, const char *traj_path);
 
 /** Payload options shared by commands: --payload-factor G | --payload-kg M. */
 typedef struct ea__cli_payload {

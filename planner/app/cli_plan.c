@@ -3,32 +3,39 @@
 #include "ea_refine.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 static void ea__plan_help(FILE *fp) {
+  fprintf(fp, "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
+              "                       [--figure OUT.svg|png|pdf] [--knots N] [--refine]\n"
+              "                       [--shape zv] [--verify] [--derivative-test]\n"
+              "                       [--print-level N] [--quiet]\n\n"
+              "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
+              "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
+              "to it (OUT.json). Defaults: the task's outputs, else NAME.csv in the current\n"
+              "folder, NAME being the task's name reduced to a safe file name (letters, digits,\n"
+              "'-', '_', '.', '+'; no folders, no leading dot).\n\n"
+              "Outputs: every path is checked (writable, figure extension known) before the\n"
+              "work. A converged plan writes the trajectory and the summary to temporaries,\n"
+              "renames the trajectory, then the summary, then draws the figure. Both carry the\n"
+              "same run id (the trajectory's '# run_id:' line, the summary's \"run_id\"), and\n"
+              "the renames happen under an exclusive lock of OUT.lock (flock; the empty file\n"
+              "stays), so runs writing the same outputs at once leave one run's pair; 'figure'\n"
+              "and 'simulate' refuse a trajectory whose OUT.json has another run id. A plan that\n"
+              "fails (infeasible, not converged) or whose trajectory cannot be written writes\n"
+              "only the summary, with the failure status, and removes an earlier trajectory\n"
+              "and figure of the same names, so a summary never sits beside a trajectory it\n"
+              "does not describe. Temporaries ('NAME.tmp<pid>.*') left by a killed run are\n"
+              "removed by the next run writing the same outputs.\n\n");
   fprintf(fp,
-          "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
-          "                       [--figure OUT.svg|png|pdf] [--knots N] [--refine]\n"
-          "                       [--shape zv] [--verify] [--derivative-test]\n"
-          "                       [--print-level N] [--quiet]\n\n"
-          "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
-          "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
-          "to it (OUT.json). Defaults: the task's outputs, else NAME.csv in the current\n"
-          "folder, NAME being the task's name reduced to a safe file name (letters, digits,\n"
-          "'-', '_', '.', '+'; no folders, no leading dot).\n\n"
-          "Outputs: every path is checked (writable, figure extension known) before the\n"
-          "work. A converged plan writes the trajectory and the summary to temporaries,\n"
-          "renames the trajectory, then the summary, then draws the figure. A plan that\n"
-          "fails (infeasible, not converged) or whose trajectory cannot be written writes\n"
-          "only the summary, with the failure status, and removes an earlier trajectory\n"
-          "and figure of the same names, so a summary never sits beside a trajectory it\n"
-          "does not describe. Temporaries ('NAME.tmp<pid>.*') left by a killed run are\n"
-          "removed by the next run writing the same outputs.\n\n"
           "  -o FILE            trajectory file ('-' = stdout)\n"
           "  --summary FILE     JSON summary (default: OUT with .json)\n"
           "  --json             print the JSON summary on stdout (also for a failed plan)\n"
@@ -39,24 +46,33 @@ static void ea__plan_help(FILE *fp) {
           "                     defaults; docs/planner.md): the written plan is the refined\n"
           "                     one, the summary's \"refine\" object lists every evaluation;\n"
           "                     with dynamics.robust also against the FE transients of the\n"
-          "                     four corner arms (each corner within robust residual_m)\n"
+          "                     four corner arms (each corner within robust residual_m);\n"
+          "                     not with --shape (usage error)\n"
           "  --shape zv         input-shape the plan with a zero-vibration shaper whose delay\n"
           "                     follows the FE first frequency along the motion (half its\n"
           "                     period, the arm's damping ratio): the written trajectory is\n"
           "                     the shaped one, about half a period longer, checked against\n"
           "                     every limit (refused, exit 1, if it breaks one); the summary's\n"
-          "                     \"shape\" object says how (docs/planner.md, \"ZV-shaped plans\")\n"
+          "                     \"shape\" object says how (docs/planner.md, \"ZV-shaped plans\");\n"
+          "                     not with --refine or the task's dynamics.refine (usage error:\n"
+          "                     the shaping would replace the refined trajectory)\n"
           "  --verify           run the FE transient of the written trajectory (as 'elasticarm\n"
           "                     simulate' does by default: 12 elements, generalized-alpha,\n"
           "                     dt 1 ms, 3 s after the motion, the arm's damping) and report\n"
           "                     the measured residual vibration and time to rest beside the\n"
-          "                     reduced model's prediction (summary: \"verify\")\n"
+          "                     reduced model's prediction (summary: \"verify\"); it fails\n"
+          "                     (exit 3, the plan and summary written, stderr says what was\n"
+          "                     reached) if the transient fails, the FE cable tension falls\n"
+          "                     below the tension limit (slack), or the residual peak exceeds\n"
+          "                     the task's dynamics.residual_m (> 0) or, refined, the\n"
+          "                     refinement's tolerance_m\n"
           "  --derivative-test  run Ipopt's first-order derivative checker\n"
-          "  --print-level N    Ipopt output (0 = silent)\n"
+          "  --print-level N    Ipopt's output (0 = silent); Ipopt only: a plan made by the\n"
+          "                     planner's own interior point or active-set Newton prints no\n"
+          "                     iterations (stderr then says which engine ran)\n"
           "  --quiet            no progress line\n\n"
           "exit: 0 plan written, 1 infeasible / not converged / shaping refused / an output\n"
-          "not written / the --verify transient failed (the plan is written then), 2 usage\n"
-          "or input error\n");
+          "not written, 2 usage or input error, 3 plan written but --verify failed\n");
 }
 
 /* Remove an earlier output of a failed run: regular files only (never a
@@ -77,16 +93,118 @@ static void ea__cat(const char *path) {
   fclose(fp);
 }
 
-/* What a plan adds to its summary: the refinement, the shaping, the verification. */
+/* What a plan adds to its summary: the refinement, the shaping, the verification, the run id
+ * shared with the trajectory file. */
 typedef struct {
   const ea_refine_info_t *ref;
   const ea_shape_info_t *shape;
   const ea_plan_verify_t *verify;
+  const char *run_id;
 } ea__plan_extra_t;
 
-/* Write the converged plan: trajectory and summary to temporaries, then
- * rename the trajectory, then the summary. On failure nothing of this run
- * is left (the caller then treats the plan as failed). */
+/* A run id unique across runs and hosts' processes: UTC time, pid and 32 random bits. */
+static void ea__plan_run_id(char *buf, size_t len) {
+  struct timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  struct tm tm;
+  gmtime_r(&ts.tv_sec, &tm);
+  unsigned rnd = (unsigned)ts.tv_nsec ^ ((unsigned)getpid() << 16);
+  FILE *fp = fopen("/dev/urandom", "rb");
+  if (fp) {
+    if (fread(&rnd, sizeof rnd, 1, fp) != 1) rnd ^= (unsigned)ts.tv_nsec;
+    fclose(fp);
+  }
+  char when[32];
+  strftime(when, sizeof when, "%Y%m%dT%H%M%SZ", &tm);
+  snprintf(buf, len, "%s-%ld-%08x", when, (long)getpid(), rnd);
+}
+
+/* The exclusive lock that serialises runs writing the same outputs: flock on OUT.lock (the
+ * summary's when the trajectory goes to stdout). Returns the descriptor, -1 without a lock
+ * (no file path, or the lock file cannot be made: a device such as /dev/null). */
+static int ea__plan_lock(const char *out, const char *summary) {
+  const char *base = strcmp(out, "-") ? out : summary;
+  if (!base) return -1;
+  char path[1100];
+  snprintf(path, sizeof path, "%s.lock", base);
+  const int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  if (fd < 0) return -1;
+  while (flock(fd, LOCK_EX) != 0)
+    if (errno != EINTR) {
+      close(fd);
+      return -1;
+    }
+  return fd;
+}
+
+static void ea__plan_unlock(int fd) {
+  if (fd < 0) return;
+  flock(fd, LOCK_UN);
+  close(fd);
+}
+
+/* Copy the trajectory file src (ea_traj_write's) to fp with the line '# run_id: ID' after
+ * its first line (the format line); fp flushed, and synced when it is a file. */
+static ea_status_t ea__traj_copy_run_id(const char *src, FILE *fp, const char *what,
+                                        const char *run_id, ea_error_t *err) {
+  FILE *in = fopen(src, "r");
+  if (!in)
+    return ea_error_set(err, EA_ERR_IO, "%s: cannot read %s: %s", what, src, strerror(errno));
+  char buf[65536];
+  int first = 1, bad = 0;
+  while (fgets(buf, sizeof buf, in)) {
+    if (fputs(buf, fp) == EOF) bad = 1;
+    if (first && strchr(buf, '\n')) {
+      fprintf(fp, "# run_id: %s\n", run_id);
+      first = 0;
+    }
+  }
+  bad = bad || ferror(in);
+  fclose(in);
+  if (bad || ferror(fp) || fflush(fp) != 0 || (fp != stdout && fsync(fileno(fp)) != 0))
+    return ea_error_set(err, EA_ERR_IO, "%s: write failed: %s", what, strerror(errno));
+  return EA_OK;
+}
+
+/* The trajectory with its run id into the temporary dst (O_EXCL: a fresh file). */
+static ea_status_t ea__traj_write_run_id(const ea_traj_t *tr, const char *out, const char *dst,
+                                         const char *run_id, ea_error_t *err) {
+  char raw[1100];
+  if (out) {
+    snprintf(raw, sizeof raw, "%s.tmp%ld.raw", out, (long)getpid());
+  } else { /* stdout without a summary: the temporary directory */
+    const char *tmp = getenv("TMPDIR");
+    snprintf(raw, sizeof raw, "%s/elasticarm-plan.XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    const int fd = mkstemp(raw);
+    if (fd < 0)
+      return ea_error_set(err, EA_ERR_IO, "stdout: cannot create a temporary %s: %s", raw,
+                          strerror(errno));
+    close(fd);
+  }
+  ea_status_t st = ea_traj_write(tr, raw, err);
+  if (st) return st;
+  if (!strcmp(dst, "-")) {
+    st = ea__traj_copy_run_id(raw, stdout, "stdout", run_id, err);
+  } else {
+    const int fd = open(dst, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    FILE *fp = fd >= 0 ? fdopen(fd, "w") : NULL;
+    if (!fp) {
+      st = ea_error_set(err, EA_ERR_IO, "%s: cannot write %s: %s", out, dst, strerror(errno));
+      if (fd >= 0) close(fd);
+    } else {
+      st = ea__traj_copy_run_id(raw, fp, out, run_id, err);
+      if (fclose(fp) != 0 && !st)
+        st = ea_error_set(err, EA_ERR_IO, "%s: write failed: %s", out, strerror(errno));
+      if (st) unlink(dst);
+    }
+  }
+  unlink(raw);
+  return st;
+}
+
+/* Write the converged plan: trajectory (with the run id) and summary to temporaries, then,
+ * holding the outputs' lock, rename the trajectory, then the summary. On failure nothing of
+ * this run is left (the caller then treats the plan as failed). */
 static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_traj_t *tr, const ea_plan_info_t *info,
                                   const ea__plan_extra_t *x, const char *out, const char *summary,
                                   ea_error_t *err) {
@@ -95,15 +213,16 @@ static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_traj_t *tr, const e
   const int to_stdout = !strcmp(out, "-");
   if (!to_stdout) {
     snprintf(ttmp, sizeof ttmp, "%s.tmp%ld.traj", out, (long)getpid());
-    st = ea_traj_write(tr, ttmp, err);
+    st = ea__traj_write_run_id(tr, out, ttmp, x->run_id, err);
     if (st) ttmp[0] = '\0';
   }
   if (!st && summary) {
     snprintf(stmp, sizeof stmp, "%s.tmp%ld.json", summary, (long)getpid());
-    st = ea_plan_summary_write_ex(pl, info, x->ref, x->shape, x->verify, stmp, err);
+    st = ea_plan_summary_write_ex(pl, info, x->ref, x->shape, x->verify, x->run_id, stmp, err);
     if (st) stmp[0] = '\0';
   }
-  if (!st && to_stdout) st = ea_traj_write(tr, "-", err);
+  if (!st && to_stdout) st = ea__traj_write_run_id(tr, summary, "-", x->run_id, err);
+  const int lock = st ? -1 : ea__plan_lock(out, summary);
   if (!st && ttmp[0]) {
     if (rename(ttmp, out) != 0)
       st = ea_error_set(err, EA_ERR_IO, "%s: cannot write: %s", out, strerror(errno));
@@ -116,6 +235,7 @@ static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_traj_t *tr, const e
     else
       stmp[0] = '\0';
   }
+  ea__plan_unlock(lock);
   if (ttmp[0]) unlink(ttmp);
   if (stmp[0]) unlink(stmp);
   return st;
@@ -148,12 +268,21 @@ static ea_status_t ea__plan_shape(const ea_task_t *task, ea_traj_t *tr, ea_plan_
 /* --verify: the FE transient of the trajectory to be written (ea_traj_simulate with its
  * defaults: what `elasticarm simulate FILE` runs) and the model's prediction for it. */
 static void ea__plan_verify(const ea_planner_t *pl, const ea_task_t *task, const ea_traj_t *tr,
-                            const ea_plan_info_t *info, int shaped, ea_plan_verify_t *v) {
+                            const ea_plan_info_t *info, const ea_refine_info_t *ref, int shaped,
+                            ea_plan_verify_t *v) {
   memset(v, 0, sizeof *v);
   ea_sim_settings_default(&v->settings);
   ea_error_t err = {0};
   v->status = ea_traj_simulate(&task->arm, tr, 0.0, &v->settings, NULL, &v->sim, &err);
   if (v->status) snprintf(v->message, sizeof v->message, "%s", err.msg);
+  /* the bounds the written plan claims: the task's residual bound, else the refinement's
+   * tolerance; the cable taut at the task's tension limit */
+  v->residual_bound_m = task->dynamics.modes > 0 && task->dynamics.residual_m > 0
+                            ? task->dynamics.residual_m
+                        : ref ? ref->settings.tolerance_m
+                              : NAN;
+  v->tension_bound_N = task->limits.tension_min;
+  ea_plan_verify_judge(v);
   v->predicted_residual_m = NAN;
   v->predicted_time_to_rest_s = NAN;
   if (!shaped) {
@@ -306,6 +435,7 @@ typedef struct {
   ea_refine_info_t *ref;
   ea_shape_info_t *shp;
   ea_plan_verify_t *ver;
+  char run_id[64]; /**< shared by the trajectory and the summary */
 } ea__plan_run_t;
 
 static void ea__plan_run_free(ea__plan_run_t *r) {
@@ -340,6 +470,14 @@ static ea_status_t ea__plan_refine_cli(const ea__plan_opts_t *o, ea__plan_run_t 
   info->time_ipopt_s = cold.time_ipopt_s;
   info->time_rest_s = cold.time_rest_s;
   info->between_passes = cold.between_passes;
+  /* the engine of those iterations (the summary's "engine"), not that of the last replan */
+  info->ipopt_status = cold.ipopt_status;
+  snprintf(info->ipopt_status_name, sizeof info->ipopt_status_name, "%s", cold.ipopt_status_name);
+  info->newton_steps = cold.newton_steps;
+  info->ipopt_rows = cold.ipopt_rows;
+  info->screen_resolves = cold.screen_resolves;
+  info->ipm_iterations = cold.ipm_iterations;
+  info->ipm_fallback = cold.ipm_fallback;
   return EA_OK;
 }
 
@@ -349,6 +487,7 @@ static ea_status_t ea__plan_refine_cli(const ea__plan_opts_t *o, ea__plan_run_t 
 static int ea__plan_failed(const ea__plan_opts_t *o, ea__plan_run_t *r, ea_status_t st,
                            ea_status_t wst, const ea_error_t *werr) {
   ea_plan_info_t *info = &r->info;
+  const int lock = ea__plan_lock(o->out, o->summary); /* not between another run's renames */
   ea__remove_stale(o->out);
   ea__remove_stale(o->figure);
   if (wst) {
@@ -368,11 +507,12 @@ static int ea__plan_failed(const ea__plan_opts_t *o, ea__plan_run_t *r, ea_statu
   if (o->summary) {
     ea_error_t e2 = {0};
     if (ea_plan_summary_write_ex(r->pl, info, r->ref, r->shp && r->shp->status ? r->shp : NULL,
-                                 NULL, o->summary, &e2))
+                                 NULL, r->run_id, o->summary, &e2))
       fprintf(stderr, "elasticarm plan: error: %s\n", e2.msg);
     else
       wrote = 1;
   }
+  ea__plan_unlock(lock);
   if (o->json && wrote) ea__cat(o->summary);
   return EA_EXIT_FAIL;
 }
@@ -409,9 +549,18 @@ static int ea__plan_figure_cli(const ea__plan_opts_t *o, const ea_task_t *task,
   return EA_EXIT_FAIL;
 }
 
+/* The engine in the time line's words. */
+static const char *ea__plan_engine_label(const ea_plan_info_t *info) {
+  const char *e = ea_plan_engine_name(info);
+  if (!strcmp(e, "interior-point-ldl")) return "interior point (LDL)";
+  if (!strcmp(e, "active-set-newton")) return "active-set Newton";
+  if (!strcmp(e, "kkt-test")) return "KKT test";
+  return "Ipopt";
+}
+
 /* What a written plan reports: the summary (--json) or the progress lines; a failed
- * --verify transient and an unconverged refinement on stderr. Returns rc, or EA_EXIT_FAIL
- * when --verify failed. */
+ * verification, an unconverged refinement and --print-level without Ipopt on stderr.
+ * Returns rc, or EA_EXIT_VERIFY when rc is 0 and --verify failed. */
 static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, int rc) {
   const ea_plan_info_t *info = &r->info;
   const char *out = o->out, *summary = o->summary, *figure = o->figure;
@@ -421,21 +570,25 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
     printf("%s\n", r->ref ? r->ref->message : info->message);
     printf("wrote %s%s%s%s%s\n", out, summary ? ", " : "", summary ? summary : "",
            figure && !rc ? ", " : "", figure && !rc ? figure : "");
-    const int by_ipm = info->ipm_iterations > 0 && !info->ipm_fallback;
     printf("time: %.2f ms total (guess %.2f, statics Jacobians %.2f, %s %.2f, rest %.2f); "
            "%d variables, %d constraints; %d thread%s\n",
            1e3 * info->time_total_s, 1e3 * info->time_guess_s, 1e3 * info->time_statics_s,
-           by_ipm ? "interior point (LDL)" : "Ipopt", 1e3 * info->time_ipopt_s,
-           1e3 * info->time_rest_s, info->n_var, info->n_con, info->threads,
-           info->threads == 1 ? "" : "s");
+           ea__plan_engine_label(info), 1e3 * info->time_ipopt_s, 1e3 * info->time_rest_s,
+           info->n_var, info->n_con, info->threads, info->threads == 1 ? "" : "s");
     if (info->deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info->deriv_errors);
     if (r->ver) ea__plan_verify_text(r->ver);
   }
-  if (r->ver && r->ver->status) {
-    fprintf(stderr, "elasticarm plan: error: --verify: the FE transient of %s failed: %s\n", out,
-            r->ver->message);
-    rc = EA_EXIT_FAIL;
+  if (r->ver && !r->ver->passed) {
+    fprintf(stderr,
+            "elasticarm plan: error: --verify failed for %s (written, with its summary): %s\n", out,
+            r->ver->failure);
+    if (!rc) rc = EA_EXIT_VERIFY;
   }
+  if (o->plevel > 0 && strcmp(ea_plan_engine_name(info), "ipopt"))
+    fprintf(stderr,
+            "elasticarm plan: note: --print-level applies to Ipopt only; this plan was made by "
+            "the %s (%d iterations), which prints no iterations\n",
+            ea__plan_engine_label(info), info->iterations);
   if (r->ref && !r->ref->converged)
     fprintf(stderr,
             "elasticarm plan: warning: the refinement did not reach its tolerance (%s); the "
@@ -452,7 +605,9 @@ int ea__cli_plan(int argc, char **argv) {
 
   ea_task_t task;
   ea_error_t err = {0};
+  task.arm_warning[0] = '\0'; /* set by the load once it read the arm file */
   ea_status_t st = ea_task_load(o.task_path, ea__cli_default_arm(), &task, &err);
+  if (task.arm_warning[0]) fprintf(stderr, "elasticarm plan: warning: %s\n", task.arm_warning);
   if (st == EA_ERR_INFEASIBLE) {
     fprintf(stderr, "elasticarm plan: infeasible task: %s\n", err.msg);
     return EA_EXIT_FAIL;
@@ -462,10 +617,18 @@ int ea__cli_plan(int argc, char **argv) {
   if (o.dtest) task.solver.derivative_test = 1;
   if (o.refine) task.dynamics.refine.enabled = 1;
   if (o.plevel >= 0) task.solver.print_level = (int)o.plevel;
+  if (o.shape && task.dynamics.refine.enabled)
+    return ea__cli_usage_error(
+        cmd,
+        "--shape zv and %s cannot be combined: the refinement tunes the plan against the FE "
+        "transient, the shaping would then write another trajectory than the refined one "
+        "(and report the refinement for it); choose one",
+        o.refine ? "--refine" : "the task's dynamics.refine (--refine)");
   if ((st = ea_task_check(&task, &err))) return ea__cli_fail(cmd, st, &err);
   if ((rc = ea__plan_outputs(cmd, &task, &o))) return rc;
 
   ea__plan_run_t r = {0};
+  ea__plan_run_id(r.run_id, sizeof r.run_id);
   if ((st = ea_planner_alloc(&task, &r.pl, &err))) return ea__cli_fail(cmd, st, &err);
   ea_plan_dyn_info_t di;
   if (ea_planner_dyn_model(r.pl, &di) == EA_OK && di.cache_message[0])
@@ -482,11 +645,11 @@ int ea__cli_plan(int argc, char **argv) {
   if (!st && !wst && o.shape) st = ea__plan_shape(&task, &tr, &r.info, r.shp);
   if (!st && !wst && o.verify) {
     if ((r.ver = calloc(1, sizeof *r.ver)))
-      ea__plan_verify(r.pl, &task, &tr, &r.info, o.shape, r.ver);
+      ea__plan_verify(r.pl, &task, &tr, &r.info, r.ref, o.shape, r.ver);
     else
       wst = ea_error_set(&werr, EA_ERR_NOMEM, "out of memory");
   }
-  const ea__plan_extra_t extra = {r.ref, r.shp, r.ver};
+  const ea__plan_extra_t extra = {r.ref, r.shp, r.ver, r.run_id};
   if (!st && !wst) wst = ea__plan_write(r.pl, &tr, &r.info, &extra, o.out, o.summary, &werr);
   ea_traj_free(&tr);
   if (st || wst) {

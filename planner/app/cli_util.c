@@ -4,12 +4,14 @@
 #include <ctype.h>
 #include <errno.h>
 #include <inttypes.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 int ea__cli_usage_error(const char *cmd, const char *fmt, ...) {
@@ -184,8 +186,11 @@ const char *ea__cli_default_arm_how(void) {
 
 int ea__cli_load_arm(const char *cmd, const char *path, ea_arm_t *arm) {
   ea_error_t err = {0};
-  ea_status_t st = ea_arm_load(path ? path : ea__cli_default_arm(), arm, &err);
+  char warning[700];
+  ea_status_t st =
+      ea_arm_load_warn(path ? path : ea__cli_default_arm(), arm, warning, sizeof warning, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
+  if (warning[0]) fprintf(stderr, "elasticarm %s: warning: %s\n", cmd, warning);
   return 0;
 }
 
@@ -374,4 +379,80 @@ int ea__cli_arm_for_traj(const char *cmd, const char *traj_path, const char *arm
   *arm = given;
   if (used && used_len) snprintf(used, used_len, "%s", arm_opt);
   return 0;
+}
+
+/* The value of '# run_id: ' among the leading '#' lines of a trajectory file ("" if none). */
+static void ea__traj_run_id(FILE *fp, char *id, size_t len) {
+  char line[1200];
+  id[0] = '\0';
+  while (fgets(line, sizeof line, fp) && line[0] == '#')
+    if (!strncmp(line, "# run_id: ", 10)) {
+      snprintf(id, len, "%.*s", (int)strcspn(line + 10, "\r\n"), line + 10);
+      return;
+    }
+}
+
+/* The top-level string "run_id" of a plan summary ("" if none: the key is first at depth 1;
+ * a key of that name inside an object or array is not it). */
+static void ea__summary_run_id(FILE *fp, char *id, size_t len) {
+  id[0] = '\0';
+  int depth = 0, c;
+  while ((c = getc(fp)) != EOF) {
+    if (c == '{' || c == '[') {
+      ++depth;
+    } else if (c == '}' || c == ']') {
+      --depth;
+    } else if (c == '"') {
+      char key[16];
+      size_t n = 0;
+      int esc = 0;
+      while ((c = getc(fp)) != EOF && (esc || c != '"')) {
+        esc = !esc && c == '\\';
+        if (n + 1 < sizeof key) key[n++] = (char)c;
+      }
+      key[n] = '\0';
+      if (depth != 1 || strcmp(key, "run_id")) continue;
+      while ((c = getc(fp)) == ' ' || c == ':' || c == '\t' || c == '\n')
+        ;
+      if (c != '"') return;
+      n = 0;
+      while ((c = getc(fp)) != EOF && c != '"')
+        if (n + 1 < len) id[n++] = (char)c;
+      id[n] = '\0';
+      return;
+    }
+  }
+}
+
+int ea__cli_check_plan_pair(const char *cmd, const char *traj_path) {
+  if (!traj_path || !strcmp(traj_path, "-")) return 0;
+  char json[1100], lock[1100], tid[128], sid[128] = "";
+  ea__replace_ext(traj_path, ".json", json, sizeof json);
+  if (!strcmp(json, traj_path)) return 0;
+  snprintf(lock, sizeof lock, "%s.lock", traj_path);
+  const int lfd = open(lock, O_RDONLY | O_CLOEXEC); /* only when a plan made one */
+  if (lfd >= 0)
+    while (flock(lfd, LOCK_SH) != 0 && errno == EINTR)
+      ;
+  int rc = 0;
+  FILE *tf = fopen(traj_path, "r");
+  if (tf) {
+    ea__traj_run_id(tf, tid, sizeof tid);
+    fclose(tf);
+    FILE *sf = tid[0] ? fopen(json, "r") : NULL;
+    if (sf) {
+      ea__summary_run_id(sf, sid, sizeof sid);
+      fclose(sf);
+      if (strcmp(tid, sid)) {
+        fprintf(stderr,
+                "elasticarm %s: error: %s (run_id %s) and the summary beside it, %s (%s), come "
+                "from different plan runs (two runs writing the same outputs, or one killed "
+                "between its two renames): run 'elasticarm plan' again, or move %s away\n",
+                cmd, traj_path, tid, json, sid[0] ? sid : "no run_id", json);
+        rc = EA_EXIT_USAGE;
+      }
+    }
+  }
+  if (lfd >= 0) close(lfd);
+  return rc;
 }

@@ -70,15 +70,17 @@ typedef struct ea_plan_info {
   int n_active;                   /**< limits active (within 1e-6 relative) at some knot */
   char active[EA_PLAN_MAX_ACTIVE][40];
   int active_knots[EA_PLAN_MAX_ACTIVE]; /**< at how many knots / intervals */
-  int deriv_errors;       /**< errors found by Ipopt's derivative checker (-1 = not run) */
-  int evals_g, evals_jac; /**< callback counts */
-  double time_total_s;    /**< [s] wall time of ea_planner_solve */
-  double time_guess_s;    /**< [s] initial guess (statics continuation) */
-  double time_statics_s;  /**< [s] shooting with sensitivities inside Ipopt's callbacks */
-  double time_ipopt_s;    /**< [s] Ipopt itself (linear algebra, line search), callbacks excluded */
-  double time_rest_s;     /**< [s] other callback work and post-processing */
-  int between_passes;     /**< re-solves with knot bounds tightened because a limit was
-                               exceeded between the knots (docs/planner.md) */
+  int deriv_errors;              /**< errors found by Ipopt's derivative checker (-1 = not run) */
+  int evals_g, evals_jac;        /**< callback counts */
+  double time_total_s;           /**< [s] wall time of ea_planner_solve */
+  double time_guess_s;           /**< [s] initial guess (statics continuation) */
+  double time_statics_s;         /**< [s] shooting with sensitivities inside Ipopt's callbacks */
+  double time_ipopt_s;           /**< [s] the engine itself (ea_plan_engine_name: Ipopt or the own
+                                      interior point; linear algebra, line search), callbacks excluded
+                                      (the summary's phase_times_s.solve) */
+  double time_rest_s;            /**< [s] other callback work and post-processing */
+  int between_passes;            /**< re-solves with knot bounds tightened because a limit was
+                                      exceeded between the knots (docs/planner.md) */
   double time_freq_model_s;      /**< [s] building the FE frequency model (ea_planner_alloc;
                                       0 when the task needs none) */
   double min_first_frequency_hz; /**< [Hz] min over the knots of the model's f1 (NAN: no model) */
@@ -165,6 +167,16 @@ ea_status_t ea_planner_update_limits(ea_planner_t *pl, const ea_task_limits_t *l
  *  (tip from the statics tip and the base angle). tr is (re)allocated.
  *  EA_ERR_ARG when no plan converged since the last ea_planner_update. */
 ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_error_t *err);
+/** Which engine gave info's plan (or its failure): "interior-point-ldl" (the planner's own
+ *  interior point, KKT systems by LDL), "ipopt", "active-set-newton" (a replan's Newton
+ *  steps), "kkt-test" (a warm start that already was the solution: no iteration) or "none"
+ *  (the solve stopped before an engine ran, e.g. no start point). Static string. */
+const char *ea_plan_engine_name(const ea_plan_info_t *info);
+/** The engine's outcome in words that name no engine: "converged", "converged-acceptable"
+ *  (Ipopt's acceptable level), "max-iterations", "max-time", "infeasible" (Ipopt's
+ *  restoration converged to a point of nonzero violation), "failed", or "none". Ipopt's own
+ *  status is info->ipopt_status(_name) when the engine is "ipopt". Static string. */
+const char *ea_plan_engine_status(const ea_plan_info_t *info);
 /** Write the JSON summary (status, duration, iterations, times, margins,
  *  active limits) atomically. */
 ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *info,

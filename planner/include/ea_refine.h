@@ -146,15 +146,28 @@ typedef struct ea_plan_verify {
                                         (a quasi-static plan) */
   double predicted_time_to_rest_s; /**< [s] after the motion (ea_plan_info_t); NAN: none,
                                         INFINITY: never */
+  double residual_bound_m;         /**< [m] the measured residual peak must not exceed this: the
+                                        task's dynamics.residual_m when > 0, else the refinement's
+                                        tolerance_m when the plan was refined; NAN: no bound */
+  double tension_bound_N;          /**< [N] the measured cable tension must stay at or above this
+                                        (the task's tension limit, > 0: a slack cable fails) */
+  int passed;                      /**< 1: the transient ran and met every bound above */
+  char failure[512];               /**< what failed and what was reached ("" when passed) */
 } ea_plan_verify_t;
 
+/** Judge a verification: v->status, v->sim against v->residual_bound_m and
+ *  v->tension_bound_N; sets v->passed and v->failure. */
+void ea_plan_verify_judge(ea_plan_verify_t *v);
+
 /** The JSON summary of ea_plan_summary_write_refined (refine NULL: none) with a "shape" object
- *  (shape not NULL: the ZV shaping of the written trajectory, its limits check) and a "verify"
- *  object (verify not NULL: measured FE residual beside the prediction). Atomic. */
+ *  (shape not NULL: the ZV shaping of the written trajectory, its limits check), a "verify"
+ *  object (verify not NULL: measured FE residual beside the prediction) and "run_id" (run_id
+ *  not NULL: the id the caller also wrote into the trajectory file's '# run_id:' line, so a
+ *  reader can tell that the two files come from the same run). Atomic. */
 ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,
                                      const ea_refine_info_t *refine, const ea_shape_info_t *shape,
-                                     const ea_plan_verify_t *verify, const char *path,
-                                     ea_error_t *err);
+                                     const ea_plan_verify_t *verify, const char *run_id,
+                                     const char *path, ea_error_t *err);
 
 #ifdef __cplusplus
 }

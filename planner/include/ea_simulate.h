@@ -44,6 +44,9 @@ typedef struct ea_sim_settings {
   double rest_tolerance;     /**< [m] "at rest": |tip - final equilibrium| stays below this
                                   (default 1e-3) */
   int keep_history;          /**< 1: return the tip history (ea_sim_history_t) */
+  double max_wall_s;         /**< [s] wall-time cap of the whole simulation (0: none, the
+                                  default): past it the transient stops with
+                                  EA_ERR_INTERRUPTED, the message saying how far it got */
 } ea_sim_settings_t;
 
 void ea_sim_settings_default(ea_sim_settings_t *s);

@@ -239,6 +239,10 @@ static void ea__verify_json(ea_json_t *j, const ea_plan_verify_t *v) {
   ea_json_obj_begin(j, "verify");
   ea_json_str(j, "status", ea_status_name(v->status));
   ea_json_str(j, "message", v->message);
+  ea_json_bool(j, "passed", v->passed);
+  ea_json_str(j, "failure", v->failure);
+  ea__num_or_null(j, "residual_bound_m", v->residual_bound_m);
+  ea_json_num(j, "tension_bound_N", v->tension_bound_N);
   ea_json_int(j, "elements", s->elements);
   ea_json_str(j, "scheme", s->scheme == EA_FE_SCHEME_ENERGY ? "energy" : "genalpha");
   ea_json_num(j, "rho_inf", s->rho_inf);
@@ -268,19 +272,78 @@ static void ea__verify_json(ea_json_t *j, const ea_plan_verify_t *v) {
 
 ea_status_t ea_plan_summary_write(const ea_planner_t *pl, const ea_plan_info_t *info,
                                   const char *path, ea_error_t *err) {
-  return ea_plan_summary_write_ex(pl, info, NULL, NULL, NULL, path, err);
+  return ea_plan_summary_write_ex(pl, info, NULL, NULL, NULL, NULL, path, err);
 }
 
 ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_info_t *info,
                                           const ea_refine_info_t *refine, const char *path,
                                           ea_error_t *err) {
-  return ea_plan_summary_write_ex(pl, info, refine, NULL, NULL, path, err);
+  return ea_plan_summary_write_ex(pl, info, refine, NULL, NULL, NULL, path, err);
+}
+
+/* The engines in the order the solve tries them: the own interior point's plan when it passed
+ * the KKT test, else Ipopt's iterations, else a replan's active-set Newton, else a warm start
+ * that passed the KKT test as it was. */
+const char *ea_plan_engine_name(const ea_plan_info_t *info) {
+  if (!info) return "none";
+  if (info->ipm_iterations > 0 && !info->ipm_fallback) return "interior-point-ldl";
+  if (info->iterations > 0) return "ipopt";
+  if (info->newton_steps > 0) return "active-set-newton";
+  if (!info->ipopt_status_name[0]) return "none"; /* stopped before any engine ran */
+  return "kkt-test";
+}
+
+const char *ea_plan_engine_status(const ea_plan_info_t *info) {
+  const char *e = ea_plan_engine_name(info);
+  if (!strcmp(e, "none")) return "none";
+  if (strcmp(e, "ipopt")) return "converged"; /* the own engines hand over KKT-tested points */
+  switch ((enum ApplicationReturnStatus)info->ipopt_status) {
+  case Solve_Succeeded:
+    return "converged";
+  case Solved_To_Acceptable_Level:
+    return "converged-acceptable";
+  case Maximum_Iterations_Exceeded:
+    return "max-iterations";
+  case Maximum_CpuTime_Exceeded:
+  case User_Requested_Stop: /* the planner's wall-time limit (solver.max_time_s) */
+    return "max-time";
+  case Infeasible_Problem_Detected:
+    return "infeasible";
+  default:
+    return "failed";
+  }
+}
+
+void ea_plan_verify_judge(ea_plan_verify_t *v) {
+  if (!v) return;
+  v->passed = 0;
+  v->failure[0] = '\0';
+  const ea_sim_info_t *si = &v->sim;
+  if (v->status) {
+    snprintf(v->failure, sizeof v->failure, "the FE transient failed (%s): %.400s",
+             ea_status_name(v->status), v->message);
+    return;
+  }
+  char *p = v->failure;
+  size_t left = sizeof v->failure;
+  if (!(si->tension_min >= v->tension_bound_N)) {
+    const int n = snprintf(p, left,
+                           "the FE cable tension fell to %.4g N at t = %.4g s, below the tension "
+                           "limit %.4g N%s",
+                           si->tension_min, si->tension_min_time, v->tension_bound_N,
+                           si->tension_min > 0 ? "" : " (the cable went slack)");
+    if (n > 0 && (size_t)n < left) p += n, left -= (size_t)n;
+  }
+  if (isfinite(v->residual_bound_m) && !(si->residual_peak <= v->residual_bound_m))
+    snprintf(p, left, "%sthe FE residual vibration peak %.4g mm exceeds the bound %.4g mm",
+             p == v->failure ? "" : "; ", 1e3 * si->residual_peak, 1e3 * v->residual_bound_m);
+  v->passed = !v->failure[0];
 }
 
 ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,
                                      const ea_refine_info_t *refine, const ea_shape_info_t *shape,
-                                     const ea_plan_verify_t *verify, const char *path,
-                                     ea_error_t *err) {
+                                     const ea_plan_verify_t *verify, const char *run_id,
+                                     const char *path, ea_error_t *err) {
   if (!pl || !info || !path) return ea_error_set(err, EA_ERR_ARG, "summary: NULL argument");
   const ea_task_t *t = &pl->task;
   ea_afile_t f;
@@ -289,6 +352,7 @@ ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_
   ea_json_t j;
   ea_json_init(&j, f.fp, 1);
   ea_json_obj_begin(&j, NULL);
+  if (run_id) ea_json_str(&j, "run_id", run_id);
   ea_json_str(&j, "status", ea_status_name(info->status));
   ea_json_str(&j, "message", info->message);
   ea_json_str(&j, "task", t->file[0] ? t->file : t->name);
@@ -303,16 +367,16 @@ ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_
   else
     ea_json_null(&j, "duration_s");
   ea_json_int(&j, "iterations", info->iterations);
-  /* which solver gave the plan: the own interior point (solver.nlp auto), the active-set
-   * Newton of a replan, none (the start passed the KKT test), or Ipopt */
-  const int by_ipm = info->ipm_iterations > 0 && !info->ipm_fallback;
-  ea_json_str(&j, "solver",
-              by_ipm                   ? "interior-point-klu"
-              : info->iterations > 0   ? "ipopt"
-              : info->newton_steps > 0 ? "active-set-newton"
-                                       : "kkt-test");
+  /* which engine gave the plan and its outcome in neutral words; Ipopt's own status only
+   * when Ipopt ran */
+  const char *engine = ea_plan_engine_name(info);
+  ea_json_str(&j, "engine", engine);
+  ea_json_str(&j, "engine_status", ea_plan_engine_status(info));
+  if (!strcmp(engine, "ipopt")) {
+    ea_json_str(&j, "ipopt_status", info->ipopt_status_name);
+    ea_json_int(&j, "ipopt_status_code", info->ipopt_status);
+  }
   ea_json_int(&j, "threads", info->threads);
-  ea_json_str(&j, "ipopt_status", info->ipopt_status_name);
   ea_json_num(&j, "objective_value", info->objective);
   ea_json_num(&j, "solve_time_s", info->time_total_s);
   ea_json_num(&j, "min_tension_margin_N", info->min_tension_margin_N);
@@ -352,7 +416,7 @@ ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_
   ea_json_obj_begin(&j, "phase_times_s");
   ea_json_num(&j, "initial_guess", info->time_guess_s);
   ea_json_num(&j, "statics_jacobians", info->time_statics_s);
-  ea_json_num(&j, "ipopt", info->time_ipopt_s);
+  ea_json_num(&j, "solve", info->time_ipopt_s); /* the engine's own work, callbacks excluded */
   ea_json_num(&j, "rest", info->time_rest_s);
   ea_json_obj_end(&j);
   if (refine) ea__refine_json(&j, refine);

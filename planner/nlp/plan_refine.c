@@ -58,6 +58,7 @@ typedef struct {
   double nl_scale;                       /* [m] NLopt variable unit */
   double nl_z0[EA__RP];                  /* NLopt variables are (z - z0) / nl_scale */
   double penalty;                        /* NLopt objective of a rejected candidate */
+  char fe_msg[512];                      /* the last failed FE transient's message */
 } ea__refine_t;
 
 /* Solve the n x n system A x = b (row-major A, destroyed) by Gaussian elimination with
@@ -154,8 +155,10 @@ static int ea__refine_budget(ea__refine_t *R) {
   return 0;
 }
 
-/* The FE transients of the held plan (R->tr) at every model's arm, fitted; into e. */
-static void ea__refine_fe(ea__refine_t *R, ea_refine_eval_t *e) {
+/* The FE transients of the held plan (R->tr) at every model's arm, fitted; into e. capped: each
+ * transient stops where the refinement's time runs out (max_time_s), the first evaluation's
+ * too (a small fe_dt_s makes one transient cost more than the whole budget). */
+static void ea__refine_fe(ea__refine_t *R, ea_refine_eval_t *e, int capped) {
   ea_refine_info_t *info = R->info;
   const double tf = ea__mono_s();
   e->fe_status = EA_OK;
@@ -164,9 +167,13 @@ static void ea__refine_fe(ea__refine_t *R, ea_refine_eval_t *e) {
     ea_sim_history_t h = {0, NULL};
     ea_sim_info_t si;
     ea_error_t err = {0};
+    ea_sim_settings_t fe = info->fe;
+    if (capped) fe.max_wall_s = fmax(R->t0 + R->s.max_time_s - ea__mono_s(), 1e-3);
     /* the nominal: the arm's hand plus the trajectory's payload, as the planner's */
     const double tm = j ? info->model_tip_mass_kg[j] : -1.0;
-    e->fe_status = ea_traj_simulate(&R->arm[j], &R->tr, tm, &info->fe, &h, &si, &err);
+    e->fe_status = ea_traj_simulate(&R->arm[j], &R->tr, tm, &fe, &h, &si, &err);
+    if (e->fe_status) snprintf(R->fe_msg, sizeof R->fe_msg, "%.500s", err.msg);
+    if (e->fe_status == EA_ERR_INTERRUPTED && capped) R->stop = "max_time";
     if (!e->fe_status) {
       e->model_residual_peak_m[j] = si.residual_peak;
       e->model_residual_rms_m[j] = si.residual_rms;
@@ -237,7 +244,7 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
         e->predicted_m[j * 2 * R->K + 2 * i + 1] = rate[i] * R->tipn[j][i] / R->w[j][i];
       }
     }
-    ea__refine_fe(R, e);
+    ea__refine_fe(R, e, !final_resolve);
   }
   /* longer than the unrefined plan by more than max_duration_change: rejected (a shorter one
    * is not: a robust refinement's corner centres free the plan, paper line -3.8 %) */
@@ -493,10 +500,18 @@ static ea_status_t ea__refine_first(ea__refine_t *R, ea_error_t *err) {
   if (!e0->accepted) {
     info->status =
         e0->plan_status ? e0->plan_status : (e0->fe_status ? e0->fe_status : EA_ERR_SINGULAR);
-    snprintf(info->message, sizeof info->message,
-             "the at-rest plan %s (%s): nothing to refine against",
-             e0->plan_status ? "could not be planned" : "has no FE residual",
-             ea_status_name(info->status));
+    if (e0->fe_status == EA_ERR_INTERRUPTED)
+      snprintf(info->message, sizeof info->message,
+               "the at-rest plan's FE transient did not finish within refine.max_time_s = %g s "
+               "(%.200s): nothing to refine against; a larger refine.fe_dt_s (now %g s) or "
+               "max_time_s",
+               R->s.max_time_s, R->fe_msg, R->s.fe_dt_s);
+    else
+      snprintf(info->message, sizeof info->message,
+               "the at-rest plan %s (%s%s%.200s): nothing to refine against",
+               e0->plan_status ? "could not be planned" : "has no FE residual",
+               ea_status_name(info->status), R->fe_msg[0] && !e0->plan_status ? ": " : "",
+               e0->plan_status ? "" : R->fe_msg);
     return ea_error_set(err, info->status, "%s", info->message);
   }
   info->residual_peak_before_m = e0->residual_peak_m;

@@ -47,6 +47,9 @@ ea_status_t ea_sim_settings_validate(const ea_sim_settings_t *s, ea_error_t *err
     return ea_error_set(err, EA_ERR_ARG, "simulate: rho_inf = %g: must be in [0, 1]", s->rho_inf);
   if ((int)s->scheme < 0 || s->scheme >= EA_FE_SCHEME_COUNT)
     return ea_error_set(err, EA_ERR_ARG, "simulate: unknown scheme %d", (int)s->scheme);
+  if (!(s->max_wall_s >= 0.0) || !isfinite(s->max_wall_s))
+    return ea_error_set(err, EA_ERR_ARG, "simulate: max_wall_s = %g s: must be finite, >= 0",
+                        s->max_wall_s);
   return EA_OK;
 }
 
@@ -252,7 +255,23 @@ typedef struct {
   ea_fe_model_t *m, *mh; /* the transient's model; the tip-holding one of drive_fe */
   double *tip, *qstart;
   ea__sim_drive_t drv;
+  double deadline; /* [s] monotonic clock at which the transient stops (INFINITY: never) */
 } ea__sim_t;
+
+/* The shoulder drive with the wall-time cap: the transient calls it a few times a step. */
+typedef struct {
+  ea_fe_history_fn fn;
+  void *data;
+  double deadline, t; /* [s] the cap; the last drive time asked for */
+  int calls;
+} ea__sim_capped_t;
+
+static int ea__sim_capped(double t, double *value, double *rate, void *data) {
+  ea__sim_capped_t *c = data;
+  c->t = t;
+  if ((++c->calls & 15) == 0 && ea__mono_s() > c->deadline) return 1;
+  return c->fn(t, value, rate, c->data);
+}
 
 /* Check the inputs; info's duration, tip mass and damping ratio. */
 static ea_status_t ea__sim_check(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
@@ -385,7 +404,18 @@ static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_
   if (st) return st;
   info->rayleigh_mass = ss.rayleigh_mass;
   info->rayleigh_stiffness = ss.rayleigh_stiffness;
-  st = ea_fe_simulate(c->m, &c->drv.drive, &ss, c->tip, c->rows_cap, si, err);
+  ea_fe_drive_t drive = c->drv.drive;
+  ea__sim_capped_t cap = {drive.theta0, drive.theta0_data, c->deadline, 0.0, 0};
+  if (isfinite(c->deadline) && drive.theta0) {
+    drive.theta0 = ea__sim_capped;
+    drive.theta0_data = &cap;
+  }
+  st = ea_fe_simulate(c->m, &drive, &ss, c->tip, c->rows_cap, si, err);
+  if (st == EA_ERR_INTERRUPTED && isfinite(c->deadline) && ea__mono_s() > c->deadline)
+    ea_error_set(err, st,
+                 "simulate: stopped at its wall-time cap of %g s at t = %.4g s of %.4g s "
+                 "(dt %g s, %d steps)",
+                 s->max_wall_s, cap.t, c->t_end, s->dt, si->steps);
   info->steps = si->steps;
   info->simulated_time = si->steps * s->dt;
   info->newton_iterations = si->newton_iterations;
@@ -450,6 +480,7 @@ static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, d
   c.t_first = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
   c.t_end = info->duration + s->settle;
   c.rows_cap = (int)ceil(c.t_end / s->dt - 1e-9) + 2;
+  c.deadline = s->max_wall_s > 0 ? wall0 + s->max_wall_s : INFINITY;
   ea_statics_solution_t ode;
   double tip_end[2] = {NAN, NAN};
   ea_fe_sim_info_t si;

@@ -207,6 +207,7 @@ typedef struct ea_task {
   int base_moves;         /**< set by ea_task_check(): some point has another base angle */
   char where_limits[300]; /**< positions used in messages */
   char where_objective[300];
+  char arm_warning[700]; /**< the arm file's plausibility warning (ea_arm_load_warn), "" none */
 } ea_task_t;
 
 /** Names: "min_time", "free", "tip-3d", ... (never NULL). */
