@@ -16,9 +16,7 @@
 /* ------------------------------------------------------------------------ */
 
 static int ea__fe_help_requested(int argc, char **argv) {
-  for (int i = 1; i < argc; ++i)
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
-  return 0;
+  return ea__cli_help_asked(argc, argv);
 }
 
 /* How the FE static state is tied to the ODE solution. */
@@ -499,9 +497,31 @@ int ea__cli_frequencies(int argc, char **argv) {
   o.elements = EA_FE_DEFAULT_ELEMENTS;
   o.hold = EA__FE_HOLD_TIP;
   int rc = EA_EXIT_USAGE;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v;
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"json", 0, 0},
+                                       {"sweep", 0, 0},
+                                       {"cable-length", 1, 0},
+                                       {"cable-angle-deg", 1, 0},
+                                       {"cable-lengths", 1, 0},
+                                       {"modes", 1, 0},
+                                       {"elements", 1, 0},
+                                       {"fe-hold", 1, 0},
+                                       {"payload-factor", 1, 0},
+                                       {"payload-kg", 1, 0},
+                                       {"arm", 1, 0},
+                                       {"figure", 1, 0},
+                                       {"csv", 1, 0},
+                                       {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
     int bad = 0;
+    if (!a) {
+      ea__cli_usage_error(cmd, "unexpected argument '%s'", v);
+      goto done;
+    }
     if (!strcmp(a, "--json")) {
       o.json = 1;
       continue;
@@ -510,7 +530,6 @@ int ea__cli_frequencies(int argc, char **argv) {
       o.sweep = 1;
       continue;
     }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto done;
     if (!strcmp(a, "--cable-length"))
       bad = ea__cli_double(cmd, a, v, 1e-6, 100.0, &o.Lc);
     else if (!strcmp(a, "--cable-angle-deg"))
@@ -546,14 +565,12 @@ int ea__cli_frequencies(int argc, char **argv) {
       o.figure = v;
     else if (!strcmp(a, "--csv"))
       o.csv = v;
-    else {
-      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    }
     if (bad) {
       rc = bad;
       goto done;
     }
   }
+  if (r < 0) goto done;
   if (o.sweep) {
     if (isfinite(o.Lc)) {
       ea__cli_usage_error(cmd, "--sweep takes --cable-lengths, not --cable-length");
@@ -666,20 +683,28 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
   o->scheme = EA_FE_SCHEME_GENALPHA;
   o->rho_inf = 0.9;
   o->tolerance = 1e-3;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v;
+  static const ea__cli_opt_t opts[] = {
+      {"help", 0, 'h'},         {"json", 0, 0},       {"elements", 1, 0},      {"dt", 1, 0},
+      {"settle", 1, 0},         {"tolerance", 1, 0},  {"damping-ratio", 1, 0}, {"rayleigh", 1, 0},
+      {"scheme", 1, 0},         {"rho-inf", 1, 0},    {"cable", 1, 0},         {"drive", 1, 0},
+      {"payload-factor", 1, 0}, {"payload-kg", 1, 0}, {"arm", 1, 0},           {"output", 1, 'o'},
+      {"figure", 1, 0},         {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
     int bad = 0;
+    if (!a) {
+      if (o->traj_path)
+        return ea__cli_usage_error(cmd, "more than one trajectory ('%s', '%s')", o->traj_path, v);
+      o->traj_path = v;
+      continue;
+    }
     if (!strcmp(a, "--json")) {
       o->json = 1;
       continue;
     }
-    if (a[0] != '-' || !strcmp(a, "-")) {
-      if (o->traj_path)
-        return ea__cli_usage_error(cmd, "more than one trajectory ('%s', '%s')", o->traj_path, a);
-      o->traj_path = a;
-      continue;
-    }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     if (!strcmp(a, "--elements"))
       bad = ea__cli_int(cmd, a, v, 1, 512, &o->elements);
     else if (!strcmp(a, "--dt"))
@@ -737,10 +762,9 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
       o->out = v;
     else if (!strcmp(a, "--figure"))
       o->figure = v;
-    else
-      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) return bad;
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (!o->traj_path) return ea__cli_usage_error(cmd, "give a trajectory file");
   if (o->rho_given && o->scheme != EA_FE_SCHEME_GENALPHA)
     return ea__cli_usage_error(cmd, "--rho-inf needs --scheme genalpha");

@@ -211,21 +211,33 @@ typedef struct {
   char out_buf[1024], sum_buf[1024], fig_buf[1024];
 } ea__plan_opts_t;
 
+static const ea__cli_opt_t ea__plan_opts[] = {
+    {"help", 0, 'h'}, {"output", 1, 'o'}, {"summary", 1, 0},         {"figure", 1, 0},
+    {"json", 0, 0},   {"quiet", 0, 0},    {"derivative-test", 0, 0}, {"refine", 0, 0},
+    {"verify", 0, 0}, {"shape", 1, 0},    {"knots", 1, 0},           {"print-level", 1, 0},
+    {NULL, 0, 0}};
+
 /* Parse the options into o. Returns -1 to go on, else the exit code (0 after --help). */
 static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_t *o) {
   memset(o, 0, sizeof *o);
   o->plevel = -1;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, ea__plan_opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      if (o->task_path) return ea__cli_usage_error(cmd, "more than one task file ('%s')", v);
+      o->task_path = v;
+    } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__plan_help(stdout);
       return EA_EXIT_OK;
     } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-      if (!(o->out = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->out = v;
     } else if (!strcmp(a, "--summary")) {
-      if (!(o->summary = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->summary = v;
     } else if (!strcmp(a, "--figure")) {
-      if (!(o->figure = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->figure = v;
     } else if (!strcmp(a, "--json")) {
       o->json = 1;
     } else if (!strcmp(a, "--quiet")) {
@@ -237,25 +249,16 @@ static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_
     } else if (!strcmp(a, "--verify")) {
       o->verify = 1;
     } else if (!strcmp(a, "--shape")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v) return EA_EXIT_USAGE;
       if (strcmp(v, "zv"))
         return ea__cli_usage_error(cmd, "--shape: '%s' is not a shaper (known: zv)", v);
       o->shape = 1;
     } else if (!strcmp(a, "--knots")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 3, 4000, &o->knots)) return EA_EXIT_USAGE;
+      if (ea__cli_int(cmd, a, v, 3, 4000, &o->knots)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--print-level")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 0, 12, &o->plevel)) return EA_EXIT_USAGE;
-    } else if (a[0] == '-' && a[1]) {
-      return ea__cli_usage_error(cmd, "unknown option '%s' (see elasticarm plan --help)", a);
-    } else if (!o->task_path) {
-      o->task_path = a;
-    } else {
-      return ea__cli_usage_error(cmd, "more than one task file ('%s')", a);
+      if (ea__cli_int(cmd, a, v, 0, 12, &o->plevel)) return EA_EXIT_USAGE;
     }
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (!o->task_path) return ea__cli_usage_error(cmd, "no task file (see elasticarm plan --help)");
   return -1;
 }

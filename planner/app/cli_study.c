@@ -39,8 +39,10 @@ static void ea__study_help(FILE *fp) {
       "                       summary and the figures the spec asks for next to it\n"
       "  --summary FILE       JSON summary (default: OUTPUT with .json)\n"
       "  --figures PREFIX     figures PREFIX-workspace.svg, PREFIX-METRIC.svg\n"
-      "  --figure-format F    svg (default), png or pdf\n"
-      "  --threads N          workers (default: all cores); results identical\n"
+      "  --figure-format F    svg (default), png or pdf (with --figures, or a spec\n"
+      "                       whose outputs name figures)\n"
+      "  --threads N          workers (default, and 0: all online cores); results\n"
+      "                       identical for every N\n"
       "  --workers MODE       auto (default: forked processes when the study plans,\n"
       "                       min_time or at_rest, else threads), threads or processes\n"
       "  --shard K/N          only cases with case_id %% N == K-1 (1 <= K <= N)\n"
@@ -135,30 +137,33 @@ static int ea__study_merge_cli(int argc, char **argv) {
   const char **inputs = calloc((size_t)argc + 1, sizeof *inputs);
   int n = 0, rc = 0;
   if (!inputs) return EA_EXIT_FAIL;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'}, {"summary", 1, 0}, {"spec", 1, 0},
+                                       {"arm", 1, 0},    {"cases", 1, 0},   {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      if (!out)
+        out = v;
+      else
+        inputs[n++] = v;
+    } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__study_help(stdout);
       free(inputs);
       return EA_EXIT_OK;
     } else if (!strcmp(a, "--summary")) {
-      if (!(summary = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+      summary = v;
     } else if (!strcmp(a, "--spec")) {
-      if (!(spec = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+      spec = v;
     } else if (!strcmp(a, "--arm")) {
-      if (!(arm_file = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+      arm_file = v;
     } else if (!strcmp(a, "--cases")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 1, 100000000L, &cases)) goto usage;
-    } else if (a[0] == '-' && a[1]) {
-      ea__cli_usage_error(cmd, "unknown option '%s'", a);
-      goto usage;
-    } else if (!out) {
-      out = a;
-    } else {
-      inputs[n++] = a;
+      if (ea__cli_int(cmd, a, v, 1, 100000000L, &cases)) goto usage;
     }
   }
+  if (r < 0) goto usage;
   if (!out || n < 1) {
     ea__cli_usage_error(cmd, "give OUT.csv and at least one shard CSV");
     goto usage;
@@ -303,7 +308,7 @@ static int ea__parse_metrics(const char *cmd, const char *v, unsigned *m) {
 /* Options of `study` (not `study merge`). */
 typedef struct {
   const char *spec, *out, *summary, *figures, *fmt, *ckpt, *arm_file;
-  int no_ckpt, restart, quiet, shorthand, no_fsync, out_given;
+  int no_ckpt, restart, quiet, shorthand, no_fsync, out_given, fmt_given;
   ea_study_workers_t workers;
   long threads, stop_after;
   int shard_k, shard_n;
@@ -340,10 +345,11 @@ static int ea__study_opt(const char *cmd, const char *a, const char *v, ea__stud
     o->figures = v;
   else if (!strcmp(a, "--figure-format")) {
     o->fmt = v;
+    o->fmt_given = 1;
     if (strcmp(v, "svg") && strcmp(v, "png") && strcmp(v, "pdf"))
       return ea__cli_usage_error(cmd, "--figure-format: '%s' is not svg, png or pdf", v);
   } else if (!strcmp(a, "--threads"))
-    return ea__cli_int(cmd, a, v, 1, 1024, &o->threads);
+    return ea__cli_int(cmd, a, v, 0, 1024, &o->threads); /* 0: every online core */
   else if (!strcmp(a, "--workers")) {
     if (!strcmp(v, "auto"))
       o->workers = EA_STUDY_WORKERS_AUTO;
@@ -403,8 +409,45 @@ static int ea__study_parse(const char *cmd, int argc, char **argv, ea__study_opt
   o->sh.amax = 10;
   o->sh.points = 71;
   o->sh.modes = 3;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v = NULL;
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"quiet", 0, 0},
+                                       {"no-checkpoint", 0, 0},
+                                       {"restart", 0, 0},
+                                       {"no-fsync", 0, 0},
+                                       {"no-limits", 0, 0},
+                                       {"output", 1, 'o'},
+                                       {"summary", 1, 0},
+                                       {"figures", 1, 0},
+                                       {"figure-format", 1, 0},
+                                       {"threads", 1, 0},
+                                       {"workers", 1, 0},
+                                       {"stop-after", 1, 0},
+                                       {"shard", 1, 0},
+                                       {"checkpoint", 1, 0},
+                                       {"arm", 1, 0},
+                                       {"payload-factors", 1, 0},
+                                       {"payload-kg", 1, 0},
+                                       {"metrics", 1, 0},
+                                       {"alpha-min-deg", 1, 0},
+                                       {"alpha-max-deg", 1, 0},
+                                       {"points", 1, 0},
+                                       {"modes", 1, 0},
+                                       {"config", 1, 0},
+                                       {"path", 1, 0},
+                                       {"task", 1, 0},
+                                       {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      if (o->spec)
+        return ea__cli_usage_error(cmd, "more than one spec ('%s' and '%s')", o->spec, v);
+      o->spec = v;
+      o->shorthand = !strcmp(v, "payload");
+      continue;
+    }
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__study_help(stdout);
       return -1;
@@ -419,17 +462,10 @@ static int ea__study_parse(const char *cmd, int argc, char **argv, ea__study_opt
       *flag = 1;
       continue;
     }
-    if (a[0] != '-' || !a[1]) {
-      if (o->spec)
-        return ea__cli_usage_error(cmd, "more than one spec ('%s' and '%s')", o->spec, a);
-      o->spec = a;
-      o->shorthand = !strcmp(a, "payload");
-      continue;
-    }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     const int bad = ea__study_opt(cmd, a, v, o);
     if (bad) return bad;
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (!o->spec) return ea__cli_usage_error(cmd, "no study spec (SPEC.yaml, 'payload' or 'merge')");
   const ea__shorthand_t *sh = &o->sh;
   if (!o->shorthand && (sh->gam || sh->kg || sh->metrics || sh->n_config || sh->has_path ||
@@ -534,6 +570,11 @@ static int ea__study_paths(const char *cmd, const ea_study_t *s, ea__study_opts_
       o->figures = s->out_figures;
     }
   }
+  if (o->fmt_given && !o->figures)
+    return ea__cli_usage_error(cmd,
+                               "--figure-format %s needs --figures PREFIX (or a spec whose "
+                               "outputs name figures): without them nothing is drawn",
+                               o->fmt);
   if (!o->ckpt && !o->no_ckpt && !to_stdout) {
     snprintf(o->ck_buf, sizeof o->ck_buf, "%s.journal", o->out);
     o->ckpt = o->ck_buf;

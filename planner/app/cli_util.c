@@ -3,6 +3,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <getopt.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -113,13 +114,110 @@ int ea__cli_list(const char *cmd, const char *flag, const char *text, double **o
   return 0;
 }
 
-const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i) {
-  if (*i + 1 >= argc) {
-    ea__cli_usage_error(cmd, "%s needs a value", argv[*i]);
-    return NULL;
+int ea__cli_help_asked(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    const size_t n = strlen(argv[i]);
+    if (!strcmp(argv[i], "-h") || (n >= 3 && n <= 6 && !strncmp(argv[i], "--help", n))) return 1;
+    if (!strcmp(argv[i], "--")) break;
   }
-  ++*i;
-  return argv[*i];
+  return 0;
+}
+
+void ea__cli_args_init(ea__cli_args_t *g, const char *cmd, int argc, char **argv,
+                       const ea__cli_opt_t *opts) {
+  memset(g, 0, sizeof *g);
+  g->cmd = cmd;
+  g->argc = argc;
+  g->argv = argv;
+  g->opts = opts;
+  while (opts[g->nopts].name && g->nopts < EA__CLI_MAX_OPTS)
+    ++g->nopts;
+  optind = 0; /* glibc: a full restart (another subcommand's parse may have run) */
+}
+
+/* A long option's usage error: argv text t ("--name" or "--name=value") did not match. */
+static int ea__cli_long_error(const ea__cli_args_t *g, const char *t) {
+  const char *eq = strchr(t, '=');
+  const size_t n = eq ? (size_t)(eq - t - 2) : strlen(t + 2);
+  char list[400] = "";
+  int matches = 0, exact = -1;
+  size_t u = 0;
+  for (int i = 0; i < g->nopts; ++i) {
+    if (strncmp(g->opts[i].name, t + 2, n)) continue;
+    if (strlen(g->opts[i].name) == n) exact = i;
+    ++matches;
+    if (u < sizeof list)
+      u += (size_t)snprintf(list + u, sizeof list - u, "%s--%s", matches > 1 ? ", " : "",
+                            g->opts[i].name);
+  }
+  if (eq && (exact >= 0 || matches == 1))
+    return ea__cli_usage_error(g->cmd, "--%s takes no value ('%s')",
+                               g->opts[exact >= 0 ? exact : 0].name, t);
+  if (matches > 1)
+    return ea__cli_usage_error(g->cmd, "option '%.*s' is ambiguous (%s)", (int)(n + 2), t, list);
+  return ea__cli_usage_error(g->cmd, "unknown option '%.*s'", (int)(n + 2), t);
+}
+
+int ea__cli_args_next(ea__cli_args_t *g) {
+  /* getopt_long's table: every long option its own code (>= 256, or its letter), so that an
+   * abbreviation of two options is ambiguous however alike they are */
+  struct option lo[EA__CLI_MAX_OPTS + 1];
+  char shorts[2 * EA__CLI_MAX_OPTS + 3] = "-:"; /* operands in order; ':' for a missing value */
+  size_t ns = 2;
+  for (int i = 0; i < g->nopts; ++i) {
+    lo[i].name = g->opts[i].name;
+    lo[i].has_arg = g->opts[i].value ? required_argument : no_argument;
+    lo[i].flag = NULL;
+    lo[i].val = g->opts[i].letter ? g->opts[i].letter : 256 + i;
+    if (g->opts[i].letter) {
+      shorts[ns++] = g->opts[i].letter;
+      if (g->opts[i].value) shorts[ns++] = ':';
+    }
+  }
+  memset(&lo[g->nopts], 0, sizeof lo[g->nopts]);
+  shorts[ns] = '\0';
+  int idx = -1, c = -1;
+  g->opt = g->arg = NULL;
+  if (!g->rest) {
+    opterr = 0;
+    idx = -1;
+    c = getopt_long(g->argc, g->argv, shorts, lo, &idx);
+    g->rest = c == -1;
+  }
+  if (g->rest) { /* after "--" every argument is an operand */
+    if (optind >= g->argc) return 0;
+    g->arg = g->argv[optind++];
+    return 1;
+  }
+  if (c == 1) {
+    g->arg = optarg;
+    return 1;
+  }
+  const char *t = g->argv[optind - 1 < g->argc ? optind - 1 : g->argc - 1];
+  if (c == ':') {
+    if (!strncmp(t, "--", 2)) {
+      const char *eq = strchr(t, '=');
+      return ea__cli_usage_error(g->cmd, "%.*s needs a value", eq ? (int)(eq - t) : (int)strlen(t),
+                                 t),
+             -1;
+    }
+    return ea__cli_usage_error(g->cmd, "-%c needs a value", optopt), -1;
+  }
+  if (c == '?') {
+    if (!strncmp(t, "--", 2)) return ea__cli_long_error(g, t), -1;
+    return ea__cli_usage_error(g->cmd, "unknown option '-%c'", optopt ? optopt : '?'), -1;
+  }
+  if (idx >= 0 && idx < g->nopts) { /* a long option (getopt_long sets idx for those only) */
+    snprintf(g->buf, sizeof g->buf, "--%s", g->opts[idx].name);
+  } else { /* a letter: its option */
+    for (int i = 0; i < g->nopts; ++i)
+      if (g->opts[i].letter == c) idx = i;
+    if (idx < 0) return ea__cli_usage_error(g->cmd, "unknown option '-%c'", c), -1;
+    snprintf(g->buf, sizeof g->buf, "-%c", c);
+  }
+  g->opt = g->buf;
+  g->arg = g->opts[idx].value ? optarg : NULL;
+  return 1;
 }
 
 /* The folder of the running executable (from /proc/self/exe) into buf; 0 if unknown. */
