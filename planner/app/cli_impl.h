@@ -130,6 +130,32 @@ void ea__cli_safe_name(const char *name, const char *fallback, char *buf, size_t
 int ea__cli_arm_for_traj(const char *cmd, const char *arm_opt, const ea_traj_t *tr, int quiet,
                          ea_arm_t *arm, char *used, size_t used_len);
 
+/** Progress of a long job on stderr: nothing during its first second, then a line at most
+ *  every 0.2 s on a terminal (one line, rewritten) or every 2 s otherwise (a line each). The
+ *  library reports through callbacks; only this prints. */
+typedef struct ea__cli_progress {
+  const char *cmd;
+  int on;      /**< 0: --quiet */
+  int tty;     /**< stderr is a terminal */
+  double t0;   /**< [s] the command's start (ea__mono_s) */
+  double last; /**< [s] the last line's time, 0: none yet */
+  int open;    /**< a terminal line is open (not ended by a newline) */
+} ea__cli_progress_t;
+/** Start the clock; on = 0 silences every line. */
+void ea__cli_progress_init(ea__cli_progress_t *p, const char *cmd, int on);
+/** Say "elasticarm CMD: <fmt>" when due (always when force, once past the first second). */
+void ea__cli_progress(ea__cli_progress_t *p, int force, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/** End an open terminal line (before other output). */
+void ea__cli_progress_end(ea__cli_progress_t *p);
+/** [s] since ea__cli_progress_init. */
+double ea__cli_progress_elapsed(const ea__cli_progress_t *p);
+/** The settings' FE progress callback (data: an ea__cli_progress_t, what: "FE transient"). */
+void ea__cli_progress_fe(void *data, double t_s, double t_end_s);
+
 /** Payload options shared by commands: --payload-factor G | --payload-kg M. */
 typedef struct ea__cli_payload {
   int given; /**< 0 none, 1 factor, 2 kg */

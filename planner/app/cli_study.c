@@ -53,7 +53,8 @@ static void ea__study_help(FILE *fp) {
       "  --no-fsync           do not fsync the journal per case (faster, not\n"
       "                       power-loss safe)\n"
       "  --arm FILE           arm file when the spec names none\n"
-      "  --quiet              no progress or summary table\n\n"
+      "  --quiet              no progress or summary table (progress: on stderr once a\n"
+      "                       study runs a second, cases done and the time left)\n\n"
       "payload shorthand:\n"
       "  --payload-factors L  list a,b,c or range start:step:stop (eq. 17)\n"
       "  --payload-kg L       payload masses [kg]\n"
@@ -265,11 +266,31 @@ usage:
 
 /* ---- run ---------------------------------------------------------------------- */
 
+/* Study progress: cases done and, from the pace of the cases this run computed (not those
+ * the checkpoint had), the time left. */
+typedef struct {
+  ea__cli_progress_t p;
+  double t0; /* [s] (ea__mono_s) when the run started */
+  long base; /* cases done before this run's first: from the checkpoint; -1 until known */
+} ea__study_progress_t;
+
 static void ea__progress(void *data, long case_id, long done, long todo, int failed_rows) {
   (void)case_id;
   (void)failed_rows;
-  const int *tty = data;
-  if (*tty) fprintf(stderr, "\relasticarm study: %ld / %ld cases", done, todo);
+  ea__study_progress_t *g = data;
+  if (g->base < 0) g->base = done - 1;
+  const double el = ea__mono_s() - g->t0;
+  const long ran = done - g->base;
+  char left[64] = "";
+  if (ran > 0 && done < todo) {
+    const double eta = el / (double)ran * (double)(todo - done);
+    if (eta < 90)
+      snprintf(left, sizeof left, ", about %.0f s left", ceil(eta));
+    else
+      snprintf(left, sizeof left, ", about %.0f min left", ceil(eta / 60));
+  }
+  ea__cli_progress(&g->p, done == todo, "%ld / %ld cases (%.0f %%), %.1f s%s", done, todo,
+                   todo > 0 ? 100.0 * (double)done / (double)todo : 100.0, el, left);
 }
 
 typedef struct {
@@ -607,9 +628,12 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   set.stop_after = o->stop_after;
   set.stop_request = &ea__study_stop;
   set.workers = o->workers;
-  int tty = !o->quiet && isatty(STDERR_FILENO);
+  ea__study_progress_t prog;
+  ea__cli_progress_init(&prog.p, "study", !o->quiet);
+  prog.t0 = ea__mono_s();
+  prog.base = -1;
   set.progress = ea__progress;
-  set.progress_data = &tty;
+  set.progress_data = &prog;
   struct sigaction sa, old;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = ea__study_on_signal;
@@ -619,7 +643,7 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   st = ea_study_run(s, &set, csv, csv_len, info, &err);
   sigaction(SIGINT, &old, NULL);
   signal(SIGTERM, SIG_DFL);
-  if (tty) fputc('\n', stderr);
+  ea__cli_progress_end(&prog.p);
   ea_study_planner_free(plan);
   if (st == EA_ERR_INTERRUPTED) {
     fprintf(stderr, "elasticarm study: interrupted: %s\n", err.msg);

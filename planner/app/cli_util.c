@@ -411,3 +411,47 @@ int ea__cli_arm_for_traj(const char *cmd, const char *arm_opt, const ea_traj_t *
   if (used && used_len) snprintf(used, used_len, "%s", rec);
   return 0;
 }
+
+void ea__cli_progress_init(ea__cli_progress_t *p, const char *cmd, int on) {
+  memset(p, 0, sizeof *p);
+  p->cmd = cmd;
+  p->on = on;
+  p->tty = isatty(STDERR_FILENO);
+  p->t0 = ea__mono_s();
+}
+
+double ea__cli_progress_elapsed(const ea__cli_progress_t *p) {
+  return ea__mono_s() - p->t0;
+}
+
+void ea__cli_progress(ea__cli_progress_t *p, int force, const char *fmt, ...) {
+  if (!p || !p->on) return;
+  const double now = ea__mono_s();
+  if (now - p->t0 < 1.0) return; /* a short job stays silent */
+  if (!force && p->last > 0 && now - p->last < (p->tty ? 0.2 : 2.0)) return;
+  p->last = now;
+  char line[400];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  if (p->tty) {
+    fprintf(stderr, "\r\033[Kelasticarm %s: %s", p->cmd, line); /* \033[K: clear the rest */
+    p->open = 1;
+  } else {
+    fprintf(stderr, "elasticarm %s: %s\n", p->cmd, line);
+  }
+  fflush(stderr);
+}
+
+void ea__cli_progress_end(ea__cli_progress_t *p) {
+  if (p && p->open) fputc('\n', stderr);
+  if (p) p->open = 0;
+}
+
+void ea__cli_progress_fe(void *data, double t_s, double t_end_s) {
+  ea__cli_progress_t *p = data;
+  ea__cli_progress(p, 0, "FE transient: t = %.2f of %.2f s simulated (%.0f %%), %.1f s", t_s,
+                   t_end_s, t_end_s > 0 ? 100.0 * t_s / t_end_s : 100.0,
+                   ea__cli_progress_elapsed(p));
+}

@@ -146,6 +146,9 @@ typedef struct ea_plan_verify {
                                         (a quasi-static plan) */
   double predicted_time_to_rest_s; /**< [s] after the motion (ea_plan_info_t); NAN: none,
                                         INFINITY: never */
+  double base_travel_rad;          /**< [rad] the trajectory's base-angle range (max - min): the
+                                        FE transient is planar, the base rotation's loads
+                                        (inertia, centrifugal, Coriolis) are not in it */
 } ea_plan_verify_t;
 
 /** The JSON summary of ea_plan_summary_write_refined (refine NULL: none) with a "shape" object

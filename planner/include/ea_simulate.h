@@ -44,6 +44,11 @@ typedef struct ea_sim_settings {
   double rest_tolerance;     /**< [m] "at rest": |tip - final equilibrium| stays below this
                                   (default 1e-3) */
   int keep_history;          /**< 1: return the tip history (ea_sim_history_t) */
+  /** Progress of the transient (NULL: none, the default): called from the calling thread
+   *  as the simulated time t_s advances to t_end_s (motion + settle), every 1 % of it; the
+   *  library never prints. */
+  void (*progress)(void *data, double t_s, double t_end_s);
+  void *progress_data; /**< passed to progress */
 } ea_sim_settings_t;
 
 void ea_sim_settings_default(ea_sim_settings_t *s);

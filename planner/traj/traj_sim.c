@@ -368,6 +368,24 @@ static ea_status_t ea__sim_start_eq(ea__sim_t *c, const ea_statics_solution_t *o
   return EA_OK;
 }
 
+/* The settings' progress callback, called from the drive's theta0 history (evaluated as
+ * the transient steps) every 1 % of the simulated time. */
+typedef struct {
+  ea_fe_history_fn fn;
+  void *data;
+  const ea_sim_settings_t *s;
+  double t_end, next;
+} ea__sim_progress_t;
+
+static int ea__sim_progress_hist(double t, double *value, double *rate, void *data) {
+  ea__sim_progress_t *g = data;
+  if (t >= g->next) {
+    g->s->progress(g->s->progress_data, t, g->t_end);
+    g->next = t + 0.01 * g->t_end;
+  }
+  return g->fn(t, value, rate, g->data);
+}
+
 /* 4. damping, 5. the transient; what it found into info. */
 static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_info_t *si,
                                ea_sim_info_t *info, ea_error_t *err) {
@@ -385,7 +403,14 @@ static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_
   if (st) return st;
   info->rayleigh_mass = ss.rayleigh_mass;
   info->rayleigh_stiffness = ss.rayleigh_stiffness;
-  st = ea_fe_simulate(c->m, &c->drv.drive, &ss, c->tip, c->rows_cap, si, err);
+  ea_fe_drive_t drive = c->drv.drive;
+  ea__sim_progress_t pg = {drive.theta0, drive.theta0_data, s, c->t_end, 0.0};
+  if (s->progress && drive.theta0) {
+    drive.theta0 = ea__sim_progress_hist;
+    drive.theta0_data = &pg;
+  }
+  st = ea_fe_simulate(c->m, &drive, &ss, c->tip, c->rows_cap, si, err);
+  if (s->progress && !st) s->progress(s->progress_data, c->t_end, c->t_end);
   info->steps = si->steps;
   info->simulated_time = si->steps * s->dt;
   info->newton_iterations = si->newton_iterations;
