@@ -978,10 +978,10 @@ while IFS=$(printf '\034') read -r label cases failed; do
     "  | $label | {} | {} | {*} ms |" "$cases" "$failed"
 done <"$R/case-costs.rows"
 # .ci/Containerfile runs the README's two "Set up and run" commands, verbatim.
-awk '/^## Set up and run/ { s = 1 } s && /^sh \.ci\/install-deps && / { print } /^## Install|^## The C API/ { s = 0 }' \
+awk '/^## Set up and run/ { s = 1 } s && /^sh \.ci\/install-deps( --runtime)? && / { print } /^## Install|^## The C API/ { s = 0 }' \
   README.md >"$R/readme-setup.txt"
 [ "$(wc -l <"$R/readme-setup.txt")" -eq 2 ] ||
-  echo "README.md: 'Set up and run' no longer holds two 'sh .ci/install-deps && ...' commands" >>"$FAILS"
+  echo "README.md: 'Set up and run' no longer holds two 'sh .ci/install-deps [--runtime] && ...' commands" >>"$FAILS"
 while IFS= read -r c; do
   grep -qF -- "$c" .ci/Containerfile ||
     echo ".ci/Containerfile: does not run the README's command '$c'" >>"$FAILS"

@@ -16,9 +16,7 @@
 /* ------------------------------------------------------------------------ */
 
 static int ea__fe_help_requested(int argc, char **argv) {
-  for (int i = 1; i < argc; ++i)
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
-  return 0;
+  return ea__cli_help_asked(argc, argv);
 }
 
 /* How the FE static state is tied to the ODE solution. */
@@ -499,9 +497,31 @@ int ea__cli_frequencies(int argc, char **argv) {
   o.elements = EA_FE_DEFAULT_ELEMENTS;
   o.hold = EA__FE_HOLD_TIP;
   int rc = EA_EXIT_USAGE;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v;
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"json", 0, 0},
+                                       {"sweep", 0, 0},
+                                       {"cable-length", 1, 0},
+                                       {"cable-angle-deg", 1, 0},
+                                       {"cable-lengths", 1, 0},
+                                       {"modes", 1, 0},
+                                       {"elements", 1, 0},
+                                       {"fe-hold", 1, 0},
+                                       {"payload-factor", 1, 0},
+                                       {"payload-kg", 1, 0},
+                                       {"arm", 1, 0},
+                                       {"figure", 1, 0},
+                                       {"csv", 1, 0},
+                                       {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
     int bad = 0;
+    if (!a) {
+      ea__cli_usage_error(cmd, "unexpected argument '%s'", v);
+      goto done;
+    }
     if (!strcmp(a, "--json")) {
       o.json = 1;
       continue;
@@ -510,7 +530,6 @@ int ea__cli_frequencies(int argc, char **argv) {
       o.sweep = 1;
       continue;
     }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto done;
     if (!strcmp(a, "--cable-length"))
       bad = ea__cli_double(cmd, a, v, 1e-6, 100.0, &o.Lc);
     else if (!strcmp(a, "--cable-angle-deg"))
@@ -546,14 +565,12 @@ int ea__cli_frequencies(int argc, char **argv) {
       o.figure = v;
     else if (!strcmp(a, "--csv"))
       o.csv = v;
-    else {
-      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    }
     if (bad) {
       rc = bad;
       goto done;
     }
   }
+  if (r < 0) goto done;
   if (o.sweep) {
     if (isfinite(o.Lc)) {
       ea__cli_usage_error(cmd, "--sweep takes --cable-lengths, not --cable-length");
@@ -641,6 +658,8 @@ static void ea__sim_help(void) {
          "  -o FILE                   tip history CSV: t_s, tip_x_m, tip_y_m, tip_theta_rad,\n"
          "                            planned_tip_x_m, planned_tip_y_m ('-' = stdout)\n"
          "  --json                    JSON summary on stdout\n"
+         "  --quiet                   no progress lines on stderr (a transient that runs\n"
+         "                            longer than a second says how far it is)\n"
          "  --figure OUT              planned vs simulated tip path, deviation from the planned\n"
          "                            tip and approach to rest over time\n\n"
          "exit: 0 ok, 1 start outside the workspace / FE not converged,\n"
@@ -651,7 +670,7 @@ static void ea__sim_help(void) {
 typedef struct {
   const char *traj_path, *arm_file, *out, *figure;
   ea__cli_payload_t payload;
-  int json, active, drive_fe, damping; /* damping: 0 none, 1 ratio, 2 rayleigh */
+  int json, quiet, active, drive_fe, damping; /* damping: 0 none, 1 ratio, 2 rayleigh */
   ea_fe_scheme_t scheme;
   long elements;
   double dt, settle, zeta, rayleigh[2], rho_inf, tolerance;
@@ -666,20 +685,45 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
   o->scheme = EA_FE_SCHEME_GENALPHA;
   o->rho_inf = 0.9;
   o->tolerance = 1e-3;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v;
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"json", 0, 0},
+                                       {"elements", 1, 0},
+                                       {"dt", 1, 0},
+                                       {"settle", 1, 0},
+                                       {"tolerance", 1, 0},
+                                       {"damping-ratio", 1, 0},
+                                       {"rayleigh", 1, 0},
+                                       {"scheme", 1, 0},
+                                       {"rho-inf", 1, 0},
+                                       {"cable", 1, 0},
+                                       {"drive", 1, 0},
+                                       {"payload-factor", 1, 0},
+                                       {"payload-kg", 1, 0},
+                                       {"arm", 1, 0},
+                                       {"output", 1, 'o'},
+                                       {"figure", 1, 0},
+                                       {"quiet", 0, 0},
+                                       {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
     int bad = 0;
+    if (a && !strcmp(a, "--quiet")) {
+      o->quiet = 1;
+      continue;
+    }
+    if (!a) {
+      if (o->traj_path)
+        return ea__cli_usage_error(cmd, "more than one trajectory ('%s', '%s')", o->traj_path, v);
+      o->traj_path = v;
+      continue;
+    }
     if (!strcmp(a, "--json")) {
       o->json = 1;
       continue;
     }
-    if (a[0] != '-' || !strcmp(a, "-")) {
-      if (o->traj_path)
-        return ea__cli_usage_error(cmd, "more than one trajectory ('%s', '%s')", o->traj_path, a);
-      o->traj_path = a;
-      continue;
-    }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     if (!strcmp(a, "--elements"))
       bad = ea__cli_int(cmd, a, v, 1, 512, &o->elements);
     else if (!strcmp(a, "--dt"))
@@ -737,10 +781,9 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
       o->out = v;
     else if (!strcmp(a, "--figure"))
       o->figure = v;
-    else
-      bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) return bad;
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (!o->traj_path) return ea__cli_usage_error(cmd, "give a trajectory file");
   if (o->rho_given && o->scheme != EA_FE_SCHEME_GENALPHA)
     return ea__cli_usage_error(cmd, "--rho-inf needs --scheme genalpha");
@@ -751,8 +794,18 @@ static int ea__sim_parse(const char *cmd, int argc, char **argv, ea__sim_opts_t 
   return 0;
 }
 
+/* [rad] the base angle's range over the trajectory (0: a planar motion). */
+static double ea__base_travel(const ea_traj_t *tr) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (int k = 0; k < tr->n; ++k) {
+    lo = fmin(lo, EA_TRAJ_AT(tr, k, EA_TRAJ_base_angle));
+    hi = fmax(hi, EA_TRAJ_AT(tr, k, EA_TRAJ_base_angle));
+  }
+  return hi >= lo ? hi - lo : 0.0;
+}
+
 static void ea__sim_json(const ea__sim_opts_t *o, const ea_sim_settings_t *s, int simple, int n,
-                         const char *arm_path, const ea_sim_info_t *si) {
+                         double base_travel, const char *arm_path, const ea_sim_info_t *si) {
   ea_json_t j;
   ea_json_init(&j, stdout, 1);
   ea_json_obj_begin(&j, NULL);
@@ -762,6 +815,9 @@ static void ea__sim_json(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
   ea_json_str(&j, "arm_file", arm_path);
   ea_json_int(&j, "samples", n);
   ea_json_num(&j, "tip_mass_kg", si->tip_mass);
+  ea_json_str(&j, "transient",
+              "planar: in the arm's plane; the base rotation's loads are not in it");
+  ea_json_num(&j, "base_travel_rad", base_travel);
   ea_json_int(&j, "elements", s->elements);
   ea_json_num(&j, "dt_s", s->dt);
   ea_json_str(&j, "scheme", s->scheme == EA_FE_SCHEME_ENERGY ? "energy" : "genalpha");
@@ -809,7 +865,8 @@ static void ea__sim_json(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
 }
 
 static void ea__sim_text(const ea__sim_opts_t *o, const ea_sim_settings_t *s, int simple, int n,
-                         const char *arm_path, const char *arm_which, const ea_sim_info_t *si) {
+                         double base_travel, const char *arm_path, const char *arm_which,
+                         const ea_sim_info_t *si) {
   printf("trajectory   %s (%s, %d samples, %.4g s), tip mass %.4g kg\n", o->traj_path,
          simple ? "simple CSV" : "format 1", n, si->duration, si->tip_mass);
   printf("arm          %s (%s)\n", arm_path, arm_which);
@@ -821,6 +878,11 @@ static void ea__sim_text(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
   printf("FE           %d elements, dt %.3g s, %s scheme, %s cable, drive from the %s\n",
          s->elements, s->dt, scheme, s->cable_active ? "active" : "passive",
          s->drive_fe ? "FE statics" : "trajectory");
+  if (base_travel > 0)
+    printf("planar       the transient is in the arm's plane: the base turns %.4g deg in this "
+           "trajectory and the rotation's loads (out-of-plane bending from its angular "
+           "acceleration, centrifugal and Coriolis forces) are not in the results below\n",
+           base_travel / EA__DEG);
   if (si->rayleigh_mass > 0 || si->rayleigh_stiffness > 0)
     printf("damping      mass a = %.4g 1/s, strain-rate b = %.4g s%s\n", si->rayleigh_mass,
            si->rayleigh_stiffness, si->damping_ratio > 0 ? " (ratio at mode 1)" : "");
@@ -839,10 +901,11 @@ static void ea__sim_text(const ea__sim_opts_t *o, const ea_sim_settings_t *s, in
     printf("residual     vibration after the motion: rms %.4f mm, peak %.4f mm (about the "
            "final equilibrium, %.4f mm from the planned end)\n",
            1e3 * si->residual_rms, 1e3 * si->residual_peak, 1e3 * si->static_offset_end);
-    if (isfinite(si->time_to_rest))
+    if (isfinite(si->time_to_rest)) /* t may fall before the motion's end: say so */
       printf("rest         within %.3g mm of the final equilibrium from t = %.4g s on (%.4g s "
-             "after the motion)\n",
-             1e3 * s->rest_tolerance, si->time_to_rest, si->time_to_rest - si->duration);
+             "%s the motion ends)\n",
+             1e3 * s->rest_tolerance, si->time_to_rest, fabs(si->time_to_rest - si->duration),
+             si->time_to_rest < si->duration ? "before" : "after");
     else
       printf("rest         not within %.3g mm of the final equilibrium by the end (t = %.4g "
              "s): simulate longer (--settle) or add damping\n",
@@ -958,11 +1021,17 @@ int ea__cli_simulate(int argc, char **argv) {
   const char *arm_path = arm_used[0] ? arm_used : ea__cli_default_arm();
   ea_sim_settings_t s;
   ea__sim_settings(&o, &s);
+  ea__cli_progress_t prog;
+  ea__cli_progress_init(&prog, cmd, !o.quiet);
+  s.progress = ea__cli_progress_fe;
+  s.progress_data = &prog;
   /* the tip mass: the arm's hand plus the trajectory's payload, or the flags' payload */
   const double tip_mass = o.payload.given ? ea__cli_tip_mass(&arm, &o.payload) : 0.0;
   if (simple && (rc = ea__sim_fill_simple(cmd, &arm, tip_mass, &tr))) goto done;
   ea_sim_info_t si;
-  if ((st = ea_traj_simulate(&arm, &tr, tip_mass, &s, &h, &si, &err))) {
+  st = ea_traj_simulate(&arm, &tr, tip_mass, &s, &h, &si, &err);
+  ea__cli_progress_end(&prog);
+  if (st) {
     fprintf(stderr, "elasticarm %s: error: %s: %s\n", cmd, o.traj_path,
             err.msg[0] ? err.msg : ea_strerror(st));
     rc = (st == EA_ERR_ARG || st == EA_ERR_INPUT) ? EA_EXIT_USAGE : EA_EXIT_FAIL;
@@ -971,9 +1040,9 @@ int ea__cli_simulate(int argc, char **argv) {
   if (!simple) ea__sim_note_mismatch(cmd, &tr, &si);
   if (o.out && (rc = ea__sim_write_history(cmd, o.out, &h))) goto done;
   if (o.json)
-    ea__sim_json(&o, &s, simple, tr.n, arm_path, &si);
+    ea__sim_json(&o, &s, simple, tr.n, ea__base_travel(&tr), arm_path, &si);
   else if (!o.out || strcmp(o.out, "-"))
-    ea__sim_text(&o, &s, simple, tr.n, arm_path, arm_which, &si);
+    ea__sim_text(&o, &s, simple, tr.n, ea__base_travel(&tr), arm_path, arm_which, &si);
   if (o.figure) rc = ea__sim_figure(cmd, &o, &s, &si, &h);
 done:
   ea_sim_history_free(&h);

@@ -7,34 +7,39 @@
 int ea__cli_figure(int argc, char **argv) {
   const char *cmd = "figure";
   const char *traj = NULL, *out = NULL, *arm_file = NULL;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i];
-    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-      printf("usage: elasticarm figure TRAJ.csv -o OUT.(svg|png|pdf) [--arm FILE]\n"
+  static const ea__cli_opt_t opts[] = {
+      {"help", 0, 'h'}, {"output", 1, 'o'}, {"figure", 1, 0}, {"arm", 1, 0}, {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt;
+    if (!a) {
+      if (traj) return ea__cli_usage_error(cmd, "one trajectory file only ('%s' is extra)", g.arg);
+      traj = g.arg;
+    } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+      printf("usage: elasticarm figure TRAJ.csv --figure OUT.(svg|png|pdf) [--arm FILE]\n"
              "Draws a trajectory file (docs/trajectory-format.md): tip path and beam shapes\n"
-             "in the workspace region of its load; cable length, angles, tension, shoulder\n"
-             "torque, cable speed, angular rates and cable acceleration over time, with the\n"
-             "arm file's limits near the data dashed.\n"
-             "The arm is --arm, else the file's '# arm_file:' (refused when its parameters no\n"
-             "longer match the file's '# arm_hash:'), else the default.\n");
+             "in the workspace region of its load (and, when the base turns, the tip path\n"
+             "seen from above); cable length, angles, tension, shoulder torque, cable speed,\n"
+             "angular rates and cable acceleration over time, with the arm file's limits near\n"
+             "the data dashed.\n"
+             "  --figure OUT   the figure (.svg, .png or .pdf); -o OUT and --output OUT\n"
+             "                 are the same\n"
+             "  --arm FILE     the arm: --arm, else the file's '# arm_file:' (refused when its\n"
+             "                 parameters no longer match the file's '# arm_hash:'), else the\n"
+             "                 default\n");
       return EA_EXIT_OK;
-    }
-    if (!strcmp(a, "-o") || !strcmp(a, "--arm")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v) return EA_EXIT_USAGE;
-      if (!strcmp(a, "-o"))
-        out = v;
-      else
-        arm_file = v;
-    } else if (a[0] == '-' && a[1]) {
-      return ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    } else if (!traj) {
-      traj = a;
-    } else {
-      return ea__cli_usage_error(cmd, "one trajectory file only ('%s' is extra)", a);
+    } else if (!strcmp(a, "--arm")) {
+      arm_file = g.arg;
+    } else { /* -o, --output, --figure */
+      if (out && strcmp(out, g.arg))
+        return ea__cli_usage_error(cmd, "two figure paths ('%s' and '%s')", out, g.arg);
+      out = g.arg;
     }
   }
-  if (!traj || !out) return ea__cli_usage_error(cmd, "needs TRAJ.csv and -o OUT");
+  if (r < 0) return EA_EXIT_USAGE;
+  if (!traj || !out) return ea__cli_usage_error(cmd, "needs TRAJ.csv and --figure OUT (or -o OUT)");
   int rc = ea__cli_check_figure(cmd, out); /* extension and folder, before the work */
   if (rc) return rc;
   if ((rc = ea__cli_check_plan_pair(cmd, traj))) return rc;

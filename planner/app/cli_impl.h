@@ -10,6 +10,8 @@
 #include "ea_util.h"
 #include "figure_impl.h"
 
+#include <getopt.h>
+
 /** A subcommand: returns the process exit code (0 ok, 1 failure or not
  *  converged / inadmissible, 2 usage error). Prints only to stdout/stderr. */
 typedef int (*ea__cli_fn)(int argc, char **argv);
@@ -59,8 +61,44 @@ int ea__cli_pair(const char *cmd, const char *flag, const char *text, double out
 /** Parse a list "a,b,c" or a range "start:step:stop" into a malloc'd array. Returns 0,
  *  EA_EXIT_USAGE (bad text) or EA_EXIT_FAIL (out of memory), having said which. */
 int ea__cli_list(const char *cmd, const char *flag, const char *text, double **out, int *n);
-/** The value after flag argv[*i] (advances *i); NULL (and a message) if missing. */
-const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i);
+/** One option of a subcommand for ea__cli_args_next: its long name without the leading
+ *  "--", whether it takes a value, and its one-letter form ('o' for -o; 0: none). */
+typedef struct ea__cli_opt {
+  const char *name;
+  int value;
+  char letter;
+} ea__cli_opt_t;
+/** Most options of one subcommand. */
+#define EA__CLI_MAX_OPTS 64
+
+/** A subcommand's command line read by getopt_long (the C library's): "--name VALUE",
+ *  "--name=VALUE", "-o VALUE", "-oVALUE", unambiguous abbreviations ("--kn" for "--knots"),
+ *  "--" before operands; a value may start with '-' ("--tip -0.1,0.3"). Operands come in
+ *  order among the options. */
+typedef struct ea__cli_args {
+  const char *cmd;
+  int argc;
+  char **argv;
+  const ea__cli_opt_t *opts;
+  int nopts;
+  const char *opt; /**< the option as "--name" (its full name, also when abbreviated) or
+                        "-o"; NULL: an operand */
+  const char *arg; /**< the option's value (NULL for a flag) or the operand */
+  int rest;        /**< 1: past the options ("--" or the end): operands only */
+  char buf[80];
+} ea__cli_args_t;
+
+/** 1 when argv[1..argc-1] has -h, --help or an abbreviation of it ("--he"), for the
+ *  commands that print their help before reading the other options. */
+int ea__cli_help_asked(int argc, char **argv);
+
+/** Start reading argv[1..argc-1] with the options opts (ended by a NULL name). */
+void ea__cli_args_init(ea__cli_args_t *g, const char *cmd, int argc, char **argv,
+                       const ea__cli_opt_t *opts);
+/** The next option or operand into g->opt, g->arg: 1; 0 at the end; -1 after a usage
+ *  error it printed (an unknown or ambiguous option, a missing value, a value given to a
+ *  flag). */
+int ea__cli_args_next(ea__cli_args_t *g);
 
 /** Default arm file, the first of: $EA_ARM_FILE; ./data/elasticarm.yaml;
  *  <folder of the executable>/../share/elasticarm/elasticarm.yaml (installed);
@@ -110,6 +148,32 @@ int ea__cli_arm_for_traj(const char *cmd, const char *traj_path, const char *arm
  *  "run_id" must be the same (read under a shared lock of TRAJ.lock, the lock `plan` holds
  *  while it renames the pair). Prints the error; returns 0 or EA_EXIT_USAGE. */
 int ea__cli_check_plan_pair(const char *cmd, const char *traj_path);
+
+/** Progress of a long job on stderr: nothing during its first second, then a line at most
+ *  every 0.2 s on a terminal (one line, rewritten) or every 2 s otherwise (a line each). The
+ *  library reports through callbacks; only this prints. */
+typedef struct ea__cli_progress {
+  const char *cmd;
+  int on;      /**< 0: --quiet */
+  int tty;     /**< stderr is a terminal */
+  double t0;   /**< [s] the command's start (ea__mono_s) */
+  double last; /**< [s] the last line's time, 0: none yet */
+  int open;    /**< a terminal line is open (not ended by a newline) */
+} ea__cli_progress_t;
+/** Start the clock; on = 0 silences every line. */
+void ea__cli_progress_init(ea__cli_progress_t *p, const char *cmd, int on);
+/** Say "elasticarm CMD: <fmt>" when due (always when force, once past the first second). */
+void ea__cli_progress(ea__cli_progress_t *p, int force, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/** End an open terminal line (before other output). */
+void ea__cli_progress_end(ea__cli_progress_t *p);
+/** [s] since ea__cli_progress_init. */
+double ea__cli_progress_elapsed(const ea__cli_progress_t *p);
+/** The settings' FE progress callback (data: an ea__cli_progress_t, what: "FE transient"). */
+void ea__cli_progress_fe(void *data, double t_s, double t_end_s);
 
 /** Payload options shared by commands: --payload-factor G | --payload-kg M. */
 typedef struct ea__cli_payload {

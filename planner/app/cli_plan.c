@@ -269,9 +269,11 @@ static ea_status_t ea__plan_shape(const ea_task_t *task, ea_traj_t *tr, ea_plan_
  * defaults: what `elasticarm simulate FILE` runs) and the model's prediction for it. */
 static void ea__plan_verify(const ea_planner_t *pl, const ea_task_t *task, const ea_traj_t *tr,
                             const ea_plan_info_t *info, const ea_refine_info_t *ref, int shaped,
-                            ea_plan_verify_t *v) {
+                            ea__cli_progress_t *prog, ea_plan_verify_t *v) {
   memset(v, 0, sizeof *v);
   ea_sim_settings_default(&v->settings);
+  v->settings.progress = ea__cli_progress_fe;
+  v->settings.progress_data = prog;
   ea_error_t err = {0};
   v->status = ea_traj_simulate(&task->arm, tr, 0.0, &v->settings, NULL, &v->sim, &err);
   if (v->status) snprintf(v->message, sizeof v->message, "%s", err.msg);
@@ -285,6 +287,12 @@ static void ea__plan_verify(const ea_planner_t *pl, const ea_task_t *task, const
   ea_plan_verify_judge(v);
   v->predicted_residual_m = NAN;
   v->predicted_time_to_rest_s = NAN;
+  double blo = INFINITY, bhi = -INFINITY;
+  for (int k = 0; k < tr->n; ++k) {
+    blo = fmin(blo, EA_TRAJ_AT(tr, k, EA_TRAJ_base_angle));
+    bhi = fmax(bhi, EA_TRAJ_AT(tr, k, EA_TRAJ_base_angle));
+  }
+  v->base_travel_rad = bhi >= blo ? bhi - blo : 0.0;
   if (!shaped) {
     v->predicted_residual_m = info->predicted_residual_m;
     if (isfinite(info->predicted_residual_m))
@@ -326,6 +334,11 @@ static void ea__plan_verify_text(const ea_plan_verify_t *v) {
     snprintf(pred, sizeof pred, "no model prediction (quasi-static plan)");
   printf("verify: FE residual vibration peak %.4f mm, rms %.4f mm (damping ratio %.3g), %s; %s\n",
          1e3 * si->residual_peak, 1e3 * si->residual_rms, si->damping_ratio, rest, pred);
+  if (v->base_travel_rad > 0)
+    printf("verify: the FE transient is planar (the arm in its plane): the base turns %.4g deg in "
+           "this plan and the rotation's loads (out-of-plane bending from its angular "
+           "acceleration, centrifugal and Coriolis forces) are not in the residual above\n",
+           v->base_travel_rad / EA__DEG);
   printf(
       "verify: FE cable tension %.4f N (t = %.4g s) .. %.4f N over the motion and the settle%s\n",
       si->tension_min, si->tension_min_time, si->tension_max,
@@ -340,21 +353,33 @@ typedef struct {
   char out_buf[1024], sum_buf[1024], fig_buf[1024];
 } ea__plan_opts_t;
 
+static const ea__cli_opt_t ea__plan_opts[] = {
+    {"help", 0, 'h'}, {"output", 1, 'o'}, {"summary", 1, 0},         {"figure", 1, 0},
+    {"json", 0, 0},   {"quiet", 0, 0},    {"derivative-test", 0, 0}, {"refine", 0, 0},
+    {"verify", 0, 0}, {"shape", 1, 0},    {"knots", 1, 0},           {"print-level", 1, 0},
+    {NULL, 0, 0}};
+
 /* Parse the options into o. Returns -1 to go on, else the exit code (0 after --help). */
 static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_t *o) {
   memset(o, 0, sizeof *o);
   o->plevel = -1;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, ea__plan_opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      if (o->task_path) return ea__cli_usage_error(cmd, "more than one task file ('%s')", v);
+      o->task_path = v;
+    } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__plan_help(stdout);
       return EA_EXIT_OK;
     } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-      if (!(o->out = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->out = v;
     } else if (!strcmp(a, "--summary")) {
-      if (!(o->summary = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->summary = v;
     } else if (!strcmp(a, "--figure")) {
-      if (!(o->figure = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->figure = v;
     } else if (!strcmp(a, "--json")) {
       o->json = 1;
     } else if (!strcmp(a, "--quiet")) {
@@ -366,25 +391,16 @@ static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_
     } else if (!strcmp(a, "--verify")) {
       o->verify = 1;
     } else if (!strcmp(a, "--shape")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v) return EA_EXIT_USAGE;
       if (strcmp(v, "zv"))
         return ea__cli_usage_error(cmd, "--shape: '%s' is not a shaper (known: zv)", v);
       o->shape = 1;
     } else if (!strcmp(a, "--knots")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 3, 4000, &o->knots)) return EA_EXIT_USAGE;
+      if (ea__cli_int(cmd, a, v, 3, 4000, &o->knots)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--print-level")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 0, 12, &o->plevel)) return EA_EXIT_USAGE;
-    } else if (a[0] == '-' && a[1]) {
-      return ea__cli_usage_error(cmd, "unknown option '%s' (see elasticarm plan --help)", a);
-    } else if (!o->task_path) {
-      o->task_path = a;
-    } else {
-      return ea__cli_usage_error(cmd, "more than one task file ('%s')", a);
+      if (ea__cli_int(cmd, a, v, 0, 12, &o->plevel)) return EA_EXIT_USAGE;
     }
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (!o->task_path) return ea__cli_usage_error(cmd, "no task file (see elasticarm plan --help)");
   return -1;
 }
@@ -435,7 +451,9 @@ typedef struct {
   ea_refine_info_t *ref;
   ea_shape_info_t *shp;
   ea_plan_verify_t *ver;
-  char run_id[64]; /**< shared by the trajectory and the summary */
+  char run_id[64];                    /**< shared by the trajectory and the summary */
+  ea__cli_progress_t prog;            /* the command's clock and progress lines */
+  double time_shape_s, time_verify_s; /* [s] wall time of --shape, --verify */
 } ea__plan_run_t;
 
 static void ea__plan_run_free(ea__plan_run_t *r) {
@@ -443,6 +461,14 @@ static void ea__plan_run_free(ea__plan_run_t *r) {
   free(r->shp);
   free(r->ver);
   ea_planner_free(r->pl);
+}
+
+/* The refinement's progress: a line per evaluation once the command has run a second. */
+static void ea__plan_refine_progress(void *data, int evaluation, int max_evaluations,
+                                     double elapsed_s, double residual_peak_m) {
+  ea__cli_progress(data, 1,
+                   "refinement: evaluation %d of at most %d, FE residual peak %.4g mm (%.1f s)",
+                   evaluation + 1, max_evaluations, 1e3 * residual_peak_m, elapsed_s);
 }
 
 /* --refine (or the task's dynamics.refine): the refinement of the converged plan. The
@@ -523,6 +549,17 @@ static int ea__plan_figure_cli(const ea__plan_opts_t *o, const ea_task_t *task,
                                const ea__plan_run_t *r) {
   ea_error_t err = {0};
   ea_status_t st = EA_OK;
+  /* what an FE transient of the written trajectory measured: --verify's, else the
+   * refinement's of the plan it returned */
+  double fe_peak = NAN;
+  const char *fe_check = NULL;
+  if (r->ver && r->ver->status == EA_OK) {
+    fe_peak = r->ver->sim.residual_peak;
+    fe_check = "plan --verify";
+  } else if (r->ref && !o->shape) {
+    fe_peak = r->ref->residual_peak_m;
+    fe_check = "refinement";
+  }
   if (o->shape) {
     ea_traj_t ft = {0};
     ea_shooter_t *sh = NULL;
@@ -537,12 +574,14 @@ static int ea__plan_figure_cli(const ea__plan_opts_t *o, const ea_task_t *task,
       ea_traj_figure_opts_default(&fo, &task->arm);
       fo.title = title;
       ea_traj_figure_opts_limits(&fo, &task->limits); /* which the shaping held */
+      fo.fe_residual_peak_m = fe_peak;
+      fo.fe_check = fe_check;
       st = ea_traj_figure(&ft, sh, &fo, o->figure, &err);
     }
     ea_shooter_free(sh);
     ea_traj_free(&ft);
   } else {
-    st = ea_plan_figure(r->pl, &r->info, o->figure, &err);
+    st = ea_plan_figure_fe(r->pl, &r->info, fe_peak, fe_check, o->figure, &err);
   }
   if (!st) return 0;
   fprintf(stderr, "elasticarm plan: figure: %s\n", err.msg);
@@ -564,17 +603,38 @@ static const char *ea__plan_engine_label(const ea_plan_info_t *info) {
 static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, int rc) {
   const ea_plan_info_t *info = &r->info;
   const char *out = o->out, *summary = o->summary, *figure = o->figure;
+  ea__cli_progress_end((ea__cli_progress_t *)&r->prog);
   if (o->json && summary) {
     ea__cat(summary);
   } else if (!o->quiet && strcmp(out, "-")) {
     printf("%s\n", r->ref ? r->ref->message : info->message);
     printf("wrote %s%s%s%s%s\n", out, summary ? ", " : "", summary ? summary : "",
            figure && !rc ? ", " : "", figure && !rc ? figure : "");
-    printf("time: %.2f ms total (guess %.2f, statics Jacobians %.2f, %s %.2f, rest %.2f); "
-           "%d variables, %d constraints; %d thread%s\n",
-           1e3 * info->time_total_s, 1e3 * info->time_guess_s, 1e3 * info->time_statics_s,
-           ea__plan_engine_label(info), 1e3 * info->time_ipopt_s, 1e3 * info->time_rest_s,
-           info->n_var, info->n_con, info->threads, info->threads == 1 ? "" : "s");
+    /* the whole command's wall time, its phases named; what is left is reading the task,
+     * writing the outputs and drawing the figure */
+    const double total = ea__cli_progress_elapsed(&r->prog);
+    double other = total - info->time_total_s - r->time_shape_s - r->time_verify_s;
+    char extra[400] = "";
+    int u = 0;
+    if (r->ref) {
+      u += snprintf(extra + u, sizeof extra - (size_t)u,
+                    ", refinement %.2f (%d evaluation%s: re-plans %.2f, FE transients %.2f)",
+                    1e3 * r->ref->time_s, r->ref->n_evals, r->ref->n_evals == 1 ? "" : "s",
+                    1e3 * r->ref->time_plan_s, 1e3 * r->ref->time_fe_s);
+      other -= r->ref->time_s;
+    }
+    if (o->shape && u >= 0 && (size_t)u < sizeof extra)
+      u +=
+          snprintf(extra + u, sizeof extra - (size_t)u, ", ZV shaping %.2f", 1e3 * r->time_shape_s);
+    if (r->ver && u >= 0 && (size_t)u < sizeof extra)
+      snprintf(extra + u, sizeof extra - (size_t)u, ", --verify FE transient %.2f",
+               1e3 * r->time_verify_s);
+    printf("time: %.2f ms total: plan %.2f (guess %.2f, statics Jacobians %.2f, %s %.2f, rest "
+           "%.2f)%s, task, outputs and figure %.2f; %d variables, %d constraints; %d thread%s\n",
+           1e3 * total, 1e3 * info->time_total_s, 1e3 * info->time_guess_s,
+           1e3 * info->time_statics_s, ea__plan_engine_label(info), 1e3 * info->time_ipopt_s,
+           1e3 * info->time_rest_s, extra, 1e3 * fmax(other, 0.0), info->n_var, info->n_con,
+           info->threads, info->threads == 1 ? "" : "s");
     if (info->deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info->deriv_errors);
     if (r->ver) ea__plan_verify_text(r->ver);
   }
@@ -600,8 +660,11 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
 int ea__cli_plan(int argc, char **argv) {
   const char *cmd = "plan";
   ea__plan_opts_t o;
+  ea__plan_run_t r = {0};
+  ea__cli_progress_init(&r.prog, cmd, 1);
   int rc = ea__plan_parse(cmd, argc, argv, &o);
   if (rc >= 0) return rc;
+  r.prog.on = !o.quiet;
 
   ea_task_t task;
   ea_error_t err = {0};
@@ -616,6 +679,8 @@ int ea__cli_plan(int argc, char **argv) {
   if (o.knots) task.knots = (int)o.knots;
   if (o.dtest) task.solver.derivative_test = 1;
   if (o.refine) task.dynamics.refine.enabled = 1;
+  task.dynamics.refine.progress = ea__plan_refine_progress;
+  task.dynamics.refine.progress_data = &r.prog;
   if (o.plevel >= 0) task.solver.print_level = (int)o.plevel;
   if (o.shape && task.dynamics.refine.enabled)
     return ea__cli_usage_error(
@@ -627,7 +692,6 @@ int ea__cli_plan(int argc, char **argv) {
   if ((st = ea_task_check(&task, &err))) return ea__cli_fail(cmd, st, &err);
   if ((rc = ea__plan_outputs(cmd, &task, &o))) return rc;
 
-  ea__plan_run_t r = {0};
   ea__plan_run_id(r.run_id, sizeof r.run_id);
   if ((st = ea_planner_alloc(&task, &r.pl, &err))) return ea__cli_fail(cmd, st, &err);
   ea_plan_dyn_info_t di;
@@ -642,17 +706,22 @@ int ea__cli_plan(int argc, char **argv) {
   ea_status_t wst = EA_OK;
   if (o.shape && !r.shp) wst = ea_error_set(&werr, EA_ERR_NOMEM, "out of memory");
   if (!st && !wst) wst = ea_planner_trajectory(r.pl, &tr, &werr);
+  double t_phase = ea__mono_s();
   if (!st && !wst && o.shape) st = ea__plan_shape(&task, &tr, &r.info, r.shp);
+  r.time_shape_s = ea__mono_s() - t_phase;
+  t_phase = ea__mono_s();
   if (!st && !wst && o.verify) {
     if ((r.ver = calloc(1, sizeof *r.ver)))
-      ea__plan_verify(r.pl, &task, &tr, &r.info, r.ref, o.shape, r.ver);
+      ea__plan_verify(r.pl, &task, &tr, &r.info, r.ref, o.shape, &r.prog, r.ver);
     else
       wst = ea_error_set(&werr, EA_ERR_NOMEM, "out of memory");
   }
+  r.time_verify_s = ea__mono_s() - t_phase;
   const ea__plan_extra_t extra = {r.ref, r.shp, r.ver, r.run_id};
   if (!st && !wst) wst = ea__plan_write(r.pl, &tr, &r.info, &extra, o.out, o.summary, &werr);
   ea_traj_free(&tr);
   if (st || wst) {
+    ea__cli_progress_end(&r.prog);
     rc = ea__plan_failed(&o, &r, st, wst, &werr);
   } else {
     rc = o.figure ? ea__plan_figure_cli(&o, &task, &r) : 0;

@@ -18,17 +18,21 @@ typedef struct {
   const char *csv;
 } ea__common_t;
 
-/* Parse options shared by the statics commands; returns 1 if consumed,
+/* The options shared by the statics commands (in each one's table). */
+#define EA__COMMON_OPTS                                                                            \
+  {"help", 0, 'h'}, {"arm", 1, 0}, {"payload-factor", 1, 0}, {"payload-kg", 1, 0}, {"json", 0, 0}, \
+      {"no-stability", 0, 0}, {"figure", 1, 0}, {                                                  \
+    "csv", 1, 0                                                                                    \
+  }
+
+/* One option a (value v) shared by the statics commands; returns 1 if consumed,
  * 0 if not ours, -1 on error (message printed). */
-static int ea__common_opt(const char *cmd, int argc, char **argv, int *i, ea__common_t *c) {
-  const char *a = argv[*i], *v;
+static int ea__common_opt(const char *cmd, const char *a, const char *v, ea__common_t *c) {
   if (!strcmp(a, "--arm")) {
-    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
     c->arm_file = v;
   } else if (!strcmp(a, "--payload-factor") || !strcmp(a, "--payload-kg")) {
     if (c->payload.given)
       return ea__cli_usage_error(cmd, "give --payload-factor or --payload-kg once"), -1;
-    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
     c->payload.given = !strcmp(a, "--payload-factor") ? 1 : 2;
     if (ea__cli_double(cmd, a, v, 0.0, 1e3, &c->payload.value)) return -1;
   } else if (!strcmp(a, "--json")) {
@@ -36,11 +40,9 @@ static int ea__common_opt(const char *cmd, int argc, char **argv, int *i, ea__co
   } else if (!strcmp(a, "--no-stability")) {
     c->no_stability = 1;
   } else if (!strcmp(a, "--figure")) {
-    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
     if (ea__cli_check_figure(cmd, v)) return -1; /* before the work */
     c->figure = v;
   } else if (!strcmp(a, "--csv")) {
-    if (!(v = ea__cli_value(cmd, argc, argv, i))) return -1;
     c->csv = v;
   } else {
     return 0;
@@ -121,9 +123,7 @@ static const ea_config_point_t *ea__point_array(int k, const void *ctx) {
 }
 
 static int ea__help_requested(int argc, char **argv) {
-  for (int i = 1; i < argc; ++i)
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
-  return 0;
+  return ea__cli_help_asked(argc, argv);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -178,12 +178,22 @@ static int ea__statics_parse(const char *cmd, int argc, char **argv, ea__statics
   memset(o, 0, sizeof *o);
   double Lc = NAN, adeg = NAN, T = NAN, th0deg = NAN;
   o->tip[0] = o->tip[1] = NAN;
-  for (int i = 1; i < argc; ++i) {
-    int r = ea__common_opt(cmd, argc, argv, &i, &o->c);
+  static const ea__cli_opt_t opts[] = {
+      EA__COMMON_OPTS,   {"cable-length", 1, 0}, {"cable-angle-deg", 1, 0},
+      {"tension", 1, 0}, {"theta0-deg", 1, 0},   {"tip", 1, 0},
+      {"shape", 1, 0},   {"guess-deg", 1, 0},    {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int gr;
+  while ((gr = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      ea__cli_usage_error(cmd, "unexpected argument '%s'", v);
+      return EA_EXIT_USAGE;
+    }
+    int r = ea__common_opt(cmd, a, v, &o->c);
     if (r < 0) return EA_EXIT_USAGE;
     if (r) continue;
-    const char *a = argv[i], *v;
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     int bad;
     if (!strcmp(a, "--cable-length"))
       bad = ea__cli_double(cmd, a, v, 1e-6, 100.0, &Lc);
@@ -203,6 +213,7 @@ static int ea__statics_parse(const char *cmd, int argc, char **argv, ea__statics
       return ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) return bad;
   }
+  if (gr < 0) return EA_EXIT_USAGE;
   const int has_L = isfinite(Lc), has_a = isfinite(adeg), has_T = isfinite(T),
             has_th = isfinite(th0deg), has_tip = isfinite(o->tip[0]);
   o->has_tip = has_tip;
@@ -447,6 +458,8 @@ typedef struct {
   int no_limits;
   double *gam; /* payload factors (owned) */
   int ng;
+  double *kg; /* --payload-kg: payload masses [kg] (owned), the factors once the arm is known */
+  int nkg;
   /* results */
   ea_arm_t arm;
   int n; /* cable angles */
@@ -464,18 +477,37 @@ static int ea__ws_parse(const char *cmd, int argc, char **argv, ea__ws_run_t *w)
   w->amax = 10.0;
   w->inner = NAN;
   w->npts = 71;
-  for (int i = 1; i < argc; ++i) {
-    int r = ea__common_opt(cmd, argc, argv, &i, &w->c);
+  static const ea__cli_opt_t opts[] = {EA__COMMON_OPTS,           {"no-limits", 0, 0},
+                                       {"payload-factors", 1, 0}, {"alpha-min-deg", 1, 0},
+                                       {"alpha-max-deg", 1, 0},   {"points", 1, 0},
+                                       {"inner-length", 1, 0},    {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int gr;
+  while ((gr = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      ea__cli_usage_error(cmd, "unexpected argument '%s'", v);
+      return EA_EXIT_USAGE;
+    }
+    if (!strcmp(a, "--payload-kg")) { /* a list here: factors once the arm is loaded */
+      free(w->kg);
+      w->kg = NULL;
+      if (ea__cli_list(cmd, a, v, &w->kg, &w->nkg)) return EA_EXIT_USAGE;
+      for (int k = 0; k < w->nkg; ++k)
+        if (!(w->kg[k] >= 0 && w->kg[k] <= 1e3))
+          return ea__cli_usage_error(cmd, "%s: payload %g kg is outside [0, 1000]", a, w->kg[k]);
+      continue;
+    }
+    int r = strcmp(a, "--payload-factor") ? ea__common_opt(cmd, a, v, &w->c) : 0;
     if (r < 0) return EA_EXIT_USAGE;
     if (r) continue;
-    const char *a = argv[i], *v;
     if (!strcmp(a, "--no-limits")) {
       w->no_limits = 1;
       continue;
     }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     int bad;
-    if (!strcmp(a, "--payload-factors")) {
+    if (!strcmp(a, "--payload-factors") || !strcmp(a, "--payload-factor")) {
       free(w->gam);
       bad = ea__cli_list(cmd, a, v, &w->gam, &w->ng);
       for (int k = 0; !bad && k < w->ng; ++k)
@@ -493,10 +525,13 @@ static int ea__ws_parse(const char *cmd, int argc, char **argv, ea__ws_run_t *w)
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) return bad;
   }
+  if (gr < 0) return EA_EXIT_USAGE;
   if (!(w->amin < w->amax))
     return ea__cli_usage_error(cmd, "--alpha-min-deg %g must be below --alpha-max-deg %g", w->amin,
                                w->amax);
-  if (!w->gam) {
+  if (w->gam && w->kg)
+    return ea__cli_usage_error(cmd, "give --payload-factors or --payload-kg, not both");
+  if (!w->gam && !w->kg) {
     static const double def[] = {0.0, 0.1, 0.25, 0.5};
     w->ng = 4;
     if (!(w->gam = malloc(sizeof def))) return ea__cli_oom(cmd, "payload factors");
@@ -511,6 +546,13 @@ static int ea__ws_compute(const char *cmd, ea__ws_run_t *w) {
   int rc = ea__cli_load_arm(cmd, w->c.arm_file, &w->arm);
   if (rc) return rc;
   const ea_arm_t *arm = &w->arm;
+  if (w->kg) { /* --payload-kg: the factors of these masses (eq. 17) */
+    w->gam = malloc((size_t)w->nkg * sizeof *w->gam);
+    if (!w->gam) return ea__cli_oom(cmd, "payload factors");
+    for (int k = 0; k < w->nkg; ++k)
+      w->gam[k] = w->kg[k] / ea_arm_payload_from_factor(arm, 1.0);
+    w->ng = w->nkg;
+  }
   if (!isfinite(w->inner)) w->inner = arm->act.cable_length_min;
   const int n = w->n = (int)w->npts, ng = w->ng;
   w->alpha = malloc((size_t)n * sizeof *w->alpha);
@@ -623,24 +665,28 @@ static int ea__ws_figure(const char *cmd, ea__ws_run_t *w) {
 int ea__cli_workspace(int argc, char **argv) {
   const char *cmd = "workspace";
   if (ea__help_requested(argc, argv)) {
-    printf("usage: elasticarm workspace [--payload-factors LIST] [options]\n"
+    printf("usage: elasticarm workspace [--payload-factors LIST | --payload-kg LIST] [options]\n"
            "Outer edge (T = 0, eq. 16) and inner edge (shortest cable) for each payload (Fig. "
            "3),\n"
            "and the region's metrics (docs/statics.md): area, farthest reach from the shoulder,\n"
            "largest x and lowest y of the tip, each to 1e-9, with the boundary that sets it.\n"
-           "  --payload-factors L   list a,b,c or range start:step:stop (default "
-           "0,0.1,0.25,0.5)\n"
+           "  --payload-factors L   payload factors G, m_p = G (m_h + rho L) (eq. 17): a list\n"
+           "                        a,b,c or a range start:step:stop (default 0,0.1,0.25,0.5);\n"
+           "                        --payload-factor is the same option (one value or a list)\n"
+           "  --payload-kg L        the payloads as masses [kg] instead (a list or a range)\n"
            "  --alpha-min-deg A     start of the cable-angle range (default -60)\n"
            "  --alpha-max-deg A     end of the cable-angle range (default 10)\n"
            "  --points N            cable angles per edge, and the region's samples (default 71)\n"
            "  --inner-length M      inner edge cable length (default: arm's minimum)\n"
            "  --no-limits           the region without the arm's limits (shoulder angle,\n"
            "                        shoulder torque, tension, cable length): paper Fig. 3\n"
-           "  --csv FILE            tidy CSV of every edge point ('-' = stdout)\n%s"
+           "  --csv FILE            tidy CSV of every edge point ('-' = stdout)\n"
+           "  --arm FILE            arm parameters (default: see elasticarm --help)\n"
+           "  --json                JSON on stdout\n"
+           "  --figure OUT          draw a figure (.svg, .png or .pdf)\n"
            "exit: 0 ok; 1 an edge point or a metric did not solve; 2 bad options, or an\n"
            "empty or ill-defined region (inner cable beyond the outer edge, cable angles\n"
-           "where the outer edge does not bound the region)\n",
-           ea__common_help);
+           "where the outer edge does not bound the region)\n");
     return EA_EXIT_OK;
   }
   ea__ws_run_t w;
@@ -670,6 +716,7 @@ int ea__cli_workspace(int argc, char **argv) {
   free(w.inn);
   free(w.met);
   free(w.gam);
+  free(w.kg);
   return rc;
 }
 
@@ -692,12 +739,20 @@ int ea__cli_torque_map(int argc, char **argv) {
   ea__common_t c = {0};
   double *Ls = NULL, *As = NULL;
   int nL = 0, nA = 0, rc = 0, rc_usage = EA_EXIT_USAGE; /* (or EA_EXIT_FAIL: out of memory) */
-  for (int i = 1; i < argc; ++i) {
-    int r = ea__common_opt(cmd, argc, argv, &i, &c);
+  static const ea__cli_opt_t opts[] = {
+      EA__COMMON_OPTS, {"cable-lengths", 1, 0}, {"cable-angles-deg", 1, 0}, {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int gr;
+  while ((gr = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      ea__cli_usage_error(cmd, "unexpected argument '%s'", v);
+      goto usage;
+    }
+    int r = ea__common_opt(cmd, a, v, &c);
     if (r < 0) goto usage;
     if (r) continue;
-    const char *a = argv[i], *v;
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) goto usage;
     int bad;
     if (!strcmp(a, "--cable-lengths")) {
       free(Ls);
@@ -717,6 +772,7 @@ int ea__cli_torque_map(int argc, char **argv) {
       goto usage;
     }
   }
+  if (gr < 0) goto usage;
   if (!Ls && (rc_usage = ea__cli_list(cmd, "--cable-lengths", "0.254:0.01:0.834", &Ls, &nL)))
     goto usage;
   if (!As && (rc_usage = ea__cli_list(cmd, "--cable-angles-deg", "-60:5:10", &As, &nA))) goto usage;
@@ -807,12 +863,20 @@ static void ea__beta_prefix(FILE *fp, int k, const void *vctx) {
 static int ea__path_parse(int argc, char **argv, ea__common_t *c, double p0[2], double p1[2],
                           long *steps) {
   const char *cmd = "path";
-  for (int i = 1; i < argc; ++i) {
-    int r = ea__common_opt(cmd, argc, argv, &i, c);
+  static const ea__cli_opt_t opts[] = {
+      EA__COMMON_OPTS, {"from", 1, 0}, {"to", 1, 0}, {"steps", 1, 0}, {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int gr;
+  while ((gr = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      ea__cli_usage_error(cmd, "unexpected argument '%s'", v);
+      return EA_EXIT_USAGE;
+    }
+    int r = ea__common_opt(cmd, a, v, c);
     if (r < 0) return EA_EXIT_USAGE;
     if (r) continue;
-    const char *a = argv[i], *v;
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     int bad;
     if (!strcmp(a, "--from"))
       bad = ea__cli_pair(cmd, a, v, p0);
@@ -824,6 +888,7 @@ static int ea__path_parse(int argc, char **argv, ea__common_t *c, double p0[2], 
       bad = ea__cli_usage_error(cmd, "unknown option '%s'", a);
     if (bad) return bad;
   }
+  if (gr < 0) return EA_EXIT_USAGE;
   return 0;
 }
 

@@ -93,32 +93,44 @@ typedef struct {
 /* stream's options into o and s; 0, or an exit code (-1: help printed, exit 0). */
 static int ea__stream_parse(int argc, char **argv, ea__stream_opts_t *o, ea_stream_settings_t *s) {
   const char *cmd = "stream";
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v;
-    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"to", 1, 0},
+                                       {"arm", 1, 0},
+                                       {"rate-hz", 1, 0},
+                                       {"ack-timeout-ms", 1, 0},
+                                       {"start-tol-m", 1, 0},
+                                       {"start-tol-rad", 1, 0},
+                                       {"json", 0, 0},
+                                       {"no-realtime", 0, 0},
+                                       {"realtime", 0, 0},
+                                       {"time-scale", 1, 0},
+                                       {"rt", 0, 0},
+                                       {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      if (o->traj_path) return ea__cli_usage_error(cmd, "more than one trajectory ('%s')", v);
+      o->traj_path = v;
+    } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       fputs(ea__stream_help, stdout);
       return -1;
     } else if (!strcmp(a, "--to")) {
-      if (!(o->to = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->to = v;
     } else if (!strcmp(a, "--arm")) {
-      if (!(o->arm_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->arm_file = v;
     } else if (!strcmp(a, "--rate-hz")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 1, 100000, &s->rate_hz))
-        return EA_EXIT_USAGE;
+      if (ea__cli_double(cmd, a, v, 1, 100000, &s->rate_hz)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--ack-timeout-ms")) {
       double ms;
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_double(cmd, a, v, 1, 60000, &ms))
-        return EA_EXIT_USAGE;
+      if (ea__cli_double(cmd, a, v, 1, 60000, &ms)) return EA_EXIT_USAGE;
       s->ack_timeout_s = ms * 1e-3;
     } else if (!strcmp(a, "--start-tol-m")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0, 1, &s->start_tol_cable))
-        return EA_EXIT_USAGE;
+      if (ea__cli_double(cmd, a, v, 0, 1, &s->start_tol_cable)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--start-tol-rad")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0, 1, &s->start_tol_angle))
-        return EA_EXIT_USAGE;
+      if (ea__cli_double(cmd, a, v, 0, 1, &s->start_tol_angle)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--json")) {
       o->json = 1;
     } else if (!strcmp(a, "--no-realtime")) {
@@ -126,21 +138,15 @@ static int ea__stream_parse(int argc, char **argv, ea__stream_opts_t *o, ea_stre
     } else if (!strcmp(a, "--realtime")) {
       o->realtime = 1;
     } else if (!strcmp(a, "--time-scale")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
       if (!strcmp(v, "auto"))
         o->time_scale_auto = 1;
       else if (ea__cli_double(cmd, a, v, 1, 1000, &o->time_scale))
         return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--rt")) {
       o->rt = 1;
-    } else if (a[0] == '-' && a[1]) {
-      return ea__cli_usage_error(cmd, "unknown option '%s'", a);
-    } else if (!o->traj_path) {
-      o->traj_path = a;
-    } else {
-      return ea__cli_usage_error(cmd, "more than one trajectory ('%s')", a);
     }
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (!o->traj_path) return ea__cli_usage_error(cmd, "no trajectory file");
   if (!o->to) return ea__cli_usage_error(cmd, "no destination (--to tcp://HOST:PORT, ...)");
   return 0;
@@ -452,40 +458,46 @@ static int ea__ctrl_parse(const char *cmd, int argc, char **argv, ea__ctrl_opts_
   ea_ctrl_settings_default(&o->s);
   o->sim_elements = EA_FE_DEFAULT_ELEMENTS;
   o->sim_settle = 1.0;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v;
-    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+  static const ea__cli_opt_t opts[] = {
+      {"help", 0, 'h'},      {"listen", 1, 0},    {"udp", 0, 0},        {"arm", 1, 0},
+      {"log", 1, 0},         {"port-file", 1, 0}, {"max-frames", 1, 0}, {"timeout", 1, 0},
+      {"watchdog-ms", 1, 0}, {"initial", 1, 0},   {"fault", 1, 0},      {"json", 0, 0},
+      {"simulate", 1, 0},    {"elements", 1, 0},  {"payload-kg", 1, 0}, {"settle", 1, 0},
+      {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      return ea__cli_usage_error(cmd, "unknown argument '%s'", v);
+    } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       printf(ea__ctrl_help, EA_FE_DEFAULT_ELEMENTS);
       return -1;
     } else if (!strcmp(a, "--listen")) {
-      if (!(o->listen_at = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->listen_at = v;
     } else if (!strcmp(a, "--udp")) {
       o->s.udp = 1;
     } else if (!strcmp(a, "--arm")) {
-      if (!(o->arm_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->arm_file = v;
     } else if (!strcmp(a, "--log")) {
-      if (!(o->log_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->log_path = v;
     } else if (!strcmp(a, "--port-file")) {
-      if (!(o->port_file = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->port_file = v;
     } else if (!strcmp(a, "--max-frames")) {
       long n;
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_int(cmd, a, v, 1, 2000000000L, &n))
-        return EA_EXIT_USAGE;
+      if (ea__cli_int(cmd, a, v, 1, 2000000000L, &n)) return EA_EXIT_USAGE;
       o->s.max_frames = (int)n;
     } else if (!strcmp(a, "--timeout")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0.01, 86400, &o->s.timeout_s))
-        return EA_EXIT_USAGE;
+      if (ea__cli_double(cmd, a, v, 0.01, 86400, &o->s.timeout_s)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--watchdog-ms")) {
       double ms;
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_double(cmd, a, v, 1, 60000, &ms))
-        return EA_EXIT_USAGE;
+      if (ea__cli_double(cmd, a, v, 1, 60000, &ms)) return EA_EXIT_USAGE;
       o->s.watchdog_s = ms * 1e-3;
     } else if (!strcmp(a, "--initial")) {
       double *vals = NULL;
       int nv = 0;
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__cli_list(cmd, a, v, &vals, &nv))
-        return EA_EXIT_USAGE;
+      if (ea__cli_list(cmd, a, v, &vals, &nv)) return EA_EXIT_USAGE;
       if (nv != 3) {
         free(vals);
         return ea__cli_usage_error(cmd, "--initial needs L_c,theta0,base (3 values)");
@@ -494,28 +506,20 @@ static int ea__ctrl_parse(const char *cmd, int argc, char **argv, ea__ctrl_opts_
       free(vals);
       o->s.has_initial = 1;
     } else if (!strcmp(a, "--fault")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) || ea__parse_fault(cmd, v, &o->s))
-        return EA_EXIT_USAGE;
+      if (ea__parse_fault(cmd, v, &o->s)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--json")) {
       o->json = 1;
     } else if (!strcmp(a, "--simulate")) {
-      if (!(o->sim_path = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
+      o->sim_path = v;
     } else if (!strcmp(a, "--elements")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_int(cmd, a, v, 1, 512, &o->sim_elements))
-        return EA_EXIT_USAGE;
+      if (ea__cli_int(cmd, a, v, 1, 512, &o->sim_elements)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--payload-kg")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_payload))
-        return EA_EXIT_USAGE;
+      if (ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_payload)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--settle")) {
-      if (!(v = ea__cli_value(cmd, argc, argv, &i)) ||
-          ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_settle))
-        return EA_EXIT_USAGE;
-    } else {
-      return ea__cli_usage_error(cmd, "unknown argument '%s'", a);
+      if (ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_settle)) return EA_EXIT_USAGE;
     }
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (o->sim_path && o->json && !strcmp(o->sim_path, "-"))
     return ea__cli_usage_error(cmd, "--json and --simulate - both want stdout");
   return 0;

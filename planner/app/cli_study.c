@@ -39,8 +39,10 @@ static void ea__study_help(FILE *fp) {
       "                       summary and the figures the spec asks for next to it\n"
       "  --summary FILE       JSON summary (default: OUTPUT with .json)\n"
       "  --figures PREFIX     figures PREFIX-workspace.svg, PREFIX-METRIC.svg\n"
-      "  --figure-format F    svg (default), png or pdf\n"
-      "  --threads N          workers (default: all cores); results identical\n"
+      "  --figure-format F    svg (default), png or pdf (with --figures, or a spec\n"
+      "                       whose outputs name figures)\n"
+      "  --threads N          workers (default, and 0: all online cores); results\n"
+      "                       identical for every N\n"
       "  --workers MODE       auto (default: forked processes when the study plans,\n"
       "                       min_time or at_rest, else threads), threads or processes\n"
       "  --shard K/N          only cases with case_id %% N == K-1 (1 <= K <= N)\n"
@@ -51,7 +53,8 @@ static void ea__study_help(FILE *fp) {
       "  --no-fsync           do not fsync the journal per case (faster, not\n"
       "                       power-loss safe)\n"
       "  --arm FILE           arm file when the spec names none\n"
-      "  --quiet              no progress or summary table\n\n"
+      "  --quiet              no progress or summary table (progress: on stderr once a\n"
+      "                       study runs a second, cases done and the time left)\n\n"
       "payload shorthand:\n"
       "  --payload-factors L  list a,b,c or range start:step:stop (eq. 17)\n"
       "  --payload-kg L       payload masses [kg]\n"
@@ -135,30 +138,33 @@ static int ea__study_merge_cli(int argc, char **argv) {
   const char **inputs = calloc((size_t)argc + 1, sizeof *inputs);
   int n = 0, rc = 0;
   if (!inputs) return EA_EXIT_FAIL;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'}, {"summary", 1, 0}, {"spec", 1, 0},
+                                       {"arm", 1, 0},    {"cases", 1, 0},   {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      if (!out)
+        out = v;
+      else
+        inputs[n++] = v;
+    } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__study_help(stdout);
       free(inputs);
       return EA_EXIT_OK;
     } else if (!strcmp(a, "--summary")) {
-      if (!(summary = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+      summary = v;
     } else if (!strcmp(a, "--spec")) {
-      if (!(spec = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+      spec = v;
     } else if (!strcmp(a, "--arm")) {
-      if (!(arm_file = ea__cli_value(cmd, argc, argv, &i))) goto usage;
+      arm_file = v;
     } else if (!strcmp(a, "--cases")) {
-      const char *v = ea__cli_value(cmd, argc, argv, &i);
-      if (!v || ea__cli_int(cmd, a, v, 1, 100000000L, &cases)) goto usage;
-    } else if (a[0] == '-' && a[1]) {
-      ea__cli_usage_error(cmd, "unknown option '%s'", a);
-      goto usage;
-    } else if (!out) {
-      out = a;
-    } else {
-      inputs[n++] = a;
+      if (ea__cli_int(cmd, a, v, 1, 100000000L, &cases)) goto usage;
     }
   }
+  if (r < 0) goto usage;
   if (!out || n < 1) {
     ea__cli_usage_error(cmd, "give OUT.csv and at least one shard CSV");
     goto usage;
@@ -260,11 +266,31 @@ usage:
 
 /* ---- run ---------------------------------------------------------------------- */
 
+/* Study progress: cases done and, from the pace of the cases this run computed (not those
+ * the checkpoint had), the time left. */
+typedef struct {
+  ea__cli_progress_t p;
+  double t0; /* [s] (ea__mono_s) when the run started */
+  long base; /* cases done before this run's first: from the checkpoint; -1 until known */
+} ea__study_progress_t;
+
 static void ea__progress(void *data, long case_id, long done, long todo, int failed_rows) {
   (void)case_id;
   (void)failed_rows;
-  const int *tty = data;
-  if (*tty) fprintf(stderr, "\relasticarm study: %ld / %ld cases", done, todo);
+  ea__study_progress_t *g = data;
+  if (g->base < 0) g->base = done - 1;
+  const double el = ea__mono_s() - g->t0;
+  const long ran = done - g->base;
+  char left[64] = "";
+  if (ran > 0 && done < todo) {
+    const double eta = el / (double)ran * (double)(todo - done);
+    if (eta < 90)
+      snprintf(left, sizeof left, ", about %.0f s left", ceil(eta));
+    else
+      snprintf(left, sizeof left, ", about %.0f min left", ceil(eta / 60));
+  }
+  ea__cli_progress(&g->p, done == todo, "%ld / %ld cases (%.0f %%), %.1f s%s", done, todo,
+                   todo > 0 ? 100.0 * (double)done / (double)todo : 100.0, el, left);
 }
 
 typedef struct {
@@ -303,7 +329,7 @@ static int ea__parse_metrics(const char *cmd, const char *v, unsigned *m) {
 /* Options of `study` (not `study merge`). */
 typedef struct {
   const char *spec, *out, *summary, *figures, *fmt, *ckpt, *arm_file;
-  int no_ckpt, restart, quiet, shorthand, no_fsync, out_given;
+  int no_ckpt, restart, quiet, shorthand, no_fsync, out_given, fmt_given;
   ea_study_workers_t workers;
   long threads, stop_after;
   int shard_k, shard_n;
@@ -340,10 +366,11 @@ static int ea__study_opt(const char *cmd, const char *a, const char *v, ea__stud
     o->figures = v;
   else if (!strcmp(a, "--figure-format")) {
     o->fmt = v;
+    o->fmt_given = 1;
     if (strcmp(v, "svg") && strcmp(v, "png") && strcmp(v, "pdf"))
       return ea__cli_usage_error(cmd, "--figure-format: '%s' is not svg, png or pdf", v);
   } else if (!strcmp(a, "--threads"))
-    return ea__cli_int(cmd, a, v, 1, 1024, &o->threads);
+    return ea__cli_int(cmd, a, v, 0, 1024, &o->threads); /* 0: every online core */
   else if (!strcmp(a, "--workers")) {
     if (!strcmp(v, "auto"))
       o->workers = EA_STUDY_WORKERS_AUTO;
@@ -403,8 +430,45 @@ static int ea__study_parse(const char *cmd, int argc, char **argv, ea__study_opt
   o->sh.amax = 10;
   o->sh.points = 71;
   o->sh.modes = 3;
-  for (int i = 1; i < argc; ++i) {
-    const char *a = argv[i], *v = NULL;
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"quiet", 0, 0},
+                                       {"no-checkpoint", 0, 0},
+                                       {"restart", 0, 0},
+                                       {"no-fsync", 0, 0},
+                                       {"no-limits", 0, 0},
+                                       {"output", 1, 'o'},
+                                       {"summary", 1, 0},
+                                       {"figures", 1, 0},
+                                       {"figure-format", 1, 0},
+                                       {"threads", 1, 0},
+                                       {"workers", 1, 0},
+                                       {"stop-after", 1, 0},
+                                       {"shard", 1, 0},
+                                       {"checkpoint", 1, 0},
+                                       {"arm", 1, 0},
+                                       {"payload-factors", 1, 0},
+                                       {"payload-kg", 1, 0},
+                                       {"metrics", 1, 0},
+                                       {"alpha-min-deg", 1, 0},
+                                       {"alpha-max-deg", 1, 0},
+                                       {"points", 1, 0},
+                                       {"modes", 1, 0},
+                                       {"config", 1, 0},
+                                       {"path", 1, 0},
+                                       {"task", 1, 0},
+                                       {NULL, 0, 0}};
+  ea__cli_args_t g;
+  ea__cli_args_init(&g, cmd, argc, argv, opts);
+  int r;
+  while ((r = ea__cli_args_next(&g)) > 0) {
+    const char *a = g.opt, *v = g.arg;
+    if (!a) {
+      if (o->spec)
+        return ea__cli_usage_error(cmd, "more than one spec ('%s' and '%s')", o->spec, v);
+      o->spec = v;
+      o->shorthand = !strcmp(v, "payload");
+      continue;
+    }
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
       ea__study_help(stdout);
       return -1;
@@ -419,17 +483,10 @@ static int ea__study_parse(const char *cmd, int argc, char **argv, ea__study_opt
       *flag = 1;
       continue;
     }
-    if (a[0] != '-' || !a[1]) {
-      if (o->spec)
-        return ea__cli_usage_error(cmd, "more than one spec ('%s' and '%s')", o->spec, a);
-      o->spec = a;
-      o->shorthand = !strcmp(a, "payload");
-      continue;
-    }
-    if (!(v = ea__cli_value(cmd, argc, argv, &i))) return EA_EXIT_USAGE;
     const int bad = ea__study_opt(cmd, a, v, o);
     if (bad) return bad;
   }
+  if (r < 0) return EA_EXIT_USAGE;
   if (!o->spec) return ea__cli_usage_error(cmd, "no study spec (SPEC.yaml, 'payload' or 'merge')");
   const ea__shorthand_t *sh = &o->sh;
   if (!o->shorthand && (sh->gam || sh->kg || sh->metrics || sh->n_config || sh->has_path ||
@@ -534,6 +591,11 @@ static int ea__study_paths(const char *cmd, const ea_study_t *s, ea__study_opts_
       o->figures = s->out_figures;
     }
   }
+  if (o->fmt_given && !o->figures)
+    return ea__cli_usage_error(cmd,
+                               "--figure-format %s needs --figures PREFIX (or a spec whose "
+                               "outputs name figures): without them nothing is drawn",
+                               o->fmt);
   if (!o->ckpt && !o->no_ckpt && !to_stdout) {
     snprintf(o->ck_buf, sizeof o->ck_buf, "%s.journal", o->out);
     o->ckpt = o->ck_buf;
@@ -566,9 +628,12 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   set.stop_after = o->stop_after;
   set.stop_request = &ea__study_stop;
   set.workers = o->workers;
-  int tty = !o->quiet && isatty(STDERR_FILENO);
+  ea__study_progress_t prog;
+  ea__cli_progress_init(&prog.p, "study", !o->quiet);
+  prog.t0 = ea__mono_s();
+  prog.base = -1;
   set.progress = ea__progress;
-  set.progress_data = &tty;
+  set.progress_data = &prog;
   struct sigaction sa, old;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = ea__study_on_signal;
@@ -578,7 +643,7 @@ static int ea__study_execute(const char *cmd, const ea__study_opts_t *o, const e
   st = ea_study_run(s, &set, csv, csv_len, info, &err);
   sigaction(SIGINT, &old, NULL);
   signal(SIGTERM, SIG_DFL);
-  if (tty) fputc('\n', stderr);
+  ea__cli_progress_end(&prog.p);
   ea_study_planner_free(plan);
   if (st == EA_ERR_INTERRUPTED) {
     fprintf(stderr, "elasticarm study: interrupted: %s\n", err.msg);

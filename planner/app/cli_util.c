@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <inttypes.h>
 #include <fcntl.h>
+#include <getopt.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -116,13 +117,110 @@ int ea__cli_list(const char *cmd, const char *flag, const char *text, double **o
   return 0;
 }
 
-const char *ea__cli_value(const char *cmd, int argc, char **argv, int *i) {
-  if (*i + 1 >= argc) {
-    ea__cli_usage_error(cmd, "%s needs a value", argv[*i]);
-    return NULL;
+int ea__cli_help_asked(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    const size_t n = strlen(argv[i]);
+    if (!strcmp(argv[i], "-h") || (n >= 3 && n <= 6 && !strncmp(argv[i], "--help", n))) return 1;
+    if (!strcmp(argv[i], "--")) break;
   }
-  ++*i;
-  return argv[*i];
+  return 0;
+}
+
+void ea__cli_args_init(ea__cli_args_t *g, const char *cmd, int argc, char **argv,
+                       const ea__cli_opt_t *opts) {
+  memset(g, 0, sizeof *g);
+  g->cmd = cmd;
+  g->argc = argc;
+  g->argv = argv;
+  g->opts = opts;
+  while (opts[g->nopts].name && g->nopts < EA__CLI_MAX_OPTS)
+    ++g->nopts;
+  optind = 0; /* glibc: a full restart (another subcommand's parse may have run) */
+}
+
+/* A long option's usage error: argv text t ("--name" or "--name=value") did not match. */
+static int ea__cli_long_error(const ea__cli_args_t *g, const char *t) {
+  const char *eq = strchr(t, '=');
+  const size_t n = eq ? (size_t)(eq - t - 2) : strlen(t + 2);
+  char list[400] = "";
+  int matches = 0, exact = -1;
+  size_t u = 0;
+  for (int i = 0; i < g->nopts; ++i) {
+    if (strncmp(g->opts[i].name, t + 2, n)) continue;
+    if (strlen(g->opts[i].name) == n) exact = i;
+    ++matches;
+    if (u < sizeof list)
+      u += (size_t)snprintf(list + u, sizeof list - u, "%s--%s", matches > 1 ? ", " : "",
+                            g->opts[i].name);
+  }
+  if (eq && (exact >= 0 || matches == 1))
+    return ea__cli_usage_error(g->cmd, "--%s takes no value ('%s')",
+                               g->opts[exact >= 0 ? exact : 0].name, t);
+  if (matches > 1)
+    return ea__cli_usage_error(g->cmd, "option '%.*s' is ambiguous (%s)", (int)(n + 2), t, list);
+  return ea__cli_usage_error(g->cmd, "unknown option '%.*s'", (int)(n + 2), t);
+}
+
+int ea__cli_args_next(ea__cli_args_t *g) {
+  /* getopt_long's table: every long option its own code (>= 256, or its letter), so that an
+   * abbreviation of two options is ambiguous however alike they are */
+  struct option lo[EA__CLI_MAX_OPTS + 1];
+  char shorts[2 * EA__CLI_MAX_OPTS + 3] = "-:"; /* operands in order; ':' for a missing value */
+  size_t ns = 2;
+  for (int i = 0; i < g->nopts; ++i) {
+    lo[i].name = g->opts[i].name;
+    lo[i].has_arg = g->opts[i].value ? required_argument : no_argument;
+    lo[i].flag = NULL;
+    lo[i].val = g->opts[i].letter ? g->opts[i].letter : 256 + i;
+    if (g->opts[i].letter) {
+      shorts[ns++] = g->opts[i].letter;
+      if (g->opts[i].value) shorts[ns++] = ':';
+    }
+  }
+  memset(&lo[g->nopts], 0, sizeof lo[g->nopts]);
+  shorts[ns] = '\0';
+  int idx = -1, c = -1;
+  g->opt = g->arg = NULL;
+  if (!g->rest) {
+    opterr = 0;
+    idx = -1;
+    c = getopt_long(g->argc, g->argv, shorts, lo, &idx);
+    g->rest = c == -1;
+  }
+  if (g->rest) { /* after "--" every argument is an operand */
+    if (optind >= g->argc) return 0;
+    g->arg = g->argv[optind++];
+    return 1;
+  }
+  if (c == 1) {
+    g->arg = optarg;
+    return 1;
+  }
+  const char *t = g->argv[optind - 1 < g->argc ? optind - 1 : g->argc - 1];
+  if (c == ':') {
+    if (!strncmp(t, "--", 2)) {
+      const char *eq = strchr(t, '=');
+      return ea__cli_usage_error(g->cmd, "%.*s needs a value", eq ? (int)(eq - t) : (int)strlen(t),
+                                 t),
+             -1;
+    }
+    return ea__cli_usage_error(g->cmd, "-%c needs a value", optopt), -1;
+  }
+  if (c == '?') {
+    if (!strncmp(t, "--", 2)) return ea__cli_long_error(g, t), -1;
+    return ea__cli_usage_error(g->cmd, "unknown option '-%c'", optopt ? optopt : '?'), -1;
+  }
+  if (idx >= 0 && idx < g->nopts) { /* a long option (getopt_long sets idx for those only) */
+    snprintf(g->buf, sizeof g->buf, "--%s", g->opts[idx].name);
+  } else { /* a letter: its option */
+    for (int i = 0; i < g->nopts; ++i)
+      if (g->opts[i].letter == c) idx = i;
+    if (idx < 0) return ea__cli_usage_error(g->cmd, "unknown option '-%c'", c), -1;
+    snprintf(g->buf, sizeof g->buf, "-%c", c);
+  }
+  g->opt = g->buf;
+  g->arg = g->opts[idx].value ? optarg : NULL;
+  return 1;
 }
 
 /* The folder of the running executable (from /proc/self/exe) into buf; 0 if unknown. */
@@ -455,4 +553,48 @@ int ea__cli_check_plan_pair(const char *cmd, const char *traj_path) {
   }
   if (lfd >= 0) close(lfd);
   return rc;
+}
+
+void ea__cli_progress_init(ea__cli_progress_t *p, const char *cmd, int on) {
+  memset(p, 0, sizeof *p);
+  p->cmd = cmd;
+  p->on = on;
+  p->tty = isatty(STDERR_FILENO);
+  p->t0 = ea__mono_s();
+}
+
+double ea__cli_progress_elapsed(const ea__cli_progress_t *p) {
+  return ea__mono_s() - p->t0;
+}
+
+void ea__cli_progress(ea__cli_progress_t *p, int force, const char *fmt, ...) {
+  if (!p || !p->on) return;
+  const double now = ea__mono_s();
+  if (now - p->t0 < 1.0) return; /* a short job stays silent */
+  if (!force && p->last > 0 && now - p->last < (p->tty ? 0.2 : 2.0)) return;
+  p->last = now;
+  char line[400];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  if (p->tty) {
+    fprintf(stderr, "\r\033[Kelasticarm %s: %s", p->cmd, line); /* \033[K: clear the rest */
+    p->open = 1;
+  } else {
+    fprintf(stderr, "elasticarm %s: %s\n", p->cmd, line);
+  }
+  fflush(stderr);
+}
+
+void ea__cli_progress_end(ea__cli_progress_t *p) {
+  if (p && p->open) fputc('\n', stderr);
+  if (p) p->open = 0;
+}
+
+void ea__cli_progress_fe(void *data, double t_s, double t_end_s) {
+  ea__cli_progress_t *p = data;
+  ea__cli_progress(p, 0, "FE transient: t = %.2f of %.2f s simulated (%.0f %%), %.1f s", t_s,
+                   t_end_s, t_end_s > 0 ? 100.0 * t_s / t_end_s : 100.0,
+                   ea__cli_progress_elapsed(p));
 }

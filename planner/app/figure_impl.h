@@ -88,6 +88,10 @@ typedef struct ea_traj_figure_opts {
    *  (NULL: none) and what the plan summary predicts (NAN when unknown). */
   const ea_rom_table_t *rom;
   double predicted_residual_m, max_modal_deviation_m, predicted_time_to_rest_s;
+  /** What an FE transient of this very trajectory measured (NAN: none): the residual
+   *  vibration's peak [m], and which check ran it (e.g. "plan --verify"). */
+  double fe_residual_peak_m;
+  const char *fe_check;
 } ea_traj_figure_opts_t;
 
 /** Defaults: no title, the arm's actuator limits, no models, NAN predictions. */
@@ -101,8 +105,9 @@ void ea_traj_figure_opts_limits(ea_traj_figure_opts_t *o, const ea_task_limits_t
  *  (c) angles [deg], (d) tension [N], (e) shoulder torque [N m], (f) cable speed
  *  [m/s], (g) angular rates [deg/s], (h) a plan's natural frequencies [Hz] (the
  *  frequency model's f1 or the reduced model's modes) with its dynamics
- *  predictions, else the cable acceleration [m/s^2]; limits dashed. opts NULL:
- *  defaults. (.svg, .png, .pdf) */
+ *  predictions, else the cable acceleration [m/s^2]; limits dashed; when the base
+ *  turns, a top view of the tip path beside (a). opts NULL: defaults.
+ *  (.svg, .png, .pdf) */
 ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, const ea_traj_figure_opts_t *opts,
                            const char *path, ea_error_t *err);
 
@@ -111,6 +116,11 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, const ea_traj_
  *  predictions of the summary). (.svg, .png, .pdf) */
 ea_status_t ea_plan_figure(ea_planner_t *pl, const ea_plan_info_t *info, const char *path,
                            ea_error_t *err);
+/** ea_plan_figure with what an FE transient of the plan measured (fe_residual_peak_m [m],
+ *  NAN: none) and which check ran it (fe_check), drawn beside the model's prediction. */
+ea_status_t ea_plan_figure_fe(ea_planner_t *pl, const ea_plan_info_t *info,
+                              double fe_residual_peak_m, const char *fe_check, const char *path,
+                              ea_error_t *err);
 
 /** Figure of a simulated trajectory (ea_traj_simulate with keep_history): (a) the
  *  planned and simulated tip paths at equal scale in a window at least 0.4 times

@@ -30,6 +30,12 @@ void ea_traj_figure_opts_limits(ea_traj_figure_opts_t *o, const ea_task_limits_t
 
 ea_status_t ea_plan_figure(ea_planner_t *pl, const ea_plan_info_t *info, const char *path,
                            ea_error_t *err) {
+  return ea_plan_figure_fe(pl, info, NAN, NULL, path, err);
+}
+
+ea_status_t ea_plan_figure_fe(ea_planner_t *pl, const ea_plan_info_t *info,
+                              double fe_residual_peak_m, const char *fe_check, const char *path,
+                              ea_error_t *err) {
   if (!pl || !path) return ea_error_set(err, EA_ERR_ARG, "ea_plan_figure: NULL argument");
   ea_traj_t tr;
   memset(&tr, 0, sizeof tr);
@@ -64,6 +70,8 @@ ea_status_t ea_plan_figure(ea_planner_t *pl, const ea_plan_info_t *info, const c
     o.max_modal_deviation_m = info->max_modal_deviation_m;
     o.predicted_time_to_rest_s = info->predicted_time_to_rest_s;
   }
+  o.fe_residual_peak_m = fe_residual_peak_m;
+  o.fe_check = fe_check;
   st = ea_traj_figure(&tr, sh, &o, path, err);
   ea_shooter_free(sh);
   ea_traj_free(&tr);

@@ -18,6 +18,7 @@ void ea_traj_figure_opts_default(ea_traj_figure_opts_t *o, const ea_arm_t *arm) 
   memset(o, 0, sizeof *o);
   if (arm) o->lim = arm->act;
   o->predicted_residual_m = o->max_modal_deviation_m = o->predicted_time_to_rest_s = NAN;
+  o->fe_residual_peak_m = NAN;
 }
 
 /* Range of column c (scaled) over the rows. */
@@ -155,27 +156,39 @@ static void ea__time_panel(ea_plot_t *p, int slot, const char *title, const char
 }
 
 /* (a) the workspace with the tip path and beam shapes, and the reduced model's summary. */
-static void ea__panel_workspace(ea_plot_t *p, const ea_arm_t *arm, const ea_traj_figure_opts_t *o) {
+static void ea__panel_workspace(ea_plot_t *p, const ea_arm_t *arm, const ea_traj_figure_opts_t *o,
+                                int top_view) {
   ea_plot_cmd(p,
               "set size ratio -1 %.6f,%.6f\nset origin 0,%.6f\n"
               "set xlabel 'reach x_L [m]'\nset ylabel 'height y_L [m]'\n"
               "set title '(a) tip path and beam shapes in the workspace region'\n"
               "set key outside right top vertical box opaque",
               2.0 / 3.0, 0.955 / 2.0, 0.955 / 2.0);
-  if (isfinite(o->predicted_residual_m) || isfinite(o->max_modal_deviation_m)) {
+  /* what the model predicted and, apart, what an FE transient of this trajectory measured */
+  char label[900] = "";
+  size_t u = 0;
+  if (isfinite(o->fe_residual_peak_m))
+    u += (size_t)snprintf(label, sizeof label,
+                          "FE transient of this trajectory (%s):\\n"
+                          "  measured residual vibration peak: %.3g mm\\n",
+                          o->fe_check ? o->fe_check : "measured", 1e3 * o->fe_residual_peak_m);
+  if (u < sizeof label &&
+      (isfinite(o->predicted_residual_m) || isfinite(o->max_modal_deviation_m))) {
     char rest[120];
     if (isfinite(o->predicted_time_to_rest_s))
       snprintf(rest, sizeof rest, "within 1 mm %.3g s after the motion",
                o->predicted_time_to_rest_s);
     else
       snprintf(rest, sizeof rest, "not within 1 mm (undamped)");
-    ea_plot_cmd(p,
-                "set label 1 \"reduced dynamic model (plan summary):\\n"
-                "  modal tip deviation during the motion: up to %.3g mm\\n"
-                "  predicted residual vibration: %.3g mm\\n  %s\" at screen 0.43, screen 0.72 "
-                "left",
-                1e3 * o->max_modal_deviation_m, 1e3 * o->predicted_residual_m, rest);
+    snprintf(label + u, sizeof label - u,
+             "reduced model's prediction (plan summary):\\n"
+             "  modal tip deviation during the motion: up to %.3g mm\\n"
+             "  model-predicted residual vibration: %.3g mm\\n  %s",
+             1e3 * o->max_modal_deviation_m, 1e3 * o->predicted_residual_m, rest);
   }
+  if (label[0])
+    ea_plot_cmd(p, "set label 1 \"%s\" at screen 0.41, screen %.3f left", label,
+                top_view ? 0.84 : 0.72); /* above the top view when there is one */
   ea_plot_cmd(p,
               "plot $region w l lw 2 lc rgb '#888888' t 'workspace (T >= 0, L_c >= %.3g m)', "
               "$beams w l lc rgb '#1f77b4' t 'beam and cable', "
@@ -183,6 +196,36 @@ static void ea__panel_workspace(ea_plot_t *p, const ea_arm_t *arm, const ea_traj
               "'+' using (%.17g):(%.17g) every ::0::0 w p pt 5 ps 1.2 lc rgb 'black' "
               "t 'cable root'",
               o->lim.cable_length_min, arm->x_c, arm->y_c);
+}
+
+/* (a') the tip path seen from above (x, y; the base axis at the origin) with the arm's
+ * horizontal projection at the start and the end: the base rotation that (a), drawn in the
+ * arm's plane, does not show. In the free space right of (a), below its key. */
+static void ea__panel_top(ea_plot_t *p, const ea_traj_t *tr) {
+  ea_plot_data_begin(p, "top");
+  for (int k = 0; k < tr->n; ++k)
+    ea_plot_data_row(
+        p, 2, (double[]){EA_TRAJ_AT(tr, k, EA_TRAJ_tip_x), EA_TRAJ_AT(tr, k, EA_TRAJ_tip_y)});
+  ea_plot_data_end(p);
+  ea_plot_data_begin(p, "toparm");
+  const int ends[2] = {0, tr->n - 1};
+  for (int e = 0; e < 2; ++e) {
+    ea_plot_data_row(p, 2, (double[]){0.0, 0.0});
+    ea_plot_data_row(
+        p, 2,
+        (double[]){EA_TRAJ_AT(tr, ends[e], EA_TRAJ_tip_x), EA_TRAJ_AT(tr, ends[e], EA_TRAJ_tip_y)});
+    ea_plot_data_row(p, 2, (double[]){NAN, NAN});
+  }
+  ea_plot_data_end(p);
+  ea_plot_cmd(p, "unset label 1\nset size ratio -1 0.27,0.27\nset origin 0.40,0.47\n"
+                 "set title \"(a') top view: tip path as the base turns\"\n"
+                 "set xlabel 'x [m]'\nset ylabel 'y [m]'\nunset key\n"
+                 "set offsets graph 0.08, graph 0.08, graph 0.08, graph 0.08");
+  ea_plot_cmd(p, "plot $toparm w l lw 1.5 dt 2 lc rgb '#1f77b4', "
+                 "$top w l lw 2.5 lc rgb '#d62728', "
+                 "$top every ::0::0 w p pt 7 ps 1.2 lc rgb '#d62728', "
+                 "'+' using (0):(0) every ::0::0 w p pt 5 ps 1.2 lc rgb 'black'");
+  ea_plot_cmd(p, "set offsets 0, 0, 0, 0\nset key");
 }
 
 /* A time panel of one column (SI units as in the file) with its lower and upper limits. */
@@ -329,10 +372,11 @@ ea_status_t ea_traj_figure(const ea_traj_t *tr, ea_shooter_t *sh, const ea_traj_
            EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t));
   ea_plot_cmd(p, "deg = 180.0 / pi");
   ea_plot_cmd(p, "set multiplot title %s noenhanced", ea_plot_quote(head, quoted, sizeof quoted));
-  ea__panel_workspace(p, arm, &o);
   double blo, bhi;
   ea__col_range(tr, EA_TRAJ_base_angle, 1.0, &blo, &bhi);
   const int base = blo < bhi || fabs(blo) > 0;
+  ea__panel_workspace(p, arm, &o, blo < bhi);
+  if (blo < bhi) ea__panel_top(p, tr);
   const ea__col_panel_t cols[] = {
       {0, EA_TRAJ_cable_length, 0, "(b) cable length", "L_c [m]", "L_c", lim->cable_length_min,
        lim->cable_length_max, "L_{c,min}", "L_{c,max}"},

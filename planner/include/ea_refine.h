@@ -153,6 +153,9 @@ typedef struct ea_plan_verify {
                                         (the task's tension limit, > 0: a slack cable fails) */
   int passed;                      /**< 1: the transient ran and met every bound above */
   char failure[512];               /**< what failed and what was reached ("" when passed) */
+  double base_travel_rad;          /**< [rad] the trajectory's base-angle range (max - min): the
+                                        FE transient is planar, the base rotation's loads
+                                        (inertia, centrifugal, Coriolis) are not in it */
 } ea_plan_verify_t;
 
 /** Judge a verification: v->status, v->sim against v->residual_bound_m and

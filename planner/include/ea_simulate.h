@@ -47,6 +47,11 @@ typedef struct ea_sim_settings {
   double max_wall_s;         /**< [s] wall-time cap of the whole simulation (0: none, the
                                   default): past it the transient stops with
                                   EA_ERR_INTERRUPTED, the message saying how far it got */
+  /** Progress of the transient (NULL: none, the default): called from the calling thread
+   *  as the simulated time t_s advances to t_end_s (motion + settle), every 1 % of it; the
+   *  library never prints. */
+  void (*progress)(void *data, double t_s, double t_end_s);
+  void *progress_data; /**< passed to progress */
 } ea_sim_settings_t;
 
 void ea_sim_settings_default(ea_sim_settings_t *s);

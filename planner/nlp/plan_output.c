@@ -267,6 +267,9 @@ static void ea__verify_json(ea_json_t *j, const ea_plan_verify_t *v) {
   ea__num_or_null(j, "max_tracking_error_m", ok ? si->max_tracking_error : NAN);
   ea__num_or_null(j, "static_offset_end_m", ok ? si->static_offset_end : NAN);
   ea_json_num(j, "wall_time_s", si->wall_time_s);
+  ea_json_str(j, "transient",
+              "planar: in the arm's plane; the base rotation's loads are not in it");
+  ea_json_num(j, "base_travel_rad", v->base_travel_rad);
   ea_json_obj_end(j);
 }
 

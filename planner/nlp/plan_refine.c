@@ -256,6 +256,8 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
                 (idx == 0 || e->duration_s - d0 <= R->s.max_duration_change * d0);
   e->elapsed_s = ea__mono_s() - R->t0;
   R->last_eval_s = ea__mono_s() - te;
+  if (R->s.progress)
+    R->s.progress(R->s.progress_data, idx, R->s.max_evaluations, e->elapsed_s, e->residual_peak_m);
   if (e->accepted && !final_resolve && (R->best < 0 || e->score < info->evals[R->best].score))
     R->best = idx;
   if (e->accepted && e->score <= 1.0 && !R->stop) R->stop = "tolerance";

@@ -258,21 +258,6 @@ typedef struct {
   double deadline; /* [s] monotonic clock at which the transient stops (INFINITY: never) */
 } ea__sim_t;
 
-/* The shoulder drive with the wall-time cap: the transient calls it a few times a step. */
-typedef struct {
-  ea_fe_history_fn fn;
-  void *data;
-  double deadline, t; /* [s] the cap; the last drive time asked for */
-  int calls;
-} ea__sim_capped_t;
-
-static int ea__sim_capped(double t, double *value, double *rate, void *data) {
-  ea__sim_capped_t *c = data;
-  c->t = t;
-  if ((++c->calls & 15) == 0 && ea__mono_s() > c->deadline) return 1;
-  return c->fn(t, value, rate, c->data);
-}
-
 /* Check the inputs; info's duration, tip mass and damping ratio. */
 static ea_status_t ea__sim_check(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
                                  const ea_sim_settings_t *s, ea_sim_info_t *info, ea_error_t *err) {
@@ -387,6 +372,29 @@ static ea_status_t ea__sim_start_eq(ea__sim_t *c, const ea_statics_solution_t *o
   return EA_OK;
 }
 
+/* The shoulder drive as the transient asks for it (a few times a step): the hooks on its
+ * way, the wall-time cap (stop when the monotonic clock passes deadline) and the settings'
+ * progress callback (every 1 % of the simulated time). */
+typedef struct {
+  ea_fe_history_fn fn;
+  void *data;
+  const ea_sim_settings_t *s;
+  double deadline, t; /* [s] the cap (INFINITY: none); the last drive time asked for */
+  double t_end, next; /* [s] the simulated span; the next progress report */
+  int calls;
+} ea__sim_hook_t;
+
+static int ea__sim_hook(double t, double *value, double *rate, void *data) {
+  ea__sim_hook_t *h = data;
+  h->t = t;
+  if (isfinite(h->deadline) && (++h->calls & 15) == 0 && ea__mono_s() > h->deadline) return 1;
+  if (h->s->progress && t >= h->next) {
+    h->s->progress(h->s->progress_data, t, h->t_end);
+    h->next = t + 0.01 * h->t_end;
+  }
+  return h->fn(t, value, rate, h->data);
+}
+
 /* 4. damping, 5. the transient; what it found into info. */
 static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_info_t *si,
                                ea_sim_info_t *info, ea_error_t *err) {
@@ -405,17 +413,18 @@ static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_
   info->rayleigh_mass = ss.rayleigh_mass;
   info->rayleigh_stiffness = ss.rayleigh_stiffness;
   ea_fe_drive_t drive = c->drv.drive;
-  ea__sim_capped_t cap = {drive.theta0, drive.theta0_data, c->deadline, 0.0, 0};
-  if (isfinite(c->deadline) && drive.theta0) {
-    drive.theta0 = ea__sim_capped;
-    drive.theta0_data = &cap;
+  ea__sim_hook_t hk = {drive.theta0, drive.theta0_data, s, c->deadline, 0.0, c->t_end, 0.0, 0};
+  if ((isfinite(c->deadline) || s->progress) && drive.theta0) {
+    drive.theta0 = ea__sim_hook;
+    drive.theta0_data = &hk;
   }
   st = ea_fe_simulate(c->m, &drive, &ss, c->tip, c->rows_cap, si, err);
   if (st == EA_ERR_INTERRUPTED && isfinite(c->deadline) && ea__mono_s() > c->deadline)
     ea_error_set(err, st,
                  "simulate: stopped at its wall-time cap of %g s at t = %.4g s of %.4g s "
                  "(dt %g s, %d steps)",
-                 s->max_wall_s, cap.t, c->t_end, s->dt, si->steps);
+                 s->max_wall_s, hk.t, c->t_end, s->dt, si->steps);
+  if (s->progress && !st) s->progress(s->progress_data, c->t_end, c->t_end);
   info->steps = si->steps;
   info->simulated_time = si->steps * s->dt;
   info->newton_iterations = si->newton_iterations;

@@ -156,6 +156,13 @@ typedef struct ea_task_refine {
   double max_duration_change; /**< [-] a candidate whose duration differs from the unrefined
                                    plan's by more than this fraction is rejected (default 0.02) */
   unsigned long seed;         /**< seed of NLopt's random numbers (default 1) */
+  /** Progress of a refinement (NULL: none, the default; not a task key): called by
+   *  ea_plan_refine from the calling thread after each evaluation with its index
+   *  (0: the unrefined plan), max_evaluations, the seconds since the refinement began and
+   *  the evaluation's FE residual peak at the nominal arm [m] (NAN: not measured). */
+  void (*progress)(void *data, int evaluation, int max_evaluations, double elapsed_s,
+                   double residual_peak_m);
+  void *progress_data; /**< passed to progress */
 } ea_task_refine_t;
 
 /** Defaults of the refinement (disabled). */
