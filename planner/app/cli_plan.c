@@ -143,65 +143,6 @@ static void ea__plan_unlock(int fd) {
   close(fd);
 }
 
-/* Copy the trajectory file src (ea_traj_write's) to fp with the line '# run_id: ID' after
- * its first line (the format line); fp flushed, and synced when it is a file. */
-static ea_status_t ea__traj_copy_run_id(const char *src, FILE *fp, const char *what,
-                                        const char *run_id, ea_error_t *err) {
-  FILE *in = fopen(src, "r");
-  if (!in)
-    return ea_error_set(err, EA_ERR_IO, "%s: cannot read %s: %s", what, src, strerror(errno));
-  char buf[65536];
-  int first = 1, bad = 0;
-  while (fgets(buf, sizeof buf, in)) {
-    if (fputs(buf, fp) == EOF) bad = 1;
-    if (first && strchr(buf, '\n')) {
-      fprintf(fp, "# run_id: %s\n", run_id);
-      first = 0;
-    }
-  }
-  bad = bad || ferror(in);
-  fclose(in);
-  if (bad || ferror(fp) || fflush(fp) != 0 || (fp != stdout && fsync(fileno(fp)) != 0))
-    return ea_error_set(err, EA_ERR_IO, "%s: write failed: %s", what, strerror(errno));
-  return EA_OK;
-}
-
-/* The trajectory with its run id into the temporary dst (O_EXCL: a fresh file). */
-static ea_status_t ea__traj_write_run_id(const ea_traj_t *tr, const char *out, const char *dst,
-                                         const char *run_id, ea_error_t *err) {
-  char raw[1100];
-  if (out) {
-    snprintf(raw, sizeof raw, "%s.tmp%ld.raw", out, (long)getpid());
-  } else { /* stdout without a summary: the temporary directory */
-    const char *tmp = getenv("TMPDIR");
-    snprintf(raw, sizeof raw, "%s/elasticarm-plan.XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    const int fd = mkstemp(raw);
-    if (fd < 0)
-      return ea_error_set(err, EA_ERR_IO, "stdout: cannot create a temporary %s: %s", raw,
-                          strerror(errno));
-    close(fd);
-  }
-  ea_status_t st = ea_traj_write(tr, raw, err);
-  if (st) return st;
-  if (!strcmp(dst, "-")) {
-    st = ea__traj_copy_run_id(raw, stdout, "stdout", run_id, err);
-  } else {
-    const int fd = open(dst, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    FILE *fp = fd >= 0 ? fdopen(fd, "w") : NULL;
-    if (!fp) {
-      st = ea_error_set(err, EA_ERR_IO, "%s: cannot write %s: %s", out, dst, strerror(errno));
-      if (fd >= 0) close(fd);
-    } else {
-      st = ea__traj_copy_run_id(raw, fp, out, run_id, err);
-      if (fclose(fp) != 0 && !st)
-        st = ea_error_set(err, EA_ERR_IO, "%s: write failed: %s", out, strerror(errno));
-      if (st) unlink(dst);
-    }
-  }
-  unlink(raw);
-  return st;
-}
-
 /* Write the converged plan: trajectory (with the run id) and summary to temporaries, then,
  * holding the outputs' lock, rename the trajectory, then the summary. On failure nothing of
  * this run is left (the caller then treats the plan as failed). */
@@ -211,9 +152,11 @@ static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_traj_t *tr, const e
   char ttmp[1100] = "", stmp[1100] = "";
   ea_status_t st = EA_OK;
   const int to_stdout = !strcmp(out, "-");
+  ea_traj_t trx = *tr; /* the same samples, with the run id */
+  snprintf(trx.run_id, sizeof trx.run_id, "%s", x->run_id);
   if (!to_stdout) {
     snprintf(ttmp, sizeof ttmp, "%s.tmp%ld.traj", out, (long)getpid());
-    st = ea__traj_write_run_id(tr, out, ttmp, x->run_id, err);
+    st = ea_traj_write(&trx, ttmp, err);
     if (st) ttmp[0] = '\0';
   }
   if (!st && summary) {
@@ -221,7 +164,7 @@ static ea_status_t ea__plan_write(ea_planner_t *pl, const ea_traj_t *tr, const e
     st = ea_plan_summary_write_ex(pl, info, x->ref, x->shape, x->verify, x->run_id, stmp, err);
     if (st) stmp[0] = '\0';
   }
-  if (!st && to_stdout) st = ea__traj_write_run_id(tr, summary, "-", x->run_id, err);
+  if (!st && to_stdout) st = ea_traj_write(&trx, "-", err);
   const int lock = st ? -1 : ea__plan_lock(out, summary);
   if (!st && ttmp[0]) {
     if (rename(ttmp, out) != 0)

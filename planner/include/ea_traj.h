@@ -63,6 +63,8 @@ typedef struct ea_traj {
   int has_arm_hash;    /**< 1: arm_hash holds the arm's ea_arm_hash ('# arm_hash:') */
   uint64_t arm_hash;   /**< ea_arm_hash of the arm the plan was made with */
   char task[512];      /**< task name or file */
+  char run_id[64];     /**< the plan run that wrote it, shared with the run's JSON summary
+                            ('# run_id:'; "" none) */
   char status[64];     /**< planner status, e.g. "EA_OK" */
 } ea_traj_t;
 

@@ -53,6 +53,7 @@ ea_status_t ea_traj_write(const ea_traj_t *tr, const char *path, ea_error_t *err
   char abs[PATH_MAX];
   const char *arm_file = tr->arm_file[0] && realpath(tr->arm_file, abs) ? abs : tr->arm_file;
   fprintf(f.fp, "# elasticarm-trajectory %d\n", EA_TRAJ_FORMAT_VERSION);
+  if (tr->run_id[0]) fprintf(f.fp, "# run_id: %s\n", tr->run_id);
   fprintf(f.fp, "# arm_file: %s\n", arm_file);
   if (tr->has_arm_hash) fprintf(f.fp, "# arm_hash: %016" PRIx64 "\n", tr->arm_hash);
   fprintf(f.fp, "# task: %s\n", tr->task);
@@ -84,6 +85,7 @@ static ea_status_t ea__meta(ea_traj_t *tr, const char *line, const char *path, l
   EA__META_STR("arm_file", arm_file)
   EA__META_STR("task", task)
   EA__META_STR("status", status)
+  EA__META_STR("run_id", run_id)
 #undef EA__META_STR
   static const char hk[] = "# arm_hash: ";
   if (!strncmp(line, hk, sizeof hk - 1)) {
