@@ -753,6 +753,8 @@ int main(void) {
     ea_test_true(strstr(js, "\"sim_elements\":") && strstr(js, "\"sim_payload_kg\":") &&
                      !strstr(js, "o->"),
                  "JSON: the keys sim_elements and sim_payload_kg (no C expressions as keys)");
+    ea_test_true(strstr(js, "\"end_reason_name\": \"complete\"") != NULL,
+                 "JSON: end_reason_name says what END reason 0 is (docs/protocol.md)");
     ea_test_true(n == 1001 && fabs(t0) < 1e-9 && fabs(t1 - (Tm + 0.5)) < 1e-6,
                  "tip file: 1001 rows over the 0.5 s of setpoints + 0.5 s settling");
     ea_statics_problem_t pr = ea_statics_problem_cable(Lp + dLp, ap + dap);

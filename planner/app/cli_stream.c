@@ -588,6 +588,8 @@ static void ea__ctrl_report(const ea__ctrl_opts_t *o, ea_status_t st, const ea_e
     ea_json_int(&j, "own_stop_frames", info->own_stop_frames);
     ea_json_bool(&j, "end_received", info->end_received);
     ea_json_int(&j, "end_reason", info->end_reason);
+    ea_json_str(&j, "end_reason_name",
+                info->end_received ? ea_end_reason_name(info->end_reason) : "");
     ea_json_int(&j, "final_state", info->final_state);
     ea_json_int(&j, "max_buffer", info->max_buffer);
     ea_json_int(&j, "logged", logged);

@@ -616,13 +616,8 @@ static ea_status_t ea__ctrl_outcome(const ea_ctrl_t *c, const ea__ctrl_end_t *e,
                         in->rejected, in->rejected_crc, in->rejected_seq, in->rejected_limit,
                         in->rejected_continuity);
   if (in->end_received && in->end_reason != EA_END_COMPLETE)
-    return ea_error_set(
-        err, EA_ERR_INTERRUPTED, "stream ended early (END reason %u: %s)", (unsigned)in->end_reason,
-        in->end_reason == EA_END_STOPPED
-            ? "stopped, a controlled stop after a NACK, an ACK timeout or an "
-              "interrupt"
-        : in->end_reason == EA_END_REFUSED ? "refused, the streamer's handshake check failed"
-                                           : "unknown"); /* docs/protocol.md, END */
+    return ea_error_set(err, EA_ERR_INTERRUPTED, "stream ended early (END reason %u: %s)",
+                        (unsigned)in->end_reason, ea_end_reason_text(in->end_reason));
   if (in->own_stop_frames)
     return ea_error_set(err, EA_ERR_PROTOCOL,
                         "the stream ended while the arm still moved: own stop in %d setpoints",

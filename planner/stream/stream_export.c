@@ -18,13 +18,6 @@ static const char *const ea__sp_names[EA_SETPOINT_DOUBLES] = {
     "base_vel_rad_per_s",      "base_acc_rad_per_s2",
     "shoulder_torque_ff_Nm",   "tension_ff_N"};
 
-static const char *ea__end_reason_name(uint32_t r) {
-  return r == EA_END_COMPLETE  ? "complete"
-         : r == EA_END_STOPPED ? "stopped"
-         : r == EA_END_REFUSED ? "refused"
-                               : "unknown";
-}
-
 /* One frame as CSV: HELLO and END as '#' lines, a SETPOINT as a row of the wire's values
  * and the task-space values they map back to (ea_stream_unmap). */
 static void ea__csv_frame(FILE *fp, const ea_arm_t *arm, const ea_frame_t *f) {
@@ -44,7 +37,7 @@ static void ea__csv_frame(FILE *fp, const ea_arm_t *arm, const ea_frame_t *f) {
   }
   if (f->type == EA_FRAME_END) {
     fprintf(fp, "# end: seq %u, reason %u (%s), count %u\n", f->seq, f->flags,
-            ea__end_reason_name(f->flags), f->count);
+            ea_end_reason_name(f->flags), f->count);
     return;
   }
   if (f->type != EA_FRAME_SETPOINT) return; /* heartbeats carry nothing to tabulate */
@@ -89,7 +82,7 @@ static void ea__ros_frame(FILE *fp, const ea_arm_t *arm, const ea_frame_t *f) {
   }
   if (f->type == EA_FRAME_END) {
     fprintf(fp, "# end: seq %u, reason %u (%s), count %u\n", f->seq, f->flags,
-            ea__end_reason_name(f->flags), f->count);
+            ea_end_reason_name(f->flags), f->count);
     return;
   }
   if (f->type != EA_FRAME_SETPOINT) return;

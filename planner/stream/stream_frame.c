@@ -295,3 +295,18 @@ int ea_frame_parser_next(ea_frame_parser_t *p, ea_frame_t *f) {
   ea__parser_drop(p, total);
   return 1;
 }
+
+const char *ea_end_reason_name(uint32_t reason) {
+  return reason == EA_END_COMPLETE  ? "complete"
+         : reason == EA_END_STOPPED ? "stopped"
+         : reason == EA_END_REFUSED ? "refused"
+                                    : "unknown";
+}
+
+const char *ea_end_reason_text(uint32_t reason) {
+  return reason == EA_END_COMPLETE ? "complete, every setpoint sent"
+         : reason == EA_END_STOPPED
+             ? "stopped, a controlled stop after a NACK, an ACK timeout or an interrupt"
+         : reason == EA_END_REFUSED ? "refused, the streamer's handshake check failed"
+                                    : "unknown";
+}

@@ -37,6 +37,12 @@ typedef enum ea_end_reason {
   EA_END_REFUSED = 2   /**< handshake refused by the streamer */
 } ea_end_reason_t;
 
+/** What an END reason means, in words (docs/protocol.md, END): "complete", "stopped, a
+ *  controlled stop after a NACK, an ACK timeout or an interrupt", "refused, ...". */
+const char *ea_end_reason_text(uint32_t reason);
+/** Its one-word name ("complete", "stopped", "refused", "unknown"). */
+const char *ea_end_reason_name(uint32_t reason);
+
 /** Decoded frame (all types share one flat struct; fields per type in
  *  docs/protocol.md). */
 typedef struct ea_frame {
