@@ -169,6 +169,9 @@ static void test_pair(const char *arm) {
   rc = run("simulate tpc_same.csv");
   ea_test_true(rc == 2 && strstr(out, "different plan runs"),
                "simulate refuses the mixed pair (exit 2)");
+  rc = run("stream tpc_same.csv --to file:tpc_mixed.bin");
+  ea_test_true(rc == 2 && strstr(out, "different plan runs") && !exists("tpc_mixed.bin"),
+               "stream refuses the mixed pair (exit 2), nothing written");
   /* a summary without a run id (an older plan's) is not this trajectory's either */
   FILE *fp = fopen("tpc_same.json", "w");
   if (fp) {
@@ -179,9 +182,9 @@ static void test_pair(const char *arm) {
   rc = run("figure tpc_same.csv -o tpc_mixed.svg");
   ea_test_true(rc == 2 && strstr(out, "no run_id"),
                "figure refuses a summary with no top-level run_id beside a plan's trajectory");
-  const char *rm[] = {"tpc_a.yaml",    "tpc_b.yaml",        "tpc_same.csv",   "tpc_same.json",
-                      "tpc_same.svg",  "tpc_other.csv",     "tpc_other.json", "tpc_same.csv.lock",
-                      "tpc_mixed.svg", "tpc_other.csv.lock"};
+  const char *rm[] = {"tpc_a.yaml",    "tpc_b.yaml",         "tpc_same.csv",   "tpc_same.json",
+                      "tpc_same.svg",  "tpc_other.csv",      "tpc_other.json", "tpc_same.csv.lock",
+                      "tpc_mixed.svg", "tpc_other.csv.lock", "tpc_mixed.bin"};
   for (size_t i = 0; i < sizeof rm / sizeof *rm; ++i)
     remove(rm[i]);
   printf("  %d rounds\n", rounds);

@@ -160,10 +160,12 @@ static int ea__stream_setpoints(const ea__stream_opts_t *o, const ea_stream_sett
   const char *cmd = "stream";
   ea_traj_t tr = {0};
   ea_error_t err = {0};
+  int rc = ea__cli_check_plan_pair(cmd, o->traj_path); /* not another run's summary beside it */
+  if (rc) return rc;
   ea_status_t st = ea_traj_read(&tr, o->traj_path, &err);
   if (st) return ea__cli_fail(cmd, st, &err);
   /* The arm the plan was made for: its limits and motor mapping. */
-  int rc =
+  rc =
       ea__cli_arm_for_traj(cmd, o->traj_path, o->arm_file, &tr, EA__ARM_STRICT, arm, arm_used, len);
   if (rc) {
     ea_traj_free(&tr);
