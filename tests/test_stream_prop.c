@@ -54,15 +54,21 @@ static const int g_cols[] = {EA_TRAJ_cable_length,     EA_TRAJ_base_angle,
                              EA_TRAJ_cable_length_acc, EA_TRAJ_base_angle_acc};
 enum { NCOLS = sizeof g_cols / sizeof *g_cols };
 
+/* dst := n rows (allocated), the first of them src's rows from..from+n-1 as far as src has
+ * them (the rest zero, for the caller to fill). */
 static int copy_rows(ea_traj_t *dst, const ea_traj_t *src, int from, int n) {
   if (ea_traj_alloc(dst, n)) return -1;
-  memcpy(dst->data, src->data + (size_t)from * EA_TRAJ_NCOL,
-         (size_t)n * EA_TRAJ_NCOL * sizeof *dst->data);
+  const int have = src->n - from < n ? src->n - from : n;
+  if (have > 0)
+    memcpy(dst->data, src->data + (size_t)from * EA_TRAJ_NCOL,
+           (size_t)have * EA_TRAJ_NCOL * sizeof *dst->data);
   dst->payload_kg = src->payload_kg;
   dst->tip_mass_kg = src->tip_mass_kg;
   snprintf(dst->arm_file, sizeof dst->arm_file, "%s", src->arm_file);
   snprintf(dst->task, sizeof dst->task, "%s", src->task);
   snprintf(dst->status, sizeof dst->status, "%s", src->status);
+  dst->has_arm_hash = src->has_arm_hash;
+  dst->arm_hash = src->arm_hash;
   return 0;
 }
 
