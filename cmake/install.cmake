@@ -1,19 +1,26 @@
 # cmake --install build --prefix P: the library, its public headers, the CLI,
 # the default arm file, the docs, a pkg-config file and a CMake package.
 #
-#   P/lib/libelasticarm.a (or .so with -DBUILD_SHARED_LIBS=ON)
+#   P/lib/libelasticarm.so.MAJOR.MINOR (SONAME), .so, and libelasticarm.a
+#     (only the .a with -DBUILD_SHARED_LIBS=OFF; no .a with -DEA_BUILD_STATIC_LIB=OFF)
 #   P/include/elasticarm/ea_*.h     (-I P/include/elasticarm: #include "ea_model.h")
 #   P/bin/elasticarm                (finds P/share/elasticarm/elasticarm.yaml)
 #   P/share/elasticarm/elasticarm.yaml
 #   P/share/doc/elasticarm/         (README.md, docs/*.md, example_api.c)
 #   P/lib/pkgconfig/elasticarm.pc   (pkg-config --cflags --libs elasticarm)
-#   P/lib/cmake/elasticarm/         (find_package(elasticarm CONFIG) -> elasticarm::elasticarm)
+#   P/lib/cmake/elasticarm/         (find_package(elasticarm CONFIG) -> elasticarm::elasticarm,
+#                                    and elasticarm::elasticarm_static beside a shared one)
+#   P/lib/python3.X/dist-packages/elasticarm/  (the Python package, python/CMakeLists.txt)
 include(CMakePackageConfigHelpers)
 
 set(EA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/elasticarm)
 set(EA_INSTALL_PKGCONFIGDIR ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
-install(TARGETS elasticarm_lib EXPORT elasticarmTargets
+set(EA_INSTALL_LIBS elasticarm_lib)
+if(EA_STATIC_LIB)
+  list(APPEND EA_INSTALL_LIBS elasticarm_static)
+endif()
+install(TARGETS ${EA_INSTALL_LIBS} EXPORT elasticarmTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
