@@ -190,7 +190,10 @@
   X(ea_traj_t, payload_kg)                                                                         \
   X(ea_traj_t, tip_mass_kg)                                                                        \
   X(ea_traj_t, arm_file)                                                                           \
+  X(ea_traj_t, has_arm_hash)                                                                       \
+  X(ea_traj_t, arm_hash)                                                                           \
   X(ea_traj_t, task)                                                                               \
+  X(ea_traj_t, run_id)                                                                             \
   X(ea_traj_t, status)                                                                             \
   X(ea_sim_settings_t, elements)                                                                   \
   X(ea_sim_settings_t, scheme)                                                                     \
@@ -204,6 +207,9 @@
   X(ea_sim_settings_t, rayleigh_stiffness)                                                         \
   X(ea_sim_settings_t, rest_tolerance)                                                             \
   X(ea_sim_settings_t, keep_history)                                                               \
+  X(ea_sim_settings_t, max_wall_s)                                                                 \
+  X(ea_sim_settings_t, progress)                                                                   \
+  X(ea_sim_settings_t, progress_data)                                                              \
   X(ea_sim_info_t, status)                                                                         \
   X(ea_sim_info_t, tip_mass)                                                                       \
   X(ea_sim_info_t, damping_ratio)                                                                  \
@@ -289,6 +295,11 @@
   X(ea_plan_verify_t, sim)                                                                         \
   X(ea_plan_verify_t, predicted_residual_m)                                                        \
   X(ea_plan_verify_t, predicted_time_to_rest_s)                                                    \
+  X(ea_plan_verify_t, residual_bound_m)                                                            \
+  X(ea_plan_verify_t, tension_bound_N)                                                             \
+  X(ea_plan_verify_t, passed)                                                                      \
+  X(ea_plan_verify_t, failure)                                                                     \
+  X(ea_plan_verify_t, base_travel_rad)                                                             \
   X(ea_study_settings_t, threads)                                                                  \
   X(ea_study_settings_t, shard_k)                                                                  \
   X(ea_study_settings_t, shard_n)                                                                  \

@@ -277,8 +277,11 @@ typedef struct ea_traj {
   double *data;
   double payload_kg;
   double tip_mass_kg;
-  char arm_file[512];
+  char arm_file[4096];
+  int has_arm_hash;
+  uint64_t arm_hash;
   char task[512];
+  char run_id[64];
   char status[64];
 } ea_traj_t;
 const char *ea_traj_column_name(int c);
@@ -301,6 +304,9 @@ typedef struct ea_sim_settings {
   double rayleigh_stiffness;
   double rest_tolerance;
   int keep_history;
+  double max_wall_s;
+  void (*progress)(void *data, double t_s, double t_end_s);
+  void *progress_data;
 } ea_sim_settings_t;
 void ea_sim_settings_default(ea_sim_settings_t *s);
 ea_status_t ea_sim_settings_validate(const ea_sim_settings_t *s, ea_error_t *err);
@@ -405,11 +411,16 @@ typedef struct ea_plan_verify {
   ea_sim_info_t sim;
   double predicted_residual_m;
   double predicted_time_to_rest_s;
+  double residual_bound_m;
+  double tension_bound_N;
+  int passed;
+  char failure[512];
+  double base_travel_rad;
 } ea_plan_verify_t;
 ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,
                                      const ea_refine_info_t *refine, const void *shape,
-                                     const ea_plan_verify_t *verify, const char *path,
-                                     ea_error_t *err);
+                                     const ea_plan_verify_t *verify, const char *run_id,
+                                     const char *path, ea_error_t *err);
 
 /* ea_study.h: ea_study_t is not mirrored */
 typedef struct ea_study ea_study_t;

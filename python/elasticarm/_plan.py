@@ -108,12 +108,14 @@ class Trajectory:
     """A trajectory (ea_traj.h, docs/trajectory-format.md): n samples of the columns
     COLUMNS, each an attribute holding a numpy array with its unit in its name
     (traj.t_s, traj.cable_length_m, traj.tip_x_m, ...), data the (n, 18) array, and the
-    file's metadata (payload_kg, tip_mass_kg, arm_file, task, status)."""
+    file's metadata (payload_kg, tip_mass_kg, arm_file, task, status; arm_hash, the
+    ea_arm_hash of the arm it was planned for, None when unknown; run_id, the plan run
+    that wrote it, "" none)."""
 
     columns = COLUMNS
 
     def __init__(self, data, payload_kg=0.0, tip_mass_kg=0.0, arm_file="", task="",
-                 status="EA_OK"):
+                 status="EA_OK", arm_hash=None, run_id=""):
         data = np.array(data, dtype=float)
         if data.ndim != 2 or data.shape[1] != len(COLUMNS):
             raise ValueError("data: shape (n, %d)" % len(COLUMNS))
@@ -123,13 +125,16 @@ class Trajectory:
         self.arm_file = arm_file
         self.task = task
         self.status = status
+        self.arm_hash = arm_hash
+        self.run_id = run_id
 
     @classmethod
     def _from_c(cls, tr):
         n = tr.n
         data = np.frombuffer(ffi.buffer(tr.data, n * 18 * 8), dtype=float).reshape(n, 18).copy()
         return cls(data, tr.payload_kg, tr.tip_mass_kg, text(tr.arm_file), text(tr.task),
-                   text(tr.status))
+                   text(tr.status), int(tr.arm_hash) if tr.has_arm_hash else None,
+                   text(tr.run_id))
 
     def _to_c(self):
         tr = ffi.gc(ffi.new("ea_traj_t *"), lib.ea_traj_free)
@@ -138,8 +143,11 @@ class Trajectory:
         ffi.memmove(tr.data, np.ascontiguousarray(self.data), n * 18 * 8)
         tr.payload_kg = self.payload_kg
         tr.tip_mass_kg = self.tip_mass_kg
-        for field, value, size in (("arm_file", self.arm_file, 512), ("task", self.task, 512),
-                                   ("status", self.status, 64)):
+        if self.arm_hash is not None:
+            tr.has_arm_hash = 1
+            tr.arm_hash = self.arm_hash
+        for field, value, size in (("arm_file", self.arm_file, 4096), ("task", self.task, 512),
+                                   ("status", self.status, 64), ("run_id", self.run_id, 64)):
             b = value.encode()
             if len(b) >= size:
                 raise ValueError("%s: at most %d bytes" % (field, size - 1))
@@ -224,23 +232,34 @@ class Plan:
 
     def write(self, path, summary=None):
         """Write the trajectory file (and the JSON summary, as `elasticarm plan -o PATH
-        --summary SUMMARY` does)."""
+        --summary SUMMARY` does): both carry one new run id (docs/trajectory-format.md),
+        so a reader can tell that they belong together."""
+        run_id = _run_id()
+        self.trajectory.run_id = run_id
         self.trajectory.write(path)
         if summary is not None:
-            self.write_summary(summary)
+            self.write_summary(summary, run_id)
 
-    def write_summary(self, path):
+    def write_summary(self, path, run_id=None):
         """The JSON summary (ea_plan_summary_write_ex), with the refinement and the
-        verification when they ran."""
+        verification when they ran, and the run id (the trajectory's, else a new one)."""
         err = new_error()
         ref = self._refine.ptr if self._refine is not None else ffi.NULL
         ver = self._verify if self._verify is not None else ffi.NULL
-        check(lib.ea_plan_summary_write_ex(self._pl, self._info, ref, ffi.NULL, ver, cpath(path),
-                                           err), err)
+        rid = (run_id or self.trajectory.run_id or _run_id()).encode()
+        check(lib.ea_plan_summary_write_ex(self._pl, self._info, ref, ffi.NULL, ver, rid,
+                                           cpath(path), err), err)
 
     def __repr__(self):
         return "Plan(%r, %.6g s, %d knots)" % (self.task.name, self.duration_s,
                                                len(self.trajectory))
+
+
+def _run_id():
+    """A run id as `elasticarm plan` makes them: UTC time, pid and 32 random bits."""
+    import time
+    return "%s-%d-%08x" % (time.strftime("%Y%m%dT%H%M%SZ", time.gmtime()), os.getpid(),
+                           int.from_bytes(os.urandom(4), "little"))
 
 
 def plan(task, *, refine=None, verify=False, knots=None, default_arm=None):
