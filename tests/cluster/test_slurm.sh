@@ -8,9 +8,10 @@
 #      docs say in N = 3 array tasks, one task requeued mid-way (scontrol
 #      requeue: it must resume from its journal), the merge as the dependent
 #      job of the docs; the merged CSV must equal the single run byte for byte;
-#   3. docs/cluster/study-parallel.sh in 3 shards, one shard stopped mid-way
-#      (SIGTERM), the same command rerun (it must resume that shard from its
-#      journal and leave the finished shard alone); the same byte comparison.
+#   3. docs/cluster/study-parallel.sh in 3 shards, 2 at a time, shard 2
+#      stopped mid-way (SIGTERM), the same command rerun: it must resume shard
+#      2 from its journal and leave the finished shard 1 alone; the same byte
+#      comparison.
 #
 # Needs root (slurmd and munged run as root here) and Debian's slurm-wlm,
 # munge and parallel (sh .ci/install-deps): otherwise exit 77 (CTest: skipped).
@@ -101,7 +102,7 @@ cleanup() {
   done
   if [ $rc -ne 0 ]; then
     # the daemons' logs (their stderr only if they wrote no log), the jobs'
-    for f in "$T"/log/*.out "$T"/log/*.log "$T"/work/*.out "$T"/pwork/results/*.log; do
+    for f in "$T"/log/*.out "$T"/log/*.log "$T"/work/*.out "$T"/pwork/*.log; do
       [ -s "$f" ] || continue
       case $f in *.out) [ -s "${f%.out}.log" ] && continue ;; esac
       echo "---- $f (last 30 lines)"
@@ -257,3 +258,50 @@ check [ ! -e "$journal" ]
 check cmp "results/$NAME.csv" "$T/single.csv"
 [ $fail -eq 0 ] || exit 1
 note "Slurm: the merged CSV equals the single run's ($(wc -c <"results/$NAME.csv") bytes)"
+
+# --- 3. GNU parallel: study-parallel.sh, 3 shards 2 at a time; shard 2
+# stopped mid-way (SIGTERM to its study, as a preemption would), then the same
+# command again: it must resume shard 2 from its journal, run shard 3 and
+# leave the finished shard 1 alone.
+cd "$T/pwork"
+recipe() { THREADS=1 JOBS=2 sh "$SRC/docs/cluster/study-parallel.sh" "$SPEC" $N; }
+ea_exe=$(readlink -f "$EA_BIN")
+# shard_pid K: the elasticarm process computing shard K here
+shard_pid() {
+  local p
+  for p in $(procs_in_tmp); do
+    [ "$(readlink -f "/proc/$p/exe" 2>/dev/null)" = "$ea_exe" ] &&
+      [ "$(readlink "/proc/$p/cwd")" = "$T/pwork" ] &&
+      tr '\0' ' ' <"/proc/$p/cmdline" 2>/dev/null | grep -q -- "--shard $1/$N " && echo "$p"
+  done
+  return 0
+}
+recipe >"$T/pwork/first.log" 2>&1 &
+prun=$!
+journal=results/$NAME.shard2-of-$N.csv.journal
+wait_for "shard 2's journal to hold 2 cases" 120 two_cases
+p2=$(shard_pid 2)
+[ -n "$p2" ] || {
+  note "no process computing shard 2"
+  exit 1
+}
+kill -TERM "$p2"
+at=$(cases_in "$journal")
+note "stopped shard 2 (pid $p2) with $at case(s) in its journal"
+wait_for "the first run of study-parallel.sh to end" 120 dead "$prun"
+prc=0
+wait "$prun" || prc=$?
+note "first run: exit $prc; $(cd results && echo *)"
+check [ $prc -ne 0 ]
+check [ ! -e "results/$NAME.csv" ]
+check [ -f "results/$NAME.shard1-of-$N.csv" ]
+stamp1=$(stat -c '%i %Y' "results/$NAME.shard1-of-$N.csv" 2>/dev/null || true)
+recipe >"$T/pwork/second.log" 2>&1 || check false "second run of study-parallel.sh"
+skipped=$(jnum "results/$NAME.shard2-of-$N.json" cases_skipped_from_checkpoint)
+note "second run: shard 2 took $skipped case(s) from its journal"
+check [ "${skipped:-0}" -ge "$at" ]
+check [ "$(stat -c '%i %Y' "results/$NAME.shard1-of-$N.csv")" = "$stamp1" ]
+check cmp "results/$NAME.csv" "$T/single.csv"
+[ $fail -eq 0 ] || exit 1
+note "GNU parallel: the merged CSV equals the single run's"
+note "passed"
