@@ -1,5 +1,5 @@
-/* What both transcriptions (plan_solve.c: knots, plan_path.c: the path coordinate) and the
- * row families (plan_nlp.c, plan_vib.c, plan_dyn.c) share: the duration variable, the end
+/* What both transcriptions (plan_solve.c: knots, transcribe/path_*.c: the path coordinate) and the
+ * row families (knot_rows.c, vib_rows.c, dyn_rows.c) share: the duration variable, the end
  * accelerations of an interval's cubic Hermite, the tip from the actuator coordinates, the
  * (L_c, alpha) box a task covers, the Ipopt barrier start and its derivative checker, the own
  * interior point's settings. Calls nothing above it. */

@@ -49,7 +49,7 @@ static int ea__pp_kkt_ok(ea_planner_t *pl) {
   return ea__pp_kkt_ok_tol(pl, pl->task.solver.tol);
 }
 
-/* A warm start solved without Ipopt: the active-set Newton (plan_asn.c) from pp->x with the old
+/* A warm start solved without Ipopt: the active-set Newton (engine/asn.c) from pp->x with the old
  * plan's multipliers and active set, taken when the result passes the KKT test of the whole
  * problem (ea__pp_kkt_ok). 1: pp->x and pp->mult_* are the solution; 0: they are the start
  * again (restored from pp->x0 and the old plan's multipliers). */
@@ -60,7 +60,7 @@ static void ea__pp_mult_from_sol(ea__pp_t *pp) {
   memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
 }
 
-/* The workspace of the active-set Newton and the interior point (plan_asn.c, plan_ipm.c) on the
+/* The workspace of the active-set Newton and the interior point (engine/asn.c, engine/ipm.c) on the
  * path NLP: 0, or -1 (out of memory). */
 static int ea__pp_asn(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
@@ -89,7 +89,7 @@ static int ea__pp_asn(ea_planner_t *pl) {
   return 0;
 }
 
-/* A cold start solved without Ipopt: the interior point of plan_ipm.c from pp->x with the
+/* A cold start solved without Ipopt: the interior point of engine/ipm.c from pp->x with the
  * barrier of Ipopt's cold solve (ea__pp_run: mu_init 1e-4 from the cold guess, 1e-7 from a plan
  * file that holds this task's rows), taken when its result passes the KKT test of the whole
  * problem (ea__pp_kkt_ok). 1: pp->x and pp->mult_* are the solution; 0: pp->x is the start
@@ -174,7 +174,7 @@ static void ea__pp_reduce(ea_planner_t *pl, const double *xk, double *xs) {
   if (pl->has_tf) xs[pp->itf] = xk[EA__ITF(pl)];
 }
 
-/* Ipopt's rows (plan_screen.c, EA__SCREEN_BAND and EA__SCREEN_HOLD there). Measured
+/* Ipopt's rows (engine/ipopt_screen.c, EA__SCREEN_BAND and EA__SCREEN_HOLD there). Measured
  * (bench_plan, docs/planner.md): the paper line's Ipopt sees 493 of 692 rows, the same
  * iterations and plan in less time per iteration. */
 static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
@@ -490,7 +490,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     } else if (pp->par && !pl->task.solver.derivative_test && !pl->task.solver.nlp_ipopt &&
                !ea__pp_asn(pl)) {
       /* a cold solve by the own interior point with a worker: its KKT pattern and ordering
-       * (plan_ipm.c) there while the cold guess is made here */
+       * (engine/ipm.c) there while the cold guess is made here */
       ea__pp_guess_job_t jb = {pl, info, err, EA_OK};
       ea__par_run(pp->par, ea__pp_guess_part, &jb);
       if ((st = jb.st)) return st;
@@ -511,7 +511,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   if (!at_solution && warm && !pl->task.solver.derivative_test && pl->K == 0)
     at_solution = ea__pp_newton_start(pl, &info->newton_steps);
   /* a cold solve, or a replan the active-set Newton gave up: the own interior
-   * point first (plan_ipm.c), from the cold guess (a replan's too: from its predicted point
+   * point first (engine/ipm.c), from the cold guess (a replan's too: from its predicted point
    * the paper line's goal moved 20 mm took 18 iterations instead of the cold guess's 9, its
    * start moved 5 mm 10 instead of 11 but in more time) */
   if (!at_solution && (!warm || replan) && !pl->task.solver.derivative_test &&
@@ -537,7 +537,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
     ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
   } else {
-    /* the rows Ipopt sees (plan_screen.c): the limit rows whose family stays in the inner half
+    /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner half
      * of its range at the start are left out; a solution at which one of them reaches its
      * limit is solved again from the same start with it in */
     if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))

@@ -1,5 +1,5 @@
 /* Private: Ipopt on an NLP whose inequality rows far inside their limits are left out
- * (plan_screen.c). */
+ * (engine/ipopt_screen.c). */
 #ifndef EA_PLAN_SCREEN_IMPL_H
 #define EA_PLAN_SCREEN_IMPL_H
 

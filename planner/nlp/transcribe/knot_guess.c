@@ -404,7 +404,7 @@ static ea_status_t ea__guess_knots(ea_planner_t *pl, double *x, ea_error_t *err)
       ea_statics_solution_t sol;
       ea_error_t e2;
       ea_status_t st = EA_OK;
-      /* a prescribed path with its statics splines (plan_path.c): the knot's statics from
+      /* a prescribed path with its statics splines (transcribe/path_*.c): the knot's statics from
        * them (1e-10), no Newton; the pinned points keep their own */
       double ps[3];
       if (!pin && pl->guess_statics && pl->guess_statics(pl, j, sig, ps)) {

@@ -201,7 +201,7 @@ static ea_status_t ea__pattern_fail(ea_planner_t *pl, int64_t *keys) {
 
 /* The knot transcription's Hessian pattern and each row's positions in it, made when a knot
  * solve first needs them (ea__ipopt_create, the own interior point's knot solve): a planner
- * that solves in the path coordinate (plan_path.c, its own pattern) never does; they took
+ * that solves in the path coordinate (transcribe/path_*.c, its own pattern) never does; they took
  * half of ea_planner_alloc for the at-rest paper line (~3 of 6 ms). */
 ea_status_t ea__plan_hess_pattern(ea_planner_t *pl) {
   if (pl->hpos) return EA_OK;
@@ -382,7 +382,7 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
   pl->t_statics += ea__mono_s() - t0;
   (void)arm;
   /* Local rows and objective pieces (the modal defects of an interval together: they share
-   * its trajectory variables and, in plan_dyn.c, their work). */
+   * its trajectory variables and, in dyn_rows.c, their work). */
   memcpy(pl->xx, x, (size_t)pl->n * sizeof *x);
   for (int r = 0; r < pl->m;) {
     const int g = ea__plan_hess_group_len(pl->rows, r, pl->m);
