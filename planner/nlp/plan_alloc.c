@@ -1,6 +1,7 @@
 /* The planner's lifecycle: ea_planner_alloc builds the transcriptions a task needs,
  * ea_planner_free releases them. Everything is allocated here; the callbacks do not
  * allocate. */
+#include "ipopt_impl.h"
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"

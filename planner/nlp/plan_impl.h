@@ -407,19 +407,12 @@ void ea__plan_schedule(ea_planner_t *pl, double w);
 /* Hessian sparsity (knot_hess.c): the key of entry (max(i, j), min(i, j)) of an n-column
  * matrix; the sorted unique keys as triplets (irow, jcol calloc'd; keys sorted in place);
  * the position of a key among nnz sorted ones (-1: absent). */
-/* Ipopt's mu_init and warm-start pushes for a cold, warm or updated start (plan_solve.c). */
-void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated);
 struct ea__ipm_opt;
 /** The own interior point's settings for both transcriptions (engine/ipm.c): the task's
  *  tolerances, Ipopt's acceptable termination as the planner sets it for Ipopt, at most
  *  min(40, max_iter) iterations, the solve's wall-clock limit; the barrier's start mu_init and
  *  the slacks' push push_s are the caller's. */
 void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s, struct ea__ipm_opt *o);
-/* Ipopt's derivative checker (second: of the Hessian too) writing to a temporary file whose
- * name goes to tmpl ("" when none could be made); the count of errors it reported there (-1:
- * unknown) (plan_shared.c). */
-void ea__deriv_test_options(IpoptProblem ip, int second, char tmpl[64]);
-int ea__deriv_errors(const char *path);
 int64_t ea__hkey(int n, int i, int j);
 /* The pattern of nk keys (ea__hkey of an n-column matrix, repeats allowed; keys is scratch):
  * its sorted unique entries as triplets (irow, jcol malloc'd, *nnz of them) and pos[q] = the
@@ -461,17 +454,15 @@ Bool ea__knot_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *l
 Bool ea__knot_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
                       Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
                       Index ls, UserDataPtr ud);
-/* ---- Ipopt (engine/ipopt_problem.c) ---- */
-/** The Ipopt problem of the knot transcription with its rows of the next solve and the
- *  options (none for a planner that solves in the path coordinate). */
-ea_status_t ea__ipopt_create(ea_planner_t *pl);
-/** Name of an ApplicationReturnStatus. */
-const char *ea__ipopt_name(int s);
 /* ---- reports (plan_report.c) ---- */
 /** Margins, residuals and active limits of a plan x into info. */
 void ea__plan_stats(ea_planner_t *pl, const double *x, ea_plan_info_t *info);
-/* ---- the KKT acceptance test (engine/kkt_test.c) ---- */
-int ea__kkt_ok_tol(ea_planner_t *pl, const double *x, double dtol);
-int ea__kkt_ok(ea_planner_t *pl, const double *x);
+/* ---- the knot transcription's NLP (transcribe/knot_callbacks.c) ---- */
+struct ea__nlp;
+/** Its description (engine/nlp_impl.h), for the engines. */
+void ea__knot_nlp(const ea_planner_t *pl, struct ea__nlp *p);
+/** Is x with pl->mult_* a KKT point (engine/kkt_test.c: ea__kkt_accept) to the task's row
+ *  tolerance and dual tolerance dtol? 1 yes, 0 no. */
+int ea__knot_kkt_ok(ea_planner_t *pl, const double *x, double dtol);
 
 #endif

@@ -1,4 +1,5 @@
 /* The solve pipeline: start point, engines, the checks between the knots, the outcome. */
+#include "ipopt_impl.h"
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
@@ -248,13 +249,6 @@ static ea_status_t ea__solve_start_point(ea_planner_t *pl, ea_plan_start_t start
 /* Ipopt's options for this start; with the derivative test, its output file's name in
  * tmpl ("" when none could be made). */
 static void ea__solve_options(ea_planner_t *pl, int warm, int replan, char tmpl[64]) {
-  AddIpoptStrOption(pl->ip, "warm_start_init_point", warm ? "yes" : "no");
-  /* MUMPS ordering: AMD for every solve. SCOTCH gave fewer, larger fronts (numeric
-   * factorization 1.6 instead of 2.5 ms at 100 knots) but draws on a process-global random
-   * state: a plan depended on what the process had solved before (a study's CSV changed with
-   * the order of its cases, 1e-8 in durations, one Ipopt iteration more or less). AMD, AMF,
-   * PORD and METIS are deterministic; the whole cold solve took the same time with each. */
-  AddIpoptIntOption(pl->ip, "mumps_pivot_order", 0);
   ea__ipopt_start_options(pl->ip, warm, replan || pl->refining);
   if (!pl->task.solver.derivative_test) return;
   ea__deriv_test_options(pl->ip, pl->task.solver.derivative_test == 2 && pl->hess_exact == 1, tmpl);
@@ -275,7 +269,7 @@ static int ea__mono_start(const ea_planner_t *pl, ea_plan_start_t start, int war
 /* A cold start of the knot transcription solved by the own interior point (engine/ipm.c) where
  * Ipopt would start its monotone barrier (a cold guess timed along the path, a plan file; with
  * dynamics any cold start) from the same mu_init, taken when it passes the KKT test of the
- * whole problem (ea__kkt_ok). 1: pl->x, pl->mult_* and *obj are the plan's (*iters its
+ * whole problem (ea__knot_kkt_ok). 1: pl->x, pl->mult_* and *obj are the plan's (*iters its
  * iterations); 0: pl->x is the start again (info->ipm_fallback when it ran). */
 static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
                          double mono_mu, ea_plan_info_t *info, double *obj, int *iters) {
@@ -294,25 +288,8 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
    * the own interior point has no line search or second-order correction to make up for it) */
   if (t->path == EA_TASK_PATH_FREE || pl->M > 1 || ea__plan_hess_pattern(pl)) return 0;
   if (!pl->asn) {
-    const ea__asn_nlp_t nlp = {.n = pl->n,
-                               .m = pl->m,
-                               .nnz_j = pl->nnz,
-                               .nnz_h = pl->nnz_h,
-                               .xl = pl->xl,
-                               .xu = pl->xu,
-                               .gl = pl->gl,
-                               .gu = pl->gu,
-                               .jrow = pl->irow,
-                               .jcol = pl->jcol,
-                               .hrow = pl->hirow,
-                               .hcol = pl->hjcol,
-                               .f = ea__knot_cb_f,
-                               .grad_f = ea__knot_cb_grad_f,
-                               .g = ea__knot_cb_g,
-                               .jac = ea__knot_cb_jac,
-                               .h = ea__knot_cb_h,
-                               .ud = pl,
-                               .hess_last = pl->K == 0};
+    ea__nlp_t nlp;
+    ea__knot_nlp(pl, &nlp);
     if (!(pl->asn = ea__asn_alloc(&nlp))) return 0;
   }
   /* with Ipopt's acceptable termination (the partial Hessian lacks the statics rows'
@@ -329,7 +306,7 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
   }
   const int rc = ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu,
                                &info->ipm_iterations);
-  const int ok = rc >= 0 && ea__kkt_ok_tol(pl, pl->x, rc ? o.acc_tol : t->solver.tol);
+  const int ok = rc >= 0 && ea__knot_kkt_ok(pl, pl->x, rc ? o.acc_tol : t->solver.tol);
   info->ipm_fallback = !ok;
   if (!ok) { /* Ipopt's start again */
     memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x);
@@ -363,7 +340,7 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
   const double mono_mu = pl->rom ? 1e-3 : 1e-4;
   enum ApplicationReturnStatus rs = Internal_Error;
   const double ti = ea__mono_s();
-  if (warm && !pl->task.solver.derivative_test && ea__kkt_ok(pl, pl->x)) {
+  if (warm && !pl->task.solver.derivative_test && ea__knot_kkt_ok(pl, pl->x, pl->task.solver.tol)) {
     rs = Solve_Succeeded; /* the start is the solution: no Ipopt iteration */
     for (int i = 0; i < pl->n_terms; ++i)
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
@@ -410,8 +387,7 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_pla
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   {
     for (;;) {
-      AddIpoptStrOption(pl->ip, "mu_strategy", mono ? "monotone" : "adaptive");
-      if (mono) AddIpoptNumOption(pl->ip, "mu_init", mono_mu);
+
       /* With dynamics from a cold start and one model the bound multipliers start at
        * mu_init / slack instead of 1 (at mu_init 1e-3 the constant 1 is far off the central
        * path): the at-rest paper line 28 -> 21 iterations, 200 knots 33 -> 24, payload 0.25
@@ -421,9 +397,8 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_pla
        * more time. Every dynamics cold start solves each barrier subproblem to 100 mu
        * instead of 10 mu: 1-2 iterations fewer (robust 43 -> 42), durations within 2e-7
        * (docs/planner.md). */
-      AddIpoptStrOption(pl->ip, "bound_mult_init_method",
-                        mono && pl->rom && pl->M == 1 ? "mu-based" : "constant");
-      AddIpoptNumOption(pl->ip, "barrier_tol_factor", mono && pl->rom ? 100.0 : 10.0);
+      ea__ipopt_barrier_options(pl->ip, mono, mono ? mono_mu : 0.0, mono && pl->rom && pl->M == 1,
+                                mono && pl->rom ? 100.0 : 10.0);
       pl->iter = 0;
       rs = ea__screen_solve(pl->scr, pl->ip, pl->x, pl->g, obj, pl->mult_g, pl->mult_xl,
                             pl->mult_xu);
@@ -433,7 +408,7 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_pla
         break;
       mono = 0;
       memcpy(pl->x, pl->x0, (size_t)pl->n * sizeof *pl->x);
-      AddIpoptNumOption(pl->ip, "mu_init", 0.1);
+      ea__ipopt_barrier_options(pl->ip, 0, 0.1, 0, 10.0); /* the adaptive barrier */
     }
   }
   return rs;

@@ -1,4 +1,5 @@
 /* Ipopt: the problem of the knot transcription, its options, the names of its statuses. */
+#include "ipopt_impl.h"
 #include "plan_impl.h"
 #include "plan_screen_impl.h"
 
@@ -6,9 +7,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
-/* The Ipopt problem with the planner's bounds, its rows of the next solve (engine/ipopt_screen.c) and
- * the options. Every Ipopt solve creates it (ea__solve_ipopt: the rows it sees change from
+/* The Ipopt problem with the planner's bounds, its rows of the next solve (engine/ipopt_screen.c)
+ * and the options. Every Ipopt solve creates it (ea__solve_ipopt: the rows it sees change from
  * solve to solve, and Ipopt's C interface copies the bounds at creation; every IpoptSolve sets
  * up its algorithm objects and the MUMPS analysis anew anyway), so a change of the task needs
  * no call here; ea_planner_alloc creates one to report a backend that cannot. A planner that
@@ -21,51 +23,13 @@ ea_status_t ea__ipopt_create(ea_planner_t *pl) {
   if (pl->hess_exact && ea__plan_hess_pattern(pl)) return EA_ERR_NOMEM;
   /* the rows of the next solve (engine/ipopt_screen.c; every row until a solve selects them) */
   if (!pl->scr) {
-    const ea__screen_nlp_t nlp = {.n = pl->n,
-                                  .m = pl->m,
-                                  .nnz_j = pl->nnz,
-                                  .nnz_h = pl->hess_exact ? pl->nnz_h : 0,
-                                  .gl = pl->gl,
-                                  .gu = pl->gu,
-                                  .jrow = pl->irow,
-                                  .jcol = pl->jcol,
-                                  .f = ea__knot_cb_f,
-                                  .g = ea__knot_cb_g,
-                                  .grad_f = ea__knot_cb_grad_f,
-                                  .jac = ea__knot_cb_jac,
-                                  .h = ea__knot_cb_h,
-                                  .iter = ea__knot_cb_iter,
-                                  .ud = pl};
+    ea__nlp_t nlp;
+    ea__knot_nlp(pl, &nlp);
     if (!(pl->scr = ea__screen_alloc(&nlp))) return EA_ERR_NOMEM;
   }
   pl->ip = ea__screen_problem(pl->scr, pl->xl, pl->xu);
   if (!pl->ip) return EA_ERR_BACKEND;
-  AddIpoptStrOption(pl->ip, "sb", "yes");
-  AddIpoptIntOption(pl->ip, "print_level", t->solver.print_level);
-  AddIpoptStrOption(pl->ip, "linear_solver", "mumps");
-  /* The max-transversal permutation only costs MUMPS analysis time on these
-   * KKT systems (8 -> 2 ms at 100 knots); the ordering is chosen per solve
-   * (ea__plan_solve_once). */
-  AddIpoptIntOption(pl->ip, "mumps_permuting_scaling", 0);
-  /* Iterative refinement only when a solve's residual asks for it (Ipopt's default forces
-   * one step per solve: a back solve and a residual each): the same iterations on
-   * bench_plan, bench_dyn and every test, plans equal to 1e-9 relative; the paper line's
-   * cold solve 28.4 -> 24.7 ms (bench_plan, medians of 7), the at-rest one ~3 % */
-  AddIpoptIntOption(pl->ip, "min_refinement_steps", 0);
-  AddIpoptStrOption(pl->ip, "hessian_approximation", pl->hess_exact ? "exact" : "limited-memory");
-  AddIpoptNumOption(pl->ip, "tol", t->solver.tol);
-  AddIpoptNumOption(pl->ip, "constr_viol_tol", t->solver.constr_tol);
-  /* L-BFGS stalls at a dual infeasibility of ~1e-5 on these problems: accept
-   * a plan whose objective no longer moves, primal feasibility kept strict. */
-  AddIpoptNumOption(pl->ip, "acceptable_tol", fmax(1e-4, t->solver.tol));
-  AddIpoptIntOption(pl->ip, "acceptable_iter", 8);
-  AddIpoptNumOption(pl->ip, "acceptable_constr_viol_tol", fmax(1e-9, t->solver.constr_tol));
-  AddIpoptNumOption(pl->ip, "acceptable_obj_change_tol", 1e-8);
-  AddIpoptIntOption(pl->ip, "max_iter", t->solver.max_iter);
-  /* Ipopt relaxes bounds in its scaled space; the acceleration rows are
-   * scaled down by ~1/h^2, so the default 1e-8 became ~1e-6 of a limit. A
-   * plan must hold its limits: no relaxation. */
-  AddIpoptNumOption(pl->ip, "bound_relax_factor", 0.0);
+  ea__ipopt_options(pl->ip, &t->solver, pl->hess_exact, 0.0);
   return EA_OK;
 }
 
@@ -104,4 +68,94 @@ const char *ea__ipopt_name(int s) {
   default:
     return "Ipopt_Internal_Error";
   }
+}
+
+void ea__ipopt_options(IpoptProblem ip, const ea_task_solver_t *s, int hess_exact,
+                       double bound_push) {
+  AddIpoptStrOption(ip, "sb", "yes");
+  AddIpoptIntOption(ip, "print_level", s->print_level);
+  if (s->print_level >= 5) AddIpoptStrOption(ip, "print_timing_statistics", "yes");
+  AddIpoptStrOption(ip, "linear_solver", "mumps");
+  /* The max-transversal permutation only costs MUMPS analysis time on these KKT systems. */
+  AddIpoptIntOption(ip, "mumps_permuting_scaling", 0);
+  /* MUMPS ordering: AMD for every solve. SCOTCH draws on a process-global random state: a
+   * plan depended on what the process had solved before (a study's CSV changed with the order
+   * of its cases). AMD, AMF, PORD and METIS are deterministic. */
+  AddIpoptIntOption(ip, "mumps_pivot_order", 0);
+  /* Iterative refinement only when a solve's residual asks for it (Ipopt's default forces one
+   * step per solve: a back solve and a residual each, for the same iterations). */
+  AddIpoptIntOption(ip, "min_refinement_steps", 0);
+  AddIpoptStrOption(ip, "hessian_approximation", hess_exact ? "exact" : "limited-memory");
+  AddIpoptNumOption(ip, "tol", s->tol);
+  AddIpoptNumOption(ip, "constr_viol_tol", s->constr_tol);
+  /* L-BFGS stalls at a dual infeasibility of ~1e-5 on these problems: accept a plan whose
+   * objective no longer moves, primal feasibility kept strict. */
+  AddIpoptNumOption(ip, "acceptable_tol", fmax(1e-4, s->tol));
+  AddIpoptIntOption(ip, "acceptable_iter", 8);
+  AddIpoptNumOption(ip, "acceptable_constr_viol_tol", fmax(1e-9, s->constr_tol));
+  AddIpoptNumOption(ip, "acceptable_obj_change_tol", 1e-8);
+  AddIpoptIntOption(ip, "max_iter", s->max_iter);
+  /* Ipopt relaxes bounds in its scaled space; the acceleration rows are scaled down by
+   * ~1/h^2, so the default 1e-8 became ~1e-6 of a limit. A plan must hold its limits: no
+   * relaxation. */
+  AddIpoptNumOption(ip, "bound_relax_factor", 0.0);
+  if (bound_push > 0.0) {
+    AddIpoptNumOption(ip, "bound_push", bound_push);
+    AddIpoptNumOption(ip, "bound_frac", bound_push);
+  }
+}
+
+/* The barrier's start and the warm-start pushes for both transcriptions. After an update
+ * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
+ * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
+ * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
+ * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
+void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
+  AddIpoptStrOption(ip, "warm_start_init_point", warm ? "yes" : "no");
+  const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
+  AddIpoptNumOption(ip, "mu_init", mu);
+  /* no options file: a stray ipopt.opt in the working directory would override these (seen:
+   * mu_strategy from such a file changed a plan's iterations and its t_f in the 7th digit) */
+  AddIpoptStrOption(ip, "option_file_name", "");
+  if (!warm && !updated) return;
+  AddIpoptNumOption(ip, "warm_start_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
+  AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
+}
+
+void ea__ipopt_barrier_options(IpoptProblem ip, int mono, double mu_init, int mu_based_mult,
+                               double barrier_tol_factor) {
+  AddIpoptStrOption(ip, "mu_strategy", mono ? "monotone" : "adaptive");
+  if (mu_init > 0.0) AddIpoptNumOption(ip, "mu_init", mu_init);
+  AddIpoptStrOption(ip, "bound_mult_init_method", mu_based_mult ? "mu-based" : "constant");
+  AddIpoptNumOption(ip, "barrier_tol_factor", barrier_tol_factor);
+}
+
+/* Count of derivative checker errors in Ipopt's output file (-1: unknown). */
+int ea__deriv_errors(const char *path) {
+  FILE *fp = fopen(path, "r");
+  if (!fp) return -1;
+  char line[512];
+  int n = -1;
+  while (fgets(line, sizeof line, fp)) {
+    int k;
+    if (strstr(line, "No errors detected by derivative checker")) n = 0;
+    if (sscanf(line, "Derivative checker detected %d error", &k) == 1) n = k;
+  }
+  fclose(fp);
+  return n;
+}
+
+void ea__deriv_test_options(IpoptProblem ip, int second, char tmpl[64]) {
+  snprintf(tmpl, 64, "/tmp/ea_dercheck_XXXXXX");
+  const int fd = mkstemp(tmpl);
+  if (fd >= 0) {
+    close(fd);
+    OpenIpoptOutputFile(ip, tmpl, 5);
+  } else {
+    tmpl[0] = '\0';
+  }
+  AddIpoptStrOption(ip, "derivative_test", second ? "second-order" : "first-order");
+  AddIpoptNumOption(ip, "derivative_test_perturbation", 1e-7);
+  AddIpoptNumOption(ip, "derivative_test_tol", 1e-5);
 }

@@ -2,26 +2,12 @@
 #ifndef EA_PLAN_ASN_IMPL_H
 #define EA_PLAN_ASN_IMPL_H
 
-#include <coin/IpStdCInterface.h>
+#include "nlp_impl.h"
+
 #include <klu.h>
 
-/** The NLP as Ipopt sees it: sizes, bounds, the Jacobian's and the Hessian's (lower triangle)
- *  structures, the callbacks and their user data. */
-typedef struct ea__asn_nlp {
-  int n, m, nnz_j, nnz_h;
-  const double *xl, *xu, *gl, *gu;
-  const int *jrow, *jcol, *hrow, *hcol;
-  Eval_F_CB f; /* the objective (engine/ipm.c's acceptable termination; NULL: none) */
-  Eval_Grad_F_CB grad_f;
-  Eval_G_CB g;
-  Eval_Jac_G_CB jac;
-  Eval_H_CB h;
-  void *ud;
-  /* 1: the Hessian after the rows, and only where a step follows (the rows share nothing with
-   * it: no modal defects); 0: before them (dyn_rows.c's defects leave their values and
-   * gradients for the rows) */
-  int hess_last;
-} ea__asn_nlp_t;
+/** The NLP (engine/nlp_impl.h). */
+typedef ea__nlp_t ea__asn_nlp_t;
 
 /** What a converged point is (the caller's solver settings, given at every solve): rows at
  *  their bounds within ptol, stationarity within dtol (both unscaled); active inequality rows

@@ -547,8 +547,8 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
   }
 }
 
-/* The path layout's kinematics of interval k (transcribe/path_*.c): z = (sigma_k, sigma_k+1, the rates
- * of L_c and alpha at k and k + 1, t_f); (L_c, alpha) at the ends are functions of sigma with
+/* The path layout's kinematics of interval k (transcribe/path_*.c): z = (sigma_k, sigma_k+1, the
+ * rates of L_c and alpha at k and k + 1, t_f); (L_c, alpha) at the ends are functions of sigma with
  * slopes and curvatures dq[P], d2q[P]. */
 static void ea__hz_kin_pp(const ea_planner_t *pl, const double *x, int k, const double *dq[2],
                           const double *d2q[2], ea__hz_kin_t7 *o) {

@@ -1,6 +1,7 @@
 /* The knot transcription's callbacks (objective, rows, Jacobian, Hessian, iteration), as the
  * engines call them. */
 #include "plan_impl.h"
+#include "nlp_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -102,4 +103,52 @@ Bool ea__knot_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Numb
   (void)alpha_du, (void)alpha_pr, (void)ls;
   pl->iter = iter;
   return ea__mono_s() - pl->t_start < pl->max_time ? TRUE : FALSE;
+}
+
+void ea__knot_nlp(const ea_planner_t *pl, ea__nlp_t *p) {
+  *p = (ea__nlp_t){.n = pl->n,
+                   .m = pl->m,
+                   .nnz_j = pl->nnz,
+                   .nnz_h = pl->hess_exact ? pl->nnz_h : 0,
+                   .xl = pl->xl,
+                   .xu = pl->xu,
+                   .gl = pl->gl,
+                   .gu = pl->gu,
+                   .jrow = pl->irow,
+                   .jcol = pl->jcol,
+                   .hrow = pl->hirow,
+                   .hcol = pl->hjcol,
+                   .f = ea__knot_cb_f,
+                   .grad_f = ea__knot_cb_grad_f,
+                   .g = ea__knot_cb_g,
+                   .jac = ea__knot_cb_jac,
+                   .h = ea__knot_cb_h,
+                   .iter = ea__knot_cb_iter,
+                   .ud = (void *)pl,
+                   .hess_last = pl->K == 0};
+}
+
+/* The KKT test's rows and Jacobian: every knot shot again (the cache may hold shots of another
+ * task), not counted as the engines' evaluations. */
+static Bool ea__knot_check_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud) {
+  (void)n, (void)new_x, (void)m;
+  return ea__plan_eval_g(ud, x, g) == EA_OK;
+}
+
+static Bool ea__knot_check_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow,
+                               Index *jCol, Number *values, UserDataPtr ud) {
+  (void)n, (void)new_x, (void)m, (void)nele, (void)iRow, (void)jCol;
+  ea__plan_jac(ud, x, NULL, NULL, values);
+  return TRUE;
+}
+
+int ea__knot_kkt_ok(ea_planner_t *pl, const double *x, double dtol) {
+  ea__nlp_t p;
+  ea__knot_nlp(pl, &p);
+  p.g = ea__knot_check_g;
+  p.jac = ea__knot_check_jac;
+  pl->cache_val = pl->cache_sens = 0;
+  const ea__kkt_work_t w = {pl->g, pl->kkt_r, pl->jval};
+  return ea__kkt_accept(&p, x, pl->mult_g, pl->mult_xl, pl->mult_xu,
+                        fmax(1e-9, pl->task.solver.constr_tol), dtol, &w);
 }

@@ -59,6 +59,7 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->hpos);
   free(pp->gk);
   free(pp->xx);
+  free(pp->kkt_jv);
   free(pp);
 }
 
@@ -283,7 +284,8 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   pp->irow = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
   pp->jcol = malloc(sizeof(int) * (size_t)(pp->nnz + 1));
   pp->jstart = malloc(sizeof(int) * (size_t)(m + 1));
-  ea_status_t st = !pp->irow || !pp->jcol || !pp->jstart ? EA_ERR_NOMEM : EA_OK;
+  pp->kkt_jv = malloc(sizeof(double) * (size_t)(pp->nnz + 1));
+  ea_status_t st = !pp->irow || !pp->jcol || !pp->jstart || !pp->kkt_jv ? EA_ERR_NOMEM : EA_OK;
   for (int i = 0, nz = 0; i < m && !st; nz += rn[i++]) {
     pp->jstart[i] = nz;
     for (int j = 0; j < rn[i]; ++j) {

@@ -89,6 +89,7 @@ struct ea__pp {
   /* with dynamics the rows' values come with their Jacobian's (one pass over the rows), kept
    * for the Jacobian at the same x */
   double *jv_keep, *jv_x;
+  double *kkt_jv; /* the KKT test's Jacobian values */
   int jv_valid;
   IpoptProblem ip;
   int iter;
@@ -114,6 +115,8 @@ void ea__pp_spline(const ea__pp_t *pp, int j, double sig, double p[3], double dp
 ea_status_t ea__pp_build_splines(ea_planner_t *pl, ea_error_t *err);
 
 /* ---- path_nlp.c ---- */
+/** The path NLP's description (engine/nlp_impl.h). */
+void ea__pp_nlp(const ea_planner_t *pl, ea__nlp_t *p);
 const ea__row_t *ea__pp_hrow(const ea_planner_t *pl, int r);
 int ea__pp_npieces(const ea_planner_t *pl);
 ea_status_t ea__pp_hess_setup(ea_planner_t *pl, const int *rc, const int *rn);

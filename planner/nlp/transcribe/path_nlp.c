@@ -385,3 +385,27 @@ Bool ea__pp_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number
   pl->pp->iter = iter;
   return ea__mono_s() - pl->t_start < pl->max_time ? TRUE : FALSE;
 }
+
+void ea__pp_nlp(const ea_planner_t *pl, ea__nlp_t *p) {
+  const ea__pp_t *pp = pl->pp;
+  *p = (ea__nlp_t){.n = pp->n,
+                   .m = pp->m,
+                   .nnz_j = pp->nnz,
+                   .nnz_h = pp->nnz_h,
+                   .xl = pp->xl,
+                   .xu = pp->xu,
+                   .gl = pp->gl,
+                   .gu = pp->gu,
+                   .jrow = pp->irow,
+                   .jcol = pp->jcol,
+                   .hrow = pp->hirow,
+                   .hcol = pp->hjcol,
+                   .f = ea__pp_cb_f,
+                   .grad_f = ea__pp_cb_grad_f,
+                   .g = ea__pp_cb_g,
+                   .jac = ea__pp_cb_jac,
+                   .h = ea__pp_cb_h,
+                   .iter = ea__pp_cb_iter,
+                   .ud = (void *)pl,
+                   .hess_last = pl->K == 0};
+}

@@ -1,4 +1,5 @@
 /* A solve in the path coordinate: guess, engines, replanning. */
+#include "ipopt_impl.h"
 #include "path_impl.h"
 
 #include <math.h>
@@ -6,43 +7,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Is pp->x (with the multipliers in pp->mult_*) already a KKT point to the solver's tolerances,
- * unscaled (ea__kkt_ok in plan_solve.c, the same test for the knot transcription)? A warm start
- * from the planner's own solution of an unchanged problem, or of one whose change left it
- * optimal (a limit loosened that was not active), then needs no Ipopt solve: Ipopt would set
- * up its algorithm and MUMPS' analysis and take one iteration (6-12 ms at 100 knots). */
+/* Is pp->x (with the multipliers in pp->mult_*) a KKT point to the solver's tolerances
+ * (engine/kkt_test.c)? A warm start from the planner's own solution of an unchanged problem, or
+ * of one whose change left it optimal (a limit loosened that was not active), then needs no
+ * engine: Ipopt would set up its algorithm and MUMPS' analysis and take one iteration. */
 static int ea__pp_kkt_ok_tol(ea_planner_t *pl, double dtol) {
   ea__pp_t *pp = pl->pp;
-  const ea_task_t *t = &pl->task;
-  const double ptol = fmax(1e-9, t->solver.constr_tol);
-  double *x = pp->x, *r = pp->xx;
-  for (int i = 0; i < pp->n; ++i)
-    if (x[i] < pp->xl[i] - ptol || x[i] > pp->xu[i] + ptol) return 0;
-  if (!ea__pp_cb_g(pp->n, x, TRUE, pp->m, pp->g, pl)) return 0;
-  for (int i = 0; i < pp->m; ++i) {
-    if (!(pp->g[i] >= pp->gl[i] - ptol && pp->g[i] <= pp->gu[i] + ptol)) return 0;
-    if (pp->gl[i] == pp->gu[i]) continue;
-    /* Ipopt's sign: lambda > 0 at the upper bound, < 0 at the lower */
-    const double lam = pp->mult_g[i];
-    const double gap = lam > 0 ? pp->gu[i] - pp->g[i] : pp->g[i] - pp->gl[i];
-    if (fabs(lam) * fmin(gap, 1e19) > dtol) return 0;
-  }
-  double *jv = malloc(sizeof(double) * (size_t)(pp->nnz + 1));
-  int ok = jv && ea__pp_cb_grad_f(pp->n, x, FALSE, r, pl) &&
-           ea__pp_cb_jac(pp->n, x, FALSE, pp->m, pp->nnz, NULL, NULL, jv, pl);
-  if (ok) {
-    for (int e = 0; e < pp->nnz; ++e)
-      r[pp->jcol[e]] += jv[e] * pp->mult_g[pp->irow[e]];
-    for (int i = 0; i < pp->n && ok; ++i) {
-      if (pp->xl[i] == pp->xu[i]) continue; /* fixed: Ipopt removes it */
-      ok = pp->mult_xl[i] >= 0.0 && pp->mult_xu[i] >= 0.0 &&
-           fabs(r[i] - pp->mult_xl[i] + pp->mult_xu[i]) <= dtol &&
-           pp->mult_xl[i] * fmin(x[i] - pp->xl[i], 1e19) <= dtol &&
-           pp->mult_xu[i] * fmin(pp->xu[i] - x[i], 1e19) <= dtol;
-    }
-  }
-  free(jv);
-  return ok;
+  ea__nlp_t p;
+  ea__pp_nlp(pl, &p);
+  const ea__kkt_work_t w = {pp->g, pp->xx, pp->kkt_jv};
+  return ea__kkt_accept(&p, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu,
+                        fmax(1e-9, pl->task.solver.constr_tol), dtol, &w);
 }
 
 static int ea__pp_kkt_ok(ea_planner_t *pl) {
@@ -65,25 +40,8 @@ static void ea__pp_mult_from_sol(ea__pp_t *pp) {
 static int ea__pp_asn(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
   if (!pp->asn) {
-    const ea__asn_nlp_t nlp = {.n = pp->n,
-                               .m = pp->m,
-                               .nnz_j = pp->nnz,
-                               .nnz_h = pp->nnz_h,
-                               .xl = pp->xl,
-                               .xu = pp->xu,
-                               .gl = pp->gl,
-                               .gu = pp->gu,
-                               .jrow = pp->irow,
-                               .jcol = pp->jcol,
-                               .hrow = pp->hirow,
-                               .hcol = pp->hjcol,
-                               .f = ea__pp_cb_f,
-                               .grad_f = ea__pp_cb_grad_f,
-                               .g = ea__pp_cb_g,
-                               .jac = ea__pp_cb_jac,
-                               .h = ea__pp_cb_h,
-                               .ud = pl,
-                               .hess_last = pl->K == 0};
+    ea__nlp_t nlp;
+    ea__pp_nlp(pl, &nlp);
     if (!(pp->asn = ea__asn_alloc(&nlp))) return -1;
   }
   return 0;
@@ -181,21 +139,8 @@ static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
   if (!pp->rfam && !(pp->rfam = malloc(sizeof(int) * (size_t)(pp->m + 1)))) return NULL;
   pp->nfam = ea__plan_row_families(pp->rows, pp->m, pp->rfam);
-  const ea__screen_nlp_t nlp = {.n = pp->n,
-                                .m = pp->m,
-                                .nnz_j = pp->nnz,
-                                .nnz_h = pp->nnz_h,
-                                .gl = pp->gl,
-                                .gu = pp->gu,
-                                .jrow = pp->irow,
-                                .jcol = pp->jcol,
-                                .f = ea__pp_cb_f,
-                                .g = ea__pp_cb_g,
-                                .grad_f = ea__pp_cb_grad_f,
-                                .jac = ea__pp_cb_jac,
-                                .h = ea__pp_cb_h,
-                                .iter = ea__pp_cb_iter,
-                                .ud = pl};
+  ea__nlp_t nlp;
+  ea__pp_nlp(pl, &nlp);
   return ea__screen_alloc(&nlp);
 }
 
@@ -205,27 +150,9 @@ static ea_status_t ea__pp_ipopt(ea_planner_t *pl) {
   if (pp->ip) FreeIpoptProblem(pp->ip);
   pp->ip = ea__screen_problem(pp->scr, pp->xl, pp->xu);
   if (!pp->ip) return EA_ERR_BACKEND;
-  AddIpoptStrOption(pp->ip, "sb", "yes");
-  AddIpoptIntOption(pp->ip, "print_level", t->solver.print_level);
-  if (t->solver.print_level >= 5) AddIpoptStrOption(pp->ip, "print_timing_statistics", "yes");
-  AddIpoptStrOption(pp->ip, "linear_solver", "mumps");
-  AddIpoptIntOption(pp->ip, "mumps_permuting_scaling", 0);
-  AddIpoptIntOption(pp->ip, "mumps_pivot_order", 0);    /* deterministic (plan_solve.c) */
-  AddIpoptIntOption(pp->ip, "min_refinement_steps", 0); /* as needed (plan_solve.c) */
-  AddIpoptStrOption(pp->ip, "hessian_approximation", "exact");
-  AddIpoptNumOption(pp->ip, "tol", t->solver.tol);
-  AddIpoptNumOption(pp->ip, "constr_viol_tol", t->solver.constr_tol);
-  AddIpoptNumOption(pp->ip, "acceptable_tol", fmax(1e-4, t->solver.tol));
-  AddIpoptIntOption(pp->ip, "acceptable_iter", 8);
-  AddIpoptNumOption(pp->ip, "acceptable_constr_viol_tol", fmax(1e-9, t->solver.constr_tol));
-  AddIpoptNumOption(pp->ip, "acceptable_obj_change_tol", 1e-8);
-  AddIpoptIntOption(pp->ip, "max_iter", t->solver.max_iter);
-  AddIpoptNumOption(pp->ip, "bound_relax_factor", 0.0);
   /* the knots near a pinned point have sigma within 1e-2 of its bound: the default push
-   * (1e-2) would move them by more than their distance (EA_PP_DEBUG: from 2.9e-4 to 4.6
-   * of infeasibility; 19 -> 14 iterations on the paper line) */
-  AddIpoptNumOption(pp->ip, "bound_push", 1e-6);
-  AddIpoptNumOption(pp->ip, "bound_frac", 1e-6);
+   * (1e-2) would move them by more than their distance */
+  ea__ipopt_options(pp->ip, &t->solver, 1, 1e-6);
   return EA_OK;
 }
 
@@ -415,7 +342,6 @@ static void ea__pp_run(ea_planner_t *pl, int warm, int replan, ea_plan_start_t s
                        int traj_exact, char *tmpl, enum ApplicationReturnStatus *rs, double *obj,
                        int *iters) {
   ea__pp_t *pp = pl->pp;
-  AddIpoptStrOption(pp->ip, "warm_start_init_point", warm ? "yes" : "no");
   ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
   if (tmpl && pl->task.solver.derivative_test)
     ea__deriv_test_options(pp->ip, pl->task.solver.derivative_test == 2, tmpl);
@@ -423,8 +349,7 @@ static void ea__pp_run(ea_planner_t *pl, int warm, int replan, ea_plan_start_t s
              (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
   for (;;) {
-    AddIpoptStrOption(pp->ip, "mu_strategy", mono ? "monotone" : "adaptive");
-    if (mono) AddIpoptNumOption(pp->ip, "mu_init", traj_exact ? 1e-7 : 1e-4);
+    ea__ipopt_barrier_options(pp->ip, mono, mono ? (traj_exact ? 1e-7 : 1e-4) : 0.0, 0, 10.0);
     pp->iter = 0;
     *rs =
         ea__screen_solve(pp->scr, pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl, pp->mult_xu);
@@ -434,7 +359,7 @@ static void ea__pp_run(ea_planner_t *pl, int warm, int replan, ea_plan_start_t s
       break;
     mono = 0;
     memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
-    AddIpoptNumOption(pp->ip, "mu_init", 0.1);
+    ea__ipopt_barrier_options(pp->ip, 0, 0.1, 0, 10.0); /* the adaptive barrier */
   }
 }
 
@@ -537,8 +462,8 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
     ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
   } else {
-    /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner half
-     * of its range at the start are left out; a solution at which one of them reaches its
+    /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner
+     * half of its range at the start are left out; a solution at which one of them reaches its
      * limit is solved again from the same start with it in */
     if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
       return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
