@@ -147,7 +147,7 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   pl->s = calloc((size_t)N, sizeof *pl->s);
   pl->seg_of_knot = calloc((size_t)N, sizeof *pl->seg_of_knot);
   if (!pl->s || !pl->seg_of_knot) goto nomem;
-  ea__plan_schedule(pl, 0.0);
+  ea__plan_knot_times(pl);
   ea__plan_layout(pl);
   ea__acc_scale(pl);
   if ((st = ea__plan_freq_build(pl, err))) {

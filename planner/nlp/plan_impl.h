@@ -402,8 +402,8 @@ int ea__pp_threads(const ea_planner_t *pl);
 int ea__pp_test_direct(const ea_planner_t *pl);
 /** The (L_c, alpha) box the task's path covers, with a margin (vib_rows.c). */
 void ea__plan_box(const ea_planner_t *pl, double box[4]);
-/** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
-void ea__plan_schedule(ea_planner_t *pl, double w);
+/** Uniform knot-time fractions s_k = k / (N - 1). */
+void ea__plan_knot_times(ea_planner_t *pl);
 /* Hessian sparsity (knot_hess.c): the key of entry (max(i, j), min(i, j)) of an n-column
  * matrix; the sorted unique keys as triplets (irow, jcol calloc'd; keys sorted in place);
  * the position of a key among nnz sorted ones (-1: absent). */

@@ -1,5 +1,6 @@
-/* Private: a primal-dual interior point on an NLP given by Ipopt's callbacks, its KKT system
- * factored by KLU (engine/ipm.c). */
+/* Private: a primal-dual interior point on an NLP (engine/nlp_impl.h), its KKT system factored
+ * by LDL' (SuiteSparse LDL) in the fill-reducing order of KLU's analysis of the pattern, which
+ * it shares with the active-set Newton's workspace (engine/ipm.c, engine/asn.c). */
 #ifndef EA_PLAN_IPM_IMPL_H
 #define EA_PLAN_IPM_IMPL_H
 

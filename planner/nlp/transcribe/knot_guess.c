@@ -8,12 +8,10 @@
 #include <math.h>
 #include <string.h>
 
-void ea__plan_schedule(ea_planner_t *pl, double w) {
+void ea__plan_knot_times(ea_planner_t *pl) {
   const int N = pl->N;
-  for (int k = 0; k < N; ++k) {
-    const double u = (double)k / (N - 1);
-    pl->s[k] = u - w * sin(2.0 * M_PI * u) / (2.0 * M_PI);
-  }
+  for (int k = 0; k < N; ++k)
+    pl->s[k] = (double)k / (N - 1);
   pl->s[0] = 0.0;
   pl->s[N - 1] = 1.0;
 }

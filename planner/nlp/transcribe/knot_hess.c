@@ -1,15 +1,13 @@
-/* The Lagrangian Hessian (lower triangle) for Ipopt's exact-Hessian mode.
+/* The Lagrangian Hessian (lower triangle) of the knot transcription (exact-Hessian modes).
  *
- * Statics rows: the second derivatives of the shooting map come from
- * forward differences of its exact first-order sensitivities (4 extra
- * shots with sensitivities per knot), plus the closed-form curvature of
- * -L_c (cos alpha, sin alpha). Every other row, and the objective pieces,
- * are small local functions (<= 5 variables) with exact gradients; their
- * Hessians are central differences of those gradients, exact for the rows
- * that are linear or quadratic in their variables. The "partial" mode
- * (default) leaves out the statics curvature: on the benchmark and the
- * 200-task sweep it needs the same iterations at half the cost.
- * docs/planner.md compares the three modes. */
+ * Statics rows (mode "exact" only): the second derivatives of the shooting map from forward
+ * differences of its exact first-order sensitivities (4 extra shots with sensitivities per
+ * knot), plus the closed-form curvature of -L_c (cos alpha, sin alpha); the "partial" mode
+ * (default) leaves them out. Every other row and objective piece is a small local function
+ * with an exact gradient: its Hessian in closed form where its kind has one (ea__plan_row_hess:
+ * the Hermite rows, the tension and torque rows with modal parts; ea__plan_dyn_defect_hess: the
+ * modal defects), else central differences of the exact gradient. docs/planner.md compares
+ * the modes. */
 #include "plan_impl.h"
 
 #include <math.h>

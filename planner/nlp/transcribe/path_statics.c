@@ -1,4 +1,14 @@
-/* The path transcription's statics tables: (T, theta0, kappa0) along the path coordinate. */
+/* The path transcription's statics tables: (T, theta0, kappa0) along the path coordinate
+ * sigma, a cubic Hermite in sigma on a table bisected until each interval's Hermite misses its
+ * midpoint by < 16 x 1e-11 (O(h^4): ~1/16 of that between). Its samples come from Chebyshev
+ * interpolants of the statics per segment (ea__pp_piece): samples at Chebyshev-Lobatto points,
+ * the levels of 8, 16, 32, 64 intervals each checked against the next level's new samples and
+ * taken when they miss by < EA__PP_TOL (theta0 [rad], T relative to 1 + T, kappa0 L), tight
+ * enough that the knots of a plan hold the statics residual 1e-9 (test_plan_path measures the
+ * tables against independent re-solves between the samples). The table also holds dp/dL_c and
+ * dp/dalpha per sample (the limits between the knots take the statics' rates from them). An
+ * update keeps the samples of the leading segments whose geometry, arm, tip mass and base angle
+ * did not change. */
 #include "path_impl.h"
 
 #include <gsl/gsl_chebyshev.h>
