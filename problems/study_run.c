@@ -5,7 +5,8 @@
  * Journal (docs/studies.md): a header line naming the study's key (CRC-32
  * of its canonical description), then one block per finished case: the
  * case's CSV rows followed by "#case ID BYTES CRC32\n" over those rows.
- * Each block is written with one write() and fsync'd, so after a crash
+ * Each block is written with one write(), fsync'd at most every settings'
+ * fsync_interval_s (set->fsync), so after a crash
  * (kill -9, power loss) the file holds complete blocks and at most one
  * torn tail, which a resume detects (length or CRC) and truncates. */
 #include "study_impl.h"

@@ -1,7 +1,8 @@
 /**
  * @file ea_planner.h
- * @brief The trajectory planner (docs/planner.md): a task (ea_task.h) planned
- *        by Ipopt (NLopt tunes the knot schedule), replanning, the plan as a
+ * @brief The trajectory planner (docs/planner.md): a task (ea_task.h) transcribed
+ *        into an NLP and solved by the planner's own interior point, an
+ *        active-set Newton (replans) or Ipopt; replanning, the plan as a
  *        trajectory (ea_traj.h) and its JSON summary, and the planner metrics of
  *        batch studies (ea_study.h: min_time, at_rest) (planner/nlp/).
  */

@@ -27,7 +27,7 @@ typedef enum ea__row_kind {
   EA__ROW_DEFL_END,          /* ... at its end */
   EA__ROW_OBJ_VIB,           /* objective piece: vibration integral of an interval (all coords) */
   EA__ROW_ACC_CONT,          /* acceleration continuous at an interior knot */
-  EA__ROW_DYN_DEF_POS,       /* modal Hermite-Simpson defect, eta (plan_dyn.c) */
+  EA__ROW_DYN_DEF_POS,       /* modal Hermite-Simpson defect, eta (dyn_rows.c) */
   EA__ROW_DYN_DEF_VEL,       /* ... eta' */
   EA__ROW_DYN_TENSION,       /* tension with the modal part at a knot */
   EA__ROW_DYN_TORQUE,        /* shoulder torque with the modal part at a knot */
@@ -77,7 +77,7 @@ typedef struct ea__plan_term {
 /** Most entries of one row or objective piece (ea__plan_row_eval). */
 #define EA__ROW_MAX 16
 
-/** FE first-frequency model f1(L_c, alpha) (plan_vib.c). */
+/** FE first-frequency model f1(L_c, alpha) (vib_rows.c). */
 typedef struct ea__freq_model {
   int nL, na;
   double *Lg, *ag, *f; /* grid (nL, na) and f1 [Hz] (na x nL, x fastest) */
@@ -117,13 +117,13 @@ struct ea_planner {
   ea__row_t *rows;
   int *irow, *jcol;
   IpoptProblem ip;
-  struct ea__screen *scr; /* Ipopt's rows of the next solve (plan_screen.c) */
-  struct ea__asn *asn;    /* the own interior point's workspace (plan_ipm.c; NULL until used) */
+  struct ea__screen *scr; /* Ipopt's rows of the next solve (engine/ipopt_screen.c) */
+  struct ea__asn *asn;    /* the own interior point's workspace (engine/ipm.c; NULL until used) */
   int *rfam, nfam;        /* m: each row's family for it (ea__plan_row_families) */
   double *xstart;         /* n: the start of a solve (a screened solve's second round) */
   /* frequency model (NULL when the task needs none) */
   ea__freq_model_t *fm;
-  /* reduced dynamic model (NULL when the task has no dynamics; plan_dyn.c) */
+  /* reduced dynamic model (NULL when the task has no dynamics; dyn_rows.c) */
   ea_rom_table_t *rom;                      /* the nominal model's (roms[0]) */
   ea_rom_table_t *roms[EA__DYN_MAX_MODELS]; /* per model: nominal, then the robust corners */
   int M;                                    /* models */
@@ -135,12 +135,12 @@ struct ea_planner {
   int ie0;                            /* index of the first modal variable */
   double dyn_target[2 * EA__DYN_MAX]; /* terminal (eta, eta') when ending at rest */
   ea_plan_dyn_info_t dyn_info;
-  struct ea__dyn_cache *dync; /* the defect rows' work per interval (plan_dyn.c) */
+  struct ea__dyn_cache *dync; /* the defect rows' work per interval (dyn_rows.c) */
   int zero_end_acc;           /* 1: acceleration 0 at start and goal (min_vibration) */
   /* objective */
   int n_terms;
   ea__plan_term_t terms[EA__MAX_TERMS];
-  /* exact Hessian (plan_hess.c) */
+  /* exact Hessian (knot_hess.c) */
   int hess_exact;
   int n_orows; /* objective pieces (rows of kind EA__ROW_OBJ_*) */
   ea__row_t *orows;
@@ -176,7 +176,7 @@ struct ea_planner {
   double t_statics, t_callbacks, t_start, max_time;
   int iter;
   int refining; /* 1: re-solve after bounds were tightened for limits between knots */
-  /* the prescribed path in the path coordinate (plan_path.c; NULL: knots only) */
+  /* the prescribed path in the path coordinate (transcribe/path_*.c; NULL: knots only) */
   struct ea__pp *pp;
   int pp_off; /* 1: solve with the knot transcription (a fallback) */
   /* the guess's statics at fraction frac of segment j when a prescribed path has them
@@ -219,11 +219,11 @@ void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, 
 /** Shoot every knot at x, with sensitivities when sens (a knot whose p is unchanged and
  *  whose shot has what is asked is not shot again). */
 /** Nonzero when the solve's wall-clock limit (solver.max_time_s) has passed (ud: the
- *  planner; the own interior point's stop, plan_ipm.c). */
+ *  planner; the own interior point's stop, engine/ipm.c). */
 int ea__plan_time_up(void *ud);
 ea_status_t ea__plan_shoot_all(ea_planner_t *pl, const double *x, int sens);
 /** The rows' families (m): one limit of one coordinate (an interval's start and end rows of
- *  a limit together), for leaving rows out of Ipopt's problem (plan_screen.c); returns the
+ *  a limit together), for leaving rows out of Ipopt's problem (engine/ipopt_screen.c); returns the
  *  number of families. */
 int ea__plan_row_families(const ea__row_t *rows, int m, int *fam);
 /** Constraint values at x into g (m). */
@@ -248,7 +248,7 @@ int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
                               const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
-/** The path layout's local variables of a mode's defect rows over an interval (plan_path.c):
+/** The path layout's local variables of a mode's defect rows over an interval (transcribe/path_*.c):
  *  eta_k, eta'_k, eta_k+1, eta'_k+1, sigma_k, sigma_k+1, the rates of L_c and alpha at k and
  *  k + 1, t_f (the order of the rows' entries in that layout; t_f dropped if fixed). */
 #define EA__PP_DKEY 11
@@ -269,15 +269,15 @@ int ea__plan_dyn_defect_pp_cached(const ea_planner_t *pl, int k, int i, int vel,
 /** Forget what ea__plan_dyn_defect_hess_pp kept (the path's statics or geometry changed). */
 void ea__plan_dyn_pp_forget(const ea_planner_t *pl);
 /** Make the tables at knot k's (L_c, alpha) in x current (the knot's cache, which the rows of
- *  the intervals on both sides of it read: at the knot where plan_path.c splits its rows in two
+ *  the intervals on both sides of it read: at the knot where transcribe/path_*.c splits its rows in two
  *  parts, before their evaluation in parallel). */
 void ea__plan_dyn_warm(const ea_planner_t *pl, const double *x, int k);
-/** The same for the tension and torque rows with the modal parts (plan_dyn.c: the table's
+/** The same for the tension and torque rows with the modal parts (dyn_rows.c: the table's
  *  exact second derivatives); -1 for any other kind. */
 int ea__plan_dyn_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *r, int *cols,
                           double H[][EA__ROW_MAX]);
 /** Does the Lagrangian Hessian take the row's curvature? Not the statics rows (their own
- *  blocks, plan_hess.c) nor the linear rest rows. (Leaving out the modal defects' curvature
+ *  blocks, knot_hess.c) nor the linear rest rows. (Leaving out the modal defects' curvature
  *  was tried: 60 % less work per iteration, but a payload-0.5 at-rest plan no longer
  *  converged in 500 iterations.) */
 static inline int ea__plan_row_curved(const ea__row_t *r) {
@@ -349,7 +349,7 @@ double ea__plan_retime(const ea_planner_t *pl, double *x);
  *  (<= 0 or -INFINITY: none), msg says which. */
 int ea__plan_between(ea_planner_t *pl, const double *x, double *worst, char *msg, size_t len);
 /** The reduced dynamic model for a task with dynamics (pl->rom; NULL otherwise): the box of
- *  the task, the table from the cache or built (plan_dyn.c). */
+ *  the task, the table from the cache or built (dyn_rows.c). */
 ea_status_t ea__plan_dyn_build(ea_planner_t *pl, ea_error_t *err);
 void ea__plan_dyn_cache_free(struct ea__dyn_cache *c);
 /** Rows of the dynamic kinds; same contract as ea__plan_row_eval. */
@@ -358,7 +358,7 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
 /** Modal states of x integrated along its (L_c, alpha) from rest (a guess). */
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
 /* A cold guess with dynamics: stretched in time inside its limits (minimum time), then its
- * modal states filled (plan_dyn.c). */
+ * modal states filled (dyn_rows.c). */
 void ea__plan_dyn_guess(const ea_planner_t *pl, double *x);
 /** For the refinement (plan_refine.c): model j's table (0 the nominal, 1..4 the robust
  *  corners; NULL: none) and the held plan's modal state of model j at the goal (Kper values
@@ -367,7 +367,7 @@ const ea_rom_table_t *ea__plan_rom_model(const ea_planner_t *pl, int j);
 int ea__plan_dyn_terminal(const ea_planner_t *pl, int j, double *eta, double *eta_rate);
 /** The model's predicted residual and modal figures of a plan x into info. */
 void ea__plan_dyn_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t *info);
-/** The path transcription (plan_path.c): does the task qualify (line/polyline, no frequency
+/** The path transcription (transcribe/path_*.c): does the task qualify (line/polyline, no frequency
  *  model, exact Hessian)? */
 int ea__pp_supported(const ea_planner_t *pl);
 /** Build it (after the knot planner's rows, bounds and Hessian structure). */
@@ -400,26 +400,19 @@ int ea__pp_threads(const ea_planner_t *pl);
 /** Are the modal defects' Hessians and gradients kept in the path layout directly
  *  (ea__plan_dyn_defect_hess_pp)? 1 yes, 0 through the knot layout. */
 int ea__pp_test_direct(const ea_planner_t *pl);
-/** The (L_c, alpha) box the task's path covers, with a margin (plan_vib.c). */
+/** The (L_c, alpha) box the task's path covers, with a margin (vib_rows.c). */
 void ea__plan_box(const ea_planner_t *pl, double box[4]);
-/** Knot-time fractions for warp parameter w in (-1, 1) (0 = uniform). */
-void ea__plan_schedule(ea_planner_t *pl, double w);
-/* Hessian sparsity (plan_hess.c): the key of entry (max(i, j), min(i, j)) of an n-column
+/** Uniform knot-time fractions s_k = k / (N - 1). */
+void ea__plan_knot_times(ea_planner_t *pl);
+/* Hessian sparsity (knot_hess.c): the key of entry (max(i, j), min(i, j)) of an n-column
  * matrix; the sorted unique keys as triplets (irow, jcol calloc'd; keys sorted in place);
  * the position of a key among nnz sorted ones (-1: absent). */
-/* Ipopt's mu_init and warm-start pushes for a cold, warm or updated start (plan_solve.c). */
-void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated);
 struct ea__ipm_opt;
-/** The own interior point's settings for both transcriptions (plan_ipm.c): the task's
+/** The own interior point's settings for both transcriptions (engine/ipm.c): the task's
  *  tolerances, Ipopt's acceptable termination as the planner sets it for Ipopt, at most
  *  min(40, max_iter) iterations, the solve's wall-clock limit; the barrier's start mu_init and
  *  the slacks' push push_s are the caller's. */
 void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s, struct ea__ipm_opt *o);
-/* Ipopt's derivative checker (second: of the Hessian too) writing to a temporary file whose
- * name goes to tmpl ("" when none could be made); the count of errors it reported there (-1:
- * unknown) (plan_shared.c). */
-void ea__deriv_test_options(IpoptProblem ip, int second, char tmpl[64]);
-int ea__deriv_errors(const char *path);
 int64_t ea__hkey(int n, int i, int j);
 /* The pattern of nk keys (ea__hkey of an n-column matrix, repeats allowed; keys is scratch):
  * its sorted unique entries as triplets (irow, jcol malloc'd, *nnz of them) and pos[q] = the
@@ -440,5 +433,36 @@ void ea__plan_vib_stats(const ea_planner_t *pl, const double *x, ea_plan_info_t 
 /** Tip in 3-D and its derivatives wrt (L_c, alpha, base). */
 void ea__plan_tip3(const ea_planner_t *pl, double Lc, double al, double b, double P[3],
                    double dP[3][3]);
+
+/* ---- the knot transcription (transcribe/knot_build.c, knot_callbacks.c) ---- */
+/** What the planner takes from the task besides the structure: tip mass, knot and variable
+ *  counts, fixed duration and base angle, speed and acceleration limits (plan_alloc.c). */
+void ea__plan_derive(ea_planner_t *pl);
+/** The rows (pl->rows NULL: only counted); returns their count. */
+int ea__knot_rows(ea_planner_t *pl);
+/** Variable and row bounds from the task. */
+void ea__knot_bounds(ea_planner_t *pl);
+/* The callbacks of the knot transcription, in Ipopt's C interface's signatures. */
+Bool ea__knot_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud);
+Bool ea__knot_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud);
+Bool ea__knot_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud);
+Bool ea__knot_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow, Index *jCol,
+                     Number *values, UserDataPtr ud);
+Bool ea__knot_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *lambda,
+                   Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
+                   UserDataPtr ud);
+Bool ea__knot_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
+                      Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
+                      Index ls, UserDataPtr ud);
+/* ---- reports (plan_report.c) ---- */
+/** Margins, residuals and active limits of a plan x into info. */
+void ea__plan_stats(ea_planner_t *pl, const double *x, ea_plan_info_t *info);
+/* ---- the knot transcription's NLP (transcribe/knot_callbacks.c) ---- */
+struct ea__nlp;
+/** Its description (engine/nlp_impl.h), for the engines. */
+void ea__knot_nlp(const ea_planner_t *pl, struct ea__nlp *p);
+/** Is x with pl->mult_* a KKT point (engine/kkt_test.c: ea__kkt_accept) to the task's row
+ *  tolerance and dual tolerance dtol? 1 yes, 0 no. */
+int ea__knot_kkt_ok(ea_planner_t *pl, const double *x, double dtol);
 
 #endif

@@ -1,6 +1,5 @@
-/* Output of a plan: the trajectory file (every column filled), the JSON
- * summary and the figure (tip path, beam shapes in the workspace, time
- * histories). */
+/* Output of a plan: the trajectory (every column filled) and the JSON summary. The figure is
+ * drawn by the CLI (planner/app). */
 #include "ea_refine.h"
 #include "ea_simulate.h"
 #include "plan_impl.h"

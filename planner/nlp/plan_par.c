@@ -1,4 +1,4 @@
-/* A second thread for the path transcription's evaluations (plan_path.c): the rows, their
+/* A second thread for the path transcription's evaluations (transcribe/path_*.c): the rows, their
  * Jacobian and the Lagrangian's Hessian split in two fixed parts by knot, part 1 on a worker
  * thread while the caller computes part 0. The parts are the same with one thread (both run
  * in turn by the caller), so a plan does not depend on the thread count.

@@ -1,5 +1,5 @@
-/* What both transcriptions (plan_solve.c: knots, plan_path.c: the path coordinate) and the
- * row families (plan_nlp.c, plan_vib.c, plan_dyn.c) share: the duration variable, the end
+/* What both transcriptions (plan_solve.c: knots, transcribe/path_*.c: the path coordinate) and the
+ * row families (knot_rows.c, vib_rows.c, dyn_rows.c) share: the duration variable, the end
  * accelerations of an interval's cubic Hermite, the tip from the actuator coordinates, the
  * (L_c, alpha) box a task covers, the Ipopt barrier start and its derivative checker, the own
  * interior point's settings. Calls nothing above it. */
@@ -132,23 +132,6 @@ void ea__plan_box(const ea_planner_t *pl, double box[4]) {
   box[3] = fmin(box[3] + ma, M_PI);
 }
 
-/* The barrier's start and the warm-start pushes for both transcriptions. After an update
- * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
- * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
- * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
- * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
-void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
-  const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
-  AddIpoptNumOption(ip, "mu_init", mu);
-  /* no options file: a stray ipopt.opt in the working directory would override these (seen:
-   * mu_strategy from such a file changed a plan's iterations and its t_f in the 7th digit) */
-  AddIpoptStrOption(ip, "option_file_name", "");
-  if (!warm && !updated) return;
-  AddIpoptNumOption(ip, "warm_start_bound_push", push);
-  AddIpoptNumOption(ip, "warm_start_mult_bound_push", push);
-  AddIpoptNumOption(ip, "warm_start_slack_bound_push", push);
-}
-
 void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s,
                       struct ea__ipm_opt *o) {
   const ea_task_solver_t *s = &pl->task.solver;
@@ -162,33 +145,4 @@ void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s,
                        .acc_tol = fmax(1e-4, s->tol),
                        .acc_obj = 1e-8,
                        .acc_iter = 8};
-}
-
-/* Count of derivative checker errors in Ipopt's output file (-1: unknown). */
-int ea__deriv_errors(const char *path) {
-  FILE *fp = fopen(path, "r");
-  if (!fp) return -1;
-  char line[512];
-  int n = -1;
-  while (fgets(line, sizeof line, fp)) {
-    int k;
-    if (strstr(line, "No errors detected by derivative checker")) n = 0;
-    if (sscanf(line, "Derivative checker detected %d error", &k) == 1) n = k;
-  }
-  fclose(fp);
-  return n;
-}
-
-void ea__deriv_test_options(IpoptProblem ip, int second, char tmpl[64]) {
-  snprintf(tmpl, 64, "/tmp/ea_dercheck_XXXXXX");
-  const int fd = mkstemp(tmpl);
-  if (fd >= 0) {
-    close(fd);
-    OpenIpoptOutputFile(ip, tmpl, 5);
-  } else {
-    tmpl[0] = '\0';
-  }
-  AddIpoptStrOption(ip, "derivative_test", second ? "second-order" : "first-order");
-  AddIpoptNumOption(ip, "derivative_test_perturbation", 1e-7);
-  AddIpoptNumOption(ip, "derivative_test_tol", 1e-5);
 }

@@ -94,8 +94,9 @@ typedef struct ea_task_limits {
 
 /** Which transcription plans a task (docs/planner.md, "Transcriptions"). */
 typedef enum ea_task_transcription {
-  EA_TASK_TRANSCRIPTION_AUTO = 0, /**< the path coordinate for line/polyline paths without
-                                       dynamics or a frequency model, else knots */
+  EA_TASK_TRANSCRIPTION_AUTO = 0, /**< the path coordinate for line/polyline paths without a
+                                       frequency model (with dynamics: one model, the own
+                                       interior point), else knots */
   EA_TASK_TRANSCRIPTION_KNOTS,    /**< knots with the statics shooting rows (every task) */
   EA_TASK_TRANSCRIPTION_PATH      /**< the path coordinate (line/polyline; else refused) */
 } ea_task_transcription_t;

@@ -1,5 +1,6 @@
-/* Private: a primal-dual interior point on an NLP given by Ipopt's callbacks, its KKT system
- * factored by KLU (plan_ipm.c). */
+/* Private: a primal-dual interior point on an NLP (engine/nlp_impl.h), its KKT system factored
+ * by LDL' (SuiteSparse LDL) in the fill-reducing order of KLU's analysis of the pattern, which
+ * it shares with the active-set Newton's workspace (engine/ipm.c, engine/asn.c). */
 #ifndef EA_PLAN_IPM_IMPL_H
 #define EA_PLAN_IPM_IMPL_H
 
@@ -26,7 +27,7 @@ typedef struct ea__ipm_opt {
  *  then undefined). *iters: iterations taken. The workspace a keeps KLU's analysis. */
 /** The KKT pattern and its symbolic analysis for the next ea__ipm_solve on a (the bounds as
  *  they are then: none may change between), which may run beside other work on another
- *  thread (plan_path.c: beside the cold guess). 0, or -1 (no pattern). */
+ *  thread (transcribe/path_*.c: beside the cold guess). 0, or -1 (no pattern). */
 int ea__ipm_prepare(ea__asn_t *a);
 int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
                   double *mult_xu, int *iters);

@@ -5,7 +5,7 @@
  * min(kappa_mu mu, mu^theta) once the barrier problem is solved to kappa_eps mu, the inertia
  * correction, the iterative refinement, the acceptable termination) without its line search,
  * second-order corrections or restoration phase, its KKT system factored as L D L' by
- * SuiteSparse's LDL (plan_asn.c's pattern in the AMD order of its KLU analysis without BTF:
+ * SuiteSparse's LDL (engine/asn.c's pattern in the AMD order of its KLU analysis without BTF:
  * the diagonal pivots of a quasi-definite matrix) instead of MUMPS. On the small banded KKT
  * systems of a prescribed path (~1100 unknowns at 100 knots) a factorization costs a fraction
  * of a millisecond, an Ipopt iteration through MUMPS 2-3 ms of per-front overhead. KLU's LU
@@ -39,9 +39,9 @@
  * in any symmetric order where W + Sigma_x is positive definite; a pivot that spoils the solve
  * shows in its residual (checked, refined) or its inertia, and the Hessian's diagonal is
  * raised. On the paper line (bench_plan) delta_c 1e-10 .. 1e-6 took 10-11 iterations; with
- * the threshold 1e-8 .. 1e-12 (plan_asn.c's: 1e-8) KLU pivoted off the diagonal at the small
+ * the threshold 1e-8 .. 1e-12 (engine/asn.c's: 1e-8) KLU pivoted off the diagonal at the small
  * delta_c, or at 400 knots at the first iterate's nearly singular Hessian, and its fill made a
- * factorization 20-25x costlier (400 knots: 160 ms instead of 52); delta_c 1e-4 (plan_asn.c's)
+ * factorization 20-25x costlier (400 knots: 160 ms instead of 52); delta_c 1e-4 (engine/asn.c's)
  * perturbed the steps: 15 iterations. */
 #define EA__IPM_DELTA_C 1e-8
 #define EA__IPM_REFINE 10 /* refinements of a solve (Ipopt's max_refinement_steps) */
@@ -50,7 +50,7 @@ typedef struct {
   double *s, *zl, *zu, *vl, *vu, *y;
   double *dx, *ds, *dzl, *dzu, *dvl, *dvu, *rs;
   double *b, *res; /* the KKT system's right-hand side, its residual */
-  /* LDL' of the KKT matrix in the order P (the AMD order of plan_asn.c's KLU analysis) */
+  /* LDL' of the KKT matrix in the order P (the AMD order of engine/asn.c's KLU analysis) */
   int *P, *Pinv, *Lp, *Parent, *Lnz, *Flag, *Pattern, *Li;
   double *Lx, *D, *Y;
 } ea__ipm_ws_t;

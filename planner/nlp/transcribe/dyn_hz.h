@@ -1,6 +1,6 @@
-/* Private to plan_dyn.c: the second-order forward mode of the modal defects over an interval's
+/* Private to dyn_rows.c: the second-order forward mode of the modal defects over an interval's
  * trajectory variables z, for a number of them set by the includer (the GSL template way):
- * EA__HZ variables, and EA__HZN(name) the name for that number. plan_dyn.c includes it twice:
+ * EA__HZ variables, and EA__HZN(name) the name for that number. dyn_rows.c includes it twice:
  * EA__HZ 9 (the knot layout: L_c q0 q1 v0 v1, alpha q0 q1 v0 v1, t_f) and 7 (the path layout:
  * sigma_0, sigma_1, the rates of L_c and alpha at both ends, t_f). Values, gradients and packed
  * lower-triangle Hessians (entry (a, b), b <= a, at a (a + 1) / 2 + b). */

@@ -434,7 +434,7 @@ static int ea__dyn_terminal(const ea_planner_t *pl, const double *x, int j, doub
  * Second-order forward mode over an interval's 9 trajectory variables z (L_c: q0 q1 v0 v1,
  * alpha: q0 q1 v0 v1, t_f; the defect's local variables 4..12): value, gradient and packed
  * lower-triangle Hessian. The defects are affine in the modal states e = (eta_k, eta'_k,
- * eta_k+1, eta'_k+1) (plan_dyn.c's header): pos, vel = sum_j e_j C_j(z) + C_4(z), with
+ * eta_k+1, eta'_k+1) (dyn_rows.c's header): pos, vel = sum_j e_j C_j(z) + C_4(z), with
  *   acc_P = F_P - W_P eta_P - c_P eta'_P at the ends (W = omega^2, c = 2 zeta omega,
  *   F = -B . a - v^T C v), d = acc_0 - acc_1,
  *   pos / s = eta_1 - eta_0 - h/2 (eta'_0 + eta'_1) - h^2/12 d,
@@ -455,10 +455,10 @@ typedef struct {
 #define EA__HZCAT(a, b) EA__HZCAT2(a, b)
 #define EA__HZN(name) EA__HZCAT(name, EA__HZ)
 #define EA__HZ 9
-#include "plan_dyn_hz.h"
+#include "dyn_hz.h"
 #undef EA__HZ
 #define EA__HZ 7
-#include "plan_dyn_hz.h"
+#include "dyn_hz.h"
 #undef EA__HZ
 
 /* The knot layout's kinematics of interval k: z = (L_c q0 q1 v0 v1, alpha q0 q1 v0 v1, t_f). */
@@ -547,8 +547,8 @@ void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea_
   }
 }
 
-/* The path layout's kinematics of interval k (plan_path.c): z = (sigma_k, sigma_k+1, the rates
- * of L_c and alpha at k and k + 1, t_f); (L_c, alpha) at the ends are functions of sigma with
+/* The path layout's kinematics of interval k (transcribe/path_*.c): z = (sigma_k, sigma_k+1, the
+ * rates of L_c and alpha at k and k + 1, t_f); (L_c, alpha) at the ends are functions of sigma with
  * slopes and curvatures dq[P], d2q[P]. */
 static void ea__hz_kin_pp(const ea_planner_t *pl, const double *x, int k, const double *dq[2],
                           const double *d2q[2], ea__hz_kin_t7 *o) {

@@ -1,27 +1,13 @@
-/* Private: an active-set Newton on an NLP given by Ipopt's callbacks (plan_asn.c). */
+/* Private: an active-set Newton on an NLP given by Ipopt's callbacks (engine/asn.c). */
 #ifndef EA_PLAN_ASN_IMPL_H
 #define EA_PLAN_ASN_IMPL_H
 
-#include <coin/IpStdCInterface.h>
+#include "nlp_impl.h"
+
 #include <klu.h>
 
-/** The NLP as Ipopt sees it: sizes, bounds, the Jacobian's and the Hessian's (lower triangle)
- *  structures, the callbacks and their user data. */
-typedef struct ea__asn_nlp {
-  int n, m, nnz_j, nnz_h;
-  const double *xl, *xu, *gl, *gu;
-  const int *jrow, *jcol, *hrow, *hcol;
-  Eval_F_CB f; /* the objective (plan_ipm.c's acceptable termination; NULL: none) */
-  Eval_Grad_F_CB grad_f;
-  Eval_G_CB g;
-  Eval_Jac_G_CB jac;
-  Eval_H_CB h;
-  void *ud;
-  /* 1: the Hessian after the rows, and only where a step follows (the rows share nothing with
-   * it: no modal defects); 0: before them (plan_dyn.c's defects leave their values and
-   * gradients for the rows) */
-  int hess_last;
-} ea__asn_nlp_t;
+/** The NLP (engine/nlp_impl.h). */
+typedef ea__nlp_t ea__asn_nlp_t;
 
 /** What a converged point is (the caller's solver settings, given at every solve): rows at
  *  their bounds within ptol, stationarity within dtol (both unscaled); active inequality rows
@@ -32,13 +18,13 @@ typedef struct ea__asn_tol {
 } ea__asn_tol_t;
 
 /* The workspace; its KKT matrix (pattern, values, KLU's analysis) also serves the interior
- * point of plan_ipm.c. */
+ * point of engine/ipm.c. */
 struct ea__asn {
   ea__asn_nlp_t p;
   ea__asn_tol_t tol;  /* the current solve's */
   int *act_x, *act_g; /* -1 lower, +1 upper, 0 free / inactive, 2 fixed / equality */
   int *kx, *kg;       /* KKT index of a free variable / an active row (-1: none) */
-  int nk, nnz_k, nx;  /* KKT size, its entries; nx: free variables (plan_ipm.c) */
+  int nk, nnz_k, nx;  /* KKT size, its entries; nx: free variables (engine/ipm.c) */
   int ipm_ready; /* the pattern is the interior point's (ea__ipm_prepare), for its next solve */
   int *Ap, *Ai, *cnt; /* KKT pattern (CSC, full symmetric) */
   double *Ax;

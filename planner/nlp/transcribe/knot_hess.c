@@ -1,15 +1,13 @@
-/* The Lagrangian Hessian (lower triangle) for Ipopt's exact-Hessian mode.
+/* The Lagrangian Hessian (lower triangle) of the knot transcription (exact-Hessian modes).
  *
- * Statics rows: the second derivatives of the shooting map come from
- * forward differences of its exact first-order sensitivities (4 extra
- * shots with sensitivities per knot), plus the closed-form curvature of
- * -L_c (cos alpha, sin alpha). Every other row, and the objective pieces,
- * are small local functions (<= 5 variables) with exact gradients; their
- * Hessians are central differences of those gradients, exact for the rows
- * that are linear or quadratic in their variables. The "partial" mode
- * (default) leaves out the statics curvature: on the benchmark and the
- * 200-task sweep it needs the same iterations at half the cost.
- * docs/planner.md compares the three modes. */
+ * Statics rows (mode "exact" only): the second derivatives of the shooting map from forward
+ * differences of its exact first-order sensitivities (4 extra shots with sensitivities per
+ * knot), plus the closed-form curvature of -L_c (cos alpha, sin alpha); the "partial" mode
+ * (default) leaves them out. Every other row and objective piece is a small local function
+ * with an exact gradient: its Hessian in closed form where its kind has one (ea__plan_row_hess:
+ * the Hermite rows, the tension and torque rows with modal parts; ea__plan_dyn_defect_hess: the
+ * modal defects), else central differences of the exact gradient. docs/planner.md compares
+ * the modes. */
 #include "plan_impl.h"
 
 #include <math.h>
@@ -201,7 +199,7 @@ static ea_status_t ea__pattern_fail(ea_planner_t *pl, int64_t *keys) {
 
 /* The knot transcription's Hessian pattern and each row's positions in it, made when a knot
  * solve first needs them (ea__ipopt_create, the own interior point's knot solve): a planner
- * that solves in the path coordinate (plan_path.c, its own pattern) never does; they took
+ * that solves in the path coordinate (transcribe/path_*.c, its own pattern) never does; they took
  * half of ea_planner_alloc for the at-rest paper line (~3 of 6 ms). */
 ea_status_t ea__plan_hess_pattern(ea_planner_t *pl) {
   if (pl->hpos) return EA_OK;
@@ -382,7 +380,7 @@ ea_status_t ea__plan_hess_values(ea_planner_t *pl, const double *x, double sigma
   pl->t_statics += ea__mono_s() - t0;
   (void)arm;
   /* Local rows and objective pieces (the modal defects of an interval together: they share
-   * its trajectory variables and, in plan_dyn.c, their work). */
+   * its trajectory variables and, in dyn_rows.c, their work). */
   memcpy(pl->xx, x, (size_t)pl->n * sizeof *x);
   for (int r = 0; r < pl->m;) {
     const int g = ea__plan_hess_group_len(pl->rows, r, pl->m);

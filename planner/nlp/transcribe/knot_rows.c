@@ -479,7 +479,7 @@ static void ea__term_jerk_grad(const ea_planner_t *pl, const double *x, double w
   ea__acc_energy(pl, x, w, g, 1);
 }
 
-/* Sum of the vibration pieces (one per interval, plan_vib.c). */
+/* Sum of the vibration pieces (one per interval, vib_rows.c). */
 static double ea__term_vib_value(const ea_planner_t *pl, const double *x) {
   double f = 0.0;
   for (int k = 0; k + 1 < pl->N; ++k) {
@@ -501,7 +501,7 @@ static void ea__term_vib_grad(const ea_planner_t *pl, const double *x, double w,
   }
 }
 
-/* The reduced model's residual amplitude at the goal [m^2 / (1 mm)^2] (plan_dyn.c). */
+/* The reduced model's residual amplitude at the goal [m^2 / (1 mm)^2] (dyn_rows.c). */
 static double ea__term_dyn_value(const ea_planner_t *pl, const double *x) {
   const ea__row_t r = {EA__ROW_OBJ_DYN, 0, pl->N - 1};
   double v;

@@ -8,12 +8,10 @@
 #include <math.h>
 #include <string.h>
 
-void ea__plan_schedule(ea_planner_t *pl, double w) {
+void ea__plan_knot_times(ea_planner_t *pl) {
   const int N = pl->N;
-  for (int k = 0; k < N; ++k) {
-    const double u = (double)k / (N - 1);
-    pl->s[k] = u - w * sin(2.0 * M_PI * u) / (2.0 * M_PI);
-  }
+  for (int k = 0; k < N; ++k)
+    pl->s[k] = (double)k / (N - 1);
   pl->s[0] = 0.0;
   pl->s[N - 1] = 1.0;
 }
@@ -404,7 +402,7 @@ static ea_status_t ea__guess_knots(ea_planner_t *pl, double *x, ea_error_t *err)
       ea_statics_solution_t sol;
       ea_error_t e2;
       ea_status_t st = EA_OK;
-      /* a prescribed path with its statics splines (plan_path.c): the knot's statics from
+      /* a prescribed path with its statics splines (transcribe/path_*.c): the knot's statics from
        * them (1e-10), no Newton; the pinned points keep their own */
       double ps[3];
       if (!pin && pl->guess_statics && pl->guess_statics(pl, j, sig, ps)) {

@@ -149,7 +149,7 @@ int ea__asn_eval(ea__asn_t *a, double *x, int hess) {
   const ea__asn_nlp_t *p = &a->p;
   void *ud = p->ud;
   /* the Hessian first: the modal defects' closed form leaves their values and gradients at x
-   * for the rows (plan_dyn.c) */
+   * for the rows (dyn_rows.c) */
   if (!p->grad_f(p->n, x, TRUE, a->gf, ud) ||
       (hess && !p->h(p->n, x, FALSE, 1.0, p->m, a->lam, TRUE, p->nnz_h, NULL, NULL, a->hv, ud)) ||
       !p->g(p->n, x, FALSE, p->m, a->g, ud) ||

@@ -1,25 +1,12 @@
 /* Private: Ipopt on an NLP whose inequality rows far inside their limits are left out
- * (plan_screen.c). */
+ * (engine/ipopt_screen.c). */
 #ifndef EA_PLAN_SCREEN_IMPL_H
 #define EA_PLAN_SCREEN_IMPL_H
 
-#include <coin/IpStdCInterface.h>
+#include "nlp_impl.h"
 
-/** The full NLP: sizes, row bounds and the Jacobian's structure (row-major: a row's entries
- *  are contiguous and the rows in order, as the callbacks write them), the callbacks and their
- *  user data. Its arrays are referenced, not copied. */
-typedef struct ea__screen_nlp {
-  int n, m, nnz_j, nnz_h;
-  const double *gl, *gu;
-  const int *jrow, *jcol;
-  Eval_F_CB f;
-  Eval_G_CB g;
-  Eval_Grad_F_CB grad_f;
-  Eval_Jac_G_CB jac;
-  Eval_H_CB h;
-  Intermediate_CB iter;
-  void *ud;
-} ea__screen_nlp_t;
+/** The full NLP (engine/nlp_impl.h; its Jacobian row-major). */
+typedef ea__nlp_t ea__screen_nlp_t;
 
 typedef struct ea__screen ea__screen_t;
 
