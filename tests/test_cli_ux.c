@@ -253,7 +253,14 @@ static void test_progress(void) {
            "plan %s/problems/examples/paper-line-robust.yaml --refine --verify -o %s/rob.csv", src,
            dir);
   double t0 = now_s();
-  expect(0, a, "time: ", "a long plan (refined against five FE arms, verified)");
+  /* The refinement stops at its wall-time cap (refine.max_time_s) on a slow machine (a
+   * sanitizer build): then the plan is written, verify fails its bound and the exit is 3
+   * (docs/task-format.md). Either way the command ran long and printed its time line. */
+  const int rc = run(a);
+  printf("  $ elasticarm %.300s -> exit %d: %.300s\n", a, rc, out);
+  ea_test_true((rc == 0 || (rc == 3 && strstr(out, "NOT reached"))) && strstr(out, "time: "),
+               "a long plan (refined against five FE arms, verified): done, or its refinement "
+               "stopped at the time cap and said so (exit 3)");
   double wall = now_s() - t0;
   const double total = 1e-3 * num_after(out, "time: ");
   printf("  time line %.3f s, wall %.3f s\n", total, wall);
