@@ -154,12 +154,13 @@ static ea_status_t ea__record_hold(const char *dir, const ea_record_settings_t *
   for (int k5 = 0; k5 < 5; ++k5)
     m[k5] = 0.0;
   const double dt = h->rows > 1 ? h->data[6] - h->data[0] : 0.0;
+  /* the first sample's offset from the hold's start: 0 up to rounding (both on the grid) */
+  const double off = round((h->data[6 * r0] - hd->t_start) * 1e9) * 1e-9;
   for (int r = r0; r < r1; ++r) {
     double v[5];
     ea__sense(rng, s, h, r, hd->theta0, v);
     if (hd->ringdown) /* t_s from the sample index: a constant rate without rounding drift */
-      fprintf(af.fp, "%.9g,%.10g,%.10g,%.10g,%.10g\n",
-              (h->data[6 * r0] - hd->t_start) + (r - r0) * dt, v[1], v[2], v[3], v[4]);
+      fprintf(af.fp, "%.9g,%.10g,%.10g,%.10g,%.10g\n", off + (r - r0) * dt, v[1], v[2], v[3], v[4]);
     if (r >= r1 - n_avg)
       for (int k5 = 0; k5 < 5; ++k5)
         m[k5] += v[k5] / n_avg;
