@@ -983,13 +983,13 @@ done <"$R/case-costs.rows"
 # .ci/Containerfile runs the README's two "Set up and run" commands, verbatim.
 # --- docs/calibration.md: the example experiment's duration
 ce=$R/calib-experiment.out
-pub "calibrate-experiment calib-experiment.yaml (hold_s, duration_s)" docs/calibration.md \
+pub "calibrate-experiment calib-experiment.yaml (f1_min_Hz)" docs/calibration.md \
   'arm, which has no measured damping, so zeta 0.02 is assumed; f1 from {} to' \
   "$(calc %.3f "$(jnum "$ce" f1_min_Hz)")"
 pub "calibrate-experiment calib-experiment.yaml (f1_max_Hz, hold_s, duration_s)" docs/calibration.md \
   '{} Hz) holds each configuration {} s and takes {} s' "$(calc %.3f "$(jnum "$ce" f1_max_Hz)")" \
   "$(calc %.2f "$(jnum "$ce" hold_s)")" "$(calc %.2f "$(jnum "$ce" duration_s)")"
-pub "calibrate-experiment calib-experiment.yaml (move_time_s, setpoints)" docs/calibration.md \
+pub "calibrate-experiment calib-experiment.yaml (move_time_s)" docs/calibration.md \
   'in all, of which {} s are moves; every streamer check' "$(calc %.2f "$(jnum "$ce" move_time_s)")"
 pub "calibrate-experiment calib-experiment.yaml (setpoints)" docs/calibration.md \
   'passes at 1 kHz ({} setpoints). `docs/regenerate.sh` reruns it.' "$(jnum "$ce" setpoints)"
