@@ -73,7 +73,7 @@ int main(int argc, char **argv) {
     ea_arm_t arm;
     if (plan_example(names[c], &tr, &arm)) return 1;
     if (c == 3) arm.EA_cable *= 10;
-    ea_sim_history_t href = {0, NULL};
+    ea_sim_history_t href = {0};
     ea_sim_info_t sref;
     if (run(&arm, &tr, EA_FE_SCHEME_ENERGY, dt_ref, &href, &sref)) return 1;
     char label[64];
@@ -86,7 +86,7 @@ int main(int argc, char **argv) {
       for (int k = 0; k < NDT; ++k) {
         double wall[16];
         ea_sim_info_t si;
-        ea_sim_history_t h = {0, NULL};
+        ea_sim_history_t h = {0};
         int n = reps < 1 ? 1 : reps < 16 ? reps : 16, failed = 0;
         for (int r = 0; r < n && !failed; ++r) {
           failed = run(&arm, &tr, sc ? EA_FE_SCHEME_GENALPHA : EA_FE_SCHEME_ENERGY, dts[k],

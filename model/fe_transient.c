@@ -31,6 +31,7 @@ void ea_fe_sim_settings_default(ea_fe_sim_settings_t *s) {
   s->tol = 1e-11;
   s->max_iter = 25;
   s->output_every = 1;
+  s->output_loads = 0;
   s->tip_static[0] = s->tip_static[1] = NAN;
 }
 
@@ -51,6 +52,8 @@ ea_status_t ea_fe_sim_settings_validate(const ea_fe_sim_settings_t *s, ea_error_
     return ea_error_set(err, EA_ERR_ARG, "sim Rayleigh coefficients must be finite and >= 0");
   if (!(s->tol > 0.0) || s->max_iter < 1 || s->output_every < 1)
     return ea_error_set(err, EA_ERR_ARG, "sim tol > 0, max_iter >= 1, output_every >= 1");
+  if (s->output_loads != 0 && s->output_loads != 1)
+    return ea_error_set(err, EA_ERR_ARG, "sim output_loads = %d: must be 0 or 1", s->output_loads);
   return EA_OK;
 }
 
@@ -509,6 +512,23 @@ static ea_status_t ea__fe_step_drive(const ea_fe_model_t *m, const ea_fe_drive_t
   return EA_OK;
 }
 
+/* One output row at time t: the tip (x, y, theta) and, with output_loads, the shoulder
+ * torque (minus the clamp's theta row of the internal force plus the strain-rate damping
+ * force: the moment the beam carries at the clamp, EI kappa0 at rest) and the cable
+ * tension. m->fm is the steps' scratch vector: free between steps. */
+static void ea__fe_sim_row(ea_fe_model_t *m, const ea_fe_sim_settings_t *s, double t, double *r) {
+  const int nd = m->nd;
+  r[0] = t;
+  memcpy(r + 1, m->q + nd - 3, 3 * sizeof(double));
+  if (!s->output_loads) return;
+  ea__fe_assemble(m, m->q, m->phase, m->cable_value, m->fm, NULL);
+  ea__fe_assemble_rate(m, m->q, m->v, s->rayleigh_stiffness, m->fm, NULL);
+  r[4] = -m->fm[2];
+  double T = 0.0;
+  ea__fe_cable(m, m->phase, m->cable_value, m->q[nd - 3], m->q[nd - 2], &T, NULL, NULL, NULL);
+  r[5] = T;
+}
+
 ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
                            const ea_fe_sim_settings_t *s, double *tip, int tip_rows,
                            ea_fe_sim_info_t *info, ea_error_t *err) {
@@ -533,11 +553,8 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
   const double E0 = ea_fe_energy(m);
   info->energy_start = E0;
   int rows = 0;
-  if (tip && rows < tip_rows) {
-    double *r = tip + 4 * rows++;
-    r[0] = 0.0;
-    memcpy(r + 1, m->q + nd - 3, 3 * sizeof(double));
-  }
+  const int cols = s->output_loads ? 6 : 4;
+  if (tip && rows < tip_rows) ea__fe_sim_row(m, s, 0.0, tip + cols * rows++);
   const int measure = s->t_motion_end >= 0.0 && s->t_motion_end < s->t_end;
   int have_static = 0;
   info->tension_min = INFINITY;
@@ -585,11 +602,8 @@ ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,
       if (T < info->tension_min) info->tension_min = T, info->tension_min_time = t1;
       if (T > info->tension_max) info->tension_max = T, info->tension_max_time = t1;
     }
-    if (tip && rows < tip_rows && ((n + 1) % s->output_every == 0 || n + 1 == nsteps)) {
-      double *r = tip + 4 * rows++;
-      r[0] = t1;
-      memcpy(r + 1, m->q + nd - 3, 3 * sizeof(double));
-    }
+    if (tip && rows < tip_rows && ((n + 1) % s->output_every == 0 || n + 1 == nsteps))
+      ea__fe_sim_row(m, s, t1, tip + cols * rows++);
     if (measure && t1 >= s->t_motion_end - 1e-12 * h) {
       if (!have_static) {
         if ((st = ea__fe_sim_final_static(m, drive, s, th0_hold, cab_hold, info, err))) break;

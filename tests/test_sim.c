@@ -146,7 +146,7 @@ static void test_order(void) {
     return;
   }
   for (int sc = 0; sc < 2; ++sc) {
-    ea_sim_history_t h[3] = {{0, NULL}, {0, NULL}, {0, NULL}};
+    ea_sim_history_t h[3] = {{0}, {0}, {0}};
     const double dts[3] = {2e-3, 1e-3, 5e-4};
     int ok = 1;
     for (int k = 0; k < 3; ++k) {
@@ -199,7 +199,7 @@ static void test_slow_ramp(void) {
     ea_sim_settings_default(&s);
     s.settle = 0.0;
     s.keep_history = 1;
-    ea_sim_history_t h = {0, NULL};
+    ea_sim_history_t h = {0};
     ea_error_t e;
     err_T[k] = NAN;
     if (ea_traj_simulate(&arm, &tr, 0.0, &s, &h, NULL, &e) == EA_OK) {
@@ -415,7 +415,7 @@ static void test_cable_ramp_duhamel(void) {
   const double T = 1.5 * 2 * M_PI / w;
   for (int sc = 0; sc < 2; ++sc) {
     const ea_fe_scheme_t scheme = sc ? EA_FE_SCHEME_GENALPHA : EA_FE_SCHEME_ENERGY;
-    ea_sim_history_t ref = {0, NULL}, h[3] = {{0, NULL}, {0, NULL}, {0, NULL}};
+    ea_sim_history_t ref = {0}, h[3] = {{0}, {0}, {0}};
     const double dts[3] = {2e-3, 1e-3, 5e-4}, dref = 1e-3 / 16;
     int ok = isfinite(cyc_ramp_residual(&arm, L, 2e-3, alpha, T, dref, scheme, 0.5, &ref));
     double err[3];

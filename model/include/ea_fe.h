@@ -287,6 +287,11 @@ typedef struct ea_fe_sim_settings {
                                   corrections that stagnate below 1e3 tol (rounding) stop too */
   int max_iter;              /**< Newton iterations per step (default 25) */
   int output_every;          /**< write a tip row every this many steps (default 1) */
+  int output_loads;          /**< 1: tip rows carry two more values, the shoulder torque [N m]
+                                  (the moment the beam carries at the clamp: minus the clamp
+                                  row of the internal and strain-rate damping forces, EI kappa0
+                                  at rest; the clamp's own rotary inertia, rho I_zz h theta0'',
+                                  is left out) and the cable tension [N] (default 0) */
   double tip_static[2];      /**< [m] the final static equilibrium's tip (x, y) for the residual,
                                   when the caller knows it (e.g. by ea_fe_static_continue);
                                   NAN (default): Newton from the state at t_motion_end */
@@ -321,7 +326,8 @@ typedef struct ea_fe_sim_info {
  *  [0, t_end] driven by drive (NULL = undriven).
  * @param[in,out] m    model; ends in the state at t_end
  * @param[out]    tip  if not NULL: rows of 4 doubles (t [s], x [m], y [m],
- *                     theta [rad]), the first at t = 0, then every
+ *                     theta [rad]; with s->output_loads 6: + shoulder torque [N m],
+ *                     cable tension [N]), the first at t = 0, then every
  *                     output_every steps; at most tip_rows rows are written
  * @param[out]    info may be NULL */
 ea_status_t ea_fe_simulate(ea_fe_model_t *m, const ea_fe_drive_t *drive,

@@ -323,6 +323,13 @@ static const char *ea__ctrl_help =
     "  --elements N          FE elements of --simulate (default %d)\n"
     "  --payload-kg M        payload at the tip for --simulate (default 0)\n"
     "  --settle S            simulated time after the last setpoint [s] (default 1)\n"
+    "  --record DIR          after the session, the measurement records of the FE transient\n"
+    "                        (docs/calibration.md): DIR/static.csv (one row per hold: runs\n"
+    "                        of setpoints at rest of at least --record-min-hold S, default\n"
+    "                        1) and DIR/ringdown-NNN.csv per hold after a motion, with\n"
+    "                        Gaussian sensor noise: --noise-seed N (1), --noise-theta0-rad\n"
+    "                        (0.0005), --noise-torque-Nm (0.01), --noise-tension-N (0.05),\n"
+    "                        --noise-tip-m (0.0005); 0 = none\n"
     "Exit: 0 clean session, 1 faults / rejected frames / link lost / simulation failed,\n"
     "2 usage error.\n";
 
@@ -346,15 +353,21 @@ typedef struct {
   int rows; /* tip rows written */
   ea_sim_info_t si;
   double start_static_tip[2];
+  int recorded;              /* 1: --record tried */
+  ea_status_t record_status; /* its outcome */
+  ea_error_t record_err;
+  ea_record_info_t record; /* what it wrote */
 } ea__ctrl_sim_t;
 
 /* The FE transient of the logged setpoints (in receive order, own stop last) as
  * `simulate` runs a trajectory file (ea_traj_simulate): the rows become a trajectory
  * (ea_stream_setpoints_traj: theta0 and the tension feed-forward drive a passive cable),
- * held after the last row for the settling time; dt 1 ms, energy scheme, no damping.
- * The tip history (t, x, y, theta) is written atomically to path. Never prints. */
+ * held after the last row for the settling time; dt 1 ms, energy scheme, the arm file's
+ * damping. The tip history (t, x, y, theta) is written atomically to path (NULL: none);
+ * with rs, the measurement records into rs_dir (ea_record_write). Never prints. */
 static ea_status_t ea__ctrl_simulate(const ea_arm_t *arm, const ea_ctrl_t *c, double tip_mass,
                                      long elements, double settle, const char *path,
+                                     const char *rs_dir, const ea_record_settings_t *rs,
                                      ea__ctrl_sim_t *r) {
   memset(r, 0, sizeof *r);
   r->ran = 1;
@@ -399,8 +412,13 @@ static ea_status_t ea__ctrl_simulate(const ea_arm_t *arm, const ea_ctrl_t *c, do
     r->start_static_tip[0] = h.data[1]; /* row 0: the start equilibrium under the drive */
     r->start_static_tip[1] = h.data[2];
   }
+  if (!st && rs_dir) {
+    r->recorded = 1;
+    r->record_status =
+        ea_record_write(rs_dir, rs, arm, sp, t, nlog, &h, &r->record, &r->record_err);
+  }
   /* tip history, atomically */
-  if (!st && !(st = ea_afile_open(&af, path, err))) {
+  if (!st && path && !(st = ea_afile_open(&af, path, err))) {
     fprintf(af.fp, "t_s,tip_x_m,tip_y_m,tip_theta_rad\n");
     for (int k = 0; k < h.rows; ++k) {
       const double *v = h.data + 6 * k;
@@ -447,7 +465,8 @@ static int ea__parse_fault(const char *cmd, const char *v, ea_ctrl_settings_t *s
 
 /* Options of controller-sim. */
 typedef struct {
-  const char *listen_at, *arm_file, *log_path, *port_file, *sim_path;
+  const char *listen_at, *arm_file, *log_path, *port_file, *sim_path, *record_dir;
+  ea_record_settings_t rec;
   ea_ctrl_settings_t s;
   int json;
   long sim_elements;
@@ -460,12 +479,31 @@ static int ea__ctrl_parse(const char *cmd, int argc, char **argv, ea__ctrl_opts_
   ea_ctrl_settings_default(&o->s);
   o->sim_elements = EA_FE_DEFAULT_ELEMENTS;
   o->sim_settle = 1.0;
-  static const ea__cli_opt_t opts[] = {
-      {"help", 0, 'h'},      {"listen", 1, 0},    {"udp", 0, 0},        {"arm", 1, 0},
-      {"log", 1, 0},         {"port-file", 1, 0}, {"max-frames", 1, 0}, {"timeout", 1, 0},
-      {"watchdog-ms", 1, 0}, {"initial", 1, 0},   {"fault", 1, 0},      {"json", 0, 0},
-      {"simulate", 1, 0},    {"elements", 1, 0},  {"payload-kg", 1, 0}, {"settle", 1, 0},
-      {NULL, 0, 0}};
+  ea_record_settings_default(&o->rec);
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"listen", 1, 0},
+                                       {"udp", 0, 0},
+                                       {"arm", 1, 0},
+                                       {"log", 1, 0},
+                                       {"port-file", 1, 0},
+                                       {"max-frames", 1, 0},
+                                       {"timeout", 1, 0},
+                                       {"watchdog-ms", 1, 0},
+                                       {"initial", 1, 0},
+                                       {"fault", 1, 0},
+                                       {"json", 0, 0},
+                                       {"simulate", 1, 0},
+                                       {"elements", 1, 0},
+                                       {"payload-kg", 1, 0},
+                                       {"settle", 1, 0},
+                                       {"record", 1, 0},
+                                       {"noise-seed", 1, 0},
+                                       {"noise-theta0-rad", 1, 0},
+                                       {"noise-torque-Nm", 1, 0},
+                                       {"noise-tension-N", 1, 0},
+                                       {"noise-tip-m", 1, 0},
+                                       {"record-min-hold", 1, 0},
+                                       {NULL, 0, 0}};
   ea__cli_args_t g;
   ea__cli_args_init(&g, cmd, argc, argv, opts);
   int r;
@@ -519,6 +557,22 @@ static int ea__ctrl_parse(const char *cmd, int argc, char **argv, ea__ctrl_opts_
       if (ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_payload)) return EA_EXIT_USAGE;
     } else if (!strcmp(a, "--settle")) {
       if (ea__cli_double(cmd, a, v, 0.0, 1e3, &o->sim_settle)) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--record")) {
+      o->record_dir = v;
+    } else if (!strcmp(a, "--noise-seed")) {
+      long seed;
+      if (ea__cli_int(cmd, a, v, 0, 2147483647L, &seed)) return EA_EXIT_USAGE;
+      o->rec.seed = (unsigned long)seed;
+    } else if (!strcmp(a, "--noise-theta0-rad")) {
+      if (ea__cli_double(cmd, a, v, 0.0, 1.0, &o->rec.noise_theta0_rad)) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--noise-torque-Nm")) {
+      if (ea__cli_double(cmd, a, v, 0.0, 100.0, &o->rec.noise_torque_Nm)) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--noise-tension-N")) {
+      if (ea__cli_double(cmd, a, v, 0.0, 1000.0, &o->rec.noise_tension_N)) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--noise-tip-m")) {
+      if (ea__cli_double(cmd, a, v, 0.0, 1.0, &o->rec.noise_tip_m)) return EA_EXIT_USAGE;
+    } else if (!strcmp(a, "--record-min-hold")) {
+      if (ea__cli_double(cmd, a, v, 1e-3, 1e4, &o->rec.min_hold_s)) return EA_EXIT_USAGE;
     }
   }
   if (r < 0) return EA_EXIT_USAGE;
@@ -599,7 +653,7 @@ static void ea__ctrl_report(const ea__ctrl_opts_t *o, ea_status_t st, const ea_e
       const int have = sim->status == EA_OK, res = have && sim->settle > 0;
       ea_json_str(&j, "sim_status", ea_status_name(sim->status));
       ea_json_str(&j, "sim_message", sim->status ? sim->err.msg : "");
-      ea_json_str(&j, "sim_tip_file", o->sim_path);
+      ea_json_str(&j, "sim_tip_file", o->sim_path ? o->sim_path : "");
       ea_json_int(&j, "sim_samples", sim->samples);
       ea_json_int(&j, "sim_skipped", sim->skipped);
       ea_json_int(&j, "sim_elements", (int)o->sim_elements);
@@ -614,6 +668,16 @@ static void ea__ctrl_report(const ea__ctrl_opts_t *o, ea_status_t st, const ea_e
       ea_json_num(&j, "residual_vibration_rms_m", res ? sim->si.residual_rms : NAN);
       ea_json_num(&j, "residual_vibration_peak_m", res ? sim->si.residual_peak : NAN);
       ea_json_vec(&j, "sim_final_static_tip_m", sim->si.final_static_tip, res ? 2 : 0);
+      ea_json_num(&j, "sim_damping_ratio", sim->si.damping_ratio);
+    }
+    if (sim->recorded) {
+      ea_json_str(&j, "record_status", ea_status_name(sim->record_status));
+      ea_json_str(&j, "record_message", sim->record_status ? sim->record_err.msg : "");
+      ea_json_str(&j, "record_dir", o->record_dir);
+      ea_json_int(&j, "record_holds", sim->record.holds);
+      ea_json_int(&j, "record_ringdowns", sim->record.ringdowns);
+      ea_json_int(&j, "record_averaged_samples", sim->record.averaged_samples);
+      ea_json_num(&j, "record_averaged_window_s", sim->record.averaged_window_s);
     }
     ea_json_obj_end(&j);
     ea_json_end(&j);
@@ -626,9 +690,14 @@ static void ea__ctrl_report(const ea__ctrl_opts_t *o, ea_status_t st, const ea_e
            logged);
     if (sim->ran && sim->status == EA_OK) {
       printf("  FE transient of the %d accepted setpoints (%.4g s + %.4g s settling, %ld "
-             "elements): %d tip rows -> %s, wall %.3f s\n",
-             sim->samples, sim->duration, sim->settle, o->sim_elements, sim->rows, o->sim_path,
-             sim->si.wall_time_s);
+             "elements, damping ratio %.4g): %d tip rows -> %s, wall %.3f s\n",
+             sim->samples, sim->duration, sim->settle, o->sim_elements, sim->si.damping_ratio,
+             sim->rows, o->sim_path ? o->sim_path : "(not written)", sim->si.wall_time_s);
+      if (sim->recorded && sim->record_status == EA_OK)
+        printf("  records: %d holds -> %s (means of the last %d samples, %.4g s, of each), %d "
+               "ring-downs in %s\n",
+               sim->record.holds, sim->record.static_path, sim->record.averaged_samples,
+               sim->record.averaged_window_s, sim->record.ringdowns, o->record_dir);
       if (sim->settle > 0)
         printf("  residual vibration after the last setpoint: rms %.4f mm, peak %.4f mm about "
                "the final equilibrium tip (%.6f, %.6f) m\n",
@@ -666,14 +735,22 @@ int ea__cli_controller_sim(int argc, char **argv) {
   ea_ctrl_log(c, &logged);
   ea__ctrl_sim_t sim;
   memset(&sim, 0, sizeof sim);
-  if (o.sim_path)
+  if (o.sim_path || o.record_dir) {
+    o.rec.payload_kg = o.sim_payload;
+    snprintf(o.rec.arm_file, sizeof o.rec.arm_file, "%s",
+             o.arm_file ? o.arm_file : ea__cli_default_arm());
     ea__ctrl_simulate(&arm, c, ea_arm_tip_mass(&arm, o.sim_payload), o.sim_elements, o.sim_settle,
-                      o.sim_path, &sim);
+                      o.sim_path, o.record_dir, &o.rec, &sim);
+  }
   ea__ctrl_report(&o, st, &err, &info, logged, &sim);
   if (sim.ran && sim.status)
     fprintf(stderr, "elasticarm %s: %s\n", cmd,
             sim.err.msg[0] ? sim.err.msg : ea_strerror(sim.status));
+  if (sim.recorded && sim.record_status)
+    fprintf(stderr, "elasticarm %s: --record: %s\n", cmd,
+            sim.record_err.msg[0] ? sim.record_err.msg : ea_strerror(sim.record_status));
   ea_ctrl_free(c);
   if (rc_log) return rc_log;
-  return (st || (sim.ran && sim.status)) ? EA_EXIT_FAIL : EA_EXIT_OK;
+  return (st || (sim.ran && sim.status) || (sim.recorded && sim.record_status)) ? EA_EXIT_FAIL
+                                                                                : EA_EXIT_OK;
 }

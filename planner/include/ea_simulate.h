@@ -93,10 +93,13 @@ typedef struct ea_sim_info {
 } ea_sim_info_t;
 
 /** Tip history: rows of (t [s], tip x [m], tip y [m], tip theta [rad],
- *  planned tip x [m], planned tip y [m]). Owned; ea_sim_history_free. */
+ *  planned tip x [m], planned tip y [m]), and the loads at the same times. Owned;
+ *  ea_sim_history_free. */
 typedef struct ea_sim_history {
   int rows;
-  double *data; /**< rows x 6 */
+  double *data;  /**< rows x 6 */
+  double *loads; /**< rows x 2: shoulder torque [N m] (the moment the beam carries at the
+                      clamp, ea_fe_sim_settings_t.output_loads) and cable tension [N] */
 } ea_sim_history_t;
 void ea_sim_history_free(ea_sim_history_t *h);
 

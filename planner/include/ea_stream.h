@@ -227,6 +227,76 @@ typedef struct ea_stream_info {
 ea_status_t ea_stream_run(const ea_arm_t *arm, const ea_setpoint_t *sp, int n, const char *url,
                           const ea_stream_settings_t *s, ea_stream_info_t *info, ea_error_t *err);
 
+/* ------------------------------------------------------------------------ */
+/* Measurement records of a simulated session (planner/stream/stream_record.c) */
+/* ------------------------------------------------------------------------ */
+
+/** What a simulated controller's sensors record (docs/calibration.md, "Measurement records"
+ *  and "The controller simulator as the arm"). */
+typedef struct ea_record_settings {
+  double min_hold_s;       /**< [s] shortest run of setpoints at rest that is a hold (default 1) */
+  double static_fraction;  /**< the last part of every hold averaged into the static record, as a
+                                fraction of the shortest hold (default 1/3) */
+  unsigned long seed;      /**< seed of the sensor noise (GSL mt19937; default 1) */
+  double noise_theta0_rad; /**< [rad] standard deviation of the shoulder encoder (default 5e-4) */
+  double noise_torque_Nm;  /**< [N m] of the shoulder torque sensor (default 0.01) */
+  double noise_tension_N;  /**< [N] of the cable tension sensor (default 0.05) */
+  double noise_tip_m;      /**< [m] of a tip position measurement (default 5e-4) */
+  double payload_kg;       /**< [kg] the payload simulated (header '# payload_kg:') */
+  char arm_file[1024];     /**< header '# arm_file:' ("" none) */
+  char source[256];        /**< header '# source:' */
+} ea_record_settings_t;
+
+void ea_record_settings_default(ea_record_settings_t *s);
+
+/** A hold found in a session's setpoints. */
+typedef struct ea_record_hold {
+  int first, last;     /**< setpoint indices of the run at rest */
+  double t_start;      /**< [s] setpoint time of its first setpoint */
+  double t_end;        /**< [s] of its last (the session's last hold: t_end of the history) */
+  double cable_length; /**< [m] commanded (ea_stream_unmap) */
+  double theta0;       /**< [rad] commanded */
+  int ringdown;        /**< 1: a motion precedes it (it has a ring-down record) */
+} ea_record_hold_t;
+
+/** What ea_record_write wrote. */
+typedef struct ea_record_info {
+  int holds;                /**< holds found (rows of the static record) */
+  int ringdowns;            /**< ring-down records */
+  int averaged_samples;     /**< samples averaged per static row */
+  double averaged_window_s; /**< [s] the window they span */
+  char static_path[1100];   /**< the static record ("" none) */
+} ea_record_info_t;
+
+/** The holds of setpoints sp[0..n-1] at times t[i] (rows whose time does not increase are
+ *  left out, as ea_stream_setpoints_traj does): maximal runs of consecutive setpoints whose
+ *  spool, shoulder and base positions equal the run's first within 1e-9 rad and whose
+ *  velocities and accelerations are within 1e-9 of 0, lasting at least min_hold_s; a run
+ *  that reaches the last setpoint lasts until t_last (the controller holds it).
+ * @param[out] holds malloc'd array (free()), *n_holds entries; NULL when none */
+ea_status_t ea_record_find_holds(const ea_arm_t *arm, const ea_setpoint_t *sp, const double *t,
+                                 int n, double min_hold_s, double t_last, ea_record_hold_t **holds,
+                                 int *n_holds, ea_error_t *err);
+
+struct ea_sim_history;
+
+/** Write the measurement records of a simulated session into folder dir (created): from the
+ *  FE history h (ea_traj_simulate with keep_history: tip and loads at the setpoint times) of
+ *  the setpoints sp[0..n-1] at times t, the holds of ea_record_find_holds; every sample of a
+ *  hold gets Gaussian sensor noise (s->seed; theta0, torque, tension, tip x, tip y in this
+ *  order per sample). dir/static.csv: one row per hold, the mean over the last
+ *  averaged_window_s of the hold of the sensed theta0 (the commanded one plus encoder
+ *  noise), shoulder torque, cable tension and tip; its noise headers are those of a row
+ *  (the sensor's / sqrt(samples averaged)). dir/ringdown-NNN.csv for hold NNN (1-based) when
+ *  a motion precedes it: t_s from the hold's start, shoulder_torque_Nm, tension_N, tip_x_m,
+ *  tip_y_m at every history row of the hold; its noise headers are the sensors'. Noise
+ *  levels of 0 are left out of the headers. Files written atomically.
+ * @return EA_OK; EA_ERR_INPUT when there is no hold; EA_ERR_IO; EA_ERR_NOMEM. */
+ea_status_t ea_record_write(const char *dir, const ea_record_settings_t *s, const ea_arm_t *arm,
+                            const ea_setpoint_t *sp, const double *t, int n,
+                            const struct ea_sim_history *h, ea_record_info_t *info,
+                            ea_error_t *err);
+
 #ifdef __cplusplus
 }
 #endif

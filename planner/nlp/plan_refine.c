@@ -164,7 +164,7 @@ static void ea__refine_fe(ea__refine_t *R, ea_refine_eval_t *e, int capped) {
   e->fe_status = EA_OK;
   e->score = 0.0;
   for (int j = 0; j < R->M && !e->fe_status; ++j) {
-    ea_sim_history_t h = {0, NULL};
+    ea_sim_history_t h = {0};
     ea_sim_info_t si;
     ea_error_t err = {0};
     ea_sim_settings_t fe = info->fe;

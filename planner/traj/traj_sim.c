@@ -56,7 +56,8 @@ ea_status_t ea_sim_settings_validate(const ea_sim_settings_t *s, ea_error_t *err
 void ea_sim_history_free(ea_sim_history_t *h) {
   if (!h) return;
   free(h->data);
-  h->data = NULL;
+  free(h->loads);
+  h->data = h->loads = NULL;
   h->rows = 0;
 }
 
@@ -196,16 +197,17 @@ static ea_status_t ea__sim_damping(ea_fe_model_t *m, const ea_sim_settings_t *s,
 }
 
 /* Tracking error during the motion and the time to rest, from the tip rows (t from 0). */
-static void ea__sim_measure(const ea_traj_t *tr, const ea_arm_t *arm, const double *tip, int rows,
-                            double t_first, double tol, int have_static, ea_sim_info_t *info) {
+static void ea__sim_measure(const ea_traj_t *tr, const ea_arm_t *arm, const double *tip, int cols,
+                            int rows, double t_first, double tol, int have_static,
+                            ea_sim_info_t *info) {
   info->max_tracking_error = 0.0;
   info->max_tracking_error_time = t_first;
   for (int r = 0; r < rows; ++r) {
-    const double t = tip[4 * r];
+    const double t = tip[cols * r];
     if (t > info->duration + 1e-9) break;
     double p[2];
     ea_traj_planned_tip(tr, arm, t + t_first, p);
-    const double e = hypot(tip[4 * r + 1] - p[0], tip[4 * r + 2] - p[1]);
+    const double e = hypot(tip[cols * r + 1] - p[0], tip[cols * r + 2] - p[1]);
     if (e > info->max_tracking_error) {
       info->max_tracking_error = e;
       info->max_tracking_error_time = t + t_first;
@@ -216,14 +218,14 @@ static void ea__sim_measure(const ea_traj_t *tr, const ea_arm_t *arm, const doub
   const double *xs = info->final_static_tip;
   int last_out = -1; /* last row outside the tolerance */
   for (int r = rows - 1; r >= 0; --r)
-    if (hypot(tip[4 * r + 1] - xs[0], tip[4 * r + 2] - xs[1]) > tol) {
+    if (hypot(tip[cols * r + 1] - xs[0], tip[cols * r + 2] - xs[1]) > tol) {
       last_out = r;
       break;
     }
   if (last_out < 0)
     info->time_to_rest = 0.0;
   else if (last_out < rows - 1)
-    info->time_to_rest = tip[4 * (last_out + 1)];
+    info->time_to_rest = tip[cols * (last_out + 1)];
 }
 
 static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
@@ -251,6 +253,7 @@ typedef struct {
   const ea_sim_settings_t *s;
   double t_first, t_end;
   int rows_cap;
+  int cols; /* doubles per tip row: 4, or 6 with the loads (history kept) */
   ea_shooter_t *sh;
   ea_fe_model_t *m, *mh; /* the transient's model; the tip-holding one of drive_fe */
   double *tip, *qstart;
@@ -296,7 +299,7 @@ static ea_status_t ea__sim_alloc(ea__sim_t *c, double tip_mass, ea_error_t *err)
         (st = ea_fe_model_set_load(c->mh, &load)))
       return st;
   }
-  c->tip = malloc(sizeof(double) * 4 * (size_t)c->rows_cap);
+  c->tip = malloc(sizeof(double) * (size_t)c->cols * (size_t)c->rows_cap);
   c->qstart = malloc(sizeof(double) * 3 * (size_t)ea_fe_model_nodes(c->m));
   if (!c->tip || !c->qstart)
     return ea_error_set(err, EA_ERR_NOMEM, "simulate: %d rows", c->rows_cap);
@@ -408,6 +411,7 @@ static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_
   ss.t_motion_end = s->settle > 0 ? info->duration : -1.0;
   ss.tip_static[0] = tip_end[0];
   ss.tip_static[1] = tip_end[1];
+  ss.output_loads = c->cols == 6;
   ea_status_t st = ea__sim_damping(c->m, s, &ss, info, err);
   if (st) return st;
   info->rayleigh_mass = ss.rayleigh_mass;
@@ -447,8 +451,8 @@ static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_
     ea_traj_planned_tip(c->tr, c->arm, c->t_first + info->duration, pe);
     info->static_offset_end = hypot(si->tip_static[0] - pe[0], si->tip_static[1] - pe[1]);
   }
-  ea__sim_measure(c->tr, c->arm, c->tip, si->rows, c->t_first, s->rest_tolerance, have_static,
-                  info);
+  ea__sim_measure(c->tr, c->arm, c->tip, c->cols, si->rows, c->t_first, s->rest_tolerance,
+                  have_static, info);
   return EA_OK;
 }
 
@@ -456,15 +460,24 @@ static ea_status_t ea__sim_run(ea__sim_t *c, const double tip_end[2], ea_fe_sim_
 static ea_status_t ea__sim_history(const ea__sim_t *c, int rows, ea_sim_history_t *hist,
                                    ea_error_t *err) {
   double *h = malloc(sizeof(double) * 6 * (size_t)(rows > 0 ? rows : 1));
-  if (!h) return ea_error_set(err, EA_ERR_NOMEM, "simulate: history of %d rows", rows);
+  double *ld = malloc(sizeof(double) * 2 * (size_t)(rows > 0 ? rows : 1));
+  if (!h || !ld) {
+    free(h);
+    free(ld);
+    return ea_error_set(err, EA_ERR_NOMEM, "simulate: history of %d rows", rows);
+  }
+  const int cols = c->cols;
   for (int r = 0; r < rows; ++r) {
     double *o = h + 6 * r;
-    o[0] = c->tip[4 * r] + c->t_first;
-    memcpy(o + 1, c->tip + 4 * r + 1, 3 * sizeof(double));
+    o[0] = c->tip[cols * r] + c->t_first;
+    memcpy(o + 1, c->tip + cols * r + 1, 3 * sizeof(double));
     ea_traj_planned_tip(c->tr, c->arm, o[0], o + 4);
+    ld[2 * r] = cols == 6 ? c->tip[cols * r + 4] : NAN;
+    ld[2 * r + 1] = cols == 6 ? c->tip[cols * r + 5] : NAN;
   }
   ea_sim_history_free(hist);
   hist->data = h;
+  hist->loads = ld;
   hist->rows = rows;
   return EA_OK;
 }
@@ -489,6 +502,7 @@ static ea_status_t ea__traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, d
   c.t_first = EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
   c.t_end = info->duration + s->settle;
   c.rows_cap = (int)ceil(c.t_end / s->dt - 1e-9) + 2;
+  c.cols = (s->keep_history && hist) ? 6 : 4;
   c.deadline = s->max_wall_s > 0 ? wall0 + s->max_wall_s : INFINITY;
   ea_statics_solution_t ode;
   double tip_end[2] = {NAN, NAN};
