@@ -246,6 +246,7 @@
   X(ea_sim_info_t, wall_time_s)                                                                    \
   X(ea_sim_history_t, rows)                                                                        \
   X(ea_sim_history_t, data)                                                                        \
+  X(ea_sim_history_t, loads)                                                                       \
   X(ea_plan_info_t, status)                                                                        \
   X(ea_plan_info_t, ipopt_status)                                                                  \
   X(ea_plan_info_t, ipopt_status_name)                                                             \

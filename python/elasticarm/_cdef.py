@@ -343,6 +343,7 @@ typedef struct ea_sim_info {
 typedef struct ea_sim_history {
   int rows;
   double *data;
+  double *loads;
 } ea_sim_history_t;
 void ea_sim_history_free(ea_sim_history_t *h);
 ea_status_t ea_traj_simulate(const ea_arm_t *arm, const ea_traj_t *tr, double tip_mass,
