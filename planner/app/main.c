@@ -26,6 +26,8 @@ static const ea__cmd_t ea__cmds[] = {
     {"simulate", ea__cli_simulate, "FE transient of a trajectory: tip history, residual vibration"},
     {"study", ea__cli_study, "batch studies of payload and design: grid, threads, shards, resume"},
     {"figure", ea__cli_figure, "draw a trajectory file (plan) to SVG/PNG/PDF"},
+    {"calibrate", ea__cli_calibrate,
+     "fit the arm file to measurement records (docs/calibration.md)"},
     /* EA_CLI_TABLE_END */
 };
 
