@@ -1,9 +1,10 @@
 /* The calibration fit (docs/calibration.md, "How the fit works").
  *
- * Unknowns z = (u, alpha_1..alpha_n): u the arm's free parameters, log(v / v_prior) for the
- * positive ones (EI, rho, m_hand, EA_c, I_L) and (v - v_prior) / L for the cable root; alpha_i
- * the cable angle of static row i (a nuisance parameter: the row's configuration is its
- * commanded cable length and this angle).
+ * Unknowns u: the arm's free parameters, log(v / v_prior) for the positive ones (EI, rho,
+ * m_hand, EA_c, I_L) and (v - v_prior) / L for the cable root. Each static row i also has its
+ * cable angle alpha_i (a nuisance parameter: the row's configuration is its commanded cable
+ * length and this angle), eliminated by variable projection: at every u each alpha_i is the
+ * best for its row, and the Jacobian's rows are projected off the alpha_i column.
  *
  * Residuals, each divided by its noise: per static row and measured channel, model - measured;
  * per ring-down mode matched to an FE mode, FE frequency - measured frequency.
@@ -106,7 +107,7 @@ void ea_calib_settings_default(ea_calib_settings_t *s) {
   s->fix_mask = 0;
   s->fix_damping = 0;
   s->max_iter = 100;
-  s->ident_se = 0.1;
+  s->ident_se = 0.5;
   s->modes = 3;
   s->fe_elements = EA_FE_DEFAULT_ELEMENTS;
   s->freq_floor = 1e-3;
@@ -223,6 +224,58 @@ static ea_status_t ea__hold_solve(ea_shooter_t *sh, const ea_arm_t *arm, double 
   return EA_OK;
 }
 
+/* The starting state of a static row without a sensed cable angle: the cable angle whose
+ * configuration at cable length L on arm has the measured shoulder angle theta0, each angle's
+ * configuration on the branch the statics reach from the T = 0 edge (the planner's, and so the
+ * experiment's): a scan of the angle from -80 to 80 degrees, then bisection in the bracket
+ * nearest to a root. */
+static ea_status_t ea__angle_init(ea_shooter_t *sh, const ea_arm_t *arm, double L, double theta0,
+                                  double p[EA_NP], ea_error_t *err) {
+  const int n = 17;
+  double a[17], d[17], ps[17][EA_NP];
+  int ok[17];
+  for (int k = 0; k < n; ++k) {
+    a[k] = (-80.0 + 10.0 * k) * M_PI / 180.0;
+    ok[k] = !ea__row_solve(sh, arm, L, a[k], ps[k], 0, NULL);
+    d[k] = ok[k] ? ps[k][EA_P_THETA0] - theta0 : NAN;
+  }
+  int best = -1;
+  double bd = INFINITY;
+  for (int k = 0; k + 1 < n; ++k)
+    if (ok[k] && ok[k + 1] && d[k] * d[k + 1] <= 0) {
+      const double m = fmin(fabs(d[k]), fabs(d[k + 1]));
+      if (m < bd) bd = m, best = k;
+    }
+  if (best < 0) { /* no bracket: the closest angle, then Newton on the hold */
+    for (int k = 0; k < n; ++k)
+      if (ok[k] && fabs(d[k]) < bd) bd = fabs(d[k]), best = k;
+    if (best < 0)
+      return ea_error_set(err, EA_ERR_INPUT, "no static configuration at this cable length");
+    memcpy(p, ps[best], sizeof ps[best]);
+    ea_statics_solution_t sol;
+    return ea__hold_solve(sh, arm, L, theta0, p, 1, &sol, err);
+  }
+  double lo = a[best], hi = a[best + 1], dlo = d[best];
+  double plo[EA_NP];
+  memcpy(plo, ps[best], sizeof plo);
+  for (int it = 0; it < 40 && hi - lo > 1e-10; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    double pm[EA_NP];
+    memcpy(pm, plo, sizeof pm);
+    if (ea__row_solve(sh, arm, L, mid, pm, 1, NULL)) break;
+    const double dm = pm[EA_P_THETA0] - theta0;
+    if (dm * dlo <= 0) {
+      hi = mid;
+    } else {
+      lo = mid;
+      dlo = dm;
+      memcpy(plo, pm, sizeof plo);
+    }
+  }
+  memcpy(p, plo, sizeof plo);
+  return ea__row_solve(sh, arm, L, 0.5 * (lo + hi), p, 1, err);
+}
+
 /* FE natural frequencies (eq. 24) at a hold for arm: modes 0..nmodes-1 into f. */
 static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, ea__ring_t *rg, int nmodes,
                                  double *f, ea_error_t *err) {
@@ -258,9 +311,149 @@ static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, ea__rin
   return st;
 }
 
-/* Channel of residual index within a static row: the record's channels in order. */
+/* One static row at cable angle alpha on arm: the predicted channels pred[] and, per column j
+ * (the free parameters j < nf when with_params, and alpha as column nf), their derivatives
+ * dpred[j][c]. sh is arm's shooter; shp, shm arm's with rho +- hr (with_params only). */
+static ea_status_t ea__row_eval(ea__ws_t *w, const ea_arm_t *arm, ea_shooter_t *sh,
+                                ea_shooter_t *shp, ea_shooter_t *shm, double hr, ea__row_t *row,
+                                double alpha, int with_params, double pred[EA_CALIB_NCH],
+                                double dpred[EA_CALIB_NP + 1][EA_CALIB_NCH]) {
+  const ea_calib_record_t *rec = &w->recs[row->rec];
+  const int nf = w->nfree;
+  const ea_load_t load = {arm->m_hand + row->payload};
+  ea_shooter_set_load(sh, &load);
+  double p[EA_NP];
+  memcpy(p, row->p, sizeof p);
+  ea_status_t st = ea__row_solve(sh, arm, row->L, alpha, p, 1, &w->err);
+  if (st) {
+    ea_error_t e = w->err;
+    return ea_error_set(&w->err, st, "%s:%d: no static solution for this arm (%s)", rec->path,
+                        rec->line[row->row], e.msg);
+  }
+  memcpy(row->p, p, sizeof p);
+  double xL[EA_NX], S[EA_NX * EA_NP];
+  if ((st = ea_shoot(sh, p, xL, S))) return st;
+  const double a = p[EA_P_ALPHA], T = p[EA_P_TENSION], ca = cos(a), sa = sin(a);
+  pred[EA_CALIB_CH_THETA0] = p[EA_P_THETA0];
+  pred[EA_CALIB_CH_TORQUE] = arm->EI * p[EA_P_KAPPA0];
+  pred[EA_CALIB_CH_TENSION] = T;
+  pred[EA_CALIB_CH_TIP_X] = xL[EA_X_X];
+  pred[EA_CALIB_CH_TIP_Y] = xL[EA_X_Y];
+  pred[EA_CALIB_CH_CABLE_ANGLE] = a;
+  double Jp[16], rr[4];
+  ea_statics_problem_t pr = ea_statics_problem_cable(row->L * (1.0 + T / arm->EA_cable), a);
+  if ((st = ea_statics_residual(sh, &pr, p, rr, Jp))) return st;
+  Jp[2 * 4 + EA_P_TENSION] -= row->L / arm->EA_cable;
+  gsl_matrix_view Am = gsl_matrix_view_array(Jp, 4, 4);
+  gsl_permutation *perm = gsl_permutation_alloc(4);
+  int sg;
+  if (!perm || gsl_linalg_LU_decomp(&Am.matrix, perm, &sg) != GSL_SUCCESS) {
+    gsl_permutation_free(perm);
+    return ea_error_set(&w->err, EA_ERR_SINGULAR, "%s:%d: singular statics Jacobian", rec->path,
+                        rec->line[row->row]);
+  }
+  /* direct ODE derivatives of x(L) wrt the tip mass and rho */
+  double dx_m[EA_NX] = {0}, dx_r[EA_NX] = {0};
+  if (with_params) {
+    if (T > 1e-3) {
+      for (int q = 0; q < EA_NX; ++q)
+        dx_m[q] = arm->g * (sa * S[q * EA_NP + EA_P_TENSION] + ca / T * S[q * EA_NP + EA_P_ALPHA]);
+    } else { /* slack cable: a central difference in the tip mass */
+      double xp[EA_NX], xm[EA_NX];
+      const double h = 1e-6 * fmax(load.tip_mass, 1e-3);
+      ea_load_t lp = {load.tip_mass + h}, lm = {load.tip_mass - h};
+      ea_shooter_set_load(sh, &lp);
+      st = ea_shoot(sh, p, xp, NULL);
+      ea_shooter_set_load(sh, &lm);
+      if (!st) st = ea_shoot(sh, p, xm, NULL);
+      ea_shooter_set_load(sh, &load);
+      for (int q = 0; q < EA_NX; ++q)
+        dx_m[q] = (xp[q] - xm[q]) / (2 * h);
+    }
+    if (!st) {
+      double xp[EA_NX], xm[EA_NX];
+      ea_shooter_set_load(shp, &load);
+      st = ea_shoot(shp, p, xp, NULL);
+      if (!st && shm) {
+        ea_shooter_set_load(shm, &load);
+        st = ea_shoot(shm, p, xm, NULL);
+      } else
+        memcpy(xm, xL, sizeof xm);
+      for (int q = 0; q < EA_NX; ++q)
+        dx_r[q] = (xp[q] - xm[q]) / (shm ? 2 * hr : hr);
+    }
+  }
+  for (int j = with_params ? 0 : nf; !st && j <= nf; ++j) {
+    double dg[4] = {0, 0, 0, 0};
+    double dx[EA_NX] = {0, 0, 0, 0};
+    int k = -1;
+    if (j < nf) {
+      k = w->free_idx[j];
+      const double sc = ea__du_scale(w, arm, k);
+      switch (k) {
+      case EA_CALIB_P_EI: /* per log EI */
+        for (int q = 0; q < EA_NX; ++q)
+          dx[q] = -(load.tip_mass * dx_m[q] + arm->rho * dx_r[q] + T * S[q * EA_NP + EA_P_TENSION]);
+        break;
+      case EA_CALIB_P_RHO:
+        for (int q = 0; q < EA_NX; ++q)
+          dx[q] = sc * dx_r[q];
+        break;
+      case EA_CALIB_P_M_HAND:
+        for (int q = 0; q < EA_NX; ++q)
+          dx[q] = sc * dx_m[q];
+        break;
+      case EA_CALIB_P_X_C:
+        dg[1] += sc * sa;
+        dg[2] += -sc * ca;
+        break;
+      case EA_CALIB_P_Y_C:
+        dg[1] += -sc * ca;
+        dg[2] += -sc * sa;
+        break;
+      case EA_CALIB_P_EA_CABLE: /* per log EA_c */
+        dg[2] += row->L * T / arm->EA_cable;
+        break;
+      default:
+        break;
+      }
+      dg[0] += dx[EA_X_KAPPA];
+      dg[1] += ca * dx[EA_X_Y] - sa * dx[EA_X_X];
+      dg[2] += ca * dx[EA_X_X] + sa * dx[EA_X_Y];
+    } else {
+      dg[3] = -1.0; /* g3 = a - alpha */
+    }
+    double b[4], dp[4];
+    for (int q = 0; q < 4; ++q)
+      b[q] = -dg[q];
+    gsl_vector_view bv = gsl_vector_view_array(b, 4), xv = gsl_vector_view_array(dp, 4);
+    if (gsl_linalg_LU_solve(&Am.matrix, perm, &bv.vector, &xv.vector) != GSL_SUCCESS) {
+      st = ea_error_set(&w->err, EA_ERR_SINGULAR, "%s:%d: singular statics Jacobian", rec->path,
+                        rec->line[row->row]);
+      break;
+    }
+    dpred[j][EA_CALIB_CH_THETA0] = dp[EA_P_THETA0];
+    dpred[j][EA_CALIB_CH_TORQUE] =
+        arm->EI * dp[EA_P_KAPPA0] + (k == EA_CALIB_P_EI ? arm->EI * p[EA_P_KAPPA0] : 0.0);
+    dpred[j][EA_CALIB_CH_TENSION] = dp[EA_P_TENSION];
+    for (int c = EA_CALIB_CH_TIP_X; c <= EA_CALIB_CH_TIP_Y; ++c) {
+      const int q = c == EA_CALIB_CH_TIP_X ? EA_X_X : EA_X_Y;
+      double d = dx[q];
+      for (int m = 0; m < EA_NP; ++m)
+        d += S[q * EA_NP + m] * dp[m];
+      dpred[j][c] = d;
+    }
+    dpred[j][EA_CALIB_CH_CABLE_ANGLE] = dp[EA_P_ALPHA];
+  }
+  gsl_permutation_free(perm);
+  return st;
+}
 
-/* Evaluate residuals f (m) and, if J != NULL, the Jacobian (m x nz, row-major). */
+/* Evaluate residuals f (m) and, if J != NULL, the Jacobian (m x nz, row-major).
+ * Variable projection: each row's cable angle is the best for the row's measurements at these
+ * parameters (Gauss-Newton in the one angle), and the parameter columns of its rows are
+ * projected off the angle's column, so J is the Jacobian of the residual with the angles
+ * eliminated (Golub and Pereyra; Kaufman's form). */
 static int ea__eval(ea__ws_t *w, const double *z, double *f, double *J) {
   ea_arm_t arm;
   ea__arm_of(w, z, &arm);
@@ -268,6 +461,7 @@ static int ea__eval(ea__ws_t *w, const double *z, double *f, double *J) {
   if (J) memset(J, 0, sizeof *J * (size_t)w->m * (size_t)nz);
   ea_shooter_t *sh = NULL, *shp = NULL, *shm = NULL;
   ea_status_t st = ea_arm_validate(&arm, NULL);
+  if (st) ea_error_set(&w->err, st, "a trial arm is not physical");
   const double hr = 1e-5 * arm.rho;
   if (!st) st = ea_shooter_alloc(&arm, NULL, &sh, &w->err);
   if (!st && J) {
@@ -281,171 +475,51 @@ static int ea__eval(ea__ws_t *w, const double *z, double *f, double *J) {
   for (int i = 0; !st && i < w->nrow; ++i) {
     ea__row_t *row = &w->rows[i];
     const ea_calib_record_t *rec = &w->recs[row->rec];
-    const double alpha_i = z[nf + i];
-    const ea_load_t load = {arm.m_hand + row->payload};
-    ea_shooter_set_load(sh, &load);
-    double p[EA_NP];
-    memcpy(p, row->p, sizeof p);
-    st = ea__row_solve(sh, &arm, row->L, alpha_i, p, 1, &w->err);
-    if (st) {
-      ea_error_t e = w->err;
-      ea_error_set(&w->err, st, "%s:%d: no static solution for this arm (%s)", rec->path,
-                   rec->line[row->row], e.msg);
-      break;
+    const double *sig = w->noise[row->rec];
+    double pred[EA_CALIB_NCH], dpred[EA_CALIB_NP + 1][EA_CALIB_NCH];
+    double alpha = row->p[EA_P_ALPHA];
+    /* the row's angle: Gauss-Newton on its weighted residuals */
+    for (int it = 0; it < 20; ++it) {
+      if ((st = ea__row_eval(w, &arm, sh, NULL, NULL, 0, row, alpha, 0, pred, dpred))) break;
+      double g = 0, h = 0;
+      for (int c = 0; c < EA_CALIB_NCH; ++c)
+        if (rec->has[c]) {
+          const double rc = (pred[c] - rec->ch[c][row->row]) / sig[c], dc = dpred[nf][c] / sig[c];
+          g += dc * rc;
+          h += dc * dc;
+        }
+      if (!(h > 0)) break;
+      double da = -g / h;
+      if (fabs(da) > 0.1) da = copysign(0.1, da);
+      alpha += da;
+      if (fabs(da) < 1e-12) break;
     }
-    memcpy(row->p, p, sizeof p);
-    double xL[EA_NX], S[EA_NX * EA_NP];
-    st = ea_shoot(sh, p, xL, S);
     if (st) break;
-    const double a = p[EA_P_ALPHA], T = p[EA_P_TENSION], ca = cos(a), sa = sin(a);
-    double pred[EA_CALIB_NCH];
-    pred[EA_CALIB_CH_THETA0] = p[EA_P_THETA0];
-    pred[EA_CALIB_CH_TORQUE] = arm.EI * p[EA_P_KAPPA0];
-    pred[EA_CALIB_CH_TENSION] = T;
-    pred[EA_CALIB_CH_TIP_X] = xL[EA_X_X];
-    pred[EA_CALIB_CH_TIP_Y] = xL[EA_X_Y];
-    pred[EA_CALIB_CH_CABLE_ANGLE] = a;
-    /* dp/dz and the direct tip derivatives (per column of z that matters: nf + 1) */
-    double dp[EA_CALIB_NP + 1][EA_NP], dxd[EA_CALIB_NP + 1][EA_NX];
-    int ncol = 0;
-    if (J) {
-      ncol = nf + 1;
-      double Jp[16], rr[4];
-      ea_statics_problem_t pr = ea_statics_problem_cable(row->L * (1.0 + T / arm.EA_cable), a);
-      st = ea_statics_residual(sh, &pr, p, rr, Jp);
-      if (st) break;
-      Jp[2 * 4 + EA_P_TENSION] -= row->L / arm.EA_cable;
-      /* direct ODE derivatives of x(L) wrt m_L and rho */
-      double dx_m[EA_NX], dx_r[EA_NX];
-      if (T > 1e-3) {
-        for (int q = 0; q < EA_NX; ++q)
-          dx_m[q] = arm.g * (sa * S[q * EA_NP + EA_P_TENSION] + ca / T * S[q * EA_NP + EA_P_ALPHA]);
-      } else { /* slack cable: a central difference in the tip mass */
-        double xp[EA_NX], xm[EA_NX];
-        const double h = 1e-6 * fmax(load.tip_mass, 1e-3);
-        ea_load_t lp = {load.tip_mass + h}, lm = {load.tip_mass - h};
-        ea_shooter_set_load(sh, &lp);
-        st = ea_shoot(sh, p, xp, NULL);
-        ea_shooter_set_load(sh, &lm);
-        if (!st) st = ea_shoot(sh, p, xm, NULL);
-        ea_shooter_set_load(sh, &load);
-        if (st) break;
-        for (int q = 0; q < EA_NX; ++q)
-          dx_m[q] = (xp[q] - xm[q]) / (2 * h);
+    if ((st = ea__row_eval(w, &arm, sh, shp, shm, hr, row, alpha, J != NULL, pred, dpred))) break;
+    /* the angle's column, to project the parameter columns off */
+    double ja[EA_CALIB_NCH], jj = 0;
+    int nr = 0;
+    for (int c = 0; c < EA_CALIB_NCH; ++c)
+      if (rec->has[c]) {
+        ja[nr] = dpred[nf][c] / sig[c];
+        jj += ja[nr] * ja[nr];
+        f[r + nr] = (pred[c] - rec->ch[c][row->row]) / sig[c];
+        ++nr;
       }
-      {
-        double xp[EA_NX], xm[EA_NX];
-        ea_shooter_set_load(shp, &load);
-        st = ea_shoot(shp, p, xp, NULL);
-        if (!st && shm) {
-          ea_shooter_set_load(shm, &load);
-          st = ea_shoot(shm, p, xm, NULL);
-        } else
-          memcpy(xm, xL, sizeof xm);
-        if (st) break;
-        for (int q = 0; q < EA_NX; ++q)
-          dx_r[q] = (xp[q] - xm[q]) / (shm ? 2 * hr : hr);
-      }
-      for (int j = 0; j < ncol; ++j) {
-        double dg[4] = {0, 0, 0, 0};
-        double dx[EA_NX] = {0, 0, 0, 0};
-        if (j < nf) {
-          const int k = w->free_idx[j];
-          const double sc = ea__du_scale(w, &arm, k);
-          switch (k) {
-          case EA_CALIB_P_EI:
-            for (int q = 0; q < EA_NX; ++q)
-              dx[q] = -(load.tip_mass * dx_m[q] + arm.rho * dx_r[q] +
-                        T * S[q * EA_NP + EA_P_TENSION]); /* already per log EI */
-            break;
-          case EA_CALIB_P_RHO:
-            for (int q = 0; q < EA_NX; ++q)
-              dx[q] = sc * dx_r[q];
-            break;
-          case EA_CALIB_P_M_HAND:
-            for (int q = 0; q < EA_NX; ++q)
-              dx[q] = sc * dx_m[q];
-            break;
-          case EA_CALIB_P_X_C:
-            dg[1] += sc * sa;
-            dg[2] += -sc * ca;
-            break;
-          case EA_CALIB_P_Y_C:
-            dg[1] += -sc * ca;
-            dg[2] += -sc * sa;
-            break;
-          case EA_CALIB_P_EA_CABLE:
-            dg[2] += row->L * T / arm.EA_cable; /* per log EA_c */
-            break;
-          default:
-            break;
+    if (J)
+      for (int j = 0; j < nf; ++j) {
+        double col[EA_CALIB_NCH], dot = 0;
+        int q = 0;
+        for (int c = 0; c < EA_CALIB_NCH; ++c)
+          if (rec->has[c]) {
+            col[q] = dpred[j][c] / sig[c];
+            dot += col[q] * ja[q];
+            ++q;
           }
-          dg[0] += dx[EA_X_KAPPA];
-          dg[1] += ca * dx[EA_X_Y] - sa * dx[EA_X_X];
-          dg[2] += ca * dx[EA_X_X] + sa * dx[EA_X_Y];
-        } else {
-          dg[3] = -1.0; /* g3 = a - alpha_i */
-        }
-        /* dp = -Jp^-1 dg */
-        double A[16], b[4], sol4[4];
-        memcpy(A, Jp, sizeof A);
-        for (int q = 0; q < 4; ++q)
-          b[q] = -dg[q];
-        gsl_matrix_view Am = gsl_matrix_view_array(A, 4, 4);
-        gsl_vector_view bv = gsl_vector_view_array(b, 4), xv = gsl_vector_view_array(sol4, 4);
-        gsl_permutation *perm = gsl_permutation_alloc(4);
-        int sg;
-        if (!perm || gsl_linalg_LU_decomp(&Am.matrix, perm, &sg) != GSL_SUCCESS ||
-            gsl_linalg_LU_solve(&Am.matrix, perm, &bv.vector, &xv.vector) != GSL_SUCCESS) {
-          gsl_permutation_free(perm);
-          st = ea_error_set(&w->err, EA_ERR_SINGULAR, "%s:%d: singular statics Jacobian", rec->path,
-                            rec->line[row->row]);
-          break;
-        }
-        gsl_permutation_free(perm);
-        memcpy(dp[j], sol4, sizeof sol4);
-        memcpy(dxd[j], dx, sizeof dx);
+        for (q = 0; q < nr; ++q)
+          J[(size_t)(r + q) * nz + j] = col[q] - (jj > 0 ? dot / jj * ja[q] : 0.0);
       }
-      if (st) break;
-    }
-    for (int c = 0; c < EA_CALIB_NCH; ++c) {
-      if (!rec->has[c]) continue;
-      const double s = w->noise[row->rec][c];
-      f[r] = (pred[c] - rec->ch[c][row->row]) / s;
-      if (J) {
-        for (int j = 0; j < ncol; ++j) {
-          double d = 0;
-          switch (c) {
-          case EA_CALIB_CH_THETA0:
-            d = dp[j][EA_P_THETA0];
-            break;
-          case EA_CALIB_CH_TORQUE:
-            d = arm.EI * dp[j][EA_P_KAPPA0];
-            if (j < nf && w->free_idx[j] == EA_CALIB_P_EI) d += arm.EI * p[EA_P_KAPPA0];
-            break;
-          case EA_CALIB_CH_TENSION:
-            d = dp[j][EA_P_TENSION];
-            break;
-          case EA_CALIB_CH_TIP_X:
-          case EA_CALIB_CH_TIP_Y: {
-            const int q = c == EA_CALIB_CH_TIP_X ? EA_X_X : EA_X_Y;
-            d = dxd[j][q];
-            for (int k = 0; k < EA_NP; ++k)
-              d += S[q * EA_NP + k] * dp[j][k];
-            break;
-          }
-          case EA_CALIB_CH_CABLE_ANGLE:
-            d = dp[j][EA_P_ALPHA];
-            break;
-          default:
-            break;
-          }
-          const int col = j < nf ? j : nf + i;
-          J[(size_t)r * nz + col] = d / s;
-        }
-      }
-      ++r;
-    }
+    r += nr;
   }
   ea_shooter_free(shp);
   ea_shooter_free(shm);
@@ -570,20 +644,18 @@ static double ea__gn_decrease(gsl_multifit_nlinear_workspace *w) {
 /* Identifiability                                                           */
 /* ------------------------------------------------------------------------ */
 
-/* The parameter columns with the nuisance angles profiled out: R (m' x nf) such that
- * R' R = J_u' (I - P_alpha) J_u, P_alpha the projector on the alpha columns' span. Returns
- * the number of rows written to R (<= m). */
+/* The columns cols of J (whose angles the variable projection eliminated already) reduced to
+ * the triangle R (nc x nc) with R' R = J_c' J_c. Returns the number of rows written to R. */
 static int ea__profile(const ea__ws_t *w, const double *J, const int *cols, int nc, double *R) {
-  const int m = w->m, nz = w->nz, nf = w->nfree, na = w->nrow;
+  const int m = w->m, nz = w->nz, nf = 0, na = 0;
   gsl_matrix *A = gsl_matrix_alloc((size_t)m, (size_t)(na + nc));
   if (!A) return -1;
   for (int i = 0; i < m; ++i) {
     for (int j = 0; j < na; ++j)
-      gsl_matrix_set(A, (size_t)i, (size_t)j, J[(size_t)i * nz + nf + j]);
+      gsl_matrix_set(A, (size_t)i, (size_t)j, J[(size_t)i * nz + nf + j]); /* none */
     for (int j = 0; j < nc; ++j)
       gsl_matrix_set(A, (size_t)i, (size_t)(na + j), J[(size_t)i * nz + cols[j]]);
   }
-  /* QR of [J_alpha J_u]: the trailing block of R is the profiled parameter block */
   const size_t nt = (size_t)(na + nc) < (size_t)m ? (size_t)(na + nc) : (size_t)m;
   gsl_vector *tau = gsl_vector_alloc(nt);
   if (!tau || gsl_linalg_QR_decomp(A, tau) != GSL_SUCCESS) {
@@ -657,11 +729,13 @@ static void ea__describe(const ea__ws_t *w, const int *cols, int nc, const doubl
     snprintf(buf, len,
              "EI, rho and m_hand together (%s; standard error %.3g): shoulder angles, cable "
              "angles and tip positions depend on them only through the weight-to-stiffness "
-             "ratios rho g / EI and m_L g / EI, so these records fix the ratios, not the scale. "
+             "ratios rho g / EI and m_L g / EI%s, so these records fix the ratios, not the "
+             "scale. "
              "%s EI is held at the prior; rho and m_hand are fitted relative to it (their values "
-             "stand for rho/EI and m_hand/EI). A shoulder torque, a tension or a ring-down "
-             "frequency fixes the scale.",
+             "stand for rho/EI and m_hand/EI). A shoulder torque, a tension, a ring-down "
+             "frequency or records at a second, known payload fix the scale.",
              comb, se,
+             fabs(a[EA_CALIB_P_EA_CABLE]) > 0.25 ? " (and the cable's stretch T / EA_c)" : "",
              have_torque_or_tension || have_ring
                  ? "The torques, tensions or frequencies given are too few or too noisy to fix it:"
                  : "No record has a shoulder torque, a tension or a ring-down:");
@@ -746,7 +820,7 @@ static int ea__count(const ea__ws_t *w) {
 }
 
 static ea_status_t ea__ws_resize(ea__ws_t *w, ea_error_t *err) {
-  w->nz = w->nfree + w->nrow;
+  w->nz = w->nfree; /* the rows' angles are eliminated (variable projection) */
   w->m = ea__count(w);
   free(w->zc);
   free(w->fc);
@@ -896,8 +970,8 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
           st = ea__row_solve(sh, prior, row->L, rec->ch[EA_CALIB_CH_CABLE_ANGLE][i], p, have_prev,
                              &e);
         } else {
-          st = ea__hold_solve(sh, prior, row->L, rec->ch[EA_CALIB_CH_THETA0][i], p, have_prev, &sol,
-                              &e);
+          (void)sol;
+          st = ea__angle_init(sh, prior, row->L, rec->ch[EA_CALIB_CH_THETA0][i], p, &e);
         }
         if (st) {
           ea_shooter_free(sh);
@@ -924,12 +998,6 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     const ea_calib_record_t *rec = &recs[r];
     if (rec->kind != EA_CALIB_RINGDOWN) continue;
     ea_calib_record_fit_t *rf = &res->rec[r];
-    if ((st = ea_ringdown_fit(rec, EA_CALIB_MAX_MODES, &rf->ring, err))) goto done;
-    for (int c = 0; c < EA_CALIB_NCH; ++c)
-      if (rec->has[c]) {
-        rf->noise[c] = rf->ring.noise[c];
-        rf->rms[c] = rf->ring.rms[c];
-      }
     ea__ring_t *rg = &w.rings[w.nring];
     rg->rec = r;
     rg->L = rec->hold_cable_length;
@@ -949,6 +1017,15 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
                         rec->path, rg->L, rg->theta0, e.msg);
       goto done;
     }
+    /* sinusoids sought up to twice the highest FE mode matched (the axial and cable modes far
+     * above are not of interest) */
+    if ((st = ea_ringdown_fit(rec, EA_CALIB_MAX_MODES, 2.0 * fe[nfe - 1], &rf->ring, err)))
+      goto done;
+    for (int c = 0; c < EA_CALIB_NCH; ++c)
+      if (rec->has[c]) {
+        rf->noise[c] = rf->ring.noise[c];
+        rf->rms[c] = rf->ring.rms[c];
+      }
     /* each FE mode to the nearest fitted sinusoid in log frequency (a factor 1.6 at most);
      * sinusoids left over (harmonics of a large motion) are not used */
     for (int q = 0; q < nfe; ++q) {
@@ -980,6 +1057,19 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     }
     ++w.nring;
   }
+  /* a row with a shoulder angle alone tells nothing: its cable angle, not sensed, takes it up */
+  for (int r = 0; r < nrec; ++r) {
+    int others = 0;
+    for (int c = 0; c < EA_CALIB_NCH; ++c)
+      others += c != EA_CALIB_CH_THETA0 && recs[r].has[c];
+    if (recs[r].kind == EA_CALIB_STATIC && !others && res->n_notes < EA_CALIB_MAX_NOTES)
+      snprintf(res->notes[res->n_notes++], sizeof res->notes[0],
+               "%s has only shoulder angles: the cable angle of each row is not sensed, so "
+               "fitting it takes up the row's one value and the record tells nothing about the "
+               "arm. A cable angle or tip position column (shoulder angles then fix the "
+               "weight-to-EI ratios), or a torque or tension column, makes it count.",
+               recs[r].path);
+  }
   /* 3. Free parameters: all not fixed; identifiability at the prior removes some. */
   w.nfree = 0;
   for (int k = 0; k < EA_CALIB_NP; ++k)
@@ -990,13 +1080,11 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     goto done;
   }
   {
-    double *z = calloc((size_t)w.nz, sizeof *z);
+    double *z = calloc((size_t)w.nz + 1, sizeof *z);
     if (!z) {
       st = ea_error_set(err, EA_ERR_NOMEM, "out of memory");
       goto done;
     }
-    for (int i = 0; i < w.nrow; ++i)
-      z[w.nfree + i] = w.rows[i].p[EA_P_ALPHA];
     if ((st = ea__eval(&w, z, w.fc, w.Jc))) {
       free(z);
       st = ea_error_set(err, st, "%s", w.err.msg);
@@ -1021,7 +1109,7 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
       for (int j = 0; j < nc; ++j)
         v[j] = V[j * nc + nc - 1];
       int hold = 0;
-      char words[512];
+      char words[1024];
       ea__describe(&w, cols, nc, v, se, have_tt, have_ring, npay, words, sizeof words, &hold);
       const int k = w.free_idx[cols[hold]];
       res->state[k] = EA_CALIB_UNIDENTIFIABLE;
@@ -1062,39 +1150,38 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
   for (int r = 0; r < nrec; ++r)
     for (int c = 0; c < EA_CALIB_NCH; ++c)
       any_est |= recs[r].kind == EA_CALIB_STATIC && recs[r].has[c] && !(recs[r].noise[c] > 0);
-  gsl_vector *x = gsl_vector_calloc((size_t)w.nz);
+  gsl_vector *x = gsl_vector_calloc((size_t)w.nz + (w.nz == 0));
   gsl_multifit_nlinear_workspace *nw = NULL;
-  gsl_matrix *cov = gsl_matrix_alloc((size_t)w.nz, (size_t)w.nz);
+  gsl_matrix *cov = gsl_matrix_alloc((size_t)w.nz + (w.nz == 0), (size_t)w.nz + (w.nz == 0));
   if (!x || !cov) {
     gsl_vector_free(x);
     gsl_matrix_free(cov);
     st = ea_error_set(err, EA_ERR_NOMEM, "out of memory");
     goto done;
   }
-  for (int i = 0; i < w.nrow; ++i)
-    gsl_vector_set(x, (size_t)(w.nfree + i), w.rows[i].p[EA_P_ALPHA]);
   gsl_multifit_nlinear_parameters fp = gsl_multifit_nlinear_default_parameters();
   fp.trs = gsl_multifit_nlinear_trs_lm;
   fp.scale = gsl_multifit_nlinear_scale_more;
   gsl_multifit_nlinear_fdf fdf = {ea__gsl_f, ea__gsl_df, NULL, (size_t)w.m, (size_t)w.nz, &w,
                                   0,         0,          0};
-  if (w.m < w.nz) {
+  if (w.m < w.nz + w.nrow) {
     gsl_vector_free(x);
     gsl_matrix_free(cov);
     st = ea_error_set(err, EA_ERR_INPUT,
                       "%d measured values for %d unknowns (%d parameters, %d cable angles): the "
                       "records are too few",
-                      w.m, w.nz, w.nfree, w.nrow);
+                      w.m, w.nz + w.nrow, w.nfree, w.nrow);
     goto done;
   }
-  nw = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, (size_t)w.m, (size_t)w.nz);
-  if (!nw) {
+  if (w.nz)
+    nw = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, (size_t)w.m, (size_t)w.nz);
+  if (w.nz && !nw) {
     gsl_vector_free(x);
     gsl_matrix_free(cov);
     st = ea_error_set(err, EA_ERR_NOMEM, "out of memory (fit workspace)");
     goto done;
   }
-  for (int pass = 0; pass < (any_est ? 2 : 1); ++pass) {
+  for (int pass = 0; w.nz && pass < (any_est ? 2 : 1); ++pass) {
     int info = 0;
     w.failed = 0;
     if (gsl_multifit_nlinear_init(x, &fdf, nw) != GSL_SUCCESS || w.failed) {
@@ -1125,7 +1212,7 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
       break;
     }
     ea__record_stats(&w, w.fc, res);
-    const double dofc = (double)w.m / fmax(w.m - w.nz, 1);
+    const double dofc = (double)w.m / fmax(w.m - w.nz - w.nrow, 1);
     for (int r = 0; r < nrec; ++r)
       for (int c = 0; c < EA_CALIB_NCH; ++c)
         if (recs[r].kind == EA_CALIB_STATIC && recs[r].has[c] && !(recs[r].noise[c] > 0) &&
@@ -1134,8 +1221,12 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     w.have_cache = w.have_jac = 0;
   }
   if (!st) {
-    /* the solution: residuals, Jacobian and covariance */
-    if (ea__cache(&w, x, 1)) {
+    /* the solution: residuals, Jacobian and covariance (nothing to fit: the residuals) */
+    if (!w.nz) {
+      double zz[1] = {0};
+      if (ea__eval(&w, zz, w.fc, NULL))
+        st = ea_error_set(err, EA_ERR_INPUT, "the records do not fit the prior: %s", w.err.msg);
+    } else if (ea__cache(&w, x, 1)) {
       st = ea_error_set(err, EA_ERR_NOCONV, "the fit's solution failed: %s", w.err.msg);
     } else {
       gsl_matrix_view Jv = gsl_matrix_view_array(w.Jc, (size_t)w.m, (size_t)w.nz);
@@ -1177,7 +1268,7 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     for (int i = 0; i < w.m; ++i)
       res->chi2 += w.fc[i] * w.fc[i];
     res->n_residuals = w.m;
-    res->dof = w.m - w.nz;
+    res->dof = w.m - w.nz - w.nrow;
     for (int r = 0; r < nrec; ++r)
       for (int c = 0; c < EA_CALIB_NCH; ++c)
         if (recs[r].kind == EA_CALIB_STATIC && recs[r].has[c]) res->rec[r].noise[c] = w.noise[r][c];

@@ -289,8 +289,8 @@ static gsl_vector *ea__rd_grow(const ea__rd_t *d, const gsl_vector *x, double w,
   return y;
 }
 
-ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, ea_ringdown_fit_t *fit,
-                            ea_error_t *err) {
+ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, double max_hz,
+                            ea_ringdown_fit_t *fit, ea_error_t *err) {
   if (!rec || !fit) return ea_error_set(err, EA_ERR_ARG, "ea_ringdown_fit: NULL argument");
   memset(fit, 0, sizeof *fit);
   for (int c = 0; c < EA_CALIB_NCH; ++c)
@@ -340,7 +340,8 @@ ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, ea_ring
   const double df = 1.0 / (M * rec->dt);
   const double pad = (double)M / d.N;        /* padded bins per unpadded bin */
   const size_t kmin = (size_t)ceil(3 * pad); /* at least ~1.5 cycles in the record */
-  const size_t kmax = (size_t)floor(0.4 * M);
+  size_t kmax = (size_t)floor(0.4 * M);
+  if (max_hz > 0 && max_hz / df < (double)kmax) kmax = (size_t)floor(max_hz / df);
   while (d.K < max_modes) {
     if (ea__rd_spectrum(&d, x, M, buf, spec)) {
       st = ea_error_set(err, EA_ERR_BACKEND, "%s: FFT failed", rec->path);
@@ -419,11 +420,11 @@ ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, ea_ring
     st = ea_error_set(err, EA_ERR_NOMEM, "out of memory");
     goto done;
   }
-  /* with noise estimated: the residual's, and fit once more with its weights */
-  int any_est = 0;
-  for (int c = 0; c < d.C; ++c)
-    any_est |= !(rec->noise[d.ch[c]] > 0);
+  /* the noise: the header's, or the residual's when larger (unmodelled motion; a channel
+   * without a header noise); once more with those weights when they changed */
   for (int pass = 0; pass < 2; ++pass) {
+    double w_before[EA_CALIB_NCH];
+    memcpy(w_before, d.w, sizeof w_before);
     st = ea__rd_nls(&d, x, &fit->iterations, cov);
     if (st) {
       st = ea_error_set(err, st == EA_ERR_NOCONV ? EA_ERR_NOCONV : EA_ERR_BACKEND,
@@ -444,12 +445,16 @@ ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, ea_ring
       }
       const double dof = d.N - (1 + 2 * d.K) - 2.0 * d.K / d.C;
       fit->rms[d.ch[c]] = sqrt(ss / d.N);
-      const double s = rec->noise[d.ch[c]] > 0 ? rec->noise[d.ch[c]] : sqrt(ss / fmax(dof, 1.0));
+      const double s =
+          fmax(rec->noise[d.ch[c]] > 0 ? rec->noise[d.ch[c]] : 0.0, sqrt(ss / fmax(dof, 1.0)));
       fit->noise[d.ch[c]] = s;
       d.w[c] = 1.0 / fmax(s, 1e-300);
     }
     gsl_vector_free(f);
-    if (!any_est) break;
+    int changed = 0;
+    for (int c = 0; c < d.C; ++c)
+      changed |= fabs(d.w[c] / w_before[c] - 1.0) > 0.01;
+    if (!changed) break;
   }
   /* Results, modes ascending (sorted by an index permutation). */
   int idx[EA_CALIB_MAX_MODES];

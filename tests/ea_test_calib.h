@@ -26,14 +26,25 @@ static inline ea_status_t ea_tc_equilibrium(const ea_arm_t *arm, ea_fe_model_t *
   ea_shooter_set_load(sh, &load);
   ea_statics_solution_t sol;
   double T = 0;
+  double guess[EA_NP];
   for (int it = 0; it < 4 && !st; ++it) {
     ea_statics_problem_t pr = ea_statics_problem_cable(L * (1 + T / arm->EA_cable), alpha);
-    st = ea_statics_solve(sh, &pr, NULL, it ? sol.p : NULL, &sol, err);
+    st = ea_statics_solve(sh, &pr, NULL, it ? guess : NULL, &sol, err); /* (sol is cleared) */
+    memcpy(guess, sol.p, sizeof guess);
     T = sol.p[EA_P_TENSION];
   }
   if (!st) st = ea_fe_model_set_load(m, &load);
   if (!st) st = ea_fe_static_solve(m, sh, &sol, NULL, err);
   if (!st) st = ea_fe_static_continue(m, sol.p[EA_P_THETA0], EA_FE_CABLE_PASSIVE, L, NULL, err);
+  /* the FE equilibrium on the statics' branch (the continuation can leave it near the edge of
+   * the workspace: another equilibrium, not the configuration asked for) */
+  double Tfe = NAN;
+  if (!st) ea_fe_cable_get(m, NULL, NULL, &Tfe, NULL);
+  if (!st && !(fabs(Tfe - T) <= 0.01 * T + 0.02))
+    st = ea_error_set(err, EA_ERR_NOCONV,
+                      "L = %g m, alpha = %g rad: the FE equilibrium (T = %g N) left the statics' "
+                      "branch (T = %g N)",
+                      L, alpha, Tfe, T);
   ea_shooter_free(sh);
   return st;
 }
@@ -95,6 +106,11 @@ static inline ea_status_t ea_tc_write_static(const char *path, const ea_arm_t *a
   fprintf(fp, "\n");
   for (int i = 0; i < n && !st; ++i) {
     st = ea_tc_equilibrium(arm, m, L[i], alpha[i], pay[i], err);
+    if (st == EA_ERR_NOCONV) { /* not this configuration: an experiment would not hold it */
+      st = EA_OK;
+      ea_fe_set_straight(m, 0.0);
+      continue;
+    }
     if (st) break;
     ea_fe_static_info_t fi;
     ea_fe_newton(m, &fi, NULL);

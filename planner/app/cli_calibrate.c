@@ -27,7 +27,7 @@ static void ea__calib_help(void) {
          "  --modes K             FE modes matched to the ring-downs, 1..%d (default 3)\n"
          "  --ident-se S          a parameter combination whose standard error exceeds S\n"
          "                        (relative; cable root: in beam lengths) is not identifiable\n"
-         "                        (default 0.1)\n"
+         "                        (default 0.5)\n"
          "  --figure OUT          measured against model: shoulder angle and torque (and\n"
          "                        tension) against cable length per cable angle, frequencies\n"
          "                        against cable length (.svg, .png or .pdf)\n"

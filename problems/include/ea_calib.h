@@ -116,8 +116,8 @@ typedef struct ea_ringdown_fit {
  * from linear least squares, then a trust-region nonlinear least squares fit (gsl_multifit_nlinear)
  * of all of it. EA_ERR_NOCONV when it does not converge; EA_ERR_INPUT when no mode stands out of
  * the noise. */
-ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, ea_ringdown_fit_t *fit,
-                            ea_error_t *err);
+ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, double max_hz,
+                            ea_ringdown_fit_t *fit, ea_error_t *err);
 /** The fitted curve of channel ch at time t. */
 double ea_ringdown_eval(const ea_ringdown_fit_t *fit, int ch, double t);
 
@@ -153,7 +153,9 @@ typedef struct ea_calib_settings {
   int max_iter;      /**< trust-region iterations (default 100) */
   double ident_se;   /**< a parameter combination whose standard error exceeds this is
                           not identifiable: relative for EI, rho, m_hand, EA_c, I_L, in
-                          units of the beam length for x_c, y_c (default 0.1) */
+                          units of the beam length for x_c, y_c (default 0.5: a parameter
+                          known to +-50 % is fitted, its error reported; holding it at a
+                          wrong prior would bias the others) */
   int modes;         /**< FE modes matched to a ring-down's sinusoids, 1..EA_CALIB_MAX_MODES
                           (default 3); every ring-down is fitted with up to
                           EA_CALIB_MAX_MODES sinusoids (harmonics of a large motion too) */
@@ -201,7 +203,7 @@ typedef struct ea_calib_result {
   double se[EA_CALIB_NP];                 /**< standard error (SI; NAN unless fitted) */
   double corr[EA_CALIB_NP * EA_CALIB_NP]; /**< correlations of the fitted parameters */
   int n_notes;
-  char notes[EA_CALIB_MAX_NOTES][512]; /**< identifiability, in words */
+  char notes[EA_CALIB_MAX_NOTES][1024]; /**< identifiability, in words */
   int n_sv;
   double sv[EA_CALIB_NP]; /**< singular values of the noise-weighted Jacobian of the
                                fitted parameters (log for positive ones) at the solution */
