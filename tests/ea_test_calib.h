@@ -106,7 +106,7 @@ static inline ea_status_t ea_tc_write_static(const char *path, const ea_arm_t *a
   fprintf(fp, "\n");
   for (int i = 0; i < n && !st; ++i) {
     st = ea_tc_equilibrium(arm, m, L[i], alpha[i], pay[i], err);
-    if (st == EA_ERR_NOCONV) { /* not this configuration: an experiment would not hold it */
+    if (st == EA_ERR_NOCONV || st == EA_ERR_INADMISSIBLE) { /* an experiment would not hold it */
       st = EA_OK;
       ea_fe_set_straight(m, 0.0);
       continue;
