@@ -242,8 +242,6 @@ ea_status_t ea_calib_write_report(FILE *fp, const ea_calib_result_t *res,
       if (!recs[r].has[c]) continue;
       ea_json_obj_begin(&j, NULL);
       ea_json_str(&j, "column", ea_calib_channel_column(c));
-      char key[48];
-      snprintf(key, sizeof key, "noise_%s", ea_calib_channel_column(c));
       ea_json_num(&j, "noise", rf->noise[c]);
       ea_json_bool(&j, "noise_estimated", rf->noise_estimated[c]);
       ea_json_num(&j, "rms_residual", rf->rms[c]);
