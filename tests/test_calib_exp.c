@@ -427,6 +427,11 @@ int main(void) {
   ea_test_true(ea_traj_read(&tr, "calib_exp.csv", &e) == EA_OK, "the experiment reads back");
   rc = run("stream calib_exp.csv --to file:calib_exp.bin");
   ea_test_true(rc == 0, "stream --to file: the streamer's checks pass (exit 0)");
+  rc = run("calibrate --plan-experiment calib_spec.yaml -o calib_exp2.csv --json");
+  ea_test_true(rc == 0 && json_num("duration_s") == dur,
+               "calibrate --plan-experiment SPEC is calibrate-experiment SPEC");
+  remove("calib_exp2.csv");
+  remove("calib_exp2.json");
   int rest = tr.n > 1;
   for (int c = EA_TRAJ_cable_length_rate; c <= EA_TRAJ_base_angle_acc; ++c)
     rest = rest && EA_TRAJ_AT(&tr, 0, c) == 0 && EA_TRAJ_AT(&tr, tr.n - 1, c) == 0;

@@ -29,6 +29,7 @@ int ea__cli_simulate(int argc, char **argv);
 int ea__cli_study(int argc, char **argv);
 int ea__cli_figure(int argc, char **argv);
 int ea__cli_calibrate_experiment(int argc, char **argv);
+int ea__cli_calibrate(int argc, char **argv);
 /* EA_CLI_DECL_END */
 
 /** Exit codes: 0 done; 1 failure (not converged, infeasible, inadmissible, an output not

@@ -4,6 +4,7 @@
 #ifndef EA_FIGURE_IMPL_H
 #define EA_FIGURE_IMPL_H
 
+#include "ea_calib.h"
 #include "ea_planner.h"
 #include "ea_simulate.h"
 #include "ea_traj.h"
@@ -146,5 +147,16 @@ ea_status_t ea_workspace_figure(const ea_arm_t *arm, ea_shooter_t *sh, const dou
 ea_status_t ea_torque_map_figure(const double *Ls, int nL, const double *As, int nA,
                                  const ea_config_point_t *cells, const ea_actuators_t *lim,
                                  double tip_mass, const char *path, ea_error_t *err);
+
+/** Figure of a calibration: per cable angle (and payload) of the static records, the
+ *  shoulder angle, and where measured the shoulder torque and the tension, against cable
+ *  length, measured points on the calibrated model's curves; with ring-downs, their
+ *  frequencies against cable length on the FE frequencies of the calibrated arm at each
+ *  ring-down's cable angle (the paper's Fig. 5 with its experimental points). */
+ea_status_t ea_calib_figure(const ea_calib_result_t *res, const ea_calib_record_t *recs, int nrec,
+                            const char *path, ea_error_t *err);
+/** Each ring-down (up to 6): its channel with the most signal, measured and fitted. */
+ea_status_t ea_calib_ringdown_figure(const ea_calib_result_t *res, const ea_calib_record_t *recs,
+                                     int nrec, const char *path, ea_error_t *err);
 
 #endif

@@ -28,6 +28,8 @@ static const ea__cmd_t ea__cmds[] = {
     {"figure", ea__cli_figure, "draw a trajectory file (plan) to SVG/PNG/PDF"},
     {"calibrate-experiment", ea__cli_calibrate_experiment,
      "identification experiment for calibrate: holds at configurations, joined by moves"},
+    {"calibrate", ea__cli_calibrate,
+     "fit the arm file to measurement records (docs/calibration.md)"},
     /* EA_CLI_TABLE_END */
 };
 
