@@ -26,10 +26,10 @@ static void id_info(FILE *fp, const char *what, ea_status_t st, const ea_plan_in
           (int)in->status, ea_plan_engine_name(in), ea_plan_engine_status(in), in->ipopt_status,
           in->ipopt_status_name);
   fprintf(fp, "iterations %d newton %d rows %d resolves %d ipm %d fallback %d threads %d\n",
-          in->iterations, in->newton_steps, in->ipopt_rows, in->screen_resolves,
-          in->ipm_iterations, in->ipm_fallback, in->threads);
-  fprintf(fp, "size %d %d %d evals %d %d between %d deriv %d\n", in->n_var, in->n_con,
-          in->nnz_jac, in->evals_g, in->evals_jac, in->between_passes, in->deriv_errors);
+          in->iterations, in->newton_steps, in->ipopt_rows, in->screen_resolves, in->ipm_iterations,
+          in->ipm_fallback, in->threads);
+  fprintf(fp, "size %d %d %d evals %d %d between %d deriv %d\n", in->n_var, in->n_con, in->nnz_jac,
+          in->evals_g, in->evals_jac, in->between_passes, in->deriv_errors);
   fprintf(fp, "objective %.17g duration %.17g margin %.17g torque %.17g\n", in->objective,
           in->duration_s, in->min_tension_margin_N, in->peak_shoulder_torque_Nm);
   fprintf(fp, "residual %.17g violation %.17g worst %s\n", in->max_statics_residual,
@@ -103,8 +103,8 @@ int main(int argc, char **argv) {
         ea_task_t t2 = t;
         const double dL = 0.005 * (2.0 * id_rand(&s2) - 1.0);
         const double da = 0.01 * (2.0 * id_rand(&s2) - 1.0);
-        t2.goal = ea_task_point_actuators(t.goal.given[0] + dL, t.goal.given[1] + da,
-                                          t.goal.given[2]);
+        t2.goal =
+            ea_task_point_actuators(t.goal.given[0] + dL, t.goal.given[1] + da, t.goal.given[2]);
         if (!ea_task_check(&t2, &e)) {
           memset(&info, 0, sizeof info);
           st = ea_planner_update(pl, &t2, &e);
