@@ -42,13 +42,16 @@ typedef enum ea_plan_start {
 
 /** Result of a solve. */
 typedef struct ea_plan_info {
-  ea_status_t status; /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
-  int ipopt_status;   /**< raw Ipopt ApplicationReturnStatus */
-  char ipopt_status_name[48];
-  int iterations;            /**< Ipopt iterations */
-  int newton_steps;          /**< active-set Newton steps of warm starts (the path transcription's
-                                  replans, docs/planner.md): with 0 iterations its point was the plan,
-                                  else it gave up and Ipopt solved; 0: not tried */
+  ea_status_t status;         /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
+  int ipopt_status;           /**< Ipopt's raw ApplicationReturnStatus when ea_plan_engine_name is
+                                   "ipopt"; for a plan another engine found, Solve_Succeeded (0). Read
+                                   ea_plan_engine_status for the outcome in neutral words */
+  char ipopt_status_name[48]; /**< its name ("" when the solve stopped before any engine) */
+  int iterations;             /**< iterations of the engines of the call (the own interior point's
+                                   plan, or Ipopt's summed over its attempts and re-solves) */
+  int newton_steps;           /**< active-set Newton steps of warm starts (the path transcription's
+                                   replans, docs/planner.md): with 0 iterations its point was the plan,
+                                   else it gave up and Ipopt solved; 0: not tried */
   int ipopt_rows;            /**< rows Ipopt's last solve had (the path transcription leaves out the
                                   inequality rows far inside their limits, docs/planner.md); 0: no
                                   Ipopt solve */

@@ -4,6 +4,7 @@
 
 #include "ea_planner.h"
 #include "ea_util.h"
+#include "strategy_impl.h"
 
 #include <coin/IpStdCInterface.h>
 #include <gsl/gsl_interp2d.h>
@@ -248,9 +249,10 @@ int ea__plan_row_hess(const ea_planner_t *pl, const double *x, const ea__row_t *
 void ea__plan_dyn_defect_hess(const ea_planner_t *pl, const double *x, const ea__row_t *rows,
                               const double *w, int g, int cols[][EA__ROW_MAX], int *nc,
                               double Hl[][EA__ROW_MAX][EA__ROW_MAX]);
-/** The path layout's local variables of a mode's defect rows over an interval (transcribe/path_*.c):
- *  eta_k, eta'_k, eta_k+1, eta'_k+1, sigma_k, sigma_k+1, the rates of L_c and alpha at k and
- *  k + 1, t_f (the order of the rows' entries in that layout; t_f dropped if fixed). */
+/** The path layout's local variables of a mode's defect rows over an interval
+ * (transcribe/path_*.c): eta_k, eta'_k, eta_k+1, eta'_k+1, sigma_k, sigma_k+1, the rates of L_c and
+ * alpha at k and k + 1, t_f (the order of the rows' entries in that layout; t_f dropped if fixed).
+ */
 #define EA__PP_DKEY 11
 /** The closed-form Hessians of interval k's modal defect rows (rows[0..g-1], weights w: those
  *  with w = 0 skipped) in the path layout: second-order forward mode over the interval's path
@@ -269,8 +271,8 @@ int ea__plan_dyn_defect_pp_cached(const ea_planner_t *pl, int k, int i, int vel,
 /** Forget what ea__plan_dyn_defect_hess_pp kept (the path's statics or geometry changed). */
 void ea__plan_dyn_pp_forget(const ea_planner_t *pl);
 /** Make the tables at knot k's (L_c, alpha) in x current (the knot's cache, which the rows of
- *  the intervals on both sides of it read: at the knot where transcribe/path_*.c splits its rows in two
- *  parts, before their evaluation in parallel). */
+ *  the intervals on both sides of it read: at the knot where transcribe/path_*.c splits its rows in
+ * two parts, before their evaluation in parallel). */
 void ea__plan_dyn_warm(const ea_planner_t *pl, const double *x, int k);
 /** The same for the tension and torque rows with the modal parts (dyn_rows.c: the table's
  *  exact second derivatives); -1 for any other kind. */
@@ -379,11 +381,12 @@ void ea__pp_free(struct ea__pp *pp);
 int ea__pp_statics_rates(const ea_planner_t *pl, const double *x, int k, double pd[3]);
 /** After ea_planner_update: the path moved: statics splines and bounds again. */
 ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err);
-/** A solve in the path coordinate: guess (start), Ipopt; pl->x gets the plan in the knot
- *  layout (expanded), pl->g its rows; *rs, *obj, *iters Ipopt's. */
+/** A solve in the path coordinate: guess (start), the engines of the strategy
+ *  (strategy/strategy_impl.h); pl->x gets the plan in the knot layout (expanded), pl->g its
+ *  rows; *res the engines' outcome (its time excepted), *obj the objective. */
 ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
-                         ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
-                         int *iters, ea_error_t *err);
+                         ea_plan_info_t *info, ea__engine_result_t *res, double *obj,
+                         ea_error_t *err);
 /** For tests (tests/test_plan_hess.c): the path layout's size, its last solution and Hessian
  *  pattern (lower triangle); 0, or -1 without a path transcription. */
 int ea__pp_test_dims(const ea_planner_t *pl, int *n, int *m, const double **x_sol, int *nnz_h,
