@@ -57,7 +57,7 @@ int main(void) {
                                 .free_path = r->free_path,
                                 .hess_exact = r->hess,
                                 .derivative_test = r->dtest,
-                                .nlp_ipopt = r->nlp_ipopt};
+                                .ipopt_only = r->nlp_ipopt};
     ea__strategy_t s;
     ea__plan_strategy(&c, &s);
     char what[160];

@@ -70,7 +70,7 @@ const char *ea__ipopt_name(int s) {
   }
 }
 
-void ea__ipopt_options(IpoptProblem ip, const ea_task_solver_t *s, int hess_exact,
+void ea__ipopt_options(IpoptProblem ip, const ea_planner_settings_t *s, int hess_exact,
                        double bound_push) {
   AddIpoptStrOption(ip, "sb", "yes");
   AddIpoptIntOption(ip, "print_level", s->print_level);

@@ -6,7 +6,7 @@
 #include <stdio.h>
 
 void ea__plan_strategy(const ea__solve_case_t *c, ea__strategy_t *s) {
-  const int own = !c->derivative_test && !c->nlp_ipopt; /* the own engines may run */
+  const int own = !c->derivative_test && !c->ipopt_only; /* the own engines may run */
   /* Ipopt's monotone barrier from a near-optimal start: with dynamics (knots) any cold start,
    * else a plan file or a cold guess timed along its path; the path transcription only
    * without dynamics */

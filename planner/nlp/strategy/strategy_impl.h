@@ -69,7 +69,7 @@ typedef struct ea__solve_case {
   int free_path;         /**< the task's path is free (knots only) */
   int hess_exact;        /**< exact Hessian (solver.hessian) */
   int derivative_test;   /**< solver.derivative_test (0 none, 1 first, 2 second order) */
-  int nlp_ipopt;         /**< solver.nlp: ipopt (Ipopt only) */
+  int ipopt_only;        /**< solver.nlp: ipopt (settings.engines EA_PLANNER_ENGINES_IPOPT) */
 } ea__solve_case_t;
 
 /** The engines one solve tries (ea__plan_strategy); Ipopt always comes last. */

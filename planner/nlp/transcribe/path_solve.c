@@ -374,7 +374,7 @@ static void ea__pp_strategy(const ea_planner_t *pl, ea_plan_start_t start, int w
                               .free_path = 0,
                               .hess_exact = pl->hess_exact,
                               .derivative_test = t->solver.derivative_test,
-                              .nlp_ipopt = t->solver.nlp_ipopt};
+                              .ipopt_only = (t->solver.engines == EA_PLANNER_ENGINES_IPOPT)};
   ea__plan_strategy(&c, s);
 }
 
