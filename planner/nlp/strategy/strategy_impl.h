@@ -40,7 +40,7 @@
  * point lacks a line search and the statics rows' curvature in the knot transcription's
  * partial Hessian, so on free paths and robust corner models it fails the KKT test often
  * enough to cost more than it saves; the active-set Newton gave up on every measured replan
- * with dynamics (docs/planner.md). Which transcription a task gets is decided
+ * with dynamics (docs/planner.md, "Engines"). Which transcription a task gets is decided
  * before (ea__pp_supported, transcribe/path_build.c). */
 #ifndef EA_STRATEGY_IMPL_H
 #define EA_STRATEGY_IMPL_H
