@@ -480,7 +480,7 @@ int main(int argc, char **argv) {
          * Ipopt with every row; a free path: the last two */
         const int path = cs[i].t->path != EA_TASK_PATH_FREE;
         ea_task_t ts[3] = {*cs[i].t, *cs[i].t, *cs[i].t};
-        ts[1].solver.nlp_ipopt = ts[2].solver.nlp_ipopt = 1;
+        ts[1].solver.engines = ts[2].solver.engines = EA_PLANNER_ENGINES_IPOPT;
         ts[2].solver.screen_rows = 0;
         static const char *const what[3] = {"own interior point", "Ipopt, rows screened",
                                             "Ipopt, every row"};

@@ -1,5 +1,6 @@
 /* plan_identity: plans a fixed random sweep of tasks (tests/test_plan_sweep.c's generator:
- * planar and 3-D pairs, payloads, free paths and straight lines, every line replanned warm
+ * planar and 3-D pairs, payloads, free paths and straight lines, the lines also by Ipopt
+ * alone (solver.nlp ipopt), every line replanned warm
  * after its goal moved) and writes every trajectory and a text record of every solve's
  * outcome (all of ea_plan_info_t but its times) into a folder, for comparing two builds of
  * the planner byte for byte (bench/plan_identity.sh).
@@ -64,7 +65,9 @@ int main(int argc, char **argv) {
   snprintf(path, sizeof path, "%s/sweep.txt", dir);
   FILE *fp = fopen(path, "w");
   if (!fp) return 1;
-  for (int pass = 0; pass < 2; ++pass) {
+  /* free paths, lines, and the lines again with Ipopt alone (solver.nlp ipopt: the reference
+   * test_plan_sweep compares the own engines with) */
+  for (int pass = 0; pass < 3; ++pass) {
     const ea_task_path_t kind = pass ? EA_TASK_PATH_LINE : EA_TASK_PATH_FREE;
     unsigned long long seed = 0x9E3779B97F4A7C15ULL;
     for (int i = 0; i < n; ++i) {
@@ -72,6 +75,7 @@ int main(int argc, char **argv) {
       ea_task_init(&t, NULL);
       t.knots = 50;
       t.path = kind;
+      if (pass == 2) t.solver.engines = EA_PLANNER_ENGINES_IPOPT;
       const double gamma = 0.5 * id_rand(&seed);
       t.payload_factor = gamma;
       t.payload_kg = ea_arm_payload_from_factor(&t.arm, gamma);
@@ -92,7 +96,7 @@ int main(int argc, char **argv) {
       ea_plan_info_t info;
       memset(&info, 0, sizeof info);
       char name[64];
-      snprintf(name, sizeof name, "%s-%03d", pass ? "line" : "free", i);
+      snprintf(name, sizeof name, "%s-%03d", pass == 2 ? "line-ipopt" : pass ? "line" : "free", i);
       ea_status_t st = ea_planner_alloc(&t, &pl, &e);
       if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
       id_info(fp, name, st, &info);

@@ -53,15 +53,7 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->dynamics.robust_residual_m = 5e-4;
   ea_task_refine_default(&t->dynamics.refine);
   t->knots = 100;
-  t->solver.max_iter = 500;
-  t->solver.tol = 1e-8;
-  t->solver.constr_tol = 1e-10;
-  t->solver.max_time_s = 60.0;
-  t->solver.derivative_test = 0;
-  t->solver.print_level = 0;
-  t->solver.regularization = 1e-4;
-  t->solver.hessian_exact = 2;
-  t->solver.screen_rows = 1;
+  ea_planner_settings_default(&t->solver);
   t->start = ea_task_point_planar(NAN, NAN, 0.0);
   t->goal = t->start;
 }
@@ -353,10 +345,7 @@ ea_status_t ea_task_check(ea_task_t *t, ea_error_t *err) {
     return ea_error_set(err, EA_ERR_INPUT,
                         "path 'line' goes straight from start to goal: use 'polyline' with via "
                         "points");
-  if (!(t->solver.max_iter >= 1) || !(t->solver.tol > 0) || !(t->solver.constr_tol > 0) ||
-      !(t->solver.max_time_s > 0) || !(t->solver.regularization >= 0) ||
-      !isfinite(t->solver.regularization) || t->solver.threads < 0 || t->solver.threads > 2)
-    return ea_error_set(err, EA_ERR_INPUT, "solver options out of range");
+  if ((st = ea_planner_settings_validate(&t->solver, err))) return st;
   if ((st = ea__check_refine(t, err))) return st;
 
   ea_shooter_t *sh = NULL;

@@ -97,7 +97,7 @@ static ea_status_t ea__load_limits(ea__ydoc_t *d, yaml_node_t *n, ea_task_limits
   return EA_OK;
 }
 
-static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver_t *s,
+static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_planner_settings_t *s,
                                    ea_error_t *err) {
   static const char *const keys[] = {"max_iter",
                                      "tol",
@@ -140,9 +140,9 @@ static ea_status_t ea__load_solver(ea__ydoc_t *d, yaml_node_t *n, ea_task_solver
   if ((st = ea__ymap_enum(d, n, "transcription", 0, trans, &tr, err))) return st;
   s->transcription = (ea_task_transcription_t)tr;
   static const char *const nlp[] = {"auto", "ipopt", NULL};
-  int nl = s->nlp_ipopt;
+  int nl = (int)s->engines;
   if ((st = ea__ymap_enum(d, n, "nlp", 0, nlp, &nl, err))) return st;
-  s->nlp_ipopt = nl;
+  s->engines = (ea_planner_engines_t)nl;
   return EA_OK;
 }
 

@@ -253,6 +253,58 @@ static void test_paper_line(void) {
   ea_planner_free(pl);
 }
 
+/* The planner's settings apart from the task (ea_planner_alloc_with): validation names the
+ * field; other settings than the task file's are the ones the planner uses (Ipopt alone, an
+ * iteration cap of 1), the task itself unchanged; the plan's duration is the closed form's
+ * D/v + v/a whichever engine solved. */
+static void test_settings(void) {
+  ea_planner_settings_t s;
+  ea_error_t e = {0};
+  ea_planner_settings_default(&s);
+  ea_test_true(ea_planner_settings_validate(&s, &e) == EA_OK, "settings: defaults validate");
+  s.tol = 0.0;
+  ea_test_true(ea_planner_settings_validate(&s, &e) == EA_ERR_INPUT && strstr(e.msg, "tol = 0"),
+               "settings: tol 0 refused, named");
+  ea_planner_settings_default(&s);
+  s.threads = 3;
+  ea_test_true(ea_planner_settings_validate(&s, &e) == EA_ERR_INPUT &&
+                   strstr(e.msg, "threads = 3, not in [0, 2]"),
+               "settings: threads 3 refused, with its bound");
+  char path[1024];
+  snprintf(path, sizeof path, "%s/problems/examples/paper-line.yaml", src_dir());
+  ea_task_t t;
+  if (ea_task_load(path, NULL, &t, &e)) {
+    ea_test_true(0, "settings: paper-line loads");
+    return;
+  }
+  const double D = hypot(0.6 - 0.098, -0.2 + 0.006) - hypot(0.3 - 0.098, -0.2 + 0.006);
+  const double v = t.limits.cable_speed_max, a = t.limits.cable_accel_max;
+  for (int pass = 0; pass < 2; ++pass) {
+    ea_planner_settings_default(&s);
+    s.engines = EA_PLANNER_ENGINES_IPOPT;
+    if (pass) s.max_iter = 1;
+    ea_planner_t *pl = NULL;
+    ea_plan_info_t info;
+    ea_status_t st = ea_planner_alloc_with(&t, &s, &pl, &e);
+    if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+    char what[700];
+    snprintf(what, sizeof what, "settings: Ipopt alone%s: %s, engine %s (%s)",
+             pass ? ", 1 iteration" : "", ea_status_name(st), ea_plan_engine_name(&info), e.msg);
+    if (!pass) {
+      ea_test_true(st == EA_OK && !strcmp(ea_plan_engine_name(&info), "ipopt"), what);
+      ea_test_rel(info.duration_s, D / v + v / a, 2e-4, "settings: Ipopt's duration");
+    } else {
+      ea_test_true(st == EA_ERR_MAXITER, what);
+    }
+    ea_test_true(pl && ea_planner_task(pl)->solver.engines == EA_PLANNER_ENGINES_IPOPT &&
+                     t.solver.engines == EA_PLANNER_ENGINES_AUTO,
+                 "settings: the planner's, the task unchanged");
+    ea_planner_free(pl);
+  }
+  ea_test_true(ea_planner_alloc_with(&t, NULL, &(ea_planner_t *){NULL}, &e) == EA_ERR_ARG,
+               "settings: NULL refused");
+}
+
 static void test_topp(void) {
   ea_task_t t;
   ea_task_init(&t, NULL);
@@ -697,6 +749,7 @@ static void test_replan_loaded(void) {
 
 int main(int argc, char **argv) {
   test_paper_line();
+  test_settings();
   test_topp();
   test_closed_forms();
   test_derivatives();

@@ -80,7 +80,7 @@ static void ea_sweep_replan(ea_planner_t *pl, const ea_task_t *t0, unsigned long
   /* the reference: a cold plan by Ipopt (the replans that the active-set Newton gives up are
    * solved by the own interior point from the cold guess, as a cold plan is) */
   ea_task_t ti = t;
-  ti.solver.nlp_ipopt = 1;
+  ti.solver.engines = EA_PLANNER_ENGINES_IPOPT;
   ea_status_t sc = ea_planner_alloc(&ti, &p2, &e);
   if (!sc) sc = ea_planner_solve(p2, EA_PLAN_COLD, NULL, &c, &e);
   ea_planner_free(p2);
@@ -223,7 +223,7 @@ static int ea_sweep_run(int n, unsigned long long seed, int knots, ea_task_path_
         ipm += !info.ipm_fallback;
         ipm_fallback += info.ipm_fallback;
         ea_task_t ti = t;
-        ti.solver.nlp_ipopt = 1;
+        ti.solver.engines = EA_PLANNER_ENGINES_IPOPT;
         ea_planner_t *pi = NULL;
         ea_plan_info_t ii;
         ++ipm_cmp;

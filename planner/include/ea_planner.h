@@ -42,13 +42,16 @@ typedef enum ea_plan_start {
 
 /** Result of a solve. */
 typedef struct ea_plan_info {
-  ea_status_t status; /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
-  int ipopt_status;   /**< raw Ipopt ApplicationReturnStatus */
-  char ipopt_status_name[48];
-  int iterations;            /**< Ipopt iterations */
-  int newton_steps;          /**< active-set Newton steps of warm starts (the path transcription's
-                                  replans, docs/planner.md): with 0 iterations its point was the plan,
-                                  else it gave up and Ipopt solved; 0: not tried */
+  ea_status_t status;         /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
+  int ipopt_status;           /**< Ipopt's raw ApplicationReturnStatus when ea_plan_engine_name is
+                                   "ipopt"; for a plan another engine found, Solve_Succeeded (0). Read
+                                   ea_plan_engine_status for the outcome in neutral words */
+  char ipopt_status_name[48]; /**< its name ("" when the solve stopped before any engine) */
+  int iterations;             /**< iterations of the engines of the call (the own interior point's
+                                   plan, or Ipopt's summed over its attempts and re-solves) */
+  int newton_steps;           /**< active-set Newton steps of warm starts (the path transcription's
+                                   replans, docs/planner.md): with 0 iterations its point was the plan,
+                                   else it gave up and Ipopt solved; 0: not tried */
   int ipopt_rows;            /**< rows Ipopt's last solve had (the path transcription leaves out the
                                   inequality rows far inside their limits, docs/planner.md); 0: no
                                   Ipopt solve */
@@ -127,6 +130,12 @@ typedef struct ea_plan_dyn_info {
  *  model only for min_vibration, min_first_frequency_Hz or
  *  max_modal_deflection_m. */
 ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error_t *err);
+/** ea_planner_alloc with other settings than the task's (task->solver is ignored; settings
+ *  validated by ea_planner_settings_validate and copied). The task says what to plan, the
+ *  settings how: tolerances, iteration and time caps, transcription, engines, threads
+ *  (ea_planner_settings.h). ea_planner_task() then reports them as its solver. */
+ea_status_t ea_planner_alloc_with(const ea_task_t *task, const ea_planner_settings_t *settings,
+                                  ea_planner_t **out, ea_error_t *err);
 /** Free; NULL is a no-op. */
 void ea_planner_free(ea_planner_t *pl);
 /** The planner's task. */
@@ -142,7 +151,8 @@ ea_status_t ea_planner_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_t
 /** Replanning: change what a live planner solves without rebuilding it.
  *  task (checked by ea_task_check; copied) may differ from the planner's in
  *  its points (start, goal, vias), payload, limit values, duration, objective
- *  weights and solver settings, but not in anything that shapes the
+ *  weights and solver settings (task->solver becomes the planner's settings, as
+ *  in ea_planner_alloc), but not in anything that shapes the
  *  transcription: knot count, number of vias, path kind, objective, base
  *  motion, free/fixed duration, acceleration continuity, Hessian mode,
  *  which speed/acceleration limits are finite, the arm, nor a task with a

@@ -116,10 +116,18 @@ static void ea__acc_scale(ea_planner_t *pl) {
 
 ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error_t *err) {
   if (!task || !out) return ea_error_set(err, EA_ERR_ARG, "ea_planner_alloc: NULL argument");
+  return ea_planner_alloc_with(task, &task->solver, out, err);
+}
+
+ea_status_t ea_planner_alloc_with(const ea_task_t *task, const ea_planner_settings_t *settings,
+                                  ea_planner_t **out, ea_error_t *err) {
+  if (!task || !settings || !out)
+    return ea_error_set(err, EA_ERR_ARG, "ea_planner_alloc_with: NULL argument");
   *out = NULL;
   ea_planner_t *pl = calloc(1, sizeof *pl);
   if (!pl) return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
   pl->task = *task;
+  pl->task.solver = *settings; /* the planner's settings: read as pl->task.solver below */
   const ea_task_t *t = &pl->task;
   if (t->knots < 3 || t->knots > 4000 || t->n_via < 0 || t->n_via > EA_TASK_MAX_VIA ||
       t->n_via + 2 > t->knots || !(t->start.cable_length > 0)) {
@@ -130,7 +138,12 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
                         "bad knot count %d",
                         kn);
   }
-  ea_status_t st = ea_shooter_alloc(&t->arm, NULL, &pl->sh, err);
+  ea_status_t st = ea_planner_settings_validate(settings, err);
+  if (st) {
+    free(pl);
+    return st;
+  }
+  st = ea_shooter_alloc(&t->arm, NULL, &pl->sh, err);
   if (st) {
     ea_planner_free(pl);
     return st;

@@ -4,6 +4,7 @@
 
 #include "ea_planner.h"
 #include "ea_util.h"
+#include "strategy_impl.h"
 
 #include <coin/IpStdCInterface.h>
 #include <gsl/gsl_interp2d.h>
@@ -380,11 +381,12 @@ void ea__pp_free(struct ea__pp *pp);
 int ea__pp_statics_rates(const ea_planner_t *pl, const double *x, int k, double pd[3]);
 /** After ea_planner_update: the path moved: statics splines and bounds again. */
 ea_status_t ea__pp_update(ea_planner_t *pl, ea_error_t *err);
-/** A solve in the path coordinate: guess (start), Ipopt; pl->x gets the plan in the knot
- *  layout (expanded), pl->g its rows; *rs, *obj, *iters Ipopt's. */
+/** A solve in the path coordinate: guess (start), the engines of the strategy
+ *  (strategy/strategy_impl.h); pl->x gets the plan in the knot layout (expanded), pl->g its
+ *  rows; *res the engines' outcome (its time excepted), *obj the objective. */
 ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
-                         ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
-                         int *iters, ea_error_t *err);
+                         ea_plan_info_t *info, ea__engine_result_t *res, double *obj,
+                         ea_error_t *err);
 /** For tests (tests/test_plan_hess.c): the path layout's size, its last solution and Hessian
  *  pattern (lower triangle); 0, or -1 without a path transcription. */
 int ea__pp_test_dims(const ea_planner_t *pl, int *n, int *m, const double **x_sol, int *nnz_h,

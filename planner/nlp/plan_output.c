@@ -283,9 +283,10 @@ ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_
   return ea_plan_summary_write_ex(pl, info, refine, NULL, NULL, NULL, path, err);
 }
 
-/* The engines in the order the solve tries them: the own interior point's plan when it passed
- * the KKT test, else Ipopt's iterations, else a replan's active-set Newton, else a warm start
- * that passed the KKT test as it was. */
+/* The engine that gave the plan, read off the info the strategy's result filled
+ * (strategy/strategy_impl.h): the own interior point's plan when it passed the KKT test, else
+ * Ipopt's iterations, else a replan's active-set Newton, else a warm start that passed the KKT
+ * test as it was. */
 const char *ea_plan_engine_name(const ea_plan_info_t *info) {
   if (!info) return "none";
   if (info->ipm_iterations > 0 && !info->ipm_fallback) return "interior-point-ldl";

@@ -134,7 +134,7 @@ void ea__plan_box(const ea_planner_t *pl, double box[4]) {
 
 void ea__plan_ipm_opt(const ea_planner_t *pl, double mu_init, double push_s,
                       struct ea__ipm_opt *o) {
-  const ea_task_solver_t *s = &pl->task.solver;
+  const ea_planner_settings_t *s = &pl->task.solver;
   *o = (ea__ipm_opt_t){.tol = s->tol,
                        .ptol = fmax(1e-9, s->constr_tol),
                        .mu_init = mu_init,

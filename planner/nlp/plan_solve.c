@@ -3,6 +3,7 @@
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
+#include "strategy_impl.h"
 
 #include <float.h>
 #include <math.h>
@@ -200,8 +201,13 @@ static double ea__solve_begin(ea_planner_t *pl, ea_plan_info_t *info) {
 }
 
 /* A solve that stops before its outcome (no start point, a failed path solve). */
-static ea_status_t ea__solve_abort(ea_planner_t *pl, ea_plan_info_t *info, ea_status_t st,
-                                   double t0, const ea_error_t *err) {
+static ea_status_t ea__solve_abort(ea_planner_t *pl, ea_plan_info_t *info,
+                                   const ea__engine_result_t *res, ea_status_t st, double t0,
+                                   const ea_error_t *err) {
+  /* the own engines that ran before (Ipopt's status only with a plan or a failure) */
+  info->newton_steps = res->newton_steps;
+  info->ipm_iterations = res->ipm_iterations;
+  info->ipm_fallback = res->ipm_fallback;
   info->status = st;
   snprintf(info->message, sizeof info->message, "%s", err ? err->msg : ea_strerror(st));
   info->time_total_s = ea__mono_s() - t0;
@@ -254,39 +260,36 @@ static void ea__solve_options(ea_planner_t *pl, int warm, int replan, char tmpl[
   ea__deriv_test_options(pl->ip, pl->task.solver.derivative_test == 2 && pl->hess_exact == 1, tmpl);
 }
 
-static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_plan_start_t start,
-                                                        int warm, double mono_mu, double *obj,
-                                                        int *iters);
+static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, int mono, double mono_mu,
+                                                        double *obj, int *iters);
 
-/* A start from which the barrier decreases monotonically (near-optimal: a cold guess timed
- * along the path, a plan file; with dynamics any cold start; ea__solve_ipopt). */
-static int ea__mono_start(const ea_planner_t *pl, ea_plan_start_t start, int warm) {
-  return !warm &&
-         (pl->rom ? start == EA_PLAN_COLD
-                  : start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
+/* The engines of this solve of the knot transcription (strategy/strategy_impl.h). */
+static void ea__knot_strategy(const ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
+                              ea__strategy_t *s) {
+  const ea_task_t *t = &pl->task;
+  const ea__solve_case_t c = {.path = 0,
+                              .start = start,
+                              .warm = warm,
+                              .replan = replan,
+                              .guess_timed = pl->guess_timed,
+                              .dynamics = pl->rom != NULL,
+                              .models = pl->M,
+                              .free_path = t->path == EA_TASK_PATH_FREE,
+                              .hess_exact = pl->hess_exact,
+                              .derivative_test = t->solver.derivative_test,
+                              .ipopt_only = (t->solver.engines == EA_PLANNER_ENGINES_IPOPT)};
+  ea__plan_strategy(&c, s);
 }
 
-/* A cold start of the knot transcription solved by the own interior point (engine/ipm.c) where
- * Ipopt would start its monotone barrier (a cold guess timed along the path, a plan file; with
- * dynamics any cold start) from the same mu_init, taken when it passes the KKT test of the
- * whole problem (ea__knot_kkt_ok). 1: pl->x, pl->mult_* and *obj are the plan's (*iters its
- * iterations); 0: pl->x is the start again (info->ipm_fallback when it ran). */
-static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
-                         double mono_mu, ea_plan_info_t *info, double *obj, int *iters) {
+/* The own interior point (engine/ipm.c) on the knot transcription where the strategy tries it
+ * (sg), from Ipopt's monotone mu_init, taken when it passes the KKT test of the whole problem
+ * (ea__knot_kkt_ok). 1: pl->x, pl->mult_* and *obj are the plan's (*iters its iterations); 0:
+ * pl->x is the start again (res->ipm_fallback when it ran). */
+static int ea__solve_ipm(ea_planner_t *pl, const ea__strategy_t *sg, int warm, double mono_mu,
+                         ea_plan_info_t *info, ea__engine_result_t *res, double *obj, int *iters) {
   const ea_task_t *t = &pl->task;
-  /* a replan with dynamics from the cold guess: bench_dyn's at-rest paper line with its goal
-   * moved 5 mm took Ipopt 14 iterations from the shifted plan, and more time than the cold
-   * plan by the own interior point */
-  const int from_cold = warm && replan && pl->rom;
-  if (!(from_cold || ea__mono_start(pl, start, warm)) || t->solver.nlp_ipopt ||
-      t->solver.derivative_test || !pl->hess_exact)
-    return 0;
-  /* not on free paths, nor with the corner models of robust rest: there its candidates failed
-   * the KKT test often enough to cost more than they saved (test_plan_sweep's free paths: 27
-   * of 98 after 40 iterations; the pick-place-3d example 229 ms against Ipopt's 55, the robust
-   * paper line 1.9 s against 1.2 s; the partial Hessian lacks the statics rows' curvature and
-   * the own interior point has no line search or second-order correction to make up for it) */
-  if (t->path == EA_TASK_PATH_FREE || pl->M > 1 || ea__plan_hess_pattern(pl)) return 0;
+  const int from_cold = sg->ipm_from_cold;
+  if (!sg->ipm || ea__plan_hess_pattern(pl)) return 0;
   if (!pl->asn) {
     ea__nlp_t nlp;
     ea__knot_nlp(pl, &nlp);
@@ -304,29 +307,31 @@ static int ea__solve_ipm(ea_planner_t *pl, ea_plan_start_t start, int warm, int 
     memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x); /* no cold guess: Ipopt's start */
     return 0;
   }
-  const int rc = ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu,
-                               &info->ipm_iterations);
+  const int rc =
+      ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu, &res->ipm_iterations);
   const int ok = rc >= 0 && ea__knot_kkt_ok(pl, pl->x, rc ? o.acc_tol : t->solver.tol);
-  info->ipm_fallback = !ok;
+  res->ipm_fallback = !ok;
   if (!ok) { /* Ipopt's start again */
     memcpy(pl->x, pl->xstart, (size_t)pl->n * sizeof *pl->x);
     if (warm) ea__mult_from_sol(pl);
     return 0;
   }
-  *iters = info->ipm_iterations;
+  *iters = res->ipm_iterations;
   ea__knot_cb_f(pl->n, pl->x, FALSE, obj, pl);
   return 1;
 }
 
-/* Ipopt from pl->x (knot transcription); a warm start that already is the solution takes
- * no iteration. Ipopt sees the rows that can matter (engine/ipopt_screen.c): selected at the start,
- * and if a row left out reaches its limit at the solution, solved again from the start with
- * it (info->screen_resolves). Returns Ipopt's status; *obj, *iters (every attempt) and
- * *t_ipopt [s]. */
-static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_start_t start,
-                                                    int warm, int replan, char tmpl[64],
-                                                    ea_plan_info_t *info, double *obj, int *iters,
-                                                    double *t_ipopt) {
+/* The engines on the knot transcription from pl->x in the strategy's order
+ * (strategy/strategy_impl.h): the start itself, the own interior point, Ipopt. Ipopt sees the
+ * rows that can matter (engine/ipopt_screen.c): selected at the start, and if a row left out
+ * reaches its limit at the solution, solved again from the start with it
+ * (info->screen_resolves). Returns the status in Ipopt's codes; *obj, *iters (every attempt),
+ * res's engine, interior-point fields and time [s]. */
+static enum ApplicationReturnStatus
+ea__solve_engines(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan, char tmpl[64],
+                  ea_plan_info_t *info, ea__engine_result_t *res, double *obj, int *iters) {
+  ea__strategy_t sg;
+  ea__knot_strategy(pl, start, warm, replan, &sg);
   /* Barrier strategy: from a near-optimal start (a cold guess timed along
    * its path, or a previous plan) the monotone strategy with mu_init 1e-4
    * needs about one linear solve per iteration instead of the adaptive
@@ -340,14 +345,17 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
   const double mono_mu = pl->rom ? 1e-3 : 1e-4;
   enum ApplicationReturnStatus rs = Internal_Error;
   const double ti = ea__mono_s();
-  if (warm && !pl->task.solver.derivative_test && ea__knot_kkt_ok(pl, pl->x, pl->task.solver.tol)) {
+  if (sg.kkt_start && ea__knot_kkt_ok(pl, pl->x, pl->task.solver.tol)) {
+    res->engine = EA__ENGINE_KKT_START;
     rs = Solve_Succeeded; /* the start is the solution: no Ipopt iteration */
     for (int i = 0; i < pl->n_terms; ++i)
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
     pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
-  } else if (ea__solve_ipm(pl, start, warm, replan, mono_mu, info, obj, iters)) {
+  } else if (ea__solve_ipm(pl, &sg, warm, mono_mu, info, res, obj, iters)) {
+    res->engine = EA__ENGINE_IPM;
     rs = Solve_Succeeded; /* the own interior point's plan passed the KKT test */
   } else {
+    res->engine = EA__ENGINE_IPOPT;
     /* not with dynamics: the at-rest paper line keeps every row anyway (each family has a row
      * near its limit at the cold guess), and test_rom_modes' plans took 1-2 iterations more */
     if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows || pl->rom ||
@@ -366,24 +374,22 @@ static enum ApplicationReturnStatus ea__solve_ipopt(ea_planner_t *pl, ea_plan_st
       if (ea__ipopt_create(pl)) break;
       ea__solve_options(pl, warm, replan, tmpl);
       info->ipopt_rows = ea__screen_rows(pl->scr);
-      rs = ea__solve_ipopt_run(pl, start, warm, mono_mu, obj, iters);
+      rs = ea__solve_ipopt_run(pl, sg.ipopt_monotone, mono_mu, obj, iters);
       if (!(rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level) ||
           !ea__screen_grow(pl->scr, pl->g, EA__SCREEN_HOLD))
         break;
       info->screen_resolves++;
     }
   }
-  *t_ipopt = ea__mono_s() - ti;
+  res->time_engine_s = ea__mono_s() - ti;
   return rs;
 }
 
 /* One Ipopt solve of pl->ip from pl->x: the monotone barrier from a near-optimal start, and if
  * it fails the adaptive one from the same start. */
-static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, ea_plan_start_t start,
-                                                        int warm, double mono_mu, double *obj,
-                                                        int *iters) {
+static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, int mono, double mono_mu,
+                                                        double *obj, int *iters) {
   enum ApplicationReturnStatus rs = Internal_Error;
-  int mono = ea__mono_start(pl, start, warm);
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   {
     for (;;) {
@@ -449,11 +455,9 @@ static void ea__solve_failure(ea_plan_info_t *info, enum ApplicationReturnStatus
 /* The outcome of Ipopt's run: the iterate polished and measured; an admissible plan becomes
  * the planner's solution, anything else a classified failure (info->status). */
 static void ea__solve_outcome(ea_planner_t *pl, ea_plan_info_t *info,
-                              enum ApplicationReturnStatus rs, double obj, int iters,
-                              int path_mode) {
-  info->ipopt_status = (int)rs;
-  snprintf(info->ipopt_status_name, sizeof info->ipopt_status_name, "%s", ea__ipopt_name(rs));
-  info->iterations = iters;
+                              const ea__engine_result_t *res, double obj, int path_mode) {
+  const enum ApplicationReturnStatus rs = (enum ApplicationReturnStatus)res->ipopt_status;
+  ea__engine_result_fill(res, info);
   info->objective = obj;
   const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
   if (solved) {
@@ -494,32 +498,32 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   const int path_mode = pl->pp && !pl->pp_off;
   const int warm = start == EA_PLAN_WARM && pl->have_solution;
   const int replan = warm && pl->updated;
-  double obj = 0.0, t_ipopt = 0.0;
-  int iters = 0;
-  enum ApplicationReturnStatus rs = Internal_Error;
+  double obj = 0.0;
+  ea__engine_result_t res = {.engine = EA__ENGINE_NONE, .ipopt_status = Internal_Error};
   if (path_mode) {
     /* the prescribed path in the path coordinate (transcribe/path_*.c): its own guess and Ipopt
      * problem; pl->x gets the plan in the knot layout */
     const double ti = ea__mono_s();
-    st = ea__pp_solve(pl, start, prev, info, &rs, &obj, &iters, err);
-    t_ipopt = ea__mono_s() - ti - info->time_guess_s; /* its guess is timed apart */
-    if (st) return ea__solve_abort(pl, info, st, t0, err);
+    st = ea__pp_solve(pl, start, prev, info, &res, &obj, err);
+    res.time_engine_s = ea__mono_s() - ti - info->time_guess_s; /* its guess is timed apart */
+    if (st) return ea__solve_abort(pl, info, &res, st, t0, err);
   } else {
     st = ea__solve_start_point(pl, start, prev, warm, replan, info, err);
     info->time_guess_s = ea__mono_s() - t0;
-    if (st) return ea__solve_abort(pl, info, st, t0, err);
+    if (st) return ea__solve_abort(pl, info, &res, st, t0, err);
     char tmpl[64] = "";
-    rs = ea__solve_ipopt(pl, start, warm, replan, tmpl, info, &obj, &iters, &t_ipopt);
+    res.ipopt_status =
+        ea__solve_engines(pl, start, warm, replan, tmpl, info, &res, &obj, &res.iterations);
     if (tmpl[0]) {
       info->deriv_errors = ea__deriv_errors(tmpl);
       remove(tmpl);
     }
   }
-  ea__solve_outcome(pl, info, rs, obj, iters, path_mode);
+  ea__solve_outcome(pl, info, &res, obj, path_mode);
   pl->cache_val = pl->cache_sens = 0;
   info->time_total_s = ea__mono_s() - t0;
   info->time_statics_s = pl->t_statics;
-  info->time_ipopt_s = t_ipopt - pl->t_callbacks;
+  info->time_ipopt_s = res.time_engine_s - pl->t_callbacks;
   info->time_rest_s =
       info->time_total_s - info->time_guess_s - info->time_statics_s - info->time_ipopt_s;
   pl->info = NULL;

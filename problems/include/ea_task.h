@@ -7,6 +7,7 @@
 #ifndef EA_TASK_H
 #define EA_TASK_H
 
+#include "ea_planner_settings.h"
 #include "ea_statics.h"
 
 #include <stddef.h>
@@ -92,44 +93,6 @@ typedef struct ea_task_limits {
                                       cubic Hermite's acceleration may jump at the knots */
 } ea_task_limits_t;
 
-/** Which transcription plans a task (docs/planner.md, "Transcriptions"). */
-typedef enum ea_task_transcription {
-  EA_TASK_TRANSCRIPTION_AUTO = 0, /**< the path coordinate for line/polyline paths without a
-                                       frequency model (with dynamics: one model, the own
-                                       interior point), else knots */
-  EA_TASK_TRANSCRIPTION_KNOTS,    /**< knots with the statics shooting rows (every task) */
-  EA_TASK_TRANSCRIPTION_PATH      /**< the path coordinate (line/polyline; else refused) */
-} ea_task_transcription_t;
-
-/** Solver options of a task. */
-typedef struct ea_task_solver {
-  int max_iter;          /**< Ipopt iterations (default 500) */
-  double tol;            /**< Ipopt tol (default 1e-8) */
-  double constr_tol;     /**< Ipopt constr_viol_tol (default 1e-10) */
-  double max_time_s;     /**< wall-clock limit (default 60) */
-  int derivative_test;   /**< run Ipopt's derivative checker: 1 first-order, 2 second-order */
-  int print_level;       /**< Ipopt print level (default 0 = silent) */
-  double regularization; /**< weight of the acceleration-energy term added to min_time
-                              (default 1e-4; 0 = pure minimum time) */
-  int hessian_exact;     /**< Hessian of the Lagrangian: 2 "partial" (default): exact for
-                              every row but without the statics curvature; 1 "exact":
-                              with it (second-order statics by differences of the exact
-                              sensitivities); 0 "limited-memory": Ipopt's quasi-Newton */
-  ea_task_transcription_t transcription; /**< "auto" (default), "knots" or "path" */
-  int screen_rows; /**< 1 (default): limit rows whose family stays inside half its range at the
-                        start are left out of Ipopt's problem (and put back if one reaches its
-                        limit; docs/planner.md, "Measurements"; not in the knot transcription
-                        with dynamics); 0: Ipopt sees every row */
-  int nlp_ipopt;   /**< 0 "auto" (default): a quasi-static plan on a prescribed path (the path
-                        transcription) solved cold by the planner's own interior point (KKT
-                        systems by KLU), by Ipopt when its result fails the KKT test of the
-                        whole problem; every other solve by Ipopt; 1 "ipopt": Ipopt always */
-  int threads;     /**< threads of a plan with dynamics on a prescribed path: its rows, Jacobian
-                        and Hessian in two parts by knot, the second on a worker thread (2), or
-                        both in turn (1); 0 "auto" (default): 2 when the machine has two
-                        processors online. The plan is the same either way. */
-} ea_task_solver_t;
-
 /** How ea_plan_refine searches (docs/planner.md, "Refinement against the FE transient"). */
 typedef enum ea_task_refine_method {
   EA_TASK_REFINE_NEWTON = 0, /**< Newton steps on the fitted residual modal state (Broyden) */
@@ -206,10 +169,11 @@ typedef struct ea_task {
   double time_weight; /**< [1/s] min_vibration with free duration: weight of t_f
                            added to the vibration integral (NAN otherwise) */
   ea_task_limits_t limits;
-  ea_task_dynamics_t dynamics; /**< modes = 0: a quasi-static plan */
-  int knots;                   /**< time knots including start and goal (default 100) */
-  ea_task_solver_t solver;
-  char out_trajectory[512]; /**< outputs (relative to the task file); "" = none */
+  ea_task_dynamics_t dynamics;  /**< modes = 0: a quasi-static plan */
+  int knots;                    /**< time knots including start and goal (default 100) */
+  ea_planner_settings_t solver; /**< how to plan: the file's solver: keys (ea_planner_alloc
+                                     plans with them; ea_planner_alloc_with with others) */
+  char out_trajectory[512];     /**< outputs (relative to the task file); "" = none */
   char out_summary[512];
   char out_figure[512];
   int base_moves;         /**< set by ea_task_check(): some point has another base angle */

@@ -15,7 +15,7 @@ const char *ea__ipopt_name(int s);
 /** The options of a problem of either transcription: output, MUMPS, the solver settings'
  *  tolerances and iterations, the Hessian (exact or limited-memory), no bound relaxation;
  *  bound_push > 0: Ipopt's bound_push and bound_frac (0: Ipopt's defaults). */
-void ea__ipopt_options(IpoptProblem ip, const ea_task_solver_t *s, int hess_exact,
+void ea__ipopt_options(IpoptProblem ip, const ea_planner_settings_t *s, int hess_exact,
                        double bound_push);
 /** The start: cold, warm (the last plan with its multipliers) or updated (warm after
  *  ea_planner_update or bounds tightened between the knots): the barrier's mu_init and the

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 /* The Ipopt problem with the planner's bounds, its rows of the next solve (engine/ipopt_screen.c)
- * and the options. Every Ipopt solve creates it (ea__solve_ipopt: the rows it sees change from
+ * and the options. Every Ipopt solve creates it (ea__solve_engines: the rows it sees change from
  * solve to solve, and Ipopt's C interface copies the bounds at creation; every IpoptSolve sets
  * up its algorithm objects and the MUMPS analysis anew anyway), so a change of the task needs
  * no call here; ea_planner_alloc creates one to report a backend that cannot. A planner that
@@ -70,7 +70,7 @@ const char *ea__ipopt_name(int s) {
   }
 }
 
-void ea__ipopt_options(IpoptProblem ip, const ea_task_solver_t *s, int hess_exact,
+void ea__ipopt_options(IpoptProblem ip, const ea_planner_settings_t *s, int hess_exact,
                        double bound_push) {
   AddIpoptStrOption(ip, "sb", "yes");
   AddIpoptIntOption(ip, "print_level", s->print_level);

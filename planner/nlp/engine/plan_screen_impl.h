@@ -10,9 +10,9 @@ typedef ea__nlp_t ea__screen_nlp_t;
 
 typedef struct ea__screen ea__screen_t;
 
-/** The planner's screening (docs/planner.md, "Measurements"): a two-sided row is left out when
- *  its family's rows all lie within EA__SCREEN_BAND of their half-width around their middle at
- *  the start; a solution is one of the full problem when every row left out lies within
+/** The planner's screening (docs/planner.md, "Engines", "Ipopt's rows"): a two-sided row is left
+ * out when its family's rows all lie within EA__SCREEN_BAND of their half-width around their middle
+ * at the start; a solution is one of the full problem when every row left out lies within
  *  EA__SCREEN_HOLD (strictly inside its limits: an interior point holds its active rows ~1e-9
  *  inside, and a row that would be active comes out at or beyond its limit without its
  *  barrier). */

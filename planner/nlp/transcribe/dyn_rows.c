@@ -1,4 +1,4 @@
-/* Plans that arrive at rest (docs/planner.md, "Dynamics"): the reduced dynamic model of the
+/* Plans that arrive at rest (docs/planner.md, "Arriving at rest"): the reduced dynamic model of the
  * arm (model/fe_rom.c) in the transcription. Per knot and mode the modal state (eta_i,
  * eta_i'), tied between the knots by Hermite-Simpson defects of
  *   eta'' + 2 zeta omega eta' + omega^2 eta = -B(q) . q'' - q'^T C(q) q'

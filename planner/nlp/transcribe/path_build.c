@@ -74,7 +74,7 @@ int ea__pp_supported(const ea_planner_t *pl) {
    * durations to 1e-5 (bench_dyn; paper line at rest 34 -> 27 iterations, payload 0.25 37 ->
    * 27, 0.5 34 -> 25, robust 72 -> 40) */
   if (t->solver.transcription == EA_TASK_TRANSCRIPTION_AUTO && t->dynamics.modes > 0 &&
-      (t->solver.nlp_ipopt || pl->M > 1))
+      ((t->solver.engines == EA_PLANNER_ENGINES_IPOPT) || pl->M > 1))
     return 0;
   /* the frequency-model rows and the f1-weighted min_vibration stay with the knots */
   if (pl->fm) return 0;

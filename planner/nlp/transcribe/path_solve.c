@@ -338,15 +338,12 @@ static ea_status_t ea__pp_cold_guess(ea_planner_t *pl, ea_plan_info_t *info, ea_
  * options: a timed cold guess or a plan file's plan with the monotone barrier, and if that
  * fails the adaptive one from the same start. The derivative checker's output goes to tmpl
  * (NULL: no check). */
-static void ea__pp_run(ea_planner_t *pl, int warm, int replan, ea_plan_start_t start,
-                       int traj_exact, char *tmpl, enum ApplicationReturnStatus *rs, double *obj,
-                       int *iters) {
+static void ea__pp_run(ea_planner_t *pl, int warm, int replan, int mono, int traj_exact, char *tmpl,
+                       enum ApplicationReturnStatus *rs, double *obj, int *iters) {
   ea__pp_t *pp = pl->pp;
   ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
   if (tmpl && pl->task.solver.derivative_test)
     ea__deriv_test_options(pp->ip, pl->task.solver.derivative_test == 2, tmpl);
-  int mono = !warm && !pl->rom &&
-             (start == EA_PLAN_FROM_TRAJ || (start == EA_PLAN_COLD && pl->guess_timed));
   if (mono) memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
   for (;;) {
     ea__ipopt_barrier_options(pp->ip, mono, mono ? (traj_exact ? 1e-7 : 1e-4) : 0.0, 0, 10.0);
@@ -363,10 +360,30 @@ static void ea__pp_run(ea_planner_t *pl, int warm, int replan, ea_plan_start_t s
   }
 }
 
+/* The engines of this solve in the path coordinate (strategy/strategy_impl.h). */
+static void ea__pp_strategy(const ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
+                            ea__strategy_t *s) {
+  const ea_task_t *t = &pl->task;
+  const ea__solve_case_t c = {.path = 1,
+                              .start = start,
+                              .warm = warm,
+                              .replan = replan,
+                              .guess_timed = pl->guess_timed,
+                              .dynamics = pl->K > 0,
+                              .models = pl->M,
+                              .free_path = 0,
+                              .hess_exact = pl->hess_exact,
+                              .derivative_test = t->solver.derivative_test,
+                              .ipopt_only = (t->solver.engines == EA_PLANNER_ENGINES_IPOPT)};
+  ea__plan_strategy(&c, s);
+}
+
 ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
-                         ea_plan_info_t *info, enum ApplicationReturnStatus *rs, double *obj,
-                         int *iters, ea_error_t *err) {
+                         ea_plan_info_t *info, ea__engine_result_t *res, double *obj,
+                         ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
+  enum ApplicationReturnStatus rs = Internal_Error;
+  int *iters = &res->iterations;
   const double t0 = ea__mono_s();
   if (pp->path_status)
     return ea_error_set(err, pp->path_status, "infeasible task: %s", pp->path_msg);
@@ -386,8 +403,10 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     ea__pp_mult_from_sol(pp);
     if (replan && !limits_changed) ea__pp_predict(pl); /* the task changed */
   }
+  ea__strategy_t sg;
+  ea__pp_strategy(pl, start, warm, replan, &sg);
   int at_solution = 0; /* the old plan under the new limits */
-  if (limits_changed && !pl->task.solver.derivative_test) at_solution = ea__pp_kkt_ok(pl);
+  if (limits_changed && sg.kkt_start) at_solution = ea__pp_kkt_ok(pl);
   if (limits_changed && !at_solution) {
     start = EA_PLAN_COLD;
     warm = replan = 0;
@@ -407,13 +426,13 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     traj_exact = ea__pp_violation(pl) <= 1e-6;
     if (!traj_exact) start = EA_PLAN_COLD;
   }
+  ea__pp_strategy(pl, start, warm, replan, &sg); /* the start as the solve takes it */
   if (!warm && !traj_exact) {
     if (start == EA_PLAN_FROM_TRAJ) {
       if ((st = ea__plan_guess_traj(pl, prev, pl->x, err))) return st;
       ea__plan_dyn_fill(pl, pl->x);
       ea__pp_reduce(pl, pl->x, pp->x);
-    } else if (pp->par && !pl->task.solver.derivative_test && !pl->task.solver.nlp_ipopt &&
-               !ea__pp_asn(pl)) {
+    } else if (pp->par && sg.ipm && !ea__pp_asn(pl)) {
       /* a cold solve by the own interior point with a worker: its KKT pattern and ordering
        * (engine/ipm.c) there while the cold guess is made here */
       ea__pp_guess_job_t jb = {pl, info, err, EA_OK};
@@ -424,24 +443,24 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     }
   }
   info->time_guess_s = ea__mono_s() - t0;
+  /* again with the guess made: Ipopt's monotone start needs a guess timed along the path */
+  ea__pp_strategy(pl, start, warm, replan, &sg);
   for (int i = 0; i < pp->n; ++i)
     pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
   *iters = 0;
-  *rs = Internal_Error;
   char tmpl[64] = "";
-  if (!at_solution && warm && !pl->task.solver.derivative_test && ea__pp_kkt_ok(pl))
+  if (at_solution) res->engine = EA__ENGINE_KKT_START; /* the old plan under the new limits */
+  if (!at_solution && sg.kkt_start && ea__pp_kkt_ok(pl)) {
     at_solution = 1; /* the predicted point is already the solution */
-  /* not with dynamics: on the at-rest paper line the Newton gave up after 6 steps for goal
-   * moves of 0.2, 1, 2 and 5 mm alike (the knot transcription does not try it either) */
-  if (!at_solution && warm && !pl->task.solver.derivative_test && pl->K == 0)
-    at_solution = ea__pp_newton_start(pl, &info->newton_steps);
-  /* a cold solve, or a replan the active-set Newton gave up: the own interior
-   * point first (engine/ipm.c), from the cold guess (a replan's too: from its predicted point
-   * the paper line's goal moved 20 mm took 18 iterations instead of the cold guess's 9, its
-   * start moved 5 mm 10 instead of 11 but in more time) */
-  if (!at_solution && (!warm || replan) && !pl->task.solver.derivative_test &&
-      !pl->task.solver.nlp_ipopt) {
-    if (replan) {
+    res->engine = EA__ENGINE_KKT_START;
+  }
+  if (!at_solution && sg.asn) {
+    at_solution = ea__pp_newton_start(pl, &res->newton_steps);
+    if (at_solution) res->engine = EA__ENGINE_ASN;
+  }
+  /* a cold solve, or a replan the active-set Newton gave up: the own interior point */
+  if (!at_solution && sg.ipm) {
+    if (sg.ipm_from_cold) {
       memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x); /* the predicted point */
       if ((st = ea__pp_cold_guess(pl, info, err))) return st;
     }
@@ -450,18 +469,23 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
                                    traj_exact ? 1e-7
                                    : pl->rom  ? 1e-3
                                               : 1e-4,
-                                   &info->ipm_iterations);
-    info->ipm_fallback = !at_solution;
-    if (at_solution) *iters = info->ipm_iterations;
-    if (!at_solution && replan) { /* Ipopt's warm start: the predicted point, the multipliers */
+                                   &res->ipm_iterations);
+    res->ipm_fallback = !at_solution;
+    if (at_solution) {
+      *iters = res->ipm_iterations;
+      res->engine = EA__ENGINE_IPM;
+    }
+    if (!at_solution &&
+        sg.ipm_from_cold) { /* Ipopt's warm start: the predicted point, the multipliers */
       memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
       ea__pp_mult_from_sol(pp);
     }
   }
   if (at_solution) {
-    *rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
+    rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
     ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
   } else {
+    res->engine = EA__ENGINE_IPOPT;
     /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner
      * half of its range at the start are left out; a solution at which one of them reaches its
      * limit is solved again from the same start with it in */
@@ -483,8 +507,9 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       if ((st = ea__pp_ipopt(pl)))
         return ea_error_set(err, st, "Ipopt: cannot create the path problem");
       info->ipopt_rows = ea__screen_rows(pp->scr);
-      ea__pp_run(pl, warm, replan, start, traj_exact, round ? NULL : tmpl, rs, obj, iters);
-      if (!(*rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level)) break;
+      ea__pp_run(pl, warm, replan, sg.ipopt_monotone, traj_exact, round ? NULL : tmpl, &rs, obj,
+                 iters);
+      if (!(rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level)) break;
       if (!ea__screen_grow(pp->scr, pp->g, EA__SCREEN_HOLD)) break;
       info->screen_resolves++;
     }
@@ -493,7 +518,8 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     info->deriv_errors = ea__deriv_errors(tmpl);
     remove(tmpl);
   }
-  const int solved = *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level;
+  res->ipopt_status = (int)rs;
+  const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
   if (solved) {
     memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
     memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
