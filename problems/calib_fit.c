@@ -20,6 +20,7 @@
  * d/d log EI = -(m_L d/dm_L + rho d/drho + T d/dT), exact but for d/drho, which is a central
  * difference of the fixed-step shooting map (smooth in rho). The FE frequencies' derivatives
  * are central differences. */
+#include "calib_impl.h"
 #include "ea_calib.h"
 #include "ea_util.h"
 
@@ -612,34 +613,6 @@ static int ea__gsl_df(const gsl_vector *x, void *data, gsl_matrix *J) {
   return GSL_SUCCESS;
 }
 
-/* |f|^2 at the workspace's point. */
-static double ea__cost(gsl_multifit_nlinear_workspace *w) {
-  double r;
-  gsl_blas_ddot(gsl_multifit_nlinear_residual(w), gsl_multifit_nlinear_residual(w), &r);
-  return r;
-}
-
-/* The decrease of |f|^2 a Gauss-Newton step predicts at the workspace's point: g' (J'J)^-1 g,
- * g = J' f (infinite when J'J is singular). */
-static double ea__gn_decrease(gsl_multifit_nlinear_workspace *w) {
-  const gsl_matrix *J = gsl_multifit_nlinear_jac(w);
-  const size_t p = J->size2;
-  gsl_vector *g = gsl_vector_alloc(p), *h = gsl_vector_alloc(p);
-  gsl_matrix *A = gsl_matrix_alloc(p, p);
-  double dec = INFINITY;
-  if (g && h && A) {
-    gsl_blas_dgemv(CblasTrans, 1.0, J, gsl_multifit_nlinear_residual(w), 0.0, g);
-    gsl_blas_dgemm(CblasTrans, CblasNoTrans, 1.0, J, J, 0.0, A);
-    if (gsl_linalg_cholesky_decomp1(A) == GSL_SUCCESS &&
-        gsl_linalg_cholesky_solve(A, g, h) == GSL_SUCCESS)
-      gsl_blas_ddot(g, h, &dec);
-  }
-  gsl_vector_free(g);
-  gsl_vector_free(h);
-  gsl_matrix_free(A);
-  return dec;
-}
-
 /* ------------------------------------------------------------------------ */
 /* Identifiability                                                           */
 /* ------------------------------------------------------------------------ */
@@ -1191,13 +1164,8 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     const int gs =
         gsl_multifit_nlinear_driver((size_t)set.max_iter, 1e-9, 1e-9, 1e-12, NULL, NULL, &info, nw);
     res->iterations += (int)gsl_multifit_nlinear_niter(nw);
-    /* A step GSL refuses to take (GSL_ENOPROG, or GSL_EMAXITER before the iteration limit:
-     * too many rejected steps) where Gauss-Newton predicts no decrease is the minimum to
-     * rounding (a second pass starts at the first one's solution) */
-    if (gs != GSL_SUCCESS &&
-        !((gs == GSL_ENOPROG ||
-           (gs == GSL_EMAXITER && gsl_multifit_nlinear_niter(nw) < (size_t)set.max_iter)) &&
-          ea__gn_decrease(nw) <= 1e-6 * fmax(1.0, ea__cost(nw)))) {
+    /* a second pass starts at the first one's solution: ea__nls_converged accepts that */
+    if (!ea__nls_converged(nw, gs, (size_t)set.max_iter)) {
       st = ea_error_set(
           err, EA_ERR_NOCONV, "the fit did not converge (%s after %zu iterations%s%s)",
           gs == GSL_EMAXITER ? "iteration limit" : gsl_strerror(gs), gsl_multifit_nlinear_niter(nw),

@@ -5,6 +5,7 @@
  *   y_c(t) = o_c + sum_k exp(-sigma_k t) (a_ck cos w_k t + b_ck sin w_k t),
  * t from the first sample; w_k and sigma_k are shared by the channels (one mode, one
  * frequency and decay everywhere); residuals are weighted by each channel's noise. */
+#include "calib_impl.h"
 #include "ea_calib.h"
 #include "ea_util.h"
 
@@ -237,6 +238,13 @@ static double ea__gn_decrease(gsl_multifit_nlinear_workspace *w) {
   return dec;
 }
 
+int ea__nls_converged(gsl_multifit_nlinear_workspace *w, int status, size_t max_iter) {
+  if (status == GSL_SUCCESS) return 1;
+  const int refused =
+      status == GSL_ENOPROG || (status == GSL_EMAXITER && gsl_multifit_nlinear_niter(w) < max_iter);
+  return refused && ea__gn_decrease(w) <= 1e-6 * fmax(1.0, ea__cost(w));
+}
+
 /* Nonlinear least squares of all of x (K modes); info->iterations accumulated. */
 static ea_status_t ea__rd_nls(ea__rd_t *d, gsl_vector *x, int *iters, gsl_matrix *cov) {
   const int P = ea__np(d);
@@ -256,13 +264,7 @@ static ea_status_t ea__rd_nls(ea__rd_t *d, gsl_vector *x, int *iters, gsl_matrix
   } else {
     const int gs = gsl_multifit_nlinear_driver(200, 1e-10, 1e-10, 0.0, NULL, NULL, &info, w);
     *iters += (int)gsl_multifit_nlinear_niter(w);
-    /* A step GSL refuses to take (GSL_ENOPROG, or GSL_EMAXITER before the iteration limit:
-     * too many rejected steps) at a point where Gauss-Newton predicts no decrease is the
-     * minimum to rounding (a fit started at its own solution ends so) */
-    if (gs != GSL_SUCCESS &&
-        !((gs == GSL_ENOPROG || (gs == GSL_EMAXITER && gsl_multifit_nlinear_niter(w) < 200)) &&
-          ea__gn_decrease(w) <= 1e-6 * fmax(1.0, ea__cost(w))))
-      st = EA_ERR_NOCONV;
+    if (!ea__nls_converged(w, gs, 200)) st = EA_ERR_NOCONV;
     gsl_vector_memcpy(x, gsl_multifit_nlinear_position(w));
     if (!st && cov && gsl_multifit_nlinear_covar(gsl_multifit_nlinear_jac(w), 0.0, cov))
       st = EA_ERR_BACKEND;
