@@ -21,55 +21,13 @@
 #include "ea_simulate.h"
 #include "ea_stream.h"
 #include "ea_test.h"
+#include "ea_test_proc.h"
 #include "ea_test_cli.h"
 
 #include <signal.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
-
-static void msleep(int ms) {
-  struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-  nanosleep(&ts, NULL);
-}
-
-static pid_t spawn(char *const argv[], const char *o, const char *e) {
-  fflush(stdout);
-  fflush(stderr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (o && !freopen(o, "w", stdout)) _exit(127);
-    if (e && !freopen(e, "w", stderr)) _exit(127);
-    execv(argv[0], argv);
-    _exit(127);
-  }
-  return pid;
-}
-
-static int wait_for(pid_t pid, int ms) {
-  int status = 0;
-  for (int t = 0; t < ms; t += 10) {
-    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    msleep(10);
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, &status, 0);
-  return -1;
-}
-
-static int read_port(const char *pf) {
-  for (int t = 0; t < 500; ++t) {
-    FILE *fp = fopen(pf, "r");
-    int port = 0;
-    if (fp) {
-      const int ok = fscanf(fp, "%d", &port) == 1;
-      fclose(fp);
-      if (ok && port > 0) return port;
-    }
-    msleep(10);
-  }
-  return 0;
-}
 
 /* ---- a small reader of measurement records (docs/calibration.md) ---------------- */
 
@@ -459,14 +417,14 @@ int main(void) {
                   "--timeout",     "20",
                   "--watchdog-ms", "2000",
                   "--json",        NULL};
-  const pid_t sim = spawn(argv, "calib_sim.json", "calib_sim.err");
-  const int port = read_port("calib.port");
+  const pid_t sim = ea_test_spawn(argv, "calib_sim.json", "calib_sim.err");
+  const int port = ea_test_read_port("calib.port", 500);
   char args[512];
   snprintf(args, sizeof args, "stream calib_exp.csv --to tcp://127.0.0.1:%d", port);
   rc = run(args);
   if (rc) printf("%s", out);
   ea_test_true(port > 0 && rc == 0, "stream over TCP to controller-sim: complete");
-  ea_test_true(wait_for(sim, 120000) == 0, "controller-sim --simulate --record: exit 0");
+  ea_test_true(ea_test_wait_for(sim, 120000) == 0, "controller-sim --simulate --record: exit 0");
   check_ringdowns("calib_rec", &arm2, &tr);
 
   /* 3. the static rows, on a true arm whose ring-downs end before the averaging window */

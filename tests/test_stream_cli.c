@@ -5,6 +5,7 @@
  * (FE transient of the accepted setpoints) for a complete and a SIGINT-stopped
  * stream, checked against the ODE statics. Loopback only, bounded. */
 #include "ea_test.h"
+#include "ea_test_proc.h"
 #include "stream_impl.h"
 #include "test_stream_fixture.h"
 
@@ -19,58 +20,13 @@
 
 static const char *bin;
 
-static void msleep(int ms) {
-  struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-  nanosleep(&ts, NULL);
-}
-
-/* fork + exec argv with stdout/stderr to files; returns pid. */
-static pid_t spawn(char *const argv[], const char *out, const char *errf) {
-  fflush(stdout); /* else the child's freopen flushes our buffer a second time */
-  fflush(stderr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (out && !freopen(out, "w", stdout)) _exit(127);
-    if (errf && !freopen(errf, "w", stderr)) _exit(127);
-    execv(argv[0], argv);
-    _exit(127);
-  }
-  return pid;
-}
-
-/* Wait for pid at most ms; kill it if it overstays. Returns exit code or -1. */
-static int wait_for(pid_t pid, int ms) {
-  int status = 0;
-  for (int t = 0; t < ms; t += 10) {
-    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    msleep(10);
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, &status, 0);
-  return -1;
-}
-
-static int read_port(const char *pf) {
-  for (int t = 0; t < 300; ++t) {
-    FILE *fp = fopen(pf, "r");
-    int port = 0;
-    if (fp) {
-      const int ok = fscanf(fp, "%d", &port) == 1;
-      fclose(fp);
-      if (ok && port > 0) return port;
-    }
-    msleep(10);
-  }
-  return 0;
-}
-
 static pid_t start_sim(const char *log, int *port) {
   remove("cli_sim.port");
   char *argv[] = {
       (char *)bin, "controller-sim", "--listen",  "127.0.0.1:0", "--port-file", "cli_sim.port",
       "--log",     (char *)log,      "--timeout", "5",           NULL};
-  const pid_t pid = spawn(argv, "cli_sim.out", "cli_sim.err");
-  *port = read_port("cli_sim.port");
+  const pid_t pid = ea_test_spawn(argv, "cli_sim.out", "cli_sim.err");
+  *port = ea_test_read_port("cli_sim.port", 300);
   return pid;
 }
 
@@ -86,8 +42,8 @@ static pid_t start_sim_fe(const char *log, const char *tipf, const char *json, i
                   "--simulate",  (char *)tipf,
                   "--settle",    "0.5",
                   "--json",      NULL};
-  const pid_t pid = spawn(argv, json, "cli_sim.err");
-  *port = read_port("cli_sim.port");
+  const pid_t pid = ea_test_spawn(argv, json, "cli_sim.err");
+  *port = ea_test_read_port("cli_sim.port", 300);
   return pid;
 }
 
@@ -326,7 +282,7 @@ static void test_recorded_arm(const char *arm_src, const fx_move_t *m) {
   {
     remove("cli_arm30.bin");
     char *argv[] = {(char *)bin, "stream", "cli_move30.csv", "--to", "file:cli_arm30.bin", NULL};
-    const int rc = wait_for(spawn(argv, "cli_arm30.out", "cli_arm30.err"), 5000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_arm30.out", "cli_arm30.err"), 5000);
     char err[2048];
     slurp("cli_arm30.err", err, sizeof err);
     ea_setpoint_t sp;
@@ -344,7 +300,7 @@ static void test_recorded_arm(const char *arm_src, const fx_move_t *m) {
     remove("cli_arm15.bin");
     char *argv[] = {(char *)bin,          "stream", "cli_move30.csv", "--to",
                     "file:cli_arm15.bin", "--arm",  (char *)arm_src,  NULL};
-    const int rc = wait_for(spawn(argv, "cli_arm15.out", "cli_arm15.err"), 5000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_arm15.out", "cli_arm15.err"), 5000);
     char err[2048];
     slurp("cli_arm15.err", err, sizeof err);
     printf("mismatched --arm: exit %d: %s", rc, err);
@@ -355,7 +311,7 @@ static void test_recorded_arm(const char *arm_src, const fx_move_t *m) {
   {
     char *argv[] = {(char *)bin,           "stream", "cli_move30.csv", "--to",
                     "file:cli_arm30b.bin", "--arm",  "cli_arm30.yaml", NULL};
-    const int rc = wait_for(spawn(argv, "cli_arm30.out", "cli_arm30.err"), 5000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_arm30.out", "cli_arm30.err"), 5000);
     ea_test_true(rc == 0, "stream: --arm equal to the trajectory's arm accepted");
   }
   /* A recorded arm file that cannot be read, no --arm: refused. */
@@ -366,7 +322,7 @@ static void test_recorded_arm(const char *arm_src, const fx_move_t *m) {
   {
     char *argv[] = {(char *)bin,          "stream", "cli_move_noarm.csv", "--to",
                     "file:cli_noarm.bin", NULL};
-    const int rc = wait_for(spawn(argv, "cli_arm30.out", "cli_arm30.err"), 5000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_arm30.out", "cli_arm30.err"), 5000);
     char err[2048];
     slurp("cli_arm30.err", err, sizeof err);
     ea_test_true(rc == 2 && strstr(err, "cli_no_such_arm.yaml") &&
@@ -418,7 +374,7 @@ static void test_refused_edits(const ea_arm_t *arm, const char *arm_src, const f
     ea_traj_write(&b, "cli_edit.csv", NULL);
     remove("cli_edit.bin");
     char *argv[] = {(char *)bin, "stream", "cli_edit.csv", "--to", "file:cli_edit.bin", NULL};
-    const int rc = wait_for(spawn(argv, "cli_edit.out", "cli_edit.err"), 10000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_edit.out", "cli_edit.err"), 10000);
     char err[4096];
     slurp("cli_edit.err", err, sizeof err);
     char what[200];
@@ -469,7 +425,7 @@ static int copy_file(const char *src, const char *dst) {
 static int run_in(const char *dir, char *const argv[], char *err, size_t len) {
   char here[4096];
   if (!getcwd(here, sizeof here) || chdir(dir)) return -2;
-  const int rc = wait_for(spawn(argv, "run.out", "run.err"), 20000);
+  const int rc = ea_test_wait_for(ea_test_spawn(argv, "run.out", "run.err"), 20000);
   slurp("run.err", err, len);
   if (chdir(here)) return -2;
   return rc;
@@ -674,10 +630,10 @@ int main(void) {
   snprintf(url, sizeof url, "tcp://127.0.0.1:%d", port);
   {
     char *argv[] = {(char *)bin, "stream", "cli_move.csv", "--to", url, "--json", NULL};
-    const int rc = wait_for(spawn(argv, "cli_stream.json", "cli_stream.err"), 5000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_stream.json", "cli_stream.err"), 5000);
     ea_test_true(rc == 0, "stream: exit 0 for a complete session");
   }
-  ea_test_true(wait_for(sim, 5000) == 0, "controller-sim: exit 0 after a clean session");
+  ea_test_true(ea_test_wait_for(sim, 5000) == 0, "controller-sim: exit 0 after a clean session");
   double v = -1;
   int rows = log_rows("cli_sim_log.csv", &v);
   printf("log rows %d\n", rows);
@@ -688,10 +644,10 @@ int main(void) {
   snprintf(url, sizeof url, "tcp://127.0.0.1:%d", port);
   {
     char *argv[] = {(char *)bin, "stream", "cli_move.csv", "--to", url, "--json", NULL};
-    const pid_t st = spawn(argv, "cli_stream2.json", "cli_stream2.err");
-    msleep(300);
+    const pid_t st = ea_test_spawn(argv, "cli_stream2.json", "cli_stream2.err");
+    ea_test_msleep(300);
     kill(st, SIGINT);
-    const int rc = wait_for(st, 5000);
+    const int rc = ea_test_wait_for(st, 5000);
     ea_test_true(rc == 1, "stream: SIGINT -> controlled stop, exit 1");
     FILE *fp = fopen("cli_stream2.json", "r");
     char buf[4096] = {0};
@@ -701,7 +657,7 @@ int main(void) {
     }
     ea_test_true(strstr(buf, "\"stop-interrupt\"") != NULL, "JSON summary says stop-interrupt");
   }
-  wait_for(sim, 5000);
+  ea_test_wait_for(sim, 5000);
   v = -1;
   rows = log_rows("cli_sim_log2.csv", &v);
   printf("log rows %d, |v| at the end %g\n", rows, v);
@@ -710,7 +666,7 @@ int main(void) {
   /* 3. Dry run to a file. */
   {
     char *argv[] = {(char *)bin, "stream", "cli_move.csv", "--to", "file:cli_dry.bin", NULL};
-    const int rc = wait_for(spawn(argv, "cli_dry.out", "cli_dry.err"), 5000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_dry.out", "cli_dry.err"), 5000);
     struct stat sb;
     const int ok = stat("cli_dry.bin", &sb) == 0 && sb.st_size == 152 + 601 * 140 + 32;
     ea_test_true(rc == 0 && ok, "file: dry run writes HELLO + 601 setpoints + END");
@@ -720,7 +676,7 @@ int main(void) {
   {
     char *argv[] = {(char *)bin, "stream", "cli_fast.csv", "--to", "file:cli_fast.bin", NULL};
     remove("cli_fast.bin");
-    const int rc = wait_for(spawn(argv, "cli_fast.out", "cli_fast.err"), 5000);
+    const int rc = ea_test_wait_for(ea_test_spawn(argv, "cli_fast.out", "cli_fast.err"), 5000);
     ea_test_true(rc == 1 && access("cli_fast.bin", F_OK) != 0,
                  "too fast a trajectory: exit 1, nothing written");
   }
@@ -740,10 +696,11 @@ int main(void) {
   snprintf(url, sizeof url, "tcp://127.0.0.1:%d", port);
   {
     char *argv[] = {(char *)bin, "stream", "cli_phys.csv", "--to", url, "--json", NULL};
-    const int rc = wait_for(spawn(argv, "cli_stream3.json", "cli_stream3.err"), 5000);
+    const int rc =
+        ea_test_wait_for(ea_test_spawn(argv, "cli_stream3.json", "cli_stream3.err"), 5000);
     ea_test_true(rc == 0, "--simulate session: stream complete");
   }
-  ea_test_true(wait_for(sim, 10000) == 0, "controller-sim --simulate: exit 0");
+  ea_test_true(ea_test_wait_for(sim, 10000) == 0, "controller-sim --simulate: exit 0");
   slurp("cli_sim3.json", js, sizeof js);
   {
     double t0 = NAN, t1 = NAN, last[2] = {NAN, NAN};
@@ -794,12 +751,13 @@ int main(void) {
   {
     char *argv[] = {(char *)bin,    "stream", "cli_phys.csv", "--to", url,
                     "--time-scale", "3",      "--json",       NULL};
-    const pid_t stp = spawn(argv, "cli_stream4.json", "cli_stream4.err");
-    msleep(600);
+    const pid_t stp = ea_test_spawn(argv, "cli_stream4.json", "cli_stream4.err");
+    ea_test_msleep(600);
     kill(stp, SIGINT);
-    ea_test_true(wait_for(stp, 5000) == 1, "--simulate, SIGINT: streamer's controlled stop");
+    ea_test_true(ea_test_wait_for(stp, 5000) == 1,
+                 "--simulate, SIGINT: streamer's controlled stop");
   }
-  wait_for(sim, 10000);
+  ea_test_wait_for(sim, 10000);
   slurp("cli_sim4.json", js, sizeof js);
   {
     double tl = NAN, Ll = NAN, thl = NAN, t0 = NAN, t1 = NAN, last[2] = {NAN, NAN};
