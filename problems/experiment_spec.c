@@ -75,16 +75,6 @@ ea_status_t ea_experiment_spec_check(const ea_experiment_spec_t *s, ea_error_t *
   return EA_OK;
 }
 
-static void ea__resolve_rel(const char *base_file, const char *rel, char *out, size_t len) {
-  const char *slash = base_file ? strrchr(base_file, '/') : NULL;
-  if (!rel[0] || rel[0] == '/' || !slash) {
-    snprintf(out, len, "%s", rel);
-    return;
-  }
-  const int w = snprintf(out, len, "%.*s/%s", (int)(slash - base_file), base_file, rel);
-  if (w < 0 || (size_t)w >= len) snprintf(out, len, "%s", rel); /* too long: keep it relative */
-}
-
 /* A list key: 1..EA_EXPERIMENT_MAX_VALUES numbers in [lo, hi]. */
 static ea_status_t ea__ylist(ea__ydoc_t *d, yaml_node_t *root, const char *key, int required,
                              double lo, double hi, double *out, int *n, ea_error_t *err) {
@@ -126,17 +116,9 @@ static ea_status_t ea__spec_parse(ea__ydoc_t *d, const char *default_arm, int fr
                                      NULL};
   if ((st = ea__ymap_check_keys(d, root, keys, "the experiment", err))) return st;
   if ((st = ea__ymap_string(d, root, "name", 0, s->name, sizeof s->name, err))) return st;
-  char rel[512] = "";
-  if ((st = ea__ymap_string(d, root, "arm_file", 0, rel, sizeof rel, err))) return st;
-  if (rel[0]) {
-    ea__resolve_rel(from_file ? s->file : NULL, rel, s->arm_file, sizeof s->arm_file);
-    ea_error_t e = {0};
-    if ((st = ea_arm_load(s->arm_file, &s->arm, &e)))
-      return ea__yerr(d, ea__ymap_get(d, root, "arm_file"), err, st, "key 'arm_file': %s", e.msg);
-  } else if (default_arm) {
-    snprintf(s->arm_file, sizeof s->arm_file, "%s", default_arm);
-    if ((st = ea_arm_load(default_arm, &s->arm, err))) return st;
-  }
+  if ((st = ea__ymap_arm_file(d, root, from_file ? s->file : NULL, default_arm, s->arm_file,
+                              sizeof s->arm_file, &s->arm, err)))
+    return st;
   if ((st = ea__ylist(d, root, "cable_lengths_m", 1, 1e-6, 100.0, s->cable_length,
                       &s->n_cable_length, err)))
     return st;

@@ -497,20 +497,6 @@ static ea_status_t ea__metric_node(ea__ydoc_t *d, yaml_node_t *n, const char *ke
                   "key '%s' must be a mapping of its settings (or empty for the defaults)", key);
 }
 
-static void ea__resolve(const char *base_file, const char *rel, char *out, size_t len) {
-  if (!rel[0] || rel[0] == '/' || !base_file || !base_file[0]) {
-    snprintf(out, len, "%s", rel);
-    return;
-  }
-  const char *slash = strrchr(base_file, '/');
-  if (!slash) {
-    snprintf(out, len, "%s", rel);
-    return;
-  }
-  const int w = snprintf(out, len, "%.*s/%s", (int)(slash - base_file), base_file, rel);
-  if (w < 0 || (size_t)w >= len) snprintf(out, len, "%s", rel); /* too long: keep it relative */
-}
-
 /* metrics.at_rest: {task: FILE, modes: K, elements: N, fe_dt_s: DT, settle_s: S,
  * damping_ratio: Z}: every value checked at its position. */
 static ea_status_t ea__load_at_rest(ea__ydoc_t *d, yaml_node_t *n, ea_study_t *s, int from_file,
@@ -534,7 +520,8 @@ static ea_status_t ea__load_at_rest(ea__ydoc_t *d, yaml_node_t *n, ea_study_t *s
     return st;
   s->at_rest.modes = (int)modes;
   s->at_rest.elements = (int)el;
-  ea__resolve(from_file ? s->file : NULL, rel, s->at_rest.task_file, sizeof s->at_rest.task_file);
+  ea__path_beside(from_file ? s->file : NULL, rel, s->at_rest.task_file,
+                  sizeof s->at_rest.task_file);
   snprintf(s->at_rest.task_name, sizeof s->at_rest.task_name, "%s", rel);
   return EA_OK;
 }
@@ -662,8 +649,8 @@ static ea_status_t ea__load_metrics(ea__ydoc_t *d, yaml_node_t *mm, ea_study_t *
     if ((st = ea__ymap_check_keys(d, n, mk, "metrics.min_time", err))) return st;
     char rel[512];
     if ((st = ea__ymap_string(d, n, "task", 1, rel, sizeof rel, err))) return st;
-    ea__resolve(from_file ? s->file : NULL, rel, s->min_time.task_file,
-                sizeof s->min_time.task_file);
+    ea__path_beside(from_file ? s->file : NULL, rel, s->min_time.task_file,
+                    sizeof s->min_time.task_file);
     snprintf(s->min_time.task_name, sizeof s->min_time.task_name, "%s", rel);
   }
   if ((n = ea__ymap_get(d, mm, "at_rest")) && (st = ea__load_at_rest(d, n, s, from_file, err)))
@@ -679,17 +666,9 @@ static ea_status_t ea__study_parse(ea__ydoc_t *d, const char *default_arm, ea_st
   static const char *const keys[] = {"name", "arm_file", "grid", "metrics", "outputs", NULL};
   if ((st = ea__ymap_check_keys(d, root, keys, "the study", err))) return st;
   if ((st = ea__ymap_string(d, root, "name", 0, s->name, sizeof s->name, err))) return st;
-  char rel[512] = "";
-  if ((st = ea__ymap_string(d, root, "arm_file", 0, rel, sizeof rel, err))) return st;
-  if (rel[0]) {
-    ea__resolve(from_file ? s->file : NULL, rel, s->arm_file, sizeof s->arm_file);
-    ea_error_t e = {0};
-    if ((st = ea_arm_load(s->arm_file, &s->arm, &e)))
-      return ea__yerr(d, ea__ymap_get(d, root, "arm_file"), err, st, "key 'arm_file': %s", e.msg);
-  } else if (default_arm) {
-    snprintf(s->arm_file, sizeof s->arm_file, "%s", default_arm);
-    if ((st = ea_arm_load(default_arm, &s->arm, err))) return st;
-  }
+  if ((st = ea__ymap_arm_file(d, root, from_file ? s->file : NULL, default_arm, s->arm_file,
+                              sizeof s->arm_file, &s->arm, err)))
+    return st;
   yaml_node_t *g;
   if ((st = ea__ymap_map(d, root, "grid", 1, &g, err))) return st;
   if ((st = ea__ymap_check_keys(d, g, ea__param_names, "grid", err))) return st;
@@ -724,7 +703,7 @@ static ea_status_t ea__study_parse(ea__ydoc_t *d, const char *default_arm, ea_st
     for (int i = 0; i < 3; ++i) {
       char r[512] = "";
       if ((st = ea__ymap_string(d, o, ok[i], 0, r, sizeof r, err))) return st;
-      ea__resolve(from_file ? s->file : NULL, r, dst[i], 512);
+      ea__path_beside(from_file ? s->file : NULL, r, dst[i], 512);
     }
   }
   return ea_study_check(s, err);

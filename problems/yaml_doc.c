@@ -1,6 +1,7 @@
 /* Typed reading of YAML documents with positions in every error. */
 #include "ea_util.h"
 #include "yaml_impl.h"
+#include "ea_arm_file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -321,5 +322,33 @@ ea_status_t ea__ymap_vec(ea__ydoc_t *d, yaml_node_t *map, const char *key, int r
     if (st) return st;
   }
   if (count) *count = have;
+  return EA_OK;
+}
+
+void ea__path_beside(const char *base_file, const char *rel, char *out, size_t len) {
+  const char *slash = base_file ? strrchr(base_file, '/') : NULL;
+  if (!rel[0] || rel[0] == '/' || !slash) {
+    snprintf(out, len, "%s", rel);
+    return;
+  }
+  const int w = snprintf(out, len, "%.*s/%s", (int)(slash - base_file), base_file, rel);
+  if (w < 0 || (size_t)w >= len) snprintf(out, len, "%s", rel); /* too long: keep it relative */
+}
+
+ea_status_t ea__ymap_arm_file(ea__ydoc_t *d, yaml_node_t *root, const char *base_file,
+                              const char *default_arm, char *path, size_t len, ea_arm_t *arm,
+                              ea_error_t *err) {
+  char rel[512] = "";
+  ea_status_t st = ea__ymap_string(d, root, "arm_file", 0, rel, sizeof rel, err);
+  if (st) return st;
+  if (rel[0]) {
+    ea__path_beside(base_file, rel, path, len);
+    ea_error_t e = {0};
+    if ((st = ea_arm_load(path, arm, &e)))
+      return ea__yerr(d, ea__ymap_get(d, root, "arm_file"), err, st, "key 'arm_file': %s", e.msg);
+  } else if (default_arm) {
+    snprintf(path, len, "%s", default_arm);
+    return ea_arm_load(default_arm, arm, err);
+  }
   return EA_OK;
 }

@@ -5,6 +5,7 @@
 #ifndef EA_YAML_IMPL_H
 #define EA_YAML_IMPL_H
 
+#include "ea_arm.h"
 #include "ea_status.h"
 
 #include <yaml.h>
@@ -73,5 +74,18 @@ ea_status_t ea__ymap_vec(ea__ydoc_t *d, yaml_node_t *map, const char *key, int r
                          double *out, int *count, ea_error_t *err);
 /** Scalar text of a node (NULL if not a scalar). */
 const char *ea__ynode_text(const yaml_node_t *n);
+
+/** rel as named from the file base_file: prefixed with base_file's folder unless it is
+ *  absolute, empty, or base_file has no folder (NULL: as given); kept as given when the
+ *  result would not fit in len bytes. */
+void ea__path_beside(const char *base_file, const char *rel, char *out, size_t len);
+
+/** A spec's optional `arm_file:` key (a study's, an experiment's): the file relative to
+ *  base_file (ea__path_beside) loaded into *arm, its path in path; without the key,
+ *  default_arm's (none either: arm and path untouched). A file that does not load is
+ *  an error at the key's line and column. */
+ea_status_t ea__ymap_arm_file(ea__ydoc_t *d, yaml_node_t *root, const char *base_file,
+                              const char *default_arm, char *path, size_t len, ea_arm_t *arm,
+                              ea_error_t *err);
 
 #endif
