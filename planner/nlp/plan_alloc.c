@@ -20,7 +20,7 @@ void ea_planner_free(ea_planner_t *pl) {
   if (!pl) return;
   if (pl->ip) FreeIpoptProblem(pl->ip);
   ea__screen_free(pl->scr);
-  ea__asn_free(pl->asn);
+  ea__kkt_free(pl->kkt);
   free(pl->rfam);
   free(pl->xstart);
   ea__plan_hess_free(pl);

@@ -119,7 +119,7 @@ struct ea_planner {
   int *irow, *jcol;
   IpoptProblem ip;
   struct ea__screen *scr; /* Ipopt's rows of the next solve (engine/ipopt_screen.c) */
-  struct ea__asn *asn;    /* the own interior point's workspace (engine/ipm.c; NULL until used) */
+  struct ea__kkt *kkt;    /* the own interior point's KKT system (engine/ipm.c; NULL until used) */
   int *rfam, nfam;        /* m: each row's family for it (ea__plan_row_families) */
   double *xstart;         /* n: the start of a solve (a screened solve's second round) */
   /* frequency model (NULL when the task needs none) */

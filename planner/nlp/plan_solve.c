@@ -290,10 +290,10 @@ static int ea__solve_ipm(ea_planner_t *pl, const ea__strategy_t *sg, int warm, d
   const ea_task_t *t = &pl->task;
   const int from_cold = sg->ipm_from_cold;
   if (!sg->ipm || ea__plan_hess_pattern(pl)) return 0;
-  if (!pl->asn) {
+  if (!pl->kkt) {
     ea__nlp_t nlp;
     ea__knot_nlp(pl, &nlp);
-    if (!(pl->asn = ea__asn_alloc(&nlp))) return 0;
+    if (!(pl->kkt = ea__kkt_alloc(&nlp))) return 0;
   }
   /* with Ipopt's acceptable termination (the partial Hessian lacks the statics rows'
    * curvature: on a third of test_plan_sweep's free paths the iterates stalled with the
@@ -308,7 +308,7 @@ static int ea__solve_ipm(ea_planner_t *pl, const ea__strategy_t *sg, int warm, d
     return 0;
   }
   const int rc =
-      ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu, &res->ipm_iterations);
+      ea__ipm_solve(pl->kkt, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu, &res->ipm_iterations);
   const int ok = rc >= 0 && ea__knot_kkt_ok(pl, pl->x, rc ? o.acc_tol : t->solver.tol);
   res->ipm_fallback = !ok;
   if (!ok) { /* Ipopt's start again */

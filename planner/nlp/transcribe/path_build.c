@@ -48,6 +48,7 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->xstart);
   free(pp->g_sol);
   ea__asn_free(pp->asn);
+  ea__kkt_free(pp->kkt);
   ea__screen_free(pp->scr);
   free(pp->rfam);
   free(pp->sd_sol);

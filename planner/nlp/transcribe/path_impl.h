@@ -61,7 +61,8 @@ struct ea__pp {
   double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
   double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol, *x0;
   double *g_sol;     /* the rows at x_sol (the active-set Newton's gaps) */
-  ea__asn_t *asn;    /* the active-set Newton of a warm start (NULL until the first) */
+  ea__kkt_t *kkt;    /* the KKT system of the own engines (NULL until the first) */
+  ea__asn_t *asn;    /* the active-set Newton of a warm start, on kkt */
   ea__screen_t *scr; /* Ipopt's rows (engine/ipopt_screen.c; NULL until the first Ipopt solve) */
   int *rfam, nfam;   /* each row's family for it: one limit of one coordinate */
   double *xstart;    /* the start of an Ipopt solve (a screened solve's second round) */

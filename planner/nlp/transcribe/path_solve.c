@@ -35,15 +35,16 @@ static void ea__pp_mult_from_sol(ea__pp_t *pp) {
   memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
 }
 
-/* The workspace of the active-set Newton and the interior point (engine/asn.c, engine/ipm.c) on the
- * path NLP: 0, or -1 (out of memory). */
+/* The KKT system of the path NLP and the active-set Newton's workspace on it (engine/kkt.c,
+ * engine/asn.c), which the interior point (engine/ipm.c) shares: 0, or -1 (out of memory). */
 static int ea__pp_asn(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
-  if (!pp->asn) {
+  if (!pp->kkt) {
     ea__nlp_t nlp;
     ea__pp_nlp(pl, &nlp);
-    if (!(pp->asn = ea__asn_alloc(&nlp))) return -1;
+    if (!(pp->kkt = ea__kkt_alloc(&nlp))) return -1;
   }
+  if (!pp->asn && !(pp->asn = ea__asn_alloc(pp->kkt))) return -1;
   return 0;
 }
 
@@ -67,7 +68,7 @@ static int ea__pp_ipm_start(ea_planner_t *pl, double mu_init, int *iters) {
   ea__ipm_opt_t o;
   ea__plan_ipm_opt(pl, mu_init, mu_init < 1e-6 ? 1e-6 : 1e-2, &o);
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
-  const int rc = ea__ipm_solve(pp->asn, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters);
+  const int rc = ea__ipm_solve(pp->kkt, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters);
   if (rc >= 0 && ea__pp_kkt_ok_tol(pl, rc ? o.acc_tol : t->solver.tol)) return 1;
   memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
   return 0;
@@ -111,7 +112,7 @@ static void ea__pp_guess_part(void *ctx, int part) {
   if (part == 0)
     jb->st = ea__pp_cold_guess(jb->pl, jb->info, jb->err);
   else
-    ea__ipm_prepare(jb->pl->pp->asn); /* (failing: the solve makes the pattern again) */
+    ea__ipm_prepare(jb->pl->pp->kkt); /* (failing: the solve makes the pattern again) */
 }
 
 /* The knot-layout vector xk (a guess or a previous plan) in the path layout. */
