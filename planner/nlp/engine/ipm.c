@@ -331,8 +331,8 @@ static void ea__ipm_alphas(const ea__kkt_t *k, const ea__ipm_ws_t *w, const doub
 }
 
 int ea__ipm_prepare(ea__kkt_t *k) {
-  /* every free variable and every row in the KKT matrix, in a symmetric ordering (AMD's
-   * without BTF, for the LDL' of ea__ipm_kkt) */
+  /* every free variable and every row in the KKT matrix, in AMD's symmetric ordering (for
+   * the LDL' of ea__ipm_kkt) */
   const int pat = ea__kkt_pattern(k, NULL, NULL, 0);
   k->full = !pat;
   return pat ? -1 : 0;

@@ -1,8 +1,9 @@
 /* The KKT system of an NLP (engine/kkt_impl.h): its values, its pattern over the variables
- * and rows in the system, the ordering (KLU's analysis: BTF + AMD for the LU, AMD alone for
- * the symmetric LDL') and the factorizations. Calls nothing above it. */
+ * and rows in the system, the ordering (KLU's analysis, BTF + AMD, for the LU; AMD's for the
+ * symmetric LDL') and the factorizations. Calls nothing above it. */
 #include "kkt_impl.h"
 
+#include <amd.h>
 #include <klu.h>
 #include <ldl.h>
 #include <math.h>
@@ -24,6 +25,7 @@ void ea__kkt_free(ea__kkt_t *k) {
   if (k->sym) klu_free_symbolic(&k->sym, &k->c);
   ea__kkt_ldl_free(k);
   free(k->kx), free(k->kg), free(k->Ap), free(k->Ai), free(k->cnt), free(k->Ax), free(k->pd);
+  free(k->perm);
   free(k->pj[0]), free(k->pj[1]), free(k->ph[0]), free(k->ph[1]);
   free(k->gf), free(k->g), free(k->jv), free(k->hv), free(k->lam), free(k->rhs), free(k->r);
   free(k);
@@ -37,7 +39,7 @@ ea__kkt_t *ea__kkt_alloc(const ea__nlp_t *p) {
   const size_t nz = 2 * ((size_t)p->nnz_j + (size_t)p->nnz_h) + nk;
   k->kx = malloc(sizeof(int) * n), k->kg = malloc(sizeof(int) * (m + 1));
   k->Ap = malloc(sizeof(int) * (nk + 1)), k->cnt = malloc(sizeof(int) * (nk + 1));
-  k->pd = malloc(sizeof(int) * nk);
+  k->pd = malloc(sizeof(int) * nk), k->perm = malloc(sizeof(int) * nk);
   k->Ai = malloc(sizeof(int) * nz), k->Ax = malloc(sizeof(double) * nz);
   for (int s = 0; s < 2; ++s) {
     k->pj[s] = malloc(sizeof(int) * ((size_t)p->nnz_j + 1));
@@ -48,9 +50,9 @@ ea__kkt_t *ea__kkt_alloc(const ea__nlp_t *p) {
   k->hv = malloc(sizeof(double) * ((size_t)p->nnz_h + 1));
   k->lam = malloc(sizeof(double) * (m + 1)), k->rhs = malloc(sizeof(double) * nk);
   k->r = malloc(sizeof(double) * n);
-  if (!k->kx || !k->kg || !k->Ap || !k->cnt || !k->pd || !k->Ai || !k->Ax || !k->pj[0] ||
-      !k->pj[1] || !k->ph[0] || !k->ph[1] || !k->gf || !k->g || !k->jv || !k->hv || !k->lam ||
-      !k->rhs || !k->r || !klu_defaults(&k->c)) {
+  if (!k->kx || !k->kg || !k->Ap || !k->cnt || !k->pd || !k->perm || !k->Ai || !k->Ax ||
+      !k->pj[0] || !k->pj[1] || !k->ph[0] || !k->ph[1] || !k->gf || !k->g || !k->jv || !k->hv ||
+      !k->lam || !k->rhs || !k->r || !klu_defaults(&k->c)) {
     ea__kkt_free(k);
     return NULL;
   }
@@ -130,7 +132,7 @@ static void ea__kkt_place(ea__kkt_t *k, int pass) {
   }
 }
 
-int ea__kkt_pattern(ea__kkt_t *k, const int *act_x, const int *act_g, int btf) {
+int ea__kkt_pattern(ea__kkt_t *k, const int *act_x, const int *act_g, int lu) {
   const ea__nlp_t *p = &k->p;
   k->full = 0;
   ea__kkt_lu_release(k);
@@ -145,10 +147,9 @@ int ea__kkt_pattern(ea__kkt_t *k, const int *act_x, const int *act_g, int btf) {
   ea__kkt_place(k, 0);
   ea__kkt_place(k, 1);
   if (k->sym) klu_free_symbolic(&k->sym, &k->c);
-  const int btf0 = k->c.btf;
-  k->c.btf = btf;
+  if (!lu) /* AMD's order of the symmetric pattern (the one KLU's analysis without BTF takes) */
+    return amd_order(nk, k->Ap, k->Ai, k->perm, NULL, NULL) >= AMD_OK ? 0 : -1;
   k->sym = klu_analyze(nk, k->Ap, k->Ai, &k->c);
-  k->c.btf = btf0;
   return k->sym ? 0 : -1;
 }
 
@@ -194,7 +195,7 @@ int ea__kkt_ldl_symbolic(ea__kkt_t *k) {
   if (!k->P || !k->Pinv || !k->Lp || !k->Parent || !k->Lnz || !k->Flag || !k->Pattern || !k->D ||
       !k->Y)
     return -1;
-  memcpy(k->P, k->sym->Q, sizeof(int) * (size_t)k->nk);
+  memcpy(k->P, k->perm, sizeof(int) * (size_t)k->nk);
   ldl_symbolic(k->nk, k->Ap, k->Ai, k->Lp, k->Parent, k->Lnz, k->Flag, k->P, k->Pinv);
   const size_t lnz = (size_t)k->Lp[k->nk] + 1;
   k->Li = malloc(lnz * sizeof(int)), k->Lx = malloc(lnz * sizeof(double));

@@ -2,8 +2,8 @@
  * (engine/asn.c) and the own interior point (engine/ipm.c) solve: its values at a point (the
  * callbacks' gradient, rows, Jacobian and Hessian), the sparse pattern of the matrix
  * [H J'; J D] over a chosen set of variables and rows, the fill-reducing ordering and the two
- * factorizations (SuiteSparse): KLU's LU for the active-set Newton, LDL' for the interior
- * point (engine/kkt.c). */
+ * factorizations (SuiteSparse): KLU's LU (BTF + AMD) for the active-set Newton, LDL' (AMD) for
+ * the interior point (engine/kkt.c). */
 #ifndef EA_KKT_IMPL_H
 #define EA_KKT_IMPL_H
 
@@ -26,12 +26,13 @@ typedef struct ea__kkt {
   double *Ax;
   int *pj[2], *ph[2]; /* positions of each Jacobian / Hessian entry in Ax (-1: none) */
   int *pd;            /* position of each diagonal */
+  int *perm;          /* AMD's symmetric ordering of the pattern (for the LDL') */
   /* KLU: its analysis (the ordering) and the LU factors of the active-set Newton */
   klu_common c;
   klu_symbolic *sym;
   klu_numeric *num;
   double rcond0; /* the pivots' ratio of num's first factorization */
-  /* LDL' in the order P (the symmetric AMD ordering of the pattern) */
+  /* LDL' in the order P (perm) */
   int *P, *Pinv, *Lp, *Parent, *Lnz, *Flag, *Pattern, *Li;
   double *Lx, *D, *Y;
 } ea__kkt_t;
@@ -46,10 +47,10 @@ int ea__kkt_eval(ea__kkt_t *k, double *x, int hess);
 
 /** The pattern of the variables with act_x[i] == 0 (act_x NULL: every variable that is not
  *  fixed, xl < xu) and the rows with act_g[i] != 0 (act_g NULL: every row), in that order, the
- *  positions pj, ph, pd and KLU's analysis: with its block triangular form (btf 1: the
- *  active-set Newton's LU) or without (btf 0: the symmetric AMD ordering the LDL' takes).
- *  Clears k->full. 0, or -1 (nothing in the system, or KLU failed). */
-int ea__kkt_pattern(ea__kkt_t *k, const int *act_x, const int *act_g, int btf);
+ *  positions pj, ph, pd and the ordering: lu 1, KLU's analysis (BTF + AMD) for
+ *  ea__kkt_lu_solve; lu 0, AMD's symmetric ordering (perm) for the LDL'. Clears k->full. 0,
+ *  or -1 (nothing in the system, or the ordering failed). */
+int ea__kkt_pattern(ea__kkt_t *k, const int *act_x, const int *act_g, int lu);
 /** The matrix's values from the Hessian (hv) and Jacobian (jv) at their positions of the
  *  current pattern, every other entry (the diagonals of the rows among them) zero. */
 void ea__kkt_fill(ea__kkt_t *k);
@@ -61,8 +62,8 @@ int ea__kkt_lu_solve(ea__kkt_t *k);
 /** The LU factors freed (a new pattern or values that need a fresh pivot order follow). */
 void ea__kkt_lu_release(ea__kkt_t *k);
 
-/** LDL's symbolic factorization of the current pattern in KLU's symmetric ordering
- *  (ea__kkt_pattern with btf 0). 0, or -1 (out of memory). */
+/** LDL's symbolic factorization of the current pattern in its AMD ordering (ea__kkt_pattern
+ *  with lu 0). 0, or -1 (out of memory). */
 int ea__kkt_ldl_symbolic(ea__kkt_t *k);
 /** LDL' of the current matrix: the count of pivots factored (nk when it succeeded, less at a
  *  zero pivot); *neg: the negative pivots (the inertia) when it succeeded. */
