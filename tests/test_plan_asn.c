@@ -11,6 +11,7 @@
 #include "ea_test.h"
 #include "plan_asn_impl.h"
 
+#include <coin/IpStdCInterface.h>
 #include <math.h>
 #include <string.h>
 

@@ -15,6 +15,7 @@
 #include "ea_test.h"
 #include "plan_ipm_impl.h"
 
+#include <coin/IpStdCInterface.h>
 #include <math.h>
 #include <string.h>
 

@@ -18,7 +18,7 @@ const ea_task_t *ea_planner_task(const ea_planner_t *pl) {
 
 void ea_planner_free(ea_planner_t *pl) {
   if (!pl) return;
-  if (pl->ip) FreeIpoptProblem(pl->ip);
+  ea__ipopt_free(pl->ip);
   ea__screen_free(pl->scr);
   ea__kkt_free(pl->kkt);
   free(pl->rfam);

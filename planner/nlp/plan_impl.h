@@ -6,7 +6,6 @@
 #include "ea_util.h"
 #include "strategy_impl.h"
 
-#include <coin/IpStdCInterface.h>
 #include <gsl/gsl_interp2d.h>
 #include <gsl/gsl_spline2d.h>
 #include <stdint.h>
@@ -117,11 +116,11 @@ struct ea_planner {
   double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
   ea__row_t *rows;
   int *irow, *jcol;
-  IpoptProblem ip;
-  struct ea__screen *scr; /* Ipopt's rows of the next solve (engine/ipopt_screen.c) */
-  struct ea__kkt *kkt;    /* the own interior point's KKT system (engine/ipm.c; NULL until used) */
-  int *rfam, nfam;        /* m: each row's family for it (ea__plan_row_families) */
-  double *xstart;         /* n: the start of a solve (a screened solve's second round) */
+  struct IpoptProblemInfo *ip; /* Ipopt's problem (engine/ipopt_problem.c) */
+  struct ea__screen *scr;      /* Ipopt's rows of the next solve (engine/ipopt_screen.c) */
+  struct ea__kkt *kkt; /* the own interior point's KKT system (engine/ipm.c; NULL until used) */
+  int *rfam, nfam;     /* m: each row's family for it (ea__plan_row_families) */
+  double *xstart;      /* n: the start of a solve (a screened solve's second round) */
   /* frequency model (NULL when the task needs none) */
   ea__freq_model_t *fm;
   /* reduced dynamic model (NULL when the task has no dynamics; dyn_rows.c) */
@@ -446,17 +445,15 @@ int ea__knot_rows(ea_planner_t *pl);
 /** Variable and row bounds from the task. */
 void ea__knot_bounds(ea_planner_t *pl);
 /* The callbacks of the knot transcription, in Ipopt's C interface's signatures. */
-Bool ea__knot_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud);
-Bool ea__knot_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud);
-Bool ea__knot_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud);
-Bool ea__knot_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow, Index *jCol,
-                     Number *values, UserDataPtr ud);
-Bool ea__knot_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *lambda,
-                   Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
-                   UserDataPtr ud);
-Bool ea__knot_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
-                      Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
-                      Index ls, UserDataPtr ud);
+int ea__knot_cb_f(int n, double *x, int new_x, double *f, void *ud);
+int ea__knot_cb_grad_f(int n, double *x, int new_x, double *g, void *ud);
+int ea__knot_cb_g(int n, double *x, int new_x, int m, double *g, void *ud);
+int ea__knot_cb_jac(int n, double *x, int new_x, int m, int nele, int *iRow, int *jCol,
+                    double *values, void *ud);
+int ea__knot_cb_h(int n, double *x, int new_x, double of, int m, double *lambda, int new_lambda,
+                  int nele, int *iRow, int *jCol, double *values, void *ud);
+int ea__knot_cb_iter(int alg_mod, int iter, double obj, double inf_pr, double inf_du, double mu,
+                     double d_norm, double reg, double alpha_du, double alpha_pr, int ls, void *ud);
 /* ---- reports (plan_report.c) ---- */
 /** Margins, residuals and active limits of a plan x into info. */
 void ea__plan_stats(ea_planner_t *pl, const double *x, ea_plan_info_t *info);

@@ -2,6 +2,7 @@
  * drawn by the CLI (planner/app). */
 #include "ea_refine.h"
 #include "ea_simulate.h"
+#include "ipopt_impl.h"
 #include "plan_impl.h"
 
 #include <math.h>
@@ -300,17 +301,17 @@ const char *ea_plan_engine_status(const ea_plan_info_t *info) {
   const char *e = ea_plan_engine_name(info);
   if (!strcmp(e, "none")) return "none";
   if (strcmp(e, "ipopt")) return "converged"; /* the own engines hand over KKT-tested points */
-  switch ((enum ApplicationReturnStatus)info->ipopt_status) {
-  case Solve_Succeeded:
+  switch (info->ipopt_status) {
+  case EA__IPOPT_SOLVE_SUCCEEDED:
     return "converged";
-  case Solved_To_Acceptable_Level:
+  case EA__IPOPT_ACCEPTABLE:
     return "converged-acceptable";
-  case Maximum_Iterations_Exceeded:
+  case EA__IPOPT_MAX_ITER:
     return "max-iterations";
-  case Maximum_CpuTime_Exceeded:
-  case User_Requested_Stop: /* the planner's wall-time limit (solver.max_time_s) */
+  case EA__IPOPT_MAX_CPU_TIME:
+  case EA__IPOPT_USER_STOP: /* the planner's wall-time limit (solver.max_time_s) */
     return "max-time";
-  case Infeasible_Problem_Detected:
+  case EA__IPOPT_INFEASIBLE:
     return "infeasible";
   default:
     return "failed";

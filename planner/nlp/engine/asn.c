@@ -77,8 +77,7 @@ static int ea__asn_newton_steps(ea__asn_t *a, double *x, int *iters) {
     if (it == 0) first = res;
     if (it == EA__ASN_NEWTON || !(res < 1e3 * first)) return -1;
     /* a converged point needs no Hessian: after the test when the rows allow */
-    if (p->hess_last &&
-        !p->h(p->n, x, FALSE, 1.0, p->m, k->lam, TRUE, p->nnz_h, NULL, NULL, k->hv, p->ud))
+    if (p->hess_last && !p->h(p->n, x, 0, 1.0, p->m, k->lam, 1, p->nnz_h, NULL, NULL, k->hv, p->ud))
       return -1;
     /* K [dx; dlam] = -[r_free; g_A - b_A] */
     ea__kkt_fill(k);

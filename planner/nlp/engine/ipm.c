@@ -383,7 +383,7 @@ int ea__ipm_solve(ea__kkt_t *k, const ea__ipm_opt_t *o, double *x, double *mult_
     /* Ipopt's acceptable termination */
     if (o->acc_iter > 0 && p->f) {
       double f;
-      if (!p->f(p->n, x, FALSE, &f, p->ud) || !isfinite(f)) goto done;
+      if (!p->f(p->n, x, 0, &f, p->ud) || !isfinite(f)) goto done;
       const int acc = e0 <= o->acc_tol && prim <= o->ptol &&
                       fabs(f - f_prev) <= o->acc_obj * fmax(1.0, fabs(f));
       n_acc = acc ? n_acc + 1 : 0;

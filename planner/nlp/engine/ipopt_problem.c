@@ -3,6 +3,7 @@
 #include "plan_impl.h"
 #include "plan_screen_impl.h"
 
+#include <coin/IpStdCInterface.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,6 +32,23 @@ ea_status_t ea__ipopt_create(ea_planner_t *pl) {
   if (!pl->ip) return EA_ERR_BACKEND;
   ea__ipopt_options(pl->ip, &t->solver, pl->hess_exact, 0.0);
   return EA_OK;
+}
+
+/* the planner's copies of Ipopt's return codes (engine/ipopt_impl.h) */
+_Static_assert((int)EA__IPOPT_SOLVE_SUCCEEDED == (int)Solve_Succeeded, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_ACCEPTABLE == (int)Solved_To_Acceptable_Level, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INFEASIBLE == (int)Infeasible_Problem_Detected, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_USER_STOP == (int)User_Requested_Stop, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_MAX_ITER == (int)Maximum_Iterations_Exceeded, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_RESTORATION_FAILED == (int)Restoration_Failed, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_MAX_CPU_TIME == (int)Maximum_CpuTime_Exceeded, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INVALID_PROBLEM == (int)Invalid_Problem_Definition, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INVALID_OPTION == (int)Invalid_Option, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_NO_MEMORY == (int)Insufficient_Memory, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INTERNAL_ERROR == (int)Internal_Error, "Ipopt's codes");
+
+void ea__ipopt_free(ea__ipopt_problem_t ip) {
+  if (ip) FreeIpoptProblem(ip);
 }
 
 const char *ea__ipopt_name(int s) {

@@ -13,6 +13,8 @@
  * callbacks, which evaluate every row. Calls nothing above it. */
 #include "plan_screen_impl.h"
 
+#include <coin/IpStdCInterface.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -194,7 +196,7 @@ static Bool ea__screen_cb_iter(Index alg_mod, Index iter, Number obj, Number inf
                    s->p.ud);
 }
 
-IpoptProblem ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu) {
+ea__ipopt_problem_t ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu) {
   const ea__screen_nlp_t *p = &s->p;
   IpoptProblem ip = CreateIpoptProblem(p->n, (double *)xl, (double *)xu, s->ms, s->gls, s->gus,
                                        s->nnz_s, p->nnz_h, 0, ea__screen_cb_f, ea__screen_cb_g,
@@ -203,9 +205,8 @@ IpoptProblem ea__screen_problem(ea__screen_t *s, const double *xl, const double 
   return ip;
 }
 
-enum ApplicationReturnStatus ea__screen_solve(ea__screen_t *s, IpoptProblem ip, double *x,
-                                              double *g, double *obj, double *mult_g,
-                                              double *mult_xl, double *mult_xu) {
+int ea__screen_solve(ea__screen_t *s, ea__ipopt_problem_t ip, double *x, double *g, double *obj,
+                     double *mult_g, double *mult_xl, double *mult_xu) {
   for (int k = 0; k < s->ms; ++k)
     s->msub[k] = mult_g[s->rsub[k]];
   const enum ApplicationReturnStatus rs =

@@ -69,10 +69,10 @@ int ea__kkt_eval(ea__kkt_t *k, double *x, int hess) {
   void *ud = p->ud;
   /* the Hessian first: the modal defects' closed form leaves their values and gradients at x
    * for the rows (dyn_rows.c) */
-  if (!p->grad_f(p->n, x, TRUE, k->gf, ud) ||
-      (hess && !p->h(p->n, x, FALSE, 1.0, p->m, k->lam, TRUE, p->nnz_h, NULL, NULL, k->hv, ud)) ||
-      !p->g(p->n, x, FALSE, p->m, k->g, ud) ||
-      !p->jac(p->n, x, FALSE, p->m, p->nnz_j, NULL, NULL, k->jv, ud))
+  if (!p->grad_f(p->n, x, 1, k->gf, ud) ||
+      (hess && !p->h(p->n, x, 0, 1.0, p->m, k->lam, 1, p->nnz_h, NULL, NULL, k->hv, ud)) ||
+      !p->g(p->n, x, 0, p->m, k->g, ud) ||
+      !p->jac(p->n, x, 0, p->m, p->nnz_j, NULL, NULL, k->jv, ud))
     return -1;
   /* stationarity of every variable: grad f + J' lam */
   memcpy(k->r, k->gf, sizeof(double) * (size_t)p->n);

@@ -1,4 +1,5 @@
 /* The path transcription's setup: does a task qualify, its layout, bounds and rows. */
+#include "ipopt_impl.h"
 #include "path_impl.h"
 
 #include <math.h>
@@ -8,7 +9,7 @@
 
 void ea__pp_free(ea__pp_t *pp) {
   if (!pp) return;
-  if (pp->ip) FreeIpoptProblem(pp->ip);
+  ea__ipopt_free(pp->ip);
   free(pp->ssig);
   free(pp->spa);
   free(pp->sp);

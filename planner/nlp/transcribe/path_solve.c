@@ -148,7 +148,7 @@ static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
 static ea_status_t ea__pp_ipopt(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
   const ea_task_t *t = &pl->task;
-  if (pp->ip) FreeIpoptProblem(pp->ip);
+  ea__ipopt_free(pp->ip);
   pp->ip = ea__screen_problem(pp->scr, pp->xl, pp->xu);
   if (!pp->ip) return EA_ERR_BACKEND;
   /* the knots near a pinned point have sigma within 1e-2 of its bound: the default push
@@ -261,7 +261,7 @@ void ea__pp_predict(ea_planner_t *pl) {
 /* Largest violation of the path problem's rows at pp->x (absolute, unscaled). */
 static double ea__pp_violation(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
-  if (!ea__pp_cb_g(pp->n, pp->x, TRUE, pp->m, pp->g, pl)) return INFINITY;
+  if (!ea__pp_cb_g(pp->n, pp->x, 1, pp->m, pp->g, pl)) return INFINITY;
   double v = 0.0;
   for (int i = 0; i < pp->m; ++i) {
     if (!isfinite(pp->g[i])) return INFINITY;
@@ -340,7 +340,7 @@ static ea_status_t ea__pp_cold_guess(ea_planner_t *pl, ea_plan_info_t *info, ea_
  * fails the adaptive one from the same start. The derivative checker's output goes to tmpl
  * (NULL: no check). */
 static void ea__pp_run(ea_planner_t *pl, int warm, int replan, int mono, int traj_exact, char *tmpl,
-                       enum ApplicationReturnStatus *rs, double *obj, int *iters) {
+                       int *rs, double *obj, int *iters) {
   ea__pp_t *pp = pl->pp;
   ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
   if (tmpl && pl->task.solver.derivative_test)
@@ -352,8 +352,8 @@ static void ea__pp_run(ea_planner_t *pl, int warm, int replan, int mono, int tra
     *rs =
         ea__screen_solve(pp->scr, pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl, pp->mult_xu);
     *iters += pp->iter;
-    if (!mono || *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level ||
-        *rs == User_Requested_Stop)
+    if (!mono || *rs == EA__IPOPT_SOLVE_SUCCEEDED || *rs == EA__IPOPT_ACCEPTABLE ||
+        *rs == EA__IPOPT_USER_STOP)
       break;
     mono = 0;
     memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
@@ -383,7 +383,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
                          ea_plan_info_t *info, ea__engine_result_t *res, double *obj,
                          ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
-  enum ApplicationReturnStatus rs = Internal_Error;
+  int rs = EA__IPOPT_INTERNAL_ERROR;
   int *iters = &res->iterations;
   const double t0 = ea__mono_s();
   if (pp->path_status)
@@ -483,8 +483,8 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     }
   }
   if (at_solution) {
-    rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
-    ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
+    rs = EA__IPOPT_SOLVE_SUCCEEDED; /* the start is the solution: no Ipopt problem, no iteration */
+    ea__pp_cb_f(pp->n, pp->x, 0, obj, pl);
   } else {
     res->engine = EA__ENGINE_IPOPT;
     /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner
@@ -493,7 +493,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
       return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
     if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||
-        !ea__pp_cb_g(pp->n, pp->x, TRUE, pp->m, pp->g, pl))
+        !ea__pp_cb_g(pp->n, pp->x, 1, pp->m, pp->g, pl))
       ea__screen_all(pp->scr);
     else
       ea__screen_select(pp->scr, pp->g, EA__SCREEN_BAND, pp->rfam, pp->nfam);
@@ -510,7 +510,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
       info->ipopt_rows = ea__screen_rows(pp->scr);
       ea__pp_run(pl, warm, replan, sg.ipopt_monotone, traj_exact, round ? NULL : tmpl, &rs, obj,
                  iters);
-      if (!(rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level)) break;
+      if (!(rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE)) break;
       if (!ea__screen_grow(pp->scr, pp->g, EA__SCREEN_HOLD)) break;
       info->screen_resolves++;
     }
@@ -520,7 +520,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     remove(tmpl);
   }
   res->ipopt_status = (int)rs;
-  const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
+  const int solved = rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE;
   if (solved) {
     memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
     memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
