@@ -2,6 +2,12 @@
  * ea_planner_free releases them. Everything is allocated here; the callbacks do not
  * allocate. */
 #include "ipopt_impl.h"
+#include "dyn_impl.h"
+#include "guess_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
+#include "path_entry_impl.h"
+#include "vib_impl.h"
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"

@@ -4,6 +4,7 @@
 #include "ea_simulate.h"
 #include "ipopt_impl.h"
 #include "plan_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <stdio.h>

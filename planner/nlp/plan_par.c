@@ -7,6 +7,7 @@
  * for a few milliseconds, then blocked on a condition variable; the caller waits for the
  * worker's part spinning (the two parts take about as long). */
 #include "plan_impl.h"
+#include "par_impl.h"
 
 #include <pthread.h>
 #include <sched.h>

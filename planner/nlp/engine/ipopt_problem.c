@@ -1,5 +1,7 @@
 /* Ipopt: the problem of the knot transcription, its options, the names of its statuses. */
 #include "ipopt_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 #include "plan_impl.h"
 #include "plan_screen_impl.h"
 

@@ -19,6 +19,7 @@
  * interval's trajectory variables, ea__plan_dyn_defect_hess) and of the tension and torque
  * rows (ea__plan_dyn_row_hess), from the table's exact second derivatives. */
 #include "ea_simulate.h"
+#include "dyn_impl.h"
 #include "plan_impl.h"
 
 #include <math.h>

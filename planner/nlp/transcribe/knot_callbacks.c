@@ -1,6 +1,8 @@
 /* The knot transcription's callbacks (objective, rows, Jacobian, Hessian, iteration), as the
  * engines call them. */
 #include "plan_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 #include "nlp_impl.h"
 
 #include <math.h>

@@ -4,6 +4,8 @@
  * (ea_statics_solve with a warm start), so Ipopt starts feasible or nearly
  * so; or a previous plan resampled onto the knots (replanning). */
 #include "plan_impl.h"
+#include "guess_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <string.h>

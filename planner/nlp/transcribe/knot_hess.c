@@ -9,6 +9,9 @@
  * modal defects), else central differences of the exact gradient. docs/planner.md compares
  * the modes. */
 #include "plan_impl.h"
+#include "dyn_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 
 #include <math.h>
 #include <stdint.h>

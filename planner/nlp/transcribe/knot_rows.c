@@ -3,6 +3,9 @@
  * (pl->rows) drives the values, the structure and the values of the
  * Jacobian, so the three can never disagree. */
 #include "plan_impl.h"
+#include "dyn_impl.h"
+#include "knot_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <string.h>

@@ -17,6 +17,9 @@
 #define EA_PATH_IMPL_H
 
 #include "plan_asn_impl.h"
+#include "dyn_impl.h"
+#include "par_impl.h"
+#include "path_entry_impl.h"
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"

@@ -1,6 +1,8 @@
 /* The path transcription's NLP: Hessian structure, rows, Jacobian and Hessian values (in two
  * parts on two threads with dynamics) and the callbacks the engines call. */
 #include "path_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 
 #include <math.h>
 #include <stdio.h>

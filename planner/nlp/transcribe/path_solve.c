@@ -1,5 +1,7 @@
 /* A solve in the path coordinate: guess, engines, replanning. */
 #include "ipopt_impl.h"
+#include "guess_impl.h"
+#include "knot_impl.h"
 #include "path_impl.h"
 
 #include <math.h>

@@ -16,6 +16,7 @@
  * gives f1 and its exact gradient. Built once in ea_planner_alloc; the
  * callbacks only evaluate the spline (no allocation). */
 #include "plan_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
