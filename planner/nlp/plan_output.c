@@ -294,7 +294,8 @@ const char *ea_plan_engine_name(const ea_plan_info_t *info) {
   if (info->ipm_iterations > 0 && !info->ipm_fallback) return "interior-point-ldl";
   if (info->iterations > 0) return "ipopt";
   if (info->newton_steps > 0) return "active-set-newton";
-  if (!info->ipopt_status_name[0]) return "none"; /* stopped before any engine ran */
+  if (!info->ipopt_status_name[0] && info->ipopt_status != EA_PLAN_NO_IPOPT)
+    return "none"; /* stopped before any engine ran */
   return "kkt-test";
 }
 

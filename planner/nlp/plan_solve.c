@@ -463,7 +463,7 @@ static void ea__solve_outcome(ea_planner_t *pl, ea_plan_info_t *info,
   const int rs = res->ipopt_status;
   ea__engine_result_fill(res, info);
   info->objective = obj;
-  const int solved = rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE;
+  const int solved = res->solved;
   if (solved) {
     if (!path_mode) { /* path mode: theta0 and its rates are the path spline's (1e-10) */
       ea__polish(pl, pl->x);
@@ -518,6 +518,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     char tmpl[64] = "";
     res.ipopt_status =
         ea__solve_engines(pl, start, warm, replan, tmpl, info, &res, &obj, &res.iterations);
+    res.solved =
+        res.ipopt_status == EA__IPOPT_SOLVE_SUCCEEDED || res.ipopt_status == EA__IPOPT_ACCEPTABLE;
     if (tmpl[0]) {
       info->deriv_errors = ea__deriv_errors(tmpl);
       remove(tmpl);

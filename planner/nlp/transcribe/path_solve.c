@@ -522,8 +522,8 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     remove(tmpl);
   }
   res->ipopt_status = (int)rs;
-  const int solved = rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE;
-  if (solved) {
+  res->solved = rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE;
+  if (res->solved) {
     memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
     memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
     memcpy(pp->mult_xl_sol, pp->mult_xl, (size_t)pp->n * sizeof *pp->x);
@@ -535,7 +535,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
    * 1e-9, path rows exact) */
   memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
   ea__pp_expand(pl, pp->x);
-  if (solved) ea__pp_keep_speed(pl);
+  if (res->solved) ea__pp_keep_speed(pl);
   memcpy(pl->x, pp->xk, (size_t)pl->n * sizeof *pl->x);
   memset(pl->mult_g, 0, (size_t)pl->m * sizeof *pl->mult_g);
   memset(pl->mult_xl, 0, (size_t)pl->n * sizeof *pl->mult_xl);
