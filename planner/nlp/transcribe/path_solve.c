@@ -381,6 +381,122 @@ static void ea__pp_strategy(const ea_planner_t *pl, ea_plan_start_t start, int w
   ea__plan_strategy(&c, s);
 }
 
+/* The engines before Ipopt (the strategy's sg): the start itself, the active-set Newton, the
+ * own interior point. *at_solution (in: the old plan passed the KKT test under the new
+ * limits) 1 when one of them gave the plan (res->engine); otherwise pp->x and the multipliers
+ * are Ipopt's start. */
+static ea_status_t ea__pp_own_engines(ea_planner_t *pl, const ea__strategy_t *sg, int traj_exact,
+                                      ea_plan_info_t *info, ea__engine_result_t *res,
+                                      int *at_solution, ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  if (*at_solution) res->engine = EA__ENGINE_KKT_START; /* the old plan under the new limits */
+  if (!*at_solution && sg->kkt_start && ea__pp_kkt_ok(pl)) {
+    *at_solution = 1; /* the predicted point is already the solution */
+    res->engine = EA__ENGINE_KKT_START;
+  }
+  if (!*at_solution && sg->asn) {
+    *at_solution = ea__pp_newton_start(pl, &res->newton_steps);
+    if (*at_solution) res->engine = EA__ENGINE_ASN;
+  }
+  /* a cold solve, or a replan the active-set Newton gave up: the own interior point */
+  if (!*at_solution && sg->ipm) {
+    if (sg->ipm_from_cold) {
+      memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x); /* the predicted point */
+      const ea_status_t st = ea__pp_cold_guess(pl, info, err);
+      if (st) return st;
+    }
+    /* the barrier's start as Ipopt's (ea__pp_run; with dynamics the knot transcription's) */
+    *at_solution = ea__pp_ipm_start(pl,
+                                    traj_exact ? 1e-7
+                                    : pl->rom  ? 1e-3
+                                               : 1e-4,
+                                    &res->ipm_iterations);
+    res->ipm_fallback = !*at_solution;
+    if (*at_solution) {
+      res->iterations = res->ipm_iterations;
+      res->engine = EA__ENGINE_IPM;
+    }
+    if (!*at_solution &&
+        sg->ipm_from_cold) { /* Ipopt's warm start: the predicted point, the multipliers */
+      memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
+      ea__pp_mult_from_sol(pp);
+    }
+  }
+  return EA_OK;
+}
+
+/* Ipopt on the path NLP from pp->x, its rows screened (engine/ipopt_screen.c): the limit rows
+ * whose family stays in the inner half of its range at the start are left out; a solution at
+ * which one of them reaches its limit is solved again from the same start with it in. *rs:
+ * Ipopt's return code; tmpl: the derivative checker's file (ea__pp_run). */
+static ea_status_t ea__pp_solve_ipopt(ea_planner_t *pl, const ea__strategy_t *sg, int warm,
+                                      int replan, int traj_exact, char tmpl[64],
+                                      ea_plan_info_t *info, int *rs, double *obj, int *iters,
+                                      ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner
+   * half of its range at the start are left out; a solution at which one of them reaches its
+   * limit is solved again from the same start with it in */
+  if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
+    return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||
+      !ea__pp_cb_g(pp->n, pp->x, 1, pp->m, pp->g, pl))
+    ea__screen_all(pp->scr);
+  else
+    ea__screen_select(pp->scr, pp->g, EA__SCREEN_BAND, pp->rfam, pp->nfam);
+  memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x);
+  for (int round = 0;; ++round) {
+    if (round) {
+      memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
+      if (warm) {
+        ea__pp_mult_from_sol(pp);
+      }
+    }
+    const ea_status_t st = ea__pp_ipopt(pl);
+    if (st) return ea_error_set(err, st, "Ipopt: cannot create the path problem");
+    info->ipopt_rows = ea__screen_rows(pp->scr);
+    ea__pp_run(pl, warm, replan, sg->ipopt_monotone, traj_exact, round ? NULL : tmpl, rs, obj,
+               iters);
+    if (!(*rs == EA__IPOPT_SOLVE_SUCCEEDED || *rs == EA__IPOPT_ACCEPTABLE)) break;
+    if (!ea__screen_grow(pp->scr, pp->g, EA__SCREEN_HOLD)) break;
+    info->screen_resolves++;
+  }
+  return EA_OK;
+}
+
+/* After the engines: the solution kept (res->solved from res->ipopt_status), the plan
+ * expanded to the knot layout into pl->x and the knot planner's rows at it into pl->g. */
+static ea_status_t ea__pp_finish(ea_planner_t *pl, ea__engine_result_t *res) {
+  ea__pp_t *pp = pl->pp;
+  const int rs = res->ipopt_status;
+  res->solved = rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE;
+  if (res->solved) {
+    memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
+    memcpy(pp->mult_xl_sol, pp->mult_xl, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_xu_sol, pp->mult_xu, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->g_sol, pp->g, (size_t)pp->m * sizeof *pp->x);
+    pp->have_solution = 1;
+  }
+  /* the plan in the knot layout; the knot planner's rows at it (statics rows: the splines'
+   * 1e-9, path rows exact) */
+  memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
+  ea__pp_expand(pl, pp->x);
+  if (res->solved) ea__pp_keep_speed(pl);
+  memcpy(pl->x, pp->xk, (size_t)pl->n * sizeof *pl->x);
+  memset(pl->mult_g, 0, (size_t)pl->m * sizeof *pl->mult_g);
+  memset(pl->mult_xl, 0, (size_t)pl->n * sizeof *pl->mult_xl);
+  memset(pl->mult_xu, 0, (size_t)pl->n * sizeof *pl->mult_xu);
+  pl->cache_val = pl->cache_sens = 0;
+  const double te = ea__mono_s(); /* not Ipopt's time (its statics shots are counted) */
+  /* the tip states only (the limits between the knots take the statics' rates from the
+   * splines' partials, ea__pp_statics_rates): a shot without sensitivities costs ~0.45 of one
+   * with them */
+  const ea_status_t se = ea__plan_eval_g_values(pl, pl->x, pl->g);
+  pl->t_callbacks += ea__mono_s() - te;
+  return se;
+}
+
 ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                          ea_plan_info_t *info, ea__engine_result_t *res, double *obj,
                          ea_error_t *err) {
@@ -452,100 +568,20 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
   *iters = 0;
   char tmpl[64] = "";
-  if (at_solution) res->engine = EA__ENGINE_KKT_START; /* the old plan under the new limits */
-  if (!at_solution && sg.kkt_start && ea__pp_kkt_ok(pl)) {
-    at_solution = 1; /* the predicted point is already the solution */
-    res->engine = EA__ENGINE_KKT_START;
-  }
-  if (!at_solution && sg.asn) {
-    at_solution = ea__pp_newton_start(pl, &res->newton_steps);
-    if (at_solution) res->engine = EA__ENGINE_ASN;
-  }
-  /* a cold solve, or a replan the active-set Newton gave up: the own interior point */
-  if (!at_solution && sg.ipm) {
-    if (sg.ipm_from_cold) {
-      memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x); /* the predicted point */
-      if ((st = ea__pp_cold_guess(pl, info, err))) return st;
-    }
-    /* the barrier's start as Ipopt's (ea__pp_run; with dynamics the knot transcription's) */
-    at_solution = ea__pp_ipm_start(pl,
-                                   traj_exact ? 1e-7
-                                   : pl->rom  ? 1e-3
-                                              : 1e-4,
-                                   &res->ipm_iterations);
-    res->ipm_fallback = !at_solution;
-    if (at_solution) {
-      *iters = res->ipm_iterations;
-      res->engine = EA__ENGINE_IPM;
-    }
-    if (!at_solution &&
-        sg.ipm_from_cold) { /* Ipopt's warm start: the predicted point, the multipliers */
-      memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
-      ea__pp_mult_from_sol(pp);
-    }
-  }
+  if ((st = ea__pp_own_engines(pl, &sg, traj_exact, info, res, &at_solution, err))) return st;
   if (at_solution) {
     rs = EA__IPOPT_SOLVE_SUCCEEDED; /* the start is the solution: no Ipopt problem, no iteration */
     ea__pp_cb_f(pp->n, pp->x, 0, obj, pl);
   } else {
     res->engine = EA__ENGINE_IPOPT;
-    /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner
-     * half of its range at the start are left out; a solution at which one of them reaches its
-     * limit is solved again from the same start with it in */
-    if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
-      return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
-    if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||
-        !ea__pp_cb_g(pp->n, pp->x, 1, pp->m, pp->g, pl))
-      ea__screen_all(pp->scr);
-    else
-      ea__screen_select(pp->scr, pp->g, EA__SCREEN_BAND, pp->rfam, pp->nfam);
-    memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x);
-    for (int round = 0;; ++round) {
-      if (round) {
-        memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
-        if (warm) {
-          ea__pp_mult_from_sol(pp);
-        }
-      }
-      if ((st = ea__pp_ipopt(pl)))
-        return ea_error_set(err, st, "Ipopt: cannot create the path problem");
-      info->ipopt_rows = ea__screen_rows(pp->scr);
-      ea__pp_run(pl, warm, replan, sg.ipopt_monotone, traj_exact, round ? NULL : tmpl, &rs, obj,
-                 iters);
-      if (!(rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE)) break;
-      if (!ea__screen_grow(pp->scr, pp->g, EA__SCREEN_HOLD)) break;
-      info->screen_resolves++;
-    }
+    if ((st = ea__pp_solve_ipopt(pl, &sg, warm, replan, traj_exact, tmpl, info, &rs, obj, iters,
+                                 err)))
+      return st;
   }
   if (tmpl[0]) {
     info->deriv_errors = ea__deriv_errors(tmpl);
     remove(tmpl);
   }
   res->ipopt_status = (int)rs;
-  res->solved = rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE;
-  if (res->solved) {
-    memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
-    memcpy(pp->mult_xl_sol, pp->mult_xl, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->mult_xu_sol, pp->mult_xu, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->g_sol, pp->g, (size_t)pp->m * sizeof *pp->x);
-    pp->have_solution = 1;
-  }
-  /* the plan in the knot layout; the knot planner's rows at it (statics rows: the splines'
-   * 1e-9, path rows exact) */
-  memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
-  ea__pp_expand(pl, pp->x);
-  if (res->solved) ea__pp_keep_speed(pl);
-  memcpy(pl->x, pp->xk, (size_t)pl->n * sizeof *pl->x);
-  memset(pl->mult_g, 0, (size_t)pl->m * sizeof *pl->mult_g);
-  memset(pl->mult_xl, 0, (size_t)pl->n * sizeof *pl->mult_xl);
-  memset(pl->mult_xu, 0, (size_t)pl->n * sizeof *pl->mult_xu);
-  pl->cache_val = pl->cache_sens = 0;
-  const double te = ea__mono_s(); /* not Ipopt's time (its statics shots are counted) */
-  /* the tip states only (the limits between the knots take the statics' rates from the
-   * splines' partials, ea__pp_statics_rates): a shot without sensitivities costs ~0.45 of one
-   * with them */
-  const ea_status_t se = ea__plan_eval_g_values(pl, pl->x, pl->g);
-  pl->t_callbacks += ea__mono_s() - te;
-  return se;
+  return ea__pp_finish(pl, res);
 }
