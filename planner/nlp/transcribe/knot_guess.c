@@ -158,6 +158,7 @@ static void ea__seg_q(const ea_planner_t *pl, int j, double sig, double *prev_ba
  * (u in [0, 1] of the returned duration). Returns the duration (0 when
  * no limit is finite: the caller keeps its smoothstep). */
 #define EA__TOPP_M 400
+/* (Just over 100 lines: the passes of one parametrisation share its stack grids.) */
 static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, double *sig,
                        double *sigdot, const double *th_sig, const double *th, double th_vmax,
                        double th_amax) {
