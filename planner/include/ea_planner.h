@@ -19,14 +19,13 @@ extern "C" {
 #endif
 
 /** Trajectory planner (docs/planner.md): a direct transcription of a task
- *  (ea_task_t) solved by Ipopt. Knots k = 0..N-1 at t_k = t_f s_k; per knot
- *  the actuator coordinates q = (L_c, alpha[, base]) and their rates (cubic
- *  Hermite between knots, as in the trajectory file), the statics unknowns
- *  (T, theta0, kappa0) tied to q by the shooting residual
- *  (kappa(L), x_L - x_c - L_c cos alpha, y_L - y_c - L_c sin alpha) = 0 with
- *  the exact sensitivities of ea_shoot() in the Jacobian, and theta0's rate
- *  (theta0 a C2 cubic spline). Every limit holds between the knots too
- *  (docs/planner.md, "Limits between the knots"). */
+ *  (ea_task_t) solved by the planner's engines (the own interior point, an
+ *  active-set Newton, Ipopt; docs/planner.md, "Engines"). Knots k = 0..N-1 at t_k = t_f s_k; per
+ * knot the actuator coordinates q = (L_c, alpha[, base]) and their rates (cubic Hermite between
+ * knots, as in the trajectory file), the statics unknowns (T, theta0, kappa0) tied to q by the
+ * shooting residual (kappa(L), x_L - x_c - L_c cos alpha, y_L - y_c - L_c sin alpha) = 0 with the
+ * exact sensitivities of ea_shoot() in the Jacobian, and theta0's rate (theta0 a C2 cubic spline).
+ * Every limit holds between the knots too (docs/planner.md, "Limits between the knots"). */
 typedef struct ea_planner ea_planner_t;
 
 /** Where a solve starts from. */

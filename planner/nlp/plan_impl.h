@@ -204,9 +204,8 @@ void ea__plan_hermite_acc(double q0, double q1, double v0, double v1, double h, 
  *  planner; the own interior point's stop, engine/ipm.c). */
 int ea__plan_time_up(void *ud);
 /** Does the Lagrangian Hessian take the row's curvature? Not the statics rows (their own
- *  blocks, knot_hess.c) nor the linear rest rows. (Leaving out the modal defects' curvature
- *  was tried: 60 % less work per iteration, but a payload-0.5 at-rest plan no longer
- *  converged in 500 iterations.) */
+ *  blocks, knot_hess.c) nor the linear rest rows. (Without the modal defects' curvature
+ *  at-rest plans with a payload no longer converge: docs/planner.md, "Tried, not adopted".) */
 static inline int ea__plan_row_curved(const ea__row_t *r) {
   return r->kind > EA__ROW_STATICS_Y && r->kind != EA__ROW_DYN_REST;
 }

@@ -337,16 +337,13 @@ static int ea__solve_engines(ea_planner_t *pl, ea_plan_start_t start, int warm, 
                              double *obj, int *iters) {
   ea__strategy_t sg;
   ea__knot_strategy(pl, start, warm, replan, &sg);
-  /* Barrier strategy: from a near-optimal start (a cold guess timed along
-   * its path, or a previous plan) the monotone strategy with mu_init 1e-4
-   * needs about one linear solve per iteration instead of the adaptive
-   * strategy's three, in as many or fewer iterations (docs/planner.md). If
-   * it fails, the solve is repeated from the same start with the adaptive
-   * strategy, the default for every other start. With dynamics (knot transcription) from a
-   * cold start, monotone from mu_init 1e-3 (bench_dyn, at-rest paper line: 66 instead of 89
-   * iterations at 100 knots; at 200 knots the adaptive strategy failed after 500, monotone
-   * converged in 111; 1e-2: 196 and 130; pick-place-3d 19 vs 20; measured with central-difference
-   * defect Hessians, now forward: 79 and 96). */
+  /* Barrier strategy: from a near-optimal start (a cold guess timed along its path, or a
+   * previous plan) the monotone strategy with mu_init 1e-4 needs about one linear solve per
+   * iteration instead of the adaptive strategy's three, in as many or fewer iterations. If it
+   * fails, the solve is repeated from the same start with the adaptive strategy, the default
+   * for every other start. With dynamics (knot transcription) from a cold start, monotone from
+   * mu_init 1e-3, where the adaptive strategy took more iterations or failed (docs/planner.md,
+   * "Ipopt"). */
   const double mono_mu = pl->rom ? 1e-3 : 1e-4;
   int rs = EA__IPOPT_INTERNAL_ERROR;
   const double ti = ea__mono_s();
@@ -361,8 +358,8 @@ static int ea__solve_engines(ea_planner_t *pl, ea_plan_start_t start, int warm, 
     rs = EA__IPOPT_SOLVE_SUCCEEDED; /* the own interior point's plan passed the KKT test */
   } else {
     res->engine = EA__ENGINE_IPOPT;
-    /* not with dynamics: the at-rest paper line keeps every row anyway (each family has a row
-     * near its limit at the cold guess), and test_rom_modes' plans took 1-2 iterations more */
+    /* not with dynamics: an at-rest plan keeps nearly every row anyway (each family has a row
+     * near its limit at the cold guess), and screening cost iterations there */
     if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows || pl->rom ||
         ea__plan_eval_g(pl, pl->x, pl->g))
       ea__screen_all(pl->scr);
@@ -401,13 +398,9 @@ static int ea__solve_ipopt_run(ea_planner_t *pl, int mono, double mono_mu, doubl
 
       /* With dynamics from a cold start and one model the bound multipliers start at
        * mu_init / slack instead of 1 (at mu_init 1e-3 the constant 1 is far off the central
-       * path): the at-rest paper line 28 -> 21 iterations, 200 knots 33 -> 24, payload 0.25
-       * 27 -> 20, payload 0.5 27 -> 19, pick-place-3d 19 -> 18, the same durations. The
-       * robust plans (corner models) keep 1: their first barrier phase backtracked with it
-       * (up to 7 line-search trials, a regularised KKT system), 43 -> 47 iterations and 29 %
-       * more time. Every dynamics cold start solves each barrier subproblem to 100 mu
-       * instead of 10 mu: 1-2 iterations fewer (robust 43 -> 42), durations within 2e-7
-       * (docs/planner.md). */
+       * path): fewer iterations, the same durations. The robust plans (corner models) keep
+       * 1: their first barrier phase backtracked with it. Every dynamics cold start solves
+       * each barrier subproblem to 100 mu instead of 10 mu (docs/planner.md, "Ipopt"). */
       ea__ipopt_barrier_options(pl->ip, mono, mono ? mono_mu : 0.0, mono && pl->rom && pl->M == 1,
                                 mono && pl->rom ? 100.0 : 10.0);
       pl->iter = 0;

@@ -17,15 +17,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Newton iterations per active set, active-set changes. */
 /* The active rows' diagonal in the KKT matrix (their fixed points are KKT points all the same:
- * it only steers the steps). On the paper line 1e-10 .. 1e-6 multiplied the stationarity
- * residual of the first step from a replan's prediction by 10^2 .. 10^5 (the redundant rows of
- * a bang-bang plan's active set are inconsistent to first order away from the solution); with
- * 1e-4 it converges in 3 steps to the rows' rounding floor (1.1e-10). */
+ * it only steers the steps). The redundant rows of a bang-bang plan's active set are
+ * inconsistent to first order away from the solution; a smaller diagonal lets the first
+ * steps from a replan's prediction blow up the stationarity residual (docs/planner.md, "The
+ * active-set Newton"). */
 #define EA__ASN_DREG 1e-4
-#define EA__ASN_NEWTON 6
-#define EA__ASN_SWAPS 2
+#define EA__ASN_NEWTON 6 /* Newton iterations per active set */
+#define EA__ASN_SWAPS 2  /* active-set changes */
 
 void ea__asn_free(ea__asn_t *a) {
   if (!a) return;

@@ -19,26 +19,21 @@
 #include <string.h>
 
 #define EA__IPM_INF 1e19 /* |bound| >= this: no bound (Ipopt's nlp_lower/upper_bound_inf) */
-/* A barrier problem is solved when its error is <= kappa_eps mu. Ipopt's 10 re-centred each
- * barrier problem in 5-7 iterations after the dual error jumped at the new mu; 1e4 lowers mu
- * as soon as the error is within 1e4 mu (the overall test stays tol): the 200 random lines of
- * tests/test_plan_sweep 1002 -> 779 iterations, eleven at-rest tasks 234 -> 176 (the paper
- * line 22 -> 14, 400 knots 31 -> 22; none more), the same plans; 1e3: 833 and 203, 1e5: 183
- * at rest (docs/planner.md, "The own interior point"). */
+/* A barrier problem is solved when its error is <= kappa_eps mu. Ipopt's 10 re-centres each
+ * barrier problem for several iterations after the dual error jumps at the new mu; 1e4 lowers
+ * mu as soon as the error is within 1e4 mu (the overall test stays tol): fewer iterations, the
+ * same plans (docs/planner.md, "The own interior point", "Tried, not adopted"). */
 #define EA__IPM_KAPPA_EPS 1e4
 #define EA__IPM_KAPPA_MU 0.2 /* mu <- max(mu_min, min(kappa_mu mu, mu^theta_mu)) */
 #define EA__IPM_THETA_MU 1.5
 #define EA__IPM_KAPPA_SIGMA 1e10 /* bound multipliers kept within this factor of mu / gap */
 #define EA__IPM_SMAX 100.0       /* Ipopt's s_max: the dual error's scaling */
-/* The equality rows' diagonal (Ipopt's delta_c). Always the diagonal pivot (measured with
- * KLU's pivot threshold before LDL), as the quasi-definite matrix [W + Sigma_x, J'; J, -D] allows
- * in any symmetric order where W + Sigma_x is positive definite; a pivot that spoils the solve
- * shows in its residual (checked, refined) or its inertia, and the Hessian's diagonal is
- * raised. On the paper line (bench_plan) delta_c 1e-10 .. 1e-6 took 10-11 iterations; with
- * the threshold 1e-8 .. 1e-12 (engine/asn.c's: 1e-8) KLU pivoted off the diagonal at the small
- * delta_c, or at 400 knots at the first iterate's nearly singular Hessian, and its fill made a
- * factorization 20-25x costlier (400 knots: 160 ms instead of 52); delta_c 1e-4 (engine/asn.c's)
- * perturbed the steps: 15 iterations. */
+/* The equality rows' diagonal (Ipopt's delta_c). Always the diagonal pivot, as the
+ * quasi-definite matrix [W + Sigma_x, J'; J, -D] allows in any symmetric order where
+ * W + Sigma_x is positive definite; a pivot that spoils the solve shows in its residual
+ * (checked, refined) or its inertia, and the Hessian's diagonal is raised. Small enough not to
+ * perturb the steps (the active-set Newton's 1e-4 did), large enough for the pivots of nearly
+ * dependent rows (docs/planner.md, "Tried, not adopted"). */
 #define EA__IPM_DELTA_C 1e-8
 #define EA__IPM_REFINE 10 /* refinements of a solve (Ipopt's max_refinement_steps) */
 
@@ -79,8 +74,8 @@ static double ea__ipm_clip(double z, double mu, double gap) {
   return z > lo ? z : lo;
 }
 
-/* max(m, |v|) with a NaN kept (fmax drops it), inline (the norms below called fmax in libm
- * some 400 000 times a plan) */
+/* max(m, |v|) with a NaN kept (fmax drops it), inline (the norms below run over every
+ * variable and row at every iteration) */
 static inline double ea__ipm_amax(double m, double v) {
   const double a = fabs(v);
   return a > m || isnan(a) ? a : m;

@@ -126,16 +126,15 @@ void ea__ipopt_options(IpoptProblem ip, const ea_planner_settings_t *s, int hess
 }
 
 /* The barrier's start and the warm-start pushes for both transcriptions. After an update
- * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
- * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
- * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
- * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
+ * (ea_planner_update, or bounds tightened for limits between knots) the shifted point is
+ * near, not at, the new optimum: a barrier and pushes between those of an unchanged task and
+ * a cold start (docs/planner.md, "Replanning a live planner"). */
 void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
   AddIpoptStrOption(ip, "warm_start_init_point", warm ? "yes" : "no");
   const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
   AddIpoptNumOption(ip, "mu_init", mu);
-  /* no options file: a stray ipopt.opt in the working directory would override these (seen:
-   * mu_strategy from such a file changed a plan's iterations and its t_f in the 7th digit) */
+  /* no options file: a stray ipopt.opt in the working directory would override these and
+   * change the plan */
   AddIpoptStrOption(ip, "option_file_name", "");
   if (!warm && !updated) return;
   AddIpoptNumOption(ip, "warm_start_bound_push", push);

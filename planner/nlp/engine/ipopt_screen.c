@@ -100,9 +100,8 @@ int ea__screen_select(ea__screen_t *s, const double *g, double band, const int *
     s->keep[i] = !(ea__screen_two_sided(&s->p, i, g[i], &lv) && lv < band);
   }
   /* a family with a row kept keeps its rows: a limit that one knot comes near is the one the
-   * solution may push against at others (tried row by row: the shoulder's acceleration rows
-   * of the line sweep, inside half their limit at the cold guess, came out at up to 17 times
-   * their limit without their rows, 38 of 300 solves repeated, 48 % more iterations) */
+   * solution may push against at others (row by row, rows left out come out far beyond their
+   * limits and the solves repeat: docs/planner.md, "Tried, not adopted") */
   if (family && nfam > 0) {
     unsigned char *fk = calloc((size_t)nfam, 1);
     if (!fk) {

@@ -618,7 +618,7 @@ double ea__plan_retime(const ea_planner_t *pl, double *x) {
   const int N = pl->N, nq = pl->nq;
   const double tf = x[EA__ITF(pl)];
   /* (a finer rule, only the limits the old plan had active, predicted t_f no better and
-   * needed 13 instead of 6 iterations) */
+   * cost iterations) */
   const double *xo = pl->x_sol;
   double un_max = 0.0, uo_max = 0.0;
   for (int k = 0; k + 1 < N; ++k) {

@@ -69,12 +69,9 @@ int ea__pp_supported(const ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   if (t->solver.transcription == EA_TASK_TRANSCRIPTION_KNOTS) return 0;
   if (t->path == EA_TASK_PATH_FREE) return 0;
-  /* with dynamics (auto) the path when the own interior point solves it (one model): the
-   * same iterations within 1-3 and less time on every measured task (no statics shots; the
-   * at-rest paper line about 44 -> 34 ms); with Ipopt (solver.nlp: ipopt, robust corner
-   * models) the knots: fewer Ipopt iterations and less time on every measured task, the same
-   * durations to 1e-5 (bench_dyn; paper line at rest 34 -> 27 iterations, payload 0.25 37 ->
-   * 27, 0.5 34 -> 25, robust 72 -> 40) */
+  /* with dynamics (auto) the path when the own interior point solves it (one model: no
+   * statics shots inside the solve); with Ipopt (solver.nlp: ipopt, robust corner models) the
+   * knots, where Ipopt takes fewer iterations (docs/planner.md, "Arriving at rest") */
   if (t->solver.transcription == EA_TASK_TRANSCRIPTION_AUTO && t->dynamics.modes > 0 &&
       ((t->solver.engines == EA_PLANNER_ENGINES_IPOPT) || pl->M > 1))
     return 0;

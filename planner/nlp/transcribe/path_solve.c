@@ -61,12 +61,9 @@ static int ea__pp_ipm_start(ea_planner_t *pl, double mu_init, int *iters) {
   *iters = 0;
   if (ea__pp_asn(pl)) return 0;
   /* the start 1e-6 inside (Ipopt's setting here, ea__pp_ipopt), the slacks 1e-2 (Ipopt's
-   * default): with 1e-6 the rows the time-optimal guess holds at their limits gave pivots so
-   * small that in 5-7 of the line sweep's ~100 plans (test_plan_sweep) no raise of the
-   * diagonals made the first solve refine (they went to Ipopt), with 1e-3 or 1e-2 none; 1e-2
-   * took the paper line 10 -> 9 iterations, the sweep 1052 -> 1002; the start itself 1e-2
-   * inside: 25. From a plan file that holds the task's rows (mu_init 1e-7) 1e-6: the paper
-   * line's own file in 5 iterations, 16 with 1e-2 */
+   * default): the rows the time-optimal guess holds at their limits give pivots too small for
+   * the first solve to refine with slacks 1e-6 inside. From a plan file that holds the task's
+   * rows (mu_init 1e-7) the slacks 1e-6 inside: that start is already the plan */
   ea__ipm_opt_t o;
   ea__plan_ipm_opt(pl, mu_init, mu_init < 1e-6 ? 1e-6 : 1e-2, &o);
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
@@ -135,9 +132,8 @@ static void ea__pp_reduce(ea_planner_t *pl, const double *xk, double *xs) {
   if (pl->has_tf) xs[pp->itf] = xk[EA__ITF(pl)];
 }
 
-/* Ipopt's rows (engine/ipopt_screen.c, EA__SCREEN_BAND and EA__SCREEN_HOLD there). Measured
- * (bench_plan, docs/planner.md): the paper line's Ipopt sees 493 of 692 rows, the same
- * iterations and plan in less time per iteration. */
+/* Ipopt's rows (engine/ipopt_screen.c, EA__SCREEN_BAND and EA__SCREEN_HOLD there;
+ * docs/planner.md, "Ipopt"). */
 static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
   if (!pp->rfam && !(pp->rfam = malloc(sizeof(int) * (size_t)(pp->m + 1)))) return NULL;
@@ -507,10 +503,9 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   if (pp->path_status)
     return ea_error_set(err, pp->path_status, "infeasible task: %s", pp->path_msg);
   /* A replan whose limits changed is a cold plan, from the cold guess (timed time-optimally
-   * along the path under the new limits), unless the old plan is still a KKT point: from the
-   * old plan re-timed into them it took 12-13 iterations instead of 10 (cable speed or
-   * acceleration limit -5..-10 % on the paper line; -1 %: 9 instead of 10), the old active
-   * set's multipliers being wrong. */
+   * along the path under the new limits), unless the old plan is still a KKT point: the old
+   * plan re-timed into them took more iterations, the old active set's multipliers being
+   * wrong. */
   const int limits_changed = start == EA_PLAN_WARM && pp->have_solution && pl->updated &&
                              ea__pp_limits_differ(&pl->task.limits, &pl->task_sol.limits);
   int warm = start == EA_PLAN_WARM && pp->have_solution;
@@ -532,9 +527,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   }
   /* A previous plan (EA_PLAN_FROM_TRAJ) without dynamics: if it holds this task's rows to
    * 1e-6 it is (nearly) this task's plan, and the barrier starts at 1e-7; otherwise the cold
-   * guess, timed along this path, is the better start. Measured on the paper line (bench_plan):
-   * the same task's plan file 14 -> 7 iterations, a plan of the goal 5 mm away 22 -> 10 (the
-   * cold plan's); the file's plan with mu_init 1e-4 .. 1e-7 took 22-45 iterations there. */
+   * guess, timed along this path, is the better start (docs/planner.md, "Initial guess"). */
   int traj_exact = 0;
   if (!warm && start == EA_PLAN_FROM_TRAJ && !pl->rom) {
     if ((st = ea__plan_guess_traj(pl, prev, pl->x, err))) return st;
