@@ -1,5 +1,7 @@
-/* Private: the reduced dynamic model's rows (transcribe/dyn_rows.c): the modal states, their
- * defects, the tension and torque with the modal parts, the terminal and rest rows. */
+/* Private: the reduced dynamic model in the transcription: its table and rows
+ * (transcribe/dyn_rows.c: the modal states, their defects, the tension and torque with the
+ * modal parts, the terminal and rest rows) and its guesses and figures
+ * (transcribe/dyn_model.c). */
 #ifndef EA_DYN_IMPL_H
 #define EA_DYN_IMPL_H
 
@@ -49,7 +51,7 @@ int ea__plan_dyn_row(const ea_planner_t *pl, const double *x, const ea__row_t *r
 /** Modal states of x integrated along its (L_c, alpha) from rest (a guess). */
 void ea__plan_dyn_fill(const ea_planner_t *pl, double *x);
 /* A cold guess with dynamics: stretched in time inside its limits (minimum time), then its
- * modal states filled (dyn_rows.c). */
+ * modal states filled (dyn_model.c). */
 void ea__plan_dyn_guess(const ea_planner_t *pl, double *x);
 /** For the refinement (plan_refine.c): model j's table (0 the nominal, 1..4 the robust
  *  corners; NULL: none) and the held plan's modal state of model j at the goal (Kper values
