@@ -61,7 +61,7 @@ endif()
 file(RELATIVE_PATH EA_PC_TO_PREFIX /prefix/${EA_INSTALL_PKGCONFIGDIR} /prefix)
 string(REGEX REPLACE "/$" "" EA_PC_TO_PREFIX "${EA_PC_TO_PREFIX}")
 set(EA_PC_DEPS "gsl ipopt nlopt yaml-0.1 lapack")
-set(EA_PC_SYSLIBS "-lklu -lldl -lpthread -lm") # SuiteSparse has no pkg-config module here
+set(EA_PC_SYSLIBS "-lklu -lldl -lamd -lpthread -lm") # SuiteSparse has no pkg-config module here
 if(BUILD_SHARED_LIBS)
   set(EA_PC_REQUIRES "")
   set(EA_PC_REQUIRES_PRIVATE "${EA_PC_DEPS}")

@@ -188,6 +188,48 @@ static ea_status_t plan(ea_task_t *t, ea_planner_t **pl, ea_traj_t *tr, ea_plan_
   return st;
 }
 
+/* The info names Ipopt's status only where Ipopt gave the result: the paper line's cold plan
+ * is the own interior point's (the strategy's table, strategy/strategy_impl.h: a path with
+ * solver.nlp auto), its warm re-solve without a change passes the KKT test as it was, and
+ * with settings.engines ipopt Ipopt plans it. */
+static void test_engine_info(void) {
+  char path[1024], what[800];
+  snprintf(path, sizeof path, "%s/problems/examples/paper-line.yaml", src_dir());
+  ea_task_t t;
+  ea_error_t e = {0};
+  if (ea_task_load(path, NULL, &t, &e)) {
+    ea_test_true(0, "engine info: paper-line loads");
+    return;
+  }
+  ea_planner_settings_t s;
+  ea_planner_settings_default(&s);
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t info;
+  ea_status_t st = ea_planner_alloc_with(&t, &s, &pl, &e);
+  const char *want[2] = {"interior-point-ldl", "kkt-test"};
+  for (int pass = 0; pass < 2 && !st; ++pass) {
+    st = ea_planner_solve(pl, pass ? EA_PLAN_WARM : EA_PLAN_COLD, NULL, &info, &e);
+    snprintf(what, sizeof what, "engine info: %s plan by %s, ipopt_status %d \"%s\" (%s)",
+             pass ? "warm" : "cold", ea_plan_engine_name(&info), info.ipopt_status,
+             info.ipopt_status_name, e.msg);
+    ea_test_true(st == EA_OK && !strcmp(ea_plan_engine_name(&info), want[pass]) &&
+                     !strcmp(ea_plan_engine_status(&info), "converged") &&
+                     info.ipopt_status == EA_PLAN_NO_IPOPT && !info.ipopt_status_name[0],
+                 what);
+  }
+  ea_planner_free(pl);
+  pl = NULL;
+  s.engines = EA_PLANNER_ENGINES_IPOPT;
+  st = ea_planner_alloc_with(&t, &s, &pl, &e);
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e);
+  snprintf(what, sizeof what, "engine info: Ipopt's plan, ipopt_status %d \"%s\" (%s)",
+           info.ipopt_status, info.ipopt_status_name, e.msg);
+  ea_test_true(st == EA_OK && !strcmp(ea_plan_engine_name(&info), "ipopt") &&
+                   info.ipopt_status == 0 && !strcmp(info.ipopt_status_name, "Solve_Succeeded"),
+               what);
+  ea_planner_free(pl);
+}
+
 static void test_paper_line(void) {
   char path[1024], what[600];
   snprintf(path, sizeof path, "%s/problems/examples/paper-line.yaml", src_dir());
@@ -750,6 +792,7 @@ static void test_replan_loaded(void) {
 int main(int argc, char **argv) {
   test_paper_line();
   test_settings();
+  test_engine_info();
   test_topp();
   test_closed_forms();
   test_derivatives();

@@ -11,6 +11,7 @@
 #include "ea_test.h"
 #include "plan_asn_impl.h"
 
+#include <coin/IpStdCInterface.h>
 #include <math.h>
 #include <string.h>
 
@@ -69,7 +70,7 @@ static Bool hess(Index n, Number *x, Bool new_x, Number of, Index m, Number *lam
 
 int main(void) {
   const double m = 1e-9, inf = 1e19;
-  ea__asn_nlp_t p = {.grad_f = grad_f, .g = eval_g, .jac = jac, .h = hess};
+  ea__nlp_t p = {.grad_f = grad_f, .g = eval_g, .jac = jac, .h = hess};
   const ea__asn_tol_t tol = {.ptol = 1e-12, .dtol = 1e-12, .margin = m};
   char msg[200];
   int it;
@@ -82,7 +83,8 @@ int main(void) {
     p.n = 2, p.m = 2, p.nnz_j = 4, p.nnz_h = 2;
     p.xl = xl, p.xu = xu, p.gl = gl, p.gu = gu, p.jrow = jr, p.jcol = jcl, p.hrow = hr;
     p.hcol = hc;
-    ea__asn_t *a = ea__asn_alloc(&p);
+    ea__kkt_t *k = ea__kkt_alloc(&p);
+    ea__asn_t *a = k ? ea__asn_alloc(k) : NULL;
     const double s = sqrt(0.5), xref[2] = {s, s}, gref[2] = {1.0, 2.0};
     double x[2] = {0.69, 0.73}, mg[2] = {0.3, 0.1}, ml[2] = {0, 0}, mu[2] = {0, 0};
     const int rc = a ? ea__asn_solve(a, &tol, xref, gref, x, mg, ml, mu, &it) : -2;
@@ -97,6 +99,7 @@ int main(void) {
                 "disc: stationarity of the returned multipliers");
     ea_test_true(mg[0] >= 0.0 && mg[1] >= 0.0, "disc: multipliers of upper rows >= 0");
     ea__asn_free(a);
+    ea__kkt_free(k);
   }
   /* 2. a bound found on the way */
   {
@@ -106,7 +109,8 @@ int main(void) {
     p.n = 2, p.m = 1, p.nnz_j = 2, p.nnz_h = 2;
     p.xl = xl, p.xu = xu, p.gl = gl, p.gu = gu, p.jrow = jr, p.jcol = jcl, p.hrow = hr;
     p.hcol = hc;
-    ea__asn_t *a = ea__asn_alloc(&p);
+    ea__kkt_t *k = ea__kkt_alloc(&p);
+    ea__asn_t *a = k ? ea__asn_alloc(k) : NULL;
     const double xref[2] = {0.0, 0.0}, gref[1] = {0.0};
     double x[2] = {0.0, 0.0}, mg[1] = {0}, ml[2] = {0, 0}, mu[2] = {0, 0};
     const int rc = a ? ea__asn_solve(a, &tol, xref, gref, x, mg, ml, mu, &it) : -2;
@@ -118,6 +122,7 @@ int main(void) {
     ea_test_rel(mu[0], 2.0 * (1.0 + m), 1e-12, "bound found: its multiplier 2 (1 + margin)");
     ea_test_true(mg[0] == 0.0 && ml[0] == 0.0 && mu[1] == 0.0, "bound found: the others 0");
     ea__asn_free(a);
+    ea__kkt_free(k);
   }
   /* 3. contradictory rows */
   {
@@ -127,13 +132,15 @@ int main(void) {
     p.n = 1, p.m = 2, p.nnz_j = 2, p.nnz_h = 1;
     p.xl = xl, p.xu = xu, p.gl = gl, p.gu = gu, p.jrow = jr, p.jcol = jcl, p.hrow = hr;
     p.hcol = hc;
-    ea__asn_t *a = ea__asn_alloc(&p);
+    ea__kkt_t *k = ea__kkt_alloc(&p);
+    ea__asn_t *a = k ? ea__asn_alloc(k) : NULL;
     const double xref[1] = {0.5}, gref[2] = {0.5, 0.5};
     double x[1] = {0.5}, mg[2] = {0, 0}, ml[1] = {0}, mu[1] = {0};
     const int rc = a ? ea__asn_solve(a, &tol, xref, gref, x, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg, "contradictory rows: no candidate (rc %d, want -1)", rc);
     ea_test_true(rc == -1, msg);
     ea__asn_free(a);
+    ea__kkt_free(k);
   }
   return ea_test_summary("test_plan_asn");
 }

@@ -18,6 +18,10 @@
  * Lagrangian's gradient, and the defects' values and gradients it keeps against the knot
  * layout's through the chain rule. */
 #include "ea_planner.h"
+#include "dyn_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
+#include "path_entry_impl.h"
 #include "ea_problems.h"
 #include "ea_test.h"
 #include "ea_test_task.h"

@@ -15,6 +15,7 @@
 #include "ea_test.h"
 #include "plan_ipm_impl.h"
 
+#include <coin/IpStdCInterface.h>
 #include <math.h>
 #include <string.h>
 
@@ -75,7 +76,7 @@ static Bool hess(Index n, Number *x, Bool new_x, Number of, Index m, Number *lam
 
 int main(void) {
   const double inf = 1e19;
-  ea__asn_nlp_t p = {.grad_f = grad_f, .g = eval_g, .jac = jac, .h = hess};
+  ea__nlp_t p = {.grad_f = grad_f, .g = eval_g, .jac = jac, .h = hess};
   const ea__ipm_opt_t o = {
       .tol = 1e-8, .ptol = 1e-10, .mu_init = 1e-4, .push = 1e-6, .push_s = 1e-2, .max_iter = 40};
   char msg[240];
@@ -89,7 +90,7 @@ int main(void) {
     p.n = 2, p.m = 2, p.nnz_j = 4, p.nnz_h = 2;
     p.xl = xl, p.xu = xu, p.gl = gl, p.gu = gu, p.jrow = jr, p.jcol = jcl, p.hrow = hr;
     p.hcol = hc;
-    ea__asn_t *a = ea__asn_alloc(&p);
+    ea__kkt_t *a = ea__kkt_alloc(&p);
     double x[2] = {0.0, 0.0}, mg[2] = {0, 0}, ml[2] = {0, 0}, mu[2] = {0, 0};
     const int rc = a ? ea__ipm_solve(a, &o, x, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg,
@@ -112,7 +113,7 @@ int main(void) {
     const int rs = a ? ea__ipm_solve(a, &os, xs, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg, "stop: rc %d after %d iterations (want -1 after 0)", rs, it);
     ea_test_true(rs == -1 && it == 0, msg);
-    ea__asn_free(a);
+    ea__kkt_free(a);
   }
   /* 2. a concave objective on an interval */
   {
@@ -122,7 +123,7 @@ int main(void) {
     p.n = 1, p.m = 0, p.nnz_j = 0, p.nnz_h = 1;
     p.xl = xl, p.xu = xu, p.gl = NULL, p.gu = NULL, p.jrow = NULL, p.jcol = NULL, p.hrow = hr;
     p.hcol = hc;
-    ea__asn_t *a = ea__asn_alloc(&p);
+    ea__kkt_t *a = ea__kkt_alloc(&p);
     double x[1] = {0.5}, mg[1] = {0}, ml[1] = {0}, mu[1] = {0};
     const int rc = a ? ea__ipm_solve(a, &o, x, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg, "concave: rc %d after %d iterations, x = %.12g, z_U = %.12g", rc, it,
@@ -130,7 +131,7 @@ int main(void) {
     ea_test_true(rc == 0, msg);
     ea_test_abs(x[0], 2.0, 1e-8, "concave: the minimum at the upper bound (not the maximum 0)");
     ea_test_abs(mu[0], 4.0, 1e-7, "concave: its multiplier -f'(2) = 4");
-    ea__asn_free(a);
+    ea__kkt_free(a);
   }
   /* 3. contradictory rows */
   {
@@ -140,13 +141,13 @@ int main(void) {
     p.n = 1, p.m = 2, p.nnz_j = 2, p.nnz_h = 1;
     p.xl = xl, p.xu = xu, p.gl = gl, p.gu = gu, p.jrow = jr, p.jcol = jcl, p.hrow = hr;
     p.hcol = hc;
-    ea__asn_t *a = ea__asn_alloc(&p);
+    ea__kkt_t *a = ea__kkt_alloc(&p);
     double x[1] = {0.5}, mg[2] = {0, 0}, ml[1] = {0}, mu[1] = {0};
     const int rc = a ? ea__ipm_solve(a, &o, x, mg, ml, mu, &it) : -2;
     snprintf(msg, sizeof msg, "contradictory rows: no candidate (rc %d after %d iterations)", rc,
              it);
     ea_test_true(rc == -1, msg);
-    ea__asn_free(a);
+    ea__kkt_free(a);
   }
   return ea_test_summary("test_plan_ipm");
 }

@@ -17,6 +17,7 @@
  * replan with other limits from the cold guess; a plan file of the task or of another one)
  * on the paper line. */
 #include "ea_planner.h"
+#include "path_entry_impl.h"
 #include "ea_problems.h"
 #include "ea_test.h"
 #include "plan_impl.h"

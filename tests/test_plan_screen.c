@@ -16,6 +16,7 @@
 #include "ea_test.h"
 #include "plan_screen_impl.h"
 
+#include <coin/IpStdCInterface.h>
 #include <math.h>
 #include <string.h>
 

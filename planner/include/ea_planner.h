@@ -19,14 +19,13 @@ extern "C" {
 #endif
 
 /** Trajectory planner (docs/planner.md): a direct transcription of a task
- *  (ea_task_t) solved by Ipopt. Knots k = 0..N-1 at t_k = t_f s_k; per knot
- *  the actuator coordinates q = (L_c, alpha[, base]) and their rates (cubic
- *  Hermite between knots, as in the trajectory file), the statics unknowns
- *  (T, theta0, kappa0) tied to q by the shooting residual
- *  (kappa(L), x_L - x_c - L_c cos alpha, y_L - y_c - L_c sin alpha) = 0 with
- *  the exact sensitivities of ea_shoot() in the Jacobian, and theta0's rate
- *  (theta0 a C2 cubic spline). Every limit holds between the knots too
- *  (docs/planner.md, "Limits between the knots"). */
+ *  (ea_task_t) solved by the planner's engines (the own interior point, an
+ *  active-set Newton, Ipopt; docs/planner.md, "Engines"). Knots k = 0..N-1 at t_k = t_f s_k; per
+ * knot the actuator coordinates q = (L_c, alpha[, base]) and their rates (cubic Hermite between
+ * knots, as in the trajectory file), the statics unknowns (T, theta0, kappa0) tied to q by the
+ * shooting residual (kappa(L), x_L - x_c - L_c cos alpha, y_L - y_c - L_c sin alpha) = 0 with the
+ * exact sensitivities of ea_shoot() in the Jacobian, and theta0's rate (theta0 a C2 cubic spline).
+ * Every limit holds between the knots too (docs/planner.md, "Limits between the knots"). */
 typedef struct ea_planner ea_planner_t;
 
 /** Where a solve starts from. */
@@ -37,16 +36,22 @@ typedef enum ea_plan_start {
   EA_PLAN_FROM_TRAJ /**< a previous plan (ea_traj_t) resampled onto the knots */
 } ea_plan_start_t;
 
+/** ea_plan_info_t::ipopt_status of a solve that another engine finished (the own interior
+ *  point, the active-set Newton, or a start that passed the KKT test): Ipopt did not run. */
+#define EA_PLAN_NO_IPOPT (-1000)
+
 /** Most distinct active-limit names an info reports. */
 #define EA_PLAN_MAX_ACTIVE 16
 
 /** Result of a solve. */
 typedef struct ea_plan_info {
   ea_status_t status;         /**< EA_OK, EA_ERR_INFEASIBLE, EA_ERR_NOCONV, EA_ERR_MAXITER, ... */
-  int ipopt_status;           /**< Ipopt's raw ApplicationReturnStatus when ea_plan_engine_name is
-                                   "ipopt"; for a plan another engine found, Solve_Succeeded (0). Read
-                                   ea_plan_engine_status for the outcome in neutral words */
-  char ipopt_status_name[48]; /**< its name ("" when the solve stopped before any engine) */
+  int ipopt_status;           /**< Ipopt's raw ApplicationReturnStatus when Ipopt gave the result
+                                   (ea_plan_engine_name "ipopt"); EA_PLAN_NO_IPOPT when another
+                                   engine did; 0 when the solve stopped before any engine. The
+                                   engine and its outcome in neutral words: ea_plan_engine_name,
+                                   ea_plan_engine_status */
+  char ipopt_status_name[48]; /**< its name ("" when Ipopt did not run) */
   int iterations;             /**< iterations of the engines of the call (the own interior point's
                                    plan, or Ipopt's summed over its attempts and re-solves) */
   int newton_steps;           /**< active-set Newton steps of warm starts (the path transcription's

@@ -26,9 +26,8 @@ typedef struct ea_sim_settings {
   int elements;              /**< FE elements (default EA_FE_DEFAULT_ELEMENTS) */
   ea_fe_scheme_t scheme;     /**< time integrator (default EA_FE_SCHEME_GENALPHA, rho_inf 0.9:
                                   bench/bench_sim's work-precision table) */
-  double dt;                 /**< [s] time step (default 1e-3: the residual peak within 7.2e-5
-                                  of the dt -> 0 limit with genalpha, 1.5e-4 with the energy
-                                  scheme, on bench/bench_sim's cases; docs/cli-fe.md) */
+  double dt;                 /**< [s] time step (default 1e-3: the residual peak close to its
+                                  dt -> 0 limit on bench/bench_sim's cases; docs/cli-fe.md) */
   double rho_inf;            /**< generalized-alpha spectral radius (default 0.9) */
   double settle;             /**< [s] simulated after the motion (default 3) */
   int cable_active;          /**< 0: passive cable (default), 1: active (tension drives) */

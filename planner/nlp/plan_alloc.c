@@ -2,6 +2,12 @@
  * ea_planner_free releases them. Everything is allocated here; the callbacks do not
  * allocate. */
 #include "ipopt_impl.h"
+#include "dyn_impl.h"
+#include "guess_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
+#include "path_entry_impl.h"
+#include "vib_impl.h"
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
@@ -18,9 +24,9 @@ const ea_task_t *ea_planner_task(const ea_planner_t *pl) {
 
 void ea_planner_free(ea_planner_t *pl) {
   if (!pl) return;
-  if (pl->ip) FreeIpoptProblem(pl->ip);
+  ea__ipopt_free(pl->ip);
   ea__screen_free(pl->scr);
-  ea__asn_free(pl->asn);
+  ea__kkt_free(pl->kkt);
   free(pl->rfam);
   free(pl->xstart);
   ea__plan_hess_free(pl);
@@ -119,6 +125,38 @@ ea_status_t ea_planner_alloc(const ea_task_t *task, ea_planner_t **out, ea_error
   return ea_planner_alloc_with(task, &task->solver, out, err);
 }
 
+/* The knot transcription's arrays of pl->n variables and pl->m rows, the statics cache and the
+ * guess's scratch (calloc'd). 0, or -1 (out of memory). */
+static int ea__plan_arrays(ea_planner_t *pl) {
+  const int N = pl->N;
+  const size_t n = (size_t)pl->n, m = (size_t)pl->m;
+  pl->rows = calloc(m, sizeof *pl->rows);
+  pl->gl = calloc(m, sizeof *pl->gl);
+  pl->gu = calloc(m, sizeof *pl->gu);
+  pl->g = calloc(m, sizeof *pl->g);
+  pl->mult_g = calloc(m, sizeof *pl->mult_g);
+  pl->mult_g_sol = calloc(m, sizeof *pl->mult_g);
+  pl->x = calloc(n, sizeof *pl->x);
+  pl->xl = calloc(n, sizeof *pl->x);
+  pl->xu = calloc(n, sizeof *pl->x);
+  pl->mult_xl = calloc(n, sizeof *pl->x);
+  pl->mult_xu = calloc(n, sizeof *pl->x);
+  pl->x_sol = calloc(n, sizeof *pl->x);
+  pl->mult_xl_sol = calloc(n, sizeof *pl->x);
+  pl->mult_xu_sol = calloc(n, sizeof *pl->x);
+  pl->xL = calloc((size_t)N * 4, sizeof *pl->xL);
+  pl->S = calloc((size_t)N * 16, sizeof *pl->S);
+  pl->pkey = calloc((size_t)N * 4, sizeof *pl->pkey);
+  pl->kvalid = calloc((size_t)N, sizeof *pl->kvalid);
+  pl->gscr = calloc((size_t)N * 5, sizeof *pl->gscr);
+  pl->wscr = calloc((size_t)N * 2, sizeof *pl->wscr);
+  if (!pl->rows || !pl->gl || !pl->gu || !pl->g || !pl->mult_g || !pl->mult_g_sol || !pl->x ||
+      !pl->xl || !pl->xu || !pl->mult_xl || !pl->mult_xu || !pl->x_sol || !pl->mult_xl_sol ||
+      !pl->mult_xu_sol || !pl->xL || !pl->S || !pl->pkey || !pl->kvalid || !pl->gscr || !pl->wscr)
+    return -1;
+  return 0;
+}
+
 ea_status_t ea_planner_alloc_with(const ea_task_t *task, const ea_planner_settings_t *settings,
                                   ea_planner_t **out, ea_error_t *err) {
   if (!task || !settings || !out)
@@ -168,31 +206,7 @@ ea_status_t ea_planner_alloc_with(const ea_task_t *task, const ea_planner_settin
     return st;
   }
   pl->m = ea__knot_rows(pl);
-  const size_t n = (size_t)pl->n, m = (size_t)pl->m;
-  pl->rows = calloc(m, sizeof *pl->rows);
-  pl->gl = calloc(m, sizeof *pl->gl);
-  pl->gu = calloc(m, sizeof *pl->gu);
-  pl->g = calloc(m, sizeof *pl->g);
-  pl->mult_g = calloc(m, sizeof *pl->mult_g);
-  pl->mult_g_sol = calloc(m, sizeof *pl->mult_g);
-  pl->x = calloc(n, sizeof *pl->x);
-  pl->xl = calloc(n, sizeof *pl->x);
-  pl->xu = calloc(n, sizeof *pl->x);
-  pl->mult_xl = calloc(n, sizeof *pl->x);
-  pl->mult_xu = calloc(n, sizeof *pl->x);
-  pl->x_sol = calloc(n, sizeof *pl->x);
-  pl->mult_xl_sol = calloc(n, sizeof *pl->x);
-  pl->mult_xu_sol = calloc(n, sizeof *pl->x);
-  pl->xL = calloc((size_t)N * 4, sizeof *pl->xL);
-  pl->S = calloc((size_t)N * 16, sizeof *pl->S);
-  pl->pkey = calloc((size_t)N * 4, sizeof *pl->pkey);
-  pl->kvalid = calloc((size_t)N, sizeof *pl->kvalid);
-  pl->gscr = calloc((size_t)N * 5, sizeof *pl->gscr);
-  pl->wscr = calloc((size_t)N * 2, sizeof *pl->wscr);
-  if (!pl->rows || !pl->gl || !pl->gu || !pl->g || !pl->mult_g || !pl->mult_g_sol || !pl->x ||
-      !pl->xl || !pl->xu || !pl->mult_xl || !pl->mult_xu || !pl->x_sol || !pl->mult_xl_sol ||
-      !pl->mult_xu_sol || !pl->xL || !pl->S || !pl->pkey || !pl->kvalid || !pl->gscr || !pl->wscr)
-    goto nomem;
+  if (ea__plan_arrays(pl)) goto nomem;
   ea__knot_rows(pl);
   ea__knot_bounds(pl);
   ea__plan_terms_setup(pl);

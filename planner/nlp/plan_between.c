@@ -16,6 +16,9 @@
  * those of the two knots that are not pinned by 1.5 x the excess; the
  * caller re-solves. */
 #include "plan_impl.h"
+#include "knot_impl.h"
+#include "path_entry_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <string.h>

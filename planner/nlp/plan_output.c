@@ -2,7 +2,9 @@
  * drawn by the CLI (planner/app). */
 #include "ea_refine.h"
 #include "ea_simulate.h"
+#include "ipopt_impl.h"
 #include "plan_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -292,7 +294,8 @@ const char *ea_plan_engine_name(const ea_plan_info_t *info) {
   if (info->ipm_iterations > 0 && !info->ipm_fallback) return "interior-point-ldl";
   if (info->iterations > 0) return "ipopt";
   if (info->newton_steps > 0) return "active-set-newton";
-  if (!info->ipopt_status_name[0]) return "none"; /* stopped before any engine ran */
+  if (!info->ipopt_status_name[0] && info->ipopt_status != EA_PLAN_NO_IPOPT)
+    return "none"; /* stopped before any engine ran */
   return "kkt-test";
 }
 
@@ -300,17 +303,17 @@ const char *ea_plan_engine_status(const ea_plan_info_t *info) {
   const char *e = ea_plan_engine_name(info);
   if (!strcmp(e, "none")) return "none";
   if (strcmp(e, "ipopt")) return "converged"; /* the own engines hand over KKT-tested points */
-  switch ((enum ApplicationReturnStatus)info->ipopt_status) {
-  case Solve_Succeeded:
+  switch (info->ipopt_status) {
+  case EA__IPOPT_SOLVE_SUCCEEDED:
     return "converged";
-  case Solved_To_Acceptable_Level:
+  case EA__IPOPT_ACCEPTABLE:
     return "converged-acceptable";
-  case Maximum_Iterations_Exceeded:
+  case EA__IPOPT_MAX_ITER:
     return "max-iterations";
-  case Maximum_CpuTime_Exceeded:
-  case User_Requested_Stop: /* the planner's wall-time limit (solver.max_time_s) */
+  case EA__IPOPT_MAX_CPU_TIME:
+  case EA__IPOPT_USER_STOP: /* the planner's wall-time limit (solver.max_time_s) */
     return "max-time";
-  case Infeasible_Problem_Detected:
+  case EA__IPOPT_INFEASIBLE:
     return "infeasible";
   default:
     return "failed";

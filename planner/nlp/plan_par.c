@@ -7,6 +7,7 @@
  * for a few milliseconds, then blocked on a condition variable; the caller waits for the
  * worker's part spinning (the two parts take about as long). */
 #include "plan_impl.h"
+#include "par_impl.h"
 
 #include <pthread.h>
 #include <sched.h>
@@ -26,10 +27,9 @@ struct ea__par {
   int busy; /* a run is on (the caller's alone) */
 };
 
-/* Spins of a wait before the worker yields between its checks or the caller starts to yield
- * (~20-50 us), and how long the worker keeps checking before it blocks: an iteration's
- * callbacks come back after the factorization of its KKT system (~3 ms at 100 knots), and a
- * blocked worker takes ~0.1-0.2 ms to wake here (the at-rest paper line's 15 wakes: 2-3 ms). */
+/* Spins of a wait before the worker yields between its checks or the caller starts to yield,
+ * and how long the worker keeps checking before it blocks: an iteration's callbacks come back
+ * after the factorization of its KKT system, sooner than a blocked worker wakes. */
 #define EA__PAR_SPIN 20000
 #define EA__PAR_WAIT_S 5e-3
 

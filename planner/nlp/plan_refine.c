@@ -26,6 +26,7 @@
  * residual peak is within its bound at every model's arm (the nominal: tolerance_m; a
  * corner: robust residual_m + tolerance_m). */
 #include "ea_refine.h"
+#include "dyn_impl.h"
 #include "plan_impl.h"
 
 #include <math.h>

@@ -1,6 +1,7 @@
 /* What a plan or a failed solve reports: the worst violated row or bound, the active
  * limits, the plan's margins. */
 #include "plan_impl.h"
+#include "knot_impl.h"
 
 #include <math.h>
 #include <stdio.h>

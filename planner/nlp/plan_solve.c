@@ -1,5 +1,11 @@
 /* The solve pipeline: start point, engines, the checks between the knots, the outcome. */
 #include "ipopt_impl.h"
+#include "dyn_impl.h"
+#include "guess_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
+#include "path_entry_impl.h"
+#include "vib_impl.h"
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
@@ -63,8 +69,8 @@ static ea_status_t ea__solve_checked(ea_planner_t *pl, ea_plan_start_t start, co
   ea_plan_info_t local, *info = info_out ? info_out : &local;
   ea_status_t st = ea__plan_solve_once(pl, start, prev, info, err);
   if (st && !pl->has_tf && !pl->task.solver.derivative_test &&
-      (info->ipopt_status == Infeasible_Problem_Detected ||
-       info->ipopt_status == Restoration_Failed))
+      (info->ipopt_status == EA__IPOPT_INFEASIBLE ||
+       info->ipopt_status == EA__IPOPT_RESTORATION_FAILED))
     return ea__duration_probe(pl, info, err);
   if (st || pl->task.solver.derivative_test) return st;
   int iters = info->iterations, newton = info->newton_steps, pass = 0;
@@ -260,8 +266,7 @@ static void ea__solve_options(ea_planner_t *pl, int warm, int replan, char tmpl[
   ea__deriv_test_options(pl->ip, pl->task.solver.derivative_test == 2 && pl->hess_exact == 1, tmpl);
 }
 
-static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, int mono, double mono_mu,
-                                                        double *obj, int *iters);
+static int ea__solve_ipopt_run(ea_planner_t *pl, int mono, double mono_mu, double *obj, int *iters);
 
 /* The engines of this solve of the knot transcription (strategy/strategy_impl.h). */
 static void ea__knot_strategy(const ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
@@ -290,10 +295,10 @@ static int ea__solve_ipm(ea_planner_t *pl, const ea__strategy_t *sg, int warm, d
   const ea_task_t *t = &pl->task;
   const int from_cold = sg->ipm_from_cold;
   if (!sg->ipm || ea__plan_hess_pattern(pl)) return 0;
-  if (!pl->asn) {
+  if (!pl->kkt) {
     ea__nlp_t nlp;
     ea__knot_nlp(pl, &nlp);
-    if (!(pl->asn = ea__asn_alloc(&nlp))) return 0;
+    if (!(pl->kkt = ea__kkt_alloc(&nlp))) return 0;
   }
   /* with Ipopt's acceptable termination (the partial Hessian lacks the statics rows'
    * curvature: on a third of test_plan_sweep's free paths the iterates stalled with the
@@ -308,7 +313,7 @@ static int ea__solve_ipm(ea_planner_t *pl, const ea__strategy_t *sg, int warm, d
     return 0;
   }
   const int rc =
-      ea__ipm_solve(pl->asn, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu, &res->ipm_iterations);
+      ea__ipm_solve(pl->kkt, &o, pl->x, pl->mult_g, pl->mult_xl, pl->mult_xu, &res->ipm_iterations);
   const int ok = rc >= 0 && ea__knot_kkt_ok(pl, pl->x, rc ? o.acc_tol : t->solver.tol);
   res->ipm_fallback = !ok;
   if (!ok) { /* Ipopt's start again */
@@ -317,7 +322,7 @@ static int ea__solve_ipm(ea_planner_t *pl, const ea__strategy_t *sg, int warm, d
     return 0;
   }
   *iters = res->ipm_iterations;
-  ea__knot_cb_f(pl->n, pl->x, FALSE, obj, pl);
+  ea__knot_cb_f(pl->n, pl->x, 0, obj, pl);
   return 1;
 }
 
@@ -327,37 +332,34 @@ static int ea__solve_ipm(ea_planner_t *pl, const ea__strategy_t *sg, int warm, d
  * reaches its limit at the solution, solved again from the start with it
  * (info->screen_resolves). Returns the status in Ipopt's codes; *obj, *iters (every attempt),
  * res's engine, interior-point fields and time [s]. */
-static enum ApplicationReturnStatus
-ea__solve_engines(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan, char tmpl[64],
-                  ea_plan_info_t *info, ea__engine_result_t *res, double *obj, int *iters) {
+static int ea__solve_engines(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
+                             char tmpl[64], ea_plan_info_t *info, ea__engine_result_t *res,
+                             double *obj, int *iters) {
   ea__strategy_t sg;
   ea__knot_strategy(pl, start, warm, replan, &sg);
-  /* Barrier strategy: from a near-optimal start (a cold guess timed along
-   * its path, or a previous plan) the monotone strategy with mu_init 1e-4
-   * needs about one linear solve per iteration instead of the adaptive
-   * strategy's three, in as many or fewer iterations (docs/planner.md). If
-   * it fails, the solve is repeated from the same start with the adaptive
-   * strategy, the default for every other start. With dynamics (knot transcription) from a
-   * cold start, monotone from mu_init 1e-3 (bench_dyn, at-rest paper line: 66 instead of 89
-   * iterations at 100 knots; at 200 knots the adaptive strategy failed after 500, monotone
-   * converged in 111; 1e-2: 196 and 130; pick-place-3d 19 vs 20; measured with central-difference
-   * defect Hessians, now forward: 79 and 96). */
+  /* Barrier strategy: from a near-optimal start (a cold guess timed along its path, or a
+   * previous plan) the monotone strategy with mu_init 1e-4 needs about one linear solve per
+   * iteration instead of the adaptive strategy's three, in as many or fewer iterations. If it
+   * fails, the solve is repeated from the same start with the adaptive strategy, the default
+   * for every other start. With dynamics (knot transcription) from a cold start, monotone from
+   * mu_init 1e-3, where the adaptive strategy took more iterations or failed (docs/planner.md,
+   * "Ipopt"). */
   const double mono_mu = pl->rom ? 1e-3 : 1e-4;
-  enum ApplicationReturnStatus rs = Internal_Error;
+  int rs = EA__IPOPT_INTERNAL_ERROR;
   const double ti = ea__mono_s();
   if (sg.kkt_start && ea__knot_kkt_ok(pl, pl->x, pl->task.solver.tol)) {
     res->engine = EA__ENGINE_KKT_START;
-    rs = Solve_Succeeded; /* the start is the solution: no Ipopt iteration */
+    rs = EA__IPOPT_SOLVE_SUCCEEDED; /* the start is the solution: no Ipopt iteration */
     for (int i = 0; i < pl->n_terms; ++i)
       *obj += pl->terms[i].weight * pl->terms[i].value(pl, pl->x);
     pl->t_callbacks = ea__mono_s() - ti; /* not Ipopt's time */
   } else if (ea__solve_ipm(pl, &sg, warm, mono_mu, info, res, obj, iters)) {
     res->engine = EA__ENGINE_IPM;
-    rs = Solve_Succeeded; /* the own interior point's plan passed the KKT test */
+    rs = EA__IPOPT_SOLVE_SUCCEEDED; /* the own interior point's plan passed the KKT test */
   } else {
     res->engine = EA__ENGINE_IPOPT;
-    /* not with dynamics: the at-rest paper line keeps every row anyway (each family has a row
-     * near its limit at the cold guess), and test_rom_modes' plans took 1-2 iterations more */
+    /* not with dynamics: an at-rest plan keeps nearly every row anyway (each family has a row
+     * near its limit at the cold guess), and screening cost iterations there */
     if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows || pl->rom ||
         ea__plan_eval_g(pl, pl->x, pl->g))
       ea__screen_all(pl->scr);
@@ -375,7 +377,7 @@ ea__solve_engines(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
       ea__solve_options(pl, warm, replan, tmpl);
       info->ipopt_rows = ea__screen_rows(pl->scr);
       rs = ea__solve_ipopt_run(pl, sg.ipopt_monotone, mono_mu, obj, iters);
-      if (!(rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level) ||
+      if (!(rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE) ||
           !ea__screen_grow(pl->scr, pl->g, EA__SCREEN_HOLD))
         break;
       info->screen_resolves++;
@@ -387,30 +389,26 @@ ea__solve_engines(ea_planner_t *pl, ea_plan_start_t start, int warm, int replan,
 
 /* One Ipopt solve of pl->ip from pl->x: the monotone barrier from a near-optimal start, and if
  * it fails the adaptive one from the same start. */
-static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, int mono, double mono_mu,
-                                                        double *obj, int *iters) {
-  enum ApplicationReturnStatus rs = Internal_Error;
+static int ea__solve_ipopt_run(ea_planner_t *pl, int mono, double mono_mu, double *obj,
+                               int *iters) {
+  int rs = EA__IPOPT_INTERNAL_ERROR;
   if (mono) memcpy(pl->x0, pl->x, (size_t)pl->n * sizeof *pl->x);
   {
     for (;;) {
 
       /* With dynamics from a cold start and one model the bound multipliers start at
        * mu_init / slack instead of 1 (at mu_init 1e-3 the constant 1 is far off the central
-       * path): the at-rest paper line 28 -> 21 iterations, 200 knots 33 -> 24, payload 0.25
-       * 27 -> 20, payload 0.5 27 -> 19, pick-place-3d 19 -> 18, the same durations. The
-       * robust plans (corner models) keep 1: their first barrier phase backtracked with it
-       * (up to 7 line-search trials, a regularised KKT system), 43 -> 47 iterations and 29 %
-       * more time. Every dynamics cold start solves each barrier subproblem to 100 mu
-       * instead of 10 mu: 1-2 iterations fewer (robust 43 -> 42), durations within 2e-7
-       * (docs/planner.md). */
+       * path): fewer iterations, the same durations. The robust plans (corner models) keep
+       * 1: their first barrier phase backtracked with it. Every dynamics cold start solves
+       * each barrier subproblem to 100 mu instead of 10 mu (docs/planner.md, "Ipopt"). */
       ea__ipopt_barrier_options(pl->ip, mono, mono ? mono_mu : 0.0, mono && pl->rom && pl->M == 1,
                                 mono && pl->rom ? 100.0 : 10.0);
       pl->iter = 0;
       rs = ea__screen_solve(pl->scr, pl->ip, pl->x, pl->g, obj, pl->mult_g, pl->mult_xl,
                             pl->mult_xu);
       *iters += pl->iter;
-      if (!mono || rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level ||
-          rs == User_Requested_Stop || pl->task.solver.derivative_test)
+      if (!mono || rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE ||
+          rs == EA__IPOPT_USER_STOP || pl->task.solver.derivative_test)
         break;
       mono = 0;
       memcpy(pl->x, pl->x0, (size_t)pl->n * sizeof *pl->x);
@@ -424,15 +422,14 @@ static enum ApplicationReturnStatus ea__solve_ipopt_run(ea_planner_t *pl, int mo
  * converged restoration phase (a local minimum of the constraint violation that is not
  * zero) says "infeasible", and only with a violation well above the solver's tolerance; a
  * failed restoration phase proves nothing (docs/planner.md). */
-static void ea__solve_failure(ea_plan_info_t *info, enum ApplicationReturnStatus rs,
-                              double tol_viol) {
-  const int infeasible = rs == Infeasible_Problem_Detected && info->max_violation > tol_viol;
+static void ea__solve_failure(ea_plan_info_t *info, int rs, double tol_viol) {
+  const int infeasible = rs == EA__IPOPT_INFEASIBLE && info->max_violation > tol_viol;
   if (infeasible)
     info->status = EA_ERR_INFEASIBLE;
-  else if (rs == Maximum_Iterations_Exceeded)
+  else if (rs == EA__IPOPT_MAX_ITER)
     info->status = EA_ERR_MAXITER;
-  else if (rs == Invalid_Problem_Definition || rs == Invalid_Option || rs == Insufficient_Memory ||
-           rs < -100)
+  else if (rs == EA__IPOPT_INVALID_PROBLEM || rs == EA__IPOPT_INVALID_OPTION ||
+           rs == EA__IPOPT_NO_MEMORY || rs < -100)
     info->status = EA_ERR_BACKEND;
   else
     info->status = EA_ERR_NOCONV;
@@ -446,7 +443,7 @@ static void ea__solve_failure(ea_plan_info_t *info, enum ApplicationReturnStatus
              "the planner did not converge (Ipopt: %s after %d iterations%s); worst constraint "
              "at the last iterate: %s",
              info->ipopt_status_name, info->iterations,
-             rs == Restoration_Failed || rs == Infeasible_Problem_Detected
+             rs == EA__IPOPT_RESTORATION_FAILED || rs == EA__IPOPT_INFEASIBLE
                  ? "; not a proof that the task is infeasible"
                  : "",
              info->worst[0] ? info->worst : "none violated");
@@ -456,10 +453,10 @@ static void ea__solve_failure(ea_plan_info_t *info, enum ApplicationReturnStatus
  * the planner's solution, anything else a classified failure (info->status). */
 static void ea__solve_outcome(ea_planner_t *pl, ea_plan_info_t *info,
                               const ea__engine_result_t *res, double obj, int path_mode) {
-  const enum ApplicationReturnStatus rs = (enum ApplicationReturnStatus)res->ipopt_status;
+  const int rs = res->ipopt_status;
   ea__engine_result_fill(res, info);
   info->objective = obj;
-  const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
+  const int solved = res->solved;
   if (solved) {
     if (!path_mode) { /* path mode: theta0 and its rates are the path spline's (1e-10) */
       ea__polish(pl, pl->x);
@@ -499,7 +496,7 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
   const int warm = start == EA_PLAN_WARM && pl->have_solution;
   const int replan = warm && pl->updated;
   double obj = 0.0;
-  ea__engine_result_t res = {.engine = EA__ENGINE_NONE, .ipopt_status = Internal_Error};
+  ea__engine_result_t res = {.engine = EA__ENGINE_NONE, .ipopt_status = EA__IPOPT_INTERNAL_ERROR};
   if (path_mode) {
     /* the prescribed path in the path coordinate (transcribe/path_*.c): its own guess and Ipopt
      * problem; pl->x gets the plan in the knot layout */
@@ -514,6 +511,8 @@ ea_status_t ea__plan_solve_once(ea_planner_t *pl, ea_plan_start_t start, const e
     char tmpl[64] = "";
     res.ipopt_status =
         ea__solve_engines(pl, start, warm, replan, tmpl, info, &res, &obj, &res.iterations);
+    res.solved =
+        res.ipopt_status == EA__IPOPT_SOLVE_SUCCEEDED || res.ipopt_status == EA__IPOPT_ACCEPTABLE;
     if (tmpl[0]) {
       info->deriv_errors = ea__deriv_errors(tmpl);
       remove(tmpl);

@@ -1,5 +1,8 @@
 /* Replanning: ea_planner_update and its shorthands change what a live planner solves. */
 #include "plan_impl.h"
+#include "guess_impl.h"
+#include "knot_impl.h"
+#include "path_entry_impl.h"
 
 #include <math.h>
 #include <stdio.h>

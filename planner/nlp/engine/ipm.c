@@ -1,48 +1,39 @@
-/* A primal-dual interior point on an NLP given by Ipopt's callbacks (docs/planner.md,
- * "Measurements"): Ipopt's monotone barrier algorithm (Waechter & Biegler 2006, sec. 2-3:
+/* A primal-dual interior point on an NLP given by Ipopt's callbacks (docs/planner.md, "The own
+ * interior point"): Ipopt's monotone barrier algorithm (Waechter & Biegler 2006, sec. 2-3:
  * slacks for the inequality rows, the primal-dual system condensed to [W + Sigma_x, J';
  * J, -D], the fraction-to-the-boundary rule, the barrier parameter decreased by
  * min(kappa_mu mu, mu^theta) once the barrier problem is solved to kappa_eps mu, the inertia
  * correction, the iterative refinement, the acceptable termination) without its line search,
- * second-order corrections or restoration phase, its KKT system factored as L D L' by
- * SuiteSparse's LDL (engine/asn.c's pattern in the AMD order of its KLU analysis without BTF:
- * the diagonal pivots of a quasi-definite matrix) instead of MUMPS. On the small banded KKT
- * systems of a prescribed path (~1100 unknowns at 100 knots) a factorization costs a fraction
- * of a millisecond, an Ipopt iteration through MUMPS 2-3 ms of per-front overhead. KLU's LU
- * with a pivot threshold of 0 took the same pivots at twice the work: the at-rest paper line
- * 465 -> 423 M instructions with LDL, the same iterations and plan.
+ * second-order corrections or restoration phase, its KKT system (engine/kkt.c) factored as
+ * L D L' in a symmetric AMD order (the diagonal pivots of a quasi-definite matrix) instead of
+ * by MUMPS: on the small banded KKT systems of a prescribed path a factorization costs far
+ * less than MUMPS's per-front overhead.
  *
  * It is a fast path, not a replacement: from a good start (the path's time-optimal guess) it
  * returns a candidate that the caller verifies by the KKT test of the whole problem, and the
  * caller solves with Ipopt when it returns none or the test fails. Calls nothing above it. */
 #include "plan_ipm_impl.h"
 
-#include <ldl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define EA__IPM_INF 1e19 /* |bound| >= this: no bound (Ipopt's nlp_lower/upper_bound_inf) */
-/* A barrier problem is solved when its error is <= kappa_eps mu. Ipopt's 10 re-centred each
- * barrier problem in 5-7 iterations after the dual error jumped at the new mu; 1e4 lowers mu
- * as soon as the error is within 1e4 mu (the overall test stays tol): the 200 random lines of
- * tests/test_plan_sweep 1002 -> 779 iterations, eleven at-rest tasks 234 -> 176 (the paper
- * line 22 -> 14, 400 knots 31 -> 22; none more), the same plans; 1e3: 833 and 203, 1e5: 183
- * at rest (docs/planner.md, "The own interior point"). */
+/* A barrier problem is solved when its error is <= kappa_eps mu. Ipopt's 10 re-centres each
+ * barrier problem for several iterations after the dual error jumps at the new mu; 1e4 lowers
+ * mu as soon as the error is within 1e4 mu (the overall test stays tol): fewer iterations, the
+ * same plans (docs/planner.md, "The own interior point", "Tried, not adopted"). */
 #define EA__IPM_KAPPA_EPS 1e4
 #define EA__IPM_KAPPA_MU 0.2 /* mu <- max(mu_min, min(kappa_mu mu, mu^theta_mu)) */
 #define EA__IPM_THETA_MU 1.5
 #define EA__IPM_KAPPA_SIGMA 1e10 /* bound multipliers kept within this factor of mu / gap */
 #define EA__IPM_SMAX 100.0       /* Ipopt's s_max: the dual error's scaling */
-/* The equality rows' diagonal (Ipopt's delta_c). Always the diagonal pivot (measured with
- * KLU's pivot threshold before LDL), as the quasi-definite matrix [W + Sigma_x, J'; J, -D] allows
- * in any symmetric order where W + Sigma_x is positive definite; a pivot that spoils the solve
- * shows in its residual (checked, refined) or its inertia, and the Hessian's diagonal is
- * raised. On the paper line (bench_plan) delta_c 1e-10 .. 1e-6 took 10-11 iterations; with
- * the threshold 1e-8 .. 1e-12 (engine/asn.c's: 1e-8) KLU pivoted off the diagonal at the small
- * delta_c, or at 400 knots at the first iterate's nearly singular Hessian, and its fill made a
- * factorization 20-25x costlier (400 knots: 160 ms instead of 52); delta_c 1e-4 (engine/asn.c's)
- * perturbed the steps: 15 iterations. */
+/* The equality rows' diagonal (Ipopt's delta_c). Always the diagonal pivot, as the
+ * quasi-definite matrix [W + Sigma_x, J'; J, -D] allows in any symmetric order where
+ * W + Sigma_x is positive definite; a pivot that spoils the solve shows in its residual
+ * (checked, refined) or its inertia, and the Hessian's diagonal is raised. Small enough not to
+ * perturb the steps (the active-set Newton's 1e-4 did), large enough for the pivots of nearly
+ * dependent rows (docs/planner.md, "Tried, not adopted"). */
 #define EA__IPM_DELTA_C 1e-8
 #define EA__IPM_REFINE 10 /* refinements of a solve (Ipopt's max_refinement_steps) */
 
@@ -50,9 +41,6 @@ typedef struct {
   double *s, *zl, *zu, *vl, *vu, *y;
   double *dx, *ds, *dzl, *dzu, *dvl, *dvu, *rs;
   double *b, *res; /* the KKT system's right-hand side, its residual */
-  /* LDL' of the KKT matrix in the order P (the AMD order of engine/asn.c's KLU analysis) */
-  int *P, *Pinv, *Lp, *Parent, *Lnz, *Flag, *Pattern, *Li;
-  double *Lx, *D, *Y;
 } ea__ipm_ws_t;
 
 static int ea__lo(double b) {
@@ -86,8 +74,8 @@ static double ea__ipm_clip(double z, double mu, double gap) {
   return z > lo ? z : lo;
 }
 
-/* max(m, |v|) with a NaN kept (fmax drops it), inline (the norms below called fmax in libm
- * some 400 000 times a plan) */
+/* max(m, |v|) with a NaN kept (fmax drops it), inline (the norms below run over every
+ * variable and row at every iteration) */
 static inline double ea__ipm_amax(double m, double v) {
   const double a = fabs(v);
   return a > m || isnan(a) ? a : m;
@@ -96,14 +84,14 @@ static inline double ea__ipm_amax(double m, double v) {
 /* Errors at the current point for barrier parameter mu: *dual (unscaled, max over the
  * variables and slacks), *prim (rows), *comp (|gap z - mu|, max); returns Ipopt's E_mu (the
  * dual error scaled by s_d, the complementarity by s_c). */
-static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const double *x, double mu,
+static double ea__ipm_err(const ea__kkt_t *k, const ea__ipm_ws_t *w, const double *x, double mu,
                           double *dual, double *prim, double *comp) {
-  const ea__asn_nlp_t *p = &a->p;
+  const ea__nlp_t *p = &k->p;
   double d = 0.0, c = 0.0, q = 0.0, sy = 0.0, sz = 0.0;
   int nz = 0;
   for (int i = 0; i < p->n; ++i) {
-    if (a->kx[i] < 0) continue;
-    d = ea__ipm_amax(d, a->r[i] - w->zl[i] + w->zu[i]);
+    if (k->kx[i] < 0) continue;
+    d = ea__ipm_amax(d, k->r[i] - w->zl[i] + w->zu[i]);
     if (ea__lo(p->xl[i]))
       q = ea__ipm_amax(q, (x[i] - p->xl[i]) * w->zl[i] - mu), sz += w->zl[i], ++nz;
     if (ea__hi(p->xu[i]))
@@ -112,10 +100,10 @@ static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const doubl
   for (int i = 0; i < p->m; ++i) {
     sy += fabs(w->y[i]);
     if (p->gl[i] == p->gu[i]) {
-      c = ea__ipm_amax(c, a->g[i] - p->gl[i]);
+      c = ea__ipm_amax(c, k->g[i] - p->gl[i]);
       continue;
     }
-    c = ea__ipm_amax(c, a->g[i] - w->s[i]);
+    c = ea__ipm_amax(c, k->g[i] - w->s[i]);
     d = ea__ipm_amax(d, -w->y[i] - w->vl[i] + w->vu[i]);
     if (ea__lo(p->gl[i]))
       q = ea__ipm_amax(q, (w->s[i] - p->gl[i]) * w->vl[i] - mu), sz += w->vl[i], ++nz;
@@ -129,57 +117,10 @@ static double ea__ipm_err(const ea__asn_t *a, const ea__ipm_ws_t *w, const doubl
 }
 
 static void ea__ipm_ws_free(ea__ipm_ws_t *w) {
-  double **f[] = {&w->s,   &w->zl,  &w->zu,  &w->vl, &w->vu, &w->y,   &w->dx, &w->ds, &w->dzl,
-                  &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b,  &w->res, &w->Lx, &w->D,  &w->Y};
+  double **f[] = {&w->s,   &w->zl,  &w->zu,  &w->vl,  &w->vu, &w->y, &w->dx, &w->ds,
+                  &w->dzl, &w->dzu, &w->dvl, &w->dvu, &w->rs, &w->b, &w->res};
   for (size_t i = 0; i < sizeof f / sizeof *f; ++i)
     free(*f[i]), *f[i] = NULL;
-  int **g[] = {&w->P, &w->Pinv, &w->Lp, &w->Parent, &w->Lnz, &w->Flag, &w->Pattern, &w->Li};
-  for (size_t i = 0; i < sizeof g / sizeof *g; ++i)
-    free(*g[i]), *g[i] = NULL;
-}
-
-/* The LDL' workspace of the KKT pattern in a (its KLU analysis: the AMD order, no BTF) and its
- * symbolic factorization (elimination tree, L's column counts). 0, or -1 (out of memory). */
-static int ea__ipm_ldl_alloc(ea__ipm_ws_t *w, const ea__asn_t *a) {
-  const size_t nk = (size_t)a->nk + 1;
-  w->P = malloc(nk * sizeof(int)), w->Pinv = malloc(nk * sizeof(int));
-  w->Lp = malloc((nk + 1) * sizeof(int)), w->Parent = malloc(nk * sizeof(int));
-  w->Lnz = malloc(nk * sizeof(int)), w->Flag = malloc(nk * sizeof(int));
-  w->Pattern = malloc(nk * sizeof(int));
-  w->D = malloc(nk * sizeof(double)), w->Y = malloc(nk * sizeof(double));
-  if (!w->P || !w->Pinv || !w->Lp || !w->Parent || !w->Lnz || !w->Flag || !w->Pattern || !w->D ||
-      !w->Y)
-    return -1;
-  memcpy(w->P, a->sym->Q, sizeof(int) * (size_t)a->nk);
-  ldl_symbolic(a->nk, a->Ap, a->Ai, w->Lp, w->Parent, w->Lnz, w->Flag, w->P, w->Pinv);
-  const size_t lnz = (size_t)w->Lp[a->nk] + 1;
-  w->Li = malloc(lnz * sizeof(int)), w->Lx = malloc(lnz * sizeof(double));
-  return w->Li && w->Lx ? 0 : -1;
-}
-
-/* sum_q v[q] u[i[q]] over q0 <= q < q1, in two partial sums (one sum's chain of dependent
- * additions took 4 cycles an entry: LDL's ldl_ltsolve, which also stores the sum at every
- * entry, half of the solve's time; the refinement's residual 45 % of the interior point's
- * own) */
-static double ea__ipm_dot(const double *v, const int *i, const double *u, int q0, int q1) {
-  double s0 = 0.0, s1 = 0.0;
-  int q = q0;
-  for (; q + 1 < q1; q += 2)
-    s0 += v[q] * u[i[q]], s1 += v[q + 1] * u[i[q + 1]];
-  if (q < q1) s0 += v[q] * u[i[q]];
-  return s0 + s1;
-}
-
-/* x <- K^-1 x from the LDL' factors (L' x = y by the rows of L', ea__ipm_dot). */
-static void ea__ipm_ldl_solve(const ea__asn_t *a, ea__ipm_ws_t *w, double *x) {
-  const int nk = a->nk;
-  double *Y = w->Y;
-  ldl_perm(nk, Y, x, w->P);
-  ldl_lsolve(nk, Y, w->Lp, w->Li, w->Lx);
-  ldl_dsolve(nk, Y, w->D);
-  for (int j = nk - 1; j >= 0; --j)
-    Y[j] -= ea__ipm_dot(w->Lx, w->Li, Y, w->Lp[j], w->Lp[j + 1]);
-  ldl_permt(nk, x, Y, w->P);
 }
 
 static int ea__ipm_ws_alloc(ea__ipm_ws_t *w, int n, int m) {
@@ -205,22 +146,19 @@ static int ea__ipm_ws_alloc(ea__ipm_ws_t *w, int n, int m) {
  * most 1e-10 (residual_ratio_max), while it improves (by half at least), at most
  * EA__IPM_REFINE times; then accepted at 1e-5 (residual_ratio_singular). 1: accepted, 0: a
  * small pivot spoilt it (the caller raises the diagonals). */
-static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w) {
-  const int nk = a->nk;
+static int ea__ipm_refined(ea__kkt_t *k, ea__ipm_ws_t *w) {
+  const int nk = k->nk;
   double *b = w->b, *res = w->res;
-  memcpy(b, a->rhs, sizeof(double) * (size_t)nk);
-  ea__ipm_ldl_solve(a, w, a->rhs);
+  memcpy(b, k->rhs, sizeof(double) * (size_t)nk);
+  ea__kkt_ldl_solve(k, k->rhs);
   double bn = 0.0, prev = INFINITY;
-  for (int k = 0; k < nk; ++k)
-    bn = ea__ipm_amax(bn, b[k]);
+  for (int j = 0; j < nk; ++j)
+    bn = ea__ipm_amax(bn, b[j]);
   for (int ref = 0;; ++ref) {
-    /* res = b - K d, row i of the symmetric K being its column i (the pattern holds both
-     * triangles, with the same values) */
-    for (int i = 0; i < nk; ++i)
-      res[i] = b[i] - ea__ipm_dot(a->Ax, a->Ai, a->rhs, a->Ap[i], a->Ap[i + 1]);
+    ea__kkt_residual(k, b, k->rhs, res);
     double rn = 0.0, dn = 0.0;
-    for (int k = 0; k < nk; ++k)
-      rn = ea__ipm_amax(rn, res[k]), dn = ea__ipm_amax(dn, a->rhs[k]);
+    for (int j = 0; j < nk; ++j)
+      rn = ea__ipm_amax(rn, res[j]), dn = ea__ipm_amax(dn, k->rhs[j]);
     const double ratio = rn / (dn + bn);
     if (ratio <= 1e-10) return 1;
     if (!isfinite(ratio)) break;
@@ -228,12 +166,12 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w) {
       if (ratio <= 1e-5) return 1;
       break;
     }
-    ea__ipm_ldl_solve(a, w, res);
+    ea__kkt_ldl_solve(k, res);
     prev = ratio;
-    for (int k = 0; k < nk; ++k)
-      a->rhs[k] += res[k];
+    for (int j = 0; j < nk; ++j)
+      k->rhs[j] += res[j];
   }
-  memcpy(a->rhs, b, sizeof(double) * (size_t)nk);
+  memcpy(k->rhs, b, sizeof(double) * (size_t)nk);
   return 0;
 }
 
@@ -244,25 +182,22 @@ static int ea__ipm_refined(ea__asn_t *a, ea__ipm_ws_t *w) {
  * inertia has a small pivot in the rows: the equality rows' diagonal -dc is raised 100-fold up
  * to 1e-4 first. *dw: the last iteration's in, this one's out; *dc: this iteration's. 0, or -1
  * (nothing up to dw 1e20 did). */
-static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
-  const ea__asn_nlp_t *p = &a->p;
+static int ea__ipm_kkt(ea__kkt_t *k, ea__ipm_ws_t *w, double *dw, double *dc) {
+  const ea__nlp_t *p = &k->p;
   double cur = 0.0, next = 0.0;
   int rc = -1;
   for (;;) {
     for (int i = 0; i < p->n; ++i)
-      if (a->kx[i] >= 0) a->Ax[a->pd[a->kx[i]]] += next - cur;
+      if (k->kx[i] >= 0) k->Ax[k->pd[k->kx[i]]] += next - cur;
     cur = next;
     /* the diagonal pivots in the AMD order: LDL' (SuiteSparse's LDL), D's signs the inertia;
      * a zero pivot stops it (d < nk) */
-    const int d = ldl_numeric(a->nk, a->Ap, a->Ai, a->Ax, w->Lp, w->Parent, w->Lnz, w->Li, w->Lx,
-                              w->D, w->Y, w->Pattern, w->Flag, w->P, w->Pinv);
+    int neg;
+    const int d = ea__kkt_ldl_factor(k, &neg);
     int inertia = 0, good = 0;
-    if (d == a->nk) {
-      int neg = 0;
-      for (int k = 0; k < a->nk; ++k)
-        neg += w->D[k] < 0.0;
-      inertia = neg == a->nk - a->nx;
-      good = inertia && ea__ipm_refined(a, w);
+    if (d == k->nk) {
+      inertia = neg == k->nk - k->nx;
+      good = inertia && ea__ipm_refined(k, w);
     }
     if (good) {
       *dw = cur;
@@ -272,7 +207,7 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
     if (inertia && *dc < 1e-4) {
       *dc *= 100.0;
       for (int i = 0; i < p->m; ++i)
-        if (p->gl[i] == p->gu[i]) a->Ax[a->pd[a->kg[i]]] = -*dc;
+        if (p->gl[i] == p->gu[i]) k->Ax[k->pd[k->kg[i]]] = -*dc;
       continue;
     }
     if (cur == 0.0)
@@ -288,14 +223,14 @@ static int ea__ipm_kkt(ea__asn_t *a, ea__ipm_ws_t *w, double *dw, double *dc) {
  * evaluated there; *dw, *dc: the diagonals' raises, ea__ipm_kkt): dx, dy (in a->rhs), ds and
  * the bound multipliers' steps. 0, or -1 (no raise gave a factorization with the right inertia
  * whose solve refined). */
-static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double mu, double *dw,
+static int ea__ipm_step(ea__kkt_t *k, ea__ipm_ws_t *w, const double *x, double mu, double *dw,
                         double *dc) {
-  const ea__asn_nlp_t *p = &a->p;
-  ea__asn_fill(a);
+  const ea__nlp_t *p = &k->p;
+  ea__kkt_fill(k);
   for (int i = 0; i < p->n; ++i) {
-    const int k = a->kx[i];
-    if (k < 0) continue;
-    double sig = 0.0, rb = a->r[i]; /* grad f + J' y + the barrier's gradient */
+    const int j = k->kx[i];
+    if (j < 0) continue;
+    double sig = 0.0, rb = k->r[i]; /* grad f + J' y + the barrier's gradient */
     if (ea__lo(p->xl[i])) {
       const double gap = x[i] - p->xl[i];
       sig += w->zl[i] / gap, rb -= mu / gap;
@@ -304,14 +239,14 @@ static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double m
       const double gap = p->xu[i] - x[i];
       sig += w->zu[i] / gap, rb += mu / gap;
     }
-    a->Ax[a->pd[k]] += sig;
-    a->rhs[k] = -rb;
+    k->Ax[k->pd[j]] += sig;
+    k->rhs[j] = -rb;
   }
   for (int i = 0; i < p->m; ++i) {
-    const int k = a->kg[i];
+    const int j = k->kg[i];
     if (p->gl[i] == p->gu[i]) {
-      a->Ax[a->pd[k]] = -*dc;
-      a->rhs[k] = -(a->g[i] - p->gl[i]);
+      k->Ax[k->pd[j]] = -*dc;
+      k->rhs[j] = -(k->g[i] - p->gl[i]);
       continue;
     }
     double sig = 0.0, rt = -w->y[i]; /* Sigma_s and r~_s = -y - mu / (s - gl) + mu / (gu - s) */
@@ -326,16 +261,16 @@ static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double m
     sig = fmax(sig, 1e-20);
     w->rs[i] = rt;
     w->ds[i] = sig; /* Sigma_s until the solve */
-    a->Ax[a->pd[k]] = -1.0 / sig;
-    a->rhs[k] = -(a->g[i] - w->s[i]) - rt / sig;
+    k->Ax[k->pd[j]] = -1.0 / sig;
+    k->rhs[j] = -(k->g[i] - w->s[i]) - rt / sig;
   }
-  if (ea__ipm_kkt(a, w, dw, dc)) return -1;
+  if (ea__ipm_kkt(k, w, dw, dc)) return -1;
   for (int i = 0; i < p->n; ++i) {
-    const int k = a->kx[i];
-    const double dx = k < 0 ? 0.0 : a->rhs[k];
+    const int j = k->kx[i];
+    const double dx = j < 0 ? 0.0 : k->rhs[j];
     w->dx[i] = dx;
     w->dzl[i] = w->dzu[i] = 0.0;
-    if (k < 0) continue;
+    if (j < 0) continue;
     if (ea__lo(p->xl[i])) {
       const double gap = x[i] - p->xl[i];
       w->dzl[i] = mu / gap - w->zl[i] - w->zl[i] / gap * dx;
@@ -351,7 +286,7 @@ static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double m
       w->ds[i] = 0.0;
       continue;
     }
-    const double dy = a->rhs[a->kg[i]];
+    const double dy = k->rhs[k->kg[i]];
     const double ds = (dy - w->rs[i]) / w->ds[i];
     w->ds[i] = ds;
     if (ea__lo(p->gl[i])) {
@@ -367,12 +302,12 @@ static int ea__ipm_step(ea__asn_t *a, ea__ipm_ws_t *w, const double *x, double m
 }
 
 /* The step's lengths by the fraction-to-the-boundary rule: primal (x, s), dual (z, v). */
-static void ea__ipm_alphas(const ea__asn_t *a, const ea__ipm_ws_t *w, const double *x, double tau,
+static void ea__ipm_alphas(const ea__kkt_t *k, const ea__ipm_ws_t *w, const double *x, double tau,
                            double *apr, double *adu) {
-  const ea__asn_nlp_t *p = &a->p;
+  const ea__nlp_t *p = &k->p;
   double ap = 1.0, ad = 1.0;
   for (int i = 0; i < p->n; ++i) {
-    if (a->kx[i] < 0) continue;
+    if (k->kx[i] < 0) continue;
     if (ea__lo(p->xl[i]))
       ap = ea__ftb(ap, x[i] - p->xl[i], w->dx[i], tau), ad = ea__ftb(ad, w->zl[i], w->dzl[i], tau);
     if (ea__hi(p->xu[i]))
@@ -390,40 +325,30 @@ static void ea__ipm_alphas(const ea__asn_t *a, const ea__ipm_ws_t *w, const doub
   *apr = ap, *adu = ad;
 }
 
-int ea__ipm_prepare(ea__asn_t *a) {
-  const ea__asn_nlp_t *p = &a->p;
-  /* every free variable and every row in the KKT matrix */
-  for (int i = 0; i < p->n; ++i)
-    a->act_x[i] = p->xl[i] == p->xu[i] ? 2 : 0;
-  for (int i = 0; i < p->m; ++i)
-    a->act_g[i] = 2;
-  const int btf0 = a->c.btf;
-  a->c.btf = 0; /* a symmetric ordering (AMD's, for the LDL' of ea__ipm_kkt) */
-  const int pat = ea__asn_pattern(a);
-  a->c.btf = btf0;
-  a->ipm_ready = !pat;
+int ea__ipm_prepare(ea__kkt_t *k) {
+  /* every free variable and every row in the KKT matrix, in AMD's symmetric ordering (for
+   * the LDL' of ea__ipm_kkt) */
+  const int pat = ea__kkt_pattern(k, NULL, NULL, 0);
+  k->full = !pat;
   return pat ? -1 : 0;
 }
 
-int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
+int ea__ipm_solve(ea__kkt_t *k, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
                   double *mult_xu, int *iters) {
-  const ea__asn_nlp_t *p = &a->p;
+  const ea__nlp_t *p = &k->p;
   *iters = 0;
   ea__ipm_ws_t w;
   if (ea__ipm_ws_alloc(&w, p->n, p->m)) return -1;
   int rc = -1;
-  const int pat = a->ipm_ready ? 0 : ea__ipm_prepare(a);
-  a->ipm_ready = 0;
-  if (pat || ea__ipm_ldl_alloc(&w, a)) goto done;
-  a->nx = 0;
-  for (int i = 0; i < p->n; ++i)
-    a->nx += a->kx[i] >= 0;
+  const int pat = k->full ? 0 : ea__ipm_prepare(k);
+  k->full = 0;
+  if (pat || ea__kkt_ldl_symbolic(k)) goto done;
   double mu = o->mu_init, dw = 0.0, dc = EA__IPM_DELTA_C;
   const double mu_min = 0.1 * o->tol;
   /* the start: inside its bounds, the slacks the rows' values inside theirs, the bound
    * multipliers on the central path (mu / gap), the rows' zero */
   for (int i = 0; i < p->n; ++i) {
-    if (a->kx[i] < 0) {
+    if (k->kx[i] < 0) {
       x[i] = p->xl[i];
       continue;
     }
@@ -431,21 +356,21 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
     if (ea__lo(p->xl[i])) w.zl[i] = mu / (x[i] - p->xl[i]);
     if (ea__hi(p->xu[i])) w.zu[i] = mu / (p->xu[i] - x[i]);
   }
-  memset(a->lam, 0, sizeof(double) * (size_t)p->m);
-  if (ea__asn_eval(a, x, 0)) goto done;
+  memset(k->lam, 0, sizeof(double) * (size_t)p->m);
+  if (ea__kkt_eval(k, x, 0)) goto done;
   for (int i = 0; i < p->m; ++i) {
     if (p->gl[i] == p->gu[i]) continue;
-    w.s[i] = ea__ipm_push(a->g[i], p->gl[i], p->gu[i], o->push_s);
+    w.s[i] = ea__ipm_push(k->g[i], p->gl[i], p->gu[i], o->push_s);
     if (ea__lo(p->gl[i])) w.vl[i] = mu / (w.s[i] - p->gl[i]);
     if (ea__hi(p->gu[i])) w.vu[i] = mu / (p->gu[i] - w.s[i]);
   }
   int n_acc = 0;
   double f_prev = NAN;
   for (int it = 0;; ++it) {
-    memcpy(a->lam, w.y, sizeof(double) * (size_t)p->m);
-    if (ea__asn_eval(a, x, 1)) goto done;
+    memcpy(k->lam, w.y, sizeof(double) * (size_t)p->m);
+    if (ea__kkt_eval(k, x, 1)) goto done;
     double dual, prim, comp;
-    const double e0 = ea__ipm_err(a, &w, x, 0.0, &dual, &prim, &comp);
+    const double e0 = ea__ipm_err(k, &w, x, 0.0, &dual, &prim, &comp);
     if (dual <= 0.5 * o->tol && prim <= 0.5 * o->ptol && comp <= 0.5 * o->tol) {
       rc = 0;
       break;
@@ -453,7 +378,7 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
     /* Ipopt's acceptable termination */
     if (o->acc_iter > 0 && p->f) {
       double f;
-      if (!p->f(p->n, x, FALSE, &f, p->ud) || !isfinite(f)) goto done;
+      if (!p->f(p->n, x, 0, &f, p->ud) || !isfinite(f)) goto done;
       const int acc = e0 <= o->acc_tol && prim <= o->ptol &&
                       fabs(f - f_prev) <= o->acc_obj * fmax(1.0, fabs(f));
       n_acc = acc ? n_acc + 1 : 0;
@@ -464,23 +389,23 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
       }
     }
     /* the barrier problem solved: the next mu (more than once if the point allows) */
-    while (mu > mu_min && ea__ipm_err(a, &w, x, mu, &dual, &prim, &comp) <= EA__IPM_KAPPA_EPS * mu)
+    while (mu > mu_min && ea__ipm_err(k, &w, x, mu, &dual, &prim, &comp) <= EA__IPM_KAPPA_EPS * mu)
       mu = fmax(mu_min, fmin(EA__IPM_KAPPA_MU * mu, pow(mu, EA__IPM_THETA_MU)));
     if (it == o->max_iter || (o->stop && o->stop(p->ud))) goto done;
     dc = EA__IPM_DELTA_C;
-    if (ea__ipm_step(a, &w, x, mu, &dw, &dc)) goto done;
+    if (ea__ipm_step(k, &w, x, mu, &dw, &dc)) goto done;
     const double tau = fmax(0.99, 1.0 - mu);
     double apr, adu;
-    ea__ipm_alphas(a, &w, x, tau, &apr, &adu);
+    ea__ipm_alphas(k, &w, x, tau, &apr, &adu);
     if (!(apr > 1e-12)) goto done;
     for (int i = 0; i < p->n; ++i) {
-      if (a->kx[i] < 0) continue;
+      if (k->kx[i] < 0) continue;
       x[i] += apr * w.dx[i];
       if (ea__lo(p->xl[i])) w.zl[i] = ea__ipm_clip(w.zl[i] + adu * w.dzl[i], mu, x[i] - p->xl[i]);
       if (ea__hi(p->xu[i])) w.zu[i] = ea__ipm_clip(w.zu[i] + adu * w.dzu[i], mu, p->xu[i] - x[i]);
     }
     for (int i = 0; i < p->m; ++i) {
-      w.y[i] += apr * a->rhs[a->kg[i]];
+      w.y[i] += apr * k->rhs[k->kg[i]];
       if (p->gl[i] == p->gu[i]) continue;
       w.s[i] += apr * w.ds[i];
       if (ea__lo(p->gl[i])) w.vl[i] = ea__ipm_clip(w.vl[i] + adu * w.dvl[i], mu, w.s[i] - p->gl[i]);
@@ -490,8 +415,8 @@ int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_
   }
   memcpy(mult_g, w.y, sizeof(double) * (size_t)p->m);
   for (int i = 0; i < p->n; ++i) {
-    mult_xl[i] = a->kx[i] < 0 ? 0.0 : w.zl[i];
-    mult_xu[i] = a->kx[i] < 0 ? 0.0 : w.zu[i];
+    mult_xl[i] = k->kx[i] < 0 ? 0.0 : w.zl[i];
+    mult_xu[i] = k->kx[i] < 0 ? 0.0 : w.zu[i];
   }
 done:
   ea__ipm_ws_free(&w);

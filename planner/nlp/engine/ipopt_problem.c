@@ -1,8 +1,11 @@
 /* Ipopt: the problem of the knot transcription, its options, the names of its statuses. */
 #include "ipopt_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 #include "plan_impl.h"
 #include "plan_screen_impl.h"
 
+#include <coin/IpStdCInterface.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,6 +34,23 @@ ea_status_t ea__ipopt_create(ea_planner_t *pl) {
   if (!pl->ip) return EA_ERR_BACKEND;
   ea__ipopt_options(pl->ip, &t->solver, pl->hess_exact, 0.0);
   return EA_OK;
+}
+
+/* the planner's copies of Ipopt's return codes (engine/ipopt_impl.h) */
+_Static_assert((int)EA__IPOPT_SOLVE_SUCCEEDED == (int)Solve_Succeeded, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_ACCEPTABLE == (int)Solved_To_Acceptable_Level, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INFEASIBLE == (int)Infeasible_Problem_Detected, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_USER_STOP == (int)User_Requested_Stop, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_MAX_ITER == (int)Maximum_Iterations_Exceeded, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_RESTORATION_FAILED == (int)Restoration_Failed, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_MAX_CPU_TIME == (int)Maximum_CpuTime_Exceeded, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INVALID_PROBLEM == (int)Invalid_Problem_Definition, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INVALID_OPTION == (int)Invalid_Option, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_NO_MEMORY == (int)Insufficient_Memory, "Ipopt's codes");
+_Static_assert((int)EA__IPOPT_INTERNAL_ERROR == (int)Internal_Error, "Ipopt's codes");
+
+void ea__ipopt_free(ea__ipopt_problem_t ip) {
+  if (ip) FreeIpoptProblem(ip);
 }
 
 const char *ea__ipopt_name(int s) {
@@ -106,16 +126,15 @@ void ea__ipopt_options(IpoptProblem ip, const ea_planner_settings_t *s, int hess
 }
 
 /* The barrier's start and the warm-start pushes for both transcriptions. After an update
- * (ea_planner_update, or bounds tightened for limits between knots; docs/planner.md,
- * bench_plan) the shifted point is near, not at, the new optimum: mu_init 1e-6 with pushes
- * 1e-5 took 5-6 iterations for a goal moved 1-5 mm (1e-7 / 1e-9 as for an unchanged task: 7;
- * 1e-5 / 1e-5: 5-6 but 10 for a moved start; the monotone strategy: 11-19). */
+ * (ea_planner_update, or bounds tightened for limits between knots) the shifted point is
+ * near, not at, the new optimum: a barrier and pushes between those of an unchanged task and
+ * a cold start (docs/planner.md, "Replanning a live planner"). */
 void ea__ipopt_start_options(IpoptProblem ip, int warm, int updated) {
   AddIpoptStrOption(ip, "warm_start_init_point", warm ? "yes" : "no");
   const double mu = updated ? 1e-6 : warm ? 1e-7 : 0.1, push = updated ? 1e-5 : 1e-9;
   AddIpoptNumOption(ip, "mu_init", mu);
-  /* no options file: a stray ipopt.opt in the working directory would override these (seen:
-   * mu_strategy from such a file changed a plan's iterations and its t_f in the 7th digit) */
+  /* no options file: a stray ipopt.opt in the working directory would override these and
+   * change the plan */
   AddIpoptStrOption(ip, "option_file_name", "");
   if (!warm && !updated) return;
   AddIpoptNumOption(ip, "warm_start_bound_push", push);

@@ -13,6 +13,8 @@
  * callbacks, which evaluate every row. Calls nothing above it. */
 #include "plan_screen_impl.h"
 
+#include <coin/IpStdCInterface.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -98,9 +100,8 @@ int ea__screen_select(ea__screen_t *s, const double *g, double band, const int *
     s->keep[i] = !(ea__screen_two_sided(&s->p, i, g[i], &lv) && lv < band);
   }
   /* a family with a row kept keeps its rows: a limit that one knot comes near is the one the
-   * solution may push against at others (tried row by row: the shoulder's acceleration rows
-   * of the line sweep, inside half their limit at the cold guess, came out at up to 17 times
-   * their limit without their rows, 38 of 300 solves repeated, 48 % more iterations) */
+   * solution may push against at others (row by row, rows left out come out far beyond their
+   * limits and the solves repeat: docs/planner.md, "Tried, not adopted") */
   if (family && nfam > 0) {
     unsigned char *fk = calloc((size_t)nfam, 1);
     if (!fk) {
@@ -194,7 +195,7 @@ static Bool ea__screen_cb_iter(Index alg_mod, Index iter, Number obj, Number inf
                    s->p.ud);
 }
 
-IpoptProblem ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu) {
+ea__ipopt_problem_t ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu) {
   const ea__screen_nlp_t *p = &s->p;
   IpoptProblem ip = CreateIpoptProblem(p->n, (double *)xl, (double *)xu, s->ms, s->gls, s->gus,
                                        s->nnz_s, p->nnz_h, 0, ea__screen_cb_f, ea__screen_cb_g,
@@ -203,9 +204,8 @@ IpoptProblem ea__screen_problem(ea__screen_t *s, const double *xl, const double 
   return ip;
 }
 
-enum ApplicationReturnStatus ea__screen_solve(ea__screen_t *s, IpoptProblem ip, double *x,
-                                              double *g, double *obj, double *mult_g,
-                                              double *mult_xl, double *mult_xu) {
+int ea__screen_solve(ea__screen_t *s, ea__ipopt_problem_t ip, double *x, double *g, double *obj,
+                     double *mult_g, double *mult_xl, double *mult_xu) {
   for (int k = 0; k < s->ms; ++k)
     s->msub[k] = mult_g[s->rsub[k]];
   const enum ApplicationReturnStatus rs =

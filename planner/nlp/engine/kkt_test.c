@@ -9,7 +9,7 @@ int ea__kkt_accept(const ea__nlp_t *p, const double *x, const double *mult_g, co
   double *xv = (double *)x; /* Ipopt's callbacks take a non-const x; they do not change it */
   for (int i = 0; i < p->n; ++i)
     if (!(x[i] >= p->xl[i] - ptol && x[i] <= p->xu[i] + ptol)) return 0;
-  if (!p->g(p->n, xv, TRUE, p->m, w->g, p->ud)) return 0;
+  if (!p->g(p->n, xv, 1, p->m, w->g, p->ud)) return 0;
   for (int i = 0; i < p->m; ++i) {
     if (!(w->g[i] >= p->gl[i] - ptol && w->g[i] <= p->gu[i] + ptol)) return 0;
     if (p->gl[i] == p->gu[i]) continue;
@@ -18,8 +18,8 @@ int ea__kkt_accept(const ea__nlp_t *p, const double *x, const double *mult_g, co
     const double gap = lam > 0 ? p->gu[i] - w->g[i] : w->g[i] - p->gl[i];
     if (fabs(lam) * fmin(gap, 1e19) > dtol) return 0;
   }
-  if (!p->grad_f(p->n, xv, FALSE, w->r, p->ud) ||
-      !p->jac(p->n, xv, FALSE, p->m, p->nnz_j, NULL, NULL, w->jv, p->ud))
+  if (!p->grad_f(p->n, xv, 0, w->r, p->ud) ||
+      !p->jac(p->n, xv, 0, p->m, p->nnz_j, NULL, NULL, w->jv, p->ud))
     return 0;
   for (int e = 0; e < p->nnz_j; ++e)
     w->r[p->jcol[e]] += w->jv[e] * mult_g[p->jrow[e]];

@@ -4,12 +4,30 @@
  *
  *   min f(x)  subject to  gl <= g(x) <= gu,  xl <= x <= xu
  *
- * The callbacks have the signatures of Ipopt's C interface so that Ipopt takes them unchanged;
- * the other engines call them the same way (new_x, the user data ud). */
+ * The callbacks have the signatures of Ipopt's C interface (Bool, Index: int; Number: double;
+ * nonzero: success) so that Ipopt takes them unchanged (engine/ipopt_*.c); the other engines
+ * call them the same way (new_x, the user data ud). No engine's header is needed here. */
 #ifndef EA_NLP_IMPL_H
 #define EA_NLP_IMPL_H
 
-#include <coin/IpStdCInterface.h>
+/** The objective f(x) into *f. */
+typedef int (*ea__nlp_f_fn)(int n, double *x, int new_x, double *f, void *ud);
+/** Its gradient into g (n). */
+typedef int (*ea__nlp_grad_f_fn)(int n, double *x, int new_x, double *g, void *ud);
+/** The rows into g (m). */
+typedef int (*ea__nlp_g_fn)(int n, double *x, int new_x, int m, double *g, void *ud);
+/** The Jacobian: its structure (values NULL) or its values (irow, jcol NULL). */
+typedef int (*ea__nlp_jac_fn)(int n, double *x, int new_x, int m, int nele, int *irow, int *jcol,
+                              double *values, void *ud);
+/** The Lagrangian's Hessian (objective factor of, multipliers lambda), lower triangle: its
+ *  structure (values NULL) or its values. */
+typedef int (*ea__nlp_h_fn)(int n, double *x, int new_x, double of, int m, double *lambda,
+                            int new_lambda, int nele, int *irow, int *jcol, double *values,
+                            void *ud);
+/** Per iteration (Ipopt's intermediate callback): 0 stops the solve. */
+typedef int (*ea__nlp_iter_fn)(int alg_mod, int iter, double obj, double inf_pr, double inf_du,
+                               double mu, double d_norm, double reg, double alpha_du,
+                               double alpha_pr, int ls, void *ud);
 
 /** An NLP: sizes, bounds, the Jacobian's and the Hessian's (lower triangle) structures, the
  *  callbacks and their user data. Its arrays are referenced, not copied. */
@@ -18,13 +36,13 @@ typedef struct ea__nlp {
   const double *xl, *xu, *gl, *gu;
   const int *jrow, *jcol; /* Jacobian structure (row-major: a row's entries contiguous) */
   const int *hrow, *hcol; /* Hessian structure, lower triangle */
-  Eval_F_CB f;            /* the objective (NULL: none; the own interior point's acceptable
+  ea__nlp_f_fn f;         /* the objective (NULL: none; the own interior point's acceptable
                              termination needs it) */
-  Eval_Grad_F_CB grad_f;
-  Eval_G_CB g;
-  Eval_Jac_G_CB jac;
-  Eval_H_CB h;
-  Intermediate_CB iter; /* Ipopt's per-iteration callback (the wall-clock limit) */
+  ea__nlp_grad_f_fn grad_f;
+  ea__nlp_g_fn g;
+  ea__nlp_jac_fn jac;
+  ea__nlp_h_fn h;
+  ea__nlp_iter_fn iter; /* Ipopt's per-iteration callback (the wall-clock limit) */
   void *ud;
   /* 1: the Hessian after the rows, and only where a step follows (the rows share nothing with
    * it: no modal defects); 0: before them (dyn_rows.c's defects leave their values and

@@ -1,10 +1,9 @@
-/* Private: a primal-dual interior point on an NLP (engine/nlp_impl.h), its KKT system factored
- * by LDL' (SuiteSparse LDL) in the fill-reducing order of KLU's analysis of the pattern, which
- * it shares with the active-set Newton's workspace (engine/ipm.c, engine/asn.c). */
+/* Private: a primal-dual interior point on an NLP (engine/nlp_impl.h, engine/ipm.c), its KKT
+ * system (engine/kkt_impl.h) factored by LDL'. */
 #ifndef EA_PLAN_IPM_IMPL_H
 #define EA_PLAN_IPM_IMPL_H
 
-#include "plan_asn_impl.h"
+#include "kkt_impl.h"
 
 /** Settings: tol (unscaled stationarity, as the caller's KKT test), ptol (rows), mu_init (the
  *  first barrier parameter; monotone from there), push and push_s (the start and the slacks of
@@ -21,15 +20,15 @@ typedef struct ea__ipm_opt {
 } ea__ipm_opt_t;
 
 /** From x: 0 when x and the multipliers (Ipopt's signs) are a candidate KKT point of the NLP
- *  of a (for the caller to verify), 1 when the acceptable termination stopped it (a candidate
+ *  of k (for the caller to verify), 1 when the acceptable termination stopped it (a candidate
  *  to acc_tol), -1 when none was found (a singular KKT matrix, a failed
  *  callback, max_iter reached, steps that stopped making progress; x and the multipliers are
- *  then undefined). *iters: iterations taken. The workspace a keeps KLU's analysis. */
-/** The KKT pattern and its symbolic analysis for the next ea__ipm_solve on a (the bounds as
+ *  then undefined). *iters: iterations taken. */
+int ea__ipm_solve(ea__kkt_t *k, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
+                  double *mult_xu, int *iters);
+/** The KKT pattern and its ordering for the next ea__ipm_solve on k (the bounds as
  *  they are then: none may change between), which may run beside other work on another
  *  thread (transcribe/path_*.c: beside the cold guess). 0, or -1 (no pattern). */
-int ea__ipm_prepare(ea__asn_t *a);
-int ea__ipm_solve(ea__asn_t *a, const ea__ipm_opt_t *o, double *x, double *mult_g, double *mult_xl,
-                  double *mult_xu, int *iters);
+int ea__ipm_prepare(ea__kkt_t *k);
 
 #endif

@@ -5,6 +5,9 @@
 
 #include "nlp_impl.h"
 
+/** Ipopt's problem (its C interface's IpoptProblem; engine/ipopt_impl.h). */
+typedef struct IpoptProblemInfo *ea__ipopt_problem_t;
+
 /** The full NLP (engine/nlp_impl.h; its Jacobian row-major). */
 typedef ea__nlp_t ea__screen_nlp_t;
 
@@ -37,11 +40,11 @@ int ea__screen_grow(ea__screen_t *s, const double *g, double band);
 int ea__screen_rows(const ea__screen_t *s);
 /** Ipopt's problem of the kept rows (xl, xu: the variable bounds, referenced by Ipopt for the
  *  solve); its callbacks pass the full NLP's user data on. NULL on failure. */
-IpoptProblem ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu);
-/** IpoptSolve on that problem with the full NLP's rows: g and mult_g (in: the start's
- *  multipliers; out: the solution's, 0 for the rows left out) have m entries. */
-enum ApplicationReturnStatus ea__screen_solve(ea__screen_t *s, IpoptProblem ip, double *x,
-                                              double *g, double *obj, double *mult_g,
-                                              double *mult_xl, double *mult_xu);
+ea__ipopt_problem_t ea__screen_problem(ea__screen_t *s, const double *xl, const double *xu);
+/** IpoptSolve on that problem (its ApplicationReturnStatus returned) with the full NLP's rows: g
+ * and mult_g (in: the start's multipliers; out: the solution's, 0 for the rows left out) have m
+ * entries. */
+int ea__screen_solve(ea__screen_t *s, ea__ipopt_problem_t ip, double *x, double *g, double *obj,
+                     double *mult_g, double *mult_xl, double *mult_xu);
 
 #endif

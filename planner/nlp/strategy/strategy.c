@@ -47,9 +47,11 @@ void ea__plan_strategy(const ea__solve_case_t *c, ea__strategy_t *s) {
 }
 
 void ea__engine_result_fill(const ea__engine_result_t *r, ea_plan_info_t *info) {
-  info->ipopt_status = r->ipopt_status;
+  /* Ipopt's code and name only where Ipopt gave the result */
+  const int ipopt = r->engine == EA__ENGINE_IPOPT;
+  info->ipopt_status = ipopt ? r->ipopt_status : EA_PLAN_NO_IPOPT;
   snprintf(info->ipopt_status_name, sizeof info->ipopt_status_name, "%s",
-           ea__ipopt_name(r->ipopt_status));
+           ipopt ? ea__ipopt_name(r->ipopt_status) : "");
   info->iterations = r->iterations;
   info->newton_steps = r->newton_steps;
   info->ipm_iterations = r->ipm_iterations;

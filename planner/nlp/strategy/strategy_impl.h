@@ -87,13 +87,14 @@ typedef struct ea__strategy {
 void ea__plan_strategy(const ea__solve_case_t *c, ea__strategy_t *s);
 
 /** An engine's outcome in neutral words: which engine gave the point, whether it converged,
- *  its iterations and time. Ipopt's own return code only when engine is EA__ENGINE_IPOPT
- *  (ipopt_status is then Ipopt's; otherwise the code a converged Ipopt would give, so the
- *  plan's info reads the same whichever engine converged). */
+ *  its iterations and time. ipopt_status is Ipopt's return code when engine is
+ *  EA__ENGINE_IPOPT (the only engine that classifies a failure); the plan's info shows it only
+ *  then (ea__engine_result_fill: EA_PLAN_NO_IPOPT otherwise). */
 typedef struct ea__engine_result {
   ea__engine_t engine;  /**< the engine that gave the final point */
   int solved;           /**< 1: converged (to its tolerance or Ipopt's acceptable level) */
-  int ipopt_status;     /**< Ipopt's ApplicationReturnStatus (see above) */
+  int ipopt_status;     /**< Ipopt's ApplicationReturnStatus (engine/ipopt_impl.h; the
+                             success code when another engine converged) */
   int iterations;       /**< of every engine's attempt that counts (see ea_plan_info_t) */
   int newton_steps;     /**< the active-set Newton's (0: not tried) */
   int ipm_iterations;   /**< the own interior point's (0: not tried) */
@@ -101,8 +102,8 @@ typedef struct ea__engine_result {
   double time_engine_s; /**< [s] the engines' time, callbacks included */
 } ea__engine_result_t;
 
-/** info's engine fields from r: status code and name, iterations, steps, the interior
- *  point's iterations and fallback. */
+/** info's engine fields from r: Ipopt's status code and name (where Ipopt gave the result),
+ *  iterations, steps, the interior point's iterations and fallback. */
 void ea__engine_result_fill(const ea__engine_result_t *r, ea_plan_info_t *info);
 
 #endif

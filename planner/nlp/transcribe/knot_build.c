@@ -1,5 +1,7 @@
 /* The knot transcription's rows and bounds. */
 #include "plan_impl.h"
+#include "knot_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,6 +1,8 @@
 /* The knot transcription's callbacks (objective, rows, Jacobian, Hessian, iteration), as the
  * engines call them. */
 #include "plan_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 #include "nlp_impl.h"
 
 #include <math.h>
@@ -12,11 +14,11 @@
 /* Ipopt callbacks                                                          */
 /* ---------------------------------------------------------------------- */
 
-static void ea__touch(ea_planner_t *pl, Bool new_x) {
+static void ea__touch(ea_planner_t *pl, int new_x) {
   if (new_x) pl->cache_val = pl->cache_sens = 0;
 }
 
-Bool ea__knot_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
+int ea__knot_cb_f(int n, double *x, int new_x, double *f, void *ud) {
   ea_planner_t *pl = ud;
   (void)n;
   const double t0 = ea__mono_s();
@@ -29,7 +31,7 @@ Bool ea__knot_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
   return isfinite(v);
 }
 
-Bool ea__knot_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud) {
+int ea__knot_cb_grad_f(int n, double *x, int new_x, double *g, void *ud) {
   ea_planner_t *pl = ud;
   const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
@@ -37,10 +39,10 @@ Bool ea__knot_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr u
   for (int i = 0; i < pl->n_terms; ++i)
     pl->terms[i].grad(pl, x, pl->terms[i].weight, g);
   pl->t_callbacks += ea__mono_s() - t0;
-  return TRUE;
+  return 1;
 }
 
-Bool ea__knot_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud) {
+int ea__knot_cb_g(int n, double *x, int new_x, int m, double *g, void *ud) {
   ea_planner_t *pl = ud;
   (void)n;
   (void)m;
@@ -52,8 +54,8 @@ Bool ea__knot_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataP
   return st == EA_OK;
 }
 
-Bool ea__knot_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow, Index *jCol,
-                     Number *values, UserDataPtr ud) {
+int ea__knot_cb_jac(int n, double *x, int new_x, int m, int nele, int *iRow, int *jCol,
+                    double *values, void *ud) {
   ea_planner_t *pl = ud;
   (void)n;
   (void)m;
@@ -61,27 +63,26 @@ Bool ea__knot_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index 
   if (!values) {
     memcpy(iRow, pl->irow, (size_t)pl->nnz * sizeof *iRow);
     memcpy(jCol, pl->jcol, (size_t)pl->nnz * sizeof *jCol);
-    return TRUE;
+    return 1;
   }
   const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
-  if (ea__plan_shoot_all(pl, x, 1)) return FALSE;
+  if (ea__plan_shoot_all(pl, x, 1)) return 0;
   ea__plan_jac(pl, x, NULL, NULL, values);
   if (pl->info) pl->info->evals_jac++;
   pl->t_callbacks += ea__mono_s() - t0;
-  return TRUE;
+  return 1;
 }
 
-Bool ea__knot_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *lambda,
-                   Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
-                   UserDataPtr ud) {
+int ea__knot_cb_h(int n, double *x, int new_x, double of, int m, double *lambda, int new_lambda,
+                  int nele, int *iRow, int *jCol, double *values, void *ud) {
   ea_planner_t *pl = ud;
   (void)n, (void)m, (void)new_lambda, (void)nele;
-  if (!pl->hess_exact) return FALSE; /* limited-memory quasi-Newton */
+  if (!pl->hess_exact) return 0; /* limited-memory quasi-Newton */
   if (!values) {
     memcpy(iRow, pl->hirow, (size_t)pl->nnz_h * sizeof *iRow);
     memcpy(jCol, pl->hjcol, (size_t)pl->nnz_h * sizeof *jCol);
-    return TRUE;
+    return 1;
   }
   const double t0 = ea__mono_s();
   ea__touch(pl, new_x);
@@ -95,14 +96,14 @@ int ea__plan_time_up(void *ud) {
   return !(ea__mono_s() - pl->t_start < pl->max_time);
 }
 
-Bool ea__knot_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
-                      Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
-                      Index ls, UserDataPtr ud) {
+int ea__knot_cb_iter(int alg_mod, int iter, double obj, double inf_pr, double inf_du, double mu,
+                     double d_norm, double reg, double alpha_du, double alpha_pr, int ls,
+                     void *ud) {
   ea_planner_t *pl = ud;
   (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
   (void)alpha_du, (void)alpha_pr, (void)ls;
   pl->iter = iter;
-  return ea__mono_s() - pl->t_start < pl->max_time ? TRUE : FALSE;
+  return ea__mono_s() - pl->t_start < pl->max_time ? 1 : 0;
 }
 
 void ea__knot_nlp(const ea_planner_t *pl, ea__nlp_t *p) {
@@ -130,16 +131,16 @@ void ea__knot_nlp(const ea_planner_t *pl, ea__nlp_t *p) {
 
 /* The KKT test's rows and Jacobian: every knot shot again (the cache may hold shots of another
  * task), not counted as the engines' evaluations. */
-static Bool ea__knot_check_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud) {
+static int ea__knot_check_g(int n, double *x, int new_x, int m, double *g, void *ud) {
   (void)n, (void)new_x, (void)m;
   return ea__plan_eval_g(ud, x, g) == EA_OK;
 }
 
-static Bool ea__knot_check_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow,
-                               Index *jCol, Number *values, UserDataPtr ud) {
+static int ea__knot_check_jac(int n, double *x, int new_x, int m, int nele, int *iRow, int *jCol,
+                              double *values, void *ud) {
   (void)n, (void)new_x, (void)m, (void)nele, (void)iRow, (void)jCol;
   ea__plan_jac(ud, x, NULL, NULL, values);
-  return TRUE;
+  return 1;
 }
 
 int ea__knot_kkt_ok(ea_planner_t *pl, const double *x, double dtol) {

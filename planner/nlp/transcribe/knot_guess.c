@@ -4,6 +4,8 @@
  * (ea_statics_solve with a warm start), so Ipopt starts feasible or nearly
  * so; or a previous plan resampled onto the knots (replanning). */
 #include "plan_impl.h"
+#include "guess_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <string.h>
@@ -156,6 +158,7 @@ static void ea__seg_q(const ea_planner_t *pl, int j, double sig, double *prev_ba
  * (u in [0, 1] of the returned duration). Returns the duration (0 when
  * no limit is finite: the caller keeps its smoothstep). */
 #define EA__TOPP_M 400
+/* (Just over 100 lines: the passes of one parametrisation share its stack grids.) */
 static double ea__topp(const ea_planner_t *pl, int j, int nk, const double *u, double *sig,
                        double *sigdot, const double *th_sig, const double *th, double th_vmax,
                        double th_amax) {
@@ -615,7 +618,7 @@ double ea__plan_retime(const ea_planner_t *pl, double *x) {
   const int N = pl->N, nq = pl->nq;
   const double tf = x[EA__ITF(pl)];
   /* (a finer rule, only the limits the old plan had active, predicted t_f no better and
-   * needed 13 instead of 6 iterations) */
+   * cost iterations) */
   const double *xo = pl->x_sol;
   double un_max = 0.0, uo_max = 0.0;
   for (int k = 0; k + 1 < N; ++k) {

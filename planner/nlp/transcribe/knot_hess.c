@@ -9,6 +9,9 @@
  * modal defects), else central differences of the exact gradient. docs/planner.md compares
  * the modes. */
 #include "plan_impl.h"
+#include "dyn_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -22,8 +25,8 @@ static int ea__cmp64(const void *a, const void *b) {
 
 /* Sort nk non-negative keys ascending: least-significant-digit radix sort, 11-bit digits, as
  * many passes as the largest key needs (3 for n up to 77 000 variables); qsort when no
- * scratch can be had. The planner's setup sorted ~10^5 pairs per transcription: qsort took
- * half of ea_planner_alloc for the paper line (3.5 of 7 ms). */
+ * scratch can be had. The planner's setup sorts every Hessian pair of a transcription, where
+ * qsort's comparisons dominated ea_planner_alloc. */
 static void ea__sort_keys(int64_t *keys, size_t nk) {
   int64_t mx = 0;
   for (size_t q = 0; q < nk; ++q)
@@ -86,8 +89,8 @@ ea_status_t ea__hpattern(int64_t *keys, size_t nk, int n, int *nnz, int **irow, 
   }
   for (int i = 0; i < n; ++i)
     rowstart[i + 1] += rowstart[i];
-  /* each key's entry: a binary search within its row's few entries (one search over all the
-   * entries took a third of the at-rest paper line's ea_planner_alloc) */
+  /* each key's entry: a binary search within its row's few entries (cheaper than one search
+   * over all the entries) */
   for (size_t q = 0; q < nk; ++q) {
     const int64_t i64 = orig[q] / n;
     const int i = (int)i64, j = (int)(orig[q] - i64 * n);
@@ -264,8 +267,8 @@ int ea__plan_hess_group_len(const ea__row_t *rows, int r, int nr) {
 }
 
 /* Central differences of the exact gradients of rows[0..g-1] over the union of their
- * variables, whose accuracy the ill-conditioned problems need (the paper line at 2000 knots:
- * 29 iterations; forward ones: no convergence). */
+ * variables, whose accuracy the ill-conditioned problems need (forward differences did not
+ * converge on fine knot grids). */
 static void ea__hess_fd(const ea_planner_t *pl, ea__rowfn fn, const double *x, double *xx,
                         const ea__row_t *rows, const double *w, int g, int cols[][EA__ROW_MAX],
                         int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX]) {
@@ -304,9 +307,7 @@ void ea__plan_hess_fd_local(const ea_planner_t *pl, ea__rowfn fn, const double *
                             int *nc, double Hl[][EA__ROW_MAX][EA__ROW_MAX],
                             double g0[][EA__ROW_MAX]) {
   const int closed = fn == ea__plan_row_eval;
-  /* an interval's modal defects: closed form (ea__plan_dyn_defect_hess; forward differences
-   * of their exact gradients before: the at-rest paper line 64-66 -> 42-47 ms, the same
-   * iterations) */
+  /* an interval's modal defects: closed form (ea__plan_dyn_defect_hess) */
   if (closed && g > 0 &&
       (rows[0].kind == EA__ROW_DYN_DEF_POS || rows[0].kind == EA__ROW_DYN_DEF_VEL)) {
     ea__plan_dyn_defect_hess(pl, x, rows, w, g, cols, nc, Hl);

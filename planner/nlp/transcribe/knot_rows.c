@@ -3,6 +3,9 @@
  * (pl->rows) drives the values, the structure and the values of the
  * Jacobian, so the three can never disagree. */
 #include "plan_impl.h"
+#include "dyn_impl.h"
+#include "knot_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <string.h>
@@ -51,6 +54,7 @@ double ea__plan_row_unit(const ea_planner_t *pl, const ea__row_t *r) {
 }
 
 /* One row: value and (optionally) its entries (col, val); returns count. */
+/* (Over 100 lines: one case per row kind, the rows' definitions side by side.) */
 int ea__plan_row_eval(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                       int *cols, double *vals) {
   const ea_arm_t *arm = &pl->task.arm;

@@ -1,4 +1,5 @@
 /* The path transcription's setup: does a task qualify, its layout, bounds and rows. */
+#include "ipopt_impl.h"
 #include "path_impl.h"
 
 #include <math.h>
@@ -8,7 +9,7 @@
 
 void ea__pp_free(ea__pp_t *pp) {
   if (!pp) return;
-  if (pp->ip) FreeIpoptProblem(pp->ip);
+  ea__ipopt_free(pp->ip);
   free(pp->ssig);
   free(pp->spa);
   free(pp->sp);
@@ -48,6 +49,7 @@ void ea__pp_free(ea__pp_t *pp) {
   free(pp->xstart);
   free(pp->g_sol);
   ea__asn_free(pp->asn);
+  ea__kkt_free(pp->kkt);
   ea__screen_free(pp->scr);
   free(pp->rfam);
   free(pp->sd_sol);
@@ -67,12 +69,9 @@ int ea__pp_supported(const ea_planner_t *pl) {
   const ea_task_t *t = &pl->task;
   if (t->solver.transcription == EA_TASK_TRANSCRIPTION_KNOTS) return 0;
   if (t->path == EA_TASK_PATH_FREE) return 0;
-  /* with dynamics (auto) the path when the own interior point solves it (one model): the
-   * same iterations within 1-3 and less time on every measured task (no statics shots; the
-   * at-rest paper line about 44 -> 34 ms); with Ipopt (solver.nlp: ipopt, robust corner
-   * models) the knots: fewer Ipopt iterations and less time on every measured task, the same
-   * durations to 1e-5 (bench_dyn; paper line at rest 34 -> 27 iterations, payload 0.25 37 ->
-   * 27, 0.5 34 -> 25, robust 72 -> 40) */
+  /* with dynamics (auto) the path when the own interior point solves it (one model: no
+   * statics shots inside the solve); with Ipopt (solver.nlp: ipopt, robust corner models) the
+   * knots, where Ipopt takes fewer iterations (docs/planner.md, "Arriving at rest") */
   if (t->solver.transcription == EA_TASK_TRANSCRIPTION_AUTO && t->dynamics.modes > 0 &&
       ((t->solver.engines == EA_PLANNER_ENGINES_IPOPT) || pl->M > 1))
     return 0;
@@ -150,11 +149,10 @@ void ea__pp_path(ea_planner_t *pl) {
   pp->S = s;
 }
 
-ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
-  ea__pp_t *pp = calloc(1, sizeof *pp);
-  if (!pp) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
-  pl->pp = pp;
-  pl->guess_statics = ea__pp_statics_at;
+/* The sizes of the path layout and its arrays (those of the rows after ea__pp_map). 0, or -1
+ * (out of memory). */
+static int ea__pp_arrays(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
   const int N = pl->N, K = pl->K;
   pp->nc = pl->nq + 1;
   pp->nbp = 1 + pp->nc;
@@ -190,9 +188,19 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   if (!pp->ssig || !pp->sp || !pp->sdp || !pp->spa || !pp->kidx || !pp->kkind || !pp->kcoord ||
       !pp->kknot || !pp->xk || !pp->gk || !pp->xs_last || !pp->dq || !pp->dq2 || !pp->sd_sol ||
       !pp->xkx || !pp->rows || !pp->rmap || !pp->gl || !pp->gu)
-    return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+    return -1;
   for (size_t i = 0; i < sizeof arr / sizeof *arr; ++i)
-    if (!*arr[i]) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+    if (!*arr[i]) return -1;
+  return 0;
+}
+
+/* The map of the knot layout onto the path layout and the rows the path keeps (the knot
+ * planner's, without the statics and path rows), with their arrays. 0, or -1 (out of
+ * memory). */
+static int ea__pp_map(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
+  const int N = pl->N, K = pl->K;
+  const size_t nk = (size_t)pl->n;
   /* map of the knot layout */
   for (size_t i = 0; i < nk; ++i)
     pp->kidx[i] = -1;
@@ -230,42 +238,15 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   pp->mult_g = calloc((size_t)m + 1, sizeof(double));
   pp->mult_g_sol = calloc((size_t)m + 1, sizeof(double));
   pp->g_sol = calloc((size_t)m + 1, sizeof(double));
-  if (!pp->g || !pp->mult_g || !pp->mult_g_sol || !pp->g_sol)
-    return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
-  ea__pp_path(pl);
-  /* a worker (plan_par.c) when the task allows two threads (solver.threads) and the machine
-   * has two processors: the statics samples' refinement levels, the cold guess beside the
-   * interior point's preparation and, with dynamics, the rows' evaluations in two parts */
-  const int th = pl->task.solver.threads;
-  if (th == 2 || (th == 0 && ea__par_cpus() >= 2)) {
-    pp->par = ea__par_new();
-    if (pp->par && ea_shooter_alloc(&pl->task.arm, NULL, &pp->sh1, NULL)) pp->sh1 = NULL;
-  }
-  ea_error_t e = {0};
-  pp->path_status = ea__pp_build_splines(pl, &e);
-  snprintf(pp->path_msg, sizeof pp->path_msg, "%s", e.msg);
-  if (pp->path_status && pp->path_status != EA_ERR_INFEASIBLE)
-    return ea_error_set(err, pp->path_status, "%s", e.msg);
-  if (pp->path_status) { /* a flat spline for the structure: the error comes at the solve */
-    pp->key_nseg = 0;    /* not the path's samples */
-    for (int j = 0; j < pl->n_seg; ++j) {
-      pp->soff[j] = 2 * j;
-      pp->ssig[2 * j] = pp->sig0[j];
-      pp->ssig[2 * j + 1] = pp->sig0[j] + fmax(pl->segLen[j], 1e-9);
-    }
-    pp->ns = pp->soff[pl->n_seg] = 2 * pl->n_seg;
-    memset(pp->sp, 0, sizeof(double) * 3 * (size_t)pp->ns);
-    memset(pp->sdp, 0, sizeof(double) * 3 * (size_t)pp->ns);
-    memset(pp->spa, 0, sizeof(double) * 6 * (size_t)pp->ns);
-  }
-  ea__pp_bounds(pl);
-  /* a feasible-looking x for the structure: the midpoints of the bounds */
-  for (size_t i = 0; i < n; ++i)
-    pp->x[i] = isfinite(pp->xl[i]) && isfinite(pp->xu[i]) && pp->xu[i] < 1e19
-                   ? 0.5 * (pp->xl[i] + pp->xu[i])
-                   : 0.0;
-  if (pl->has_tf) pp->x[pp->itf] = 1.0;
-  memset(pp->xs_last, 0xff, sizeof(double) * n); /* NaN: every knot dirty */
+  return !pp->g || !pp->mult_g || !pp->mult_g_sol || !pp->g_sol ? -1 : 0;
+}
+
+/* The Jacobian's and the Hessian's structure from every row's and objective piece's entries
+ * at pp->x and, with dynamics, the two-part evaluations' arrays. */
+static ea_status_t ea__pp_structure(ea_planner_t *pl) {
+  ea__pp_t *pp = pl->pp;
+  const int N = pl->N, K = pl->K, m = pp->m;
+  const size_t nk = (size_t)pl->n, n = (size_t)pp->n;
   /* every row's and objective piece's entries, once: the Jacobian's and the Hessian's
    * structure */
   const int npc = ea__pp_npieces(pl);
@@ -274,7 +255,7 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   if (!rc || !rn) {
     free(rc);
     free(rn);
-    return ea_error_set(err, EA_ERR_NOMEM, "out of memory");
+    return EA_ERR_NOMEM;
   }
   pp->nnz = 0;
   for (int r = 0; r < npc; ++r) {
@@ -320,5 +301,51 @@ ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
   }
   free(rc);
   free(rn);
+  return st;
+}
+
+ea_status_t ea__pp_alloc(ea_planner_t *pl, ea_error_t *err) {
+  ea__pp_t *pp = calloc(1, sizeof *pp);
+  if (!pp) return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  pl->pp = pp;
+  pl->guess_statics = ea__pp_statics_at;
+  if (ea__pp_arrays(pl) || ea__pp_map(pl))
+    return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  const size_t n = (size_t)pp->n;
+  ea__pp_path(pl);
+  /* a worker (plan_par.c) when the task allows two threads (solver.threads) and the machine
+   * has two processors: the statics samples' refinement levels, the cold guess beside the
+   * interior point's preparation and, with dynamics, the rows' evaluations in two parts */
+  const int th = pl->task.solver.threads;
+  if (th == 2 || (th == 0 && ea__par_cpus() >= 2)) {
+    pp->par = ea__par_new();
+    if (pp->par && ea_shooter_alloc(&pl->task.arm, NULL, &pp->sh1, NULL)) pp->sh1 = NULL;
+  }
+  ea_error_t e = {0};
+  pp->path_status = ea__pp_build_splines(pl, &e);
+  snprintf(pp->path_msg, sizeof pp->path_msg, "%s", e.msg);
+  if (pp->path_status && pp->path_status != EA_ERR_INFEASIBLE)
+    return ea_error_set(err, pp->path_status, "%s", e.msg);
+  if (pp->path_status) { /* a flat spline for the structure: the error comes at the solve */
+    pp->key_nseg = 0;    /* not the path's samples */
+    for (int j = 0; j < pl->n_seg; ++j) {
+      pp->soff[j] = 2 * j;
+      pp->ssig[2 * j] = pp->sig0[j];
+      pp->ssig[2 * j + 1] = pp->sig0[j] + fmax(pl->segLen[j], 1e-9);
+    }
+    pp->ns = pp->soff[pl->n_seg] = 2 * pl->n_seg;
+    memset(pp->sp, 0, sizeof(double) * 3 * (size_t)pp->ns);
+    memset(pp->sdp, 0, sizeof(double) * 3 * (size_t)pp->ns);
+    memset(pp->spa, 0, sizeof(double) * 6 * (size_t)pp->ns);
+  }
+  ea__pp_bounds(pl);
+  /* a feasible-looking x for the structure: the midpoints of the bounds */
+  for (size_t i = 0; i < n; ++i)
+    pp->x[i] = isfinite(pp->xl[i]) && isfinite(pp->xu[i]) && pp->xu[i] < 1e19
+                   ? 0.5 * (pp->xl[i] + pp->xu[i])
+                   : 0.0;
+  if (pl->has_tf) pp->x[pp->itf] = 1.0;
+  memset(pp->xs_last, 0xff, sizeof(double) * n); /* NaN: every knot dirty */
+  const ea_status_t st = ea__pp_structure(pl);
   return st ? ea_error_set(err, st, "out of memory") : EA_OK;
 }

@@ -17,6 +17,9 @@
 #define EA_PATH_IMPL_H
 
 #include "plan_asn_impl.h"
+#include "dyn_impl.h"
+#include "par_impl.h"
+#include "path_entry_impl.h"
 #include "plan_impl.h"
 #include "plan_ipm_impl.h"
 #include "plan_screen_impl.h"
@@ -61,7 +64,8 @@ struct ea__pp {
   double *x, *xl, *xu, *gl, *gu, *g, *mult_g, *mult_xl, *mult_xu;
   double *x_sol, *mult_g_sol, *mult_xl_sol, *mult_xu_sol, *x0;
   double *g_sol;     /* the rows at x_sol (the active-set Newton's gaps) */
-  ea__asn_t *asn;    /* the active-set Newton of a warm start (NULL until the first) */
+  ea__kkt_t *kkt;    /* the KKT system of the own engines (NULL until the first) */
+  ea__asn_t *asn;    /* the active-set Newton of a warm start, on kkt */
   ea__screen_t *scr; /* Ipopt's rows (engine/ipopt_screen.c; NULL until the first Ipopt solve) */
   int *rfam, nfam;   /* each row's family for it: one limit of one coordinate */
   double *xstart;    /* the start of an Ipopt solve (a screened solve's second round) */
@@ -91,7 +95,7 @@ struct ea__pp {
   double *jv_keep, *jv_x;
   double *kkt_jv; /* the KKT test's Jacobian values */
   int jv_valid;
-  IpoptProblem ip;
+  struct IpoptProblemInfo *ip;
   int iter;
 };
 
@@ -120,17 +124,15 @@ void ea__pp_nlp(const ea_planner_t *pl, ea__nlp_t *p);
 const ea__row_t *ea__pp_hrow(const ea_planner_t *pl, int r);
 int ea__pp_npieces(const ea_planner_t *pl);
 ea_status_t ea__pp_hess_setup(ea_planner_t *pl, const int *rc, const int *rn);
-Bool ea__pp_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud);
-Bool ea__pp_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud);
-Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud);
-Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow, Index *jCol,
-                   Number *values, UserDataPtr ud);
-Bool ea__pp_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *lambda,
-                 Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
-                 UserDataPtr ud);
-Bool ea__pp_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du, Number mu,
-                    Number d_norm, Number reg, Number alpha_du, Number alpha_pr, Index ls,
-                    UserDataPtr ud);
+int ea__pp_cb_f(int n, double *x, int new_x, double *f, void *ud);
+int ea__pp_cb_grad_f(int n, double *x, int new_x, double *g, void *ud);
+int ea__pp_cb_g(int n, double *x, int new_x, int m, double *g, void *ud);
+int ea__pp_cb_jac(int n, double *x, int new_x, int m, int nele, int *iRow, int *jCol,
+                  double *values, void *ud);
+int ea__pp_cb_h(int n, double *x, int new_x, double of, int m, double *lambda, int new_lambda,
+                int nele, int *iRow, int *jCol, double *values, void *ud);
+int ea__pp_cb_iter(int alg_mod, int iter, double obj, double inf_pr, double inf_du, double mu,
+                   double d_norm, double reg, double alpha_du, double alpha_pr, int ls, void *ud);
 
 /* ---- path_solve.c ---- */
 void ea__pp_predict(ea_planner_t *pl);

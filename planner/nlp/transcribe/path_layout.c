@@ -1,6 +1,7 @@
 /* The path transcription's geometry (the path coordinate sigma: segment, actuator
  * coordinates and their slopes) and the map from its layout to the knot transcription's. */
 #include "path_impl.h"
+#include "knot_impl.h"
 
 #include <math.h>
 #include <stdio.h>

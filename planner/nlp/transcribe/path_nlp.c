@@ -1,6 +1,8 @@
 /* The path transcription's NLP: Hessian structure, rows, Jacobian and Hessian values (in two
  * parts on two threads with dynamics) and the callbacks the engines call. */
 #include "path_impl.h"
+#include "hess_impl.h"
+#include "knot_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -285,7 +287,7 @@ void ea__pp_test_hess(ea_planner_t *pl, const double *xs, double sigma, const do
   ea__pp_hess_values(pl, xs, sigma, lambda, values);
 }
 
-Bool ea__pp_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
+int ea__pp_cb_f(int n, double *x, int new_x, double *f, void *ud) {
   ea_planner_t *pl = ud;
   (void)n, (void)new_x;
   const double t0 = ea__mono_s();
@@ -298,7 +300,7 @@ Bool ea__pp_cb_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr ud) {
   return isfinite(v);
 }
 
-Bool ea__pp_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud) {
+int ea__pp_cb_grad_f(int n, double *x, int new_x, double *g, void *ud) {
   ea_planner_t *pl = ud;
   ea__pp_t *pp = pl->pp;
   (void)new_x;
@@ -318,10 +320,10 @@ Bool ea__pp_cb_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr ud)
     g[pp->kidx[i]] += pp->gk[i] * f;
   }
   pl->t_callbacks += ea__mono_s() - t0;
-  return TRUE;
+  return 1;
 }
 
-Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr ud) {
+int ea__pp_cb_g(int n, double *x, int new_x, int m, double *g, void *ud) {
   ea_planner_t *pl = ud;
   (void)n, (void)new_x, (void)m;
   const double t0 = ea__mono_s();
@@ -334,18 +336,18 @@ Bool ea__pp_cb_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr
   }
   if (pl->info) pl->info->evals_g++;
   pl->t_callbacks += ea__mono_s() - t0;
-  return TRUE;
+  return 1;
 }
 
-Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow, Index *jCol,
-                   Number *values, UserDataPtr ud) {
+int ea__pp_cb_jac(int n, double *x, int new_x, int m, int nele, int *iRow, int *jCol,
+                  double *values, void *ud) {
   ea_planner_t *pl = ud;
   ea__pp_t *pp = pl->pp;
   (void)n, (void)new_x, (void)m, (void)nele;
   if (!values) {
     memcpy(iRow, pp->irow, (size_t)pp->nnz * sizeof *iRow);
     memcpy(jCol, pp->jcol, (size_t)pp->nnz * sizeof *jCol);
-    return TRUE;
+    return 1;
   }
   const double t0 = ea__mono_s();
   if (pp->jv_valid && !memcmp(pp->jv_x, x, (size_t)pp->n * sizeof *x)) {
@@ -356,34 +358,32 @@ Bool ea__pp_cb_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *i
   }
   if (pl->info) pl->info->evals_jac++;
   pl->t_callbacks += ea__mono_s() - t0;
-  return TRUE;
+  return 1;
 }
 
-Bool ea__pp_cb_h(Index n, Number *x, Bool new_x, Number of, Index m, Number *lambda,
-                 Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
-                 UserDataPtr ud) {
+int ea__pp_cb_h(int n, double *x, int new_x, double of, int m, double *lambda, int new_lambda,
+                int nele, int *iRow, int *jCol, double *values, void *ud) {
   ea_planner_t *pl = ud;
   ea__pp_t *pp = pl->pp;
   (void)n, (void)new_x, (void)m, (void)new_lambda, (void)nele;
   if (!values) {
     memcpy(iRow, pp->hirow, (size_t)pp->nnz_h * sizeof *iRow);
     memcpy(jCol, pp->hjcol, (size_t)pp->nnz_h * sizeof *jCol);
-    return TRUE;
+    return 1;
   }
   const double t0 = ea__mono_s();
   ea__pp_hess_values(pl, x, of, lambda, values);
   pl->t_callbacks += ea__mono_s() - t0;
-  return TRUE;
+  return 1;
 }
 
-Bool ea__pp_cb_iter(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du, Number mu,
-                    Number d_norm, Number reg, Number alpha_du, Number alpha_pr, Index ls,
-                    UserDataPtr ud) {
+int ea__pp_cb_iter(int alg_mod, int iter, double obj, double inf_pr, double inf_du, double mu,
+                   double d_norm, double reg, double alpha_du, double alpha_pr, int ls, void *ud) {
   ea_planner_t *pl = ud;
   (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
   (void)alpha_du, (void)alpha_pr, (void)ls;
   pl->pp->iter = iter;
-  return ea__mono_s() - pl->t_start < pl->max_time ? TRUE : FALSE;
+  return ea__mono_s() - pl->t_start < pl->max_time ? 1 : 0;
 }
 
 void ea__pp_nlp(const ea_planner_t *pl, ea__nlp_t *p) {

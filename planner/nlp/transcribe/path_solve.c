@@ -1,5 +1,7 @@
 /* A solve in the path coordinate: guess, engines, replanning. */
 #include "ipopt_impl.h"
+#include "guess_impl.h"
+#include "knot_impl.h"
 #include "path_impl.h"
 
 #include <math.h>
@@ -35,15 +37,16 @@ static void ea__pp_mult_from_sol(ea__pp_t *pp) {
   memcpy(pp->mult_xu, pp->mult_xu_sol, (size_t)pp->n * sizeof *pp->x);
 }
 
-/* The workspace of the active-set Newton and the interior point (engine/asn.c, engine/ipm.c) on the
- * path NLP: 0, or -1 (out of memory). */
+/* The KKT system of the path NLP and the active-set Newton's workspace on it (engine/kkt.c,
+ * engine/asn.c), which the interior point (engine/ipm.c) shares: 0, or -1 (out of memory). */
 static int ea__pp_asn(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
-  if (!pp->asn) {
+  if (!pp->kkt) {
     ea__nlp_t nlp;
     ea__pp_nlp(pl, &nlp);
-    if (!(pp->asn = ea__asn_alloc(&nlp))) return -1;
+    if (!(pp->kkt = ea__kkt_alloc(&nlp))) return -1;
   }
+  if (!pp->asn && !(pp->asn = ea__asn_alloc(pp->kkt))) return -1;
   return 0;
 }
 
@@ -58,16 +61,13 @@ static int ea__pp_ipm_start(ea_planner_t *pl, double mu_init, int *iters) {
   *iters = 0;
   if (ea__pp_asn(pl)) return 0;
   /* the start 1e-6 inside (Ipopt's setting here, ea__pp_ipopt), the slacks 1e-2 (Ipopt's
-   * default): with 1e-6 the rows the time-optimal guess holds at their limits gave pivots so
-   * small that in 5-7 of the line sweep's ~100 plans (test_plan_sweep) no raise of the
-   * diagonals made the first solve refine (they went to Ipopt), with 1e-3 or 1e-2 none; 1e-2
-   * took the paper line 10 -> 9 iterations, the sweep 1052 -> 1002; the start itself 1e-2
-   * inside: 25. From a plan file that holds the task's rows (mu_init 1e-7) 1e-6: the paper
-   * line's own file in 5 iterations, 16 with 1e-2 */
+   * default): the rows the time-optimal guess holds at their limits give pivots too small for
+   * the first solve to refine with slacks 1e-6 inside. From a plan file that holds the task's
+   * rows (mu_init 1e-7) the slacks 1e-6 inside: that start is already the plan */
   ea__ipm_opt_t o;
   ea__plan_ipm_opt(pl, mu_init, mu_init < 1e-6 ? 1e-6 : 1e-2, &o);
   memcpy(pp->x0, pp->x, (size_t)pp->n * sizeof *pp->x);
-  const int rc = ea__ipm_solve(pp->asn, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters);
+  const int rc = ea__ipm_solve(pp->kkt, &o, pp->x, pp->mult_g, pp->mult_xl, pp->mult_xu, iters);
   if (rc >= 0 && ea__pp_kkt_ok_tol(pl, rc ? o.acc_tol : t->solver.tol)) return 1;
   memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
   return 0;
@@ -111,7 +111,7 @@ static void ea__pp_guess_part(void *ctx, int part) {
   if (part == 0)
     jb->st = ea__pp_cold_guess(jb->pl, jb->info, jb->err);
   else
-    ea__ipm_prepare(jb->pl->pp->asn); /* (failing: the solve makes the pattern again) */
+    ea__ipm_prepare(jb->pl->pp->kkt); /* (failing: the solve makes the pattern again) */
 }
 
 /* The knot-layout vector xk (a guess or a previous plan) in the path layout. */
@@ -132,9 +132,8 @@ static void ea__pp_reduce(ea_planner_t *pl, const double *xk, double *xs) {
   if (pl->has_tf) xs[pp->itf] = xk[EA__ITF(pl)];
 }
 
-/* Ipopt's rows (engine/ipopt_screen.c, EA__SCREEN_BAND and EA__SCREEN_HOLD there). Measured
- * (bench_plan, docs/planner.md): the paper line's Ipopt sees 493 of 692 rows, the same
- * iterations and plan in less time per iteration. */
+/* Ipopt's rows (engine/ipopt_screen.c, EA__SCREEN_BAND and EA__SCREEN_HOLD there;
+ * docs/planner.md, "Ipopt"). */
 static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
   if (!pp->rfam && !(pp->rfam = malloc(sizeof(int) * (size_t)(pp->m + 1)))) return NULL;
@@ -147,7 +146,7 @@ static ea__screen_t *ea__pp_screen_alloc(ea_planner_t *pl) {
 static ea_status_t ea__pp_ipopt(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
   const ea_task_t *t = &pl->task;
-  if (pp->ip) FreeIpoptProblem(pp->ip);
+  ea__ipopt_free(pp->ip);
   pp->ip = ea__screen_problem(pp->scr, pp->xl, pp->xu);
   if (!pp->ip) return EA_ERR_BACKEND;
   /* the knots near a pinned point have sigma within 1e-2 of its bound: the default push
@@ -260,7 +259,7 @@ void ea__pp_predict(ea_planner_t *pl) {
 /* Largest violation of the path problem's rows at pp->x (absolute, unscaled). */
 static double ea__pp_violation(ea_planner_t *pl) {
   ea__pp_t *pp = pl->pp;
-  if (!ea__pp_cb_g(pp->n, pp->x, TRUE, pp->m, pp->g, pl)) return INFINITY;
+  if (!ea__pp_cb_g(pp->n, pp->x, 1, pp->m, pp->g, pl)) return INFINITY;
   double v = 0.0;
   for (int i = 0; i < pp->m; ++i) {
     if (!isfinite(pp->g[i])) return INFINITY;
@@ -339,7 +338,7 @@ static ea_status_t ea__pp_cold_guess(ea_planner_t *pl, ea_plan_info_t *info, ea_
  * fails the adaptive one from the same start. The derivative checker's output goes to tmpl
  * (NULL: no check). */
 static void ea__pp_run(ea_planner_t *pl, int warm, int replan, int mono, int traj_exact, char *tmpl,
-                       enum ApplicationReturnStatus *rs, double *obj, int *iters) {
+                       int *rs, double *obj, int *iters) {
   ea__pp_t *pp = pl->pp;
   ea__ipopt_start_options(pp->ip, warm, replan || pl->refining);
   if (tmpl && pl->task.solver.derivative_test)
@@ -351,8 +350,8 @@ static void ea__pp_run(ea_planner_t *pl, int warm, int replan, int mono, int tra
     *rs =
         ea__screen_solve(pp->scr, pp->ip, pp->x, pp->g, obj, pp->mult_g, pp->mult_xl, pp->mult_xu);
     *iters += pp->iter;
-    if (!mono || *rs == Solve_Succeeded || *rs == Solved_To_Acceptable_Level ||
-        *rs == User_Requested_Stop)
+    if (!mono || *rs == EA__IPOPT_SOLVE_SUCCEEDED || *rs == EA__IPOPT_ACCEPTABLE ||
+        *rs == EA__IPOPT_USER_STOP)
       break;
     mono = 0;
     memcpy(pp->x, pp->x0, (size_t)pp->n * sizeof *pp->x);
@@ -378,20 +377,135 @@ static void ea__pp_strategy(const ea_planner_t *pl, ea_plan_start_t start, int w
   ea__plan_strategy(&c, s);
 }
 
+/* The engines before Ipopt (the strategy's sg): the start itself, the active-set Newton, the
+ * own interior point. *at_solution (in: the old plan passed the KKT test under the new
+ * limits) 1 when one of them gave the plan (res->engine); otherwise pp->x and the multipliers
+ * are Ipopt's start. */
+static ea_status_t ea__pp_own_engines(ea_planner_t *pl, const ea__strategy_t *sg, int traj_exact,
+                                      ea_plan_info_t *info, ea__engine_result_t *res,
+                                      int *at_solution, ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  if (*at_solution) res->engine = EA__ENGINE_KKT_START; /* the old plan under the new limits */
+  if (!*at_solution && sg->kkt_start && ea__pp_kkt_ok(pl)) {
+    *at_solution = 1; /* the predicted point is already the solution */
+    res->engine = EA__ENGINE_KKT_START;
+  }
+  if (!*at_solution && sg->asn) {
+    *at_solution = ea__pp_newton_start(pl, &res->newton_steps);
+    if (*at_solution) res->engine = EA__ENGINE_ASN;
+  }
+  /* a cold solve, or a replan the active-set Newton gave up: the own interior point */
+  if (!*at_solution && sg->ipm) {
+    if (sg->ipm_from_cold) {
+      memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x); /* the predicted point */
+      const ea_status_t st = ea__pp_cold_guess(pl, info, err);
+      if (st) return st;
+    }
+    /* the barrier's start as Ipopt's (ea__pp_run; with dynamics the knot transcription's) */
+    *at_solution = ea__pp_ipm_start(pl,
+                                    traj_exact ? 1e-7
+                                    : pl->rom  ? 1e-3
+                                               : 1e-4,
+                                    &res->ipm_iterations);
+    res->ipm_fallback = !*at_solution;
+    if (*at_solution) {
+      res->iterations = res->ipm_iterations;
+      res->engine = EA__ENGINE_IPM;
+    }
+    if (!*at_solution &&
+        sg->ipm_from_cold) { /* Ipopt's warm start: the predicted point, the multipliers */
+      memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
+      ea__pp_mult_from_sol(pp);
+    }
+  }
+  return EA_OK;
+}
+
+/* Ipopt on the path NLP from pp->x, its rows screened (engine/ipopt_screen.c): the limit rows
+ * whose family stays in the inner half of its range at the start are left out; a solution at
+ * which one of them reaches its limit is solved again from the same start with it in. *rs:
+ * Ipopt's return code; tmpl: the derivative checker's file (ea__pp_run). */
+static ea_status_t ea__pp_solve_ipopt(ea_planner_t *pl, const ea__strategy_t *sg, int warm,
+                                      int replan, int traj_exact, char tmpl[64],
+                                      ea_plan_info_t *info, int *rs, double *obj, int *iters,
+                                      ea_error_t *err) {
+  ea__pp_t *pp = pl->pp;
+  /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner
+   * half of its range at the start are left out; a solution at which one of them reaches its
+   * limit is solved again from the same start with it in */
+  if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
+    return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
+  if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||
+      !ea__pp_cb_g(pp->n, pp->x, 1, pp->m, pp->g, pl))
+    ea__screen_all(pp->scr);
+  else
+    ea__screen_select(pp->scr, pp->g, EA__SCREEN_BAND, pp->rfam, pp->nfam);
+  memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x);
+  for (int round = 0;; ++round) {
+    if (round) {
+      memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
+      if (warm) {
+        ea__pp_mult_from_sol(pp);
+      }
+    }
+    const ea_status_t st = ea__pp_ipopt(pl);
+    if (st) return ea_error_set(err, st, "Ipopt: cannot create the path problem");
+    info->ipopt_rows = ea__screen_rows(pp->scr);
+    ea__pp_run(pl, warm, replan, sg->ipopt_monotone, traj_exact, round ? NULL : tmpl, rs, obj,
+               iters);
+    if (!(*rs == EA__IPOPT_SOLVE_SUCCEEDED || *rs == EA__IPOPT_ACCEPTABLE)) break;
+    if (!ea__screen_grow(pp->scr, pp->g, EA__SCREEN_HOLD)) break;
+    info->screen_resolves++;
+  }
+  return EA_OK;
+}
+
+/* After the engines: the solution kept (res->solved from res->ipopt_status), the plan
+ * expanded to the knot layout into pl->x and the knot planner's rows at it into pl->g. */
+static ea_status_t ea__pp_finish(ea_planner_t *pl, ea__engine_result_t *res) {
+  ea__pp_t *pp = pl->pp;
+  const int rs = res->ipopt_status;
+  res->solved = rs == EA__IPOPT_SOLVE_SUCCEEDED || rs == EA__IPOPT_ACCEPTABLE;
+  if (res->solved) {
+    memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
+    memcpy(pp->mult_xl_sol, pp->mult_xl, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->mult_xu_sol, pp->mult_xu, (size_t)pp->n * sizeof *pp->x);
+    memcpy(pp->g_sol, pp->g, (size_t)pp->m * sizeof *pp->x);
+    pp->have_solution = 1;
+  }
+  /* the plan in the knot layout; the knot planner's rows at it (statics rows: the splines'
+   * 1e-9, path rows exact) */
+  memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
+  ea__pp_expand(pl, pp->x);
+  if (res->solved) ea__pp_keep_speed(pl);
+  memcpy(pl->x, pp->xk, (size_t)pl->n * sizeof *pl->x);
+  memset(pl->mult_g, 0, (size_t)pl->m * sizeof *pl->mult_g);
+  memset(pl->mult_xl, 0, (size_t)pl->n * sizeof *pl->mult_xl);
+  memset(pl->mult_xu, 0, (size_t)pl->n * sizeof *pl->mult_xu);
+  pl->cache_val = pl->cache_sens = 0;
+  const double te = ea__mono_s(); /* not Ipopt's time (its statics shots are counted) */
+  /* the tip states only (the limits between the knots take the statics' rates from the
+   * splines' partials, ea__pp_statics_rates): a shot without sensitivities costs ~0.45 of one
+   * with them */
+  const ea_status_t se = ea__plan_eval_g_values(pl, pl->x, pl->g);
+  pl->t_callbacks += ea__mono_s() - te;
+  return se;
+}
+
 ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_t *prev,
                          ea_plan_info_t *info, ea__engine_result_t *res, double *obj,
                          ea_error_t *err) {
   ea__pp_t *pp = pl->pp;
-  enum ApplicationReturnStatus rs = Internal_Error;
+  int rs = EA__IPOPT_INTERNAL_ERROR;
   int *iters = &res->iterations;
   const double t0 = ea__mono_s();
   if (pp->path_status)
     return ea_error_set(err, pp->path_status, "infeasible task: %s", pp->path_msg);
   /* A replan whose limits changed is a cold plan, from the cold guess (timed time-optimally
-   * along the path under the new limits), unless the old plan is still a KKT point: from the
-   * old plan re-timed into them it took 12-13 iterations instead of 10 (cable speed or
-   * acceleration limit -5..-10 % on the paper line; -1 %: 9 instead of 10), the old active
-   * set's multipliers being wrong. */
+   * along the path under the new limits), unless the old plan is still a KKT point: the old
+   * plan re-timed into them took more iterations, the old active set's multipliers being
+   * wrong. */
   const int limits_changed = start == EA_PLAN_WARM && pp->have_solution && pl->updated &&
                              ea__pp_limits_differ(&pl->task.limits, &pl->task_sol.limits);
   int warm = start == EA_PLAN_WARM && pp->have_solution;
@@ -413,9 +527,7 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
   }
   /* A previous plan (EA_PLAN_FROM_TRAJ) without dynamics: if it holds this task's rows to
    * 1e-6 it is (nearly) this task's plan, and the barrier starts at 1e-7; otherwise the cold
-   * guess, timed along this path, is the better start. Measured on the paper line (bench_plan):
-   * the same task's plan file 14 -> 7 iterations, a plan of the goal 5 mm away 22 -> 10 (the
-   * cold plan's); the file's plan with mu_init 1e-4 .. 1e-7 took 22-45 iterations there. */
+   * guess, timed along this path, is the better start (docs/planner.md, "Initial guess"). */
   int traj_exact = 0;
   if (!warm && start == EA_PLAN_FROM_TRAJ && !pl->rom) {
     if ((st = ea__plan_guess_traj(pl, prev, pl->x, err))) return st;
@@ -449,100 +561,20 @@ ea_status_t ea__pp_solve(ea_planner_t *pl, ea_plan_start_t start, const ea_traj_
     pp->x[i] = fmax(pp->xl[i], fmin(pp->xu[i], pp->x[i]));
   *iters = 0;
   char tmpl[64] = "";
-  if (at_solution) res->engine = EA__ENGINE_KKT_START; /* the old plan under the new limits */
-  if (!at_solution && sg.kkt_start && ea__pp_kkt_ok(pl)) {
-    at_solution = 1; /* the predicted point is already the solution */
-    res->engine = EA__ENGINE_KKT_START;
-  }
-  if (!at_solution && sg.asn) {
-    at_solution = ea__pp_newton_start(pl, &res->newton_steps);
-    if (at_solution) res->engine = EA__ENGINE_ASN;
-  }
-  /* a cold solve, or a replan the active-set Newton gave up: the own interior point */
-  if (!at_solution && sg.ipm) {
-    if (sg.ipm_from_cold) {
-      memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x); /* the predicted point */
-      if ((st = ea__pp_cold_guess(pl, info, err))) return st;
-    }
-    /* the barrier's start as Ipopt's (ea__pp_run; with dynamics the knot transcription's) */
-    at_solution = ea__pp_ipm_start(pl,
-                                   traj_exact ? 1e-7
-                                   : pl->rom  ? 1e-3
-                                              : 1e-4,
-                                   &res->ipm_iterations);
-    res->ipm_fallback = !at_solution;
-    if (at_solution) {
-      *iters = res->ipm_iterations;
-      res->engine = EA__ENGINE_IPM;
-    }
-    if (!at_solution &&
-        sg.ipm_from_cold) { /* Ipopt's warm start: the predicted point, the multipliers */
-      memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
-      ea__pp_mult_from_sol(pp);
-    }
-  }
+  if ((st = ea__pp_own_engines(pl, &sg, traj_exact, info, res, &at_solution, err))) return st;
   if (at_solution) {
-    rs = Solve_Succeeded; /* the start is the solution: no Ipopt problem, no iteration */
-    ea__pp_cb_f(pp->n, pp->x, FALSE, obj, pl);
+    rs = EA__IPOPT_SOLVE_SUCCEEDED; /* the start is the solution: no Ipopt problem, no iteration */
+    ea__pp_cb_f(pp->n, pp->x, 0, obj, pl);
   } else {
     res->engine = EA__ENGINE_IPOPT;
-    /* the rows Ipopt sees (engine/ipopt_screen.c): the limit rows whose family stays in the inner
-     * half of its range at the start are left out; a solution at which one of them reaches its
-     * limit is solved again from the same start with it in */
-    if (!pp->scr && !(pp->scr = ea__pp_screen_alloc(pl)))
-      return ea_error_set(err, EA_ERR_NOMEM, "out of memory (path transcription)");
-    if (pl->task.solver.derivative_test || !pl->task.solver.screen_rows ||
-        !ea__pp_cb_g(pp->n, pp->x, TRUE, pp->m, pp->g, pl))
-      ea__screen_all(pp->scr);
-    else
-      ea__screen_select(pp->scr, pp->g, EA__SCREEN_BAND, pp->rfam, pp->nfam);
-    memcpy(pp->xstart, pp->x, (size_t)pp->n * sizeof *pp->x);
-    for (int round = 0;; ++round) {
-      if (round) {
-        memcpy(pp->x, pp->xstart, (size_t)pp->n * sizeof *pp->x);
-        if (warm) {
-          ea__pp_mult_from_sol(pp);
-        }
-      }
-      if ((st = ea__pp_ipopt(pl)))
-        return ea_error_set(err, st, "Ipopt: cannot create the path problem");
-      info->ipopt_rows = ea__screen_rows(pp->scr);
-      ea__pp_run(pl, warm, replan, sg.ipopt_monotone, traj_exact, round ? NULL : tmpl, &rs, obj,
-                 iters);
-      if (!(rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level)) break;
-      if (!ea__screen_grow(pp->scr, pp->g, EA__SCREEN_HOLD)) break;
-      info->screen_resolves++;
-    }
+    if ((st = ea__pp_solve_ipopt(pl, &sg, warm, replan, traj_exact, tmpl, info, &rs, obj, iters,
+                                 err)))
+      return st;
   }
   if (tmpl[0]) {
     info->deriv_errors = ea__deriv_errors(tmpl);
     remove(tmpl);
   }
   res->ipopt_status = (int)rs;
-  const int solved = rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level;
-  if (solved) {
-    memcpy(pp->x_sol, pp->x, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->mult_g_sol, pp->mult_g, (size_t)pp->m * sizeof *pp->x);
-    memcpy(pp->mult_xl_sol, pp->mult_xl, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->mult_xu_sol, pp->mult_xu, (size_t)pp->n * sizeof *pp->x);
-    memcpy(pp->g_sol, pp->g, (size_t)pp->m * sizeof *pp->x);
-    pp->have_solution = 1;
-  }
-  /* the plan in the knot layout; the knot planner's rows at it (statics rows: the splines'
-   * 1e-9, path rows exact) */
-  memset(pp->xs_last, 0xff, sizeof(double) * (size_t)pp->n);
-  ea__pp_expand(pl, pp->x);
-  if (solved) ea__pp_keep_speed(pl);
-  memcpy(pl->x, pp->xk, (size_t)pl->n * sizeof *pl->x);
-  memset(pl->mult_g, 0, (size_t)pl->m * sizeof *pl->mult_g);
-  memset(pl->mult_xl, 0, (size_t)pl->n * sizeof *pl->mult_xl);
-  memset(pl->mult_xu, 0, (size_t)pl->n * sizeof *pl->mult_xu);
-  pl->cache_val = pl->cache_sens = 0;
-  const double te = ea__mono_s(); /* not Ipopt's time (its statics shots are counted) */
-  /* the tip states only (the limits between the knots take the statics' rates from the
-   * splines' partials, ea__pp_statics_rates): a shot without sensitivities costs ~0.45 of one
-   * with them */
-  const ea_status_t se = ea__plan_eval_g_values(pl, pl->x, pl->g);
-  pl->t_callbacks += ea__mono_s() - te;
-  return se;
+  return ea__pp_finish(pl, res);
 }

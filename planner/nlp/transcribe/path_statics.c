@@ -58,9 +58,7 @@ static int ea__pp_newton(const ea_planner_t *pl, ea_shooter_t *sh, const double 
     /* a start within 1e-9 (a sample's Hermite guess at the finer levels): the step leaves a
      * residual of its square, far below the tolerance, and the slopes from this shot's
      * sensitivities move the splines by less than their 1e-10 (test_plan_path's independent
-     * re-solves: 8.9e-11 / 9.96e-11 with and without this shortcut; from 1e-8 on: 1.1e-10);
-     * ea_planner_update of the paper line's goal moved 5 mm 2.1 -> 1.75 ms (one shot fewer
-     * per such sample) */
+     * re-solves); one shot fewer per such sample */
     if (nr <= 1e-9) return g[EA_P_TENSION] >= 0.0;
   }
   return 0;
@@ -367,7 +365,7 @@ static ea_status_t ea__pp_piece(ea_planner_t *pl, int j, double lo, double hi, d
   for (int i = 0; i <= N; ++i) {
     const double sig = lo + 0.5 * (hi - lo) * (1.0 - cos(M_PI * i / N));
     /* the guess: the sample before, its slope and (from the third on) the curvature of the
-     * last two slopes (the paper line with its goal moved 5 mm: 60 -> 57 shots in all) */
+     * last two slopes */
     if (i > 0 && *have)
       for (int c = 0; c < 3; ++c)
         guess[1 + c] =

@@ -16,6 +16,7 @@
  * gives f1 and its exact gradient. Built once in ea_planner_alloc; the
  * callbacks only evaluate the spline (no allocation). */
 #include "plan_impl.h"
+#include "vib_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -81,6 +82,7 @@ static int ea__fill(int nL, int na, double *f, unsigned char *ok) {
   return 0;
 }
 
+/* (Just over 100 lines: the grid, the FE sweep over it and the spline in order, one FE model.) */
 ea_status_t ea__plan_freq_build(ea_planner_t *pl, ea_error_t *err) {
   pl->fm = NULL;
   if (!ea__needs_model(&pl->task)) return EA_OK;
@@ -206,6 +208,7 @@ double ea__plan_freq(const ea_planner_t *pl, double Lc, double al, double grad[2
 
 #define EA__TWO_PI_SQ (4.0 * M_PI * M_PI)
 
+/* (Over 100 lines: one case per vibration row kind, the rows' definitions side by side.) */
 int ea__plan_vib_row(const ea_planner_t *pl, const double *x, const ea__row_t *r, double *value,
                      int *cols, double *vals) {
   const int k = r->knot, c = r->coord;
