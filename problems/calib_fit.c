@@ -107,6 +107,7 @@ void ea_calib_settings_default(ea_calib_settings_t *s) {
   memset(s, 0, sizeof *s);
   s->fix_mask = 0;
   s->fix_damping = 0;
+  s->damping_at_start = 1;
   s->max_iter = 100;
   s->ident_se = 0.5;
   s->modes = 3;
@@ -126,6 +127,9 @@ typedef struct {
   double L, payload;
   double p[EA_NP]; /* warm start and last state */
 } ea__row_t;
+
+/* Records whose mode-1 damping ratio is carried to the records' start (the rest: as fitted). */
+#define EA_CALIB_MAX_RECORDS_SCALE 256
 
 typedef struct {
   int rec;
@@ -277,9 +281,11 @@ static ea_status_t ea__angle_init(ea_shooter_t *sh, const ea_arm_t *arm, double 
   return ea__row_solve(sh, arm, L, 0.5 * (lo + hi), p, 1, err);
 }
 
-/* FE natural frequencies (eq. 24) at a hold for arm: modes 0..nmodes-1 into f. */
-static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, ea__ring_t *rg, int nmodes,
-                                 double *f, ea_error_t *err) {
+/* FE natural frequencies (eq. 24) at a hold for arm: modes 0..nmodes-1 into f; with g1, mode
+ * 1's damping ratio per unit strain-rate coefficient b there (zeta_1 = b g1, ea_fe_strain_damping).
+ */
+static ea_status_t ea__hold_fe(const ea__ws_t *w, const ea_arm_t *arm, ea__ring_t *rg, int nmodes,
+                               double *f, double *g1, ea_error_t *err) {
   ea_shooter_t *sh = NULL;
   ea_fe_model_t *m = NULL;
   ea_status_t st = ea_shooter_alloc(arm, NULL, &sh, err);
@@ -307,9 +313,16 @@ static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, ea__rin
   if (!st)
     for (int k = 0; k < nmodes; ++k)
       f[k] = mi.freq_hz[k];
+  double b1 = NAN;
+  if (!st && g1 && ea_fe_strain_damping(m, 0, 1.0, &b1, NULL) == EA_OK && b1 > 0) *g1 = 1.0 / b1;
   ea_fe_model_free(m);
   ea_shooter_free(sh);
   return st;
+}
+
+static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, ea__ring_t *rg, int nmodes,
+                                 double *f, ea_error_t *err) {
+  return ea__hold_fe(w, arm, rg, nmodes, f, NULL, err);
 }
 
 /* One static row at cable angle alpha on arm: the predicted channels pred[] and, per column j
@@ -1282,8 +1295,34 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
   gsl_vector_free(x);
   gsl_matrix_free(cov);
   if (st) goto done;
-  /* 5. Damping ratios: weighted means over the ring-downs, per FE mode. */
+  /* 5. Damping ratios: weighted means over the ring-downs, per FE mode. Mode 1's ratio of the
+   * arm file is the one at the records' start (the first static row: where a recorded session
+   * starts), as ea_traj_simulate reads it (strain-rate damping of one coefficient b, set by
+   * zeta_1 at a simulation's start): each ring-down's zeta_1 is carried there as b = zeta_1 /
+   * g1 (g1: the FE's ratio per unit b at the hold) times g1 at the start. */
   if (!set.fix_damping) {
+    double to_start[EA_CALIB_MAX_RECORDS_SCALE];
+    for (int r = 0; r < nrec && r < EA_CALIB_MAX_RECORDS_SCALE; ++r)
+      to_start[r] = 1.0;
+    int r0 = 0;
+    while (r0 < nrec && !(recs[r0].kind == EA_CALIB_STATIC && recs[r0].rows > 0))
+      ++r0;
+    if (set.damping_at_start && r0 < nrec) {
+      ea__ring_t ref = {0};
+      ref.L = recs[r0].cable_length[0];
+      ref.theta0 = recs[r0].ch[EA_CALIB_CH_THETA0][0];
+      ref.payload = recs[r0].payload ? recs[r0].payload[0] : recs[r0].payload_kg;
+      double f1, g_ref = NAN;
+      ea_error_t e2 = {0};
+      if (ea__hold_fe(&w, &res->arm, &ref, 1, &f1, &g_ref, &e2) == EA_OK && g_ref > 0)
+        for (int g = 0; g < w.nring; ++g) {
+          double fg[EA_CALIB_MAX_MODES], g1 = NAN;
+          const int r = w.rings[g].rec;
+          if (r < EA_CALIB_MAX_RECORDS_SCALE &&
+              ea__hold_fe(&w, &res->arm, &w.rings[g], 1, fg, &g1, &e2) == EA_OK && g1 > 0)
+            to_start[r] = g_ref / g1;
+        }
+    }
     double sw[EA_ARM_MAX_DAMPED_MODES] = {0}, swz[EA_ARM_MAX_DAMPED_MODES] = {0},
            swzz[EA_ARM_MAX_DAMPED_MODES] = {0};
     int cnt[EA_ARM_MAX_DAMPED_MODES] = {0};
@@ -1293,11 +1332,12 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
       for (int k = 0; k < rf->modes; ++k) {
         const int q = rf->mode_index[k];
         if (q < 0 || q >= EA_ARM_MAX_DAMPED_MODES) continue;
-        const double se = fmax(rf->zeta_se[k], 1e-6);
+        const double sc = (q == 0 && r < EA_CALIB_MAX_RECORDS_SCALE) ? to_start[r] : 1.0;
+        const double z = sc * rf->zeta[k], se = fmax(sc * rf->zeta_se[k], 1e-6);
         const double wt = 1.0 / (se * se);
         sw[q] += wt;
-        swz[q] += wt * rf->zeta[k];
-        swzz[q] += wt * rf->zeta[k] * rf->zeta[k];
+        swz[q] += wt * z;
+        swzz[q] += wt * z * z;
         cnt[q]++;
       }
     }

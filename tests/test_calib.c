@@ -215,7 +215,11 @@ static void test_arm(const ea__arm_off_t *o, int idx, gsl_rng *rng) {
       return;
     }
   ea_calib_result_t res;
-  st = ea_calib_fit(&prior, recs, 3, NULL, &res, &err);
+  /* the ring-downs are damped modally (the same ratios at every hold): their mean */
+  ea_calib_settings_t set;
+  ea_calib_settings_default(&set);
+  set.damping_at_start = 0;
+  st = ea_calib_fit(&prior, recs, 3, &set, &res, &err);
   snprintf(msg, sizeof msg, "arm %d: fit converged (%s) in %.2f s, chi2/dof %.3g", idx, err.msg,
            res.time_s, res.dof > 0 ? res.chi2 / res.dof : NAN);
   ea_test_true(st == EA_OK, msg);

@@ -24,6 +24,8 @@ static void ea__calib_help(void) {
          "  --fix LIST            hold these at the prior: EI, rho, m_hand, x_c, y_c, EA_c, I_L\n"
          "                        (or their arm-file keys, e.g. beam.EI_Nm2), comma separated\n"
          "  --fix-damping         keep the prior's damping ratios\n"
+         "  --damping-mean        mode 1's ratio: the ring-downs' weighted mean (modal damping)\n"
+         "                        instead of their strain-rate damping at the records' start\n"
          "  --modes K             FE modes matched to the ring-downs, 1..%d (default 3)\n"
          "  --ident-se S          a parameter combination whose standard error exceeds S\n"
          "                        (relative; cable root: in beam lengths) is not identifiable\n"
@@ -153,10 +155,10 @@ int ea__cli_calibrate(int argc, char **argv) {
   if (!paths) return ea__cli_oom(cmd, "arguments");
   int npaths = 0;
   static const ea__cli_opt_t opts[] = {
-      {"help", 0, 'h'},          {"arm", 1, 0},      {"output", 1, 'o'},
-      {"report", 1, 0},          {"fix", 1, 0},      {"fix-damping", 0, 0},
-      {"modes", 1, 0},           {"ident-se", 1, 0}, {"figure", 1, 0},
-      {"ringdown-figure", 1, 0}, {"quiet", 0, 0},    {NULL, 0, 0}};
+      {"help", 0, 'h'},   {"arm", 1, 0},         {"output", 1, 'o'},        {"report", 1, 0},
+      {"fix", 1, 0},      {"fix-damping", 0, 0}, {"damping-mean", 0, 0},    {"modes", 1, 0},
+      {"ident-se", 1, 0}, {"figure", 1, 0},      {"ringdown-figure", 1, 0}, {"quiet", 0, 0},
+      {NULL, 0, 0}};
   ea__cli_args_t g;
   ea__cli_args_init(&g, cmd, argc, argv, opts);
   int r, rc = 0;
@@ -178,6 +180,8 @@ int ea__cli_calibrate(int argc, char **argv) {
       rc = ea__calib_fix(cmd, g.arg, &set.fix_mask);
     } else if (!strcmp(a, "--fix-damping")) {
       set.fix_damping = 1;
+    } else if (!strcmp(a, "--damping-mean")) {
+      set.damping_at_start = 0;
     } else if (!strcmp(a, "--modes")) {
       long v;
       rc = ea__cli_int(cmd, a, g.arg, 1, EA_CALIB_MAX_MODES, &v);

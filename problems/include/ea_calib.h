@@ -86,6 +86,9 @@ void ea_calib_record_free(ea_calib_record_t *rec);
 
 /** Most modes fitted in one ring-down. */
 #define EA_CALIB_MAX_MODES 6
+/** Samples of a ring-down fitted, its first (8.192 s at 1 kHz): a ring-down's frequencies and
+ *  decays are in its first decay times, and the fit's cost grows with the samples. */
+#define EA_CALIB_RINGDOWN_MAX_SAMPLES 8192
 
 /** A ring-down fitted by y_c(t) = o_c + sum_k exp(-sigma_k t) (a_ck cos w_k t +
  *  b_ck sin w_k t), the decay rates sigma_k and damped frequencies w_k shared by
@@ -110,7 +113,8 @@ typedef struct ea_ringdown_fit {
   int iterations;             /**< trust-region iterations */
 } ea_ringdown_fit_t;
 
-/** Fit up to max_modes damped sinusoids to a ring-down record: the FFT (the falling half
+/** Fit up to max_modes damped sinusoids to a ring-down record (its first
+ *  EA_CALIB_RINGDOWN_MAX_SAMPLES samples): the FFT (the falling half
  *  of a Hann window, zero padding, GSL's real FFT) of every channel gives the starting frequencies
  * (the highest peaks of the summed normalised spectra, well above its median), the amplitudes come
  * from linear least squares, then a trust-region nonlinear least squares fit (gsl_multifit_nlinear)
@@ -148,20 +152,25 @@ void ea_calib_param_set(ea_arm_t *arm, int k, double v);
 
 /** Settings of the fit. */
 typedef struct ea_calib_settings {
-  unsigned fix_mask; /**< bit k (EA_CALIB_P_*): hold parameter k at the prior */
-  int fix_damping;   /**< 1: keep the prior's damping ratios */
-  int max_iter;      /**< trust-region iterations (default 100) */
-  double ident_se;   /**< a parameter combination whose standard error exceeds this is
-                          not identifiable: relative for EI, rho, m_hand, EA_c, I_L, in
-                          units of the beam length for x_c, y_c (default 0.5: a parameter
-                          known to +-50 % is fitted, its error reported; holding it at a
-                          wrong prior would bias the others) */
-  int modes;         /**< FE modes matched to a ring-down's sinusoids, 1..EA_CALIB_MAX_MODES
-                          (default 3); every ring-down is fitted with up to
-                          EA_CALIB_MAX_MODES sinusoids (harmonics of a large motion too) */
-  int fe_elements;   /**< FE elements of the frequency model (default EA_FE_DEFAULT_ELEMENTS) */
-  double freq_floor; /**< relative floor of a measured frequency's standard error: the FE
-                          model's own error against the arm (default 1e-3) */
+  unsigned fix_mask;    /**< bit k (EA_CALIB_P_*): hold parameter k at the prior */
+  int fix_damping;      /**< 1: keep the prior's damping ratios */
+  int damping_at_start; /**< 1 (default): mode 1's ratio is written as the ring-downs' strain-rate
+                             damping coefficient gives it at the records' start (the first static
+                             row), the convention of ea_traj_simulate (one coefficient, set by
+                             zeta_1 at a simulation's start); 0: the weighted mean of the
+                             ring-downs' ratios (damping modal, the same ratio everywhere) */
+  int max_iter;         /**< trust-region iterations (default 100) */
+  double ident_se;      /**< a parameter combination whose standard error exceeds this is
+                             not identifiable: relative for EI, rho, m_hand, EA_c, I_L, in
+                             units of the beam length for x_c, y_c (default 0.5: a parameter
+                             known to +-50 % is fitted, its error reported; holding it at a
+                             wrong prior would bias the others) */
+  int modes;            /**< FE modes matched to a ring-down's sinusoids, 1..EA_CALIB_MAX_MODES
+                             (default 3); every ring-down is fitted with up to
+                             EA_CALIB_MAX_MODES sinusoids (harmonics of a large motion too) */
+  int fe_elements;      /**< FE elements of the frequency model (default EA_FE_DEFAULT_ELEMENTS) */
+  double freq_floor;    /**< relative floor of a measured frequency's standard error: the FE
+                             model's own error against the arm (default 1e-3) */
 } ea_calib_settings_t;
 
 void ea_calib_settings_default(ea_calib_settings_t *s);
