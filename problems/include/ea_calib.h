@@ -55,7 +55,10 @@ typedef struct ea_calib_record {
   char source[256];           /**< '# source:' ("" when absent) */
   double noise[EA_CALIB_NCH]; /**< header noise per channel (tip x and y share
                                    noise_tip_m); NAN: not given (estimated) */
-  double payload_kg;          /**< '# payload_kg:' [kg] (0 when absent) */
+  double payload_kg;          /**< '# payload_kg:' [kg] (0 when absent or unknown) */
+  int payload_unknown;        /**< 1: '# payload_kg: unknown' (or the caller marked it): every
+                                   row carries the one unknown payload the fit estimates
+                                   (EA_CALIB_P_PAYLOAD); a payload_kg column is ignored */
   int has[EA_CALIB_NCH];      /**< 1: the channel's column is present */
   int rows;                   /**< data rows */
   int *line;                  /**< file line of each row (1-based) */
@@ -138,15 +141,20 @@ enum {
   EA_CALIB_P_Y_C,      /**< cable.root_y_m [m] */
   EA_CALIB_P_EA_CABLE, /**< cable.EA_N [N] */
   EA_CALIB_P_I_HAND,   /**< hand.Izz_kg_m2 [kg m^2] */
+  EA_CALIB_P_PAYLOAD,  /**< the unknown payload of the records marked payload_unknown [kg]: not
+                            an arm parameter (not in ea_arm_t, not written to the arm file);
+                            tip mass = hand mass + this on the marked records' rows */
   EA_CALIB_NP
 };
-/** Short name of a parameter ("EI", "rho", "m_hand", "x_c", "y_c", "EA_c", "I_L"). */
+/** Short name of a parameter ("EI", "rho", "m_hand", "x_c", "y_c", "EA_c", "I_L", "payload"). */
 const char *ea_calib_param_name(int k);
 /** Arm-file key ("beam.EI_Nm2", ...). */
 const char *ea_calib_param_key(int k);
 /** A parameter by short name or arm-file key; EA_ERR_ARG if unknown. */
 ea_status_t ea_calib_param_parse(const char *name, int *k);
-/** The parameter's value in arm. */
+/** 1 if parameter k is an arm-file parameter (all but EA_CALIB_P_PAYLOAD). */
+int ea_calib_param_is_arm(int k);
+/** The parameter's value in arm (NAN for EA_CALIB_P_PAYLOAD; set ignores it). */
 double ea_calib_param_get(const ea_arm_t *arm, int k);
 void ea_calib_param_set(ea_arm_t *arm, int k, double v);
 
@@ -169,6 +177,10 @@ typedef struct ea_calib_settings {
                              (default 3); every ring-down is fitted with up to
                              EA_CALIB_MAX_MODES sinusoids (harmonics of a large motion too) */
   int fe_elements;      /**< FE elements of the frequency model (default EA_FE_DEFAULT_ELEMENTS) */
+  double payload_start; /**< starting value of the unknown payload [kg] (default 0) */
+  double payload_scale; /**< its scale [kg] (default 0: the prior's hand mass): the fit's unknown
+                             is (payload - payload_start) / payload_scale, and ident_se is in
+                             units of it */
   double freq_floor;    /**< relative floor of a measured frequency's standard error: the FE
                              model's own error against the arm (default 1e-3) */
 } ea_calib_settings_t;
@@ -180,6 +192,7 @@ typedef enum ea_calib_state {
   EA_CALIB_FITTED = 0,     /**< estimated from the records */
   EA_CALIB_FIXED,          /**< held at the prior by the caller (fix_mask) */
   EA_CALIB_UNIDENTIFIABLE, /**< the records cannot tell it: held at the prior, said in notes */
+  EA_CALIB_UNUSED,         /**< not in the model: the payload when no record marks it unknown */
 } ea_calib_state_t;
 
 /** Most identifiability notes. */
