@@ -18,7 +18,7 @@
 # checked: timings and jitter depend on the machine, so the bench tables'
 # time columns and the times quoted in the text are matched as "any number"
 # ({*} below) or not at all (their outputs stay in out/regen/); bench_stream
-# (jitter only) is not run. About 2.5 minutes on 2 cores.
+# (jitter only) is not run. About 4.5 minutes on 2 cores.
 #
 # Each check is `pub SOURCE FILE 'TEMPLATE' VALUE...`: TEMPLATE is the
 # published text on one line of FILE, with {} where a checked number stands
@@ -53,7 +53,8 @@ done
 for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan" "$B/tests/test_statics" \
   "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust" \
   "$B/tests/test_plan_rest" "$B/tests/test_plan_vib" "$B/tests/test_plan_limits" "$B/tests/test_rom" \
-  "$B/tests/test_rom_modes" "$B/tests/test_plan_hess" "$B/tests/test_plan_sweep"; do
+  "$B/tests/test_rom_modes" "$B/tests/test_plan_hess" "$B/tests/test_plan_sweep" "$B/bench/bench_calib" \
+  "$B/tests/test_calib_e2e"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -171,6 +172,12 @@ run study-rest "$EA" study problems/examples/studies/payload-rest.yaml -o "$R/pa
 # docs/calibration.md: the example identification experiment.
 run calib-experiment "$EA" calibrate-experiment problems/examples/calibration/experiment.yaml \
   -o "$R/calib-experiment.csv" --json
+# docs/calibration.md: the bench table (~45 s) and the end-to-end test (~80 s; it writes its
+# files in the working folder: $R/e2e).
+run bench_calib "$B/bench/bench_calib"
+mkdir -p "$R/e2e"
+run test_calib_e2e sh -c 'cd "$1" && EA_SOURCE_DIR="$2" EA_BINARY="$3" "$4"' sh "$R/e2e" "$PWD" \
+  "$(cd "$(dirname "$EA")" && pwd)/$(basename "$EA")" "$(cd "$B/tests" && pwd)/test_calib_e2e"
 if [ $figures = 1 ] && [ $nofig = 0 ]; then
   echo "== figures (docs/figures/make.sh)"
   B="$EA" sh docs/figures/make.sh
@@ -993,6 +1000,37 @@ pub "calibrate-experiment calib-experiment.yaml (move_time_s)" docs/calibration.
   'in all, of which {} s are moves; every streamer check' "$(calc %.2f "$(jnum "$ce" move_time_s)")"
 pub "calibrate-experiment calib-experiment.yaml (setpoints)" docs/calibration.md \
   'passes at 1 kHz ({} setpoints). `docs/regenerate.sh` reruns it.' "$(jnum "$ce" setpoints)"
+
+# --- docs/calibration.md: the bench table (bench_calib: every column but the fit time)
+cb=$R/bench_calib.out
+for rn in "8 0.5" "18 0.5" "34 0.5" "8 1" "18 1" "34 1" "8 2" "18 2" "34 2"; do
+  set -- $rn
+  vals=$(awk -F' [|] ' -v r="| $1" -v x="$2" '$1 == r && $2 == x { sub(/ [|]$/, "", $11); print $4, $5, $6, $7, $8, $9, $10, $11; exit }' "$cb")
+  pub "bench/bench_calib (times not checked)" docs/calibration.md \
+    "| $1 | $2 | {*} | {} | {} | {} | {} | {} | {} | {} | {} |" $vals
+done
+# --- docs/calibration.md: end to end (test_calib_e2e)
+ce2=$R/test_calib_e2e.out
+e2r() { awk -v l="$1:" -v w="$2" '$1 == l { for (i = 1; i <= NF; i++) if ($i == "mm," || $i == "mm") { if (++c == w) print $(i - 1) } }' "$ce2"; }
+e2c() { awk -v k="$1" '$1 == "calibrated:" { for (i = 1; i <= NF; i++) if ($i == k) { v = $(i + 1); sub(/,$/, "", v); print v } }' "$ce2"; }
+pub "tests/test_calib_e2e (experiment)" docs/calibration.md \
+  'third, which the static rows average; {} s in all) planned on the paper'"'"'s arm; the' \
+  "$(calc %.2f "$(awk '$1 == "experiment:" { print $2; exit }' "$ce2")")"
+pub "tests/test_calib_e2e (calibrated EI, hand mass)" docs/calibration.md \
+  'carry no stretch to fit EA_c to) gives EI off by {} %, the hand mass by {} %, the' \
+  "$(calc %.3f "$(e2c EI)")" "$(calc %.3f "$(e2c m_hand)")"
+pub "tests/test_calib_e2e (damping ratio)" docs/calibration.md \
+  'damping ratio {} +- {}, and names I_L as not identifiable (with 5 % damping on mode 1' \
+  $(awk '$1 == "zeta_1" { printf "%.4f %.2g\n", $3, $4; exit }' "$ce2")
+pub "tests/test_calib_e2e (paper line)" docs/calibration.md \
+  '| paper line (0.3, -0.2) -> (0.6, -0.2), no payload | {} mm | {} mm |' \
+  "$(calc %.2f "$(e2r paper 1)")" "$(calc %.2f "$(e2r paper 2)")"
+pub "tests/test_calib_e2e (line a)" docs/calibration.md \
+  '| (0.68, -0.05) -> (0.54, -0.55), payload factor 0.15 | {} mm | {} mm |' \
+  "$(calc %.1f "$(e2r line_a 1)")" "$(calc %.2f "$(e2r line_a 2)")"
+pub "tests/test_calib_e2e (line b)" docs/calibration.md \
+  '| (0.23, -0.37) -> (0.56, 0.00), payload factor 0.08 | {} mm | {} mm |' \
+  "$(calc %.1f "$(e2r line_b 1)")" "$(calc %.2f "$(e2r line_b 2)")"
 
 awk '/^## Set up and run/ { s = 1 } s && /^sh \.ci\/install-deps( --runtime)? && / { print } /^## Install|^## The C API/ { s = 0 }' \
   README.md >"$R/readme-setup.txt"

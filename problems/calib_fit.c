@@ -33,10 +33,15 @@
 #include <string.h>
 
 static const char *const ea__pname[EA_CALIB_NP] = {"EI",  "rho",  "m_hand", "x_c",
-                                                   "y_c", "EA_c", "I_L"};
+                                                   "y_c", "EA_c", "I_L",    "payload"};
+/* the payload is not an arm-file key: its records' header key */
 static const char *const ea__pkey[EA_CALIB_NP] = {
-    "beam.EI_Nm2",    "beam.rho_kg_per_m", "hand.mass_kg",  "cable.root_x_m",
-    "cable.root_y_m", "cable.EA_N",        "hand.Izz_kg_m2"};
+    "beam.EI_Nm2",    "beam.rho_kg_per_m", "hand.mass_kg",   "cable.root_x_m",
+    "cable.root_y_m", "cable.EA_N",        "hand.Izz_kg_m2", "payload_kg"};
+
+int ea_calib_param_is_arm(int k) {
+  return k >= 0 && k < EA_CALIB_NP && k != EA_CALIB_P_PAYLOAD;
+}
 
 const char *ea_calib_param_name(int k) {
   return (k >= 0 && k < EA_CALIB_NP) ? ea__pname[k] : "unknown";
@@ -107,11 +112,14 @@ void ea_calib_settings_default(ea_calib_settings_t *s) {
   memset(s, 0, sizeof *s);
   s->fix_mask = 0;
   s->fix_damping = 0;
+  s->damping_at_start = 1;
   s->max_iter = 100;
   s->ident_se = 0.5;
   s->modes = 3;
   s->fe_elements = EA_FE_DEFAULT_ELEMENTS;
   s->freq_floor = 1e-3;
+  s->payload_start = 0.0;
+  s->payload_scale = 0.0;
 }
 
 /* Noise used when a record does not give it, before the fit's residual replaces it. */
@@ -123,12 +131,17 @@ static const double ea__noise_default[EA_CALIB_NCH] = {1e-3, 1e-2, 5e-2, 1e-3, 1
 
 typedef struct {
   int rec, row;
+  int unknown; /* 1: the payload is the fitted one (its record is marked payload_unknown) */
   double L, payload;
   double p[EA_NP]; /* warm start and last state */
 } ea__row_t;
 
+/* Records whose mode-1 damping ratio is carried to the records' start (the rest: as fitted). */
+#define EA_CALIB_MAX_RECORDS_SCALE 256
+
 typedef struct {
   int rec;
+  int unknown; /* 1: the payload is the fitted one */
   double L, theta0, payload;
   int nm;                           /* matched modes */
   int mode[EA_CALIB_MAX_MODES];     /* FE mode index */
@@ -146,6 +159,8 @@ typedef struct {
   const ea_calib_settings_t *set;
   int nfree, free_idx[EA_CALIB_NP]; /* free parameters (indices into EA_CALIB_P_*) */
   int is_log[EA_CALIB_NP];
+  double pay0, pay_scale; /* unknown payload = pay0 + u pay_scale [kg] */
+  double pay;             /* the unknown payload of the current evaluation [kg] */
   int nrow;
   ea__row_t *rows;
   int nring;
@@ -161,11 +176,19 @@ typedef struct {
   int failed;
 } ea__ws_t;
 
+/* The unknown payload for u [kg] (pay0 unless fitted). */
+static double ea__pay_of(const ea__ws_t *w, const double *u) {
+  for (int j = 0; j < w->nfree; ++j)
+    if (w->free_idx[j] == EA_CALIB_P_PAYLOAD) return w->pay0 + u[j] * w->pay_scale;
+  return w->pay0;
+}
+
 /* Arm for u (free parameters only; the others at the prior). */
 static void ea__arm_of(const ea__ws_t *w, const double *u, ea_arm_t *arm) {
   *arm = *w->prior;
   for (int j = 0; j < w->nfree; ++j) {
     const int k = w->free_idx[j];
+    if (!ea_calib_param_is_arm(k)) continue;
     const double v0 = ea_calib_param_get(w->prior, k);
     ea_calib_param_set(arm, k, w->is_log[k] ? v0 * exp(u[j]) : v0 + u[j] * w->prior->length);
   }
@@ -173,6 +196,7 @@ static void ea__arm_of(const ea__ws_t *w, const double *u, ea_arm_t *arm) {
 
 /* Scale of d/du for parameter k at arm: d/du = scale * d/dv. */
 static double ea__du_scale(const ea__ws_t *w, const ea_arm_t *arm, int k) {
+  if (k == EA_CALIB_P_PAYLOAD) return w->pay_scale;
   return w->is_log[k] ? ea_calib_param_get(arm, k) : w->prior->length;
 }
 
@@ -277,14 +301,16 @@ static ea_status_t ea__angle_init(ea_shooter_t *sh, const ea_arm_t *arm, double 
   return ea__row_solve(sh, arm, L, 0.5 * (lo + hi), p, 1, err);
 }
 
-/* FE natural frequencies (eq. 24) at a hold for arm: modes 0..nmodes-1 into f. */
-static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, ea__ring_t *rg, int nmodes,
-                                 double *f, ea_error_t *err) {
+/* FE natural frequencies (eq. 24) at a hold for arm: modes 0..nmodes-1 into f; with g1, mode
+ * 1's damping ratio per unit strain-rate coefficient b there (zeta_1 = b g1, ea_fe_strain_damping).
+ */
+static ea_status_t ea__hold_fe(const ea__ws_t *w, const ea_arm_t *arm, double pay, ea__ring_t *rg,
+                               int nmodes, double *f, double *g1, ea_error_t *err) {
   ea_shooter_t *sh = NULL;
   ea_fe_model_t *m = NULL;
   ea_status_t st = ea_shooter_alloc(arm, NULL, &sh, err);
   if (st) return st;
-  ea_load_t load = {arm->m_hand + rg->payload};
+  ea_load_t load = {arm->m_hand + (rg->unknown ? pay : rg->payload)};
   ea_shooter_set_load(sh, &load);
   ea_statics_solution_t sol;
   double p[EA_NP];
@@ -307,9 +333,16 @@ static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, ea__rin
   if (!st)
     for (int k = 0; k < nmodes; ++k)
       f[k] = mi.freq_hz[k];
+  double b1 = NAN;
+  if (!st && g1 && ea_fe_strain_damping(m, 0, 1.0, &b1, NULL) == EA_OK && b1 > 0) *g1 = 1.0 / b1;
   ea_fe_model_free(m);
   ea_shooter_free(sh);
   return st;
+}
+
+static ea_status_t ea__hold_freq(const ea__ws_t *w, const ea_arm_t *arm, double pay, ea__ring_t *rg,
+                                 int nmodes, double *f, ea_error_t *err) {
+  return ea__hold_fe(w, arm, pay, rg, nmodes, f, NULL, err);
 }
 
 /* One static row at cable angle alpha on arm: the predicted channels pred[] and, per column j
@@ -321,7 +354,7 @@ static ea_status_t ea__row_eval(ea__ws_t *w, const ea_arm_t *arm, ea_shooter_t *
                                 double dpred[EA_CALIB_NP + 1][EA_CALIB_NCH]) {
   const ea_calib_record_t *rec = &w->recs[row->rec];
   const int nf = w->nfree;
-  const ea_load_t load = {arm->m_hand + row->payload};
+  const ea_load_t load = {arm->m_hand + (row->unknown ? w->pay : row->payload)};
   ea_shooter_set_load(sh, &load);
   double p[EA_NP];
   memcpy(p, row->p, sizeof p);
@@ -404,6 +437,10 @@ static ea_status_t ea__row_eval(ea__ws_t *w, const ea_arm_t *arm, ea_shooter_t *
         for (int q = 0; q < EA_NX; ++q)
           dx[q] = sc * dx_m[q];
         break;
+      case EA_CALIB_P_PAYLOAD: /* the tip mass of the marked rows only */
+        for (int q = 0; q < EA_NX; ++q)
+          dx[q] = row->unknown ? sc * dx_m[q] : 0.0;
+        break;
       case EA_CALIB_P_X_C:
         dg[1] += sc * sa;
         dg[2] += -sc * ca;
@@ -458,6 +495,7 @@ static ea_status_t ea__row_eval(ea__ws_t *w, const ea_arm_t *arm, ea_shooter_t *
 static int ea__eval(ea__ws_t *w, const double *z, double *f, double *J) {
   ea_arm_t arm;
   ea__arm_of(w, z, &arm);
+  w->pay = ea__pay_of(w, z);
   const int nz = w->nz, nf = w->nfree;
   if (J) memset(J, 0, sizeof *J * (size_t)w->m * (size_t)nz);
   ea_shooter_t *sh = NULL, *shp = NULL, *shm = NULL;
@@ -532,7 +570,7 @@ static int ea__eval(ea__ws_t *w, const double *z, double *f, double *J) {
     for (int k = 0; k < rg->nm; ++k)
       if (rg->mode[k] + 1 > nmodes) nmodes = rg->mode[k] + 1;
     double fm[EA_FE_MAX_MODES];
-    st = ea__hold_freq(w, &arm, rg, nmodes, fm, &w->err);
+    st = ea__hold_freq(w, &arm, w->pay, rg, nmodes, fm, &w->err);
     if (st) {
       ea_error_t e = w->err;
       ea_error_set(&w->err, st, "%s: FE frequencies at the hold: %s", w->recs[rg->rec].path, e.msg);
@@ -555,10 +593,12 @@ static int ea__eval(ea__ws_t *w, const double *z, double *f, double *J) {
         memcpy(u, z, sizeof *u * (size_t)nz);
         u[j] = z[j] + h;
         ea__arm_of(w, u, &ap);
+        const double pp = ea__pay_of(w, u);
         u[j] = z[j] - h;
         ea__arm_of(w, u, &am);
-        st = ea__hold_freq(w, &ap, rg, nmodes, fp_, &w->err);
-        if (!st) st = ea__hold_freq(w, &am, rg, nmodes, fm_, &w->err);
+        const double pm = ea__pay_of(w, u);
+        st = ea__hold_freq(w, &ap, pp, rg, nmodes, fp_, &w->err);
+        if (!st) st = ea__hold_freq(w, &am, pm, rg, nmodes, fm_, &w->err);
         if (st) break;
         for (int k = 0; k < rg->nm; ++k)
           J[(size_t)(r + k) * nz + j] = (fp_[rg->mode[k]] - fm_[rg->mode[k]]) / (2 * h) / rg->sf[k];
@@ -694,7 +734,24 @@ static void ea__describe(const ea__ws_t *w, const int *cols, int nc, const doubl
   for (int k = 0; k < EA_CALIB_NP && o < sizeof comb; ++k)
     if (fabs(a[k]) > 0.05)
       o += (size_t)snprintf(comb + o, sizeof comb - o, "%s%+.2f %s%s%s", o ? " " : "", a[k],
-                            w->is_log[k] ? "log " : "", ea__pname[k], w->is_log[k] ? "" : "/L");
+                            w->is_log[k] ? "log " : "", ea__pname[k],
+                            k == EA_CALIB_P_PAYLOAD ? "/scale"
+                            : w->is_log[k]          ? ""
+                                                    : "/L");
+  /* the unknown payload against the hand mass: the marked rows see only their sum */
+  const double ap = a[EA_CALIB_P_PAYLOAD];
+  if (fabs(ap) > 0.25 && fabs(am) > 0.25 && ap * am < 0) {
+    for (int j = 0; j < nc; ++j)
+      if (w->free_idx[cols[j]] == EA_CALIB_P_M_HAND) *hold = j;
+    snprintf(buf, len,
+             "payload against m_hand (%s; standard error %.3g): a payload known on no record "
+             "cannot be separated from the hand mass; the records fix only the tip mass m_hand + "
+             "payload. m_hand is held at the prior and the payload fitted relative to it (its "
+             "value stands for the tip mass minus the prior's hand mass). Records at a known "
+             "payload (e.g. without it) separate them.",
+             comb, se);
+    return;
+  }
   /* the scale of the statics: EI, rho and m_hand together */
   if (fabs(aEI) > 0.25 && fabs(ar) > 0.25 && fabs(am) > 0.25 && aEI * ar > 0 && aEI * am > 0) {
     for (int j = 0; j < nc; ++j)
@@ -878,12 +935,22 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
   w.recs = recs;
   w.nrec = nrec;
   w.set = &set;
+  int any_unknown = 0;
+  for (int r = 0; r < nrec; ++r)
+    any_unknown |= recs[r].payload_unknown;
+  w.pay0 = w.pay = set.payload_start;
+  w.pay_scale = set.payload_scale > 0 ? set.payload_scale : prior->m_hand;
+  if (!(w.pay_scale > 0)) w.pay_scale = 0.1;
   for (int k = 0; k < EA_CALIB_NP; ++k) {
-    w.is_log[k] = (k != EA_CALIB_P_X_C && k != EA_CALIB_P_Y_C) && ea_calib_param_get(prior, k) > 0;
+    w.is_log[k] = ea_calib_param_is_arm(k) && (k != EA_CALIB_P_X_C && k != EA_CALIB_P_Y_C) &&
+                  ea_calib_param_get(prior, k) > 0;
     res->value[k] = ea_calib_param_get(prior, k);
     res->se[k] = NAN;
     res->state[k] = (set.fix_mask >> k) & 1u ? EA_CALIB_FIXED : EA_CALIB_FITTED;
   }
+  /* the unknown payload: a parameter only when a record is marked */
+  res->value[EA_CALIB_P_PAYLOAD] = any_unknown ? set.payload_start : NAN;
+  if (!any_unknown) res->state[EA_CALIB_P_PAYLOAD] = EA_CALIB_UNUSED;
   w.noise = calloc((size_t)nrec, sizeof *w.noise);
   int nrows_total = 0, nring = 0;
   for (int r = 0; r < nrec; ++r) {
@@ -928,11 +995,12 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
         row->rec = r;
         row->row = i;
         row->L = rec->cable_length[i];
-        row->payload = rec->payload[i];
+        row->unknown = rec->payload_unknown;
+        row->payload = row->unknown ? set.payload_start : rec->payload[i];
         int seen = 0;
         for (int q = 0; q < npay; ++q)
           seen |= fabs(payloads[q] - row->payload) < 1e-9;
-        if (!seen && npay < 64) payloads[npay++] = row->payload;
+        if (!row->unknown && !seen && npay < 64) payloads[npay++] = row->payload;
         ea_load_t load = {prior->m_hand + row->payload};
         ea_shooter_set_load(sh, &load);
         ea_statics_solution_t sol;
@@ -975,15 +1043,16 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     rg->rec = r;
     rg->L = rec->hold_cable_length;
     rg->theta0 = rec->hold_theta0;
-    rg->payload = rec->payload_kg;
+    rg->unknown = rec->payload_unknown;
+    rg->payload = rg->unknown ? set.payload_start : rec->payload_kg;
     int seen = 0;
     for (int q = 0; q < npay; ++q)
       seen |= fabs(payloads[q] - rg->payload) < 1e-9;
-    if (!seen && npay < 64) payloads[npay++] = rg->payload;
+    if (!rg->unknown && !seen && npay < 64) payloads[npay++] = rg->payload;
     double fe[EA_FE_MAX_MODES];
     const int nfe = set.modes;
     ea_error_t e = {0};
-    if ((st = ea__hold_freq(&w, prior, rg, nfe, fe, &e))) {
+    if ((st = ea__hold_freq(&w, prior, w.pay0, rg, nfe, fe, &e))) {
       st = ea_error_set(err, EA_ERR_INPUT,
                         "%s: the prior arm has no FE equilibrium at the hold (cable length %.6g "
                         "m, shoulder angle %.6g rad): %s",
@@ -1207,12 +1276,15 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
     for (int j = 0; j < w.nfree; ++j)
       z[j] = gsl_vector_get(x, (size_t)j);
     ea__arm_of(&w, z, &res->arm);
+    w.pay = ea__pay_of(&w, z);
     for (int j = 0; j < w.nfree; ++j) {
       const int k = w.free_idx[j];
-      const double v = ea_calib_param_get(&res->arm, k);
+      const double v = k == EA_CALIB_P_PAYLOAD ? w.pay : ea_calib_param_get(&res->arm, k);
       res->value[k] = v;
       const double su = sqrt(fmax(gsl_matrix_get(cov, (size_t)j, (size_t)j), 0.0));
-      res->se[k] = w.is_log[k] ? v * su : su * prior->length;
+      res->se[k] = k == EA_CALIB_P_PAYLOAD ? su * w.pay_scale
+                   : w.is_log[k]           ? v * su
+                                           : su * prior->length;
       for (int q = 0; q < w.nfree; ++q) {
         const int k2 = w.free_idx[q];
         const double c = gsl_matrix_get(cov, (size_t)j, (size_t)q);
@@ -1258,7 +1330,7 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
           const ea__row_t *row = &w.rows[i];
           ea_calib_record_fit_t *rf = &res->rec[row->rec];
           if (!rf->pred[EA_CALIB_CH_TIP_X] && !rf->pred[EA_CALIB_CH_TIP_Y]) continue;
-          ea_load_t load = {res->arm.m_hand + row->payload};
+          ea_load_t load = {res->arm.m_hand + (row->unknown ? w.pay : row->payload)};
           ea_shooter_set_load(sh, &load);
           double xL[EA_NX];
           if (ea_shoot(sh, row->p, xL, NULL)) continue;
@@ -1282,8 +1354,35 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
   gsl_vector_free(x);
   gsl_matrix_free(cov);
   if (st) goto done;
-  /* 5. Damping ratios: weighted means over the ring-downs, per FE mode. */
+  /* 5. Damping ratios: weighted means over the ring-downs, per FE mode. Mode 1's ratio of the
+   * arm file is the one at the records' start (the first static row: where a recorded session
+   * starts), as ea_traj_simulate reads it (strain-rate damping of one coefficient b, set by
+   * zeta_1 at a simulation's start): each ring-down's zeta_1 is carried there as b = zeta_1 /
+   * g1 (g1: the FE's ratio per unit b at the hold) times g1 at the start. */
   if (!set.fix_damping) {
+    double to_start[EA_CALIB_MAX_RECORDS_SCALE];
+    for (int r = 0; r < nrec && r < EA_CALIB_MAX_RECORDS_SCALE; ++r)
+      to_start[r] = 1.0;
+    int r0 = 0;
+    while (r0 < nrec && !(recs[r0].kind == EA_CALIB_STATIC && recs[r0].rows > 0))
+      ++r0;
+    if (set.damping_at_start && r0 < nrec) {
+      ea__ring_t ref = {0};
+      ref.L = recs[r0].cable_length[0];
+      ref.theta0 = recs[r0].ch[EA_CALIB_CH_THETA0][0];
+      ref.unknown = recs[r0].payload_unknown;
+      ref.payload = recs[r0].payload ? recs[r0].payload[0] : recs[r0].payload_kg;
+      double f1, g_ref = NAN;
+      ea_error_t e2 = {0};
+      if (ea__hold_fe(&w, &res->arm, w.pay, &ref, 1, &f1, &g_ref, &e2) == EA_OK && g_ref > 0)
+        for (int g = 0; g < w.nring; ++g) {
+          double fg[EA_CALIB_MAX_MODES], g1 = NAN;
+          const int r = w.rings[g].rec;
+          if (r < EA_CALIB_MAX_RECORDS_SCALE &&
+              ea__hold_fe(&w, &res->arm, w.pay, &w.rings[g], 1, fg, &g1, &e2) == EA_OK && g1 > 0)
+            to_start[r] = g_ref / g1;
+        }
+    }
     double sw[EA_ARM_MAX_DAMPED_MODES] = {0}, swz[EA_ARM_MAX_DAMPED_MODES] = {0},
            swzz[EA_ARM_MAX_DAMPED_MODES] = {0};
     int cnt[EA_ARM_MAX_DAMPED_MODES] = {0};
@@ -1293,11 +1392,12 @@ ea_status_t ea_calib_fit(const ea_arm_t *prior, const ea_calib_record_t *recs, i
       for (int k = 0; k < rf->modes; ++k) {
         const int q = rf->mode_index[k];
         if (q < 0 || q >= EA_ARM_MAX_DAMPED_MODES) continue;
-        const double se = fmax(rf->zeta_se[k], 1e-6);
+        const double sc = (q == 0 && r < EA_CALIB_MAX_RECORDS_SCALE) ? to_start[r] : 1.0;
+        const double z = sc * rf->zeta[k], se = fmax(sc * rf->zeta_se[k], 1e-6);
         const double wt = 1.0 / (se * se);
         sw[q] += wt;
-        swz[q] += wt * rf->zeta[k];
-        swzz[q] += wt * rf->zeta[k] * rf->zeta[k];
+        swz[q] += wt * z;
+        swzz[q] += wt * z * z;
         cnt[q]++;
       }
     }

@@ -195,6 +195,9 @@ ea_status_t ea_calib_record_parse(const char *name, const char *text, size_t len
         snprintf(rec->arm_file, sizeof rec->arm_file, "%.*s", (int)vl, v);
       } else if (!strcmp(key, "source")) {
         snprintf(rec->source, sizeof rec->source, "%.*s", (int)vl, v);
+      } else if (!strcmp(key, "payload_kg") && vl == 7 && !strncmp(v, "unknown", 7)) {
+        rec->payload_unknown = 1; /* the fit estimates it (one unknown payload) */
+        payload_line = line;
       } else if (!strcmp(key, "payload_kg")) {
         if ((st = ea__hdr_num(&rd, line, vcol, key, v, vl, 0.0, 0, &hold_payload))) goto fail;
         payload_line = line;

@@ -305,7 +305,7 @@ ea_status_t ea_ringdown_fit(const ea_calib_record_t *rec, int max_modes, double 
   if (max_modes < 1) max_modes = 1;
   if (max_modes > EA_CALIB_MAX_MODES) max_modes = EA_CALIB_MAX_MODES;
   ea__rd_t d = {0};
-  d.N = rec->rows;
+  d.N = rec->rows < EA_CALIB_RINGDOWN_MAX_SAMPLES ? rec->rows : EA_CALIB_RINGDOWN_MAX_SAMPLES;
   for (int c = 0; c < EA_CALIB_NCH; ++c)
     if (rec->has[c] && rec->ch[c]) {
       d.ch[d.C] = c;

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <string.h>
 
-static const char *ea__units[EA_CALIB_NP] = {"N m^2", "kg/m", "kg", "m", "m", "N", "kg m^2"};
+static const char *ea__units[EA_CALIB_NP] = {"N m^2", "kg/m", "kg", "m", "m", "N", "kg m^2", "kg"};
 
 static void ea__c(FILE *fp, const char *const comment[EA_CALIB_NP], int k) {
   if (comment && comment[k] && comment[k][0]) fprintf(fp, "  # %s", comment[k]);
@@ -109,6 +109,8 @@ ea_status_t ea_calib_write_arm(FILE *fp, const ea_calib_result_t *res,
                    res->state[EA_CALIB_P_EI] == EA_CALIB_FIXED;
   for (int k = 0; k < EA_CALIB_NP; ++k) {
     cp[k] = cm[k];
+    cm[k][0] = '\0';
+    if (!ea_calib_param_is_arm(k)) continue; /* the payload: the records', not the arm's */
     char from[400];
     ea__rec_list(recs, res->nrec, res->contributes[k], from, sizeof from);
     switch (res->state[k]) {
@@ -126,6 +128,8 @@ ea_status_t ea_calib_write_arm(FILE *fp, const ea_calib_result_t *res,
       snprintf(cm[k], sizeof cm[k],
                "the prior's value, held: the records cannot identify it (see the report)");
       break;
+    case EA_CALIB_UNUSED:
+      break;
     }
   }
   char header[8192];
@@ -137,6 +141,11 @@ ea_status_t ea_calib_write_arm(FILE *fp, const ea_calib_result_t *res,
                         EA_VERSION_STRING, res->nrec, res->nrec == 1 ? "" : "s",
                         prior_path && prior_path[0] ? prior_path : "built-in arm", res->chi2,
                         res->n_residuals, res->dof);
+  if (res->state[EA_CALIB_P_PAYLOAD] == EA_CALIB_FITTED && o < sizeof header)
+    o += (size_t)snprintf(header + o, sizeof header - o,
+                          "\nThe records' unknown payload, %.6g +- %.2g kg, is not a parameter "
+                          "of the arm: it is in the report, not in this file.",
+                          res->value[EA_CALIB_P_PAYLOAD], res->se[EA_CALIB_P_PAYLOAD]);
   for (int n = 0; n < res->n_notes && o < sizeof header; ++n)
     o += (size_t)snprintf(header + o, sizeof header - o, "\nnot identifiable: %s", res->notes[n]);
   char dc[600] = "";
@@ -157,7 +166,7 @@ ea_status_t ea_calib_write_report(FILE *fp, const ea_calib_result_t *res,
                                   const ea_calib_record_t *recs, const char *prior_path,
                                   ea_error_t *err) {
   if (!fp || !res || !recs) return ea_error_set(err, EA_ERR_ARG, "ea_calib_write_report: NULL");
-  static const char *const states[] = {"fitted", "fixed", "not_identifiable"};
+  static const char *const states[] = {"fitted", "fixed", "not_identifiable", "unused"};
   ea_json_t j;
   ea_json_init(&j, fp, 1);
   ea_json_obj_begin(&j, NULL);
@@ -178,7 +187,7 @@ ea_status_t ea_calib_write_report(FILE *fp, const ea_calib_result_t *res,
     ea_json_str(&j, "key", ea_calib_param_key(k));
     ea_json_str(&j, "unit", ea__units[k]);
     ea_json_str(&j, "state", states[res->state[k]]);
-    ea_json_num(&j, "prior", ea_calib_param_get(&res->prior, k));
+    ea_json_num(&j, "prior", ea_calib_param_get(&res->prior, k)); /* payload: null, no prior */
     ea_json_num(&j, "estimate", res->value[k]);
     ea_json_num(&j, "standard_error", res->se[k]);
     ea_json_arr_begin(&j, "records");

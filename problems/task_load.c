@@ -184,8 +184,97 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
   return EA_OK;
 }
 
-static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dynamics_t *dy,
-                                     ea_error_t *err) {
+/* One parameter of a calibration report (docs/calibration.md, "The report"): its estimate and
+ * standard error; se 0 when the caller held it (state "fixed"); an error when the records
+ * could not identify it (no standard error to take corners from). */
+static ea_status_t ea__report_param(ea__ydoc_t *r, yaml_node_t *params, const char *name,
+                                    double *est, double *se, ea_error_t *err) {
+  for (yaml_node_item_t *it = params->data.sequence.items.start;
+       it < params->data.sequence.items.top; ++it) {
+    yaml_node_t *p = yaml_document_get_node(&r->doc, *it);
+    if (!p || p->type != YAML_MAPPING_NODE)
+      return ea__yerr(r, p ? p : params, err, EA_ERR_INPUT,
+                      "'parameters': each entry must be a mapping");
+    const char *nm = ea__ynode_text(ea__ymap_get(r, p, "name"));
+    if (!nm || strcmp(nm, name)) continue;
+    char state[32] = "";
+    ea_status_t st = ea__ymap_string(r, p, "state", 1, state, sizeof state, err);
+    if (!st) st = ea__ymap_double(r, p, "estimate", 1, 0.0, INFINITY, est, err);
+    if (st) return st;
+    if (!strcmp(state, "fixed")) {
+      *se = 0.0;
+      return EA_OK;
+    }
+    if (strcmp(state, "fitted"))
+      return ea__yerr(r, ea__ymap_get(r, p, "state"), err, EA_ERR_INPUT,
+                      "parameter %s: state '%s': the records did not identify it, so the report "
+                      "has no standard error to take robust corners from (fix it, or give "
+                      "dynamics.robust its half-widths)",
+                      name, state);
+    return ea__ymap_double(r, p, "standard_error", 1, 0.0, INFINITY, se, err);
+  }
+  return ea__yerr(r, params, err, EA_ERR_INPUT, "'parameters': no parameter '%s'", name);
+}
+
+/* dynamics.robust.from_calibration: the corners at +-k standard errors of the report's EI and
+ * hand mass, relative to the task's EI and tip mass (hand + payload). The report must be of
+ * the task's arm: its estimates are the arm's values. */
+static ea_status_t ea__robust_from_calibration(ea__ydoc_t *d, yaml_node_t *rb, ea_task_t *t,
+                                               ea_error_t *err) {
+  char rel[512] = "", path[1024];
+  ea_status_t st = ea__ymap_string(d, rb, "from_calibration", 1, rel, sizeof rel, err);
+  if (st) return st;
+  double k = 2.0;
+  if ((st = ea__ymap_double(d, rb, "k", 0, 0.1, 10.0, &k, err))) return st;
+  yaml_node_t *key = ea__ymap_get(d, rb, "from_calibration");
+  if (ea__ymap_get(d, rb, "tip_mass") || ea__ymap_get(d, rb, "EI"))
+    return ea__yerr(d, key, err, EA_ERR_INPUT,
+                    "dynamics.robust: give either 'from_calibration' or 'tip_mass' / 'EI', not "
+                    "both");
+  ea__path_beside(d->file, rel, path, sizeof path);
+  ea__ydoc_t r;
+  ea_error_t e2 = {0};
+  if ((st = ea__ydoc_load(&r, path, NULL, 0, &e2)))
+    return ea__yerr(d, key, err, st, "dynamics.robust.from_calibration: %s", e2.msg);
+  yaml_node_t *root = NULL, *params = NULL;
+  st = ea__ydoc_root_map(&r, &root, err);
+  if (!st && !ea__ymap_get(&r, root, "elasticarm_calibration"))
+    st = ea__yerr(&r, root, err, EA_ERR_INPUT,
+                  "not a calibration report (no key 'elasticarm_calibration'; "
+                  "elasticarm calibrate --report writes one)");
+  char status[64] = "";
+  if (!st) st = ea__ymap_string(&r, root, "status", 1, status, sizeof status, err);
+  if (!st && strcmp(status, "EA_OK"))
+    st = ea__yerr(&r, ea__ymap_get(&r, root, "status"), err, EA_ERR_INPUT,
+                  "the calibration did not succeed (status %s)", status);
+  if (!st) st = ea__ymap_seq(&r, root, "parameters", 1, &params, err);
+  double est[2], se[2];
+  static const char *const names[2] = {"EI", "m_hand"};
+  for (int i = 0; i < 2 && !st; ++i)
+    st = ea__report_param(&r, params, names[i], &est[i], &se[i], err);
+  const double arm_v[2] = {t->arm.EI, t->arm.m_hand};
+  static const char *const units[2] = {"N m^2", "kg"};
+  for (int i = 0; i < 2 && !st; ++i)
+    if (!(fabs(est[i] - arm_v[i]) <= 1e-9 * fabs(arm_v[i])))
+      st = ea__yerr(d, key, err, EA_ERR_INPUT,
+                    "dynamics.robust.from_calibration: %s: the report's %s estimate is %.9g %s, "
+                    "the task's arm has %.9g %s: plan on the calibrated arm file (arm_file)",
+                    path, names[i], est[i], units[i], arm_v[i], units[i]);
+  ea__ydoc_free(&r);
+  if (st) return st;
+  const double eE = k * se[0] / t->arm.EI, em = k * se[1] / (t->arm.m_hand + t->payload_kg);
+  if (!(eE <= 0.5) || !(em <= 0.5))
+    return ea__yerr(d, key, err, EA_ERR_INPUT,
+                    "dynamics.robust.from_calibration: k = %g standard errors give half-widths "
+                    "EI %.3g, tip mass %.3g: above the bound 0.5",
+                    k, eE, em);
+  t->dynamics.robust_EI = eE;
+  t->dynamics.robust_tip_mass = em;
+  return EA_OK;
+}
+
+static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_t *t, ea_error_t *err) {
+  ea_task_dynamics_t *dy = &t->dynamics;
   static const char *const keys[] = {
       "modes", "residual_m", "max_tip_deviation_m", "grid", "robust", "refine", NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics", err);
@@ -200,8 +289,15 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dyna
   yaml_node_t *rb = NULL;
   if ((st = ea__ymap_map(d, n, "robust", 0, &rb, err))) return st;
   if (rb) {
-    static const char *const rkeys[] = {"tip_mass", "EI", "residual_m", NULL};
+    static const char *const rkeys[] = {"tip_mass",         "EI", "residual_m",
+                                        "from_calibration", "k",  NULL};
     if ((st = ea__ymap_check_keys(d, rb, rkeys, "dynamics.robust", err))) return st;
+    if (ea__ymap_get(d, rb, "from_calibration")) {
+      if ((st = ea__robust_from_calibration(d, rb, t, err))) return st;
+    } else if (ea__ymap_get(d, rb, "k")) {
+      return ea__yerr(d, ea__ymap_get(d, rb, "k"), err, EA_ERR_INPUT,
+                      "dynamics.robust: 'k' needs 'from_calibration'");
+    }
     if ((st = ea__ymap_double(d, rb, "tip_mass", 0, 0.0, 0.5, &dy->robust_tip_mass, err)))
       return st;
     if ((st = ea__ymap_double(d, rb, "EI", 0, 0.0, 0.5, &dy->robust_EI, err))) return st;
@@ -426,7 +522,7 @@ static ea_status_t ea__task_settings(ea__ydoc_t *d, yaml_node_t *root, ea_task_t
   if ((st = ea__ymap_map(d, root, "solver", 0, &solver, err))) return st;
   if (solver && (st = ea__load_solver(d, solver, &t->solver, err))) return st;
   if ((st = ea__ymap_map(d, root, "dynamics", 0, &n, err))) return st;
-  if (n && (st = ea__load_dynamics(d, n, &t->dynamics, err))) return st;
+  if (n && (st = ea__load_dynamics(d, n, t, err))) return st;
   if (solver && (st = ea__check_transcription(d, solver, t, err))) return st;
   if ((st = ea__ymap_map(d, root, "outputs", 0, &n, err))) return st;
   if (n) {

@@ -321,8 +321,94 @@ static void test_traj_reuse(void) {
   rmdir(dir);
 }
 
+/* dynamics.robust.from_calibration: the corners at +-k standard errors of a calibration
+ * report's EI and hand mass (docs/task-format.md), by hand: EI 0.8 +- 0.004 N m^2, hand
+ * 0.25 +- 0.001 kg, payload 0.05 kg, k = 2: half-widths 2 0.004 / 0.8 = 0.01 and
+ * 2 0.001 / 0.30; and the errors, each at its file:line:column. */
+static void test_robust_calibration(void) {
+  const char *src = getenv("EA_SOURCE_DIR");
+  char dir[] = "/tmp/ea_robust_XXXXXX", buf[2048], arm_src[1024];
+  if (!src || !mkdtemp(dir)) {
+    ea_test_true(0, "robust from_calibration: EA_SOURCE_DIR and a temporary folder");
+    return;
+  }
+  snprintf(arm_src, sizeof arm_src, "%s/data/elasticarm.yaml", src);
+  for (int a = 0; a < 2; ++a) { /* arm.yaml: the report's values; arm2.yaml: EI 0.7 */
+    FILE *in = fopen(arm_src, "r");
+    char line[1024], text[16384] = "";
+    size_t n = 0;
+    while (in && fgets(line, sizeof line, in)) {
+      if (strstr(line, "EI_Nm2:"))
+        snprintf(line, sizeof line, "  EI_Nm2: %s\n", a ? "0.7" : "0.8");
+      else if (strstr(line, "mass_kg:") && strstr(line, "m_h"))
+        snprintf(line, sizeof line, "  mass_kg: 0.25\n");
+      n += (size_t)snprintf(text + n, sizeof text - n, "%s", line);
+    }
+    if (in) fclose(in);
+    write_file(dir, a ? "arm2.yaml" : "arm.yaml", text, n);
+  }
+  static const char *const report =
+      "{\n  \"elasticarm_calibration\": \"1\",\n  \"status\": \"EA_OK\",\n"
+      "  \"parameters\": [\n"
+      "    {\"name\": \"EI\", \"state\": \"fitted\", \"estimate\": 0.8, \"standard_error\": "
+      "0.004},\n"
+      "    {\"name\": \"m_hand\", \"state\": \"%s\", \"estimate\": 0.25, \"standard_error\": %s}\n"
+      "  ]\n}\n";
+  snprintf(buf, sizeof buf, report, "fitted", "0.001");
+  write_file(dir, "report.json", buf, strlen(buf));
+  snprintf(buf, sizeof buf, report, "not_identifiable", "null");
+  write_file(dir, "unident.json", buf, strlen(buf));
+  write_file(dir, "broken.json", "{\n  \"status\": \"EA_OK\",\n  \"parameters\": [\n", 41);
+  static const struct {
+    const char *arm, *report, *more, *want;
+  } c[] = {
+      {"arm.yaml", "report.json", "k: 2", NULL},
+      {"arm.yaml", "missing.json", "k: 2", "t.yaml:12:23: dynamics.robust.from_calibration"},
+      {"arm.yaml", "broken.json", "k: 2", "broken.json:4:"},
+      {"arm.yaml", "unident.json", "k: 2", "unident.json:6:"},
+      {"arm2.yaml", "report.json", "k: 2", "t.yaml:12:23: dynamics.robust.from_calibration"},
+      {"arm.yaml", "report.json", "EI: 0.1", "give either 'from_calibration'"},
+      {"arm.yaml", "report.json", "k: 20", "t.yaml:13:8: key 'k'"},
+  };
+  for (size_t i = 0; i < sizeof c / sizeof *c; ++i) {
+    char task[1024];
+    const int n = snprintf(task, sizeof task,
+                           "name: r\narm_file: %s\npayload_kg: 0.05\nstart:\n  tip: [0.3, -0.2]\n"
+                           "goal:\n  tip: [0.6, -0.2]\npath: line\ndynamics:\n  modes: 1\n"
+                           "  robust:\n    from_calibration: %s\n    %s\n",
+                           c[i].arm, c[i].report, c[i].more);
+    const char *path = write_file(dir, "t.yaml", task, (size_t)n);
+    ea_task_t t;
+    ea_error_t e = {0};
+    const ea_status_t st = ea_task_load(path, NULL, &t, &e);
+    if (!c[i].want) {
+      ea_test_true(st == EA_OK, "robust from_calibration: the task loads");
+      if (st == EA_OK) {
+        ea_test_rel(t.dynamics.robust_EI, 2 * 0.004 / 0.8, 1e-12,
+                    "robust EI half-width: k se / EI");
+        ea_test_rel(t.dynamics.robust_tip_mass, 2 * 0.001 / (0.25 + 0.05), 1e-12,
+                    "robust tip-mass half-width: k se / (hand + payload)");
+      } else {
+        printf("  %s\n", e.msg);
+      }
+    } else {
+      snprintf(buf, sizeof buf, "robust from_calibration: %s with %s, '%s': error naming '%s' (%s)",
+               c[i].report, c[i].arm, c[i].more, c[i].want, e.msg);
+      ea_test_true(st != EA_OK && strstr(e.msg, c[i].want), buf);
+    }
+  }
+  static const char *const names[] = {"arm.yaml",     "arm2.yaml",   "report.json",
+                                      "unident.json", "broken.json", "t.yaml"};
+  for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
+    snprintf(buf, sizeof buf, "%s/%s", dir, names[i]);
+    unlink(buf);
+  }
+  rmdir(dir);
+}
+
 int main(void) {
   char buf[1024];
+  test_robust_calibration();
   test_traj_reuse();
   test_depth_cap();
   test_traj_meta();

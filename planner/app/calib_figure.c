@@ -24,7 +24,9 @@ static int ea__groups(const ea_calib_result_t *res, const ea_calib_record_t *rec
   for (int r = 0; r < nrec; ++r) {
     if (recs[r].kind != EA_CALIB_STATIC || !res->rec[r].alpha) continue;
     for (int i = 0; i < recs[r].rows; ++i) {
-      const double a = res->rec[r].alpha[i], p = recs[r].payload[i], L = recs[r].cable_length[i];
+      const double a = res->rec[r].alpha[i], L = recs[r].cable_length[i];
+      const double p =
+          recs[r].payload_unknown ? res->value[EA_CALIB_P_PAYLOAD] : recs[r].payload[i];
       int k = 0;
       for (; k < ng; ++k)
         if (fabs(g[k].alpha - a) < 0.5 * EA__DEG && fabs(g[k].payload - p) < 1e-9) break;
@@ -121,7 +123,8 @@ ea_status_t ea_calib_figure(const ea_calib_result_t *res, const ea_calib_record_
       if (recs[r].kind != EA_CALIB_STATIC || !res->rec[r].alpha) continue;
       for (int i = 0; i < recs[r].rows; ++i) {
         if (fabs(res->rec[r].alpha[i] - grp[k].alpha) >= 0.5 * EA__DEG ||
-            fabs(recs[r].payload[i] - grp[k].payload) >= 1e-9)
+            fabs((recs[r].payload_unknown ? res->value[EA_CALIB_P_PAYLOAD] : recs[r].payload[i]) -
+                 grp[k].payload) >= 1e-9)
           continue;
         const double v[4] = {
             recs[r].cable_length[i], recs[r].ch[EA_CALIB_CH_THETA0][i] / EA__DEG,
@@ -175,7 +178,8 @@ ea_status_t ea_calib_figure(const ea_calib_result_t *res, const ea_calib_record_
       for (int r = 0; r < nrec; ++r) {
         if (recs[r].kind != EA_CALIB_RINGDOWN || res->rec[r].ring.modes < 1) continue;
         /* the hold's cable angle */
-        ea_load_t load = {arm->m_hand + recs[r].payload_kg};
+        ea_load_t load = {arm->m_hand + (recs[r].payload_unknown ? res->value[EA_CALIB_P_PAYLOAD]
+                                                                 : recs[r].payload_kg)};
         ea_shooter_set_load(sh, &load);
         ea_statics_problem_t pr = {{EA_GIVEN_CABLE_LENGTH, EA_GIVEN_THETA0},
                                    {recs[r].hold_cable_length, recs[r].hold_theta0}};

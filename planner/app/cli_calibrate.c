@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const ea__calib_units[EA_CALIB_NP] = {"N m^2", "kg/m", "kg",    "m",
-                                                         "m",     "N",    "kg m^2"};
+static const char *const ea__calib_units[EA_CALIB_NP] = {"N m^2", "kg/m", "kg",     "m",
+                                                         "m",     "N",    "kg m^2", "kg"};
 
 static void ea__calib_help(void) {
   printf("usage: elasticarm calibrate RECORD... --arm PRIOR.yaml -o ARM.yaml [options]\n"
@@ -21,9 +21,16 @@ static void ea__calib_help(void) {
          "  --arm FILE            the prior arm (default: see elasticarm --help)\n"
          "  -o, --output FILE     the calibrated arm file (required)\n"
          "  --report FILE         the JSON report (default: the output with .json)\n"
-         "  --fix LIST            hold these at the prior: EI, rho, m_hand, x_c, y_c, EA_c, I_L\n"
+         "  --fix LIST            hold these at the prior: EI, rho, m_hand, x_c, y_c, EA_c, I_L,\n"
+         "                        payload\n"
          "                        (or their arm-file keys, e.g. beam.EI_Nm2), comma separated\n"
+         "  --payload-unknown RECORD  the record's payload is unknown (as its header\n"
+         "                        '# payload_kg: unknown'): the fit estimates it, one payload\n"
+         "                        shared by every record so marked (repeatable)\n"
+         "  --payload-start KG    the unknown payload's starting value (default 0)\n"
          "  --fix-damping         keep the prior's damping ratios\n"
+         "  --damping-mean        mode 1's ratio: the ring-downs' weighted mean (modal damping)\n"
+         "                        instead of their strain-rate damping at the records' start\n"
          "  --modes K             FE modes matched to the ring-downs, 1..%d (default 3)\n"
          "  --ident-se S          a parameter combination whose standard error exceeds S\n"
          "                        (relative; cable root: in beam lengths) is not identifiable\n"
@@ -108,14 +115,17 @@ static void ea__calib_table(const ea_calib_result_t *res) {
   printf("%-7s %-18s %14s %12s %14s  %s\n", "param", "key", "estimate", "std error", "prior",
          "state");
   for (int k = 0; k < EA_CALIB_NP; ++k) {
+    if (res->state[k] == EA_CALIB_UNUSED) continue; /* the payload, when none is unknown */
     const char *state = res->state[k] == EA_CALIB_FITTED  ? "fitted"
                         : res->state[k] == EA_CALIB_FIXED ? "held (--fix)"
                                                           : "held: not identifiable";
     char se[32] = "-";
     if (res->state[k] == EA_CALIB_FITTED) snprintf(se, sizeof se, "%.3g", res->se[k]);
-    printf("%-7s %-18s %14.6g %12s %14.6g  %s [%s]\n", ea_calib_param_name(k),
-           ea_calib_param_key(k), res->value[k], se, ea_calib_param_get(&res->prior, k), state,
-           ea__calib_units[k]);
+    char pr[32] = "-"; /* the payload has no prior in the arm */
+    if (ea_calib_param_is_arm(k))
+      snprintf(pr, sizeof pr, "%.6g", ea_calib_param_get(&res->prior, k));
+    printf("%-7s %-18s %14.6g %12s %14s  %s [%s]\n", ea_calib_param_name(k), ea_calib_param_key(k),
+           res->value[k], se, pr, state, ea__calib_units[k]);
   }
   for (int k = 0; k < res->n_zeta; ++k)
     printf("zeta_%d  %-18s %14.4g %12.2g %14s  fitted, %d ring-down%s\n", k + 1,
@@ -150,13 +160,28 @@ int ea__cli_calibrate(int argc, char **argv) {
   ea_calib_settings_t set;
   ea_calib_settings_default(&set);
   const char **paths = calloc((size_t)argc + 1, sizeof *paths);
-  if (!paths) return ea__cli_oom(cmd, "arguments");
-  int npaths = 0;
-  static const ea__cli_opt_t opts[] = {
-      {"help", 0, 'h'},          {"arm", 1, 0},      {"output", 1, 'o'},
-      {"report", 1, 0},          {"fix", 1, 0},      {"fix-damping", 0, 0},
-      {"modes", 1, 0},           {"ident-se", 1, 0}, {"figure", 1, 0},
-      {"ringdown-figure", 1, 0}, {"quiet", 0, 0},    {NULL, 0, 0}};
+  const char **unknown = calloc((size_t)argc + 1, sizeof *unknown);
+  if (!paths || !unknown) {
+    free(paths);
+    free(unknown);
+    return ea__cli_oom(cmd, "arguments");
+  }
+  int npaths = 0, nunknown = 0;
+  static const ea__cli_opt_t opts[] = {{"help", 0, 'h'},
+                                       {"arm", 1, 0},
+                                       {"output", 1, 'o'},
+                                       {"report", 1, 0},
+                                       {"fix", 1, 0},
+                                       {"fix-damping", 0, 0},
+                                       {"damping-mean", 0, 0},
+                                       {"modes", 1, 0},
+                                       {"ident-se", 1, 0},
+                                       {"figure", 1, 0},
+                                       {"ringdown-figure", 1, 0},
+                                       {"quiet", 0, 0},
+                                       {"payload-unknown", 1, 0},
+                                       {"payload-start", 1, 0},
+                                       {NULL, 0, 0}};
   ea__cli_args_t g;
   ea__cli_args_init(&g, cmd, argc, argv, opts);
   int r, rc = 0;
@@ -167,6 +192,7 @@ int ea__cli_calibrate(int argc, char **argv) {
     } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       ea__calib_help();
       free(paths);
+      free(unknown);
       return EA_EXIT_OK;
     } else if (!strcmp(a, "--arm")) {
       arm_file = g.arg;
@@ -178,6 +204,8 @@ int ea__cli_calibrate(int argc, char **argv) {
       rc = ea__calib_fix(cmd, g.arg, &set.fix_mask);
     } else if (!strcmp(a, "--fix-damping")) {
       set.fix_damping = 1;
+    } else if (!strcmp(a, "--damping-mean")) {
+      set.damping_at_start = 0;
     } else if (!strcmp(a, "--modes")) {
       long v;
       rc = ea__cli_int(cmd, a, g.arg, 1, EA_CALIB_MAX_MODES, &v);
@@ -190,14 +218,29 @@ int ea__cli_calibrate(int argc, char **argv) {
       rfigure = g.arg;
     } else if (!strcmp(a, "--quiet")) {
       quiet = 1;
+    } else if (!strcmp(a, "--payload-unknown")) {
+      unknown[nunknown++] = g.arg;
+    } else if (!strcmp(a, "--payload-start")) {
+      rc = ea__cli_double(cmd, a, g.arg, 0.0, 1e3, &set.payload_start);
     }
+  }
+  /* each --payload-unknown names a record given */
+  for (int u = 0; !rc && u < nunknown; ++u) {
+    int found = 0;
+    for (int i = 0; i < npaths; ++i)
+      found |= !strcmp(paths[i], unknown[u]);
+    if (!found)
+      rc = ea__cli_usage_error(cmd, "--payload-unknown '%s': not one of the records given",
+                               unknown[u]);
   }
   if (rc || r < 0) {
     free(paths);
+    free(unknown);
     return rc ? rc : EA_EXIT_USAGE;
   }
   if (!npaths || !out) {
     free(paths);
+    free(unknown);
     return ea__cli_usage_error(cmd, "needs RECORD... and -o ARM.yaml");
   }
   char report_buf[1100];
@@ -208,6 +251,7 @@ int ea__cli_calibrate(int argc, char **argv) {
   }
   if (!strcmp(out, "-") || !strcmp(report, "-") || !strcmp(out, report)) {
     free(paths);
+    free(unknown);
     return ea__cli_usage_error(cmd, "the arm file and the report need two file paths");
   }
   /* outputs and figures checked before the work */
@@ -215,24 +259,30 @@ int ea__cli_calibrate(int argc, char **argv) {
       (figure && (rc = ea__cli_check_figure(cmd, figure))) ||
       (rfigure && (rc = ea__cli_check_figure(cmd, rfigure)))) {
     free(paths);
+    free(unknown);
     return rc;
   }
   ea_arm_t prior;
   if ((rc = ea__cli_load_arm(cmd, arm_file, &prior))) {
     free(paths);
+    free(unknown);
     return rc;
   }
   const char *prior_path = arm_file ? arm_file : ea__cli_default_arm();
   ea_calib_record_t *recs = calloc((size_t)npaths, sizeof *recs);
   if (!recs) {
     free(paths);
+    free(unknown);
     return ea__cli_oom(cmd, "records");
   }
   ea_error_t err = {0};
   ea_status_t st = EA_OK;
   int nread = 0;
-  for (; nread < npaths; ++nread)
+  for (; nread < npaths; ++nread) {
     if ((st = ea_calib_record_read(paths[nread], &recs[nread], &err))) break;
+    for (int u = 0; u < nunknown; ++u)
+      if (!strcmp(paths[nread], unknown[u])) recs[nread].payload_unknown = 1;
+  }
   ea_calib_result_t res;
   memset(&res, 0, sizeof res);
   if (st) {
@@ -269,5 +319,6 @@ int ea__cli_calibrate(int argc, char **argv) {
     ea_calib_record_free(&recs[i]);
   free(recs);
   free(paths);
+  free(unknown);
   return rc;
 }

@@ -453,7 +453,7 @@ static ea_status_t ea__refine_setup(ea__refine_t *R, ea_plan_dyn_info_t *di, ea_
   info->fe.scheme = EA_FE_SCHEME_GENALPHA;
   info->fe.dt = R->s.fe_dt_s;
   info->fe.settle = R->s.settle_s;
-  info->fe.damping_ratio = 0.0;
+  info->fe.damping_ratio = NAN;
   info->fe.keep_history = 1;
   const ea_status_t st = ea_sim_settings_validate(&info->fe, err);
   if (st) snprintf(info->message, sizeof info->message, "%s", err ? err->msg : "FE settings");

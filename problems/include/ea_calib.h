@@ -55,7 +55,10 @@ typedef struct ea_calib_record {
   char source[256];           /**< '# source:' ("" when absent) */
   double noise[EA_CALIB_NCH]; /**< header noise per channel (tip x and y share
                                    noise_tip_m); NAN: not given (estimated) */
-  double payload_kg;          /**< '# payload_kg:' [kg] (0 when absent) */
+  double payload_kg;          /**< '# payload_kg:' [kg] (0 when absent or unknown) */
+  int payload_unknown;        /**< 1: '# payload_kg: unknown' (or the caller marked it): every
+                                   row carries the one unknown payload the fit estimates
+                                   (EA_CALIB_P_PAYLOAD); a payload_kg column is ignored */
   int has[EA_CALIB_NCH];      /**< 1: the channel's column is present */
   int rows;                   /**< data rows */
   int *line;                  /**< file line of each row (1-based) */
@@ -86,6 +89,9 @@ void ea_calib_record_free(ea_calib_record_t *rec);
 
 /** Most modes fitted in one ring-down. */
 #define EA_CALIB_MAX_MODES 6
+/** Samples of a ring-down fitted, its first (8.192 s at 1 kHz): a ring-down's frequencies and
+ *  decays are in its first decay times, and the fit's cost grows with the samples. */
+#define EA_CALIB_RINGDOWN_MAX_SAMPLES 8192
 
 /** A ring-down fitted by y_c(t) = o_c + sum_k exp(-sigma_k t) (a_ck cos w_k t +
  *  b_ck sin w_k t), the decay rates sigma_k and damped frequencies w_k shared by
@@ -110,7 +116,8 @@ typedef struct ea_ringdown_fit {
   int iterations;             /**< trust-region iterations */
 } ea_ringdown_fit_t;
 
-/** Fit up to max_modes damped sinusoids to a ring-down record: the FFT (the falling half
+/** Fit up to max_modes damped sinusoids to a ring-down record (its first
+ *  EA_CALIB_RINGDOWN_MAX_SAMPLES samples): the FFT (the falling half
  *  of a Hann window, zero padding, GSL's real FFT) of every channel gives the starting frequencies
  * (the highest peaks of the summed normalised spectra, well above its median), the amplitudes come
  * from linear least squares, then a trust-region nonlinear least squares fit (gsl_multifit_nlinear)
@@ -134,34 +141,48 @@ enum {
   EA_CALIB_P_Y_C,      /**< cable.root_y_m [m] */
   EA_CALIB_P_EA_CABLE, /**< cable.EA_N [N] */
   EA_CALIB_P_I_HAND,   /**< hand.Izz_kg_m2 [kg m^2] */
+  EA_CALIB_P_PAYLOAD,  /**< the unknown payload of the records marked payload_unknown [kg]: not
+                            an arm parameter (not in ea_arm_t, not written to the arm file);
+                            tip mass = hand mass + this on the marked records' rows */
   EA_CALIB_NP
 };
-/** Short name of a parameter ("EI", "rho", "m_hand", "x_c", "y_c", "EA_c", "I_L"). */
+/** Short name of a parameter ("EI", "rho", "m_hand", "x_c", "y_c", "EA_c", "I_L", "payload"). */
 const char *ea_calib_param_name(int k);
 /** Arm-file key ("beam.EI_Nm2", ...). */
 const char *ea_calib_param_key(int k);
 /** A parameter by short name or arm-file key; EA_ERR_ARG if unknown. */
 ea_status_t ea_calib_param_parse(const char *name, int *k);
-/** The parameter's value in arm. */
+/** 1 if parameter k is an arm-file parameter (all but EA_CALIB_P_PAYLOAD). */
+int ea_calib_param_is_arm(int k);
+/** The parameter's value in arm (NAN for EA_CALIB_P_PAYLOAD; set ignores it). */
 double ea_calib_param_get(const ea_arm_t *arm, int k);
 void ea_calib_param_set(ea_arm_t *arm, int k, double v);
 
 /** Settings of the fit. */
 typedef struct ea_calib_settings {
-  unsigned fix_mask; /**< bit k (EA_CALIB_P_*): hold parameter k at the prior */
-  int fix_damping;   /**< 1: keep the prior's damping ratios */
-  int max_iter;      /**< trust-region iterations (default 100) */
-  double ident_se;   /**< a parameter combination whose standard error exceeds this is
-                          not identifiable: relative for EI, rho, m_hand, EA_c, I_L, in
-                          units of the beam length for x_c, y_c (default 0.5: a parameter
-                          known to +-50 % is fitted, its error reported; holding it at a
-                          wrong prior would bias the others) */
-  int modes;         /**< FE modes matched to a ring-down's sinusoids, 1..EA_CALIB_MAX_MODES
-                          (default 3); every ring-down is fitted with up to
-                          EA_CALIB_MAX_MODES sinusoids (harmonics of a large motion too) */
-  int fe_elements;   /**< FE elements of the frequency model (default EA_FE_DEFAULT_ELEMENTS) */
-  double freq_floor; /**< relative floor of a measured frequency's standard error: the FE
-                          model's own error against the arm (default 1e-3) */
+  unsigned fix_mask;    /**< bit k (EA_CALIB_P_*): hold parameter k at the prior */
+  int fix_damping;      /**< 1: keep the prior's damping ratios */
+  int damping_at_start; /**< 1 (default): mode 1's ratio is written as the ring-downs' strain-rate
+                             damping coefficient gives it at the records' start (the first static
+                             row), the convention of ea_traj_simulate (one coefficient, set by
+                             zeta_1 at a simulation's start); 0: the weighted mean of the
+                             ring-downs' ratios (damping modal, the same ratio everywhere) */
+  int max_iter;         /**< trust-region iterations (default 100) */
+  double ident_se;      /**< a parameter combination whose standard error exceeds this is
+                             not identifiable: relative for EI, rho, m_hand, EA_c, I_L, in
+                             units of the beam length for x_c, y_c (default 0.5: a parameter
+                             known to +-50 % is fitted, its error reported; holding it at a
+                             wrong prior would bias the others) */
+  int modes;            /**< FE modes matched to a ring-down's sinusoids, 1..EA_CALIB_MAX_MODES
+                             (default 3); every ring-down is fitted with up to
+                             EA_CALIB_MAX_MODES sinusoids (harmonics of a large motion too) */
+  int fe_elements;      /**< FE elements of the frequency model (default EA_FE_DEFAULT_ELEMENTS) */
+  double payload_start; /**< starting value of the unknown payload [kg] (default 0) */
+  double payload_scale; /**< its scale [kg] (default 0: the prior's hand mass): the fit's unknown
+                             is (payload - payload_start) / payload_scale, and ident_se is in
+                             units of it */
+  double freq_floor;    /**< relative floor of a measured frequency's standard error: the FE
+                             model's own error against the arm (default 1e-3) */
 } ea_calib_settings_t;
 
 void ea_calib_settings_default(ea_calib_settings_t *s);
@@ -171,6 +192,7 @@ typedef enum ea_calib_state {
   EA_CALIB_FITTED = 0,     /**< estimated from the records */
   EA_CALIB_FIXED,          /**< held at the prior by the caller (fix_mask) */
   EA_CALIB_UNIDENTIFIABLE, /**< the records cannot tell it: held at the prior, said in notes */
+  EA_CALIB_UNUSED,         /**< not in the model: the payload when no record marks it unknown */
 } ea_calib_state_t;
 
 /** Most identifiability notes. */
