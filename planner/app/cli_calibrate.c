@@ -56,7 +56,7 @@ static int ea__calib_fix(const char *cmd, const char *text, unsigned *mask) {
     if (ea_calib_param_parse(tok, &k))
       return ea__cli_usage_error(cmd,
                                  "--fix: '%s' is not a parameter (EI, rho, m_hand, x_c, y_c, "
-                                 "EA_c, I_L or their arm-file keys)",
+                                 "EA_c, I_L, payload or their arm-file keys)",
                                  tok);
     *mask |= 1u << k;
   }
