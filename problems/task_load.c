@@ -171,7 +171,7 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
   r->max_evaluations = (int)v;
   if ((st = ea__ymap_double(d, n, "max_time_s", 0, 1e-3, 1e5, &r->max_time_s, err))) return st;
   v = r->modes;
-  if ((st = ea__ymap_int(d, n, "modes", 0, 1, EA_ROM_MAX_MODES, &v, err))) return st;
+  if ((st = ea__ymap_int(d, n, "modes", 0, 0, EA_ROM_MAX_MODES, &v, err))) return st;
   r->modes = (int)v;
   if ((st = ea__ymap_double(d, n, "fe_dt_s", 0, 1e-5, 1e-2, &r->fe_dt_s, err))) return st;
   if ((st = ea__ymap_double(d, n, "settle_s", 0, 0.5, 100.0, &r->settle_s, err))) return st;
