@@ -52,6 +52,7 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->dynamics.max_tip_deviation_m = INFINITY;
   t->dynamics.robust_residual_m = 5e-4;
   ea_task_refine_default(&t->dynamics.refine);
+  t->dynamics.verify = 1;
   t->knots = 100;
   ea_planner_settings_default(&t->solver);
   t->start = ea_task_point_planar(NAN, NAN, 0.0);

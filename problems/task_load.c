@@ -187,7 +187,7 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
 static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dynamics_t *dy,
                                      ea_error_t *err) {
   static const char *const keys[] = {
-      "modes", "residual_m", "max_tip_deviation_m", "grid", "robust", "refine", NULL};
+      "modes", "residual_m", "max_tip_deviation_m", "grid", "robust", "refine", "verify", NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics", err);
   if (st) return st;
   long v = 2;
@@ -219,6 +219,7 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_dyna
       dy->grid[i] = (int)gv[i];
     }
   if ((st = ea__load_refine(d, n, &dy->refine, err))) return st;
+  if ((st = ea__ymap_bool(d, n, "verify", 0, &dy->verify, err))) return st;
   if (dy->refine.enabled && dy->refine.modes > dy->modes)
     return ea__yerr(d, ea__ymap_get(d, n, "refine"), err, EA_ERR_INPUT,
                     "key 'refine': modes = %d: at most dynamics.modes = %d", dy->refine.modes,

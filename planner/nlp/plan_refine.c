@@ -665,6 +665,19 @@ static void ea__refine_report(const ea__refine_t *R, int ret) {
            info->stop_reason);
 }
 
+ea_rest_check_t ea_plan_rest_check(const ea_task_t *task) {
+  if (!task || task->dynamics.modes < 1 || !task->dynamics.verify ||
+      task->objective == EA_TASK_MIN_VIBRATION)
+    return EA_REST_CHECK_NONE;
+  return task->dynamics.residual_m > 0.0 ? EA_REST_CHECK_BOUND : EA_REST_CHECK_REFINE;
+}
+
+void ea_plan_rest_settings(const ea_task_t *task, ea_task_refine_t *s) {
+  *s = task->dynamics.refine;
+  if (!s->enabled) s->tolerance_m = EA_TASK_REST_TOLERANCE_M;
+  s->enabled = 1;
+}
+
 ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_info_t *plan_info,
                            ea_refine_info_t *info, ea_error_t *err) {
   if (!pl || !info) return ea_error_set(err, EA_ERR_ARG, "ea_plan_refine: NULL argument");

@@ -101,6 +101,11 @@ typedef enum ea_task_refine_method {
   EA_TASK_REFINE_SBPLX       /**< NLopt Sbplx, same objective */
 } ea_task_refine_method_t;
 
+/** [m] Default bound of the FE residual peak of a plan that ends at rest (dynamics.residual_m
+ *  0) when the task does not refine explicitly: the planner's FE check (dt 2 ms) refines until
+ *  the residual is within it; the FE at converged settings (dt 0.5 ms) then shows <= 1 mm. */
+#define EA_TASK_REST_TOLERANCE_M 5e-4
+
 /** Most FE transients a refinement may spend. */
 #define EA_TASK_REFINE_MAX_EVALUATIONS 100
 
@@ -148,7 +153,11 @@ typedef struct ea_task_dynamics {
   double robust_EI;           /**< [-] ... and EI (1 +- this): the four corners as models */
   double robust_residual_m;   /**< [m] allowed residual amplitude at each corner (the
                                    model's; default 5e-4) */
-  ea_task_refine_t refine;    /**< FE-in-the-loop refinement (off by default) */
+  ea_task_refine_t refine;    /**< FE-in-the-loop refinement (explicit: off by default) */
+  int verify; /**< 1 (default): the plan's promise is checked by the FE transient and, at rest,
+                   refined until it holds (dynamics.refine's tolerance_m when enabled, else
+                   EA_TASK_REST_TOLERANCE_M); with residual_m > 0 checked against it (key
+                   dynamics.verify; plan --no-verify sets 0) */
 } ea_task_dynamics_t;
 
 /** A task spec. Plain data, no owned memory. */
