@@ -247,8 +247,8 @@ void ea_task_refine_default(ea_task_refine_t *r) {
   r->max_evaluations = 20;
   r->max_time_s = 10.0;
   r->modes = 0; /* every mode */
-  r->fe_dt_s = 2e-3;
-  r->settle_s = 3.0;
+  r->fe_dt_s = 4e-3;
+  r->settle_s = 1.5;
   r->max_duration_change = 0.1;
   r->seed = 1;
 }

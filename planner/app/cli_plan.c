@@ -38,8 +38,8 @@ static void ea__plan_help(FILE *fp) {
               "removed by the next run writing the same outputs.\n\n");
   fprintf(fp,
           "A task with dynamics keeps its promise by default: a plan that ends at rest is\n"
-          "checked by the FE transient (12 elements, generalized-alpha, dt 2 ms, 3 s after the\n"
-          "motion, undamped) and refined until its residual peak is within 0.5 mm (within\n"
+          "checked by the FE transient (12 elements, generalized-alpha, dt 4 ms, 1.5 s after\n"
+          "the motion, undamped) and refined until its residual peak is within 0.5 mm (within\n"
           "dynamics.refine's tolerance_m when the task refines); a plan with residual_m > 0 is\n"
           "checked once against it (as --verify). The text and the summary (\"fe_check\") say\n"
           "what was measured, or that the plan was not checked. A bound not reached: exit 3,\n"

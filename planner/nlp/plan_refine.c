@@ -336,9 +336,10 @@ static int ea__refine_fd(ea__refine_t *R, double *J, int x, double h) {
 /* Newton's method on F(z) = 0 with the merit |F|. The model says J = I; Broyden's update
  * learns the FE's difference along the steps. A step that does not reduce |F| by at least
  * 10 % of the predicted reduction (Armijo) restarts the Jacobian by finite differences at
- * the base point; a step that fails with that Jacobian is halved (backtracking), down to a
- * step of 1e-3 tolerance_m ("no_progress"). The base point only moves to a measured point
- * of smaller |F|, so |F| decreases monotonically: the iteration cannot cycle. */
+ * the base point; a step that fails with that Jacobian, or whose candidate cannot be planned,
+ * is halved (backtracking), down to a step of 1e-3 tolerance_m ("no_progress"). The base point only
+ * moves to a measured point of smaller |F|, so |F| decreases monotonically: the iteration cannot
+ * cycle. */
 static void ea__refine_newton(ea__refine_t *R) {
   const int n = R->n;
   static const size_t nn = (size_t)EA__RP * EA__RP;
@@ -403,8 +404,10 @@ static void ea__refine_newton(ea__refine_t *R) {
       continue;
     }
     if (R->stop) break;
-    if (!fresh) { /* restart: the Jacobian by differences at x */
-      const double h = fmax(0.25 * rb / sqrt((double)n), R->s.tolerance_m);
+    if (!measured) { /* not planned (a target the plan cannot reach): a shorter step */
+      t *= 0.5;
+    } else if (!fresh) { /* restart: the Jacobian by differences at x */
+      const double h = fmax(0.1 * rb / sqrt((double)n), 0.1 * R->s.tolerance_m);
       const int bx = ea__refine_fd(R, J, x, h);
       fresh = bx == x; /* a better probe: step from there with J (another restart allowed) */
       x = bx;
