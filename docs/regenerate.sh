@@ -114,6 +114,8 @@ run test_refine_robust env EA_SOURCE_DIR=. "$B/tests/test_refine_robust"
 run test_plan_rest env EA_SOURCE_DIR=. "$B/tests/test_plan_rest"
 # docs/planner.md: the at-rest plan's knots, grid and replanning (bench_dyn, ~50 s).
 run bench_dyn "$B/bench/bench_dyn"
+# docs/planner.md: time per verified at-rest plan (bench_rest, ~1 min).
+run bench_rest "$B/bench/bench_rest" 20 7
 # docs/planner.md: the dynamics rows' Hessian against its reference (~1 s).
 run test_plan_hess env EA_SOURCE_DIR=. "$B/tests/test_plan_hess"
 # docs/planner.md: 200 random tasks, free and line paths (~15 s).
@@ -600,6 +602,18 @@ pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, s
   docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. At the default dt' \
   "$(calc %.1f "$(jnum "$R/simulate.out" residual_vibration_peak_m)*1e3")" "$(calc %.1f "$track*1e3")" \
   "$(calc %.1f "$(jnum "$R/simulate.out" static_offset_start_m)*1e6")"
+
+# --- docs/planner.md: bench_rest (times vary; the evaluations and the loop's residual do not,
+# except where a refinement stops at its wall-time cap: the worst columns of the random lines)
+brow() { awk -F'|' -v n="$1" 'index($2, " " n " ") == 1 { print $3, $9, $10, $11; exit }' "$R/bench_rest.out"; }
+set -- $(brow "paper line")
+pub "bench/bench_rest (paper line)" docs/planner.md \
+  "| paper line (paper-line-rest.yaml) | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {} | {} / {} | {} |" \
+  "$1" "$2" "$4" "$(calc %.4f "$5")" "$(calc %.4f "$7")" "$8"
+set -- $(brow "random straight lines")
+pub "bench/bench_rest (random straight lines)" docs/planner.md \
+  "| random straight lines | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {} / {*} | {*} |" \
+  "$1" "$2" "$(calc %.4f "$5")"
 
 # --- docs/planner.md: bench_dyn (section 1: knots; 3: grid; 4: replanning)
 dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $7, $8, $10; exit }' "$R/bench_dyn.out"; }
