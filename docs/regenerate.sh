@@ -54,7 +54,7 @@ for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan
   "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust" \
   "$B/tests/test_plan_rest" "$B/tests/test_plan_vib" "$B/tests/test_plan_limits" "$B/tests/test_rom" \
   "$B/tests/test_rom_modes" "$B/tests/test_plan_hess" "$B/tests/test_plan_sweep" "$B/bench/bench_calib" \
-  "$B/tests/test_calib_e2e"; do
+  "$B/tests/test_calib_e2e" "$B/tests/test_rest_sweep" "$B/bench/bench_rest"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -115,6 +115,10 @@ run test_refine_robust env EA_SOURCE_DIR=. "$B/tests/test_refine_robust"
 run test_plan_rest env EA_SOURCE_DIR=. "$B/tests/test_plan_rest"
 # docs/planner.md: the at-rest plan's knots, grid and replanning (bench_dyn, ~50 s).
 run bench_dyn "$B/bench/bench_dyn"
+# docs/planner.md: the random sweep of verified at-rest plans (~80 s).
+run test_rest_sweep env EA_SOURCE_DIR=. "$B/tests/test_rest_sweep"
+# docs/planner.md: time per verified at-rest plan (bench_rest, ~1 min).
+run bench_rest "$B/bench/bench_rest" 20 7
 # docs/planner.md: the dynamics rows' Hessian against its reference (~1 s).
 run test_plan_hess env EA_SOURCE_DIR=. "$B/tests/test_plan_hess"
 # docs/planner.md: 200 random tasks, free and line paths (~15 s).
@@ -607,6 +611,26 @@ pub "simulate paper-line.csv (residual_vibration_peak_m, max_tracking_error_m, s
   docs/cli-fe.md '{} mm; max tracking error {} mm; static offset at the start {} um. At the default dt' \
   "$(calc %.1f "$(jnum "$R/simulate.out" residual_vibration_peak_m)*1e3")" "$(calc %.1f "$track*1e3")" \
   "$(calc %.1f "$(jnum "$R/simulate.out" static_offset_start_m)*1e6")"
+
+# --- docs/planner.md: bench_rest (times vary; the evaluations and the loop's residual do not,
+# except where a refinement stops at its wall-time cap: the worst columns of the random lines)
+sw=$(grep '^sweep: ' "$R/test_rest_sweep.out")
+swn() { echo "$sw" | sed -n "s/.*$1.*/\1/p"; }
+pub "tests/test_rest_sweep" docs/planner.md \
+  "the {} that the planner accepts end within 1 mm (worst {} mm). One is refused with exit 3:" \
+  "$(swn 'sweep: \([0-9]*\) planned')" "$(calc %.3f "$(swn 'worst \([0-9.]*\) mm')")"
+pub "tests/test_rest_sweep" docs/planner.md \
+  "seeded, payload factor 0..0.5, 2 modes, default settings; the FE at dt 0.5 ms, 3 s): {} of" \
+  "$(swn '(\([0-9]*\) within 1 mm')"
+brow() { awk -F'|' -v n="$1" 'index($2, " " n " ") == 1 { print $3, $9, $10, $11; exit }' "$R/bench_rest.out"; }
+set -- $(brow "paper line")
+pub "bench/bench_rest (paper line)" docs/planner.md \
+  "| paper line (paper-line-rest.yaml) | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {} | {} / {} | {} |" \
+  "$1" "$2" "$4" "$(calc %.4f "$5")" "$(calc %.4f "$7")" "$8"
+set -- $(brow "random straight lines")
+pub "bench/bench_rest (random straight lines)" docs/planner.md \
+  "| random straight lines | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {} / {*} | {*} |" \
+  "$1" "$2" "$(calc %.4f "$5")"
 
 # --- docs/planner.md: bench_dyn (section 1: knots; 3: grid; 4: replanning)
 dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $7, $8, $10; exit }' "$R/bench_dyn.out"; }

@@ -52,6 +52,7 @@ void ea_task_init(ea_task_t *t, const ea_arm_t *arm) {
   t->dynamics.max_tip_deviation_m = INFINITY;
   t->dynamics.robust_residual_m = 5e-4;
   ea_task_refine_default(&t->dynamics.refine);
+  t->dynamics.verify = 1;
   t->knots = 100;
   ea_planner_settings_default(&t->solver);
   t->start = ea_task_point_planar(NAN, NAN, 0.0);
@@ -245,10 +246,10 @@ void ea_task_refine_default(ea_task_refine_t *r) {
   r->tolerance_m = 5e-5;
   r->max_evaluations = 20;
   r->max_time_s = 10.0;
-  r->modes = 1;
-  r->fe_dt_s = 2e-3;
-  r->settle_s = 3.0;
-  r->max_duration_change = 0.02;
+  r->modes = 0; /* every mode */
+  r->fe_dt_s = 4e-3;
+  r->settle_s = 1.5;
+  r->max_duration_change = 0.1;
   r->seed = 1;
 }
 
@@ -271,10 +272,11 @@ static ea_status_t ea__check_refine(const ea_task_t *t, ea_error_t *err) {
                         "end at rest in the model)");
   if ((int)r->method < 0 || r->method > EA_TASK_REFINE_SBPLX)
     return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine: unknown method %d", (int)r->method);
-  if (r->modes < 1 || r->modes > t->dynamics.modes)
+  if (r->modes < 0 || r->modes > t->dynamics.modes)
     return ea_error_set(err, EA_ERR_INPUT,
-                        "dynamics.refine.modes = %d: must be in [1, dynamics.modes = %d]", r->modes,
-                        t->dynamics.modes);
+                        "dynamics.refine.modes = %d: must be in [0 (every mode), dynamics.modes = "
+                        "%d]",
+                        r->modes, t->dynamics.modes);
   if (!(r->tolerance_m > 0.0 && r->tolerance_m <= 1.0))
     return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine.tolerance_m = %g: must be in (0, 1] m",
                         r->tolerance_m);

@@ -171,7 +171,7 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
   r->max_evaluations = (int)v;
   if ((st = ea__ymap_double(d, n, "max_time_s", 0, 1e-3, 1e5, &r->max_time_s, err))) return st;
   v = r->modes;
-  if ((st = ea__ymap_int(d, n, "modes", 0, 1, EA_ROM_MAX_MODES, &v, err))) return st;
+  if ((st = ea__ymap_int(d, n, "modes", 0, 0, EA_ROM_MAX_MODES, &v, err))) return st;
   r->modes = (int)v;
   if ((st = ea__ymap_double(d, n, "fe_dt_s", 0, 1e-5, 1e-2, &r->fe_dt_s, err))) return st;
   if ((st = ea__ymap_double(d, n, "settle_s", 0, 0.5, 100.0, &r->settle_s, err))) return st;
@@ -276,7 +276,7 @@ static ea_status_t ea__robust_from_calibration(ea__ydoc_t *d, yaml_node_t *rb, e
 static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_t *t, ea_error_t *err) {
   ea_task_dynamics_t *dy = &t->dynamics;
   static const char *const keys[] = {
-      "modes", "residual_m", "max_tip_deviation_m", "grid", "robust", "refine", NULL};
+      "modes", "residual_m", "max_tip_deviation_m", "grid", "robust", "refine", "verify", NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics", err);
   if (st) return st;
   long v = 2;
@@ -315,6 +315,7 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_t *t
       dy->grid[i] = (int)gv[i];
     }
   if ((st = ea__load_refine(d, n, &dy->refine, err))) return st;
+  if ((st = ea__ymap_bool(d, n, "verify", 0, &dy->verify, err))) return st;
   if (dy->refine.enabled && dy->refine.modes > dy->modes)
     return ea__yerr(d, ea__ymap_get(d, n, "refine"), err, EA_ERR_INPUT,
                     "key 'refine': modes = %d: at most dynamics.modes = %d", dy->refine.modes,

@@ -1,7 +1,7 @@
 /* FE-in-the-loop refinement of at-rest plans (docs/planner.md, "Refinement against the FE
  * transient"; planner/nlp/plan_refine.c). References are outside the refinement:
  *  - the residual vibration of the returned plan is measured again by an independent FE
- *    transient at a 8x finer step (dt 0.25 ms instead of the loop's 2 ms; 12 elements,
+ *    transient at a 16x finer step (dt 0.25 ms instead of the loop's 4 ms; 12 elements,
  *    undamped, 3 s after the motion, the issue's measurement);
  *  - every limit of the task and arm is re-checked from the written trajectory file at 1 kHz
  *    (tests/ea_plan_check.h: the statics solved at every sample), the tension margin too;
@@ -38,11 +38,11 @@ static int load_rest(ea_task_t *t) {
  * genalpha, 3 s after the motion. Also checks that the FE cable tension, which carries every
  * mode the reduced model leaves out, stays within the task's tension limits over the motion
  * and the settle (the plan claims them with two modes at the knots). */
-static double fe_peak_fine(const ea_task_t *t, const ea_traj_t *tr) {
+static double fe_peak_dt(const ea_task_t *t, const ea_traj_t *tr, double dt) {
   ea_sim_settings_t s;
   ea_sim_settings_default(&s);
   s.elements = 12;
-  s.dt = 2.5e-4;
+  s.dt = dt;
   s.settle = 3.0;
   s.damping_ratio = 0.0;
   ea_sim_info_t si;
@@ -59,6 +59,10 @@ static double fe_peak_fine(const ea_task_t *t, const ea_traj_t *tr) {
   ea_test_true(si.tension_min >= t->limits.tension_min && si.tension_max <= t->limits.tension_max,
                what);
   return si.residual_peak;
+}
+
+static double fe_peak_fine(const ea_task_t *t, const ea_traj_t *tr) {
+  return fe_peak_dt(t, tr, 2.5e-4);
 }
 
 /* Write the plan's trajectory, read it back and re-check every limit at 1 kHz. Returns the
@@ -119,18 +123,23 @@ static double check_refined(const char *name, const ea_task_t *t, const ea_plan_
   ea_test_true(ri->status == EA_OK && ri->converged, what);
   const double fine = fe_peak_fine(t, tr);
   /* measured: 0.0071 mm (payload 0), 0.0186 mm (payload 0.5) at dt 0.25 ms against 0.0076 and
-   * 0.0177 mm at the loop's 2 ms: the loop's step error is 1 um, 2 % of the tolerance */
+   * 0.0177 mm at the loop's 2 ms; at its 4 ms and 1.5 s settle 0.0061 / 0.0061 mm, 0.0140 /
+   * 0.0097 mm, 0.0290 / 0.0264 mm on the random line: the loop's error is <= 5 um */
   snprintf(what, sizeof what,
            "%s: FE residual peak of the refined plan at dt 0.25 ms %.4f mm <= tolerance %.4f mm "
-           "(loop, dt 2 ms: %.4f mm; unrefined %.4f mm)",
+           "(loop, dt 4 ms: %.4f mm; unrefined %.4f mm)",
            name, 1e3 * fine, 1e3 * ri->settings.tolerance_m, 1e3 * ri->residual_peak_m,
            1e3 * ri->residual_peak_before_m);
   ea_test_true(fine <= ri->settings.tolerance_m, what);
-  /* measured -0.13 % and -0.08 %; the issue allows 2 % */
+  /* measured -0.13 % and -0.08 % on the paper lines, +2.4 % on the random line; the setting
+   * allows 10 % */
   const double dd = ri->duration_s / ri->duration_before_s - 1.0;
-  snprintf(what, sizeof what, "%s: duration %.6f s within 2 %% of the unrefined %.6f s (%+.3f %%)",
-           name, ri->duration_s, ri->duration_before_s, 100.0 * dd);
-  ea_test_true(fabs(dd) <= 0.02 && fabs(pi->duration_s - ri->duration_s) == 0.0, what);
+  snprintf(what, sizeof what, "%s: duration %.6f s within %g %% of the unrefined %.6f s (%+.3f %%)",
+           name, ri->duration_s, 100.0 * ri->settings.max_duration_change, ri->duration_before_s,
+           100.0 * dd);
+  ea_test_true(fabs(dd) <= ri->settings.max_duration_change &&
+                   fabs(pi->duration_s - ri->duration_s) == 0.0,
+               what);
   const double w = recheck_file(t, tr, name);
   snprintf(what, sizeof what,
            "%s: every limit held by the written refined trajectory at 1 kHz (worst relative "
@@ -229,8 +238,9 @@ static void test_inputs(void) {
     ea_test_true(st == EA_OK && u.dynamics.refine.enabled &&
                      u.dynamics.refine.method == EA_TASK_REFINE_BOBYQA &&
                      u.dynamics.refine.tolerance_m == 1e-4 &&
-                     u.dynamics.refine.max_evaluations == 8 && u.dynamics.refine.modes == 1,
-                 "YAML refine mapping read (method, tolerance, evaluations; modes default 1)");
+                     u.dynamics.refine.max_evaluations == 8 && u.dynamics.refine.modes == 0,
+                 "YAML refine mapping read (method, tolerance, evaluations; modes default 0: "
+                 "every mode)");
     remove(path);
   }
   /* a planner without dynamics: EA_ERR_ARG, nothing planned */
@@ -250,10 +260,122 @@ static void test_inputs(void) {
   free(ri);
 }
 
+/* Write the random line's task (issue 33: payload factor 0.26, (0.6246, 0.0676) -> (0.5868,
+ * -0.1509), 2 modes, at rest) with extra dynamics lines into path. */
+static void write_random_line(const char *path, const char *extra) {
+  FILE *fp = fopen(path, "w");
+  if (!fp) return;
+  fprintf(fp,
+          "name: random-line\narm_file: %s/data/elasticarm.yaml\npayload_factor: 0.26\nstart:\n"
+          "  tip: [0.6246, 0.0676]\ngoal:\n  tip: [0.5868, -0.1509]\npath: line\n"
+          "dynamics:\n  modes: 2\n  residual_m: 0\n%s",
+          src, extra);
+  fclose(fp);
+}
+
+/* The FE residual at converged settings (genalpha, dt 0.5 ms, 3 s settle, undamped) of a
+ * written trajectory file. */
+static double file_fe_peak(const ea_task_t *t, const char *csv) {
+  ea_traj_t ft;
+  memset(&ft, 0, sizeof ft);
+  ea_error_t fe = {0};
+  double peak = NAN;
+  if (!ea_traj_read(&ft, csv, &fe))
+    peak = fe_peak_dt(t, &ft, 5e-4);
+  else
+    printf("%s\n", fe.msg);
+  ea_traj_free(&ft);
+  return peak;
+}
+
+/* Plans keep their promise of rest by default (issue 33, item 2): the CLI's default FE check,
+ * its switches, and exit 3 with what was reached when the bound is not met. */
+static void test_cli_promise(void) {
+  char arm[1100], args[4000], what[600];
+  if (cli_setup(arm, sizeof arm)) {
+    ea_test_true(0, "CLI run through ctest");
+    return;
+  }
+  const char *task = "/tmp/ea_test_refine_promise.yaml", *csv = "/tmp/ea_test_refine_promise.csv";
+  ea_task_t t;
+  ea_error_t e = {0};
+  write_random_line(task, "");
+  if (ea_task_load(task, NULL, &t, &e)) {
+    ea_test_true(0, e.msg);
+    return;
+  }
+  /* default: checked by the FE and refined within 0.5 mm; converged FE <= 1 mm */
+  snprintf(args, sizeof args, "plan %s -o %s", task, csv);
+  int rc = run(args);
+  printf("%s", out);
+  ea_test_true(rc == 0 && strstr(out, "plan found") &&
+                   strstr(out, "checked by the FE (dt 4 ms, 1.5 s after the motion)") &&
+                   strstr(out, "within bound 0.5 mm") && !strstr(out, "NOT"),
+               "plan (default): exit 0, 'checked by the FE: ... within bound 0.5 mm'");
+  double peak = file_fe_peak(&t, csv);
+  snprintf(what, sizeof what,
+           "plan (default): the written plan's FE residual at dt 0.5 ms %.4f mm <= 1 mm",
+           1e3 * peak);
+  ea_test_true(peak <= 1e-3, what);
+  snprintf(args, sizeof args, "plan %s -o %s --json", task, csv);
+  rc = run(args);
+  ea_test_true(rc == 0 && strstr(out, "\"fe_check\": {") && strstr(out, "\"checked\": true") &&
+                   strstr(out, "\"within\": true") && json_num("bound_m") == 5e-4,
+               "plan --json: fe_check {checked: true, within: true, bound_m: 5e-4}");
+  /* --no-verify: not checked, and the plan as planned rings (5.9 mm) */
+  snprintf(args, sizeof args, "plan %s -o %s --no-verify", task, csv);
+  rc = run(args);
+  printf("%s", out);
+  peak = file_fe_peak(&t, csv);
+  snprintf(what, sizeof what,
+           "plan --no-verify: exit 0, 'not checked by the FE (plan --no-verify)', FE residual "
+           "%.3f mm > 1 mm (what the check removes)",
+           1e3 * peak);
+  ea_test_true(rc == 0 && strstr(out, "not checked by the FE (plan --no-verify)") && peak > 1e-3,
+               what);
+  write_random_line(task, "  verify: false\n");
+  snprintf(args, sizeof args, "plan %s -o %s", task, csv);
+  rc = run(args);
+  ea_test_true(rc == 0 && strstr(out, "not checked by the FE (dynamics.verify: false)"),
+               "dynamics.verify: false: exit 0, 'not checked by the FE (dynamics.verify: false)'");
+  /* a bound not reached: exit 3, files written, the message says what was reached */
+  write_random_line(task, "  refine:\n    max_evaluations: 2\n");
+  snprintf(args, sizeof args, "plan %s -o %s", task, csv);
+  remove(csv);
+  rc = run(args);
+  printf("%s", out);
+  ea_test_true(rc == 3 && !strstr(out, "plan found") && strstr(out, "NOT at rest") &&
+                   strstr(out, "exceeds the bound 0.05 mm") && access(csv, F_OK) == 0,
+               "refine.max_evaluations 2: exit 3, 'NOT at rest ... exceeds the bound 0.05 mm', no "
+               "'plan found', the plan written");
+  /* a residual bound checked once: the payload-0.5 line allowed 1 mm rings with 2.5 mm */
+  FILE *fp = fopen(task, "w");
+  if (fp) {
+    fprintf(fp,
+            "name: bound\narm_file: %s/data/elasticarm.yaml\npayload_factor: 0.5\nstart:\n"
+            "  tip: [0.3, -0.2]\ngoal:\n  tip: [0.5, -0.2]\npath: line\n"
+            "dynamics:\n  modes: 2\n  residual_m: 0.001\n",
+            src);
+    fclose(fp);
+  }
+  rc = run(args);
+  printf("%s", out);
+  ea_test_true(rc == 3 && strstr(out, "the FE check of the residual bound failed") &&
+                   strstr(out, "exceeds the bound 1 mm"),
+               "residual_m 1 mm on the payload-0.5 line: exit 3, the FE check failed (what it "
+               "reached)");
+  remove(task);
+  remove(csv);
+  snprintf(args, sizeof args, "%s.lock", csv);
+  remove(args);
+  remove("/tmp/ea_test_refine_promise.json");
+}
+
 int main(void) {
   const char *s = getenv("EA_SOURCE_DIR");
   snprintf(src, sizeof src, "%s", s ? s : ".");
   test_inputs();
+  test_cli_promise();
 
   ea_task_t t;
   if (load_rest(&t)) {
@@ -372,6 +494,33 @@ int main(void) {
                "tolerance %.4f mm (loop: %.4f mm)",
                1e3 * fine, 2e3 * ra->settings.tolerance_m, 1e3 * ra->residual_peak_m);
       ea_test_true(fine <= 2 * ra->settings.tolerance_m, what);
+    }
+    ea_planner_free(pa);
+  }
+
+  /* A random line (issue 33, item 3): payload factor 0.26, (0.6246, 0.0676) -> (0.5868,
+   * -0.1509). The model misses 5.9 mm; Broyden from J = I on mode 1 alone, its candidates
+   * capped at +2 % of duration, stopped at 1.11 mm after 20 evaluations (the converged plan
+   * is 2.4 % longer). Default settings: every mode, globalised Newton, 10 % duration. */
+  h = t;
+  h.payload_factor = 0.26;
+  h.payload_kg = ea_arm_payload_from_factor(&h.arm, 0.26);
+  h.start = ea_task_point_planar(0.6246, 0.0676, 0.0);
+  h.goal = ea_task_point_planar(0.5868, -0.1509, 0.0);
+  if (ea_task_check(&h, &e)) {
+    ea_test_true(0, e.msg);
+  } else {
+    pa = NULL;
+    sa = plan_refine(&h, &set, &pa, &ia, ra, &ta);
+    ea_test_true(sa == EA_OK, "random line, payload 0.26: planned and refined");
+    if (!sa) {
+      const double fine = check_refined("random line, payload 0.26", &h, &ia, ra, &ta);
+      char what[300];
+      snprintf(what, sizeof what,
+               "random line: unrefined %.3f mm brought down to %.4f mm (dt 0.25 ms) within %d "
+               "evaluations",
+               1e3 * ra->residual_peak_before_m, 1e3 * fine, ra->n_evals);
+      ea_test_true(ra->residual_peak_before_m > 1e-3 && fine <= set.tolerance_m, what);
     }
     ea_planner_free(pa);
   }

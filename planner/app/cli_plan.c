@@ -16,7 +16,8 @@
 static void ea__plan_help(FILE *fp) {
   fprintf(fp, "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
               "                       [--figure OUT.svg|png|pdf] [--knots N] [--refine]\n"
-              "                       [--shape zv] [--verify] [--derivative-test]\n"
+              "                       [--shape zv] [--verify] [--no-verify]\n"
+              "                       [--derivative-test]\n"
               "                       [--print-level N] [--quiet]\n\n"
               "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
               "and writes the trajectory file (docs/trajectory-format.md) and a JSON summary next\n"
@@ -35,6 +36,14 @@ static void ea__plan_help(FILE *fp) {
               "and figure of the same names, so a summary never sits beside a trajectory it\n"
               "does not describe. Temporaries ('NAME.tmp<pid>.*') left by a killed run are\n"
               "removed by the next run writing the same outputs.\n\n");
+  fprintf(fp,
+          "A task with dynamics keeps its promise by default: a plan that ends at rest is\n"
+          "checked by the FE transient (12 elements, generalized-alpha, dt 4 ms, 1.5 s after\n"
+          "the motion, undamped) and refined until its residual peak is within 0.5 mm (within\n"
+          "dynamics.refine's tolerance_m when the task refines); a plan with residual_m > 0 is\n"
+          "checked once against it (as --verify). The text and the summary (\"fe_check\") say\n"
+          "what was measured, or that the plan was not checked. A bound not reached: exit 3,\n"
+          "the best plan and its summary written, the message says what was reached.\n\n");
   fprintf(fp,
           "  -o FILE            trajectory file ('-' = stdout)\n"
           "  --summary FILE     JSON summary (default: OUT with .json)\n"
@@ -66,13 +75,16 @@ static void ea__plan_help(FILE *fp) {
           "                     below the tension limit (slack), or the residual peak exceeds\n"
           "                     the task's dynamics.residual_m (> 0) or, refined, the\n"
           "                     refinement's tolerance_m\n"
+          "  --no-verify        no FE check of the plan's promise (as dynamics.verify: false):\n"
+          "                     faster; the text says 'not checked by the FE'\n"
           "  --derivative-test  run Ipopt's first-order derivative checker\n"
           "  --print-level N    Ipopt's output (0 = silent); Ipopt only: a plan made by the\n"
           "                     planner's own interior point or active-set Newton prints no\n"
           "                     iterations (stderr then says which engine ran)\n"
           "  --quiet            no progress line\n\n"
           "exit: 0 plan written, 1 infeasible / not converged / shaping refused / an output\n"
-          "not written, 2 usage or input error, 3 plan written but --verify failed\n");
+          "not written, 2 usage or input error, 3 plan written but its FE check (the default\n"
+          "check of a task with dynamics, or --verify) failed\n");
 }
 
 /* Remove an earlier output of a failed run: regular files only (never a
@@ -289,18 +301,21 @@ static void ea__plan_verify_text(const ea_plan_verify_t *v) {
 }
 
 /* The command line of `elasticarm plan` and the outputs it resolves to. */
+struct ea__plan_run;
+static void ea__plan_check_text(const struct ea__plan_run *r);
+
 typedef struct {
   const char *task_path, *out, *summary, *figure;
-  int json, quiet, dtest, refine, shape, verify;
+  int json, quiet, dtest, refine, shape, verify, no_verify;
   long knots, plevel;
   char out_buf[1024], sum_buf[1024], fig_buf[1024];
 } ea__plan_opts_t;
 
 static const ea__cli_opt_t ea__plan_opts[] = {
-    {"help", 0, 'h'}, {"output", 1, 'o'}, {"summary", 1, 0},         {"figure", 1, 0},
-    {"json", 0, 0},   {"quiet", 0, 0},    {"derivative-test", 0, 0}, {"refine", 0, 0},
-    {"verify", 0, 0}, {"shape", 1, 0},    {"knots", 1, 0},           {"print-level", 1, 0},
-    {NULL, 0, 0}};
+    {"help", 0, 'h'},    {"output", 1, 'o'}, {"summary", 1, 0},         {"figure", 1, 0},
+    {"json", 0, 0},      {"quiet", 0, 0},    {"derivative-test", 0, 0}, {"refine", 0, 0},
+    {"verify", 0, 0},    {"shape", 1, 0},    {"knots", 1, 0},           {"print-level", 1, 0},
+    {"no-verify", 0, 0}, {NULL, 0, 0}};
 
 /* Parse the options into o. Returns -1 to go on, else the exit code (0 after --help). */
 static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_t *o) {
@@ -333,6 +348,8 @@ static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_
       o->refine = 1;
     } else if (!strcmp(a, "--verify")) {
       o->verify = 1;
+    } else if (!strcmp(a, "--no-verify")) {
+      o->no_verify = 1;
     } else if (!strcmp(a, "--shape")) {
       if (strcmp(v, "zv"))
         return ea__cli_usage_error(cmd, "--shape: '%s' is not a shaper (known: zv)", v);
@@ -388,7 +405,7 @@ static int ea__plan_outputs(const char *cmd, const ea_task_t *task, ea__plan_opt
 }
 
 /* A plan run: the planner, the written plan's info and what its summary adds. */
-typedef struct {
+typedef struct ea__plan_run {
   ea_planner_t *pl;
   ea_plan_info_t info;
   ea_refine_info_t *ref;
@@ -397,6 +414,8 @@ typedef struct {
   char run_id[64];                    /**< shared by the trajectory and the summary */
   ea__cli_progress_t prog;            /* the command's clock and progress lines */
   double time_shape_s, time_verify_s; /* [s] wall time of --shape, --verify */
+  const char *no_check; /* why the FE did not check the plan's promise (NULL: it did, or the
+                           task promises nothing: no dynamics) */
 } ea__plan_run_t;
 
 static void ea__plan_run_free(ea__plan_run_t *r) {
@@ -404,6 +423,23 @@ static void ea__plan_run_free(ea__plan_run_t *r) {
   free(r->shp);
   free(r->ver);
   ea_planner_free(r->pl);
+}
+
+/* The line that says whether the FE checked the plan's promise and what it measured. */
+static void ea__plan_check_text(const ea__plan_run_t *r) {
+  if (r->ref && r->ref->status == EA_OK)
+    printf("checked by the FE (dt %g ms, %g s after the motion): residual peak %.4g mm %s bound "
+           "%.4g mm\n",
+           1e3 * r->ref->fe.dt, r->ref->fe.settle, 1e3 * r->ref->residual_peak_m,
+           r->ref->converged ? "within" : "NOT within", 1e3 * r->ref->settings.tolerance_m);
+  else if (r->ver && isfinite(r->ver->residual_bound_m) && r->ver->status == EA_OK)
+    printf("checked by the FE (dt %g ms, %g s after the motion): residual peak %.4g mm %s bound "
+           "%.4g mm\n",
+           1e3 * r->ver->settings.dt, r->ver->settings.settle, 1e3 * r->ver->sim.residual_peak,
+           r->ver->sim.residual_peak <= r->ver->residual_bound_m ? "within" : "NOT within",
+           1e3 * r->ver->residual_bound_m);
+  else if (r->no_check)
+    printf("not checked by the FE (%s)\n", r->no_check);
 }
 
 /* The refinement's progress: a line per evaluation once the command has run a second. */
@@ -417,13 +453,13 @@ static void ea__plan_refine_progress(void *data, int evaluation, int max_evaluat
 /* --refine (or the task's dynamics.refine): the refinement of the converged plan. The
  * summary describes the written (refined) plan; iterations and solve times stay those of
  * the at-rest plan, the refinement's are in its own object. */
-static ea_status_t ea__plan_refine_cli(const ea__plan_opts_t *o, ea__plan_run_t *r,
-                                       ea_error_t *err) {
+static ea_status_t ea__plan_refine_cli(const ea_task_t *task, ea__plan_run_t *r, ea_error_t *err) {
   ea_plan_info_t *info = &r->info;
-  if (!o->quiet && !o->json && strcmp(o->out, "-")) printf("%s\n", info->message);
+  ea_task_refine_t s;
+  ea_plan_rest_settings(task, &s);
   r->ref = calloc(1, sizeof *r->ref);
   ea_plan_info_t rinfo;
-  const ea_status_t rst = r->ref ? ea_plan_refine(r->pl, NULL, &rinfo, r->ref, err) : EA_ERR_NOMEM;
+  const ea_status_t rst = r->ref ? ea_plan_refine(r->pl, &s, &rinfo, r->ref, err) : EA_ERR_NOMEM;
   if (rst) {
     info->status = rst;
     snprintf(info->message, sizeof info->message, "refinement failed: %.480s",
@@ -431,7 +467,7 @@ static ea_status_t ea__plan_refine_cli(const ea__plan_opts_t *o, ea__plan_run_t 
     return rst;
   }
   const ea_plan_info_t cold = *info;
-  *info = rinfo;
+  if (r->ref->returned > 0) *info = rinfo; /* else the cold plan, measured once, is kept */
   info->iterations = cold.iterations;
   info->time_total_s = cold.time_total_s;
   info->time_guess_s = cold.time_guess_s;
@@ -447,6 +483,12 @@ static ea_status_t ea__plan_refine_cli(const ea__plan_opts_t *o, ea__plan_run_t 
   info->screen_resolves = cold.screen_resolves;
   info->ipm_iterations = cold.ipm_iterations;
   info->ipm_fallback = cold.ipm_fallback;
+  if (!r->ref->converged) /* the summary's message: what was reached, not "plan found" */
+    snprintf(info->message, sizeof info->message,
+             "plan written but NOT at rest: the FE residual peak %.4g mm exceeds the bound %.4g "
+             "mm after %d evaluation%s (stopped: %s; duration %.6g s)",
+             1e3 * r->ref->residual_peak_m, 1e3 * r->ref->settings.tolerance_m, r->ref->n_evals,
+             r->ref->n_evals == 1 ? "" : "s", r->ref->stop_reason, info->duration_s);
   return EA_OK;
 }
 
@@ -550,7 +592,9 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
   if (o->json && summary) {
     ea__cat(summary);
   } else if (!o->quiet && strcmp(out, "-")) {
-    printf("%s\n", r->ref ? r->ref->message : info->message);
+    printf("%s\n", info->message);
+    if (r->ref) printf("%s\n", r->ref->message);
+    ea__plan_check_text(r);
     printf("wrote %s%s%s%s%s\n", out, summary ? ", " : "", summary ? summary : "",
            figure && !rc ? ", " : "", figure && !rc ? figure : "");
     /* the whole command's wall time, its phases named; what is left is reading the task,
@@ -582,9 +626,8 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
     if (r->ver) ea__plan_verify_text(r->ver);
   }
   if (r->ver && !r->ver->passed) {
-    fprintf(stderr,
-            "elasticarm plan: error: --verify failed for %s (written, with its summary): %s\n", out,
-            r->ver->failure);
+    fprintf(stderr, "elasticarm plan: error: %s failed for %s (written, with its summary): %s\n",
+            o->verify ? "--verify" : "the FE check of the residual bound", out, r->ver->failure);
     if (!rc) rc = EA_EXIT_VERIFY;
   }
   if (o->plevel > 0 && strcmp(ea_plan_engine_name(info), "ipopt"))
@@ -592,11 +635,13 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
             "elasticarm plan: note: --print-level applies to Ipopt only; this plan was made by "
             "the %s (%d iterations), which prints no iterations\n",
             ea__plan_engine_label(info), info->iterations);
-  if (r->ref && !r->ref->converged)
+  if (r->ref && !r->ref->converged) {
     fprintf(stderr,
-            "elasticarm plan: warning: the refinement did not reach its tolerance (%s); the "
-            "written plan is the best one evaluated\n",
-            r->ref->stop_reason);
+            "elasticarm plan: error: the plan does not keep its promise of rest: %s (written, "
+            "with its summary: the best plan evaluated)\n",
+            info->message);
+    if (!rc) rc = EA_EXIT_VERIFY;
+  }
   return rc;
 }
 
@@ -622,6 +667,7 @@ int ea__cli_plan(int argc, char **argv) {
   if (o.knots) task.knots = (int)o.knots;
   if (o.dtest) task.solver.derivative_test = 1;
   if (o.refine) task.dynamics.refine.enabled = 1;
+  if (o.no_verify) task.dynamics.verify = 0;
   task.dynamics.refine.progress = ea__plan_refine_progress;
   task.dynamics.refine.progress_data = &r.prog;
   if (o.plevel >= 0) task.solver.print_level = (int)o.plevel;
@@ -641,7 +687,16 @@ int ea__cli_plan(int argc, char **argv) {
   if (ea_planner_dyn_model(r.pl, &di) == EA_OK && di.cache_message[0])
     fprintf(stderr, "elasticarm %s: warning: reduced-model cache: %s\n", cmd, di.cache_message);
   st = ea_planner_solve(r.pl, EA_PLAN_COLD, NULL, &r.info, &err);
-  if (!st && task.dynamics.refine.enabled) st = ea__plan_refine_cli(&o, &r, &err);
+  /* the promise of rest: refined until the FE holds it (explicit refine, or the default
+   * check; not for a shaped plan), or a residual bound checked once */
+  const ea_rest_check_t check = o.shape ? EA_REST_CHECK_NONE : ea_plan_rest_check(&task);
+  if (task.dynamics.modes > 0 && check == EA_REST_CHECK_NONE && !task.dynamics.refine.enabled)
+    r.no_check = o.shape                                   ? "a ZV-shaped plan: --verify checks it"
+                 : task.objective == EA_TASK_MIN_VIBRATION ? "min_vibration promises no rest"
+                 : o.no_verify                             ? "plan --no-verify"
+                                                           : "dynamics.verify: false";
+  if (!st && (task.dynamics.refine.enabled || check == EA_REST_CHECK_REFINE))
+    st = ea__plan_refine_cli(&task, &r, &err);
   /* The trajectory to write: the plan's, shaped with --shape; --verify simulates it. */
   ea_traj_t tr = {0};
   r.shp = o.shape ? calloc(1, sizeof *r.shp) : NULL;
@@ -653,7 +708,7 @@ int ea__cli_plan(int argc, char **argv) {
   if (!st && !wst && o.shape) st = ea__plan_shape(&task, &tr, &r.info, r.shp);
   r.time_shape_s = ea__mono_s() - t_phase;
   t_phase = ea__mono_s();
-  if (!st && !wst && o.verify) {
+  if (!st && !wst && (o.verify || check == EA_REST_CHECK_BOUND)) {
     if ((r.ver = calloc(1, sizeof *r.ver)))
       ea__plan_verify(r.pl, &task, &tr, &r.info, r.ref, o.shape, &r.prog, r.ver);
     else

@@ -345,6 +345,8 @@
   X(ea_task_t, limits)                                                                             \
   X(ea_task_t, dynamics.modes)                                                                     \
   X(ea_task_t, dynamics.refine.enabled)                                                            \
+  X(ea_task_t, dynamics.refine.tolerance_m)                                                        \
+  X(ea_task_t, dynamics.verify)                                                                    \
   X(ea_task_t, knots)                                                                              \
   X(ea_study_t, name)                                                                              \
   X(ea_study_t, n_cases)                                                                           \

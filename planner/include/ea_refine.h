@@ -124,6 +124,23 @@ typedef struct ea_refine_info {
 ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_info_t *plan_info,
                            ea_refine_info_t *info, ea_error_t *err);
 
+/** What the FE checks of a task's plan by default (docs/planner.md, "Keeping the promise of
+ *  rest"): EA_REST_CHECK_NONE (no dynamics, min_vibration, or dynamics.verify 0),
+ *  EA_REST_CHECK_REFINE (ends at rest: ea_plan_refine with ea_plan_rest_settings until the FE
+ *  residual is within the bound) or EA_REST_CHECK_BOUND (residual_m > 0: one FE transient
+ *  against it). */
+typedef enum ea_rest_check {
+  EA_REST_CHECK_NONE = 0,
+  EA_REST_CHECK_REFINE = 1,
+  EA_REST_CHECK_BOUND = 2
+} ea_rest_check_t;
+ea_rest_check_t ea_plan_rest_check(const ea_task_t *task);
+
+/** The refinement settings of the default check of a plan that ends at rest: the task's
+ *  dynamics.refine when it is enabled (tolerance_m 5e-5 m by default), else its defaults
+ *  with tolerance_m = EA_TASK_REST_TOLERANCE_M (0.5 mm). */
+void ea_plan_rest_settings(const ea_task_t *task, ea_task_refine_t *s);
+
 /** The JSON summary of ea_plan_summary_write with a "refine" object (every evaluation:
  *  parameters, targets, re-plan, FE residual, times); refine NULL = ea_plan_summary_write. */
 ea_status_t ea_plan_summary_write_refined(const ea_planner_t *pl, const ea_plan_info_t *info,

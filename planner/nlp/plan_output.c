@@ -346,6 +346,35 @@ void ea_plan_verify_judge(ea_plan_verify_t *v) {
   v->passed = !v->failure[0];
 }
 
+/* "fe_check": whether an FE transient checked the written plan's promise (the refinement's,
+ * else --verify's or the default check of a residual bound) and what it measured. */
+static void ea__fe_check_json(ea_json_t *j, const ea_plan_info_t *info,
+                              const ea_refine_info_t *refine, const ea_plan_verify_t *verify) {
+  if (info->status != EA_OK) return;
+  ea_json_obj_begin(j, "fe_check");
+  const int by_refine = refine && refine->status == EA_OK;
+  const int by_verify = !by_refine && verify && isfinite(verify->residual_bound_m);
+  ea_json_bool(j, "checked", by_refine || by_verify);
+  if (by_refine) {
+    ea_json_str(j, "by", "refinement");
+    ea_json_num(j, "dt_s", refine->fe.dt);
+    ea_json_num(j, "residual_peak_m", refine->residual_peak_m);
+    ea_json_num(j, "bound_m", refine->settings.tolerance_m);
+    ea_json_bool(j, "within", refine->converged);
+    ea_json_int(j, "evaluations", refine->n_evals);
+  } else if (by_verify) {
+    ea_json_str(j, "by", "verify");
+    ea_json_num(j, "dt_s", verify->settings.dt);
+    if (verify->status == EA_OK)
+      ea_json_num(j, "residual_peak_m", verify->sim.residual_peak);
+    else
+      ea_json_null(j, "residual_peak_m");
+    ea_json_num(j, "bound_m", verify->residual_bound_m);
+    ea_json_bool(j, "within", verify->passed);
+  }
+  ea_json_obj_end(j);
+}
+
 ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,
                                      const ea_refine_info_t *refine, const ea_shape_info_t *shape,
                                      const ea_plan_verify_t *verify, const char *run_id,
@@ -428,6 +457,7 @@ ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_
   if (refine) ea__refine_json(&j, refine);
   if (shape) ea__shape_json(&j, shape);
   if (verify) ea__verify_json(&j, verify);
+  ea__fe_check_json(&j, info, refine, verify);
   ea_json_obj_end(&j);
   ea_json_end(&j);
   return ea_afile_commit(&f, err);

@@ -265,8 +265,82 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
   return idx;
 }
 
-/* ---- Newton on F, Jacobian by Broyden updates ------------------------------------------ */
+/* ---- Newton on F: Broyden updates, finite-difference restarts, backtracking on |F| -------- */
 
+/* Measured: re-planned and every model's FE residual fitted (its F is known; whether its
+ * duration is acceptable does not matter to the Newton iteration). */
+static int ea__refine_measured(const ea__refine_t *R, const ea_refine_eval_t *e) {
+  if (e->plan_status || e->fe_status) return 0;
+  for (int p = 0; p < 2 * R->K * R->M; ++p)
+    if (!isfinite(e->fitted_m[p]) || !isfinite(e->predicted_m[p])) return 0;
+  return 1;
+}
+
+/* Broyden's update of J (n x n) over the step from evaluation a to evaluation b. */
+static void ea__refine_broyden(const ea__refine_t *R, double *J, const ea_refine_eval_t *a,
+                               const ea_refine_eval_t *b) {
+  const int n = R->n;
+  double Fa[EA__RP], Fb[EA__RP], sv[EA__RP], ss = 0.0;
+  ea__refine_F(R, a, Fa);
+  ea__refine_F(R, b, Fb);
+  for (int p = 0; p < n; ++p) {
+    sv[p] = b->params_m[p] - a->params_m[p];
+    ss += sv[p] * sv[p];
+  }
+  if (!(ss > 0.0)) return;
+  for (int p = 0; p < n; ++p) {
+    double Js = 0.0;
+    for (int q = 0; q < n; ++q)
+      Js += J[p * n + q] * sv[q];
+    for (int q = 0; q < n; ++q)
+      J[p * n + q] += (Fb[p] - Fa[p] - Js) * sv[q] / ss;
+  }
+}
+
+/* The Jacobian of F at evaluation x by forward differences, one evaluation per parameter
+ * (step h, the other sign if the first candidate cannot be measured; a column that cannot
+ * be measured either way keeps its value). Returns the index of the measured evaluation of
+ * least |F| among x and the probes. */
+static int ea__refine_fd(ea__refine_t *R, double *J, int x, double h) {
+  const int n = R->n;
+  double Fx[EA__RP];
+  ea__refine_F(R, &R->info->evals[x], Fx);
+  int best = x;
+  double best_r = ea__rnorm(R, Fx);
+  for (int q = 0; q < n && !ea__refine_budget(R); ++q) {
+    for (int sgn = 1; sgn >= -1; sgn -= 2) {
+      double z[EA__RP];
+      memcpy(z, R->info->evals[x].params_m, sizeof z);
+      z[q] += sgn * h;
+      const int idx = ea__refine_eval(R, z, 0);
+      if (idx < 0) return best;
+      const ea_refine_eval_t *e = &R->info->evals[idx];
+      if (!ea__refine_measured(R, e)) {
+        if (ea__refine_budget(R)) return best;
+        continue;
+      }
+      double Fe[EA__RP];
+      ea__refine_F(R, e, Fe);
+      for (int p = 0; p < n; ++p)
+        J[p * n + q] = (Fe[p] - Fx[p]) / (sgn * h);
+      if (ea__rnorm(R, Fe) < best_r) {
+        best_r = ea__rnorm(R, Fe);
+        best = idx;
+      }
+      break;
+    }
+    if (R->stop) break;
+  }
+  return best;
+}
+
+/* Newton's method on F(z) = 0 with the merit |F|. The model says J = I; Broyden's update
+ * learns the FE's difference along the steps. A step that does not reduce |F| by at least
+ * 10 % of the predicted reduction (Armijo) restarts the Jacobian by finite differences at
+ * the base point; a step that fails with that Jacobian, or whose candidate cannot be planned,
+ * is halved (backtracking), down to a step of 1e-3 tolerance_m ("no_progress"). The base point only
+ * moves to a measured point of smaller |F|, so |F| decreases monotonically: the iteration cannot
+ * cycle. */
 static void ea__refine_newton(ea__refine_t *R) {
   const int n = R->n;
   static const size_t nn = (size_t)EA__RP * EA__RP;
@@ -279,59 +353,68 @@ static void ea__refine_newton(ea__refine_t *R) {
   }
   for (int p = 0; p < n; ++p)
     J[p * n + p] = 1.0;
-  double lambda = 1.0;
-  int from = R->best; /* the point the next step starts from */
+  int x = R->best; /* the base point: measured, least |F| so far */
+  int fresh = 0;   /* 1: J is a finite-difference Jacobian at x, no step failed with it yet */
+  double t = 1.0;  /* step fraction (backtracking with a fresh Jacobian) */
   while (!ea__refine_budget(R)) {
-    const ea_refine_eval_t *b = &R->info->evals[from];
+    const ea_refine_eval_t *b = &R->info->evals[x];
     double Fb[EA__RP], rhs[EA__RP], dz[EA__RP], z[EA__RP];
     ea__refine_F(R, b, Fb);
+    const double rb = ea__rnorm(R, Fb);
     memcpy(A, J, (size_t)n * n * sizeof *A);
     for (int p = 0; p < n; ++p)
       rhs[p] = -Fb[p];
-    if (ea__rsolve(n, A, rhs, dz)) { /* singular update: start over from I */
+    if (ea__rsolve(n, A, rhs, dz)) { /* singular: the model's Jacobian */
       memset(J, 0, nn * sizeof *J);
       for (int p = 0; p < n; ++p) {
         J[p * n + p] = 1.0;
         dz[p] = -Fb[p];
       }
+      fresh = 0;
     }
-    /* at most 4 x |F| per step (the model's scale) */
+    /* at most 4 x |F| per step (the model's scale: J near I) */
     double len = 0.0;
     for (int p = 0; p < n; ++p)
       len += dz[p] * dz[p];
     len = sqrt(len);
-    const double cap = 4.0 * ea__rnorm(R, Fb);
-    const double f = lambda * (len > cap ? cap / len : 1.0);
-    for (int p = 0; p < n; ++p)
-      z[p] = b->params_m[p] + f * dz[p];
+    const double f = t * (len > 4.0 * rb ? 4.0 * rb / len : 1.0);
     if (f * len < 1e-3 * R->s.tolerance_m) {
       R->stop = "no_progress";
       break;
     }
+    for (int p = 0; p < n; ++p)
+      z[p] = b->params_m[p] + f * dz[p];
     const int idx = ea__refine_eval(R, z, 0);
     if (idx < 0) break;
     const ea_refine_eval_t *e = &R->info->evals[idx];
-    if (e->accepted) { /* Broyden: J += (dF - J dz) dz^T / |dz|^2 over this step */
-      double Fe[EA__RP], sv[EA__RP], dF[EA__RP], ss = 0.0;
+    const int measured = ea__refine_measured(R, e);
+    double re = INFINITY;
+    if (measured) {
+      double Fe[EA__RP];
       ea__refine_F(R, e, Fe);
-      for (int p = 0; p < n; ++p) {
-        sv[p] = e->params_m[p] - b->params_m[p];
-        dF[p] = Fe[p] - Fb[p];
-        ss += sv[p] * sv[p];
-      }
-      for (int p = 0; p < n && ss > 0.0; ++p) {
-        double Js = 0.0;
-        for (int q = 0; q < n; ++q)
-          Js += J[p * n + q] * sv[q];
-        for (int q = 0; q < n; ++q)
-          J[p * n + q] += (dF[p] - Js) * sv[q] / ss;
-      }
+      re = ea__rnorm(R, Fe);
+      ea__refine_broyden(R, J, b, e);
     }
-    if (R->best == idx) {
-      from = idx;
-      lambda = 1.0;
+    /* the linear model predicts |F| -> (1 - f') |F| for the step fraction f' of the Newton
+     * step (f' = f when dz is the full step) */
+    const double frac = len > 0.0 ? fmin(f, 1.0) : 0.0;
+    if (measured && re <= (1.0 - 0.1 * frac) * rb) {
+      x = idx;
+      fresh = 0;
+      t = 1.0;
+      continue;
+    }
+    if (R->stop) break;
+    if (!measured) { /* not planned (a target the plan cannot reach): a shorter step */
+      t *= 0.5;
+    } else if (!fresh) { /* restart: the Jacobian by differences at x */
+      const double h = fmax(0.1 * rb / sqrt((double)n), 0.1 * R->s.tolerance_m);
+      const int bx = ea__refine_fd(R, J, x, h);
+      fresh = bx == x; /* a better probe: step from there with J (another restart allowed) */
+      x = bx;
+      t = 1.0;
     } else {
-      lambda *= 0.5; /* no better: a shorter step from the best point */
+      t *= 0.5;
     }
   }
   free(J);
@@ -417,10 +500,10 @@ static ea_status_t ea__refine_check(const ea__refine_t *R, ea_error_t *err) {
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
   }
   if (task->dynamics.residual_m > 0.0 || task->objective == EA_TASK_MIN_VIBRATION ||
-      R->s.modes < 1 || R->s.modes > task->dynamics.modes) {
+      R->s.modes < 0 || R->s.modes > task->dynamics.modes) {
     snprintf(info->message, sizeof info->message,
              "refinement needs a plan that ends at rest (dynamics.residual_m 0, not "
-             "min_vibration) and 1 <= refine.modes <= dynamics.modes = %d (got %d)",
+             "min_vibration) and 0 (every mode) <= refine.modes <= dynamics.modes = %d (got %d)",
              task->dynamics.modes, R->s.modes);
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
   }
@@ -442,7 +525,9 @@ static ea_status_t ea__refine_setup(ea__refine_t *R, ea_plan_dyn_info_t *di, ea_
   ea_planner_dyn_model(R->pl, di);
   R->t0 = ea__mono_s();
   R->K = R->task->dynamics.modes;
-  R->m = R->s.modes;
+  R->m = R->s.modes > 0 ? R->s.modes : R->K; /* 0: every mode */
+  R->s.modes = R->m;
+  info->settings.modes = R->m;
   R->M = di->models > 1 ? di->models : 1;
   R->n = 2 * R->m * R->M;
   info->model_modes = R->K;
@@ -582,6 +667,19 @@ static void ea__refine_report(const ea__refine_t *R, int ret) {
            info->converged ? ", reached" : ", NOT reached", info->n_evals,
            info->n_evals == 1 ? "" : "s", info->time_s, info->duration_before_s, info->duration_s,
            info->stop_reason);
+}
+
+ea_rest_check_t ea_plan_rest_check(const ea_task_t *task) {
+  if (!task || task->dynamics.modes < 1 || !task->dynamics.verify ||
+      task->objective == EA_TASK_MIN_VIBRATION)
+    return EA_REST_CHECK_NONE;
+  return task->dynamics.residual_m > 0.0 ? EA_REST_CHECK_BOUND : EA_REST_CHECK_REFINE;
+}
+
+void ea_plan_rest_settings(const ea_task_t *task, ea_task_refine_t *s) {
+  *s = task->dynamics.refine;
+  if (!s->enabled) s->tolerance_m = EA_TASK_REST_TOLERANCE_M;
+  s->enabled = 1;
 }
 
 ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_info_t *plan_info,

@@ -5,6 +5,7 @@
  * planner/. */
 #include "study_plan_impl.h"
 
+#include "ea_refine.h"
 #include "ea_simulate.h"
 
 #include <math.h>
@@ -123,21 +124,33 @@ static ea_task_t *ea__case_task(const ea_task_t *base, const ea_arm_t *arm, doub
 }
 
 /* Plan t from cold (Ipopt calls serialised: MUMPS' sequential build is not thread-safe;
- * worker processes each have their own mutex). tr (may be NULL) receives the plan. */
+ * worker processes each have their own mutex). tr (may be NULL) receives the plan. ref not
+ * NULL: a plan that ends at rest is checked by the FE and refined as `elasticarm plan` does
+ * by default (ea_plan_rest_check, ea_plan_rest_settings); ref->status EA_ERR_ARG: not run. */
 static ea_status_t ea__plan(ea_study_planner_t *p, const ea_task_t *t, ea_traj_t *tr,
-                            ea_plan_info_t *info, char *msg, size_t msg_len) {
+                            ea_plan_info_t *info, ea_refine_info_t *ref, char *msg,
+                            size_t msg_len) {
   memset(info, 0, sizeof *info);
+  if (ref) ref->status = EA_ERR_ARG;
   ea_error_t e = {0};
   ea_planner_t *pl = NULL;
   pthread_mutex_lock(&p->mu);
   ea_status_t st = ea_planner_alloc(t, &pl, &e);
   if (!st) {
     st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, info, &e);
-    if (st) {
-      snprintf(msg, msg_len, "planner: %s", info->message[0] ? info->message : e.msg);
-    } else if (tr && (st = ea_planner_trajectory(pl, tr, &e))) {
-      snprintf(msg, msg_len, "planner: trajectory: %s", e.msg);
+    if (st) snprintf(msg, msg_len, "planner: %s", info->message[0] ? info->message : e.msg);
+    if (!st && ref && ea_plan_rest_check(t) == EA_REST_CHECK_REFINE) {
+      ea_task_refine_t rs;
+      ea_plan_rest_settings(t, &rs);
+      const int iterations = info->iterations;
+      ea_plan_info_t ri;
+      st = ea_plan_refine(pl, &rs, &ri, ref, &e);
+      if (!st && ref->returned > 0) *info = ri;
+      info->iterations = iterations;
+      if (st) snprintf(msg, msg_len, "FE check and refinement: %s", e.msg);
     }
+    if (!st && tr && (st = ea_planner_trajectory(pl, tr, &e)))
+      snprintf(msg, msg_len, "planner: trajectory: %s", e.msg);
   } else {
     snprintf(msg, msg_len, "planner: %s", e.msg);
   }
@@ -160,7 +173,7 @@ ea_status_t ea__study_min_time(void *data, const ea_study_t *s, const ea_arm_t *
   ea_task_t *t = ea__case_task(&p->task, arm, payload_kg, payload_factor, msg, msg_len, &st);
   if (!t) return st;
   ea_plan_info_t info;
-  st = ea__plan(p, t, NULL, &info, msg, msg_len);
+  st = ea__plan(p, t, NULL, &info, NULL, msg, msg_len);
   if (!st) *duration_s = info.duration_s;
   free(t);
   return st;
@@ -182,18 +195,34 @@ static void ea__plan_and_simulate(ea_study_planner_t *p, const ea_study_t *s, co
                                   char (*msg)[400]) {
   ea_traj_t tr = {0};
   ea_plan_info_t info;
-  st[0] = ea__plan(p, t, &tr, &info, msg[0], sizeof msg[0]);
+  ea_refine_info_t *ref = t->dynamics.modes > 0 ? calloc(1, sizeof *ref) : NULL;
+  if (t->dynamics.modes > 0 && !ref) {
+    st[0] = st[1] = EA_ERR_NOMEM;
+    snprintf(msg[0], sizeof msg[0], "out of memory");
+    snprintf(msg[1], sizeof msg[1], "out of memory");
+    return;
+  }
+  st[0] = ea__plan(p, t, &tr, &info, ref, msg[0], sizeof msg[0]);
   if (st[0]) {
     st[1] = st[0];
     snprintf(msg[1], sizeof msg[1], "no %s plan to simulate", what);
     ea_traj_free(&tr);
+    free(ref);
     return;
   }
   v[0] = info.duration_s;
-  if (t->dynamics.modes > 0)
+  if (t->dynamics.modes > 0 && ref->status == EA_OK)
     snprintf(msg[0], sizeof msg[0],
              "%d modes, residual 0 (the reduced model's modal state zero at the goal); %d "
-             "iterations",
+             "iterations; checked by the FE (dt %g s): residual peak %.4g mm %s bound %.4g mm "
+             "after %d evaluation%s",
+             t->dynamics.modes, info.iterations, ref->fe.dt, 1e3 * ref->residual_peak_m,
+             ref->converged ? "within" : "NOT within", 1e3 * ref->settings.tolerance_m,
+             ref->n_evals, ref->n_evals == 1 ? "" : "s");
+  else if (t->dynamics.modes > 0)
+    snprintf(msg[0], sizeof msg[0],
+             "%d modes, residual 0 (the reduced model's modal state zero at the goal); %d "
+             "iterations; not checked by the FE (dynamics.verify: false)",
              t->dynamics.modes, info.iterations);
   else
     snprintf(msg[0], sizeof msg[0], "quasi-static minimum time; %d iterations", info.iterations);
@@ -213,6 +242,7 @@ static void ea__plan_and_simulate(ea_study_planner_t *p, const ea_study_t *s, co
              sim.settle, what, sim.elements, sim.dt, sim.damping_ratio);
   }
   ea_traj_free(&tr);
+  free(ref);
 }
 
 ea_status_t ea__study_at_rest(void *data, const ea_study_t *s, const ea_arm_t *arm,
@@ -243,12 +273,11 @@ ea_status_t ea__study_at_rest(void *data, const ea_study_t *s, const ea_arm_t *a
   ea__plan_and_simulate(p, s, t, "quasi-static", v, &out->status[2], out->msg + 2);
   out->qs_duration_s = v[0];
   out->qs_residual_peak_m = v[1];
-  /* the plan that arrives at rest: the task's dynamics settings (robust, grid, ...)
-     with the study's modes and residual 0, not refined */
+  /* the plan that arrives at rest: the task's dynamics settings (robust, grid, refine,
+     verify, ...) with the study's modes and residual 0, checked by the FE as by default */
   t->dynamics = p->rest_task.dynamics;
   t->dynamics.modes = p->modes;
   t->dynamics.residual_m = 0;
-  t->dynamics.refine.enabled = 0;
   v[0] = v[1] = NAN;
   ea__plan_and_simulate(p, s, t, "at-rest", v, &out->status[0], out->msg);
   out->duration_s = v[0];

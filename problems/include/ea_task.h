@@ -101,6 +101,11 @@ typedef enum ea_task_refine_method {
   EA_TASK_REFINE_SBPLX       /**< NLopt Sbplx, same objective */
 } ea_task_refine_method_t;
 
+/** [m] Default bound of the FE residual peak of a plan that ends at rest (dynamics.residual_m
+ *  0) when the task does not refine explicitly: the planner's FE check (dt 4 ms) refines until
+ *  the residual is within it; the FE at converged settings (dt 0.5 ms) then shows <= 1 mm. */
+#define EA_TASK_REST_TOLERANCE_M 5e-4
+
 /** Most FE transients a refinement may spend. */
 #define EA_TASK_REFINE_MAX_EVALUATIONS 100
 
@@ -113,12 +118,12 @@ typedef struct ea_task_refine {
   double tolerance_m;  /**< [m] stop when the FE residual peak is at most this (default 5e-5) */
   int max_evaluations; /**< FE transients, the unrefined plan's included (default 20) */
   double max_time_s;   /**< [s] wall-time cap, checked before each evaluation (default 10) */
-  int modes;           /**< modes whose terminal targets are adjusted, 1..dynamics.modes
-                            (default 1) */
-  double fe_dt_s;      /**< [s] FE time step of the evaluations (default 2e-3) */
-  double settle_s;     /**< [s] FE time simulated after the motion (default 3) */
+  int modes;           /**< modes whose terminal targets are adjusted, 1..dynamics.modes;
+                            0 (default): every mode */
+  double fe_dt_s;      /**< [s] FE time step of the evaluations (default 4e-3) */
+  double settle_s;     /**< [s] FE time simulated after the motion (default 1.5) */
   double max_duration_change; /**< [-] a candidate whose duration differs from the unrefined
-                                   plan's by more than this fraction is rejected (default 0.02) */
+                                   plan's by more than this fraction is rejected (default 0.1) */
   unsigned long seed;         /**< seed of NLopt's random numbers (default 1) */
   /** Progress of a refinement (NULL: none, the default; not a task key): called by
    *  ea_plan_refine from the calling thread after each evaluation with its index
@@ -148,7 +153,11 @@ typedef struct ea_task_dynamics {
   double robust_EI;           /**< [-] ... and EI (1 +- this): the four corners as models */
   double robust_residual_m;   /**< [m] allowed residual amplitude at each corner (the
                                    model's; default 5e-4) */
-  ea_task_refine_t refine;    /**< FE-in-the-loop refinement (off by default) */
+  ea_task_refine_t refine;    /**< FE-in-the-loop refinement (explicit: off by default) */
+  int verify; /**< 1 (default): the plan's promise is checked by the FE transient and, at rest,
+                   refined until it holds (dynamics.refine's tolerance_m when enabled, else
+                   EA_TASK_REST_TOLERANCE_M); with residual_m > 0 checked against it (key
+                   dynamics.verify; plan --no-verify sets 0) */
 } ea_task_dynamics_t;
 
 /** A task spec. Plain data, no owned memory. */

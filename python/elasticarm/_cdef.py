@@ -405,6 +405,7 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
 typedef struct ea_refine_info ea_refine_info_t;
 ea_status_t ea_plan_refine(ea_planner_t *pl, const void *s, ea_plan_info_t *plan_info,
                            ea_refine_info_t *info, ea_error_t *err);
+int ea_plan_rest_check(const ea_task_t *task);
 typedef struct ea_plan_verify {
   ea_status_t status;
   char message[512];
@@ -494,7 +495,8 @@ OPAQUE_FIELDS = {
         ("start", "ea_task_point_t"), ("goal", "ea_task_point_t"), ("n_via", "int"),
         ("path", "int"), ("objective", "int"), ("duration_s", "double"),
         ("limits", "ea_task_limits_t"), ("dynamics.modes", "int"),
-        ("dynamics.refine.enabled", "int"), ("knots", "int"),
+        ("dynamics.refine.enabled", "int"), ("dynamics.refine.tolerance_m", "double"),
+        ("dynamics.verify", "int"), ("knots", "int"),
     ),
     "ea_study_t": (("name", "char[128]"), ("n_cases", "long")),
     "ea_refine_info_t": (

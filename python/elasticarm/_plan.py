@@ -266,7 +266,9 @@ def plan(task, *, refine=None, verify=False, knots=None, default_arm=None):
     """Plan a task as `elasticarm plan` does (ea_planner_alloc, ea_planner_solve from
     cold). task: a Task, a task file's path or a dict. refine: True runs the
     FE-in-the-loop refinement of an at-rest plan (ea_plan_refine; the task's key
-    dynamics.refine when None); verify: run the FE transient of the plan
+    dynamics.refine when None); None also checks a plan that ends at rest by the FE
+    and refines it within 0.5 mm, as `elasticarm plan` does by default (unless the
+    task's dynamics.verify is false); False: neither; verify: run the FE transient of the plan
     (ea_traj_simulate with its defaults, `plan --verify`); knots: override the task's.
 
     Raises InfeasibleError / SolverError with the planner's message (which constraint,
@@ -280,6 +282,10 @@ def plan(task, *, refine=None, verify=False, knots=None, default_arm=None):
         task.knots = knots
     if refine is not None:
         task._o.set("dynamics.refine.enabled", 1 if refine else 0)
+    elif (not task._o.get("dynamics.refine.enabled")
+          and lib.ea_plan_rest_check(task._o.ptr) == 1):  # EA_REST_CHECK_REFINE
+        task._o.set("dynamics.refine.enabled", 1)
+        task._o.set("dynamics.refine.tolerance_m", 5e-4)  # EA_TASK_REST_TOLERANCE_M
     task.check()
     err = new_error()
     pp = ffi.new("ea_planner_t **")

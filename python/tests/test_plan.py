@@ -53,6 +53,15 @@ def test_trajectory_bytes_equal_the_clis(tmp_path, task, cli_args):
         assert p.refine.converged and p.refine.residual_peak_m < p.refine.residual_peak_before_m
 
 
+def test_at_rest_checked_by_the_fe_by_default():
+    # as `elasticarm plan`: the at-rest plan is checked by the FE (within 0.5 mm: no
+    # refinement needed on the paper line, 0.23 mm); refine=False plans without the check
+    p = ea.plan(example("paper-line-rest.yaml"))
+    assert p.refine is not None and p.refine.converged
+    assert p.refine.residual_peak_m <= 5e-4
+    assert ea.plan(example("paper-line-rest.yaml"), refine=False).refine is None
+
+
 def test_trajectory_columns_are_the_files(tmp_path):
     p = ea.plan(example("paper-line.yaml"))
     tr = p.trajectory

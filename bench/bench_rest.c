@@ -1,0 +1,148 @@
+/* Time per verified at-rest plan (docs/planner.md, "Keeping the promise of rest"): the plan
+ * (allocation, reduced-model table, solve), the FE check and the refinement's re-plans, as
+ * `elasticarm plan` runs them by default (ea_plan_rest_check, ea_plan_rest_settings), on the
+ * paper line (repeated) and on a seeded random sweep of straight lines across the workspace
+ * (payload factor 0..0.5; the generator of tests/test_rest_sweep.c). One thread.
+ *
+ *   bench_rest [LINES [REPEATS]]   (default 20 lines, the paper line 7 times)
+ *
+ * Prints a markdown table: median, p90 and worst of the total (wall and this thread's CPU
+ * time: one core's work on a shared machine) and of each phase (wall), the
+ * evaluations and the FE residual reached in the loop. Timings depend on the machine. */
+#include "ea_planner.h"
+#include "ea_problems.h"
+#include "ea_refine.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static uint64_t rng_state = 0x33c0ffeeULL;
+static double urand(void) {
+  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return (double)(z >> 11) * 0x1.0p-53;
+}
+
+/* CPU time of this thread: what one core spends, whatever else runs on the machine */
+static double cpu(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double mono(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+#define NMAX 512
+typedef struct {
+  int n;
+  double total[NMAX], cpu[NMAX], plan[NMAX], fe[NMAX], replan[NMAX], resid[NMAX], evals[NMAX];
+  int not_converged;
+} runs_t;
+
+/* One verified plan of t, timed by phase; 0 on success. */
+static int one(const ea_task_t *t, runs_t *r) {
+  ea_refine_info_t *ri = calloc(1, sizeof *ri);
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t pi;
+  ea_error_t e = {0};
+  const double t0 = mono(), c0 = cpu();
+  ea_status_t st = ri ? ea_planner_alloc(t, &pl, &e) : EA_ERR_NOMEM;
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pi, &e);
+  const double t1 = mono();
+  ea_task_refine_t rs;
+  ea_plan_rest_settings(t, &rs);
+  if (!st) st = ea_plan_refine(pl, &rs, &pi, ri, &e);
+  const double t2 = mono(), c2 = cpu();
+  if (!st && r->n < NMAX) {
+    const int k = r->n++;
+    r->total[k] = t2 - t0;
+    r->cpu[k] = c2 - c0;
+    r->plan[k] = t1 - t0;
+    r->fe[k] = ri->time_fe_s;
+    r->replan[k] = ri->time_plan_s;
+    r->resid[k] = ri->residual_peak_m;
+    r->evals[k] = ri->n_evals;
+    r->not_converged += !ri->converged;
+  }
+  ea_planner_free(pl);
+  free(ri);
+  return st != EA_OK;
+}
+
+static int cmp(const void *a, const void *b) {
+  const double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* quantile q of v[0..n) (sorted copy) */
+static double q(const double *v, int n, double qq) {
+  double s[NMAX];
+  memcpy(s, v, (size_t)n * sizeof *s);
+  qsort(s, (size_t)n, sizeof *s, cmp);
+  int i = (int)ceil(qq * n) - 1;
+  if (i < 0) i = 0;
+  if (i >= n) i = n - 1;
+  return qq == 0.5 && n % 2 == 0 ? 0.5 * (s[n / 2 - 1] + s[n / 2]) : s[i];
+}
+
+static void row(const char *name, const runs_t *r) {
+  printf("| %s | %d | %.0f / %.0f / %.0f | %.0f / %.0f / %.0f | %.0f / %.0f | %.0f / %.0f | %.0f / "
+         "%.0f | %.0f / %.0f | "
+         "%.4f / %.4f | %d |\n",
+         name, r->n, 1e3 * q(r->total, r->n, 0.5), 1e3 * q(r->total, r->n, 0.9),
+         1e3 * q(r->total, r->n, 1.0), 1e3 * q(r->cpu, r->n, 0.5), 1e3 * q(r->cpu, r->n, 0.9),
+         1e3 * q(r->cpu, r->n, 1.0), 1e3 * q(r->plan, r->n, 0.5), 1e3 * q(r->plan, r->n, 1.0),
+         1e3 * q(r->fe, r->n, 0.5), 1e3 * q(r->fe, r->n, 1.0), 1e3 * q(r->replan, r->n, 0.5),
+         1e3 * q(r->replan, r->n, 1.0), q(r->evals, r->n, 0.5), q(r->evals, r->n, 1.0),
+         1e3 * q(r->resid, r->n, 0.5), 1e3 * q(r->resid, r->n, 1.0), r->not_converged);
+}
+
+int main(int argc, char **argv) {
+  const int lines = argc > 1 ? atoi(argv[1]) : 20, reps = argc > 2 ? atoi(argv[2]) : 7;
+  char path[1200];
+  snprintf(path, sizeof path, "%s/problems/examples/paper-line-rest.yaml", EA_SOURCE_DIR);
+  ea_task_t paper;
+  ea_error_t e = {0};
+  if (ea_task_load(path, NULL, &paper, &e)) {
+    fprintf(stderr, "bench_rest: %s\n", e.msg);
+    return 1;
+  }
+  paper.solver.threads = 1;
+  static runs_t rp, rs;
+  one(&paper, &rp); /* warm: the reduced model's table into the cache */
+  rp.n = rp.not_converged = 0;
+  for (int i = 0; i < reps; ++i)
+    one(&paper, &rp);
+  ea_task_t base = paper;
+  int refused = 0, tries = 0;
+  while (rs.n < lines && tries < 40 * lines && rs.n < NMAX) {
+    ++tries;
+    ea_task_t t = base;
+    const double g = 0.5 * urand();
+    t.payload_factor = g;
+    t.payload_kg = ea_arm_payload_from_factor(&t.arm, g);
+    t.start = ea_task_point_planar(0.15 + 0.55 * urand(), -0.55 + 0.75 * urand(), 0.0);
+    t.goal = ea_task_point_planar(0.15 + 0.55 * urand(), -0.55 + 0.75 * urand(), 0.0);
+    if (ea_task_check(&t, &e)) continue;
+    refused += one(&t, &rs);
+  }
+  printf("| case | plans | wall [ms]: median / p90 / worst | CPU [ms]: median / p90 / worst | "
+         "plan: median / worst | FE: median / "
+         "worst | re-plans: median / worst | evaluations: median / worst | loop FE residual "
+         "[mm]: median / worst | not within bound |\n");
+  printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  row("paper line (paper-line-rest.yaml)", &rp);
+  row("random straight lines", &rs);
+  printf("(%d lines refused by the planner; one thread)\n", refused);
+  return 0;
+}
