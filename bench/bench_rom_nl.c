@@ -204,7 +204,39 @@ typedef struct {
   int ns;
   double t[NS_MAX];
   double G[NS_MAX][KM][KM][2], D[NS_MAX][KM][KM][3];
+  double c3[NS_MAX][4]; /* third derivatives of the potential in the modal coordinates (positions
+                           relaxed to the rotations): c111, c112, c122, c222 */
 } moving_t;
+
+/* check of the moving-shape coefficients: Phi^T M Phi = I makes G antisymmetric */
+static double g_max, g_asym;
+
+/* The potential on the modal plane about static state u (passive cable at its static rest
+ * length): V(e1, e2) of u + Phi_1 e1 + Phi_2 e2 with the positions relaxed to the rotations;
+ * its third derivatives by differences of step h into c3. */
+static int modal_cubic(fe_ctx_t *c, const double *u, const double *phi, double c3[4]) {
+  const int nd = c->nd;
+  const double h = 0.02 / hypot(phi[nd - 3], phi[nd - 2]); /* mode 1's tip moves 20 mm */
+  static const int pts[12][2] = {{1, 0}, {-1, 0}, {2, 0}, {-2, 0}, {0, 1},  {0, -1},
+                                 {0, 2}, {0, -2}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1}};
+  double V[12], V0;
+  ea_fe_set_state(c->m, u, NULL);
+  if (ea_fe_cable_make_passive(c->m)) return 1;
+  V0 = ea_fe_energy(c->m);
+  for (int p = 0; p < 12; ++p) {
+    for (int i = 0; i < nd; ++i)
+      c->w2[i] = u[i] + h * (pts[p][0] * phi[i] + pts[p][1] * phi[nd + i]);
+    ea_fe_set_state(c->m, c->w2, NULL);
+    if (ea_fe_relax_positions(c->m, NULL)) return 1;
+    V[p] = ea_fe_energy(c->m) - V0;
+  }
+  const double h3 = 2 * h * h * h;
+  c3[0] = (V[2] - 2 * V[0] + 2 * V[1] - V[3]) / h3;
+  c3[3] = (V[6] - 2 * V[4] + 2 * V[5] - V[7]) / h3;
+  c3[1] = (V[8] - 2 * V[4] + V[9] - V[10] + 2 * V[5] - V[11]) / h3;
+  c3[2] = (V[8] - 2 * V[0] + V[10] - V[9] + 2 * V[1] - V[11]) / h3;
+  return 0;
+}
 
 static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
   const int nd = c->nd;
@@ -230,6 +262,7 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
       if (k == 4 && !rc) {
         memcpy(ref, p, sizeof(double) * (size_t)nd * KM);
         have_ref = 1;
+        rc = modal_cubic(c, u, p, mv->c3[s]);
       }
     }
     if (rc) break;
@@ -269,6 +302,12 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
         }
       }
   }
+  for (int s = 0; s < mv->ns && !rc; ++s)
+    for (int a = 0; a < 2; ++a) {
+      g_max = fmax(g_max, fabs(mv->G[s][0][1][a]));
+      g_asym = fmax(g_asym, fmax(fabs(mv->G[s][0][1][a] + mv->G[s][1][0][a]),
+                                 fmax(fabs(mv->G[s][0][0][a]), fabs(mv->G[s][1][1][a]))));
+    }
   free(buf);
   return rc;
 }
@@ -284,7 +323,7 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
-  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}};
+  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0};
   if (mv) {
     double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
     int s = (int)floor(f);
@@ -297,6 +336,8 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
         for (int c = 0; c < 3; ++c)
           D[i][j][c] = (1 - f) * mv->D[s][i][j][c] + f * mv->D[s + 1][i][j][c];
       }
+    for (int c = 0; c < ((terms & 8) ? 1 : 4); ++c) /* bit 8: mode 1's own c111 alone */
+      c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
   for (int i = 0; i < KM; ++i) {
     double F = -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
@@ -310,6 +351,8 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
         F -= (D[i][j][0] * v[0] * v[0] + 2 * D[i][j][1] * v[0] * v[1] + D[i][j][2] * v[1] * v[1]) *
              e;
     }
+    if (terms & 12) /* the quadratic modal force dV3/de_i = c_ijk e_j e_k / 2 */
+      F -= 0.5 * (c3[i] * z[0] * z[0] + 2 * c3[i + 1] * z[0] * z[2] + c3[i + 2] * z[2] * z[2]);
     dz[2 * i] = z[2 * i + 1];
     dz[2 * i + 1] = -p.omega2[i] * z[2 * i] + F;
   }
@@ -522,14 +565,18 @@ int main(int argc, char **argv) {
       predict(tb, &tr[k], &r[k]);
       fe_run(&t, &tr[k], &r[k]);
       static moving_t mv;
-      double with = NAN;
-      if (cok && !moving_sample(&c, &tr[k], 41, &mv)) with = integrate(tb, &tr[k], &mv, 3);
+      double with = NAN, quad = NAN, both = NAN;
+      if (cok && !moving_sample(&c, &tr[k], 41, &mv)) {
+        with = integrate(tb, &tr[k], &mv, 3);
+        quad = integrate(tb, &tr[k], &mv, 4);
+        both = integrate(tb, &tr[k], &mv, 11);
+      }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.2f |\n",
+             "%.3f | %.3f | %.3f | %.3f | %.2f |\n",
              lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
              pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
-             r[k].fe / r[k].pred, 1e3 * with, r[k].fe / (dev * dev));
+             r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok) ctx_free(&c);
@@ -537,6 +584,9 @@ int main(int argc, char **argv) {
       ea_traj_free(&tr[k]);
     ea_planner_free(pl);
   }
+  printf("\nmoving-shape coefficients: max |G_12 + G_21|, |G_11|, |G_22| = %.2e of max |G_12| = "
+         "%.3e 1/m or 1/rad (Phi^T M Phi = I makes G antisymmetric)\n",
+         g_asym / g_max, g_max);
   for (int l = 0; l < 3; ++l) {
     ea_task_t t;
     ea_error_t e;
