@@ -20,6 +20,7 @@
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
+#include "fe_impl.h" /* white-box: internal forces and the tangent for the modal derivatives */
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_simulate.h"
@@ -204,8 +205,11 @@ typedef struct {
   int ns;
   double t[NS_MAX];
   double G[NS_MAX][KM][KM][2], D[NS_MAX][KM][KM][3];
-  double c3[NS_MAX][4]; /* third derivatives of the potential in the modal coordinates (positions
-                           relaxed to the rotations): c111, c112, c122, c222 */
+  double E[NS_MAX][3][5]; /* Theta_ik^T M (du_s/dL, du_s/da, d2u_s/dL2, d2u_s/dLda, d2u_s/da2), ik:
+                             11, 12, 22; Theta the static modal derivatives M-orthogonal to the
+                             modes */
+  double c3[NS_MAX][4];   /* third derivatives of the potential in the modal coordinates (positions
+                             relaxed to the rotations): c111, c112, c122, c222 */
 } moving_t;
 
 /* check of the moving-shape coefficients: Phi^T M Phi = I makes G antisymmetric */
@@ -244,12 +248,82 @@ static int modal_cubic(fe_ctx_t *c, const double *u, const double *phi, double c
   return 0;
 }
 
+/* check of the modal derivatives: Phi_i^T d2f/de_j de_k (forces) against the energy's c_ijk */
+static double c3_max, c3_diff;
+
+/* Static modal derivatives at static state u (the model holds it, cable made passive by
+ * modal_cubic): K Theta_jk = -d2f/de_j de_k (f = f_int - f_cable, central differences of step h),
+ * theta0 held, then M-orthogonalised to the modes; into th (3 x nd: jk = 11, 12, 22). */
+static int modal_derivatives(fe_ctx_t *c, const double *u, const double *phi, double *th,
+                             const double c3[4]) {
+  ea_fe_model_t *m = c->m;
+  const int nd = c->nd, nf = nd - 3;
+  ea_fe_cable_phase_t ph;
+  double L0, T, len;
+  ea_fe_cable_get(m, &ph, &L0, &T, &len);
+  if (ph != EA_FE_CABLE_PASSIVE) return 1;
+  const double h = 0.002 / hypot(phi[nd - 3], phi[nd - 2]);
+  double *Kb = malloc(sizeof(double) * (size_t)nd * (EA__FE_LDS + 3)), *f = Kb + EA__FE_LDS * nd;
+  double *x = f + nd, *b = malloc(sizeof(double) * 3 * (size_t)nf);
+  double *d2 = x + nd;
+  if (!Kb || !b) {
+    free(Kb);
+    free(b);
+    return 1;
+  }
+  memset(Kb, 0, sizeof(double) * (size_t)nd * EA__FE_LDS);
+  ea__fe_assemble(m, u, EA_FE_CABLE_PASSIVE, L0, f, Kb);
+  static const int pr[3][2] = {{0, 0}, {0, 1}, {1, 1}};
+  for (int p = 0; p < 3; ++p) {
+    const double *pj = phi + (size_t)pr[p][0] * nd, *pk = phi + (size_t)pr[p][1] * nd;
+    memset(d2, 0, sizeof(double) * (size_t)nd);
+    static const int sg[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+    for (int q = 0; q < 4; ++q) {
+      for (int i = 0; i < nd; ++i)
+        x[i] = u[i] + h * (sg[q][0] * pj[i] + sg[q][1] * pk[i]);
+      ea__fe_assemble(m, x, EA_FE_CABLE_PASSIVE, L0, f, NULL);
+      for (int i = 0; i < nd; ++i)
+        d2[i] += sg[q][2] * f[i] / (4 * h * h);
+    }
+    for (int i = 0; i < nf; ++i)
+      b[(size_t)p * nf + i] = -d2[3 + i];
+    /* the Galerkin quadratic coefficients from the forces: Phi_i^T d2f_jk */
+    for (int i = 0; i < KM; ++i) {
+      double sdot = 0;
+      for (int r = 3; r < nd; ++r)
+        sdot += phi[(size_t)i * nd + r] * d2[r];
+      const int idx = i + pr[p][0] + pr[p][1]; /* c111, c112, c122, c222 */
+      c3_max = fmax(c3_max, fabs(c3[idx]));
+      c3_diff = fmax(c3_diff, fabs(sdot - c3[idx]));
+    }
+  }
+  int rc = ea__fe_factor_free(m, Kb) || ea__fe_solve_factored(m, b, 3);
+  for (int p = 0; p < 3 && !rc; ++p) {
+    double *t = th + (size_t)p * nd;
+    t[0] = t[1] = t[2] = 0;
+    memcpy(t + 3, b + (size_t)p * nf, sizeof(double) * (size_t)nf);
+    for (int i = 0; i < KM; ++i) {
+      const double pm = dotM(c, u, phi + (size_t)i * nd, t);
+      for (int r = 0; r < nd; ++r)
+        t[r] -= pm * phi[(size_t)i * nd + r];
+    }
+  }
+  free(Kb);
+  free(b);
+  return rc;
+}
+
 static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
   const int nd = c->nd;
   const double hL = 2e-3, ha = 4e-3;
   double *buf = malloc(sizeof(double) * (size_t)nd * (10 + 9 * KM));
   if (!buf) return 1;
   double *u = buf, *ref = buf + nd, *ph = buf + (size_t)nd * (1 + KM);
+  double *u9 = malloc(sizeof(double) * (size_t)nd * 13), *th = u9 + 9 * nd, *jh = th + 3 * nd;
+  if (!u9) {
+    free(buf);
+    return 1;
+  }
   const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
   mv->ns = ns;
   int have_ref = 0, rc = 0;
@@ -263,15 +337,42 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
     for (int o = 0; o < 9 && !rc; ++o) {
       const int k = order[o], di = k % 3 - 1, dj = k / 3 - 1;
       double *p = ph + (size_t)k * KM * nd;
-      rc = fe_point(c, q[0] + di * hL, q[1] + dj * ha, k == 4 ? u : c->w2, p,
+      rc = fe_point(c, q[0] + di * hL, q[1] + dj * ha, k == 4 ? u : u9 + (size_t)k * nd, p,
                     k == 4 ? (have_ref ? ref : NULL) : ph + (size_t)4 * KM * nd, NULL);
       if (k == 4 && !rc) {
         memcpy(ref, p, sizeof(double) * (size_t)nd * KM);
         have_ref = 1;
-        rc = modal_cubic(c, u, p, mv->c3[s]);
+        rc = modal_cubic(c, u, p, mv->c3[s]) || modal_derivatives(c, u, p, th, mv->c3[s]);
       }
     }
     if (rc) break;
+    memcpy(u9 + 4 * nd, u, sizeof(double) * (size_t)nd);
+    for (int comp = 0; comp < 5; ++comp) {
+      for (int x = 0; x < nd; ++x) {
+        const double c0 = u9[4 * nd + x];
+#define U9(k) u9[(size_t)(k)*nd + x]
+        switch (comp) {
+        case 0:
+          jh[x] = (U9(5) - U9(3)) / (2 * hL);
+          break;
+        case 1:
+          jh[x] = (U9(7) - U9(1)) / (2 * ha);
+          break;
+        case 2:
+          jh[x] = (U9(5) - 2 * c0 + U9(3)) / (hL * hL);
+          break;
+        case 3:
+          jh[x] = (U9(8) - U9(6) - U9(2) + U9(0)) / (4 * hL * ha);
+          break;
+        default:
+          jh[x] = (U9(7) - 2 * c0 + U9(1)) / (ha * ha);
+          break;
+        }
+#undef U9
+      }
+      for (int p = 0; p < 3; ++p)
+        mv->E[s][p][comp] = dotM(c, u, th + (size_t)p * nd, jh);
+    }
     const double *P[9];
     for (int k = 0; k < 9; ++k)
       P[k] = ph + (size_t)k * KM * nd;
@@ -315,6 +416,7 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
                                  fmax(fabs(mv->G[s][0][0][a]), fabs(mv->G[s][1][1][a]))));
     }
   free(buf);
+  free(u9);
   return rc;
 }
 
@@ -329,7 +431,7 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
-  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0};
+  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}};
   if (mv) {
     double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
     int s = (int)floor(f);
@@ -342,6 +444,9 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
         for (int c = 0; c < 3; ++c)
           D[i][j][c] = (1 - f) * mv->D[s][i][j][c] + f * mv->D[s + 1][i][j][c];
       }
+    for (int pp = 0; pp < 3; ++pp)
+      for (int c = 0; c < 5; ++c)
+        E[pp][c] = (1 - f) * mv->E[s][pp][c] + f * mv->E[s + 1][pp][c];
     for (int c = 0; c < ((terms & 8) ? 1 : 4); ++c) /* bit 8: mode 1's own c111 alone */
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
@@ -359,6 +464,12 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
     }
     if (terms & 12) /* the quadratic modal force dV3/de_i = c_ijk e_j e_k / 2 */
       F -= 0.5 * (c3[i] * z[0] * z[0] + 2 * c3[i + 1] * z[0] * z[2] + c3[i + 2] * z[2] * z[2]);
+    if (terms & 16) /* the manifold's curvature in the test function: e_k Theta_ik^T M u_s'' */
+      for (int k = 0; k < KM; ++k) {
+        const double *Ek = E[i + k];
+        F -= z[2 * k] * (Ek[0] * a[0] + Ek[1] * a[1] + Ek[2] * v[0] * v[0] +
+                         2 * Ek[3] * v[0] * v[1] + Ek[4] * v[1] * v[1]);
+      }
     dz[2 * i] = z[2 * i + 1];
     dz[2 * i + 1] = -p.omega2[i] * z[2 * i] + F;
   }
@@ -611,8 +722,8 @@ int main(int argc, char **argv) {
       double with = NAN, quad = NAN, both = NAN;
       if (cok && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
-        quad = integrate(tb, &tr[k], &mv, 4);
-        both = integrate(tb, &tr[k], &mv, 11);
+        quad = integrate(tb, &tr[k], &mv, 7);
+        both = integrate(tb, &tr[k], &mv, 23);
       }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
@@ -625,7 +736,7 @@ int main(int argc, char **argv) {
     if (cok && ncorr < 200) {
       int n = snprintf(corr[ncorr], sizeof corr[ncorr], "| %s | %.2f | %.4f | %.3f |",
                        lines[l].name, lines[l].gamma, r[2].dur, 1e3 * r[2].fe);
-      static const int variants[3] = {3, 4, 7};
+      static const int variants[3] = {3, 23, 16};
       for (int v = 0; v < 3; ++v) {
         ea_traj_t tc = {0};
         ea_plan_info_t info;
@@ -653,13 +764,18 @@ int main(int argc, char **argv) {
   }
   printf("\n4. at-rest plans corrected for the neglected terms (the goal's modal target moved "
          "until the model with those terms ends at rest; warm re-plans), three variants: moving "
-         "shapes (M), quadratic modal stiffness (Q), both (MQ); per variant: iterations, "
+         "shapes (M), M + quadratic stiffness + manifold curvature (MQE), manifold curvature alone "
+         "(E); per variant: iterations, "
          "duration [s], the augmented model's residual [mm], the FE residual [mm]\n\n| line | "
-         "payload factor | at rest: duration [s] | FE [mm] | M: it | dur | model | FE | Q: it | "
-         "dur | model | FE | MQ: it | dur | model | FE |\n"
+         "payload factor | at rest: duration [s] | FE [mm] | M: it | dur | model | FE | MQE: it | "
+         "dur | model | FE | E: it | dur | model | FE |\n"
          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int i = 0; i < ncorr; ++i)
     printf("%s\n", corr[i]);
+  printf(
+      "\nquadratic modal stiffness: Phi_i^T d2f/de_j de_k (forces) against the potential's third "
+      "differences: max difference %.2e of the largest %.3e\n",
+      c3_diff / c3_max, c3_max);
   printf("\nmoving-shape coefficients: max |G_12 + G_21|, |G_11|, |G_22| = %.2e of max |G_12| = "
          "%.3e 1/m or 1/rad (Phi^T M Phi = I makes G antisymmetric)\n",
          g_asym / g_max, g_max);
