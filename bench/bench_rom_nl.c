@@ -654,6 +654,104 @@ static void free_vibration(const ea_task_t *t, const char *name) {
   ctx_free(&c);
 }
 
+/* 2b. the second-order model at fixed configuration: the FE released from the quadratic
+ * manifold's point u_s + Phi_1 e0 + Theta_11 e0^2 / 2 against e'' + omega^2 e + c e e / 2 = 0
+ * (2 modes) with the tip from the manifold (Phi e + Theta e e / 2), and against the linear
+ * model. */
+static void qm_free_vibration(const ea_task_t *t, const char *name) {
+  fe_ctx_t c;
+  if (ctx_alloc(&t->arm, ea_arm_tip_mass(&t->arm, t->payload_kg), &c)) {
+    ctx_free(&c);
+    return;
+  }
+  const int nd = c.nd;
+  double *u = malloc(sizeof(double) * (size_t)nd * (3 + KM + 3)), *phi = u + nd;
+  double *th = phi + KM * nd, *x = th + 3 * nd;
+  double om2[KM], c3[4];
+  if (!u || fe_point(&c, t->goal.cable_length, t->goal.cable_angle, u, phi, NULL, om2) ||
+      modal_cubic(&c, u, phi, c3) || modal_derivatives(&c, u, phi, th, c3)) {
+    fprintf(stderr, "bench_rom_nl: second-order model at the goal\n");
+    free(u);
+    ctx_free(&c);
+    return;
+  }
+  const double tn = hypot(phi[nd - 3], phi[nd - 2]);
+  printf("\n2b. free vibration from the quadratic manifold at %s's goal, 1.5 s: the largest tip "
+         "difference FE - model, linear and second-order (Q, the manifold's tip):\n\n| A [mm] | "
+         "linear [mm] | second order [mm] | second order / A^3 [1/m^2] |\n|---|---|---|---|\n",
+         name);
+  static const double amps[] = {-0.075, -0.030, -0.010, 0.010, 0.030, 0.075};
+  for (int ia = 0; ia < 6; ++ia) {
+    const double A = amps[ia], e0 = A / tn;
+    for (int i = 0; i < nd; ++i)
+      x[i] = u[i] + phi[i] * e0 + 0.5 * th[i] * e0 * e0;
+    ea_fe_set_state(c.m, u, NULL);
+    double tip0[3];
+    ea_fe_tip(c.m, tip0);
+    ea_fe_set_state(c.m, x, NULL); /* the cable stays passive at the static rest length */
+    ea_fe_sim_settings_t ss;
+    ea_fe_sim_settings_default(&ss);
+    ss.scheme = EA_FE_SCHEME_GENALPHA;
+    ss.rho_inf = 1.0;
+    ss.dt = 5e-4;
+    ss.t_end = 1.5;
+    const int rows = (int)(ss.t_end / ss.dt) + 2;
+    double *tip = malloc(sizeof(double) * 4 * (size_t)rows);
+    ea_fe_sim_info_t si;
+    ea_error_t e;
+    if (!tip || ea_fe_simulate(c.m, NULL, &ss, tip, rows, &si, &e)) {
+      printf("| %.0f | simulate failed |\n", 1e3 * A);
+      free(tip);
+      continue;
+    }
+    /* the model: RK4 at the FE's output step */
+    double z[4] = {e0, 0, 0, 0}, el = 0, eq = 0;
+    const double w1 = sqrt(om2[0]);
+    for (int r = 0; r < si.rows; ++r) {
+      const double tt = tip[4 * r], dx = tip[4 * r + 1] - tip0[0], dy = tip[4 * r + 2] - tip0[1];
+      const double cw = cos(w1 * tt);
+      el = fmax(el, hypot(dx - e0 * phi[nd - 3] * cw, dy - e0 * phi[nd - 2] * cw));
+      double mx = 0, my = 0;
+      for (int k = 0; k < KM; ++k) {
+        mx += phi[(size_t)k * nd + nd - 3] * z[2 * k];
+        my += phi[(size_t)k * nd + nd - 2] * z[2 * k];
+      }
+      const double q2[3] = {0.5 * z[0] * z[0], z[0] * z[2], 0.5 * z[2] * z[2]};
+      for (int p = 0; p < 3; ++p) {
+        mx += th[(size_t)p * nd + nd - 3] * q2[p];
+        my += th[(size_t)p * nd + nd - 2] * q2[p];
+      }
+      eq = fmax(eq, hypot(dx - mx, dy - my));
+      if (r + 1 < si.rows) { /* advance z to the next row's time */
+        const double H = tip[4 * (r + 1)] - tt;
+        const int sub = 10;
+        for (int q = 0; q < sub; ++q) {
+          double k1[4], k2[4], k3[4], k4[4], zt[4];
+          double *kk[4] = {k1, k2, k3, k4};
+          const double hh = H / sub, cf[4] = {0, 0.5, 0.5, 1};
+          for (int st = 0; st < 4; ++st) {
+            for (int j = 0; j < 4; ++j)
+              zt[j] = st ? z[j] + cf[st] * hh * kk[st - 1][j] : z[j];
+            const double e1 = zt[0], e2 = zt[2];
+            kk[st][0] = zt[1];
+            kk[st][2] = zt[3];
+            kk[st][1] =
+                -om2[0] * e1 - 0.5 * (c3[0] * e1 * e1 + 2 * c3[1] * e1 * e2 + c3[2] * e2 * e2);
+            kk[st][3] =
+                -om2[1] * e2 - 0.5 * (c3[1] * e1 * e1 + 2 * c3[2] * e1 * e2 + c3[3] * e2 * e2);
+          }
+          for (int j = 0; j < 4; ++j)
+            z[j] += hh / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
+        }
+      }
+    }
+    printf("| %.0f | %.3f | %.3f | %.1f |\n", 1e3 * A, 1e3 * el, 1e3 * eq, eq / fabs(A * A * A));
+    free(tip);
+  }
+  free(u);
+  ctx_free(&c);
+}
+
 int main(int argc, char **argv) {
   const int nrand = ea_bench_count(argc, argv, 1, 8, 200, "bench_rom_nl [RANDOM_LINES]");
   if (nrand < 0) return 2;
@@ -678,7 +776,7 @@ int main(int argc, char **argv) {
     lines[NFIX + i] = (line_t){names[i],          0.25 + 0.4 * v[0],   -0.45 + 0.55 * v[1],
                                0.25 + 0.4 * v[2], -0.45 + 0.55 * v[3], 0.5 * v[4]};
   }
-  const int nl = NFIX + nrand;
+  const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
          "genalpha dt 0.5 ms, undamped, 3 s after the motion\n\n");
   printf(
@@ -784,6 +882,7 @@ int main(int argc, char **argv) {
     ea_error_t e;
     if (load_line(&lines[l], &t) || ea_task_check(&t, &e)) continue;
     free_vibration(&t, lines[l].name);
+    qm_free_vibration(&t, lines[l].name);
   }
   return 0;
 }
