@@ -210,6 +210,10 @@ typedef struct {
                              modes */
   double c3[NS_MAX][4];   /* third derivatives of the potential in the modal coordinates (positions
                              relaxed to the rotations): c111, c112, c122, c222 */
+  double L0[NS_MAX];      /* [m] passive cable rest length at the sample */
+  double *vec;            /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
+                             d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
+  int nd;
 } moving_t;
 
 /* check of the moving-shape coefficients: Phi^T M Phi = I makes G antisymmetric */
@@ -326,6 +330,13 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
   }
   const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
   mv->ns = ns;
+  if (!mv->vec) mv->vec = malloc(sizeof(double) * (size_t)nd * 8 * NS_MAX);
+  mv->nd = nd;
+  if (!mv->vec) {
+    free(buf);
+    free(u9);
+    return 1;
+  }
   int have_ref = 0, rc = 0;
   static const int order[9] = {4, 3, 5, 1, 7, 0, 2, 6, 8};
   for (int s = 0; s < ns && !rc; ++s) {
@@ -343,6 +354,9 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
         memcpy(ref, p, sizeof(double) * (size_t)nd * KM);
         have_ref = 1;
         rc = modal_cubic(c, u, p, mv->c3[s]) || modal_derivatives(c, u, p, th, mv->c3[s]);
+        ea_fe_cable_get(c->m, NULL, &mv->L0[s], NULL, NULL);
+        memcpy(mv->vec + (size_t)s * 8 * nd, u, sizeof(double) * (size_t)nd);
+        memcpy(mv->vec + ((size_t)s * 8 + 1) * nd, p, sizeof(double) * (size_t)nd * KM);
       }
     }
     if (rc) break;
@@ -372,6 +386,7 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
       }
       for (int p = 0; p < 3; ++p)
         mv->E[s][p][comp] = dotM(c, u, th + (size_t)p * nd, jh);
+      memcpy(mv->vec + ((size_t)s * 8 + 3 + comp) * nd, jh, sizeof(double) * (size_t)nd);
     }
     const double *P[9];
     for (int k = 0; k < 9; ++k)
@@ -420,6 +435,140 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
   return rc;
 }
 
+/* 5. the modal force with every other degree of freedom condensed statically, exactly (no
+ * expansion in e): at time t of the sampled path (u_s, Phi, J, H, L0 interpolated by Catmull-Rom
+ * splines over the samples), y with Phi^T M y = 0 and lambda solve
+ *   f(u_s + Phi e + y) - f(u_s) + M (J q'' + H q' q') = M Phi lambda   (free rows)
+ * by Newton (warm-started); lambda is the modal force (omega^2 e + B q'' + C q'q' + all orders
+ * of e). */
+static fe_ctx_t *cond_ctx;
+static double *cond_w; /* work */
+static int cond_fail;
+
+static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
+                           const double *e, double *lam) {
+  fe_ctx_t *c = cond_ctx;
+  ea_fe_model_t *m = c->m;
+  const int nd = c->nd, nf = nd - 3;
+  /* work layout */
+  double *us = cond_w, *ph = us + nd, *aq = ph + KM * nd, *x = aq + nd, *f = x + nd, *f0 = f + nd;
+  double *Mph = f0 + nd, *Kb = Mph + KM * nd, *b = Kb + EA__FE_LDS * nd, *y = b + (KM + 1) * nf;
+  double *lam0 = y + nd; /* persistent: y and lambda of the last call */
+  double fs = t / mv->t[mv->ns - 1] * (mv->ns - 1);
+  int s = (int)floor(fs);
+  s = s < 0 ? 0 : s > mv->ns - 2 ? mv->ns - 2 : s;
+  const double w = fmin(fmax(fs - s, 0.0), 1.0), w2 = w * w, w3 = w2 * w;
+  const double cw[4] = {-0.5 * w3 + w2 - 0.5 * w, 1.5 * w3 - 2.5 * w2 + 1,
+                        -1.5 * w3 + 2 * w2 + 0.5 * w, 0.5 * w3 - 0.5 * w2};
+  int idx[4];
+  for (int k = 0; k < 4; ++k) {
+    int j = s - 1 + k;
+    idx[k] = j < 0 ? 0 : j > mv->ns - 1 ? mv->ns - 1 : j;
+  }
+  double L0 = 0;
+  for (int k = 0; k < 4; ++k)
+    L0 += cw[k] * mv->L0[idx[k]];
+  for (int v = 0; v < 8; ++v) {
+    double *dst = v == 0 ? us : v < 3 ? ph + (size_t)(v - 1) * nd : NULL;
+    const double coef[5] = {q2[0], q2[1], q1[0] * q1[0], 2 * q1[0] * q1[1], q1[1] * q1[1]};
+    if (v == 3) memset(aq, 0, sizeof(double) * (size_t)nd);
+    for (int i = 0; i < nd; ++i) {
+      double sum = 0;
+      for (int k = 0; k < 4; ++k)
+        sum += cw[k] * mv->vec[((size_t)idx[k] * 8 + (size_t)v) * nd + (size_t)i];
+      if (dst)
+        dst[i] = sum;
+      else
+        aq[i] += coef[v - 3] * sum;
+    }
+  }
+  /* the interpolated static state back onto equilibrium (theta0 and L0 as interpolated): an
+   * axial strain error times EA would act as a large spurious prestress on the modes */
+  double r0 = 0;
+  for (int it = 0; it < 6; ++it) {
+    memset(Kb, 0, sizeof(double) * (size_t)nd * EA__FE_LDS);
+    ea__fe_assemble(m, us, EA_FE_CABLE_PASSIVE, L0, f, Kb);
+    r0 = 0;
+    for (int i = 3; i < nd; ++i) {
+      b[i - 3] = f[i]; /* ea__fe_assemble includes the gravity load */
+      r0 = fmax(r0, fabs(b[i - 3]));
+    }
+    if (ea__fe_factor_free(m, Kb) || ea__fe_solve_factored(m, b, 1)) return 1;
+    double dmax = 0;
+    for (int i = 3; i < nd; ++i) {
+      us[i] -= b[i - 3];
+      dmax = fmax(dmax, fabs(b[i - 3]));
+    }
+    if (dmax < 1e-13) break;
+  }
+  (void)r0;
+  for (int k = 0; k < KM; ++k) {
+    memset(Mph + (size_t)k * nd, 0, sizeof(double) * (size_t)nd);
+    ea__fe_band_gemv(m, 1.0, m->Mb, ph + (size_t)k * nd, Mph + (size_t)k * nd);
+  }
+  double *Ma = x; /* M a_qs, kept in f0 after the baseline */
+  memset(Ma, 0, sizeof(double) * (size_t)nd);
+  ea__fe_band_gemv(m, 1.0, m->Mb, aq, Ma);
+  ea__fe_assemble(m, us, EA_FE_CABLE_PASSIVE, L0, f0, NULL);
+  for (int i = 0; i < nd; ++i)
+    f0[i] -= Ma[i]; /* r = f(x) - f0 */
+  for (int k = 0; k < KM; ++k)
+    lam[k] = lam0[k];
+  for (int it = 0; it < 8; ++it) {
+    for (int i = 0; i < nd; ++i) {
+      x[i] = us[i] + y[i];
+      for (int k = 0; k < KM; ++k)
+        x[i] += ph[(size_t)k * nd + i] * e[k];
+    }
+    memset(Kb, 0, sizeof(double) * (size_t)nd * EA__FE_LDS);
+    ea__fe_assemble(m, x, EA_FE_CABLE_PASSIVE, L0, f, Kb);
+    for (int i = 3; i < nd; ++i) {
+      double R = f[i] - f0[i];
+      for (int k = 0; k < KM; ++k)
+        R -= Mph[(size_t)k * nd + i] * lam[k];
+      b[i - 3] = R;
+      for (int k = 0; k < KM; ++k)
+        b[(size_t)(k + 1) * nf + (i - 3)] = Mph[(size_t)k * nd + i];
+    }
+    double rn = 0;
+    for (int i = 0; i < nf; ++i)
+      rn = fmax(rn, fabs(b[i]));
+    if (ea__fe_factor_free(m, Kb) || ea__fe_solve_factored(m, b, KM + 1)) {
+      return 1;
+    }
+    /* dy = -z + W dl; Phi^T M W dl = Phi^T M (z - y) */
+    double A[KM][KM], rhs[KM];
+    for (int i = 0; i < KM; ++i) {
+      rhs[i] = 0;
+      for (int r = 3; r < nd; ++r)
+        rhs[i] += Mph[(size_t)i * nd + r] * (b[r - 3] - y[r]);
+      for (int j = 0; j < KM; ++j) {
+        A[i][j] = 0;
+        for (int r = 3; r < nd; ++r)
+          A[i][j] += Mph[(size_t)i * nd + r] * b[(size_t)(j + 1) * nf + (r - 3)];
+      }
+    }
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    const double dl[2] = {(rhs[0] * A[1][1] - rhs[1] * A[0][1]) / det,
+                          (A[0][0] * rhs[1] - A[1][0] * rhs[0]) / det};
+    double dmax = 0;
+    for (int r = 3; r < nd; ++r) {
+      double dy = -b[r - 3];
+      for (int j = 0; j < KM; ++j)
+        dy += b[(size_t)(j + 1) * nf + (r - 3)] * dl[j];
+      y[r] += dy;
+      dmax = fmax(dmax, fabs(dy));
+    }
+    for (int k = 0; k < KM; ++k)
+      lam[k] += dl[k];
+    if (dmax < 1e-12 && rn < 1e-6) break;
+    if (it == 7) ++cond_fail;
+  }
+  for (int k = 0; k < KM; ++k)
+    lam0[k] = lam[k];
+  return 0;
+}
+
 /* The model's modal equations along tr (RK4, dt 1e-4) as ea_traj_rom_predict integrates them,
  * with the moving-shape terms of mv added when mv is not NULL (scaled by w: 1 both, bit 1 G
  * only, bit 2 D only); the residual peak of the free vibration at the goal over 3 s. */
@@ -450,9 +599,15 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
     for (int c = 0; c < ((terms & 8) ? 1 : 4); ++c) /* bit 8: mode 1's own c111 alone */
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
+  double lam[KM] = {0};
+  if (terms & 32) {
+    const double e[KM] = {z[0], z[2]};
+    if (condensed_force(mv, t, a, v, e, lam)) ++cond_fail;
+  }
   for (int i = 0; i < KM; ++i) {
     double F = -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
                (p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1]);
+    if (terms & 32) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
     for (int j = 0; j < KM; ++j) {
       const double e = z[2 * j], ed = z[2 * j + 1];
       if (terms & 1)
@@ -478,7 +633,13 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
 static double integrate_z(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t *mv,
                           int terms, double *zout) {
   const double T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  const int n = (int)ceil(T / 1e-4 - 1e-9);
+  const double dt = (terms & 32) ? 2e-4 : 1e-4;
+  const int n = (int)ceil(T / dt - 1e-9);
+  if (terms & 32) { /* the condensation starts from the static state */
+    const int nd = cond_ctx->nd, nf = nd - 3;
+    memset(cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf, 0,
+           sizeof(double) * ((size_t)nd + KM));
+  }
   const double h = T / n;
   double z[2 * KM] = {0}, k1[2 * KM], k2[2 * KM], k3[2 * KM], k4[2 * KM], zt[2 * KM];
   for (int i = 0; i < n; ++i) {
@@ -813,28 +974,34 @@ int main(int argc, char **argv) {
     const ea_rom_table_t *tb = ea_planner_rom_table(pl);
     fe_ctx_t c;
     const int cok = !ctx_alloc(&t.arm, ea_arm_tip_mass(&t.arm, t.payload_kg), &c);
+    cond_ctx = &c;
+    free(cond_w);
+    cond_w = calloc((size_t)c.nd * 24, sizeof(double));
     for (int k = 0; k < 3; ++k) {
       predict(tb, &tr[k], &r[k]);
       fe_run(&t, &tr[k], &r[k]);
       static moving_t mv;
-      double with = NAN, quad = NAN, both = NAN;
+      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN;
       if (cok && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
         both = integrate(tb, &tr[k], &mv, 23);
+        cond = integrate(tb, &tr[k], &mv, 32);
+        condm = integrate(tb, &tr[k], &mv, 35);
       }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.3f | %.3f | %.2f |\n",
+             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
              lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
              pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
-             r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, r[k].fe / (dev * dev));
+             r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
+             r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
       int n = snprintf(corr[ncorr], sizeof corr[ncorr], "| %s | %.2f | %.4f | %.3f |",
                        lines[l].name, lines[l].gamma, r[2].dur, 1e3 * r[2].fe);
-      static const int variants[3] = {3, 23, 16};
+      static const int variants[3] = {3, 35, 32};
       for (int v = 0; v < 3; ++v) {
         ea_traj_t tc = {0};
         ea_plan_info_t info;
@@ -865,8 +1032,8 @@ int main(int argc, char **argv) {
          "shapes (M), M + quadratic stiffness + manifold curvature (MQE), manifold curvature alone "
          "(E); per variant: iterations, "
          "duration [s], the augmented model's residual [mm], the FE residual [mm]\n\n| line | "
-         "payload factor | at rest: duration [s] | FE [mm] | M: it | dur | model | FE | MQE: it | "
-         "dur | model | FE | E: it | dur | model | FE |\n"
+         "payload factor | at rest: duration [s] | FE [mm] | M: it | dur | model | FE | CM: it | "
+         "dur | model | FE | C: it | dur | model | FE |\n"
          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int i = 0; i < ncorr; ++i)
     printf("%s\n", corr[i]);
