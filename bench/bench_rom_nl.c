@@ -444,7 +444,9 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
 static fe_ctx_t *cond_ctx;
 static double *cond_w; /* work */
 static int cond_fail;
-static double cond_r0; /* [N] the static state's residual at the last call */
+static double cond_r0;           /* [N] the static state's residual at the last call */
+static double cond_prev[3 * 64]; /* the last call's static state */
+static int cond_have_prev;
 
 static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
                            const double *e, double *lam) {
@@ -486,7 +488,11 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
   /* the interpolated static state back onto equilibrium (theta0 and L0 as interpolated): an
    * axial strain error times EA would act as a large spurious prestress on the modes */
   double r0 = 0;
-  for (int it = 0; it < 6; ++it) {
+  /* from the last call's equilibrium (a neighbouring time) with the interpolated clamp: the
+   * interpolated state itself can be too far off for Newton */
+  if (cond_have_prev) memcpy(us + 3, cond_prev + 3, sizeof(double) * (size_t)(nd - 3));
+  int ok = 0;
+  for (int it = 0; it < 40 && !ok; ++it) {
     memset(Kb, 0, sizeof(double) * (size_t)nd * EA__FE_LDS);
     ea__fe_assemble(m, us, EA_FE_CABLE_PASSIVE, L0, f, Kb);
     r0 = 0;
@@ -496,12 +502,20 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
     }
     if (ea__fe_factor_free(m, Kb) || ea__fe_solve_factored(m, b, 1)) return 1;
     double dmax = 0;
-    for (int i = 3; i < nd; ++i) {
-      us[i] -= b[i - 3];
+    for (int i = 3; i < nd; ++i)
       dmax = fmax(dmax, fabs(b[i - 3]));
-    }
-    if (dmax < 1e-13) break;
+    const double sc = dmax > 5e-3 ? 5e-3 / dmax : 1.0;
+    for (int i = 3; i < nd; ++i)
+      us[i] -= sc * b[i - 3];
+    ok = sc == 1.0 && dmax < 1e-12;
   }
+  if (!ok) {
+    cond_r0 = r0;
+    cond_have_prev = 0;
+    return 1;
+  }
+  memcpy(cond_prev, us, sizeof(double) * (size_t)nd);
+  cond_have_prev = 1;
   cond_r0 = r0;
   for (int k = 0; k < KM; ++k) {
     memset(Mph + (size_t)k * nd, 0, sizeof(double) * (size_t)nd);
@@ -658,6 +672,7 @@ static double integrate_z(const ea_rom_table_t *tb, const ea_traj_t *tr, const m
   const double dt = (terms & 32) ? 2e-4 : 1e-4;
   const int n = (int)ceil(T / dt - 1e-9);
   if (terms & 32) { /* the condensation starts from the static state */
+    cond_have_prev = 0;
     const int nd = cond_ctx->nd, nf = nd - 3;
     memset(cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf, 0,
            sizeof(double) * ((size_t)nd + KM));
