@@ -12,11 +12,15 @@
  *     amplitude A = 10..135 mm, against the linear model's A cos(omega_1 t): the largest tip
  *     difference within the first 1.5 s (a motion's length) and its frequency shift. What the
  *     linear modal stiffness and output map miss, with the configuration held.
- *  3. the moving mode shapes: the terms of u = u_s(q) + Phi(q) eta the model leaves out,
- *     Phi_i^T M dPhi_j/dq (Coriolis-like, 2 G q' eta' + G q'' eta) and
- *     Phi_i^T M d2Phi_j/dq2 q' q' eta (centrifugal-like), computed from FE modes at q +- h along
- *     the at-rest plan and added to the model's modal equations: how far they move the
- *     predicted residual toward the FE's.
+ *  3. candidate terms added to the model's modal equations along each plan (columns of table 1):
+ *     the moving mode shapes (M: Phi_i^T M dPhi_j/dq, Phi_i^T M d2Phi_j/dq2 from FE modes at
+ *     q +- h), the Galerkin quadratic stiffness (Q) and the quadratic manifold's curvature (E,
+ *     static modal derivatives M-orthogonal to the modes), and the modal force with every other
+ *     DOF condensed statically to all orders (C, a Newton solve at every right-hand side);
+ *  4. at-rest plans corrected for those terms without touching the transcription: the goal's
+ *     modal target moved (warm re-plans) until the augmented model ends at rest, then the FE.
+ * Section 2b: free vibration from the quadratic manifold against the second-order model.
+ * BENCH_ROM_NL_LINE=i: only line i of section 1; BENCH_ROM_NL_ONLY_FREE=1: only section 2.
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
