@@ -338,6 +338,11 @@ static void test_cli_promise(void) {
   rc = run(args);
   ea_test_true(rc == 0 && strstr(out, "not checked by the FE (dynamics.verify: false)"),
                "dynamics.verify: false: exit 0, 'not checked by the FE (dynamics.verify: false)'");
+  snprintf(args, sizeof args, "plan %s -o %s --json", task, csv);
+  rc = run(args);
+  ea_test_true(rc == 0 && strstr(out, "\"checked\": false") &&
+                   strstr(out, "\"reason\": \"dynamics.verify: false (or plan --no-verify)\""),
+               "dynamics.verify: false, --json: fe_check {checked: false, reason: ...}");
   /* a bound not reached: exit 3, files written, the message says what was reached */
   write_random_line(task, "  refine:\n    max_evaluations: 2\n");
   snprintf(args, sizeof args, "plan %s -o %s", task, csv);

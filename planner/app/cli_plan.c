@@ -445,9 +445,15 @@ static void ea__plan_check_text(const ea__plan_run_t *r) {
 /* The refinement's progress: a line per evaluation once the command has run a second. */
 static void ea__plan_refine_progress(void *data, int evaluation, int max_evaluations,
                                      double elapsed_s, double residual_peak_m) {
-  ea__cli_progress(data, 1,
-                   "refinement: evaluation %d of at most %d, FE residual peak %.4g mm (%.1f s)",
-                   evaluation + 1, max_evaluations, 1e3 * residual_peak_m, elapsed_s);
+  if (isfinite(residual_peak_m))
+    ea__cli_progress(data, 1,
+                     "refinement: evaluation %d of at most %d, FE residual peak %.4g mm (%.1f s)",
+                     evaluation + 1, max_evaluations, 1e3 * residual_peak_m, elapsed_s);
+  else /* the candidate's targets could not be planned within the limits (or its FE failed) */
+    ea__cli_progress(data, 1,
+                     "refinement: evaluation %d of at most %d: no plan or FE transient for its "
+                     "targets (%.1f s)",
+                     evaluation + 1, max_evaluations, elapsed_s);
 }
 
 /* --refine (or the task's dynamics.refine): the refinement of the converged plan. The

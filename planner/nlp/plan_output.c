@@ -348,8 +348,9 @@ void ea_plan_verify_judge(ea_plan_verify_t *v) {
 
 /* "fe_check": whether an FE transient checked the written plan's promise (the refinement's,
  * else --verify's or the default check of a residual bound) and what it measured. */
-static void ea__fe_check_json(ea_json_t *j, const ea_plan_info_t *info,
-                              const ea_refine_info_t *refine, const ea_plan_verify_t *verify) {
+static void ea__fe_check_json(ea_json_t *j, const ea_task_t *task, const ea_plan_info_t *info,
+                              const ea_refine_info_t *refine, const ea_shape_info_t *shape,
+                              const ea_plan_verify_t *verify) {
   if (info->status != EA_OK) return;
   ea_json_obj_begin(j, "fe_check");
   const int by_refine = refine && refine->status == EA_OK;
@@ -371,6 +372,15 @@ static void ea__fe_check_json(ea_json_t *j, const ea_plan_info_t *info,
       ea_json_null(j, "residual_peak_m");
     ea_json_num(j, "bound_m", verify->residual_bound_m);
     ea_json_bool(j, "within", verify->passed);
+  } else { /* why not: as the text summary says it */
+    ea_json_str(j, "reason",
+                refine && refine->message[0]        ? refine->message
+                : refine                            ? "the refinement failed"
+                : !task || task->dynamics.modes < 1 ? "no dynamics: the task promises no rest"
+                : shape                             ? "a ZV-shaped plan: plan --verify checks it"
+                : task->objective == EA_TASK_MIN_VIBRATION
+                    ? "min_vibration promises no rest"
+                    : "dynamics.verify: false (or plan --no-verify)");
   }
   ea_json_obj_end(j);
 }
@@ -457,7 +467,7 @@ ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_
   if (refine) ea__refine_json(&j, refine);
   if (shape) ea__shape_json(&j, shape);
   if (verify) ea__verify_json(&j, verify);
-  ea__fe_check_json(&j, info, refine, verify);
+  ea__fe_check_json(&j, ea_planner_task(pl), info, refine, shape, verify);
   ea_json_obj_end(&j);
   ea_json_end(&j);
   return ea_afile_commit(&f, err);

@@ -223,7 +223,16 @@ static int ea__refine_eval(ea__refine_t *R, const double *z, int final_resolve) 
   for (int j = 0; j < R->M && !st; ++j)
     st = ea_planner_set_terminal_modes_model(R->pl, j, e->eta + j * R->K, e->eta_rate + j * R->K,
                                              &err);
-  if (!st) st = ea_planner_solve(R->pl, EA_PLAN_WARM, NULL, &pi, &err);
+  if (!st) {
+    /* the re-plan stops where the refinement's time runs out (refine.max_time_s), as its FE
+     * transients do: a target the limits cannot reach otherwise runs the engine to its own
+     * iteration cap; the planner's own limit is restored after */
+    const double own = R->pl->task.solver.max_time_s;
+    if (!final_resolve)
+      R->pl->task.solver.max_time_s = fmin(own, fmax(R->t0 + R->s.max_time_s - te, 1e-3));
+    st = ea_planner_solve(R->pl, EA_PLAN_WARM, NULL, &pi, &err);
+    R->pl->task.solver.max_time_s = own;
+  }
   e->plan_status = st;
   e->plan_iterations = pi.iterations;
   e->plan_time_s = ea__mono_s() - te;
