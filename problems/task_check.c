@@ -249,7 +249,7 @@ void ea_task_refine_default(ea_task_refine_t *r) {
   r->modes = 0; /* every mode */
   r->fe_dt_s = 4e-3;
   r->settle_s = 1.5;
-  r->max_duration_change = 0.1;
+  r->max_duration_change = 0.25;
   r->seed = 1;
 }
 

@@ -506,7 +506,7 @@ int main(void) {
   /* A random line (issue 33, item 3): payload factor 0.26, (0.6246, 0.0676) -> (0.5868,
    * -0.1509). The model misses 5.9 mm; Broyden from J = I on mode 1 alone, its candidates
    * capped at +2 % of duration, stopped at 1.11 mm after 20 evaluations (the converged plan
-   * is 2.4 % longer). Default settings: every mode, globalised Newton, 10 % duration. */
+   * is 2.4 % longer). Default settings: every mode, globalised Newton, 25 % duration. */
   h = t;
   h.payload_factor = 0.26;
   h.payload_kg = ea_arm_payload_from_factor(&h.arm, 0.26);
