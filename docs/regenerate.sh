@@ -536,7 +536,7 @@ pub "bench/bench_plan (polylines over the knot count)" docs/planner.md \
   "$(printf '%s\n' "$2" "$3" "$4" "$5" | awk 'NR == 1 || $1 > M { M = $1 } NR == 1 || $1 < m { m = $1 } END { printf "%.1f", (M / m - 1) * 100 }')"
 
 # --- docs/planner.md: bench_plan's tables of the paper line (times masked)
-block bench_plan docs/planner.md "$R/bench_plan.out" "paper line, 100 knots" "2000 knots" 1
+block bench_plan docs/planner-measurements.md "$R/bench_plan.out" "paper line, 100 knots" "2000 knots" 1
 
 # --- README.md: bench_plan's iteration counts (column "iters" of the row named CASE;
 # the N-th such row with a second argument)
@@ -642,7 +642,7 @@ for k in 25 50 100 200 400; do
   ch=$(sci %.1e "$3")
   [ $k = 400 ] && ch=$(calc %.0f "$3")
   ip='{}'
-  pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner.md "| $label | {} / $ip | {} | {} | {} |" \
+  pub "bench/bench_dyn (at-rest paper line, $k knots)" docs/planner-measurements.md "| $label | {} / $ip | {} | {} | {} |" \
     "$1" ${itp:+"$itp"} "$(calc %.6f "$2")" "$ch" "$(calc %.4f "$4")"
 done
 hw=$(awk '/worst entry/ && !/kinematic/ && !/path layout/ { v = $0; sub(/.*worst entry /, "", v); sub(/ .*/, "", v); if (v + 0 > m) m = v + 0 }
@@ -712,7 +712,7 @@ pub "tests/test_plan_sweep (line replans)" docs/planner.md \
   'point after it, {} by Ipopt, {} failures, durations as Ipopt'"'"'s cold plans'"'"' within {}, every' \
   "$4" "$5" "$(sci %.1e "$6")"
 set -- $(dyn 100 knots) $(dyn 400 knots)
-pub "bench/bench_dyn (100 vs 400 knots)" docs/planner.md \
+pub "bench/bench_dyn (100 vs 400 knots)" docs/planner-measurements.md \
   'The default 100 knots gives the duration to {} % and the residual to {} mm. The' \
   "$(calc %.2f "$3*100")" "$(calc %.3f "$8-$4")"
 set -- $(dyn 100 path)
@@ -720,15 +720,15 @@ pub "bench/bench_dyn (iterations of the at-rest paper line, the default path tra
   '{} iterations of the own interior point, KKT systems by KLU then; with Ipopt 19 iterations and' "$1"
 grid() { awk -v g="$1" '$1 == g { print $2, $3, $4, $5, $7, $8; exit }' "$R/bench_dyn.out"; }
 set -- $(grid default) $(grid x1/2)
-pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner.md \
+pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner-measurements.md \
   "table's default grid ({} x {} here) interpolates omega within {}, B within {} and" \
   "${1%x*}" "${1#*x}" "$(sci %.1e "$2")" "$(sci %.1e "$3")"
-pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner.md \
+pub "bench/bench_dyn (the table's grid at the cell centres)" docs/planner-measurements.md \
   'the tip vectors within {} (relative, at the cell centres against the model computed' "$(sci %.1e "$4")"
-pub "bench/bench_dyn (grid halved)" docs/planner.md \
+pub "bench/bench_dyn (grid halved)" docs/planner-measurements.md \
   'there); halving the spacing moves the duration by {} relative and the FE residual by' \
   "$(sci %.0e "($5-${11})/$5")"
-pub "bench/bench_dyn (grid halved)" docs/planner.md '{} mm. The table is built in {*} s and loaded from the cache in {*} ms.' \
+pub "bench/bench_dyn (grid halved)" docs/planner-measurements.md '{} mm. The table is built in {*} s and loaded from the cache in {*} ms.' \
   "$(calc %.3f "$6-${12}")"
 set -- $(awk '$1 == "warm" || $1 == "cold" { print $2 }' "$R/bench_dyn.out")
 pub "bench/bench_dyn (replanning after a 5 mm goal move)" docs/planner.md \
@@ -835,7 +835,7 @@ for g in 0.00:'paper line, payload 0' 0.25:'paper line, payload factor 0.25' \
   pub "tests/test_plan_rest (payload factor $p refined)" docs/planner.md \
     "| $label | {} s ({} x), {} | {} mm |" "$1" "$2" "$3" "$4"
   set -- $(rx test_plan_rest.out "s/^time to rest within 1 mm at 2 % damping, payload factor $p: quasi-static $N s, at rest $N s, refined $N s after the motion; residual peak at 2 % damping $N, $N, $N mm.*/\1 \2 \3 \4 \5 \6/p")
-  pub "tests/test_plan_rest (time to rest, payload factor $p)" docs/planner.md \
+  pub "tests/test_plan_rest (time to rest, payload factor $p)" docs/planner-measurements.md \
     "| $label | {} s ({} mm) | {} s ({} mm) | {} s ({} mm) |" "$1" "$4" "$2" "$5" "$3" "$6"
 done
 # the model against the FE: the rows, the factor and the miss
@@ -851,18 +851,18 @@ for w in 'payload factor 0.00: quasi-static plan' 'payload factor 0.00: residual
   payload*) label="paper line, $w" ;;
   *) label=$w ;;
   esac
-  pub "tests/test_plan_rest (model vs FE)" docs/planner.md "| $label | {} mm | {} mm | {} | {} |" \
+  pub "tests/test_plan_rest (model vs FE)" docs/planner-measurements.md "| $label | {} mm | {} mm | {} | {} |" \
     "$1" "$2" "$3" "$4"
 done
 set -- $(rx test_plan_rest.out "s/^model vs FE on .* within a factor $N (worst.*<= $N x the same.*/\1 \2/p")
-pub "tests/test_plan_rest (model vs FE: factor)" docs/planner.md \
+pub "tests/test_plan_rest (model vs FE: factor)" docs/planner-measurements.md \
   '(measured {}); on every plan |FE - predicted| is at most 1.25 x what the model misses at' "$1"
-pub "tests/test_plan_rest (model vs FE: miss)" docs/planner.md 'rest on the same task (measured {} x). A ratio is no measure for small predicted residuals:' "$2"
+pub "tests/test_plan_rest (model vs FE: miss)" docs/planner-measurements.md 'rest on the same task (measured {} x). A ratio is no measure for small predicted residuals:' "$2"
 # Choosing K: the K table (test_rom_modes) and the other examples' predictions
 for g in 0.00:0 0.25:0.25 0.50:0.5; do
   for K in 1 2 3 4; do
     set -- $(rx test_rom_modes.out "s/^modes $K, payload factor ${g%%:*}: at rest $N s ($N iterations), FE residual $N mm; quasi-static plan predicted $N mm, FE $N mm.*/\1 \2 \3 \4 \5/p")
-    pub "tests/test_rom_modes (modes $K, payload factor ${g%%:*})" docs/planner.md \
+    pub "tests/test_rom_modes (modes $K, payload factor ${g%%:*})" docs/planner-measurements.md \
       "| ${g#*:} | $K | {} s | {} | {} mm | {} mm ({} mm) |" "$1" "$2" "$3" "$(calc %.3f "$4")" "$(calc %.3f "$5")"
   done
 done
@@ -871,16 +871,16 @@ for ex in pick-place-3d polyline-effort; do
   eval "ex_${ex%%-*}=\"\$(calc %.3f \"\$2\"), \$(calc %.3f \"\$3\"), \$(calc %.3f \"\$4\"), \$(calc %.3f \"\$5\") mm (FE \$(calc %.3f \"\$1\") mm)\""
 done
 set -- $ex_pick
-pub "tests/test_rom_modes (pick-place-3d)" docs/planner.md 'polyline-effort predicted with K = 1..4: {}, {}, {}, {} mm (FE {} mm) and' \
+pub "tests/test_rom_modes (pick-place-3d)" docs/planner-measurements.md 'polyline-effort predicted with K = 1..4: {}, {}, {}, {} mm (FE {} mm) and' \
   "${1%,}" "${2%,}" "${3%,}" "$4" "$7"
 set -- $ex_polyline
-pub "tests/test_rom_modes (polyline-effort)" docs/planner.md '{}, {}, {}, {} mm (FE {} mm). The default K = 2: the second mode lowers the' \
+pub "tests/test_rom_modes (polyline-effort)" docs/planner-measurements.md '{}, {}, {}, {} mm (FE {} mm). The default K = 2: the second mode lowers the' \
   "${1%,}" "${2%,}" "${3%,}" "$4" "$7"
 # the sentences derived from the K table
 kfe() { rx test_rom_modes.out "s/^modes $1, payload factor $2: at rest .* FE residual $N mm;.*/\1/p"; }
-pub "tests/test_rom_modes (K = 3, 4 at payload 0.5)" docs/planner.md '(K = 3 and 4 leave {} and {} mm, "Choosing K" below), nor the knots' \
+pub "tests/test_rom_modes (K = 3, 4 at payload 0.5)" docs/planner.md '(K = 3 and 4 leave {} and {} mm, "Choosing K" in docs/planner-measurements.md), nor the knots' \
   "$(calc %.2f "$(kfe 3 0.50)")" "$(calc %.2f "$(kfe 4 0.50)")"
-pub "tests/test_rom_modes (K = 1 - K = 2, at rest)" docs/planner.md 'at-rest FE residual (by {}, {} and {} mm) for' \
+pub "tests/test_rom_modes (K = 1 - K = 2, at rest)" docs/planner-measurements.md 'at-rest FE residual (by {}, {} and {} mm) for' \
   "$(calc %.3f "$(kfe 1 0.00) - $(kfe 2 0.00)")" "$(calc %.3f "$(kfe 1 0.25) - $(kfe 2 0.25)")" \
   "$(calc %.3f "$(kfe 1 0.50) - $(kfe 2 0.50)")"
 # ==== end of the block

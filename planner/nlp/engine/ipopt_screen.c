@@ -1,13 +1,12 @@
-/* Ipopt on an NLP whose inequality rows far inside their limits are left out (docs/planner.md,
- * "Measurements"). Each inequality row costs Ipopt two rows and columns of its KKT system (the
- * row and its slack), and a factorization through MUMPS costs in proportion to that size at
- * 100 knots (overhead per front rather than flops): on the paper line 398 of the 692 rows are
- * inequalities and about 110 of them come near their limits. The rows left out are the two-sided
- * ones whose family (one limit of one coordinate) lies in the inner part of its range at the
- * start; after the solve, every row left out
- * is checked at the solution: strictly inside its limits, it is inactive there and the solution
- * (with multiplier 0 for it) is one of the full NLP too; otherwise it joins, and the caller
- * solves again.
+/* Ipopt on an NLP whose inequality rows far inside their limits are left out
+ * (docs/planner-measurements.md, "Benches"). Each inequality row costs Ipopt two rows and columns
+ * of its KKT system (the row and its slack), and a factorization through MUMPS costs in proportion
+ * to that size at 100 knots (overhead per front rather than flops): on the paper line 398 of the
+ * 692 rows are inequalities and about 110 of them come near their limits. The rows left out are the
+ * two-sided ones whose family (one limit of one coordinate) lies in the inner part of its range at
+ * the start; after the solve, every row left out is checked at the solution: strictly inside its
+ * limits, it is inactive there and the solution (with multiplier 0 for it) is one of the full NLP
+ * too; otherwise it joins, and the caller solves again.
  *
  * The wrappers below present the kept rows to Ipopt and pass the full NLP's user data to its
  * callbacks, which evaluate every row. Calls nothing above it. */
