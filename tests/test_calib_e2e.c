@@ -25,6 +25,7 @@
 #include "ea_stream.h"
 #include "ea_test.h"
 #include "ea_test_cli.h"
+#include "ea_test_record.h"
 
 #include <glob.h>
 
@@ -61,41 +62,6 @@ static int true_arm(const char *src, const char *dst, ea_arm_t *arm) {
   if (ea_arm_load(dst, arm, &e)) return 1;
   return !(fabs(arm->EI - 1.12 * def.EI) < 1e-12 && fabs(arm->m_hand - 1.2 * def.m_hand) < 1e-12 &&
            fabs(arm->I_hand - 2.5 * def.I_hand) < 1e-15 && arm->n_damping == 1);
-}
-
-/* controller-sim --simulate --record's session in the library: the experiment resampled at
- * 1 kHz as the streamer sends it, the trajectory the setpoints describe on the true arm, its
- * FE transient, the records (default sensor noise, seed 1). */
-static int record_session(const ea_traj_t *tr, const ea_arm_t *plan_arm, const ea_arm_t *arm,
-                          const char *dir) {
-  ea_setpoint_t *sp = NULL;
-  int n = 0;
-  ea_error_t e = {0};
-  ea_stream_settings_t ss;
-  ea_stream_settings_default(&ss);
-  if (ea_stream_resample(tr, plan_arm, 1000.0, ss.limit_tol, &sp, &n, &e)) return 1;
-  double *t = malloc(sizeof(double) * (size_t)n);
-  for (int i = 0; i < n; ++i)
-    t[i] = i * 1e-3;
-  ea_traj_t st = {0};
-  ea_sim_history_t h = {0};
-  ea_sim_settings_t s;
-  ea_sim_settings_default(&s);
-  s.scheme = EA_FE_SCHEME_ENERGY;
-  s.settle = 1.0;
-  s.keep_history = 1;
-  ea_sim_info_t si;
-  ea_record_settings_t rs;
-  ea_record_settings_default(&rs);
-  int bad = ea_stream_setpoints_traj(arm, arm->m_hand, sp, t, n, &st, NULL, &e) ||
-            ea_traj_simulate(arm, &st, arm->m_hand, &s, &h, &si, &e) ||
-            ea_record_write(dir, &rs, arm, sp, t, n, &h, NULL, &e);
-  if (bad) printf("record session: %s\n", e.msg);
-  ea_sim_history_free(&h);
-  ea_traj_free(&st);
-  free(t);
-  free(sp);
-  return bad;
 }
 
 /* An at-rest line task on arm_file; plan (refined by default); the FE residual peak [m] of the plan
@@ -153,7 +119,7 @@ int main(void) {
   ea_test_true(ea_traj_read(&tr, "e2e_exp.csv", &e) == EA_OK, "the experiment reads back");
 
   /* 2. the records, made by the FE transient of the true arm */
-  ea_test_true(record_session(&tr, &paper, &truth, "e2e_rec") == 0,
+  ea_test_true(ea_tr_record_session(&tr, &paper, &truth, "e2e_rec", "record session") == 0,
                "controller simulator session on the true arm: records written");
   ea_traj_free(&tr);
 

@@ -23,6 +23,7 @@
 #include "ea_test.h"
 #include "ea_test_proc.h"
 #include "ea_test_cli.h"
+#include "ea_test_record.h"
 
 #include <signal.h>
 #include <sys/stat.h>
@@ -329,41 +330,6 @@ static void check_static(const char *path, const ea_arm_t *arm, const ea_traj_t 
   free(st.v);
 }
 
-/* The session of controller-sim --simulate --record in the library: setpoints at 1 kHz,
- * the trajectory they describe on the true arm, its FE transient, the records. */
-static int library_session(const ea_traj_t *tr, const ea_arm_t *arm, const char *dir) {
-  ea_setpoint_t *sp = NULL;
-  int n = 0;
-  ea_error_t e = {0};
-  ea_stream_settings_t ss;
-  ea_stream_settings_default(&ss);
-  ea_arm_t def;
-  ea_arm_default(&def);
-  if (ea_stream_resample(tr, &def, 1000.0, ss.limit_tol, &sp, &n, &e)) return 1;
-  double *t = malloc(sizeof(double) * (size_t)n);
-  for (int i = 0; i < n; ++i)
-    t[i] = i * 1e-3;
-  ea_traj_t st = {0};
-  ea_sim_history_t h = {0};
-  ea_sim_settings_t s;
-  ea_sim_settings_default(&s);
-  s.scheme = EA_FE_SCHEME_ENERGY;
-  s.settle = 1.0;
-  s.keep_history = 1;
-  ea_sim_info_t si;
-  ea_record_settings_t rs;
-  ea_record_settings_default(&rs);
-  int bad = ea_stream_setpoints_traj(arm, arm->m_hand, sp, t, n, &st, NULL, &e) ||
-            ea_traj_simulate(arm, &st, arm->m_hand, &s, &h, &si, &e) ||
-            ea_record_write(dir, &rs, arm, sp, t, n, &h, NULL, &e);
-  if (bad) printf("library session: %s\n", e.msg);
-  ea_sim_history_free(&h);
-  ea_traj_free(&st);
-  free(t);
-  free(sp);
-  return bad;
-}
-
 int main(void) {
   char arm_path[1024];
   if (cli_setup(arm_path, sizeof arm_path)) return 77;
@@ -431,7 +397,9 @@ int main(void) {
   ea_arm_t arm3;
   ea_test_true(true_arm(arm_path, "calib_true3.yaml", 0.3, &arm3) == 0,
                "true arm file: EI +10 %, hand +20 %, damping 0.3");
-  ea_test_true(library_session(&tr, &arm3, "calib_rec3") == 0,
+  ea_arm_t def3; /* the experiment was planned on the default arm */
+  ea_arm_default(&def3);
+  ea_test_true(ea_tr_record_session(&tr, &def3, &arm3, "calib_rec3", "library session") == 0,
                "library session: setpoints -> FE transient -> records");
   check_static("calib_rec3/static.csv", &arm3, &tr);
   ea_traj_free(&tr);
