@@ -12,6 +12,7 @@
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_refine.h"
+#include "ea_test_sweep.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -20,13 +21,9 @@
 #include <string.h>
 #include <time.h>
 
-static uint64_t rng_state = 0x33c0ffeeULL;
+static uint64_t rng_state = EA_TS_SEED;
 static double urand(void) {
-  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  z ^= z >> 31;
-  return (double)(z >> 11) * 0x1.0p-53;
+  return ea_ts_urand(&rng_state);
 }
 
 /* CPU time of this thread: what one core spends, whatever else runs on the machine */
@@ -131,8 +128,8 @@ int main(int argc, char **argv) {
     const double g = 0.5 * urand();
     t.payload_factor = g;
     t.payload_kg = ea_arm_payload_from_factor(&t.arm, g);
-    t.start = ea_task_point_planar(0.15 + 0.55 * urand(), -0.55 + 0.75 * urand(), 0.0);
-    t.goal = ea_task_point_planar(0.15 + 0.55 * urand(), -0.55 + 0.75 * urand(), 0.0);
+    t.start = ea_ts_rand_point(&rng_state);
+    t.goal = ea_ts_rand_point(&rng_state);
     if (ea_task_check(&t, &e)) continue;
     refused += one(&t, &rs);
   }

@@ -15,6 +15,7 @@
 #include "ea_problems.h"
 #include "ea_refine.h"
 #include "ea_test.h"
+#include "ea_test_sweep.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -25,14 +26,9 @@
 
 static char src[1024];
 
-/* splitmix64: the sweep's random numbers, the same on every platform */
-static uint64_t rng_state = 0x33c0ffeeULL;
+static uint64_t rng_state = EA_TS_SEED;
 static double urand(void) {
-  uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  z ^= z >> 31;
-  return (double)(z >> 11) * 0x1.0p-53;
+  return ea_ts_urand(&rng_state);
 }
 
 static double mono(void) {
@@ -41,10 +37,8 @@ static double mono(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* A tip point in the box that holds the arm's planar workspace (the task check refuses what
- * it does not reach). */
 static ea_task_point_t rand_point(void) {
-  return ea_task_point_planar(0.15 + 0.55 * urand(), -0.55 + 0.75 * urand(), 0.0);
+  return ea_ts_rand_point(&rng_state);
 }
 
 /* FE residual peak at converged settings of the planner's plan. */
