@@ -37,33 +37,6 @@ static void write_text(const char *path, const char *text) {
   }
 }
 
-/* The paper's arm file at src with EI x1.12, hand mass x1.2, I_L x2.5 and a mode-1 damping
- * ratio of 0.05 (the paper's has none). */
-static int true_arm(const char *src, const char *dst, ea_arm_t *arm) {
-  FILE *in = fopen(src, "r"), *fo = fopen(dst, "w");
-  if (!in || !fo) return 1;
-  char line[1024];
-  ea_arm_t def;
-  ea_error_t e = {0};
-  if (ea_arm_load(src, &def, &e)) return 1;
-  while (fgets(line, sizeof line, in)) {
-    if (strstr(line, "EI_Nm2:"))
-      fprintf(fo, "  EI_Nm2: %.17g\n", 1.12 * def.EI);
-    else if (strstr(line, "mass_kg:") && strstr(line, "m_h"))
-      fprintf(fo, "  mass_kg: %.17g\n", 1.2 * def.m_hand);
-    else if (strstr(line, "Izz_kg_m2:") && strstr(line, "I_L"))
-      fprintf(fo, "  Izz_kg_m2: %.17g\n", 2.5 * def.I_hand);
-    else
-      fputs(line, fo);
-  }
-  fprintf(fo, "damping:\n  modal_ratios: [0.05]\n");
-  fclose(in);
-  fclose(fo);
-  if (ea_arm_load(dst, arm, &e)) return 1;
-  return !(fabs(arm->EI - 1.12 * def.EI) < 1e-12 && fabs(arm->m_hand - 1.2 * def.m_hand) < 1e-12 &&
-           fabs(arm->I_hand - 2.5 * def.I_hand) < 1e-15 && arm->n_damping == 1);
-}
-
 /* An at-rest line task on arm_file; plan (refined by default); the FE residual peak [m] of the plan
  * on the true arm (NAN when a step fails). */
 static double plan_on(const char *name, const char *arm_file, const double a[2], const double b[2],
@@ -102,7 +75,7 @@ int main(void) {
   ea_arm_t paper, truth;
   ea_error_t e = {0};
   ea_test_true(ea_arm_load(arm_path, &paper, &e) == EA_OK, "the paper's arm file loads");
-  ea_test_true(true_arm(arm_path, "e2e_true.yaml", &truth) == 0,
+  ea_test_true(ea_tr_true_arm(arm_path, "e2e_true.yaml", 1.12, 1.2, 2.5, 0.05, &truth) == 0,
                "true arm file: EI +12 %, hand mass +20 %, I_L x2.5, damping 0.05");
 
   /* 1. the experiment, planned on the paper's arm */

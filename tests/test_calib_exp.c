@@ -198,30 +198,6 @@ static void ring(const rec_t *r, int col, double x0, double t_skip, double *f, d
   free(y);
 }
 
-/* A copy of the arm file at src with EI x1.1, hand mass x1.2 and modal damping zeta. */
-static int true_arm(const char *src, const char *dst, double zeta, ea_arm_t *arm) {
-  FILE *in = fopen(src, "r"), *fo = fopen(dst, "w");
-  if (!in || !fo) return 1;
-  char line[1024];
-  ea_arm_t def;
-  ea_error_t e = {0};
-  if (ea_arm_load(src, &def, &e)) return 1;
-  while (fgets(line, sizeof line, in)) {
-    if (strstr(line, "EI_Nm2:"))
-      fprintf(fo, "  EI_Nm2: %.17g\n", 1.1 * def.EI);
-    else if (strstr(line, "mass_kg:") && strstr(line, "m_h"))
-      fprintf(fo, "  mass_kg: %.17g\n", 1.2 * def.m_hand);
-    else
-      fputs(line, fo);
-  }
-  fprintf(fo, "damping:\n  modal_ratios: [%g]\n", zeta);
-  fclose(in);
-  fclose(fo);
-  if (ea_arm_load(dst, arm, &e)) return 1;
-  return !(fabs(arm->EI - 1.1 * def.EI) < 1e-12 && fabs(arm->m_hand - 1.2 * def.m_hand) < 1e-12 &&
-           arm->n_damping == 1);
-}
-
 static void write_text(const char *path, const char *text) {
   FILE *fp = fopen(path, "w");
   if (fp) {
@@ -371,7 +347,7 @@ int main(void) {
 
   /* 2. controller-sim --record on the true arm (2 % damping), streamed over TCP */
   ea_arm_t arm2;
-  ea_test_true(true_arm(arm_path, "calib_true2.yaml", 0.02, &arm2) == 0,
+  ea_test_true(ea_tr_true_arm(arm_path, "calib_true2.yaml", 1.1, 1.2, 1.0, 0.02, &arm2) == 0,
                "true arm file: EI +10 %, hand +20 %, damping 0.02");
   remove("calib.port");
   char *argv[] = {(char *)bin,     "controller-sim",
@@ -395,7 +371,7 @@ int main(void) {
 
   /* 3. the static rows, on a true arm whose ring-downs end before the averaging window */
   ea_arm_t arm3;
-  ea_test_true(true_arm(arm_path, "calib_true3.yaml", 0.3, &arm3) == 0,
+  ea_test_true(ea_tr_true_arm(arm_path, "calib_true3.yaml", 1.1, 1.2, 1.0, 0.3, &arm3) == 0,
                "true arm file: EI +10 %, hand +20 %, damping 0.3");
   ea_arm_t def3; /* the experiment was planned on the default arm */
   ea_arm_default(&def3);
