@@ -622,6 +622,15 @@ pub "tests/test_rest_sweep" docs/planner.md \
 pub "tests/test_rest_sweep" docs/planner.md \
   "seeded, payload factor 0..0.5, 2 modes, default settings; the FE at dt 0.5 ms, 3 s): {} of" \
   "$(swn '(\([0-9]*\) within 1 mm')"
+bw=$(grep '^bound 5 mm: ' "$R/test_rest_sweep.out")
+bwn() { echo "$bw" | sed -n "s/.*$1.*/\1/p"; }
+pub "tests/test_rest_sweep (bound 5 mm)" docs/planner.md \
+  "the model's 5 mm plan leaves more than 5 mm in the FE on {} of the {} lines the planner" \
+  "$(bwn '; \([0-9]*\) over it')" "$(bwn 'bound 5 mm: \([0-9]*\) planned')"
+pub "tests/test_rest_sweep (bound 5 mm)" docs/planner.md \
+  "{} of the {} end within 5 mm by the FE at dt 0.5 ms (worst {} mm); the vertical line" \
+  "$(bwn '(\([0-9]*\) within 5 mm')" "$(bwn 'bound 5 mm: \([0-9]*\) planned')" \
+  "$(calc %.3f "$(bwn 'worst \([0-9.]*\) mm;')")"
 brow() { awk -F'|' -v n="$1" 'index($2, " " n " ") == 1 { print $3, $9, $10, $11; exit }' "$R/bench_rest.out"; }
 set -- $(brow "paper line")
 pub "bench/bench_rest (paper line)" docs/planner.md \

@@ -263,8 +263,9 @@ static ea_status_t ea__check_refine(const ea_task_t *t, ea_error_t *err) {
                         "(the task has none)");
   if (t->dynamics.residual_m > 0.0)
     return ea_error_set(err, EA_ERR_INPUT,
-                        "dynamics.refine needs a plan that ends at rest: dynamics.residual_m 0 "
-                        "(got %g m)",
+                        "dynamics.refine sets the refinement of a plan that ends at rest: "
+                        "dynamics.residual_m 0 (got %g m; a residual bound is refined to by the "
+                        "default FE check)",
                         t->dynamics.residual_m);
   if (t->objective == EA_TASK_MIN_VIBRATION)
     return ea_error_set(err, EA_ERR_INPUT,

@@ -322,7 +322,8 @@ static ea_status_t ea__load_dynamics(ea__ydoc_t *d, yaml_node_t *n, ea_task_t *t
                     dy->modes);
   if (dy->refine.enabled && dy->residual_m > 0.0)
     return ea__yerr(d, ea__ymap_get(d, n, "refine"), err, EA_ERR_INPUT,
-                    "key 'refine' needs a plan that ends at rest: residual_m 0 (got %g m)",
+                    "key 'refine' sets the refinement of a plan that ends at rest: residual_m 0 "
+                    "(got %g m; a residual bound is refined to by the default FE check)",
                     dy->residual_m);
   return EA_OK;
 }

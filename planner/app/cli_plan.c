@@ -427,17 +427,19 @@ static void ea__plan_run_free(ea__plan_run_t *r) {
 
 /* The line that says whether the FE checked the plan's promise and what it measured. */
 static void ea__plan_check_text(const ea__plan_run_t *r) {
-  if (r->ref && r->ref->status == EA_OK)
-    printf("checked by the FE (dt %g ms, %g s after the motion): residual peak %.4g mm %s bound "
-           "%.4g mm\n",
-           1e3 * r->ref->fe.dt, r->ref->fe.settle, 1e3 * r->ref->residual_peak_m,
-           r->ref->converged ? "within" : "NOT within", 1e3 * r->ref->settings.tolerance_m);
-  else if (r->ver && isfinite(r->ver->residual_bound_m) && r->ver->status == EA_OK)
+  /* the verdict: a residual bound's (or --verify's) FE transient at the default settings,
+   * else the refinement's last one */
+  if (r->ver && isfinite(r->ver->residual_bound_m) && r->ver->status == EA_OK)
     printf("checked by the FE (dt %g ms, %g s after the motion): residual peak %.4g mm %s bound "
            "%.4g mm\n",
            1e3 * r->ver->settings.dt, r->ver->settings.settle, 1e3 * r->ver->sim.residual_peak,
            r->ver->sim.residual_peak <= r->ver->residual_bound_m ? "within" : "NOT within",
            1e3 * r->ver->residual_bound_m);
+  else if (r->ref && r->ref->status == EA_OK)
+    printf("checked by the FE (dt %g ms, %g s after the motion): residual peak %.4g mm %s bound "
+           "%.4g mm\n",
+           1e3 * r->ref->fe.dt, r->ref->fe.settle, 1e3 * r->ref->residual_peak_m,
+           r->ref->converged ? "within" : "NOT within", 1e3 * r->ref->settings.tolerance_m);
   else if (r->no_check)
     printf("not checked by the FE (%s)\n", r->no_check);
 }
@@ -461,11 +463,9 @@ static void ea__plan_refine_progress(void *data, int evaluation, int max_evaluat
  * the at-rest plan, the refinement's are in its own object. */
 static ea_status_t ea__plan_refine_cli(const ea_task_t *task, ea__plan_run_t *r, ea_error_t *err) {
   ea_plan_info_t *info = &r->info;
-  ea_task_refine_t s;
-  ea_plan_rest_settings(task, &s);
   r->ref = calloc(1, sizeof *r->ref);
   ea_plan_info_t rinfo;
-  const ea_status_t rst = r->ref ? ea_plan_refine(r->pl, &s, &rinfo, r->ref, err) : EA_ERR_NOMEM;
+  const ea_status_t rst = r->ref ? ea_plan_rest_refine(r->pl, &rinfo, r->ref, err) : EA_ERR_NOMEM;
   if (rst) {
     info->status = rst;
     snprintf(info->message, sizeof info->message, "refinement failed: %.480s",
@@ -491,8 +491,9 @@ static ea_status_t ea__plan_refine_cli(const ea_task_t *task, ea__plan_run_t *r,
   info->ipm_fallback = cold.ipm_fallback;
   if (!r->ref->converged) /* the summary's message: what was reached, not "plan found" */
     snprintf(info->message, sizeof info->message,
-             "plan written but NOT at rest: the FE residual peak %.4g mm exceeds the bound %.4g "
+             "plan written but NOT %s: the FE residual peak %.4g mm exceeds the bound %.4g "
              "mm after %d evaluation%s (stopped: %s; duration %.6g s)",
+             task->dynamics.residual_m > 0 ? "within its residual bound" : "at rest",
              1e3 * r->ref->residual_peak_m, 1e3 * r->ref->settings.tolerance_m, r->ref->n_evals,
              r->ref->n_evals == 1 ? "" : "s", r->ref->stop_reason, info->duration_s);
   return EA_OK;
@@ -643,8 +644,9 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
             ea__plan_engine_label(info), info->iterations);
   if (r->ref && !r->ref->converged) {
     fprintf(stderr,
-            "elasticarm plan: error: the plan does not keep its promise of rest: %s (written, "
+            "elasticarm plan: error: the plan does not keep its promise of %s: %s (written, "
             "with its summary: the best plan evaluated)\n",
+            ea_planner_task(r->pl)->dynamics.residual_m > 0 ? "a residual bound" : "rest",
             info->message);
     if (!rc) rc = EA_EXIT_VERIFY;
   }
@@ -693,15 +695,15 @@ int ea__cli_plan(int argc, char **argv) {
   if (ea_planner_dyn_model(r.pl, &di) == EA_OK && di.cache_message[0])
     fprintf(stderr, "elasticarm %s: warning: reduced-model cache: %s\n", cmd, di.cache_message);
   st = ea_planner_solve(r.pl, EA_PLAN_COLD, NULL, &r.info, &err);
-  /* the promise of rest: refined until the FE holds it (explicit refine, or the default
-   * check; not for a shaped plan), or a residual bound checked once */
+  /* the promise of rest or of a residual bound: refined until the FE holds it (explicit
+   * refine, or the default check; not for a shaped plan); a bound's verdict by --verify's FE */
   const ea_rest_check_t check = o.shape ? EA_REST_CHECK_NONE : ea_plan_rest_check(&task);
   if (task.dynamics.modes > 0 && check == EA_REST_CHECK_NONE && !task.dynamics.refine.enabled)
     r.no_check = o.shape                                   ? "a ZV-shaped plan: --verify checks it"
                  : task.objective == EA_TASK_MIN_VIBRATION ? "min_vibration promises no rest"
                  : o.no_verify                             ? "plan --no-verify"
                                                            : "dynamics.verify: false";
-  if (!st && (task.dynamics.refine.enabled || check == EA_REST_CHECK_REFINE))
+  if (!st && (task.dynamics.refine.enabled || check != EA_REST_CHECK_NONE))
     st = ea__plan_refine_cli(&task, &r, &err);
   /* The trajectory to write: the plan's, shaped with --shape; --verify simulates it. */
   ea_traj_t tr = {0};

@@ -344,6 +344,7 @@
   X(ea_task_t, duration_s)                                                                         \
   X(ea_task_t, limits)                                                                             \
   X(ea_task_t, dynamics.modes)                                                                     \
+  X(ea_task_t, dynamics.residual_m)                                                                \
   X(ea_task_t, dynamics.refine.enabled)                                                            \
   X(ea_task_t, dynamics.refine.tolerance_m)                                                        \
   X(ea_task_t, dynamics.verify)                                                                    \
@@ -360,7 +361,8 @@
   X(ea_refine_info_t, residual_peak_m)                                                             \
   X(ea_refine_info_t, residual_rms_m)                                                              \
   X(ea_refine_info_t, time_s)                                                                      \
-  X(ea_refine_info_t, message)
+  X(ea_refine_info_t, message)                                                                     \
+  X(ea_refine_info_t, settings.tolerance_m)
 
 typedef struct {
   const char *type;

@@ -228,9 +228,11 @@ ea_status_t ea_planner_dyn_model(const ea_planner_t *pl, ea_plan_dyn_info_t *inf
 /** The planner's reduced-model table (NULL when the task has no dynamics); owned by pl. */
 const ea_rom_table_t *ea_planner_rom_table(const ea_planner_t *pl);
 /** A task with dynamics that ends at rest: hold the modal state at the goal at (eta_i,
- *  eta_i') [sqrt(kg) m, sqrt(kg) m / s] (K values each; NULL = zeros) instead of zero. An
+ *  eta_i') [sqrt(kg) m, sqrt(kg) m / s] (K values each; NULL = zeros) instead of zero; with
+ *  a residual bound (residual_m > 0): keep it within the bound about (eta, eta_rate). An
  *  FE-in-the-loop refinement uses it to cancel what the reduced model misses: the next
- *  ea_planner_solve (EA_PLAN_WARM from the last plan) plans for the new target. */
+ *  ea_planner_solve (EA_PLAN_WARM from the last plan) plans for the new target. EA_ERR_ARG
+ *  without dynamics or with min_vibration. */
 ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
                                           const double *eta_rate, ea_error_t *err);
 /** The same for model `model` of a robust plan (dynamics.robust; 0 = the nominal, as

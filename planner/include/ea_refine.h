@@ -105,16 +105,19 @@ typedef struct ea_refine_info {
 } ea_refine_info_t;
 
 /** Refine the planner's plan against the nonlinear FE transient (docs/planner.md). The task
- *  must have dynamics that end at rest (dynamics.modes >= 1, residual_m 0, not
- *  min_vibration). Evaluation 0 is the at-rest plan (terminal targets zero, re-planned warm:
- *  no iteration when the planner already holds it); then the method of s moves the targets
- *  of the first s->modes modes of every model (the nominal; with dynamics.robust also the
- *  four corners' centres) until the FE residual peak is at most s->tolerance_m at the
- *  nominal arm and at most robust residual_m + s->tolerance_m at each corner arm (score
- *  <= 1), or s->max_evaluations evaluations were spent, or the next evaluation would pass
- *  s->max_time_s. The planner is left holding the evaluated plan of least score among the
- *  accepted ones (re-planned once more if it is not the last one planned, and then measured
- *  again: info->evals[info->returned]); that plan passed every check of ea_planner_solve.
+ *  must have dynamics (dynamics.modes >= 1, not min_vibration) that end at rest
+ *  (residual_m 0) or within a residual bound (residual_m > 0: the planner keeps the model's
+ *  terminal state within the bound about the target centre, and the tolerance is the bound,
+ *  whatever s->tolerance_m says). Evaluation 0 is the plan itself (terminal targets zero,
+ *  re-planned warm: no iteration when the planner already holds it); then the method of s
+ *  moves the targets of the first s->modes modes of every model (the nominal; with
+ *  dynamics.robust also the four corners' centres) by the model's error at the goal until
+ *  the FE residual peak is at most the tolerance at the nominal arm and at most robust
+ *  residual_m + s->tolerance_m at each corner arm (score <= 1), or s->max_evaluations
+ *  evaluations were spent, or the next evaluation would pass s->max_time_s. The planner is left
+ * holding the evaluated plan of least score among the accepted ones (re-planned once more if it is
+ * not the last one planned, and then measured again: info->evals[info->returned]); that plan passed
+ * every check of ea_planner_solve.
  * @param s settings (NULL: the task's dynamics.refine; its enabled flag is ignored)
  * @param plan_info the returned plan's solve info (may be NULL)
  * @return EA_OK when the planner holds a refined (or the unrefined) plan, also if the
@@ -127,8 +130,9 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
 /** What the FE checks of a task's plan by default (docs/planner.md, "Keeping the promise of
  *  rest"): EA_REST_CHECK_NONE (no dynamics, min_vibration, or dynamics.verify 0),
  *  EA_REST_CHECK_REFINE (ends at rest: ea_plan_refine with ea_plan_rest_settings until the FE
- *  residual is within the bound) or EA_REST_CHECK_BOUND (residual_m > 0: one FE transient
- *  against it). */
+ *  residual is within EA_TASK_REST_TOLERANCE_M) or EA_REST_CHECK_BOUND (residual_m > 0: the
+ *  same refinement until the FE residual is within residual_m, then the verdict of one FE
+ *  transient at ea_sim_settings_default's settings, `plan --verify`'s). */
 typedef enum ea_rest_check {
   EA_REST_CHECK_NONE = 0,
   EA_REST_CHECK_REFINE = 1,
@@ -136,10 +140,16 @@ typedef enum ea_rest_check {
 } ea_rest_check_t;
 ea_rest_check_t ea_plan_rest_check(const ea_task_t *task);
 
-/** The refinement settings of the default check of a plan that ends at rest: the task's
+/** The refinement settings of the default check of a plan's promise: the task's
  *  dynamics.refine when it is enabled (tolerance_m 5e-5 m by default), else its defaults
- *  with tolerance_m = EA_TASK_REST_TOLERANCE_M (0.5 mm). */
+ *  with tolerance_m = EA_TASK_REST_TOLERANCE_M (0.5 mm); with residual_m > 0, tolerance_m is
+ *  residual_m. */
 void ea_plan_rest_settings(const ea_task_t *task, ea_task_refine_t *s);
+
+/** The default check of a plan's promise (ea_plan_rest_check not EA_REST_CHECK_NONE):
+ *  ea_plan_refine with ea_plan_rest_settings of the planner's task. */
+ea_status_t ea_plan_rest_refine(ea_planner_t *pl, ea_plan_info_t *plan_info, ea_refine_info_t *info,
+                                ea_error_t *err);
 
 /** The JSON summary of ea_plan_summary_write with a "refine" object (every evaluation:
  *  parameters, targets, re-plan, FE residual, times); refine NULL = ea_plan_summary_write. */

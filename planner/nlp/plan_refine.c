@@ -508,10 +508,10 @@ static ea_status_t ea__refine_check(const ea__refine_t *R, ea_error_t *err) {
              "refinement needs a task with dynamics (dynamics.modes >= 1)");
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
   }
-  if (task->dynamics.residual_m > 0.0 || task->objective == EA_TASK_MIN_VIBRATION ||
-      R->s.modes < 0 || R->s.modes > task->dynamics.modes) {
+  if (task->objective == EA_TASK_MIN_VIBRATION || R->s.modes < 0 ||
+      R->s.modes > task->dynamics.modes) {
     snprintf(info->message, sizeof info->message,
-             "refinement needs a plan that ends at rest (dynamics.residual_m 0, not "
+             "refinement needs a plan that promises rest or a residual bound (not "
              "min_vibration) and 0 (every mode) <= refine.modes <= dynamics.modes = %d (got %d)",
              task->dynamics.modes, R->s.modes);
     return ea_error_set(err, EA_ERR_ARG, "%s", info->message);
@@ -688,7 +688,16 @@ ea_rest_check_t ea_plan_rest_check(const ea_task_t *task) {
 void ea_plan_rest_settings(const ea_task_t *task, ea_task_refine_t *s) {
   *s = task->dynamics.refine;
   if (!s->enabled) s->tolerance_m = EA_TASK_REST_TOLERANCE_M;
+  if (task->dynamics.residual_m > 0.0) s->tolerance_m = task->dynamics.residual_m;
   s->enabled = 1;
+}
+
+ea_status_t ea_plan_rest_refine(ea_planner_t *pl, ea_plan_info_t *plan_info, ea_refine_info_t *info,
+                                ea_error_t *err) {
+  if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_plan_rest_refine: NULL planner");
+  ea_task_refine_t s;
+  ea_plan_rest_settings(ea_planner_task(pl), &s);
+  return ea_plan_refine(pl, &s, plan_info, info, err);
 }
 
 ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_info_t *plan_info,
@@ -705,6 +714,9 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
   R.info = info;
   R.s = s ? *s : task->dynamics.refine;
   R.s.enabled = 1;
+  /* a residual bound: the planner keeps the model's state within it about the target centre,
+   * which the refinement moves by the model's error; the FE residual is held to the bound */
+  if (task->dynamics.residual_m > 0.0) R.s.tolerance_m = task->dynamics.residual_m;
   R.held = R.best = -1;
   info->settings = R.s;
   ea_plan_dyn_info_t di;

@@ -548,11 +548,12 @@ ea_status_t ea_planner_set_terminal_modes(ea_planner_t *pl, const double *eta,
 ea_status_t ea_planner_set_terminal_modes_model(ea_planner_t *pl, int model, const double *eta,
                                                 const double *eta_rate, ea_error_t *err) {
   if (!pl) return ea_error_set(err, EA_ERR_ARG, "ea_planner_set_terminal_modes: NULL planner");
-  if (model == 0 &&
-      (!pl->rom || pl->task.dynamics.residual_m > 0 || pl->task.objective == EA_TASK_MIN_VIBRATION))
+  /* at rest (residual_m 0): the state at the goal is the target; with a residual bound: the
+   * bound's centre */
+  if (model == 0 && (!pl->rom || pl->task.objective == EA_TASK_MIN_VIBRATION))
     return ea_error_set(err, EA_ERR_ARG,
-                        "terminal modal targets need a task with dynamics that ends at rest "
-                        "(residual_m 0, not min_vibration)");
+                        "terminal modal targets need a task with dynamics that ends at rest or "
+                        "within a residual bound (not min_vibration)");
   if (model != 0 &&
       (!pl->rom || model < 1 || model >= pl->M || pl->task.objective == EA_TASK_MIN_VIBRATION))
     return ea_error_set(err, EA_ERR_ARG,

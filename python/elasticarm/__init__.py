@@ -12,14 +12,14 @@ the library's errors as exceptions carrying its message.
 
 from ._config import VERSION as __version__
 from ._core import (Arm, Record, default_arm_file, frequencies, shape, statics, workspace)
-from ._lib import (LIBRARY_PATH, ElasticarmError, InfeasibleError, InputError, SolverError,
-                   ffi as _ffi, lib as _lib)
+from ._lib import (LIBRARY_PATH, ElasticarmError, InfeasibleError, InputError, PromiseError,
+                   SolverError, ffi as _ffi, lib as _lib)
 from ._plan import COLUMNS, Plan, Task, Trajectory, plan, simulate
 from ._study import StudyResult, study
 
 __all__ = [
     "Arm", "COLUMNS", "ElasticarmError", "InfeasibleError", "InputError", "LIBRARY_PATH",
-    "Plan", "Record", "SolverError", "StudyResult", "Task", "Trajectory", "default_arm_file",
+    "Plan", "PromiseError", "Record", "SolverError", "StudyResult", "Task", "Trajectory", "default_arm_file",
     "frequencies", "library_version", "plan", "shape", "simulate", "statics", "study",
     "workspace",
 ]

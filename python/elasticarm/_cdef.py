@@ -403,6 +403,8 @@ ea_status_t ea_planner_trajectory(const ea_planner_t *pl, ea_traj_t *tr, ea_erro
 
 /* ea_refine.h: ea_refine_info_t is not mirrored */
 typedef struct ea_refine_info ea_refine_info_t;
+ea_status_t ea_plan_rest_refine(ea_planner_t *pl, ea_plan_info_t *plan_info, void *info,
+                                ea_error_t *err);
 ea_status_t ea_plan_refine(ea_planner_t *pl, const void *s, ea_plan_info_t *plan_info,
                            ea_refine_info_t *info, ea_error_t *err);
 int ea_plan_rest_check(const ea_task_t *task);
@@ -419,6 +421,7 @@ typedef struct ea_plan_verify {
   char failure[512];
   double base_travel_rad;
 } ea_plan_verify_t;
+void ea_plan_verify_judge(ea_plan_verify_t *v);
 ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,
                                      const ea_refine_info_t *refine, const void *shape,
                                      const ea_plan_verify_t *verify, const char *run_id,
@@ -495,7 +498,8 @@ OPAQUE_FIELDS = {
         ("start", "ea_task_point_t"), ("goal", "ea_task_point_t"), ("n_via", "int"),
         ("path", "int"), ("objective", "int"), ("duration_s", "double"),
         ("limits", "ea_task_limits_t"), ("dynamics.modes", "int"),
-        ("dynamics.refine.enabled", "int"), ("dynamics.refine.tolerance_m", "double"),
+        ("dynamics.residual_m", "double"), ("dynamics.refine.enabled", "int"),
+        ("dynamics.refine.tolerance_m", "double"),
         ("dynamics.verify", "int"), ("knots", "int"),
     ),
     "ea_study_t": (("name", "char[128]"), ("n_cases", "long")),
@@ -504,6 +508,6 @@ OPAQUE_FIELDS = {
         ("n_evals", "int"), ("duration_before_s", "double"),
         ("residual_peak_before_m", "double"), ("duration_s", "double"),
         ("residual_peak_m", "double"), ("residual_rms_m", "double"), ("time_s", "double"),
-        ("message", "char[512]"),
+        ("message", "char[512]"), ("settings.tolerance_m", "double"),
     ),
 }

@@ -66,6 +66,17 @@ class SolverError(ElasticarmError):
     EA_ERR_INTEGRATION, EA_ERR_BACKEND, ..."""
 
 
+class PromiseError(ElasticarmError):
+    """A plan was made, but the FE transient says it does not keep its promise: rest within
+    the bound, the task's residual bound, or a taut cable (`elasticarm plan` exits 3 on it).
+    e.plan is the plan (the best one evaluated: write it to look at it); str(e) says what
+    was reached and what the bound was."""
+
+    def __init__(self, message, plan):
+        super().__init__(STATUS["EA_ERR_NOCONV"], message)
+        self.plan = plan
+
+
 _CLASSES = {
     "EA_ERR_ARG": InputError, "EA_ERR_PARSE": InputError, "EA_ERR_INPUT": InputError,
     "EA_ERR_IO": InputError, "EA_ERR_INFEASIBLE": InfeasibleError,

@@ -7,8 +7,8 @@ import os
 import numpy as np
 
 from ._core import Arm, Record, default_arm_file
-from ._lib import (STATUS, Opaque, check, cpath, error, ffi, lib, nan_to_none, new_error, struct_dict,
-                   text)
+from ._lib import (STATUS, Opaque, PromiseError, check, cpath, error, ffi, lib, nan_to_none,
+                   new_error, struct_dict, text)
 
 #: Trajectory columns in file order, with their units ("t_s", "cable_length_m", ...).
 COLUMNS = tuple(ffi.string(lib.ea_traj_column_name(c)).decode() for c in range(18))
@@ -219,7 +219,9 @@ class Plan:
             v = verify_c
             self.verify = Record(
                 status=ffi.string(lib.ea_status_name(v.status)).decode(),
-                message=text(v.message), residual_peak_m=v.sim.residual_peak,
+                message=text(v.message), passed=bool(v.passed), failure=text(v.failure),
+                residual_bound_m=nan_to_none(v.residual_bound_m),
+                residual_peak_m=v.sim.residual_peak,
                 residual_rms_m=v.sim.residual_rms, time_to_rest_s=nan_to_none(v.sim.time_to_rest),
                 damping_ratio=v.sim.damping_ratio,
                 predicted_residual_m=nan_to_none(v.predicted_residual_m),
@@ -262,17 +264,26 @@ def _run_id():
                            int.from_bytes(os.urandom(4), "little"))
 
 
-def plan(task, *, refine=None, verify=False, knots=None, default_arm=None):
+def plan(task, *, refine=None, verify=None, knots=None, default_arm=None):
     """Plan a task as `elasticarm plan` does (ea_planner_alloc, ea_planner_solve from
-    cold). task: a Task, a task file's path or a dict. refine: True runs the
-    FE-in-the-loop refinement of an at-rest plan (ea_plan_refine; the task's key
-    dynamics.refine when None); None also checks a plan that ends at rest by the FE
-    and refines it within 0.5 mm, as `elasticarm plan` does by default (unless the
-    task's dynamics.verify is false); False: neither; verify: run the FE transient of the plan
-    (ea_traj_simulate with its defaults, `plan --verify`); knots: override the task's.
+    cold), with the same checks of what the plan promises.
+
+    task: a Task, a task file's path or a dict. knots: override the task's.
+    refine: True runs the FE-in-the-loop refinement of an at-rest plan (ea_plan_refine)
+    with the task's dynamics.refine settings; False: no refinement and no check of rest;
+    None (default): as the CLI, the task's dynamics.refine, else a plan that ends at rest
+    is checked by the FE and refined until its residual is within 0.5 mm (unless the
+    task's dynamics.verify is false).
+    verify: True runs the FE transient of the plan (ea_traj_simulate with its defaults,
+    `plan --verify`); False: never; None (default): when the task bounds the residual
+    (dynamics.residual_m > 0), as the CLI checks that bound.
 
     Raises InfeasibleError / SolverError with the planner's message (which constraint,
-    at which knot, by how much); the exception's .info holds the solve's info."""
+    at which knot, by how much); the exception's .info holds the solve's info.
+    Raises PromiseError (where the CLI exits 3) when a plan was made but the FE says it
+    does not keep its promise: the refinement did not bring it within its bound, or the
+    FE transient exceeded the residual bound or let the cable go slack. Its .plan is the
+    plan (the best one evaluated)."""
     if isinstance(task, dict):
         task = Task.from_dict(task, default_arm=default_arm)
     elif not isinstance(task, Task):
@@ -280,12 +291,13 @@ def plan(task, *, refine=None, verify=False, knots=None, default_arm=None):
     task = task.copy()
     if knots is not None:
         task.knots = knots
+    rest_check = lib.ea_plan_rest_check(task._o.ptr)  # 0 none, 1 at rest, 2 residual bound
     if refine is not None:
         task._o.set("dynamics.refine.enabled", 1 if refine else 0)
-    elif (not task._o.get("dynamics.refine.enabled")
-          and lib.ea_plan_rest_check(task._o.ptr) == 1):  # EA_REST_CHECK_REFINE
-        task._o.set("dynamics.refine.enabled", 1)
-        task._o.set("dynamics.refine.tolerance_m", 5e-4)  # EA_TASK_REST_TOLERANCE_M
+    # as the CLI: the task's refinement, else the default check of the promise
+    default_check = refine is None and (task._o.get("dynamics.refine.enabled") or rest_check)
+    if verify is None:
+        verify = refine is not False and rest_check == 2
     task.check()
     err = new_error()
     pp = ffi.new("ea_planner_t **")
@@ -296,10 +308,11 @@ def plan(task, *, refine=None, verify=False, knots=None, default_arm=None):
     if st != 0:
         _raise_plan(st, text(info.message) or text(err.msg), info)
     ref = None
-    if task._o.get("dynamics.refine.enabled"):
+    if default_check or task._o.get("dynamics.refine.enabled"):
         ref = Opaque("ea_refine_info_t")
         rinfo = ffi.new("ea_plan_info_t *")
-        st = lib.ea_plan_refine(pl, ffi.NULL, rinfo, ref.ptr, err)
+        st = (lib.ea_plan_rest_refine(pl, rinfo, ref.ptr, err) if default_check
+              else lib.ea_plan_refine(pl, ffi.NULL, rinfo, ref.ptr, err))
         if st != 0:
             _raise_plan(st, "refinement failed: " + ref.get("message"), info)
         # as the CLI: the refined plan's info, the at-rest solve's iterations and times
@@ -319,11 +332,30 @@ def plan(task, *, refine=None, verify=False, knots=None, default_arm=None):
                                           ffi.addressof(ver, "sim"), verr)
         if ver.status != 0:
             ver.message = ffi.string(verr.msg)
+        # the bounds the plan claims, as the CLI's: the task's residual bound, else the
+        # refinement's tolerance; the cable taut at the task's tension limit
+        residual_m = task._o.get("dynamics.residual_m")
+        ver.residual_bound_m = (residual_m if task._o.get("dynamics.modes") > 0 and residual_m > 0
+                                else ref.get("settings.tolerance_m") if ref is not None
+                                else math.nan)
+        ver.tension_bound_N = task._o.get("limits").tension_min
+        lib.ea_plan_verify_judge(ver)
         ver.predicted_residual_m = info.predicted_residual_m
         ver.predicted_time_to_rest_s = (info.predicted_time_to_rest_s
                                         if math.isfinite(info.predicted_residual_m)
                                         else math.nan)
-    return Plan(task, pl, info, Trajectory._from_c(tr), ref, ver)
+    p = Plan(task, pl, info, Trajectory._from_c(tr), ref, ver)
+    if ref is not None and not p.refine.converged:
+        raise PromiseError(
+            "the plan does not keep its promise of %s: the FE residual peak %.4g mm exceeds "
+            "the bound %.4g mm after %d evaluation%s (stopped: %s; duration %.6g s)"
+            % ("a residual bound" if rest_check == 2 else "rest",
+               1e3 * p.refine.residual_peak_m, 1e3 * ref.get("settings.tolerance_m"),
+               p.refine.n_evals, "" if p.refine.n_evals == 1 else "s", p.refine.stop_reason,
+               p.duration_s), p)
+    if ver is not None and not ver.passed:
+        raise PromiseError("the FE check of the plan failed: " + text(ver.failure), p)
+    return p
 
 
 def _raise_plan(st, message, info):

@@ -62,6 +62,59 @@ def test_at_rest_checked_by_the_fe_by_default():
     assert ea.plan(example("paper-line-rest.yaml"), refine=False).refine is None
 
 
+def _paper_line_rest_with(tmp_path, dynamics):
+    """paper-line-rest.yaml with its dynamics block replaced; the arm file by its path."""
+    text = read(example("paper-line-rest.yaml")).decode()
+    text = text.replace("../../data/elasticarm.yaml", ARM)
+    text = text[:text.index("dynamics:")] + dynamics
+    path = tmp_path / "task.yaml"
+    path.write_text(text)
+    return path
+
+
+def test_a_broken_promise_of_rest_raises_where_the_cli_exits_3(tmp_path):
+    # one evaluation (the FE check itself, 0.23 mm) against a 1 um tolerance: the
+    # refinement stops short of its bound; the CLI writes the plan and exits 3
+    task = _paper_line_rest_with(tmp_path, "dynamics:\n  modes: 2\n  residual_m: 0\n"
+                                 "  refine:\n    tolerance_m: 1.0e-6\n    max_evaluations: 1\n")
+    r = cli("plan", task, "-o", tmp_path / "c.csv", "--quiet", check=False)
+    assert r.returncode == 3 and "does not keep its promise of rest" in r.stderr
+    with pytest.raises(ea.PromiseError) as e:
+        ea.plan(task)
+    assert "exceeds the bound 0.001 mm after 1 evaluation" in str(e.value)
+    p = e.value.plan  # the plan is there to look at, as the CLI's file is
+    assert not p.refine.converged and p.refine.residual_peak_m > 1e-4
+    p.write(tmp_path / "py.csv")
+    assert strip_run_id(read(tmp_path / "py.csv")) == strip_run_id(read(tmp_path / "c.csv"))
+    assert ea.plan(task, refine=False).refine is None  # no check: no promise judged
+
+
+def test_a_residual_bound_is_refined_to_and_checked_as_the_cli_does(tmp_path):
+    # the diagonal (0.25, -0.45) -> (0.6, -0.3) at payload factor 0.25 allowed 5 mm: the
+    # model's plan leaves about 9.8 mm in the FE; the default check refines it to the bound,
+    # then one FE transient at --verify's settings gives the verdict (the CLI: exit 0)
+    text = read(example("paper-line-rest.yaml")).decode().replace("../../data/elasticarm.yaml", ARM)
+    text = (text.replace("tip: [0.3, -0.2]", "tip: [0.25, -0.45]")
+            .replace("tip: [0.6, -0.2]", "tip: [0.6, -0.3]")
+            .replace("payload_factor: 0.0", "payload_factor: 0.25")
+            .replace("residual_m: 0", "residual_m: 0.005"))
+    task = tmp_path / "diagonal.yaml"
+    task.write_text(text)
+    cli("plan", task, "-o", tmp_path / "c.csv", "--quiet")
+    p = ea.plan(task)
+    assert p.refine.converged and p.refine.residual_peak_before_m > 0.008
+    assert p.verify.passed and p.verify.residual_bound_m == 0.005
+    assert p.verify.residual_peak_m <= 0.005
+    p.write(tmp_path / "py.csv")
+    assert strip_run_id(read(tmp_path / "py.csv")) == strip_run_id(read(tmp_path / "c.csv"))
+    # unchecked on request: the model's own plan, which the FE would refuse
+    q = ea.plan(task, refine=False)
+    assert q.refine is None and q.verify is None
+    with pytest.raises(ea.PromiseError) as e:
+        ea.plan(task, refine=False, verify=True)
+    assert "exceeds the bound 5 mm" in str(e.value) and e.value.plan.verify.residual_peak_m > 0.008
+
+
 def test_trajectory_columns_are_the_files(tmp_path):
     p = ea.plan(example("paper-line.yaml"))
     tr = p.trajectory
