@@ -84,6 +84,47 @@ static double write_read_check(const ea_task_t *t, const ea_traj_t *tr, ea_traj_
   return w;
 }
 
+/* A robust task with a residual bound (residual_m 5 mm), refined by the default check: the
+ * nominal is held to 5 mm, each corner to its robust residual_m + 0.5 mm (not + 5 mm), and
+ * the fine FE at the corners agrees. */
+static void bound_corners(const ea_task_t *robust, ea_refine_info_t *ri) {
+  ea_task_t t = *robust;
+  t.dynamics.residual_m = 0.005;
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t pi;
+  ea_traj_t tr;
+  memset(&tr, 0, sizeof tr);
+  ea_error_t e = {0};
+  ea_status_t st = ea_task_check(&t, &e);
+  if (!st) st = ea_planner_alloc(&t, &pl, &e);
+  if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pi, &e);
+  if (!st) st = ea_plan_rest_refine(pl, &pi, ri, &e);
+  if (!st) st = ea_planner_trajectory(pl, &tr, &e);
+  double p[5] = {NAN, NAN, NAN, NAN, NAN};
+  if (!st) fe_corners(&t, &tr, p);
+  if (!st) print_peaks("residual bound 5 mm, refined", ri->duration_s, p);
+  const double corner = t.dynamics.robust_residual_m + EA_TASK_REST_TOLERANCE_M;
+  char what[1200];
+  snprintf(what, sizeof what,
+           "residual bound 5 mm: refined (%s); bounds nominal %.4g mm, corners %.4g mm (robust "
+           "residual_m + 0.5 mm)",
+           st ? e.msg : ri->message, 1e3 * ri->allowed_m[0], 1e3 * ri->allowed_m[1]);
+  ea_test_true(!st && ri->converged && ri->allowed_m[0] == 0.005 &&
+                   fabs(ri->allowed_m[1] - corner) < 1e-15 &&
+                   fabs(ri->allowed_m[4] - corner) < 1e-15,
+               what);
+  double worst = 0.0;
+  for (int c = 1; c < 5; ++c)
+    worst = fmax(worst, p[c]);
+  snprintf(what, sizeof what,
+           "residual bound 5 mm: fine FE (dt 0.25 ms, 3 s) nominal %.4f mm <= 5 mm, worst corner "
+           "%.4f mm <= %.4g mm + 0.1 mm (the loop's FE against the fine one)",
+           1e3 * p[0], 1e3 * worst, 1e3 * corner);
+  ea_test_true(p[0] <= 0.005 && worst <= corner + 1e-4, what);
+  ea_traj_free(&tr);
+  ea_planner_free(pl);
+}
+
 int main(void) {
   const char *s = getenv("EA_SOURCE_DIR");
   snprintf(src, sizeof src, "%s", s ? s : ".");
@@ -262,6 +303,8 @@ int main(void) {
   ea_traj_free(&tr);
   ea_traj_free(&back);
   ea_planner_free(pl);
+  pl = NULL;
+  bound_corners(&t, ri);
   free(ri);
   return ea_test_summary("test_refine_robust");
 }

@@ -113,11 +113,12 @@ typedef struct ea_refine_info {
  *  moves the targets of the first s->modes modes of every model (the nominal; with
  *  dynamics.robust also the four corners' centres) by the model's error at the goal until
  *  the FE residual peak is at most the tolerance at the nominal arm and at most robust
- *  residual_m + s->tolerance_m at each corner arm (score <= 1), or s->max_evaluations
- *  evaluations were spent, or the next evaluation would pass s->max_time_s. The planner is left
- * holding the evaluated plan of least score among the accepted ones (re-planned once more if it is
- * not the last one planned, and then measured again: info->evals[info->returned]); that plan passed
- * every check of ea_planner_solve.
+ *  residual_m + s->tolerance_m at each corner arm (with a residual bound: robust residual_m
+ *  + EA_TASK_REST_TOLERANCE_M) (score <= 1), or s->max_evaluations evaluations were spent,
+ *  or the next evaluation would pass s->max_time_s. The planner is left holding the
+ *  evaluated plan of least score among the accepted ones (re-planned once more if it is not
+ *  the last one planned, and then measured again: info->evals[info->returned]); that plan
+ *  passed every check of ea_planner_solve.
  * @param s settings (NULL: the task's dynamics.refine; its enabled flag is ignored)
  * @param plan_info the returned plan's solve info (may be NULL)
  * @return EA_OK when the planner holds a refined (or the unrefined) plan, also if the

@@ -568,7 +568,11 @@ static ea_status_t ea__refine_models(ea__refine_t *R, const ea_plan_dyn_info_t *
     R->arm[j].EI = di->model_EI[j];
     info->model_tip_mass_kg[j] = di->model_tip_mass[j];
     info->model_EI_Nm2[j] = di->model_EI[j];
-    info->allowed_m[j] = j ? task->dynamics.robust_residual_m + R->s.tolerance_m : R->s.tolerance_m;
+    /* a corner: its model's bound plus the tolerance at rest (with a residual bound, which is
+     * the nominal's tolerance, the default check's tolerance at rest) */
+    const double slack =
+        task->dynamics.residual_m > 0.0 ? EA_TASK_REST_TOLERANCE_M : R->s.tolerance_m;
+    info->allowed_m[j] = j ? task->dynamics.robust_residual_m + slack : R->s.tolerance_m;
     for (int i = 0; i < R->K; ++i) {
       R->w[j][i] = sqrt(fmax(v.omega2[i], 0.0));
       R->tipn[j][i] = hypot(v.tip[i][0], v.tip[i][1]);
