@@ -622,6 +622,22 @@ pub "tests/test_rest_sweep" docs/planner.md \
 pub "tests/test_rest_sweep" docs/planner.md \
   "seeded, payload factor 0..0.5, 2 modes, default settings; the FE at dt 0.5 ms, 3 s): {} of" \
   "$(swn '(\([0-9]*\) within 1 mm')"
+du=$(grep '^durations: ' "$R/test_rest_sweep.out")
+dun() { echo "$du" | sed -n "s/.*$1.*/\1/p"; }
+pub "tests/test_rest_sweep (durations)" docs/planner.md \
+  "quasi-static minimum in the median (p90 {}, worst {}, over the {} plans that keep their" \
+  "$(dun 'p90 \([0-9.]*\),')" "$(dun 'worst \([0-9.]*\)')" "$(dun 'minimum, \([0-9]*\) plans')"
+pub "tests/test_rest_sweep (durations)" docs/planner.md \
+  "Arriving at rest costs time: the checked at-rest plans take {} times the" \
+  "$(dun 'median \([0-9.]*\),')"
+db=$(grep '^durations, bound 5 mm: ' "$R/test_rest_sweep.out")
+dbn() { echo "$db" | sed -n "s/.*$1.*/\1/p"; }
+pub "tests/test_rest_sweep (durations, bound 5 mm)" docs/planner.md \
+  "Allowed 5 mm (below; the sweep's first 20 lines), the median is {} (worst" \
+  "$(dbn 'median \([0-9.]*\),')"
+pub "tests/test_rest_sweep (durations, bound 5 mm)" docs/planner.md \
+  "{}): on these lines the quasi-static plan rings with tens of millimetres, so a 5 mm" \
+  "$(dbn 'worst \([0-9.]*\)')"
 bw=$(grep '^bound 5 mm: ' "$R/test_rest_sweep.out")
 bwn() { echo "$bw" | sed -n "s/.*$1.*/\1/p"; }
 pub "tests/test_rest_sweep (bound 5 mm)" docs/planner.md \

@@ -63,7 +63,23 @@ typedef struct {
   int planned, refused_check, refused_plan, refused_rest, within, over_before;
   double worst_mm, times[128];
   int n_times;
+  double ratios[128]; /* checked plan's duration / the quasi-static minimum */
+  int n_ratios;
 } tally_t;
+
+/* The quasi-static minimum time of t (no dynamics); NAN when it cannot be planned. */
+static double quasi_static_min(const ea_task_t *t) {
+  ea_task_t q = *t;
+  q.dynamics.modes = 0;
+  q.dynamics.residual_m = 0.0;
+  ea_planner_t *pl = NULL;
+  ea_plan_info_t pi;
+  ea_error_t e = {0};
+  const int ok =
+      !ea_planner_alloc(&q, &pl, &e) && !ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pi, &e);
+  ea_planner_free(pl);
+  return ok ? pi.duration_s : NAN;
+}
 
 /* Plan t with the default check; counted within when it ends within its promise by the
  * converged FE: 1 mm at rest, else its residual bound. */
@@ -103,6 +119,8 @@ static void run_task(const char *name, const ea_task_t *t, tally_t *y) {
   } else {
     const double bound = t->dynamics.residual_m > 0 ? t->dynamics.residual_m : 1e-3;
     const double peak = fe_converged(t, &tr);
+    const double qs = quasi_static_min(t);
+    if (y->n_ratios < 128 && isfinite(qs)) y->ratios[y->n_ratios++] = ri->duration_s / qs;
     y->worst_mm = fmax(y->worst_mm, 1e3 * peak);
     y->within += peak <= bound;
     y->over_before += ri->residual_peak_before_m > bound;
@@ -207,12 +225,18 @@ int main(void) {
   sweep(&base, 50, 0, &y);
   sweep(&base, 10, 2, &y);
   qsort(y.times, (size_t)y.n_times, sizeof(double), cmp);
+  qsort(y.ratios, (size_t)y.n_ratios, sizeof(double), cmp);
   printf("sweep: %d planned (%d within 1 mm, worst %.4f mm, %d not within the bound in the loop: "
          "refused), %d refused by the task check, %d by the planner; time per verified plan "
          "median %.0f ms, worst %.0f ms\n",
          y.planned, y.within, y.worst_mm, y.refused_rest, y.refused_check, y.refused_plan,
          y.n_times ? 1e3 * y.times[y.n_times / 2] : NAN,
          y.n_times ? 1e3 * y.times[y.n_times - 1] : NAN);
+  printf("durations: the checked plan over the quasi-static minimum, %d plans: median %.3f, p90 "
+         "%.3f, worst %.3f\n",
+         y.n_ratios, y.n_ratios ? y.ratios[y.n_ratios / 2] : NAN,
+         y.n_ratios ? y.ratios[(9 * y.n_ratios) / 10] : NAN,
+         y.n_ratios ? y.ratios[y.n_ratios - 1] : NAN);
   ea_test_true(y.planned >= 50 && y.within == y.planned - y.refused_rest,
                "sweep: every planned task whose check passed ends within 1 mm by the converged FE");
   ea_test_true(y.refused_rest <= 2, "sweep: at most 2 of 60 refused by the check (exit 3)");
@@ -231,5 +255,10 @@ int main(void) {
                "bound 5 mm: every planned task whose check passed ends within 5 mm by the "
                "converged FE");
   ea_test_true(b.refused_rest <= 1, "bound 5 mm: at most 1 of 20 refused by the check");
+  qsort(b.ratios, (size_t)b.n_ratios, sizeof(double), cmp);
+  printf("durations, bound 5 mm: the checked plan over the quasi-static minimum, %d plans: "
+         "median %.3f, worst %.3f\n",
+         b.n_ratios, b.n_ratios ? b.ratios[b.n_ratios / 2] : NAN,
+         b.n_ratios ? b.ratios[b.n_ratios - 1] : NAN);
   return ea_test_summary("test_rest_sweep");
 }
