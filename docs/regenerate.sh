@@ -656,6 +656,10 @@ set -- $(brow "random straight lines")
 pub "bench/bench_rest (random straight lines)" docs/planner.md \
   "| random straight lines | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {} / {*} | {*} |" \
   "$1" "$2" "$(calc %.4f "$5")"
+set -- $(brow "the same, residual_m 5 mm")
+pub "bench/bench_rest (residual_m 5 mm)" docs/planner.md \
+  "| the same, residual_m 5 mm | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {} / {*} | {*} |" \
+  "$1" "$2" "$(calc %.4f "$5")"
 
 # --- docs/planner.md: bench_dyn (section 1: knots; 3: grid; 4: replanning)
 dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $7, $8, $10; exit }' "$R/bench_dyn.out"; }
