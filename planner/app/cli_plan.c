@@ -265,14 +265,15 @@ static void ea__plan_verify(const ea_planner_t *pl, const ea_task_t *task, const
   }
 }
 
-/* The verify line of the text summary. */
-static void ea__plan_verify_text(const ea_plan_verify_t *v) {
+/* The verify lines of the text summary; refined: the refinement moved the model's terminal
+ * targets (its prediction then describes the model's own state, not the FE's). */
+static void ea__plan_verify_text(const ea_plan_verify_t *v, int refined) {
   if (v->status) {
     printf("verify: the FE transient failed: %s\n", v->message);
     return;
   }
   const ea_sim_info_t *si = &v->sim;
-  char rest[160], pred[160];
+  char rest[160], pred[200];
   if (isfinite(si->time_to_rest) && si->time_to_rest <= si->duration)
     snprintf(rest, sizeof rest, "within %.3g mm of rest when the motion ends",
              1e3 * v->settings.rest_tolerance);
@@ -283,8 +284,9 @@ static void ea__plan_verify_text(const ea_plan_verify_t *v) {
     snprintf(rest, sizeof rest, "not within %.3g mm of rest %.3g s after the motion",
              1e3 * v->settings.rest_tolerance, v->settings.settle);
   if (isfinite(v->predicted_residual_m))
-    snprintf(pred, sizeof pred, "the reduced model predicted %.4f mm",
-             1e3 * v->predicted_residual_m);
+    snprintf(pred, sizeof pred, "the reduced model predicted %.4f mm%s",
+             1e3 * v->predicted_residual_m,
+             refined ? " about the targets the refinement moved to cancel what it misses" : "");
   else
     snprintf(pred, sizeof pred, "no model prediction (quasi-static plan)");
   printf("verify: FE residual vibration peak %.4f mm, rms %.4f mm (damping ratio %.3g), %s; %s\n",
@@ -630,7 +632,7 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
            1e3 * info->time_rest_s, extra, 1e3 * fmax(other, 0.0), info->n_var, info->n_con,
            info->threads, info->threads == 1 ? "" : "s");
     if (info->deriv_errors >= 0) printf("derivative checker: %d error(s)\n", info->deriv_errors);
-    if (r->ver) ea__plan_verify_text(r->ver);
+    if (r->ver) ea__plan_verify_text(r->ver, r->ref && r->ref->returned > 0);
   }
   if (r->ver && !r->ver->passed) {
     fprintf(stderr, "elasticarm plan: error: %s failed for %s (written, with its summary): %s\n",
