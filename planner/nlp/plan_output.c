@@ -346,16 +346,19 @@ void ea_plan_verify_judge(ea_plan_verify_t *v) {
   v->passed = !v->failure[0];
 }
 
-/* "fe_check": whether an FE transient checked the written plan's promise (the refinement's,
- * else --verify's or the default check of a residual bound) and what it measured. */
+/* "fe_check": whether an FE transient checked the written plan's promise and what it
+ * measured: with a residual bound (or --verify and a bound) the transient at --verify's
+ * settings, else the refinement's last one; within only when every check that ran holds
+ * (the exit status's rule). */
 static void ea__fe_check_json(ea_json_t *j, const ea_task_t *task, const ea_plan_info_t *info,
                               const ea_refine_info_t *refine, const ea_shape_info_t *shape,
                               const ea_plan_verify_t *verify) {
   if (info->status != EA_OK) return;
   ea_json_obj_begin(j, "fe_check");
-  const int by_refine = refine && refine->status == EA_OK;
-  const int by_verify = !by_refine && verify && isfinite(verify->residual_bound_m);
+  const int by_verify = verify && isfinite(verify->residual_bound_m);
+  const int by_refine = !by_verify && refine && refine->status == EA_OK;
   ea_json_bool(j, "checked", by_refine || by_verify);
+  const int refined = refine && refine->status == EA_OK;
   if (by_refine) {
     ea_json_str(j, "by", "refinement");
     ea_json_num(j, "dt_s", refine->fe.dt);
@@ -371,7 +374,8 @@ static void ea__fe_check_json(ea_json_t *j, const ea_task_t *task, const ea_plan
     else
       ea_json_null(j, "residual_peak_m");
     ea_json_num(j, "bound_m", verify->residual_bound_m);
-    ea_json_bool(j, "within", verify->passed);
+    ea_json_bool(j, "within", verify->passed && (!refined || refine->converged));
+    if (refined) ea_json_int(j, "evaluations", refine->n_evals);
   } else { /* why not: as the text summary says it */
     ea_json_str(j, "reason",
                 refine && refine->message[0]        ? refine->message
