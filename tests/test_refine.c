@@ -380,6 +380,13 @@ static void test_cli_promise(void) {
   ea_test_true(rc == 0 && before > 2.0 && after <= 1.0 && verdict <= 1.0 &&
                    strstr(out, "within bound 1 mm") && strstr(out, "plan found"),
                what);
+  snprintf(args, sizeof args, "plan %s -o %s --json", task, csv);
+  rc = run(args);
+  ea_test_true(rc == 0 && strstr(out, "\"by\": \"verify\"") && strstr(out, "\"dt_s\": 0.001") &&
+                   strstr(out, "\"bound_m\": 0.001") && strstr(out, "\"within\": true") &&
+                   strstr(out, "\"evaluations\": "),
+               "residual_m 1 mm, --json: fe_check by the verdict (verify, dt 1 ms, bound 1 mm, "
+               "within, with the refinement's evaluations)");
   snprintf(args, sizeof args, "plan %s -o %s --no-verify --verify", task, csv);
   rc = run(args);
   printf("%s", out);
