@@ -17,10 +17,15 @@
  *     q +- h), the Galerkin quadratic stiffness (Q) and the quadratic manifold's curvature (E,
  *     static modal derivatives M-orthogonal to the modes), and the modal force with every other
  *     DOF condensed statically to all orders (C, a Newton solve at every right-hand side);
- *  4. at-rest plans corrected for those terms without touching the transcription: the goal's
- *     modal target moved (warm re-plans) until the augmented model ends at rest, then the FE.
+ *  4. at-rest plans corrected for C + M (CM) without touching the transcription: the goal's 4
+ *     modal targets moved (warm re-plans) by a globalised Newton until the CM model ends at rest
+ *     (residual peak < 0.01 mm, at most 15 evaluations), then the FE; the time of one CM
+ *     integration next to the FE transient's.
  * Section 2b: free vibration from the quadratic manifold against the second-order model.
- * BENCH_ROM_NL_LINE=i: only line i of section 1; BENCH_ROM_NL_ONLY_FREE=1: only section 2.
+ * BENCH_ROM_NL_LINE=i: only line i of section 1; BENCH_ROM_NL_ONLY_FREE=1: only section 2;
+ * BENCH_ROM_NL_ONLY_CORR=1: sections 1 (at-rest plans only, no candidate terms) and 4 alone;
+ * BENCH_ROM_NL_CRUDE=1: section 4 also with the loop target -= z_end (J = I, full steps);
+ * BENCH_ROM_NL_FDJ=1: the Newton's first Jacobian by forward differences instead of I.
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
@@ -321,6 +326,32 @@ static int modal_derivatives(fe_ctx_t *c, const double *u, const double *phi, do
   return rc;
 }
 
+/* The planner's table, whose mode signs the FE modes of moving_sample take: the targets and
+ * the output map are the table's, so a mode of the other sign would have the augmented model's
+ * modal state, and the correction, of the wrong sign. */
+static const ea_rom_table_t *sign_tb;
+static double sign_cos_min = 1.0,
+              sign_norm_dev; /* check: the FE tip per unit eta against the table's */
+static int sign_flips, sign_checks;
+
+static void align_to_table(double *phi, int nd, const double q[2]) {
+  ea_rom_point_t p;
+  ea_rom_table_eval(sign_tb, q[0], q[1], &p, NULL, NULL);
+  for (int k = 0; k < KM; ++k) {
+    double *f = phi + (size_t)k * nd;
+    const double d = f[nd - 3] * p.tip[k][0] + f[nd - 2] * p.tip[k][1];
+    const double nf = hypot(f[nd - 3], f[nd - 2]), nt = hypot(p.tip[k][0], p.tip[k][1]);
+    sign_cos_min = fmin(sign_cos_min, fabs(d) / (nf * nt));
+    sign_norm_dev = fmax(sign_norm_dev, fabs(nf / nt - 1));
+    ++sign_checks;
+    if (d < 0) {
+      ++sign_flips;
+      for (int i = 0; i < nd; ++i)
+        f[i] = -f[i];
+    }
+  }
+}
+
 static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
   const int nd = c->nd;
   const double hL = 2e-3, ha = 4e-3;
@@ -354,6 +385,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
       double *p = ph + (size_t)k * KM * nd;
       rc = fe_point(c, q[0] + di * hL, q[1] + dj * ha, k == 4 ? u : u9 + (size_t)k * nd, p,
                     k == 4 ? (have_ref ? ref : NULL) : ph + (size_t)4 * KM * nd, NULL);
+      if (k == 4 && !rc && !have_ref && sign_tb) /* the first sample: the table's mode signs */
+        align_to_table(p, nd, q);
       if (k == 4 && !rc) {
         memcpy(ref, p, sizeof(double) * (size_t)nd * KM);
         have_ref = 1;
@@ -747,6 +780,7 @@ enum { CORR_MAX_EVALS = 15, CORR_HALVINGS = 4 };
 static const double CORR_TOL = 1e-5;  /* [m] the model's residual peak that ends the search */
 static const double CORR_FD_H = 2e-4; /* [m] forward-difference step of the tip amplitudes */
 static const double CORR_ARMIJO = 1e-4;
+static int corr_verbose; /* BENCH_ROM_NL_VERBOSE: every evaluation on stderr */
 
 static int traj_copy(ea_traj_t *dst, const ea_traj_t *src) {
   if (ea_traj_alloc(dst, src->n)) return 1;
@@ -775,9 +809,14 @@ static int corr_eval(ea_planner_t *pl, fe_ctx_t *c, const double sc[2 * KM], con
     ea_error_t e;
     ea_plan_info_t info;
     if (ea_planner_set_terminal_modes(pl, eta, rate, &e) ||
-        ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e) || ea_planner_trajectory(pl, tr, &e)) {
+        (ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e) &&
+         ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e)) ||
+        ea_planner_trajectory(pl, tr, &e)) {
       ci->t_plan += ea_bench_now() - t0;
       ++ci->failed;
+      if (corr_verbose)
+        fprintf(stderr, "  eval %d x [mm] (%.3f %.3f %.3f %.3f): re-plan failed: %s\n", ci->evals,
+                1e3 * x[0], 1e3 * x[1], 1e3 * x[2], 1e3 * x[3], e.msg);
       return 1;
     }
   }
@@ -794,6 +833,11 @@ static int corr_eval(ea_planner_t *pl, fe_ctx_t *c, const double sc[2 * KM], con
   ci->t_int += ea_bench_now() - t2;
   for (int j = 0; j < 2 * KM; ++j)
     F[j] = z[j] * sc[j];
+  if (corr_verbose)
+    fprintf(stderr,
+            "  eval %d x [mm] (%.3f %.3f %.3f %.3f) F [mm] (%.3f %.3f %.3f %.3f) peak %.4f mm\n",
+            ci->evals, 1e3 * x[0], 1e3 * x[1], 1e3 * x[2], 1e3 * x[3], 1e3 * F[0], 1e3 * F[1],
+            1e3 * F[2], 1e3 * F[3], 1e3 * *peak);
   if (!isfinite(*peak)) {
     ++ci->failed;
     return 1;
@@ -879,10 +923,16 @@ static int corrected_plan(ea_planner_t *pl, fe_ctx_t *c, ea_traj_t *tr, int term
       int bad = 0;
       for (int j = 0; j < N && !bad; ++j) {
         memcpy(xt, x, sizeof x);
-        xt[j] += CORR_FD_H;
+        double h = CORR_FD_H;
+        xt[j] += h;
         bad = corr_eval(pl, c, sc, xt, 1, tr, terms, Ft, &pt, ci);
+        if (bad && ci->evals < CORR_MAX_EVALS) { /* the backward difference */
+          h = -h;
+          xt[j] = x[j] + h;
+          bad = corr_eval(pl, c, sc, xt, 1, tr, terms, Ft, &pt, ci);
+        }
         for (int r = 0; r < N && !bad; ++r)
-          J[r][j] = (Ft[r] - F[r]) / CORR_FD_H;
+          J[r][j] = (Ft[r] - F[r]) / h;
       }
       if (bad) break;
       ++ci->fd;
@@ -1190,6 +1240,7 @@ int main(int argc, char **argv) {
   const int only_corr = getenv("BENCH_ROM_NL_ONLY_CORR") != NULL;
   const int with_crude = getenv("BENCH_ROM_NL_CRUDE") != NULL;
   const int fd_first = getenv("BENCH_ROM_NL_FDJ") != NULL;
+  corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
          "genalpha dt 0.5 ms, undamped, 3 s after the motion%s\n\n",
@@ -1231,6 +1282,7 @@ int main(int argc, char **argv) {
       continue;
     }
     const ea_rom_table_t *tb = ea_planner_rom_table(pl);
+    sign_tb = tb;
     fe_ctx_t c;
     const int cok = !ctx_alloc(&t.arm, ea_arm_tip_mass(&t.arm, t.payload_kg), &c);
     cond_ctx = &c;
@@ -1346,10 +1398,12 @@ int main(int argc, char **argv) {
            "converged on %d\n",
            ncorr, 1e3 * ea_bench_median(fe0, ncorr), b1[0], b05[0],
            1e3 * ea_bench_median(fe1, ncorr), b1[1], b05[1], nconv);
-    if (nratio > 0)
+    if (nratio > 0) {
+      const double med = ea_bench_median(ratio, nratio); /* sorts */
       printf("converged but FE > 1 mm on %d lines: FE corrected / FE at rest median %.2f (%.2f .. "
              "%.2f)\n",
-             nratio, ea_bench_median(ratio, nratio), ratio[0], ratio[nratio - 1]);
+             nratio, med, ratio[0], ratio[nratio - 1]);
+    }
     printf("time per evaluation (median over lines): re-plan %.1f ms, moving shapes (41 samples) "
            "%.1f ms, one CM integration %.1f ms; one FE transient of the at-rest plan: %.1f ms at "
            "the refinement's settings (ea_sim_settings_default, dt 4 ms, settle 1.5 s), %.1f ms "
@@ -1360,6 +1414,10 @@ int main(int argc, char **argv) {
            1e3 * ea_bench_median(t_fe05, ncorr));
   }
   printf("\ncondensation: Newton failed (the integration stopped) %d times\n", cond_fail);
+  printf("\nmode signs: the FE modes' tip per unit eta against the table's at %d first samples: "
+         "min |cos| %.6f, max | |tip_FE| / |tip_table| - 1 | %.2e; sign taken from the table %d "
+         "times\n",
+         sign_checks, sign_cos_min, sign_norm_dev, sign_flips);
   printf(
       "\nquadratic modal stiffness: Phi_i^T d2f/de_j de_k (forces) against the potential's third "
       "differences: max difference %.2e of the largest %.3e\n",
