@@ -17,10 +17,15 @@
  *     q +- h), the Galerkin quadratic stiffness (Q) and the quadratic manifold's curvature (E,
  *     static modal derivatives M-orthogonal to the modes), and the modal force with every other
  *     DOF condensed statically to all orders (C, a Newton solve at every right-hand side);
- *  4. at-rest plans corrected for those terms without touching the transcription: the goal's
- *     modal target moved (warm re-plans) until the augmented model ends at rest, then the FE.
+ *  4. at-rest plans corrected for C + M (CM) without touching the transcription: the goal's 4
+ *     modal targets moved (warm re-plans) by a globalised Newton until the CM model ends at rest
+ *     (residual peak < 0.01 mm, at most 15 evaluations), then the FE; the time of one CM
+ *     integration next to the FE transient's.
  * Section 2b: free vibration from the quadratic manifold against the second-order model.
- * BENCH_ROM_NL_LINE=i: only line i of section 1; BENCH_ROM_NL_ONLY_FREE=1: only section 2.
+ * BENCH_ROM_NL_LINE=i: only line i of section 1; BENCH_ROM_NL_ONLY_FREE=1: only section 2;
+ * BENCH_ROM_NL_ONLY_CORR=1: sections 1 (at-rest plans only, no candidate terms) and 4 alone;
+ * BENCH_ROM_NL_CRUDE=1: section 4 also with the loop target -= z_end (J = I, full steps);
+ * BENCH_ROM_NL_FDJ=1: the Newton's first Jacobian by forward differences instead of I.
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
@@ -321,6 +326,32 @@ static int modal_derivatives(fe_ctx_t *c, const double *u, const double *phi, do
   return rc;
 }
 
+/* The planner's table, whose mode signs the FE modes of moving_sample take: the targets and
+ * the output map are the table's, so a mode of the other sign would have the augmented model's
+ * modal state, and the correction, of the wrong sign. */
+static const ea_rom_table_t *sign_tb;
+static double sign_cos_min = 1.0,
+              sign_norm_dev; /* check: the FE tip per unit eta against the table's */
+static int sign_flips, sign_checks;
+
+static void align_to_table(double *phi, int nd, const double q[2]) {
+  ea_rom_point_t p;
+  ea_rom_table_eval(sign_tb, q[0], q[1], &p, NULL, NULL);
+  for (int k = 0; k < KM; ++k) {
+    double *f = phi + (size_t)k * nd;
+    const double d = f[nd - 3] * p.tip[k][0] + f[nd - 2] * p.tip[k][1];
+    const double nf = hypot(f[nd - 3], f[nd - 2]), nt = hypot(p.tip[k][0], p.tip[k][1]);
+    sign_cos_min = fmin(sign_cos_min, fabs(d) / (nf * nt));
+    sign_norm_dev = fmax(sign_norm_dev, fabs(nf / nt - 1));
+    ++sign_checks;
+    if (d < 0) {
+      ++sign_flips;
+      for (int i = 0; i < nd; ++i)
+        f[i] = -f[i];
+    }
+  }
+}
+
 static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
   const int nd = c->nd;
   const double hL = 2e-3, ha = 4e-3;
@@ -354,6 +385,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
       double *p = ph + (size_t)k * KM * nd;
       rc = fe_point(c, q[0] + di * hL, q[1] + dj * ha, k == 4 ? u : u9 + (size_t)k * nd, p,
                     k == 4 ? (have_ref ? ref : NULL) : ph + (size_t)4 * KM * nd, NULL);
+      if (k == 4 && !rc && !have_ref && sign_tb) /* the first sample: the table's mode signs */
+        align_to_table(p, nd, q);
       if (k == 4 && !rc) {
         memcpy(ref, p, sizeof(double) * (size_t)nd * KM);
         have_ref = 1;
@@ -670,10 +703,12 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   }
 }
 
+static double cm_dt = 2e-4; /* [s] RK4 step with the condensed force (a Newton solve per stage) */
+
 static double integrate_z(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t *mv,
                           int terms, double *zout) {
   const double T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  const double dt = (terms & 32) ? 2e-4 : 1e-4;
+  const double dt = (terms & 32) ? cm_dt : 1e-4;
   const int n = (int)ceil(T / dt - 1e-9);
   if (terms & 32) { /* the condensation starts from the static state */
     cond_have_prev = 0;
@@ -724,33 +759,258 @@ static double integrate(const ea_rom_table_t *tb, const ea_traj_t *tr, const mov
   return integrate_z(tb, tr, mv, terms, NULL);
 }
 
-/* 4. the at-rest plan corrected for the moving-shape terms without touching the transcription:
- * the goal's modal target moved until the model with those terms (integrated along the re-planned
- * trajectory) ends at rest, target <- target - z_end (the planner holds the linear model's end
- * state at the target). Returns the iterations taken (-1: failed); the plan into tr. */
-static int corrected_plan(ea_planner_t *pl, fe_ctx_t *c, ea_traj_t *tr, int terms, double *pred) {
+/* 4. the at-rest plan corrected for the neglected terms without touching the transcription: the
+ * goal's modal targets (eta_i, eta_i') moved until the model with those terms (integrated along
+ * the re-planned trajectory) ends at rest. The unknowns and residuals are tip amplitudes at the
+ * goal, so that the four are comparable (as planner/nlp/plan_refine.c scales them): x = (eta_i
+ * |tip_i|, eta_i' |tip_i| / omega_i), F(x) = the augmented model's end state z in the same
+ * scaling. The planner holds the linear model's end state at the target, so the model says
+ * dF/dx = I; the neglected terms change that by the nonlinearity. */
+
+typedef struct {
+  int evals;     /* model integrations (each but the first after a warm re-plan) */
+  int failed;    /* evaluations that failed (re-plan or integration) */
+  int fd;        /* Jacobians rebuilt by forward differences */
+  int converged; /* the model's residual peak < CORR_TOL */
+  double pred;   /* [m] the model's residual peak at the returned plan */
+  double t_int;  /* [s] wall time in the model's integrations */
+  double t_mv;   /* [s] in the moving-shape sampling */
+  double t_plan; /* [s] in the re-plans */
+} corr_info_t;
+
+enum { CORR_MAX_EVALS = 15, CORR_HALVINGS = 4 };
+static const double CORR_TOL = 1e-5;  /* [m] the model's residual peak that ends the search */
+static const double CORR_FD_H = 2e-4; /* [m] forward-difference step of the tip amplitudes */
+static const double CORR_ARMIJO = 1e-4;
+static int corr_verbose; /* BENCH_ROM_NL_VERBOSE: every evaluation on stderr */
+
+static int traj_copy(ea_traj_t *dst, const ea_traj_t *src) {
+  if (ea_traj_alloc(dst, src->n)) return 1;
+  double *d = dst->data;
+  *dst = *src;
+  dst->data = d;
+  memcpy(d, src->data, sizeof(double) * (size_t)src->n * EA_TRAJ_NCOL);
+  return 0;
+}
+
+/* One evaluation at tip amplitudes x (replan = 0: tr is already the plan for x): F (4 values,
+ * [m]) and the model's residual peak. 0 on success. */
+static int corr_eval(ea_planner_t *pl, fe_ctx_t *c, const double sc[2 * KM], const double *x,
+                     int replan, ea_traj_t *tr, int terms, double *F, double *peak,
+                     corr_info_t *ci) {
   static moving_t mv;
-  double eta[KM] = {0}, rate[KM] = {0}, z[2 * KM];
-  ea_error_t e;
-  ea_plan_info_t info;
   const ea_rom_table_t *tb = ea_planner_rom_table(pl);
-  for (int it = 0; it < 6; ++it) {
-    if (moving_sample(c, tr, 41, &mv)) return -1;
-    *pred = integrate_z(tb, tr, &mv, terms, z);
-    if (*pred < 1e-5) return it;
+  ++ci->evals;
+  double t0 = ea_bench_now();
+  if (replan) {
+    double eta[KM], rate[KM];
     for (int k = 0; k < KM; ++k) {
-      eta[k] -= z[2 * k];
-      rate[k] -= z[2 * k + 1];
+      eta[k] = x[2 * k] / sc[2 * k];
+      rate[k] = x[2 * k + 1] / sc[2 * k + 1];
     }
+    ea_error_t e;
+    ea_plan_info_t info;
     if (ea_planner_set_terminal_modes(pl, eta, rate, &e) ||
-        ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e) || ea_planner_trajectory(pl, tr, &e)) {
-      fprintf(stderr, "bench_rom_nl: corrected plan: %s\n", e.msg);
-      return -1;
+        (ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, &e) &&
+         ea_planner_solve(pl, EA_PLAN_COLD, NULL, &info, &e)) ||
+        ea_planner_trajectory(pl, tr, &e)) {
+      ci->t_plan += ea_bench_now() - t0;
+      ++ci->failed;
+      if (corr_verbose)
+        fprintf(stderr, "  eval %d x [mm] (%.3f %.3f %.3f %.3f): re-plan failed: %s\n", ci->evals,
+                1e3 * x[0], 1e3 * x[1], 1e3 * x[2], 1e3 * x[3], e.msg);
+      return 1;
     }
   }
-  if (moving_sample(c, tr, 41, &mv)) return -1;
-  *pred = integrate_z(tb, tr, &mv, terms, z);
-  return 6;
+  double t1 = ea_bench_now();
+  ci->t_plan += t1 - t0;
+  if (moving_sample(c, tr, 41, &mv)) {
+    ++ci->failed;
+    return 1;
+  }
+  double t2 = ea_bench_now();
+  ci->t_mv += t2 - t1;
+  double z[2 * KM];
+  *peak = integrate_z(tb, tr, &mv, terms, z);
+  ci->t_int += ea_bench_now() - t2;
+  for (int j = 0; j < 2 * KM; ++j)
+    F[j] = z[j] * sc[j];
+  if (corr_verbose)
+    fprintf(stderr,
+            "  eval %d x [mm] (%.3f %.3f %.3f %.3f) F [mm] (%.3f %.3f %.3f %.3f) peak %.4f mm\n",
+            ci->evals, 1e3 * x[0], 1e3 * x[1], 1e3 * x[2], 1e3 * x[3], 1e3 * F[0], 1e3 * F[1],
+            1e3 * F[2], 1e3 * F[3], 1e3 * *peak);
+  if (!isfinite(*peak)) {
+    ++ci->failed;
+    return 1;
+  }
+  return 0;
+}
+
+static double norm4(const double *v) {
+  double s = 0;
+  for (int j = 0; j < 2 * KM; ++j)
+    s += v[j] * v[j];
+  return sqrt(s);
+}
+
+/* Solve the 4 x 4 system J p = b (J kept) by Gaussian elimination with partial pivoting. */
+static int solve4(const double J[2 * KM][2 * KM], const double *b, double *p) {
+  enum { N = 2 * KM };
+  double A[N][N + 1];
+  for (int r = 0; r < N; ++r) {
+    for (int j = 0; j < N; ++j)
+      A[r][j] = J[r][j];
+    A[r][N] = b[r];
+  }
+  for (int col = 0; col < N; ++col) {
+    int pv = col;
+    for (int r = col + 1; r < N; ++r)
+      if (fabs(A[r][col]) > fabs(A[pv][col])) pv = r;
+    if (!(fabs(A[pv][col]) > 1e-12)) return 1;
+    for (int j = 0; j <= N; ++j) {
+      const double tmp = A[col][j];
+      A[col][j] = A[pv][j];
+      A[pv][j] = tmp;
+    }
+    for (int r = col + 1; r < N; ++r) {
+      const double f = A[r][col] / A[col][col];
+      for (int j = col; j <= N; ++j)
+        A[r][j] -= f * A[col][j];
+    }
+  }
+  for (int r = N - 1; r >= 0; --r) {
+    double v = A[r][N];
+    for (int j = r + 1; j < N; ++j)
+      v -= A[r][j] * p[j];
+    p[r] = v / A[r][r];
+  }
+  return 0;
+}
+
+/* The globalised Newton on F(x) = 0 from x = 0 (tr: the at-rest plan, targets zero): J = I (or
+ * by forward differences with fd_first), Broyden updates on accepted steps; a step is accepted
+ * when |F| falls by the Armijo fraction of the predicted decrease, else it is halved (at most
+ * CORR_HALVINGS times; a failed re-plan or integration counts as not accepted); when no step
+ * length is accepted J is rebuilt by forward differences (and the search stops when a fresh
+ * Jacobian's step fails). Stops when the model's residual peak < CORR_TOL or after
+ * CORR_MAX_EVALS evaluations. The plan of least |F| into tr. Returns 0, or 1 when even the
+ * first evaluation failed. */
+static int corrected_plan(ea_planner_t *pl, fe_ctx_t *c, ea_traj_t *tr, int terms, int fd_first,
+                          corr_info_t *ci) {
+  enum { N = 2 * KM };
+  memset(ci, 0, sizeof *ci);
+  const ea_rom_table_t *tb = ea_planner_rom_table(pl);
+  ea_rom_point_t p;
+  ea_rom_table_eval(tb, EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_cable_length),
+                    EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_cable_angle), &p, NULL, NULL);
+  double sc[N];
+  for (int k = 0; k < KM; ++k) {
+    sc[2 * k] = hypot(p.tip[k][0], p.tip[k][1]);
+    sc[2 * k + 1] = sc[2 * k] / sqrt(fmax(p.omega2[k], 1e-300));
+  }
+  double x[N] = {0}, F[N], peak, xt[N], Ft[N], pt, J[N][N] = {{0}};
+  ea_traj_t best = {0};
+  if (corr_eval(pl, c, sc, x, 0, tr, terms, F, &peak, ci) || traj_copy(&best, tr)) {
+    ea_traj_free(&best);
+    ci->pred = NAN;
+    return 1;
+  }
+  for (int j = 0; j < N; ++j)
+    J[j][j] = 1.0;
+  int fresh = 0, need_fd = fd_first;
+  while (peak >= CORR_TOL && ci->evals < CORR_MAX_EVALS) {
+    if (need_fd) { /* J by forward differences about x */
+      if (ci->evals + N > CORR_MAX_EVALS) break;
+      int bad = 0;
+      for (int j = 0; j < N && !bad; ++j) {
+        memcpy(xt, x, sizeof x);
+        double h = CORR_FD_H;
+        xt[j] += h;
+        bad = corr_eval(pl, c, sc, xt, 1, tr, terms, Ft, &pt, ci);
+        if (bad && ci->evals < CORR_MAX_EVALS) { /* the backward difference */
+          h = -h;
+          xt[j] = x[j] + h;
+          bad = corr_eval(pl, c, sc, xt, 1, tr, terms, Ft, &pt, ci);
+        }
+        for (int r = 0; r < N && !bad; ++r)
+          J[r][j] = (Ft[r] - F[r]) / h;
+      }
+      if (bad) break;
+      ++ci->fd;
+      fresh = 1;
+      need_fd = 0;
+    }
+    double step[N], mF[N];
+    for (int j = 0; j < N; ++j)
+      mF[j] = -F[j];
+    if (solve4((const double(*)[N])J, mF, step)) {
+      if (fresh) break;
+      need_fd = 1;
+      continue;
+    }
+    const double f0 = norm4(F);
+    double lam = 1.0;
+    int acc = 0;
+    for (int h = 0; h <= CORR_HALVINGS && ci->evals < CORR_MAX_EVALS; ++h, lam *= 0.5) {
+      for (int j = 0; j < N; ++j)
+        xt[j] = x[j] + lam * step[j];
+      if (corr_eval(pl, c, sc, xt, 1, tr, terms, Ft, &pt, ci)) continue;
+      if (norm4(Ft) <= (1.0 - CORR_ARMIJO * lam) * f0) {
+        acc = 1;
+        break;
+      }
+    }
+    if (!acc) {
+      if (fresh || ci->evals >= CORR_MAX_EVALS) break; /* a fresh Jacobian's step failed */
+      need_fd = 1;
+      continue;
+    }
+    /* Broyden: J += (dF - J s) s^T / s^T s */
+    double s[N], ss = 0;
+    for (int j = 0; j < N; ++j) {
+      s[j] = xt[j] - x[j];
+      ss += s[j] * s[j];
+    }
+    for (int r = 0; r < N; ++r) {
+      double u = Ft[r] - F[r];
+      for (int j = 0; j < N; ++j)
+        u -= J[r][j] * s[j];
+      for (int j = 0; j < N; ++j)
+        J[r][j] += u * s[j] / ss;
+    }
+    memcpy(x, xt, sizeof x);
+    memcpy(F, Ft, sizeof F);
+    peak = pt;
+    fresh = 0;
+    if (traj_copy(&best, tr)) break;
+  }
+  ci->pred = peak;
+  ci->converged = peak < CORR_TOL;
+  const int rc = traj_copy(tr, &best);
+  ea_traj_free(&best);
+  return rc;
+}
+
+/* The crude loop it replaces, for comparison: target <- target - z_end (J = I, full steps, no
+ * globalisation), 6 iterations. */
+static int crude_plan(ea_planner_t *pl, fe_ctx_t *c, ea_traj_t *tr, int terms, corr_info_t *ci) {
+  enum { N = 2 * KM };
+  memset(ci, 0, sizeof *ci);
+  const double sc[N] = {1, 1, 1, 1};
+  double x[N] = {0}, F[N], peak = NAN;
+  for (int it = 0; it <= 6; ++it) {
+    if (corr_eval(pl, c, sc, x, it > 0, tr, terms, F, &peak, ci)) {
+      ci->pred = NAN;
+      return 1;
+    }
+    if (peak < CORR_TOL || it == 6) break;
+    for (int j = 0; j < N; ++j)
+      x[j] -= F[j];
+  }
+  ci->pred = peak;
+  ci->converged = peak < CORR_TOL;
+  return 0;
 }
 
 static int ctx_alloc(const ea_arm_t *arm, double tip_mass, fe_ctx_t *c) {
@@ -979,9 +1239,14 @@ int main(int argc, char **argv) {
     lines[NFIX + i] = (line_t){names[i],          0.25 + 0.4 * v[0],   -0.45 + 0.55 * v[1],
                                0.25 + 0.4 * v[2], -0.45 + 0.55 * v[3], 0.5 * v[4]};
   }
+  const int only_corr = getenv("BENCH_ROM_NL_ONLY_CORR") != NULL;
+  const int with_crude = getenv("BENCH_ROM_NL_CRUDE") != NULL;
+  const int fd_first = getenv("BENCH_ROM_NL_FDJ") != NULL;
+  corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
-         "genalpha dt 0.5 ms, undamped, 3 s after the motion\n\n");
+         "genalpha dt 0.5 ms, undamped, 3 s after the motion%s\n\n",
+         only_corr ? " (BENCH_ROM_NL_ONLY_CORR: the at-rest plans alone, no candidate terms)" : "");
   printf(
       "| line | payload factor | plan | duration [s] | model: max modal tip deviation [mm] | FE: "
       "max tracking error [mm] | model residual [mm] | FE residual [mm] | FE / model | "
@@ -990,7 +1255,9 @@ int main(int argc, char **argv) {
       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
-  int ncorr = 0;
+  static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
+      t_fe05[200];
+  int ncorr = 0, nconv = 0, nratio = 0, nint = 0;
   const char *only = getenv("BENCH_ROM_NL_LINE"); /* one line by index, for diagnosis */
   for (int l = 0; l < nl; ++l) {
     if (only && atoi(only) != l) continue;
@@ -1007,8 +1274,8 @@ int main(int argc, char **argv) {
     plan_res_t r[3];
     ea_planner_t *pl = NULL;
     int ok = !plan(&t, 2, 0.0, &tr[2], &pl, &r[2]);
-    ok = ok && !plan(&t, 0, 0.0, &tr[0], NULL, &r[0]);
-    ok = ok && !plan(&t, 2, 0.005, &tr[1], NULL, &r[1]);
+    ok = ok && (only_corr || !plan(&t, 0, 0.0, &tr[0], NULL, &r[0]));
+    ok = ok && (only_corr || !plan(&t, 2, 0.005, &tr[1], NULL, &r[1]));
     if (!ok) {
       printf("| %s | %.2f | not planned |\n", lines[l].name, lines[l].gamma);
       for (int k = 0; k < 3; ++k)
@@ -1017,17 +1284,20 @@ int main(int argc, char **argv) {
       continue;
     }
     const ea_rom_table_t *tb = ea_planner_rom_table(pl);
+    sign_tb = tb;
     fe_ctx_t c;
     const int cok = !ctx_alloc(&t.arm, ea_arm_tip_mass(&t.arm, t.payload_kg), &c);
     cond_ctx = &c;
     free(cond_w);
     cond_w = calloc((size_t)c.nd * 24, sizeof(double));
-    for (int k = 0; k < 3; ++k) {
+    for (int k = only_corr ? 2 : 0; k < 3; ++k) {
       predict(tb, &tr[k], &r[k]);
+      double t0 = ea_bench_now();
       fe_run(&t, &tr[k], &r[k]);
+      if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
       double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN;
-      if (cok && !moving_sample(&c, &tr[k], 41, &mv)) {
+      if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
         both = integrate(tb, &tr[k], &mv, 23);
@@ -1044,25 +1314,60 @@ int main(int argc, char **argv) {
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
+      /* the FE transient at the refinement's settings, for scale */
+      ea_sim_settings_t s4;
+      ea_sim_settings_default(&s4);
+      s4.dt = 4e-3;
+      s4.settle = 1.5;
+      ea_sim_info_t si4;
+      double t0 = ea_bench_now();
+      t_fe4[ncorr] =
+          ea_traj_simulate(&t.arm, &tr[2], 0.0, &s4, NULL, &si4, NULL) ? NAN : ea_bench_now() - t0;
+      const double dur0 = r[2].dur;
+      fe0[ncorr] = r[2].fe;
       int n = snprintf(corr[ncorr], sizeof corr[ncorr], "| %s | %.2f | %.4f | %.3f |",
-                       lines[l].name, lines[l].gamma, r[2].dur, 1e3 * r[2].fe);
-      static const int variants[3] = {3, 35, 32};
-      for (int v = 0; v < 3; ++v) {
+                       lines[l].name, lines[l].gamma, dur0, 1e3 * r[2].fe);
+      for (int v = with_crude ? 0 : 1; v < 2; ++v) {
         ea_traj_t tc = {0};
         ea_plan_info_t info;
-        double pred = NAN;
-        int its = -1;
-        plan_res_t rc = {0};
+        corr_info_t ci = {0};
+        int rc = 1;
+        plan_res_t rr = {0};
+        rr.fe = NAN;
         if (!ea_planner_set_terminal_modes(pl, NULL, NULL, NULL) &&
             !ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, NULL) &&
             !ea_planner_trajectory(pl, &tc, NULL))
-          its = corrected_plan(pl, &c, &tc, variants[v], &pred);
-        rc.ok = 1;
-        if (its >= 0) fe_run(&t, &tc, &rc);
-        n += snprintf(
-            corr[ncorr] + n, sizeof corr[ncorr] - (size_t)n, " %d | %.4f | %.4f | %.3f |", its,
-            its >= 0 ? EA_TRAJ_AT(&tc, tc.n - 1, EA_TRAJ_t) - EA_TRAJ_AT(&tc, 0, EA_TRAJ_t) : NAN,
-            1e3 * pred, its >= 0 ? 1e3 * rc.fe : NAN);
+          rc =
+              v ? corrected_plan(pl, &c, &tc, 35, fd_first, &ci) : crude_plan(pl, &c, &tc, 35, &ci);
+        rr.ok = 1;
+        if (!rc) fe_run(&t, &tc, &rr);
+        double fine = NAN; /* the CM model's own discretisation: 81 samples, RK4 dt 0.1 ms */
+        static moving_t mvf;
+        if (!rc && v == 1 && !moving_sample(&c, &tc, 81, &mvf)) {
+          cm_dt = 1e-4;
+          fine = integrate(tb, &tc, &mvf, 35);
+          cm_dt = 2e-4;
+        }
+        const double dur =
+            rc ? NAN : EA_TRAJ_AT(&tc, tc.n - 1, EA_TRAJ_t) - EA_TRAJ_AT(&tc, 0, EA_TRAJ_t);
+        if (v == 0)
+          n += snprintf(corr[ncorr] + n, sizeof corr[ncorr] - (size_t)n, " %d | %.4f | %.3f |",
+                        ci.evals, 1e3 * ci.pred, 1e3 * rr.fe);
+        else {
+          fe1[ncorr] = rr.fe;
+          nconv += ci.converged;
+          if (ci.converged && rr.fe > 1e-3) ratio[nratio++] = rr.fe / r[2].fe;
+          if (ci.evals > 0) {
+            t_int[nint] = ci.t_int / ci.evals;
+            t_mv[nint] = ci.t_mv / ci.evals;
+            t_plan[nint] = ci.evals > 1 ? ci.t_plan / (ci.evals - 1) : NAN;
+            ++nint;
+          }
+          n += snprintf(corr[ncorr] + n, sizeof corr[ncorr] - (size_t)n,
+                        " %d | %d | %d | %.4f | %s | %.4f | %.3f | %.2f | %.4f | %+.2f |", ci.evals,
+                        ci.fd, ci.failed, 1e3 * ci.pred, ci.converged ? "yes" : "no", 1e3 * fine,
+                        1e3 * rr.fe, rr.fe / r[2].fe, dur, 100 * (dur / dur0 - 1));
+        }
         ea_traj_free(&tc);
       }
       ++ncorr;
@@ -1072,17 +1377,56 @@ int main(int argc, char **argv) {
       ea_traj_free(&tr[k]);
     ea_planner_free(pl);
   }
-  printf("\n4. at-rest plans corrected for the neglected terms (the goal's modal target moved "
-         "until the model with those terms ends at rest; warm re-plans), three variants: moving "
-         "shapes (M), the condensed modal force with the moving shapes (CM), the condensed force "
-         "alone (C); per variant: iterations, "
-         "duration [s], the augmented model's residual [mm], the FE residual [mm]\n\n| line | "
-         "payload factor | at rest: duration [s] | FE [mm] | M: it | dur | model | FE | CM: it | "
-         "dur | model | FE | C: it | dur | model | FE |\n"
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  printf("\n4. at-rest plans corrected for the condensed modal force with the moving shapes (CM) "
+         "without touching the transcription: the goal's modal targets moved (warm re-plans) "
+         "until the CM model ends at rest (residual peak < %.3g mm), by a globalised Newton on "
+         "the 4 targets as tip amplitudes (J %s, Broyden updates, Armijo %g with at most %d "
+         "halvings, J rebuilt by forward differences of %.2g mm when no step is accepted, at most "
+         "%d evaluations); FE: genalpha dt 0.5 ms, undamped, 3 s%s\n\n",
+         1e3 * CORR_TOL, fd_first ? "by forward differences" : "= I", CORR_ARMIJO, CORR_HALVINGS,
+         1e3 * CORR_FD_H, CORR_MAX_EVALS,
+         with_crude ? "; crude: target -= z_end, 6 iterations (the loop it replaces)" : "");
+  printf("| line | payload factor | at rest: duration [s] | FE [mm] |%s CM Newton: evaluations | "
+         "J by differences | failed evaluations | CM residual [mm] | converged | CM at 81 samples, "
+         "dt 0.1 ms [mm] | FE [mm] | FE / at-rest FE | duration [s] | duration vs at rest [%%] |\n"
+         "|---|---|---|---|%s---|---|---|---|---|---|---|---|---|---|\n",
+         with_crude ? " crude: evaluations | CM [mm] | FE [mm] |" : "",
+         with_crude ? "---|---|---|" : "");
   for (int i = 0; i < ncorr; ++i)
     printf("%s\n", corr[i]);
+  if (ncorr > 0) {
+    int b1[2] = {0}, b05[2] = {0};
+    for (int i = 0; i < ncorr; ++i) {
+      b1[0] += fe0[i] <= 1e-3;
+      b05[0] += fe0[i] <= 5e-4;
+      b1[1] += fe1[i] <= 1e-3;
+      b05[1] += fe1[i] <= 5e-4;
+    }
+    printf("\nFE residual of %d lines: at rest as planned: median %.3f mm, <= 1 mm on %d, <= 0.5 "
+           "mm on %d; CM-corrected: median %.3f mm, <= 1 mm on %d, <= 0.5 mm on %d; the loop "
+           "converged on %d\n",
+           ncorr, 1e3 * ea_bench_median(fe0, ncorr), b1[0], b05[0],
+           1e3 * ea_bench_median(fe1, ncorr), b1[1], b05[1], nconv);
+    if (nratio > 0) {
+      const double med = ea_bench_median(ratio, nratio); /* sorts */
+      printf("converged but FE > 1 mm on %d lines: FE corrected / FE at rest median %.2f (%.2f .. "
+             "%.2f)\n",
+             nratio, med, ratio[0], ratio[nratio - 1]);
+    }
+    printf("time per evaluation (median over lines): re-plan %.1f ms, moving shapes (41 samples) "
+           "%.1f ms, one CM integration %.1f ms; one FE transient of the at-rest plan: %.1f ms at "
+           "the refinement's settings (ea_sim_settings_default, dt 4 ms, settle 1.5 s), %.1f ms "
+           "at genalpha dt 0.5 ms, settle 3 s\n",
+           nint ? 1e3 * ea_bench_median(t_plan, nint) : NAN,
+           nint ? 1e3 * ea_bench_median(t_mv, nint) : NAN,
+           nint ? 1e3 * ea_bench_median(t_int, nint) : NAN, 1e3 * ea_bench_median(t_fe4, ncorr),
+           1e3 * ea_bench_median(t_fe05, ncorr));
+  }
   printf("\ncondensation: Newton failed (the integration stopped) %d times\n", cond_fail);
+  printf("\nmode signs: the FE modes' tip per unit eta against the table's at %d first samples: "
+         "min |cos| %.6f, max | |tip_FE| / |tip_table| - 1 | %.2e; sign taken from the table %d "
+         "times\n",
+         sign_checks, sign_cos_min, sign_norm_dev, sign_flips);
   printf(
       "\nquadratic modal stiffness: Phi_i^T d2f/de_j de_k (forces) against the potential's third "
       "differences: max difference %.2e of the largest %.3e\n",
@@ -1090,7 +1434,7 @@ int main(int argc, char **argv) {
   printf("\nmoving-shape coefficients: max |G_12 + G_21|, |G_11|, |G_22| = %.2e of max |G_12| = "
          "%.3e 1/m or 1/rad (Phi^T M Phi = I makes G antisymmetric)\n",
          g_asym / g_max, g_max);
-  for (int l = 0; l < 3; ++l) {
+  for (int l = 0; l < (only_corr ? 0 : 3); ++l) {
     ea_task_t t;
     ea_error_t e;
     if (load_line(&lines[l], &t) || ea_task_check(&t, &e)) continue;
