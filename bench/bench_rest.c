@@ -9,6 +9,7 @@
  * Prints a markdown table: median, p90 and worst of the total (wall and this thread's CPU
  * time: one core's work on a shared machine) and of each phase (wall), the
  * evaluations and the FE residual reached in the loop. Timings depend on the machine. */
+#include "bench_util.h"
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_refine.h"
@@ -34,12 +35,6 @@ static double cpu(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static double mono(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 #define NMAX 512
 typedef struct {
   int n;
@@ -53,10 +48,10 @@ static int one(const ea_task_t *t, runs_t *r) {
   ea_planner_t *pl = NULL;
   ea_plan_info_t pi;
   ea_error_t e = {0};
-  const double t0 = mono(), c0 = cpu();
+  const double t0 = ea_bench_now(), c0 = cpu();
   ea_status_t st = ri ? ea_planner_alloc(t, &pl, &e) : EA_ERR_NOMEM;
   if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pi, &e);
-  const double t1 = mono();
+  const double t1 = ea_bench_now();
   ea_task_refine_t rs;
   ea_plan_rest_settings(t, &rs);
   if (!st) st = ea_plan_refine(pl, &rs, &pi, ri, &e);
@@ -64,7 +59,7 @@ static int one(const ea_task_t *t, runs_t *r) {
   double t_verify = 0.0;
   int verdict_fail = 0;
   if (!st && t->dynamics.residual_m > 0) {
-    const double tv = mono();
+    const double tv = ea_bench_now();
     ea_traj_t tr = {0};
     ea_sim_settings_t ss;
     ea_sim_settings_default(&ss);
@@ -73,9 +68,9 @@ static int one(const ea_task_t *t, runs_t *r) {
     if (!st) st = ea_traj_simulate(&t->arm, &tr, 0.0, &ss, NULL, &si, &e);
     if (!st) verdict_fail = si.residual_peak > t->dynamics.residual_m;
     ea_traj_free(&tr);
-    t_verify = mono() - tv;
+    t_verify = ea_bench_now() - tv;
   }
-  const double t2 = mono(), c2 = cpu();
+  const double t2 = ea_bench_now(), c2 = cpu();
   if (!st && r->n < NMAX) {
     const int k = r->n++;
     r->total[k] = t2 - t0;
@@ -92,16 +87,11 @@ static int one(const ea_task_t *t, runs_t *r) {
   return st != EA_OK;
 }
 
-static int cmp(const void *a, const void *b) {
-  const double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 /* quantile q of v[0..n) (sorted copy) */
 static double q(const double *v, int n, double qq) {
   double s[NMAX];
   memcpy(s, v, (size_t)n * sizeof *s);
-  qsort(s, (size_t)n, sizeof *s, cmp);
+  qsort(s, (size_t)n, sizeof *s, ea_bench_cmp);
   int i = (int)ceil(qq * n) - 1;
   if (i < 0) i = 0;
   if (i >= n) i = n - 1;

@@ -29,7 +29,8 @@
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
-#include "fe_impl.h" /* white-box: internal forces and the tangent for the modal derivatives */
+#include "fe_impl.h"  /* white-box: internal forces and the tangent for the modal derivatives */
+#include "sim_impl.h" /* the trajectory's Hermite, as ea_traj_rom_predict integrates it */
 #include "ea_planner.h"
 #include "ea_problems.h"
 #include "ea_simulate.h"
@@ -174,36 +175,6 @@ static int fe_point(fe_ctx_t *c, double Lc, double al, double *u, double *phi, c
       p[i] *= s;
   }
   return 0;
-}
-
-/* (q, q', q'') of the trajectory's cubic Hermite of column c (rate column cr) at time t, held
- * outside its samples (as ea_traj_rom_predict integrates it). */
-static void hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v, double *a) {
-  const int n = tr->n;
-  if (t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t) || t >= EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t)) {
-    const int i = t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t) ? 0 : n - 1;
-    *q = EA_TRAJ_AT(tr, i, c);
-    *v = *a = 0.0;
-    return;
-  }
-  int lo = 0, hi = n - 1;
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    if (EA_TRAJ_AT(tr, mid, EA_TRAJ_t) <= t)
-      lo = mid;
-    else
-      hi = mid;
-  }
-  const double t0 = EA_TRAJ_AT(tr, lo, EA_TRAJ_t), h = EA_TRAJ_AT(tr, hi, EA_TRAJ_t) - t0;
-  const double s = (t - t0) / h, s2 = s * s, s3 = s2 * s;
-  const double y0 = EA_TRAJ_AT(tr, lo, c), y1 = EA_TRAJ_AT(tr, hi, c);
-  const double m0 = EA_TRAJ_AT(tr, lo, cr) * h, m1 = EA_TRAJ_AT(tr, hi, cr) * h;
-  *q = (2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * y1 +
-       (s3 - s2) * m1;
-  *v = ((6 * s2 - 6 * s) * y0 + (3 * s2 - 4 * s + 1) * m0 + (-6 * s2 + 6 * s) * y1 +
-        (3 * s2 - 2 * s) * m1) /
-       h;
-  *a = ((12 * s - 6) * y0 + (6 * s - 4) * m0 + (-12 * s + 6) * y1 + (6 * s - 2) * m1) / (h * h);
 }
 
 enum { KM = 2, NS_MAX = 161 };
@@ -377,8 +348,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
   for (int s = 0; s < ns && !rc; ++s) {
     const double t = t0 + T * s / (ns - 1);
     double q[2], v, a;
-    hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
-    hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
+    ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
+    ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
     mv->t[s] = t - t0;
     for (int o = 0; o < 9 && !rc; ++o) {
       const int k = order[o], di = k % 3 - 1, dj = k / 3 - 1;
@@ -649,8 +620,8 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
                    double t, const double *z, double *dz) {
   double q[2], v[2], a[2];
   const double ta = t + EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, ta, &q[0], &v[0], &a[0]);
-  hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
+  ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, ta, &q[0], &v[0], &a[0]);
+  ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
   double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}};

@@ -355,10 +355,10 @@ static void ea__fe_check_json(ea_json_t *j, const ea_task_t *task, const ea_plan
                               const ea_plan_verify_t *verify) {
   if (info->status != EA_OK) return;
   ea_json_obj_begin(j, "fe_check");
-  const int by_verify = verify && isfinite(verify->residual_bound_m);
-  const int by_refine = !by_verify && refine && refine->status == EA_OK;
-  ea_json_bool(j, "checked", by_refine || by_verify);
   const int refined = refine && refine->status == EA_OK;
+  const int by_verify = verify && isfinite(verify->residual_bound_m);
+  const int by_refine = !by_verify && refined;
+  ea_json_bool(j, "checked", by_refine || by_verify);
   if (by_refine) {
     ea_json_str(j, "by", "refinement");
     ea_json_num(j, "dt_s", refine->fe.dt);

@@ -5,6 +5,7 @@
 #define EA_SIM_IMPL_H
 
 #include "ea_fe.h"
+#include "ea_traj.h"
 
 /** Sampled drive: shoulder angle theta0 [rad] and the cable parameter of the
  *  chosen phase (passive: rest length L0 = L_c / (1 + T / EA_c), the moving
@@ -44,5 +45,11 @@ void ea__sim_drive_finish(ea__sim_drive_t *d);
  *  under theta0 = d->theta0[0] and the cable's value at t = 0. */
 ea_status_t ea__sim_drive_start(ea_fe_model_t *m, const ea__sim_drive_t *d, const double *q,
                                 ea_fe_static_info_t *info, ea_error_t *err);
+
+/** Cubic Hermite of a trajectory's column c with its rate column cr at time t [s] (the
+ *  interpolant the FE transient and ea_traj_rom_predict follow): value, rate and
+ *  acceleration; outside the samples the end value, rate and acceleration 0. */
+void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v,
+                      double *a);
 
 #endif

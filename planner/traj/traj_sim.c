@@ -529,9 +529,8 @@ done:
   return st;
 }
 
-/* Cubic Hermite value, rate and acceleration of column c (rate column cr) at t. */
-static void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v,
-                             double *a) {
+void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v,
+                      double *a) {
   const int n = tr->n;
   if (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t) || t >= EA_TRAJ_AT(tr, n - 1, EA_TRAJ_t)) {
     const int i = (n == 1 || t <= EA_TRAJ_AT(tr, 0, EA_TRAJ_t)) ? 0 : n - 1;
