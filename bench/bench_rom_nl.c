@@ -190,6 +190,8 @@ typedef struct {
                              modes */
   double c3[NS_MAX][4];   /* third derivatives of the potential in the modal coordinates (positions
                              relaxed to the rotations): c111, c112, c122, c222 */
+  double W[NS_MAX][3][3]; /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
+                             quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
   double L0[NS_MAX];      /* [m] passive cable rest length at the sample */
   double *vec;            /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
                              d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
@@ -362,6 +364,9 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
         memcpy(ref, p, sizeof(double) * (size_t)nd * KM);
         have_ref = 1;
         rc = modal_cubic(c, u, p, mv->c3[s]) || modal_derivatives(c, u, p, th, mv->c3[s]);
+        for (int pa = 0; pa < 3 && !rc; ++pa)
+          for (int b2 = 0; b2 < 3; ++b2)
+            mv->W[s][pa][b2] = dotM(c, u, th + (size_t)pa * nd, th + (size_t)b2 * nd);
         ea_fe_cable_get(c->m, NULL, &mv->L0[s], NULL, NULL);
         memcpy(mv->vec + (size_t)s * 8 * nd, u, sizeof(double) * (size_t)nd);
         memcpy(mv->vec + ((size_t)s * 8 + 1) * nd, p, sizeof(double) * (size_t)nd * KM);
@@ -624,7 +629,8 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
-  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}};
+  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}},
+         W[3][3] = {{0}};
   if (mv) {
     double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
     int s = (int)floor(f);
@@ -640,6 +646,9 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
     for (int pp = 0; pp < 3; ++pp)
       for (int c = 0; c < 5; ++c)
         E[pp][c] = (1 - f) * mv->E[s][pp][c] + f * mv->E[s + 1][pp][c];
+    for (int pp = 0; pp < 3; ++pp)
+      for (int c = 0; c < 3; ++c)
+        W[pp][c] = (1 - f) * mv->W[s][pp][c] + f * mv->W[s + 1][pp][c];
     for (int c = 0; c < ((terms & 8) ? 1 : 4); ++c) /* bit 8: mode 1's own c111 alone */
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
@@ -671,6 +680,32 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
       }
     dz[2 * i] = z[2 * i + 1];
     dz[2 * i + 1] = -p.omega2[i] * z[2 * i] + F;
+  }
+  if (terms & 64) {
+    /* the inertia of the manifold's motion: y = Theta_jk e_j e_k / 2 moves with e, so
+     * y'' = V e'' + Theta_jk e_j' e_k' with V_k = dy/de_k = Theta_jk e_j; projected on V
+     * (Phi^T M V = 0): (I + V^T M V) e'' = (the force above) - V^T M Theta_jk e_j' e_k'. Theta_jk
+     * is W's index j + k. */
+    const double e[KM] = {z[0], z[2]}, ed[KM] = {z[1], z[3]};
+    double A[KM][KM], r[KM];
+    for (int i = 0; i < KM; ++i) {
+      double ci = 0;
+      for (int k = 0; k < KM; ++k)
+        for (int j = 0; j < KM; ++j)
+          for (int l = 0; l < KM; ++l)
+            ci += e[k] * ed[j] * ed[l] * W[i + k][j + l];
+      r[i] = dz[2 * i + 1] - ci;
+      for (int l = 0; l < KM; ++l) {
+        double m = i == l ? 1.0 : 0.0;
+        for (int k = 0; k < KM; ++k)
+          for (int n = 0; n < KM; ++n)
+            m += e[k] * e[n] * W[i + k][l + n];
+        A[i][l] = m;
+      }
+    }
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    dz[1] = (r[0] * A[1][1] - r[1] * A[0][1]) / det;
+    dz[3] = (A[0][0] * r[1] - A[1][0] * r[0]) / det;
   }
 }
 
@@ -1214,6 +1249,8 @@ int main(int argc, char **argv) {
   const int with_crude = getenv("BENCH_ROM_NL_CRUDE") != NULL;
   const int fd_first = getenv("BENCH_ROM_NL_FDJ") != NULL;
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
+  /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
+  const int corr_terms = getenv("BENCH_ROM_NL_CMI") ? 99 : 35;
   const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
          "genalpha dt 0.5 ms, undamped, 3 s after the motion%s\n\n",
@@ -1222,8 +1259,9 @@ int main(int argc, char **argv) {
       "| line | payload factor | plan | duration [s] | model: max modal tip deviation [mm] | FE: "
       "max tracking error [mm] | model residual [mm] | FE residual [mm] | FE / model | "
       "model + moving shapes M [mm] | M + quadratic stiffness MQ [mm] | MQ + manifold curvature "
-      "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | FE residual / dev^2 [1/m] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | CM + manifold inertia CMI [mm] | "
+      "FE residual / dev^2 [1/m] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
   static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
@@ -1267,21 +1305,22 @@ int main(int argc, char **argv) {
       fe_run(&t, &tr[k], &r[k]);
       if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
-      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN;
+      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN;
       if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
         both = integrate(tb, &tr[k], &mv, 23);
         cond = integrate(tb, &tr[k], &mv, 32);
         condm = integrate(tb, &tr[k], &mv, 35);
+        cmi = integrate(tb, &tr[k], &mv, 99);
       }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
+             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
              lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
              pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
              r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
-             r[k].fe / (dev * dev));
+             1e3 * cmi, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
@@ -1308,15 +1347,15 @@ int main(int argc, char **argv) {
         if (!ea_planner_set_terminal_modes(pl, NULL, NULL, NULL) &&
             !ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, NULL) &&
             !ea_planner_trajectory(pl, &tc, NULL))
-          rc =
-              v ? corrected_plan(pl, &c, &tc, 35, fd_first, &ci) : crude_plan(pl, &c, &tc, 35, &ci);
+          rc = v ? corrected_plan(pl, &c, &tc, corr_terms, fd_first, &ci)
+                 : crude_plan(pl, &c, &tc, corr_terms, &ci);
         rr.ok = 1;
         if (!rc) fe_run(&t, &tc, &rr);
         double fine = NAN; /* the CM model's own discretisation: 81 samples, RK4 dt 0.1 ms */
         static moving_t mvf;
         if (!rc && v == 1 && !moving_sample(&c, &tc, 81, &mvf)) {
           cm_dt = 1e-4;
-          fine = integrate(tb, &tc, &mvf, 35);
+          fine = integrate(tb, &tc, &mvf, corr_terms);
           cm_dt = 2e-4;
         }
         const double dur =
