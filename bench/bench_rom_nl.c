@@ -460,6 +460,7 @@ static int cond_fail;
 static double cond_r0;           /* [N] the static state's residual at the last call */
 static double cond_prev[3 * 64]; /* the last call's static state */
 static int cond_have_prev;
+static double cond_T[KM][3 * 64]; /* the condensed manifold's tangent dx/de_k at the last call */
 
 static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
                            const double *e, double *lam) {
@@ -544,7 +545,7 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
     lam[k] = lam0[k];
   int conv = 0;
   double last_dmax = 0;
-  for (int it = 0; it < 30 && !conv; ++it) {
+  for (int it = 0; it < 80 && !conv; ++it) {
     for (int i = 0; i < nd; ++i) {
       x[i] = us[i] + y[i];
       for (int k = 0; k < KM; ++k)
@@ -615,6 +616,82 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
   }
   for (int k = 0; k < KM; ++k)
     lam0[k] = lam[k];
+  /* the tangent: d/de_k of (free rows) f(x) - f0 - M Phi lambda = 0, Phi^T M y = 0 gives
+   * dx/de_k = W A^-1 e_k with W = K^-1 M Phi and A = Phi^T M W (the last Newton step's, taken at
+   * the converged state to within the step) */
+  {
+    double A[KM][KM] = {{0}};
+    for (int i = 0; i < KM; ++i)
+      for (int j = 0; j < KM; ++j)
+        for (int r = 3; r < nd; ++r)
+          A[i][j] += Mph[(size_t)i * nd + r] * b[(size_t)(j + 1) * nf + (r - 3)];
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    const double Ai[KM][KM] = {{A[1][1] / det, -A[0][1] / det}, {-A[1][0] / det, A[0][0] / det}};
+    for (int k = 0; k < KM; ++k) {
+      cond_T[k][0] = cond_T[k][1] = cond_T[k][2] = 0;
+      for (int r = 3; r < nd; ++r)
+        cond_T[k][r] =
+            b[(size_t)1 * nf + (r - 3)] * Ai[0][k] + b[(size_t)2 * nf + (r - 3)] * Ai[1][k];
+    }
+  }
+  return 0;
+}
+
+/* The condensed force with the manifold's exact inertia (CMI exact): lambda at e, the modal mass
+ * Mt = T^T M T of the tangent T = dx/de and the convective force c = T^T M d2y/de2[e', e'], the
+ * latter by central differences of T along e' (two more condensations). The condensation's warm
+ * start is the call at e. */
+static int condensed_inertia(const moving_t *mv, double t, const double q2[2], const double q1[2],
+                             const double *e, const double *ed, double *lam, double Mt[KM][KM],
+                             double cv[KM]) {
+  fe_ctx_t *c = cond_ctx;
+  const int nd = c->nd, nf = nd - 3;
+  double *y = cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf,
+         *lam0 = y + nd;
+  if (condensed_force(mv, t, q2, q1, e, lam)) return 1;
+  static double T0[KM][3 * 64], Tp[KM][3 * 64], Tm[KM][3 * 64], MT[KM][3 * 64], ys[3 * 64 + KM];
+  memcpy(T0, cond_T, sizeof T0);
+  for (int k = 0; k < KM; ++k) {
+    memset(MT[k], 0, sizeof(double) * (size_t)nd);
+    ea__fe_band_gemv(c->m, 1.0, c->m->Mb, T0[k], MT[k]);
+  }
+  for (int i = 0; i < KM; ++i)
+    for (int j = 0; j < KM; ++j) {
+      double d = 0;
+      for (int r = 0; r < nd; ++r)
+        d += T0[i][r] * MT[j][r];
+      Mt[i][j] = d;
+    }
+  cv[0] = cv[1] = 0;
+  const double sp = hypot(ed[0], ed[1]);
+  if (!(sp > 0)) return 0;
+  memcpy(ys, y, sizeof(double) * ((size_t)nd + KM));
+  const double *ph = cond_w + nd; /* Phi_1 at t, as condensed_force interpolated it */
+  const double h = 0.002 / hypot(ph[nd - 3], ph[nd - 2]);
+  double ep[KM], em[KM], lp[KM];
+  for (int k = 0; k < KM; ++k) {
+    ep[k] = e[k] + h * ed[k] / sp;
+    em[k] = e[k] - h * ed[k] / sp;
+  }
+  int rc = condensed_force(mv, t, q2, q1, ep, lp);
+  if (!rc) memcpy(Tp, cond_T, sizeof Tp);
+  memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+  rc = rc || condensed_force(mv, t, q2, q1, em, lp);
+  if (!rc) memcpy(Tm, cond_T, sizeof Tm);
+  memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+  (void)lam0;
+  if (rc) return 1;
+  /* d2y/de2[e', e'] = |e'|^2 (T(e + h d) - T(e - h d)) d / (2 h), d = e' / |e'| */
+  for (int i = 0; i < KM; ++i) {
+    double s = 0;
+    for (int r = 0; r < nd; ++r) {
+      double a = 0;
+      for (int k = 0; k < KM; ++k)
+        a += (Tp[k][r] - Tm[k][r]) * ed[k] / sp;
+      s += MT[i][r] * a;
+    }
+    cv[i] = sp * sp * s / (2 * h);
+  }
   return 0;
 }
 
@@ -652,15 +729,18 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
     for (int c = 0; c < ((terms & 8) ? 1 : 4); ++c) /* bit 8: mode 1's own c111 alone */
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
-  double lam[KM] = {0};
-  if (terms & 32) {
+  double lam[KM] = {0}, Mt[KM][KM] = {{1, 0}, {0, 1}}, cv[KM] = {0};
+  if (terms & 128) {
+    const double e[KM] = {z[0], z[2]}, ed[KM] = {z[1], z[3]};
+    if (condensed_inertia(mv, t, a, v, e, ed, lam, Mt, cv)) lam[0] = lam[1] = NAN;
+  } else if (terms & 32) {
     const double e[KM] = {z[0], z[2]};
     if (condensed_force(mv, t, a, v, e, lam)) lam[0] = lam[1] = NAN;
   }
   for (int i = 0; i < KM; ++i) {
     double F = -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
                (p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1]);
-    if (terms & 32) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
+    if (terms & 160) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
     for (int j = 0; j < KM; ++j) {
       const double e = z[2 * j], ed = z[2 * j + 1];
       if (terms & 1)
@@ -707,6 +787,12 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
     dz[1] = (r[0] * A[1][1] - r[1] * A[0][1]) / det;
     dz[3] = (A[0][0] * r[1] - A[1][0] * r[0]) / det;
   }
+  if (terms & 128) { /* Mt e'' = (the force above) - cv */
+    const double r[KM] = {dz[1] - cv[0], dz[3] - cv[1]};
+    const double det = Mt[0][0] * Mt[1][1] - Mt[0][1] * Mt[1][0];
+    dz[1] = (r[0] * Mt[1][1] - r[1] * Mt[0][1]) / det;
+    dz[3] = (Mt[0][0] * r[1] - Mt[1][0] * r[0]) / det;
+  }
 }
 
 static double cm_dt = 2e-4; /* [s] RK4 step with the condensed force (a Newton solve per stage) */
@@ -714,9 +800,9 @@ static double cm_dt = 2e-4; /* [s] RK4 step with the condensed force (a Newton s
 static double integrate_z(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t *mv,
                           int terms, double *zout) {
   const double T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  const double dt = (terms & 32) ? cm_dt : 1e-4;
+  const double dt = (terms & 160) ? cm_dt : 1e-4;
   const int n = (int)ceil(T / dt - 1e-9);
-  if (terms & 32) { /* the condensation starts from the static state */
+  if (terms & 160) { /* the condensation starts from the static state */
     cond_have_prev = 0;
     const int nd = cond_ctx->nd, nf = nd - 3;
     memset(cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf, 0,
@@ -1250,7 +1336,7 @@ int main(int argc, char **argv) {
   const int fd_first = getenv("BENCH_ROM_NL_FDJ") != NULL;
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
-  const int corr_terms = getenv("BENCH_ROM_NL_CMI") ? 99 : 35;
+  const int corr_terms = getenv("BENCH_ROM_NL_CMIX") ? 131 : getenv("BENCH_ROM_NL_CMI") ? 99 : 35;
   const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
          "genalpha dt 0.5 ms, undamped, 3 s after the motion%s\n\n",
@@ -1260,8 +1346,8 @@ int main(int argc, char **argv) {
       "max tracking error [mm] | model residual [mm] | FE residual [mm] | FE / model | "
       "model + moving shapes M [mm] | M + quadratic stiffness MQ [mm] | MQ + manifold curvature "
       "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | CM + manifold inertia CMI [mm] | "
-      "FE residual / dev^2 [1/m] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "CM + exact manifold inertia CMX [mm] | FE residual / dev^2 [1/m] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
   static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
@@ -1305,7 +1391,7 @@ int main(int argc, char **argv) {
       fe_run(&t, &tr[k], &r[k]);
       if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
-      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN;
+      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN, cmix = NAN;
       if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
@@ -1313,14 +1399,15 @@ int main(int argc, char **argv) {
         cond = integrate(tb, &tr[k], &mv, 32);
         condm = integrate(tb, &tr[k], &mv, 35);
         cmi = integrate(tb, &tr[k], &mv, 99);
+        cmix = integrate(tb, &tr[k], &mv, 131);
       }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
+             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
              lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
              pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
              r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
-             1e3 * cmi, r[k].fe / (dev * dev));
+             1e3 * cmi, 1e3 * cmix, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
