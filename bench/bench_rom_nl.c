@@ -190,11 +190,13 @@ typedef struct {
                              modes */
   double c3[NS_MAX][4];   /* third derivatives of the potential in the modal coordinates (positions
                              relaxed to the rotations): c111, c112, c122, c222 */
-  double W[NS_MAX][3][3]; /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
-                             quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
-  double L0[NS_MAX];      /* [m] passive cable rest length at the sample */
-  double *vec;            /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
-                             d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
+  double R[NS_MAX][3][KM][5]; /* Theta_p^T M (dPhi_j/dL, dPhi_j/da, d2Phi_j/dL2, d2Phi_j/dLda,
+                                 d2Phi_j/da2): the manifold and the moving modes */
+  double W[NS_MAX][3][3];     /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
+                                 quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
+  double L0[NS_MAX];          /* [m] passive cable rest length at the sample */
+  double *vec;                /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
+                                 d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
   int nd;
 } moving_t;
 
@@ -428,6 +430,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
             break;
           }
         }
+        for (int pp = 0; pp < 3; ++pp)
+          mv->R[s][pp][j][comp] = dotM(c, u, th + (size_t)pp * nd, d1);
         for (int i = 0; i < KM; ++i) {
           const double g = dotM(c, u, P[4] + (size_t)i * nd, d1);
           if (comp < 2)
@@ -707,7 +711,7 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
   double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}},
-         W[3][3] = {{0}};
+         W[3][3] = {{0}}, R[3][KM][5] = {{{0}}};
   if (mv) {
     double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
     int s = (int)floor(f);
@@ -726,6 +730,10 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
     for (int pp = 0; pp < 3; ++pp)
       for (int c = 0; c < 3; ++c)
         W[pp][c] = (1 - f) * mv->W[s][pp][c] + f * mv->W[s + 1][pp][c];
+    for (int pp = 0; pp < 3; ++pp)
+      for (int j = 0; j < KM; ++j)
+        for (int c = 0; c < 5; ++c)
+          R[pp][j][c] = (1 - f) * mv->R[s][pp][j][c] + f * mv->R[s + 1][pp][j][c];
     for (int c = 0; c < ((terms & 8) ? 1 : 4); ++c) /* bit 8: mode 1's own c111 alone */
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
@@ -758,6 +766,29 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
         F -= z[2 * k] * (Ek[0] * a[0] + Ek[1] * a[1] + Ek[2] * v[0] * v[0] +
                          2 * Ek[3] * v[0] * v[1] + Ek[4] * v[1] * v[1]);
       }
+    if (terms & 256) {
+      /* the manifold y = Theta e e / 2 and the moving modes, second order: the gauge
+       * Phi^T M y = 0 gives Phi_i^T M y'' = -Phi_i''^T M y - 2 Phi_i'^T M y', and the test
+       * function's dy/de = Theta e meets the modes' motion 2 Phi' e' + Phi'' e. R[p][j][c] =
+       * Theta_p^T M (dPhi_j/dq_c, d2Phi_j/dq_cq_d); a time derivative of Phi_j is
+       * dPhi_j/dq_a q_a' (Rd1), its second dPhi_j/dq_a q_a'' + d2Phi_j/dq_aq_b q_a' q_b' (Rd2). */
+      double Rd1[3][KM], Rd2[3][KM];
+      for (int pp = 0; pp < 3; ++pp)
+        for (int j = 0; j < KM; ++j) {
+          Rd1[pp][j] = R[pp][j][0] * v[0] + R[pp][j][1] * v[1];
+          Rd2[pp][j] = R[pp][j][0] * a[0] + R[pp][j][1] * a[1] + R[pp][j][2] * v[0] * v[0] +
+                       2 * R[pp][j][3] * v[0] * v[1] + R[pp][j][4] * v[1] * v[1];
+        }
+      double x = 0;
+      for (int k = 0; k < KM; ++k)
+        for (int j = 0; j < KM; ++j) {
+          const double ek = z[2 * k], ej = z[2 * j], edj = z[2 * j + 1];
+          x += ek * (2 * edj * Rd1[i + k][j] + ej * Rd2[i + k][j]); /* (Theta e)^T M Phi'' */
+          x -= 0.5 * ek * ej * Rd2[k + j][i];                       /* Phi_i''^T M y */
+          x -= 2 * ek * edj * Rd1[k + j][i];                        /* 2 Phi_i'^T M y' */
+        }
+      F -= x;
+    }
     dz[2 * i] = z[2 * i + 1];
     dz[2 * i + 1] = -p.omega2[i] * z[2 * i] + F;
   }
@@ -1336,7 +1367,10 @@ int main(int argc, char **argv) {
   const int fd_first = getenv("BENCH_ROM_NL_FDJ") != NULL;
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
-  const int corr_terms = getenv("BENCH_ROM_NL_CMIX") ? 131 : getenv("BENCH_ROM_NL_CMI") ? 99 : 35;
+  const int corr_terms = getenv("BENCH_ROM_NL_CMIM")   ? 355
+                         : getenv("BENCH_ROM_NL_CMIX") ? 131
+                         : getenv("BENCH_ROM_NL_CMI")  ? 99
+                                                       : 35;
   const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
          "genalpha dt 0.5 ms, undamped, 3 s after the motion%s\n\n",
@@ -1346,8 +1380,9 @@ int main(int argc, char **argv) {
       "max tracking error [mm] | model residual [mm] | FE residual [mm] | FE / model | "
       "model + moving shapes M [mm] | M + quadratic stiffness MQ [mm] | MQ + manifold curvature "
       "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | CM + manifold inertia CMI [mm] | "
-      "CM + exact manifold inertia CMX [mm] | FE residual / dev^2 [1/m] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "CM + exact manifold inertia CMX [mm] | CMI + moving manifold CMIM [mm] | FE residual / "
+      "dev^2 [1/m] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
   static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
@@ -1391,7 +1426,8 @@ int main(int argc, char **argv) {
       fe_run(&t, &tr[k], &r[k]);
       if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
-      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN, cmix = NAN;
+      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN, cmix = NAN,
+             cmim = NAN;
       if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
@@ -1399,15 +1435,16 @@ int main(int argc, char **argv) {
         cond = integrate(tb, &tr[k], &mv, 32);
         condm = integrate(tb, &tr[k], &mv, 35);
         cmi = integrate(tb, &tr[k], &mv, 99);
-        cmix = integrate(tb, &tr[k], &mv, 131);
+        cmix = getenv("BENCH_ROM_NL_NO_CMX") ? NAN : integrate(tb, &tr[k], &mv, 131);
+        cmim = integrate(tb, &tr[k], &mv, 355);
       }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
+             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
              lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
              pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
              r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
-             1e3 * cmi, 1e3 * cmix, r[k].fe / (dev * dev));
+             1e3 * cmi, 1e3 * cmix, 1e3 * cmim, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
