@@ -190,13 +190,18 @@ typedef struct {
                              modes */
   double c3[NS_MAX][4];   /* third derivatives of the potential in the modal coordinates (positions
                              relaxed to the rotations): c111, c112, c122, c222 */
-  double R[NS_MAX][3][KM][5]; /* Theta_p^T M (dPhi_j/dL, dPhi_j/da, d2Phi_j/dL2, d2Phi_j/dLda,
-                                 d2Phi_j/da2): the manifold and the moving modes */
-  double W[NS_MAX][3][3];     /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
-                                 quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
-  double L0[NS_MAX];          /* [m] passive cable rest length at the sample */
-  double *vec;                /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
-                                 d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
+  double R[NS_MAX][3][KM][5];  /* Theta_p^T M (dPhi_j/dL, dPhi_j/da, d2Phi_j/dL2, d2Phi_j/dLda,
+                                  d2Phi_j/da2): the manifold and the moving modes */
+  double W[NS_MAX][3][3];      /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
+                                  quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
+  double P[NS_MAX][2 * KM][9]; /* the static condensed force lambda_i(e1, 0) and its slope
+                                   dlambda_i/de2(e1, 0), no base load: polynomials in e1 / esc[0]
+                                   (pbasis) */
+  double esc[KM];              /* [sqrt(kg) m] the fit's range of e_k: +-esc */
+  int poly;                    /* P holds a fit */
+  double L0[NS_MAX];           /* [m] passive cable rest length at the sample */
+  double *vec;                 /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
+                                  d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
   int nd;
 } moving_t;
 
@@ -327,6 +332,11 @@ static void align_to_table(double *phi, int nd, const double q[2]) {
   }
 }
 
+static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
+                           const double *e, double *lam);
+static int poly_fit(moving_t *mv, fe_ctx_t *c);
+static int want_poly; /* BENCH_ROM_NL_POLY: moving_sample fits P */
+
 static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
   const int nd = c->nd;
   const double hL = 2e-3, ha = 4e-3;
@@ -449,6 +459,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
     }
   free(buf);
   free(u9);
+  mv->poly = 0;
+  if (!rc && want_poly) rc = poly_fit(mv, c);
   return rc;
 }
 
@@ -603,7 +615,9 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
     }
     for (int k = 0; k < KM; ++k)
       lam[k] += sc * dl[k];
-    (void)rn;
+    if (getenv("CDBG"))
+      fprintf(stderr, "it %d rn %.3g dmax %.3g det %.3g e %.3g %.3g\n", it, rn, dmax, det, e[0],
+              e[1]);
     conv = sc == 1.0 && dmax < 1e-10;
     last_dmax = dmax;
   }
@@ -699,6 +713,133 @@ static int condensed_inertia(const moving_t *mv, double t, const double q2[2], c
   return 0;
 }
 
+/* The tabulated candidate (CMIP): the static condensed force lambda_s(e) at every sample as
+ * lambda_s(e1, 0) + e2 dlambda_s/de2(e1, 0), each a polynomial of degree 8 in e1 / esc fitted by
+ * least squares on PG1 Chebyshev nodes in [-esc, esc] (esc: 0.15 m of mode 1's tip by default,
+ * BENCH_ROM_NL_POLY_TIP1); the slope by central differences of 0.2 mm of mode 2's tip. Mode 2
+ * stays below a millimetre on these plans, and a 2-D grid in (e1, e2) meets a fold of the
+ * condensation (det A changes sign) near 140 mm x 3 mm. The base load enters as
+ * (Phi + Theta e)^T M u_s'' (the table's B, C and E). The nodes are walked from the middle out
+ * in steps of at most 5 mm of tip so that each condensation starts next to its solution. */
+enum { PDEG = 8, PN = PDEG + 1, PG1 = 17 };
+static void pbasis(double x, double *b) {
+  b[0] = 1;
+  for (int d = 1; d < PN; ++d)
+    b[d] = b[d - 1] * x;
+}
+static double
+    poly_max_err; /* [relative] the fit's worst residual over the nodes, of max |lambda| */
+static double emax_tip[KM]; /* [m] the largest modal tip amplitude met by the candidates */
+
+static int poly_fit(moving_t *mv, fe_ctx_t *c) {
+  const int nd = c->nd;
+  const double tip1 =
+      getenv("BENCH_ROM_NL_POLY_TIP1") ? atof(getenv("BENCH_ROM_NL_POLY_TIP1")) : 0.15;
+  const double *ph = mv->vec + (size_t)1 * nd; /* sample 0's modes */
+  const double tn[KM] = {hypot(ph[nd - 3], ph[nd - 2]), hypot(ph[2 * nd - 3], ph[2 * nd - 2])};
+  mv->esc[0] = tip1 / tn[0];
+  const double h2 = 2e-4 / tn[1];
+  double *y = cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * (nd - 3);
+  const double zero[2] = {0, 0};
+  for (int s = 0; s < mv->ns; ++s) {
+    double xs[PG1], lam_g[PG1][2 * KM];
+    cond_have_prev = 0;
+    memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+    double ecur = 0;
+    static double ys[3 * 64 + KM];
+    /* node order: the middle (PG1 odd: x = 0 is a node), up, back to the middle, down */
+    int ord[2 * PG1], no = 0;
+    for (int i = PG1 / 2; i < PG1; ++i)
+      ord[no++] = i;
+    for (int i = PG1 / 2 - 1; i >= 0; --i)
+      ord[no++] = i;
+    for (int oi = 0; oi < no; ++oi) {
+      const int i = ord[oi];
+      const double x = cos(M_PI * (i + 0.5) / PG1), e1 = x * mv->esc[0];
+      if (oi == PG1 / 2 + 1) { /* back to the middle from the static state */
+        cond_have_prev = 0;
+        memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+        ecur = 0;
+      }
+      double lam[KM];
+      const int nst = (int)ceil(fabs(e1 - ecur) * tn[0] / 0.005);
+      for (int st = 1; st <= (nst < 1 ? 1 : nst); ++st) {
+        const double es[KM] = {ecur + (e1 - ecur) * st / (nst < 1 ? 1 : nst), 0};
+        if (condensed_force(mv, mv->t[s], zero, zero, es, lam)) return 1;
+      }
+      ecur = e1;
+      memcpy(ys, y, sizeof(double) * ((size_t)nd + KM));
+      double lp[KM], lm[KM];
+      const double ep[KM] = {e1, h2}, em[KM] = {e1, -h2};
+      if (condensed_force(mv, mv->t[s], zero, zero, ep, lp)) return 1;
+      memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+      if (condensed_force(mv, mv->t[s], zero, zero, em, lm)) return 1;
+      memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+      xs[i] = x;
+      for (int k = 0; k < KM; ++k) {
+        lam_g[i][k] = lam[k];
+        lam_g[i][KM + k] = (lp[k] - lm[k]) / (2 * h2);
+      }
+    }
+    /* least squares by the normal equations (monomials of degree 8 on Chebyshev nodes in [-1, 1]
+     * are conditioned well enough for this) */
+    double A[PN][PN] = {{0}}, rhs[2 * KM][PN] = {{0}};
+    for (int g = 0; g < PG1; ++g) {
+      double b[PN];
+      pbasis(xs[g], b);
+      for (int r = 0; r < PN; ++r) {
+        for (int q = 0; q < PN; ++q)
+          A[r][q] += b[r] * b[q];
+        for (int k = 0; k < 2 * KM; ++k)
+          rhs[k][r] += b[r] * lam_g[g][k];
+      }
+    }
+    double Lc[PN][PN] = {{0}};
+    for (int j = 0; j < PN; ++j) {
+      double d = A[j][j];
+      for (int k = 0; k < j; ++k)
+        d -= Lc[j][k] * Lc[j][k];
+      if (!(d > 0)) return 1;
+      Lc[j][j] = sqrt(d);
+      for (int i = j + 1; i < PN; ++i) {
+        double v = A[i][j];
+        for (int k = 0; k < j; ++k)
+          v -= Lc[i][k] * Lc[j][k];
+        Lc[i][j] = v / Lc[j][j];
+      }
+    }
+    for (int k = 0; k < 2 * KM; ++k) {
+      double w[PN];
+      for (int i = 0; i < PN; ++i) {
+        double v = rhs[k][i];
+        for (int q = 0; q < i; ++q)
+          v -= Lc[i][q] * w[q];
+        w[i] = v / Lc[i][i];
+      }
+      for (int i = PN - 1; i >= 0; --i) {
+        double v = w[i];
+        for (int q = i + 1; q < PN; ++q)
+          v -= Lc[q][i] * mv->P[s][k][q];
+        mv->P[s][k][i] = v / Lc[i][i];
+      }
+      double mx = 0, er = 0;
+      for (int g = 0; g < PG1; ++g) {
+        double b[PN], v = 0;
+        pbasis(xs[g], b);
+        for (int q = 0; q < PN; ++q)
+          v += b[q] * mv->P[s][k][q];
+        mx = fmax(mx, fabs(lam_g[g][k]));
+        er = fmax(er, fabs(v - lam_g[g][k]));
+      }
+      if (k < KM) poly_max_err = fmax(poly_max_err, er / mx);
+    }
+  }
+  cond_have_prev = 0;
+  memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+  mv->poly = 1;
+  return 0;
+}
+
 /* The model's modal equations along tr (RK4, dt 1e-4) as ea_traj_rom_predict integrates them,
  * with the moving-shape terms of mv added when mv is not NULL (scaled by w: 1 both, bit 1 G
  * only, bit 2 D only); the residual peak of the free vibration at the goal over 3 s. */
@@ -738,9 +879,36 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
   double lam[KM] = {0}, Mt[KM][KM] = {{1, 0}, {0, 1}}, cv[KM] = {0};
+  if (mv && (terms & 128 || terms & 256 || terms & 512)) {
+    const double *ph0 = mv->vec + (size_t)mv->nd;
+    const int nd = mv->nd;
+    emax_tip[0] = fmax(emax_tip[0], fabs(z[0]) * hypot(ph0[nd - 3], ph0[nd - 2]));
+    emax_tip[1] = fmax(emax_tip[1], fabs(z[2]) * hypot(ph0[2 * nd - 3], ph0[2 * nd - 2]));
+  }
   if (terms & 128) {
     const double e[KM] = {z[0], z[2]}, ed[KM] = {z[1], z[3]};
     if (condensed_inertia(mv, t, a, v, e, ed, lam, Mt, cv)) lam[0] = lam[1] = NAN;
+  } else if (terms & 512) { /* the fitted static force and the base load on (Phi + Theta e) */
+    double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
+    int s = (int)floor(f);
+    s = s < 0 ? 0 : s > mv->ns - 2 ? mv->ns - 2 : s;
+    f = fmin(fmax(f - s, 0.0), 1.0);
+    double b[PN];
+    pbasis(z[0] / mv->esc[0], b);
+    for (int i = 0; i < KM; ++i) {
+      double l0 = 0, l1 = 0;
+      for (int n = 0; n < PN; ++n) {
+        l0 += b[n] * (mv->P[s][i][n] + z[2] * mv->P[s][KM + i][n]);
+        l1 += b[n] * (mv->P[s + 1][i][n] + z[2] * mv->P[s + 1][KM + i][n]);
+      }
+      lam[i] = (1 - f) * l0 + f * l1 + p.B[i][0] * a[0] + p.B[i][1] * a[1] +
+               p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1];
+      for (int k = 0; k < KM; ++k) {
+        const double *Ek = E[i + k];
+        lam[i] += z[2 * k] * (Ek[0] * a[0] + Ek[1] * a[1] + Ek[2] * v[0] * v[0] +
+                              2 * Ek[3] * v[0] * v[1] + Ek[4] * v[1] * v[1]);
+      }
+    }
   } else if (terms & 32) {
     const double e[KM] = {z[0], z[2]};
     if (condensed_force(mv, t, a, v, e, lam)) lam[0] = lam[1] = NAN;
@@ -748,7 +916,7 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   for (int i = 0; i < KM; ++i) {
     double F = -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
                (p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1]);
-    if (terms & 160) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
+    if (terms & 672) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
     for (int j = 0; j < KM; ++j) {
       const double e = z[2 * j], ed = z[2 * j + 1];
       if (terms & 1)
@@ -831,7 +999,7 @@ static double cm_dt = 2e-4; /* [s] RK4 step with the condensed force (a Newton s
 static double integrate_z(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t *mv,
                           int terms, double *zout) {
   const double T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  const double dt = (terms & 160) ? cm_dt : 1e-4;
+  const double dt = (terms & 160) ? cm_dt : 1e-4; /* 512: tabulated, the default step */
   const int n = (int)ceil(T / dt - 1e-9);
   if (terms & 160) { /* the condensation starts from the static state */
     cond_have_prev = 0;
@@ -1367,7 +1535,9 @@ int main(int argc, char **argv) {
   const int fd_first = getenv("BENCH_ROM_NL_FDJ") != NULL;
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
-  const int corr_terms = getenv("BENCH_ROM_NL_CMIM")   ? 355
+  want_poly = getenv("BENCH_ROM_NL_POLY") != NULL;
+  const int corr_terms = want_poly                     ? 835
+                         : getenv("BENCH_ROM_NL_CMIM") ? 355
                          : getenv("BENCH_ROM_NL_CMIX") ? 131
                          : getenv("BENCH_ROM_NL_CMI")  ? 99
                                                        : 35;
@@ -1380,9 +1550,9 @@ int main(int argc, char **argv) {
       "max tracking error [mm] | model residual [mm] | FE residual [mm] | FE / model | "
       "model + moving shapes M [mm] | M + quadratic stiffness MQ [mm] | MQ + manifold curvature "
       "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | CM + manifold inertia CMI [mm] | "
-      "CM + exact manifold inertia CMX [mm] | CMI + moving manifold CMIM [mm] | FE residual / "
-      "dev^2 [1/m] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "CM + exact manifold inertia CMX [mm] | CMI + moving manifold CMIM [mm] | CMIM, static "
+      "force fitted CMIP [mm] | FE residual / dev^2 [1/m] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
   static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
@@ -1427,7 +1597,7 @@ int main(int argc, char **argv) {
       if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
       double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN, cmix = NAN,
-             cmim = NAN;
+             cmip = NAN, cmim = NAN;
       if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
@@ -1436,15 +1606,16 @@ int main(int argc, char **argv) {
         condm = integrate(tb, &tr[k], &mv, 35);
         cmi = integrate(tb, &tr[k], &mv, 99);
         cmix = getenv("BENCH_ROM_NL_NO_CMX") ? NAN : integrate(tb, &tr[k], &mv, 131);
-        cmim = integrate(tb, &tr[k], &mv, 355);
+        cmim = getenv("BENCH_ROM_NL_NO_CMIM") ? NAN : integrate(tb, &tr[k], &mv, 355);
+        cmip = want_poly ? integrate(tb, &tr[k], &mv, 835) : NAN;
       }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
+             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
              lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
              pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
              r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
-             1e3 * cmi, 1e3 * cmix, 1e3 * cmim, r[k].fe / (dev * dev));
+             1e3 * cmi, 1e3 * cmix, 1e3 * cmim, 1e3 * cmip, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
@@ -1557,6 +1728,13 @@ int main(int argc, char **argv) {
            1e3 * ea_bench_median(t_fe05, ncorr));
   }
   printf("\ncondensation: Newton failed (the integration stopped) %d times\n", cond_fail);
+  printf(
+      "\nthe largest modal tip amplitude met by CMX, CMIM, CMIP: mode 1 %.1f mm, mode 2 %.1f mm\n",
+      1e3 * emax_tip[0], 1e3 * emax_tip[1]);
+  if (want_poly)
+    printf("\nCMIP: the static condensed force's degree-5 fit: worst residual over the fit grid "
+           "%.2e of the largest |lambda|\n",
+           poly_max_err);
   printf("\nmode signs: the FE modes' tip per unit eta against the table's at %d first samples: "
          "min |cos| %.6f, max | |tip_FE| / |tip_table| - 1 | %.2e; sign taken from the table %d "
          "times\n",
