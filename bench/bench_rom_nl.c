@@ -15,17 +15,26 @@
  *  3. candidate terms added to the model's modal equations along each plan (columns of table 1):
  *     the moving mode shapes (M: Phi_i^T M dPhi_j/dq, Phi_i^T M d2Phi_j/dq2 from FE modes at
  *     q +- h), the Galerkin quadratic stiffness (Q) and the quadratic manifold's curvature (E,
- *     static modal derivatives M-orthogonal to the modes), and the modal force with every other
- *     DOF condensed statically to all orders (C, a Newton solve at every right-hand side);
- *  4. at-rest plans corrected for C + M (CM) without touching the transcription: the goal's 4
- *     modal targets moved (warm re-plans) by a globalised Newton until the CM model ends at rest
- *     (residual peak < 0.01 mm, at most 15 evaluations), then the FE; the time of one CM
- *     integration next to the FE transient's.
+ *     static modal derivatives Theta M-orthogonal to the modes), the modal force with every other
+ *     DOF condensed statically to all orders (C, a Newton solve at every right-hand side); then
+ *     the inertia of the condensed motion y, which C leaves out: on the quadratic manifold
+ *     y = Theta e e / 2 (CMI: modal mass I + V^T M V and convective force, V = dy/de = Theta e),
+ *     exactly from the condensation's tangent (CMX), and with the manifold's motion with the
+ *     modes (CMIM: Phi^T M y'' = -Phi''^T M y - 2 Phi'^T M y' by the gauge Phi^T M y = 0, and
+ *     dy/de against Phi'' e + 2 Phi' e'); CMIP is CMIM with the static condensed force fitted
+ *     by polynomials in e1 at each sample (what a table would hold; BENCH_ROM_NL_POLY=1);
+ *  4. at-rest plans corrected by a candidate without touching the transcription: the goal's 4
+ *     modal targets moved (warm re-plans) by a globalised Newton until the candidate ends at rest
+ *     (residual peak < 0.01 mm, at most 15 evaluations), then the FE; the time of one candidate
+ *     integration next to the FE transient's. The candidate: CM, or BENCH_ROM_NL_CMI=1 CMI,
+ *     BENCH_ROM_NL_CMIX=1 CMX, BENCH_ROM_NL_CMIM=1 CMIM, BENCH_ROM_NL_POLY=1 CMIP.
  * Section 2b: free vibration from the quadratic manifold against the second-order model.
  * BENCH_ROM_NL_LINE=i: only line i of section 1; BENCH_ROM_NL_ONLY_FREE=1: only section 2;
  * BENCH_ROM_NL_ONLY_CORR=1: sections 1 (at-rest plans only, no candidate terms) and 4 alone;
  * BENCH_ROM_NL_CRUDE=1: section 4 also with the loop target -= z_end (J = I, full steps);
- * BENCH_ROM_NL_FDJ=1: the Newton's first Jacobian by forward differences instead of I.
+ * BENCH_ROM_NL_FDJ=1: the Newton's first Jacobian by forward differences instead of I;
+ * BENCH_ROM_NL_NO_CMX=1, BENCH_ROM_NL_NO_CMIM=1: leave out those columns (each integration
+ * takes seconds).
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
@@ -477,6 +486,7 @@ static double cond_r0;           /* [N] the static state's residual at the last 
 static double cond_prev[3 * 64]; /* the last call's static state */
 static int cond_have_prev;
 static double cond_T[KM][3 * 64]; /* the condensed manifold's tangent dx/de_k at the last call */
+static double cond_dlam[KM][KM];  /* dlambda_i/de_k at the last call: A^-1 */
 
 static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
                            const double *e, double *lam) {
@@ -645,6 +655,7 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
           A[i][j] += Mph[(size_t)i * nd + r] * b[(size_t)(j + 1) * nf + (r - 3)];
     const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
     const double Ai[KM][KM] = {{A[1][1] / det, -A[0][1] / det}, {-A[1][0] / det, A[0][0] / det}};
+    memcpy(cond_dlam, Ai, sizeof cond_dlam);
     for (int k = 0; k < KM; ++k) {
       cond_T[k][0] = cond_T[k][1] = cond_T[k][2] = 0;
       for (int r = 3; r < nd; ++r)
@@ -716,7 +727,7 @@ static int condensed_inertia(const moving_t *mv, double t, const double q2[2], c
 /* The tabulated candidate (CMIP): the static condensed force lambda_s(e) at every sample as
  * lambda_s(e1, 0) + e2 dlambda_s/de2(e1, 0), each a polynomial of degree 8 in e1 / esc fitted by
  * least squares on PG1 Chebyshev nodes in [-esc, esc] (esc: 0.15 m of mode 1's tip by default,
- * BENCH_ROM_NL_POLY_TIP1); the slope by central differences of 0.2 mm of mode 2's tip. Mode 2
+ * BENCH_ROM_NL_POLY_TIP1); the slope from the condensation's tangent (dlambda/de = A^-1). Mode 2
  * stays below a millimetre on these plans, and a 2-D grid in (e1, e2) meets a fold of the
  * condensation (det A changes sign) near 140 mm x 3 mm. The base load enters as
  * (Phi + Theta e)^T M u_s'' (the table's B, C and E). The nodes are walked from the middle out
@@ -728,7 +739,8 @@ static void pbasis(double x, double *b) {
     b[d] = b[d - 1] * x;
 }
 static double
-    poly_max_err; /* [relative] the fit's worst residual over the nodes, of max |lambda| */
+    poly_max_err;        /* [relative] the fit's worst residual over the nodes, of max |lambda| */
+static int poly_dropped; /* nodes the condensation did not reach */
 static double emax_tip[KM]; /* [m] the largest modal tip amplitude met by the candidates */
 
 static int poly_fit(moving_t *mv, fe_ctx_t *c) {
@@ -738,7 +750,6 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
   const double *ph = mv->vec + (size_t)1 * nd; /* sample 0's modes */
   const double tn[KM] = {hypot(ph[nd - 3], ph[nd - 2]), hypot(ph[2 * nd - 3], ph[2 * nd - 2])};
   mv->esc[0] = tip1 / tn[0];
-  const double h2 = 2e-4 / tn[1];
   double *y = cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * (nd - 3);
   const double zero[2] = {0, 0};
   for (int s = 0; s < mv->ns; ++s) {
@@ -746,16 +757,17 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
     cond_have_prev = 0;
     memset(y, 0, sizeof(double) * ((size_t)nd + KM));
     double ecur = 0;
-    static double ys[3 * 64 + KM];
     /* node order: the middle (PG1 odd: x = 0 is a node), up, back to the middle, down */
     int ord[2 * PG1], no = 0;
     for (int i = PG1 / 2; i < PG1; ++i)
       ord[no++] = i;
     for (int i = PG1 / 2 - 1; i >= 0; --i)
       ord[no++] = i;
+    int have[PG1] = {0}, ng = 0, stop = 0;
     for (int oi = 0; oi < no; ++oi) {
       const int i = ord[oi];
       const double x = cos(M_PI * (i + 0.5) / PG1), e1 = x * mv->esc[0];
+      if (oi < PG1 / 2 + 1 ? stop & 1 : stop & 2) continue;
       if (oi == PG1 / 2 + 1) { /* back to the middle from the static state */
         cond_have_prev = 0;
         memset(y, 0, sizeof(double) * ((size_t)nd + KM));
@@ -763,28 +775,33 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
       }
       double lam[KM];
       const int nst = (int)ceil(fabs(e1 - ecur) * tn[0] / 0.005);
-      for (int st = 1; st <= (nst < 1 ? 1 : nst); ++st) {
+      int bad = 0;
+      for (int st = 1; st <= (nst < 1 ? 1 : nst) && !bad; ++st) {
         const double es[KM] = {ecur + (e1 - ecur) * st / (nst < 1 ? 1 : nst), 0};
-        if (condensed_force(mv, mv->t[s], zero, zero, es, lam)) return 1;
+        bad = condensed_force(mv, mv->t[s], zero, zero, es, lam);
       }
+      /* a node the condensation cannot reach (beyond a fold of the condensed manifold): the fit
+       * stops there on this side and extrapolates */
       ecur = e1;
-      memcpy(ys, y, sizeof(double) * ((size_t)nd + KM));
-      double lp[KM], lm[KM];
-      const double ep[KM] = {e1, h2}, em[KM] = {e1, -h2};
-      if (condensed_force(mv, mv->t[s], zero, zero, ep, lp)) return 1;
-      memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
-      if (condensed_force(mv, mv->t[s], zero, zero, em, lm)) return 1;
-      memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+      if (bad) {
+        stop |= oi < PG1 / 2 + 1 ? 1 : 2;
+        ++poly_dropped;
+        continue;
+      }
+      have[i] = 1;
+      ++ng;
       xs[i] = x;
       for (int k = 0; k < KM; ++k) {
         lam_g[i][k] = lam[k];
-        lam_g[i][KM + k] = (lp[k] - lm[k]) / (2 * h2);
+        lam_g[i][KM + k] = cond_dlam[k][1]; /* the condensation's own tangent */
       }
     }
     /* least squares by the normal equations (monomials of degree 8 on Chebyshev nodes in [-1, 1]
      * are conditioned well enough for this) */
+    if (ng < PN + 2) return 1;
     double A[PN][PN] = {{0}}, rhs[2 * KM][PN] = {{0}};
     for (int g = 0; g < PG1; ++g) {
+      if (!have[g]) continue;
       double b[PN];
       pbasis(xs[g], b);
       for (int r = 0; r < PN; ++r) {
@@ -824,6 +841,7 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
       }
       double mx = 0, er = 0;
       for (int g = 0; g < PG1; ++g) {
+        if (!have[g]) continue;
         double b[PN], v = 0;
         pbasis(xs[g], b);
         for (int q = 0; q < PN; ++q)
@@ -1536,6 +1554,11 @@ int main(int argc, char **argv) {
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
   want_poly = getenv("BENCH_ROM_NL_POLY") != NULL;
+  const char *corr_name = want_poly                     ? "CMIP"
+                          : getenv("BENCH_ROM_NL_CMIM") ? "CMIM"
+                          : getenv("BENCH_ROM_NL_CMIX") ? "CMX"
+                          : getenv("BENCH_ROM_NL_CMI")  ? "CMI"
+                                                        : "CM";
   const int corr_terms = want_poly                     ? 835
                          : getenv("BENCH_ROM_NL_CMIM") ? 355
                          : getenv("BENCH_ROM_NL_CMIX") ? 131
@@ -1682,17 +1705,18 @@ int main(int argc, char **argv) {
       ea_traj_free(&tr[k]);
     ea_planner_free(pl);
   }
-  printf("\n4. at-rest plans corrected for the condensed modal force with the moving shapes (CM) "
-         "without touching the transcription: the goal's modal targets moved (warm re-plans) "
-         "until the CM model ends at rest (residual peak < %.3g mm), by a globalised Newton on "
+  printf("\n4. at-rest plans corrected for a candidate (%s) without touching the transcription: "
+         "the goal's modal targets moved (warm re-plans) until the candidate ends at rest "
+         "(residual peak < %.3g mm), by a globalised Newton on "
          "the 4 targets as tip amplitudes (J %s, Broyden updates, Armijo %g with at most %d "
          "halvings, J rebuilt by forward differences of %.2g mm when no step is accepted, at most "
          "%d evaluations); FE: genalpha dt 0.5 ms, undamped, 3 s%s\n\n",
-         1e3 * CORR_TOL, fd_first ? "by forward differences" : "= I", CORR_ARMIJO, CORR_HALVINGS,
-         1e3 * CORR_FD_H, CORR_MAX_EVALS,
+         corr_name, 1e3 * CORR_TOL, fd_first ? "by forward differences" : "= I", CORR_ARMIJO,
+         CORR_HALVINGS, 1e3 * CORR_FD_H, CORR_MAX_EVALS,
          with_crude ? "; crude: target -= z_end, 6 iterations (the loop it replaces)" : "");
-  printf("| line | payload factor | at rest: duration [s] | FE [mm] |%s CM Newton: evaluations | "
-         "J by differences | failed evaluations | CM residual [mm] | converged | CM at 81 samples, "
+  printf("| line | payload factor | at rest: duration [s] | FE [mm] |%s Newton: evaluations | "
+         "J by differences | failed evaluations | candidate's residual [mm] | converged | "
+         "candidate at 81 samples, "
          "dt 0.1 ms [mm] | FE [mm] | FE / at-rest FE | duration [s] | duration vs at rest [%%] |\n"
          "|---|---|---|---|%s---|---|---|---|---|---|---|---|---|---|\n",
          with_crude ? " crude: evaluations | CM [mm] | FE [mm] |" : "",
@@ -1708,7 +1732,7 @@ int main(int argc, char **argv) {
       b05[1] += fe1[i] <= 5e-4;
     }
     printf("\nFE residual of %d lines: at rest as planned: median %.3f mm, <= 1 mm on %d, <= 0.5 "
-           "mm on %d; CM-corrected: median %.3f mm, <= 1 mm on %d, <= 0.5 mm on %d; the loop "
+           "mm on %d; corrected: median %.3f mm, <= 1 mm on %d, <= 0.5 mm on %d; the loop "
            "converged on %d\n",
            ncorr, 1e3 * ea_bench_median(fe0, ncorr), b1[0], b05[0],
            1e3 * ea_bench_median(fe1, ncorr), b1[1], b05[1], nconv);
@@ -1719,7 +1743,8 @@ int main(int argc, char **argv) {
              nratio, med, ratio[0], ratio[nratio - 1]);
     }
     printf("time per evaluation (median over lines): re-plan %.1f ms, moving shapes (41 samples) "
-           "%.1f ms, one CM integration %.1f ms; one FE transient of the at-rest plan: %.1f ms at "
+           "%.1f ms, one candidate integration %.1f ms; one FE transient of the at-rest plan: %.1f "
+           "ms at "
            "the refinement's settings (ea_sim_settings_default, dt 4 ms, settle 1.5 s), %.1f ms "
            "at genalpha dt 0.5 ms, settle 3 s\n",
            nint ? 1e3 * ea_bench_median(t_plan, nint) : NAN,
@@ -1732,9 +1757,10 @@ int main(int argc, char **argv) {
       "\nthe largest modal tip amplitude met by CMX, CMIM, CMIP: mode 1 %.1f mm, mode 2 %.1f mm\n",
       1e3 * emax_tip[0], 1e3 * emax_tip[1]);
   if (want_poly)
-    printf("\nCMIP: the static condensed force's degree-5 fit: worst residual over the fit grid "
-           "%.2e of the largest |lambda|\n",
-           poly_max_err);
+    printf(
+        "\nCMIP: the static condensed force's degree-8 fits in e1: worst residual over the nodes "
+        "%.2e of the largest |lambda|; nodes not reached (beyond a fold) %d\n",
+        poly_max_err, poly_dropped);
   printf("\nmode signs: the FE modes' tip per unit eta against the table's at %d first samples: "
          "min |cos| %.6f, max | |tip_FE| / |tip_table| - 1 | %.2e; sign taken from the table %d "
          "times\n",
