@@ -625,9 +625,7 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
     }
     for (int k = 0; k < KM; ++k)
       lam[k] += sc * dl[k];
-    if (getenv("CDBG"))
-      fprintf(stderr, "it %d rn %.3g dmax %.3g det %.3g e %.3g %.3g\n", it, rn, dmax, det, e[0],
-              e[1]);
+    (void)rn;
     conv = sc == 1.0 && dmax < 1e-10;
     last_dmax = dmax;
   }
