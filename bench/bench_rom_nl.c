@@ -15,17 +15,26 @@
  *  3. candidate terms added to the model's modal equations along each plan (columns of table 1):
  *     the moving mode shapes (M: Phi_i^T M dPhi_j/dq, Phi_i^T M d2Phi_j/dq2 from FE modes at
  *     q +- h), the Galerkin quadratic stiffness (Q) and the quadratic manifold's curvature (E,
- *     static modal derivatives M-orthogonal to the modes), and the modal force with every other
- *     DOF condensed statically to all orders (C, a Newton solve at every right-hand side);
- *  4. at-rest plans corrected for C + M (CM) without touching the transcription: the goal's 4
- *     modal targets moved (warm re-plans) by a globalised Newton until the CM model ends at rest
- *     (residual peak < 0.01 mm, at most 15 evaluations), then the FE; the time of one CM
- *     integration next to the FE transient's.
+ *     static modal derivatives Theta M-orthogonal to the modes), the modal force with every other
+ *     DOF condensed statically to all orders (C, a Newton solve at every right-hand side); then
+ *     the inertia of the condensed motion y, which C leaves out: on the quadratic manifold
+ *     y = Theta e e / 2 (CMI: modal mass I + V^T M V and convective force, V = dy/de = Theta e),
+ *     exactly from the condensation's tangent (CMX), and with the manifold's motion with the
+ *     modes (CMIM: Phi^T M y'' = -Phi''^T M y - 2 Phi'^T M y' by the gauge Phi^T M y = 0, and
+ *     dy/de against Phi'' e + 2 Phi' e'); CMIP is CMIM with the static condensed force fitted
+ *     by polynomials in e1 at each sample (what a table would hold; BENCH_ROM_NL_POLY=1);
+ *  4. at-rest plans corrected by a candidate without touching the transcription: the goal's 4
+ *     modal targets moved (warm re-plans) by a globalised Newton until the candidate ends at rest
+ *     (residual peak < 0.01 mm, at most 15 evaluations), then the FE; the time of one candidate
+ *     integration next to the FE transient's. The candidate: CM, or BENCH_ROM_NL_CMI=1 CMI,
+ *     BENCH_ROM_NL_CMIX=1 CMX, BENCH_ROM_NL_CMIM=1 CMIM, BENCH_ROM_NL_POLY=1 CMIP.
  * Section 2b: free vibration from the quadratic manifold against the second-order model.
  * BENCH_ROM_NL_LINE=i: only line i of section 1; BENCH_ROM_NL_ONLY_FREE=1: only section 2;
  * BENCH_ROM_NL_ONLY_CORR=1: sections 1 (at-rest plans only, no candidate terms) and 4 alone;
  * BENCH_ROM_NL_CRUDE=1: section 4 also with the loop target -= z_end (J = I, full steps);
- * BENCH_ROM_NL_FDJ=1: the Newton's first Jacobian by forward differences instead of I.
+ * BENCH_ROM_NL_FDJ=1: the Newton's first Jacobian by forward differences instead of I;
+ * BENCH_ROM_NL_NO_CMX=1, BENCH_ROM_NL_NO_CMIM=1: leave out those columns (each integration
+ * takes seconds).
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
@@ -190,9 +199,18 @@ typedef struct {
                              modes */
   double c3[NS_MAX][4];   /* third derivatives of the potential in the modal coordinates (positions
                              relaxed to the rotations): c111, c112, c122, c222 */
-  double L0[NS_MAX];      /* [m] passive cable rest length at the sample */
-  double *vec;            /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
-                             d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
+  double R[NS_MAX][3][KM][5];  /* Theta_p^T M (dPhi_j/dL, dPhi_j/da, d2Phi_j/dL2, d2Phi_j/dLda,
+                                  d2Phi_j/da2): the manifold and the moving modes */
+  double W[NS_MAX][3][3];      /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
+                                  quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
+  double P[NS_MAX][2 * KM][9]; /* the static condensed force lambda_i(e1, 0) and its slope
+                                   dlambda_i/de2(e1, 0), no base load: polynomials in e1 / esc[0]
+                                   (pbasis) */
+  double esc[KM];              /* [sqrt(kg) m] the fit's range of e_k: +-esc */
+  int poly;                    /* P holds a fit */
+  double L0[NS_MAX];           /* [m] passive cable rest length at the sample */
+  double *vec;                 /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
+                                  d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
   int nd;
 } moving_t;
 
@@ -323,6 +341,11 @@ static void align_to_table(double *phi, int nd, const double q[2]) {
   }
 }
 
+static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
+                           const double *e, double *lam);
+static int poly_fit(moving_t *mv, fe_ctx_t *c);
+static int want_poly; /* BENCH_ROM_NL_POLY: moving_sample fits P */
+
 static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
   const int nd = c->nd;
   const double hL = 2e-3, ha = 4e-3;
@@ -362,6 +385,9 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
         memcpy(ref, p, sizeof(double) * (size_t)nd * KM);
         have_ref = 1;
         rc = modal_cubic(c, u, p, mv->c3[s]) || modal_derivatives(c, u, p, th, mv->c3[s]);
+        for (int pa = 0; pa < 3 && !rc; ++pa)
+          for (int b2 = 0; b2 < 3; ++b2)
+            mv->W[s][pa][b2] = dotM(c, u, th + (size_t)pa * nd, th + (size_t)b2 * nd);
         ea_fe_cable_get(c->m, NULL, &mv->L0[s], NULL, NULL);
         memcpy(mv->vec + (size_t)s * 8 * nd, u, sizeof(double) * (size_t)nd);
         memcpy(mv->vec + ((size_t)s * 8 + 1) * nd, p, sizeof(double) * (size_t)nd * KM);
@@ -423,6 +449,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
             break;
           }
         }
+        for (int pp = 0; pp < 3; ++pp)
+          mv->R[s][pp][j][comp] = dotM(c, u, th + (size_t)pp * nd, d1);
         for (int i = 0; i < KM; ++i) {
           const double g = dotM(c, u, P[4] + (size_t)i * nd, d1);
           if (comp < 2)
@@ -440,6 +468,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
     }
   free(buf);
   free(u9);
+  mv->poly = 0;
+  if (!rc && want_poly) rc = poly_fit(mv, c);
   return rc;
 }
 
@@ -455,6 +485,8 @@ static int cond_fail;
 static double cond_r0;           /* [N] the static state's residual at the last call */
 static double cond_prev[3 * 64]; /* the last call's static state */
 static int cond_have_prev;
+static double cond_T[KM][3 * 64]; /* the condensed manifold's tangent dx/de_k at the last call */
+static double cond_dlam[KM][KM];  /* dlambda_i/de_k at the last call: A^-1 */
 
 static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
                            const double *e, double *lam) {
@@ -539,7 +571,7 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
     lam[k] = lam0[k];
   int conv = 0;
   double last_dmax = 0;
-  for (int it = 0; it < 30 && !conv; ++it) {
+  for (int it = 0; it < 80 && !conv; ++it) {
     for (int i = 0; i < nd; ++i) {
       x[i] = us[i] + y[i];
       for (int k = 0; k < KM; ++k)
@@ -610,6 +642,217 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
   }
   for (int k = 0; k < KM; ++k)
     lam0[k] = lam[k];
+  /* the tangent: d/de_k of (free rows) f(x) - f0 - M Phi lambda = 0, Phi^T M y = 0 gives
+   * dx/de_k = W A^-1 e_k with W = K^-1 M Phi and A = Phi^T M W (the last Newton step's, taken at
+   * the converged state to within the step) */
+  {
+    double A[KM][KM] = {{0}};
+    for (int i = 0; i < KM; ++i)
+      for (int j = 0; j < KM; ++j)
+        for (int r = 3; r < nd; ++r)
+          A[i][j] += Mph[(size_t)i * nd + r] * b[(size_t)(j + 1) * nf + (r - 3)];
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    const double Ai[KM][KM] = {{A[1][1] / det, -A[0][1] / det}, {-A[1][0] / det, A[0][0] / det}};
+    memcpy(cond_dlam, Ai, sizeof cond_dlam);
+    for (int k = 0; k < KM; ++k) {
+      cond_T[k][0] = cond_T[k][1] = cond_T[k][2] = 0;
+      for (int r = 3; r < nd; ++r)
+        cond_T[k][r] =
+            b[(size_t)1 * nf + (r - 3)] * Ai[0][k] + b[(size_t)2 * nf + (r - 3)] * Ai[1][k];
+    }
+  }
+  return 0;
+}
+
+/* The condensed force with the manifold's exact inertia (CMI exact): lambda at e, the modal mass
+ * Mt = T^T M T of the tangent T = dx/de and the convective force c = T^T M d2y/de2[e', e'], the
+ * latter by central differences of T along e' (two more condensations). The condensation's warm
+ * start is the call at e. */
+static int condensed_inertia(const moving_t *mv, double t, const double q2[2], const double q1[2],
+                             const double *e, const double *ed, double *lam, double Mt[KM][KM],
+                             double cv[KM]) {
+  fe_ctx_t *c = cond_ctx;
+  const int nd = c->nd, nf = nd - 3;
+  double *y = cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf,
+         *lam0 = y + nd;
+  if (condensed_force(mv, t, q2, q1, e, lam)) return 1;
+  static double T0[KM][3 * 64], Tp[KM][3 * 64], Tm[KM][3 * 64], MT[KM][3 * 64], ys[3 * 64 + KM];
+  memcpy(T0, cond_T, sizeof T0);
+  for (int k = 0; k < KM; ++k) {
+    memset(MT[k], 0, sizeof(double) * (size_t)nd);
+    ea__fe_band_gemv(c->m, 1.0, c->m->Mb, T0[k], MT[k]);
+  }
+  for (int i = 0; i < KM; ++i)
+    for (int j = 0; j < KM; ++j) {
+      double d = 0;
+      for (int r = 0; r < nd; ++r)
+        d += T0[i][r] * MT[j][r];
+      Mt[i][j] = d;
+    }
+  cv[0] = cv[1] = 0;
+  const double sp = hypot(ed[0], ed[1]);
+  if (!(sp > 0)) return 0;
+  memcpy(ys, y, sizeof(double) * ((size_t)nd + KM));
+  const double *ph = cond_w + nd; /* Phi_1 at t, as condensed_force interpolated it */
+  const double h = 0.002 / hypot(ph[nd - 3], ph[nd - 2]);
+  double ep[KM], em[KM], lp[KM];
+  for (int k = 0; k < KM; ++k) {
+    ep[k] = e[k] + h * ed[k] / sp;
+    em[k] = e[k] - h * ed[k] / sp;
+  }
+  int rc = condensed_force(mv, t, q2, q1, ep, lp);
+  if (!rc) memcpy(Tp, cond_T, sizeof Tp);
+  memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+  rc = rc || condensed_force(mv, t, q2, q1, em, lp);
+  if (!rc) memcpy(Tm, cond_T, sizeof Tm);
+  memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+  (void)lam0;
+  if (rc) return 1;
+  /* d2y/de2[e', e'] = |e'|^2 (T(e + h d) - T(e - h d)) d / (2 h), d = e' / |e'| */
+  for (int i = 0; i < KM; ++i) {
+    double s = 0;
+    for (int r = 0; r < nd; ++r) {
+      double a = 0;
+      for (int k = 0; k < KM; ++k)
+        a += (Tp[k][r] - Tm[k][r]) * ed[k] / sp;
+      s += MT[i][r] * a;
+    }
+    cv[i] = sp * sp * s / (2 * h);
+  }
+  return 0;
+}
+
+/* The tabulated candidate (CMIP): the static condensed force lambda_s(e) at every sample as
+ * lambda_s(e1, 0) + e2 dlambda_s/de2(e1, 0), each a polynomial of degree 8 in e1 / esc fitted by
+ * least squares on PG1 Chebyshev nodes in [-esc, esc] (esc: 0.15 m of mode 1's tip by default,
+ * BENCH_ROM_NL_POLY_TIP1); the slope from the condensation's tangent (dlambda/de = A^-1). Mode 2
+ * stays below a millimetre on these plans, and a 2-D grid in (e1, e2) meets a fold of the
+ * condensation (det A changes sign) near 140 mm x 3 mm. The base load enters as
+ * (Phi + Theta e)^T M u_s'' (the table's B, C and E). The nodes are walked from the middle out
+ * in steps of at most 5 mm of tip so that each condensation starts next to its solution. */
+enum { PDEG = 8, PN = PDEG + 1, PG1 = 17 };
+static void pbasis(double x, double *b) {
+  b[0] = 1;
+  for (int d = 1; d < PN; ++d)
+    b[d] = b[d - 1] * x;
+}
+static double
+    poly_max_err;        /* [relative] the fit's worst residual over the nodes, of max |lambda| */
+static int poly_dropped; /* nodes the condensation did not reach */
+static double emax_tip[KM]; /* [m] the largest modal tip amplitude met by the candidates */
+
+static int poly_fit(moving_t *mv, fe_ctx_t *c) {
+  const int nd = c->nd;
+  const double tip1 =
+      getenv("BENCH_ROM_NL_POLY_TIP1") ? atof(getenv("BENCH_ROM_NL_POLY_TIP1")) : 0.15;
+  const double *ph = mv->vec + (size_t)1 * nd; /* sample 0's modes */
+  const double tn[KM] = {hypot(ph[nd - 3], ph[nd - 2]), hypot(ph[2 * nd - 3], ph[2 * nd - 2])};
+  mv->esc[0] = tip1 / tn[0];
+  double *y = cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * (nd - 3);
+  const double zero[2] = {0, 0};
+  for (int s = 0; s < mv->ns; ++s) {
+    double xs[PG1], lam_g[PG1][2 * KM];
+    cond_have_prev = 0;
+    memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+    double ecur = 0;
+    /* node order: the middle (PG1 odd: x = 0 is a node), up, back to the middle, down */
+    int ord[2 * PG1], no = 0;
+    for (int i = PG1 / 2; i < PG1; ++i)
+      ord[no++] = i;
+    for (int i = PG1 / 2 - 1; i >= 0; --i)
+      ord[no++] = i;
+    int have[PG1] = {0}, ng = 0, stop = 0;
+    for (int oi = 0; oi < no; ++oi) {
+      const int i = ord[oi];
+      const double x = cos(M_PI * (i + 0.5) / PG1), e1 = x * mv->esc[0];
+      if (oi < PG1 / 2 + 1 ? stop & 1 : stop & 2) continue;
+      if (oi == PG1 / 2 + 1) { /* back to the middle from the static state */
+        cond_have_prev = 0;
+        memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+        ecur = 0;
+      }
+      double lam[KM];
+      const int nst = (int)ceil(fabs(e1 - ecur) * tn[0] / 0.005);
+      int bad = 0;
+      for (int st = 1; st <= (nst < 1 ? 1 : nst) && !bad; ++st) {
+        const double es[KM] = {ecur + (e1 - ecur) * st / (nst < 1 ? 1 : nst), 0};
+        bad = condensed_force(mv, mv->t[s], zero, zero, es, lam);
+      }
+      /* a node the condensation cannot reach (beyond a fold of the condensed manifold): the fit
+       * stops there on this side and extrapolates */
+      ecur = e1;
+      if (bad) {
+        stop |= oi < PG1 / 2 + 1 ? 1 : 2;
+        ++poly_dropped;
+        continue;
+      }
+      have[i] = 1;
+      ++ng;
+      xs[i] = x;
+      for (int k = 0; k < KM; ++k) {
+        lam_g[i][k] = lam[k];
+        lam_g[i][KM + k] = cond_dlam[k][1]; /* the condensation's own tangent */
+      }
+    }
+    /* least squares by the normal equations (monomials of degree 8 on Chebyshev nodes in [-1, 1]
+     * are conditioned well enough for this) */
+    if (ng < PN + 2) return 1;
+    double A[PN][PN] = {{0}}, rhs[2 * KM][PN] = {{0}};
+    for (int g = 0; g < PG1; ++g) {
+      if (!have[g]) continue;
+      double b[PN];
+      pbasis(xs[g], b);
+      for (int r = 0; r < PN; ++r) {
+        for (int q = 0; q < PN; ++q)
+          A[r][q] += b[r] * b[q];
+        for (int k = 0; k < 2 * KM; ++k)
+          rhs[k][r] += b[r] * lam_g[g][k];
+      }
+    }
+    double Lc[PN][PN] = {{0}};
+    for (int j = 0; j < PN; ++j) {
+      double d = A[j][j];
+      for (int k = 0; k < j; ++k)
+        d -= Lc[j][k] * Lc[j][k];
+      if (!(d > 0)) return 1;
+      Lc[j][j] = sqrt(d);
+      for (int i = j + 1; i < PN; ++i) {
+        double v = A[i][j];
+        for (int k = 0; k < j; ++k)
+          v -= Lc[i][k] * Lc[j][k];
+        Lc[i][j] = v / Lc[j][j];
+      }
+    }
+    for (int k = 0; k < 2 * KM; ++k) {
+      double w[PN];
+      for (int i = 0; i < PN; ++i) {
+        double v = rhs[k][i];
+        for (int q = 0; q < i; ++q)
+          v -= Lc[i][q] * w[q];
+        w[i] = v / Lc[i][i];
+      }
+      for (int i = PN - 1; i >= 0; --i) {
+        double v = w[i];
+        for (int q = i + 1; q < PN; ++q)
+          v -= Lc[q][i] * mv->P[s][k][q];
+        mv->P[s][k][i] = v / Lc[i][i];
+      }
+      double mx = 0, er = 0;
+      for (int g = 0; g < PG1; ++g) {
+        if (!have[g]) continue;
+        double b[PN], v = 0;
+        pbasis(xs[g], b);
+        for (int q = 0; q < PN; ++q)
+          v += b[q] * mv->P[s][k][q];
+        mx = fmax(mx, fabs(lam_g[g][k]));
+        er = fmax(er, fabs(v - lam_g[g][k]));
+      }
+      if (k < KM) poly_max_err = fmax(poly_max_err, er / mx);
+    }
+  }
+  cond_have_prev = 0;
+  memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+  mv->poly = 1;
   return 0;
 }
 
@@ -624,7 +867,8 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
-  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}};
+  double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}},
+         W[3][3] = {{0}}, R[3][KM][5] = {{{0}}};
   if (mv) {
     double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
     int s = (int)floor(f);
@@ -640,18 +884,55 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
     for (int pp = 0; pp < 3; ++pp)
       for (int c = 0; c < 5; ++c)
         E[pp][c] = (1 - f) * mv->E[s][pp][c] + f * mv->E[s + 1][pp][c];
+    for (int pp = 0; pp < 3; ++pp)
+      for (int c = 0; c < 3; ++c)
+        W[pp][c] = (1 - f) * mv->W[s][pp][c] + f * mv->W[s + 1][pp][c];
+    for (int pp = 0; pp < 3; ++pp)
+      for (int j = 0; j < KM; ++j)
+        for (int c = 0; c < 5; ++c)
+          R[pp][j][c] = (1 - f) * mv->R[s][pp][j][c] + f * mv->R[s + 1][pp][j][c];
     for (int c = 0; c < ((terms & 8) ? 1 : 4); ++c) /* bit 8: mode 1's own c111 alone */
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
-  double lam[KM] = {0};
-  if (terms & 32) {
+  double lam[KM] = {0}, Mt[KM][KM] = {{1, 0}, {0, 1}}, cv[KM] = {0};
+  if (mv && (terms & 128 || terms & 256 || terms & 512)) {
+    const double *ph0 = mv->vec + (size_t)mv->nd;
+    const int nd = mv->nd;
+    emax_tip[0] = fmax(emax_tip[0], fabs(z[0]) * hypot(ph0[nd - 3], ph0[nd - 2]));
+    emax_tip[1] = fmax(emax_tip[1], fabs(z[2]) * hypot(ph0[2 * nd - 3], ph0[2 * nd - 2]));
+  }
+  if (terms & 128) {
+    const double e[KM] = {z[0], z[2]}, ed[KM] = {z[1], z[3]};
+    if (condensed_inertia(mv, t, a, v, e, ed, lam, Mt, cv)) lam[0] = lam[1] = NAN;
+  } else if (terms & 512) { /* the fitted static force and the base load on (Phi + Theta e) */
+    double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
+    int s = (int)floor(f);
+    s = s < 0 ? 0 : s > mv->ns - 2 ? mv->ns - 2 : s;
+    f = fmin(fmax(f - s, 0.0), 1.0);
+    double b[PN];
+    pbasis(z[0] / mv->esc[0], b);
+    for (int i = 0; i < KM; ++i) {
+      double l0 = 0, l1 = 0;
+      for (int n = 0; n < PN; ++n) {
+        l0 += b[n] * (mv->P[s][i][n] + z[2] * mv->P[s][KM + i][n]);
+        l1 += b[n] * (mv->P[s + 1][i][n] + z[2] * mv->P[s + 1][KM + i][n]);
+      }
+      lam[i] = (1 - f) * l0 + f * l1 + p.B[i][0] * a[0] + p.B[i][1] * a[1] +
+               p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1];
+      for (int k = 0; k < KM; ++k) {
+        const double *Ek = E[i + k];
+        lam[i] += z[2 * k] * (Ek[0] * a[0] + Ek[1] * a[1] + Ek[2] * v[0] * v[0] +
+                              2 * Ek[3] * v[0] * v[1] + Ek[4] * v[1] * v[1]);
+      }
+    }
+  } else if (terms & 32) {
     const double e[KM] = {z[0], z[2]};
     if (condensed_force(mv, t, a, v, e, lam)) lam[0] = lam[1] = NAN;
   }
   for (int i = 0; i < KM; ++i) {
     double F = -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
                (p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1]);
-    if (terms & 32) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
+    if (terms & 672) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
     for (int j = 0; j < KM; ++j) {
       const double e = z[2 * j], ed = z[2 * j + 1];
       if (terms & 1)
@@ -669,8 +950,63 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
         F -= z[2 * k] * (Ek[0] * a[0] + Ek[1] * a[1] + Ek[2] * v[0] * v[0] +
                          2 * Ek[3] * v[0] * v[1] + Ek[4] * v[1] * v[1]);
       }
+    if (terms & 256) {
+      /* the manifold y = Theta e e / 2 and the moving modes, second order: the gauge
+       * Phi^T M y = 0 gives Phi_i^T M y'' = -Phi_i''^T M y - 2 Phi_i'^T M y', and the test
+       * function's dy/de = Theta e meets the modes' motion 2 Phi' e' + Phi'' e. R[p][j][c] =
+       * Theta_p^T M (dPhi_j/dq_c, d2Phi_j/dq_cq_d); a time derivative of Phi_j is
+       * dPhi_j/dq_a q_a' (Rd1), its second dPhi_j/dq_a q_a'' + d2Phi_j/dq_aq_b q_a' q_b' (Rd2). */
+      double Rd1[3][KM], Rd2[3][KM];
+      for (int pp = 0; pp < 3; ++pp)
+        for (int j = 0; j < KM; ++j) {
+          Rd1[pp][j] = R[pp][j][0] * v[0] + R[pp][j][1] * v[1];
+          Rd2[pp][j] = R[pp][j][0] * a[0] + R[pp][j][1] * a[1] + R[pp][j][2] * v[0] * v[0] +
+                       2 * R[pp][j][3] * v[0] * v[1] + R[pp][j][4] * v[1] * v[1];
+        }
+      double x = 0;
+      for (int k = 0; k < KM; ++k)
+        for (int j = 0; j < KM; ++j) {
+          const double ek = z[2 * k], ej = z[2 * j], edj = z[2 * j + 1];
+          x += ek * (2 * edj * Rd1[i + k][j] + ej * Rd2[i + k][j]); /* (Theta e)^T M Phi'' */
+          x -= 0.5 * ek * ej * Rd2[k + j][i];                       /* Phi_i''^T M y */
+          x -= 2 * ek * edj * Rd1[k + j][i];                        /* 2 Phi_i'^T M y' */
+        }
+      F -= x;
+    }
     dz[2 * i] = z[2 * i + 1];
     dz[2 * i + 1] = -p.omega2[i] * z[2 * i] + F;
+  }
+  if (terms & 64) {
+    /* the inertia of the manifold's motion: y = Theta_jk e_j e_k / 2 moves with e, so
+     * y'' = V e'' + Theta_jk e_j' e_k' with V_k = dy/de_k = Theta_jk e_j; projected on V
+     * (Phi^T M V = 0): (I + V^T M V) e'' = (the force above) - V^T M Theta_jk e_j' e_k'. Theta_jk
+     * is W's index j + k. */
+    const double e[KM] = {z[0], z[2]}, ed[KM] = {z[1], z[3]};
+    double A[KM][KM], r[KM];
+    for (int i = 0; i < KM; ++i) {
+      double ci = 0;
+      for (int k = 0; k < KM; ++k)
+        for (int j = 0; j < KM; ++j)
+          for (int l = 0; l < KM; ++l)
+            ci += e[k] * ed[j] * ed[l] * W[i + k][j + l];
+      r[i] = dz[2 * i + 1] - ci;
+      for (int l = 0; l < KM; ++l) {
+        double m = i == l ? 1.0 : 0.0;
+        for (int k = 0; k < KM; ++k)
+          for (int n = 0; n < KM; ++n)
+            m += e[k] * e[n] * W[i + k][l + n];
+        A[i][l] = m;
+      }
+    }
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    dz[1] = (r[0] * A[1][1] - r[1] * A[0][1]) / det;
+    dz[3] = (A[0][0] * r[1] - A[1][0] * r[0]) / det;
+  }
+  if (terms & 128) { /* Mt e'' = (the force above) - cv */
+    const double r[KM] = {dz[1] - cv[0], dz[3] - cv[1]};
+    const double det = Mt[0][0] * Mt[1][1] - Mt[0][1] * Mt[1][0];
+    dz[1] = (r[0] * Mt[1][1] - r[1] * Mt[0][1]) / det;
+    dz[3] = (Mt[0][0] * r[1] - Mt[1][0] * r[0]) / det;
   }
 }
 
@@ -679,9 +1015,9 @@ static double cm_dt = 2e-4; /* [s] RK4 step with the condensed force (a Newton s
 static double integrate_z(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t *mv,
                           int terms, double *zout) {
   const double T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  const double dt = (terms & 32) ? cm_dt : 1e-4;
+  const double dt = (terms & 160) ? cm_dt : 1e-4; /* 512: tabulated, the default step */
   const int n = (int)ceil(T / dt - 1e-9);
-  if (terms & 32) { /* the condensation starts from the static state */
+  if (terms & 160) { /* the condensation starts from the static state */
     cond_have_prev = 0;
     const int nd = cond_ctx->nd, nf = nd - 3;
     memset(cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf, 0,
@@ -1214,6 +1550,18 @@ int main(int argc, char **argv) {
   const int with_crude = getenv("BENCH_ROM_NL_CRUDE") != NULL;
   const int fd_first = getenv("BENCH_ROM_NL_FDJ") != NULL;
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
+  /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
+  want_poly = getenv("BENCH_ROM_NL_POLY") != NULL;
+  const char *corr_name = want_poly                     ? "CMIP"
+                          : getenv("BENCH_ROM_NL_CMIM") ? "CMIM"
+                          : getenv("BENCH_ROM_NL_CMIX") ? "CMX"
+                          : getenv("BENCH_ROM_NL_CMI")  ? "CMI"
+                                                        : "CM";
+  const int corr_terms = want_poly                     ? 835
+                         : getenv("BENCH_ROM_NL_CMIM") ? 355
+                         : getenv("BENCH_ROM_NL_CMIX") ? 131
+                         : getenv("BENCH_ROM_NL_CMI")  ? 99
+                                                       : 35;
   const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
          "genalpha dt 0.5 ms, undamped, 3 s after the motion%s\n\n",
@@ -1222,8 +1570,10 @@ int main(int argc, char **argv) {
       "| line | payload factor | plan | duration [s] | model: max modal tip deviation [mm] | FE: "
       "max tracking error [mm] | model residual [mm] | FE residual [mm] | FE / model | "
       "model + moving shapes M [mm] | M + quadratic stiffness MQ [mm] | MQ + manifold curvature "
-      "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | FE residual / dev^2 [1/m] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | CM + manifold inertia CMI [mm] | "
+      "CM + exact manifold inertia CMX [mm] | CMI + moving manifold CMIM [mm] | CMIM, static "
+      "force fitted CMIP [mm] | FE residual / dev^2 [1/m] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
   static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
@@ -1267,21 +1617,26 @@ int main(int argc, char **argv) {
       fe_run(&t, &tr[k], &r[k]);
       if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
-      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN;
+      double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN, cmix = NAN,
+             cmip = NAN, cmim = NAN;
       if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
         both = integrate(tb, &tr[k], &mv, 23);
         cond = integrate(tb, &tr[k], &mv, 32);
         condm = integrate(tb, &tr[k], &mv, 35);
+        cmi = integrate(tb, &tr[k], &mv, 99);
+        cmix = getenv("BENCH_ROM_NL_NO_CMX") ? NAN : integrate(tb, &tr[k], &mv, 131);
+        cmim = getenv("BENCH_ROM_NL_NO_CMIM") ? NAN : integrate(tb, &tr[k], &mv, 355);
+        cmip = want_poly ? integrate(tb, &tr[k], &mv, 835) : NAN;
       }
       const double dev = r[k].dev_model;
       printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
+             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
              lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
              pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
              r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
-             r[k].fe / (dev * dev));
+             1e3 * cmi, 1e3 * cmix, 1e3 * cmim, 1e3 * cmip, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
@@ -1308,15 +1663,15 @@ int main(int argc, char **argv) {
         if (!ea_planner_set_terminal_modes(pl, NULL, NULL, NULL) &&
             !ea_planner_solve(pl, EA_PLAN_WARM, NULL, &info, NULL) &&
             !ea_planner_trajectory(pl, &tc, NULL))
-          rc =
-              v ? corrected_plan(pl, &c, &tc, 35, fd_first, &ci) : crude_plan(pl, &c, &tc, 35, &ci);
+          rc = v ? corrected_plan(pl, &c, &tc, corr_terms, fd_first, &ci)
+                 : crude_plan(pl, &c, &tc, corr_terms, &ci);
         rr.ok = 1;
         if (!rc) fe_run(&t, &tc, &rr);
         double fine = NAN; /* the CM model's own discretisation: 81 samples, RK4 dt 0.1 ms */
         static moving_t mvf;
         if (!rc && v == 1 && !moving_sample(&c, &tc, 81, &mvf)) {
           cm_dt = 1e-4;
-          fine = integrate(tb, &tc, &mvf, 35);
+          fine = integrate(tb, &tc, &mvf, corr_terms);
           cm_dt = 2e-4;
         }
         const double dur =
@@ -1348,17 +1703,18 @@ int main(int argc, char **argv) {
       ea_traj_free(&tr[k]);
     ea_planner_free(pl);
   }
-  printf("\n4. at-rest plans corrected for the condensed modal force with the moving shapes (CM) "
-         "without touching the transcription: the goal's modal targets moved (warm re-plans) "
-         "until the CM model ends at rest (residual peak < %.3g mm), by a globalised Newton on "
+  printf("\n4. at-rest plans corrected for a candidate (%s) without touching the transcription: "
+         "the goal's modal targets moved (warm re-plans) until the candidate ends at rest "
+         "(residual peak < %.3g mm), by a globalised Newton on "
          "the 4 targets as tip amplitudes (J %s, Broyden updates, Armijo %g with at most %d "
          "halvings, J rebuilt by forward differences of %.2g mm when no step is accepted, at most "
          "%d evaluations); FE: genalpha dt 0.5 ms, undamped, 3 s%s\n\n",
-         1e3 * CORR_TOL, fd_first ? "by forward differences" : "= I", CORR_ARMIJO, CORR_HALVINGS,
-         1e3 * CORR_FD_H, CORR_MAX_EVALS,
+         corr_name, 1e3 * CORR_TOL, fd_first ? "by forward differences" : "= I", CORR_ARMIJO,
+         CORR_HALVINGS, 1e3 * CORR_FD_H, CORR_MAX_EVALS,
          with_crude ? "; crude: target -= z_end, 6 iterations (the loop it replaces)" : "");
-  printf("| line | payload factor | at rest: duration [s] | FE [mm] |%s CM Newton: evaluations | "
-         "J by differences | failed evaluations | CM residual [mm] | converged | CM at 81 samples, "
+  printf("| line | payload factor | at rest: duration [s] | FE [mm] |%s Newton: evaluations | "
+         "J by differences | failed evaluations | candidate's residual [mm] | converged | "
+         "candidate at 81 samples, "
          "dt 0.1 ms [mm] | FE [mm] | FE / at-rest FE | duration [s] | duration vs at rest [%%] |\n"
          "|---|---|---|---|%s---|---|---|---|---|---|---|---|---|---|\n",
          with_crude ? " crude: evaluations | CM [mm] | FE [mm] |" : "",
@@ -1374,7 +1730,7 @@ int main(int argc, char **argv) {
       b05[1] += fe1[i] <= 5e-4;
     }
     printf("\nFE residual of %d lines: at rest as planned: median %.3f mm, <= 1 mm on %d, <= 0.5 "
-           "mm on %d; CM-corrected: median %.3f mm, <= 1 mm on %d, <= 0.5 mm on %d; the loop "
+           "mm on %d; corrected: median %.3f mm, <= 1 mm on %d, <= 0.5 mm on %d; the loop "
            "converged on %d\n",
            ncorr, 1e3 * ea_bench_median(fe0, ncorr), b1[0], b05[0],
            1e3 * ea_bench_median(fe1, ncorr), b1[1], b05[1], nconv);
@@ -1385,7 +1741,8 @@ int main(int argc, char **argv) {
              nratio, med, ratio[0], ratio[nratio - 1]);
     }
     printf("time per evaluation (median over lines): re-plan %.1f ms, moving shapes (41 samples) "
-           "%.1f ms, one CM integration %.1f ms; one FE transient of the at-rest plan: %.1f ms at "
+           "%.1f ms, one candidate integration %.1f ms; one FE transient of the at-rest plan: %.1f "
+           "ms at "
            "the refinement's settings (ea_sim_settings_default, dt 4 ms, settle 1.5 s), %.1f ms "
            "at genalpha dt 0.5 ms, settle 3 s\n",
            nint ? 1e3 * ea_bench_median(t_plan, nint) : NAN,
@@ -1394,6 +1751,14 @@ int main(int argc, char **argv) {
            1e3 * ea_bench_median(t_fe05, ncorr));
   }
   printf("\ncondensation: Newton failed (the integration stopped) %d times\n", cond_fail);
+  printf(
+      "\nthe largest modal tip amplitude met by CMX, CMIM, CMIP: mode 1 %.1f mm, mode 2 %.1f mm\n",
+      1e3 * emax_tip[0], 1e3 * emax_tip[1]);
+  if (want_poly)
+    printf(
+        "\nCMIP: the static condensed force's degree-8 fits in e1: worst residual over the nodes "
+        "%.2e of the largest |lambda|; nodes not reached (beyond a fold) %d\n",
+        poly_max_err, poly_dropped);
   printf("\nmode signs: the FE modes' tip per unit eta against the table's at %d first samples: "
          "min |cos| %.6f, max | |tip_FE| / |tip_table| - 1 | %.2e; sign taken from the table %d "
          "times\n",
