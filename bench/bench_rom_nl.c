@@ -34,7 +34,7 @@
  * BENCH_ROM_NL_CRUDE=1: section 4 also with the loop target -= z_end (J = I, full steps);
  * BENCH_ROM_NL_FDJ=1: the Newton's first Jacobian by forward differences instead of I;
  * BENCH_ROM_NL_NO_CMX=1, BENCH_ROM_NL_NO_CMIM=1: leave out those columns (each integration
- * takes seconds).
+ * takes seconds); BENCH_ROM_NL_XLINE=x0,y0,x1,y1,payload_factor: that line alone.
  * usage: bench_rom_nl [RANDOM_LINES] (default 8) */
 #include "bench_util.h"
 #include "ea_fe.h"
@@ -1562,7 +1562,17 @@ int main(int argc, char **argv) {
                          : getenv("BENCH_ROM_NL_CMIX") ? 131
                          : getenv("BENCH_ROM_NL_CMI")  ? 99
                                                        : 35;
-  const int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
+  int nl = getenv("BENCH_ROM_NL_ONLY_FREE") ? 0 : NFIX + nrand;
+  const char *xl = getenv("BENCH_ROM_NL_XLINE"); /* "x0,y0,x1,y1,payload factor": this line alone */
+  if (xl) {
+    line_t *L = &lines[0];
+    if (sscanf(xl, "%lf,%lf,%lf,%lf,%lf", &L->x0, &L->y0, &L->x1, &L->y1, &L->gamma) != 5) {
+      fprintf(stderr, "bench_rom_nl: BENCH_ROM_NL_XLINE=x0,y0,x1,y1,payload_factor\n");
+      return 2;
+    }
+    L->name = "BENCH_ROM_NL_XLINE";
+    nl = 1;
+  }
   printf("1. plans on large-motion lines, 2 modes; model: the planner's table, RK4 dt 0.1 ms; FE: "
          "genalpha dt 0.5 ms, undamped, 3 s after the motion%s\n\n",
          only_corr ? " (BENCH_ROM_NL_ONLY_CORR: the at-rest plans alone, no candidate terms)" : "");
