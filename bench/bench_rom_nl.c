@@ -344,9 +344,13 @@ static void align_to_table(double *phi, int nd, const double q[2]) {
 static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
                            const double *e, double *lam);
 static int poly_fit(moving_t *mv, fe_ctx_t *c);
-static int want_poly; /* BENCH_ROM_NL_POLY: moving_sample fits P */
+static int want_poly;   /* BENCH_ROM_NL_POLY: moving_sample fits P */
+static int grid_filled; /* grid points filled from a neighbour */
 
-static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
+/* The coefficients at ns samples of tr (qlist NULL; t: time since the start), or at the ns
+ * configurations qlist (t: the index; every point's modes take the table's signs). */
+static int moving_sample_q(fe_ctx_t *c, const ea_traj_t *tr, const double (*qlist)[2], int ns,
+                           moving_t *mv) {
   const int nd = c->nd;
   const double hL = 2e-3, ha = 4e-3;
   double *buf = malloc(sizeof(double) * (size_t)nd * (10 + 9 * KM));
@@ -357,7 +361,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
     free(buf);
     return 1;
   }
-  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  const double t0 = qlist ? 0 : EA_TRAJ_AT(tr, 0, EA_TRAJ_t),
+               T = qlist ? 0 : EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
   mv->ns = ns;
   if (!mv->vec) mv->vec = malloc(sizeof(double) * (size_t)nd * 8 * NS_MAX);
   mv->nd = nd;
@@ -371,9 +376,16 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
   for (int s = 0; s < ns && !rc; ++s) {
     const double t = t0 + T * s / (ns - 1);
     double q[2], v, a;
-    ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
-    ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
-    mv->t[s] = t - t0;
+    if (qlist) {
+      q[0] = qlist[s][0];
+      q[1] = qlist[s][1];
+      mv->t[s] = s;
+      have_ref = 0;
+    } else {
+      ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
+      ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
+      mv->t[s] = t - t0;
+    }
     for (int o = 0; o < 9 && !rc; ++o) {
       const int k = order[o], di = k % 3 - 1, dj = k / 3 - 1;
       double *p = ph + (size_t)k * KM * nd;
@@ -392,6 +404,22 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
         memcpy(mv->vec + (size_t)s * 8 * nd, u, sizeof(double) * (size_t)nd);
         memcpy(mv->vec + ((size_t)s * 8 + 1) * nd, p, sizeof(double) * (size_t)nd * KM);
       }
+    }
+    if (rc && qlist && s > 0) {
+      /* a grid point without a stable static state (a corner of the box off the workspace):
+       * its neighbour's coefficients, as a table fills its holes */
+      memcpy(mv->G[s], mv->G[s - 1], sizeof mv->G[s]);
+      memcpy(mv->D[s], mv->D[s - 1], sizeof mv->D[s]);
+      memcpy(mv->E[s], mv->E[s - 1], sizeof mv->E[s]);
+      memcpy(mv->c3[s], mv->c3[s - 1], sizeof mv->c3[s]);
+      memcpy(mv->R[s], mv->R[s - 1], sizeof mv->R[s]);
+      memcpy(mv->W[s], mv->W[s - 1], sizeof mv->W[s]);
+      mv->L0[s] = mv->L0[s - 1];
+      memcpy(mv->vec + (size_t)s * 8 * nd, mv->vec + (size_t)(s - 1) * 8 * nd,
+             sizeof(double) * 8 * (size_t)nd);
+      ++grid_filled;
+      rc = 0;
+      continue;
     }
     if (rc) break;
     memcpy(u9 + 4 * nd, u, sizeof(double) * (size_t)nd);
@@ -471,6 +499,119 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
   mv->poly = 0;
   if (!rc && want_poly) rc = poly_fit(mv, c);
   return rc;
+}
+
+static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
+  return moving_sample_q(c, tr, NULL, ns, mv);
+}
+
+/* The table's form (BENCH_ROM_NL_GRID=nLxna with BENCH_ROM_NL_POLY=1): the coefficients at the
+ * points of an nL x na grid over the box of the plan's (L_c, alpha), then at each of the
+ * trajectory's samples interpolated by Catmull-Rom in both directions (the grid's outer points
+ * repeated). A line's path does not change when its plan is re-timed, so the grid is computed once
+ * per line. */
+typedef struct {
+  int nL, na;
+  double L0, dL, a0, da;
+  moving_t m;
+} grid_t;
+static grid_t grid;
+static int grid_on, grid_valid, grid_nL = 8, grid_na = 6;
+
+static int grid_build(fe_ctx_t *c, const ea_traj_t *tr, grid_t *g) {
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (int i = 0; i < tr->n; ++i) {
+    const double q[2] = {EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length),
+                         EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle)};
+    for (int k = 0; k < 2; ++k) {
+      lo[k] = fmin(lo[k], q[k]);
+      hi[k] = fmax(hi[k], q[k]);
+    }
+  }
+  g->nL = grid_nL;
+  g->na = grid_na;
+  /* over the range exactly: beyond it the arm may have no stable static state */
+  g->dL = fmax(hi[0] - lo[0], 1e-3) / (g->nL - 1);
+  g->da = fmax(hi[1] - lo[1], 1e-3) / (g->na - 1);
+  g->L0 = lo[0];
+  g->a0 = lo[1];
+  static double ql[NS_MAX][2];
+  for (int j = 0; j < g->na; ++j)
+    for (int i = 0; i < g->nL; ++i) {
+      /* a snake, so that each static solve starts next to the last */
+      const int ii = (j % 2) ? g->nL - 1 - i : i;
+      ql[j * g->nL + i][0] = g->L0 + ii * g->dL;
+      ql[j * g->nL + i][1] = g->a0 + j * g->da;
+    }
+  return moving_sample_q(c, NULL, (const double(*)[2])ql, g->nL * g->na, &g->m);
+}
+
+static void cr_weights(double w, double cw[4]) {
+  const double w2 = w * w, w3 = w2 * w;
+  cw[0] = -0.5 * w3 + w2 - 0.5 * w;
+  cw[1] = 1.5 * w3 - 2.5 * w2 + 1;
+  cw[2] = -1.5 * w3 + 2 * w2 + 0.5 * w;
+  cw[3] = 0.5 * w3 - 0.5 * w2;
+}
+
+/* the grid's field f (n doubles per point, at offset off of each point's block in the arrays
+ * of moving_t, as a pointer to point 0's) interpolated at q into out */
+static void grid_interp(const grid_t *g, const double q[2], const double *f0, size_t stride, int n,
+                        double *out) {
+  const double xL = (q[0] - g->L0) / g->dL, xa = (q[1] - g->a0) / g->da;
+  int iL = (int)floor(xL), ia = (int)floor(xa);
+  iL = iL < 0 ? 0 : iL > g->nL - 2 ? g->nL - 2 : iL;
+  ia = ia < 0 ? 0 : ia > g->na - 2 ? g->na - 2 : ia;
+  double wL[4], wa[4];
+  cr_weights(xL - iL, wL);
+  cr_weights(xa - ia, wa);
+  for (int k = 0; k < n; ++k)
+    out[k] = 0;
+  for (int b = 0; b < 4; ++b) {
+    int ja = ia - 1 + b;
+    ja = ja < 0 ? 0 : ja > g->na - 1 ? g->na - 1 : ja;
+    for (int a = 0; a < 4; ++a) {
+      int jL = iL - 1 + a;
+      jL = jL < 0 ? 0 : jL > g->nL - 1 ? g->nL - 1 : jL;
+      /* the snake's order */
+      const int col = (ja % 2) ? g->nL - 1 - jL : jL;
+      const double *f = f0 + (size_t)(ja * g->nL + col) * stride;
+      for (int k = 0; k < n; ++k)
+        out[k] += wL[a] * wa[b] * f[k];
+    }
+  }
+}
+
+/* the trajectory's ns samples from the grid */
+static void grid_to_traj(const grid_t *g, const ea_traj_t *tr, int ns, moving_t *mv) {
+  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  const moving_t *G = &g->m;
+  mv->ns = ns;
+  mv->nd = G->nd;
+  mv->vec = G->vec; /* the tip scale of the first point's modes (emax_tip) */
+  mv->esc[0] = G->esc[0];
+  mv->esc[1] = G->esc[1];
+  mv->poly = G->poly;
+  for (int s = 0; s < ns; ++s) {
+    const double t = t0 + T * s / (ns - 1);
+    double q[2], v, a;
+    ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
+    ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
+    mv->t[s] = t - t0;
+    grid_interp(g, q, &G->G[0][0][0][0], sizeof G->G[0] / sizeof(double),
+                (int)(sizeof G->G[0] / sizeof(double)), &mv->G[s][0][0][0]);
+    grid_interp(g, q, &G->D[0][0][0][0], sizeof G->D[0] / sizeof(double),
+                (int)(sizeof G->D[0] / sizeof(double)), &mv->D[s][0][0][0]);
+    grid_interp(g, q, &G->E[0][0][0], sizeof G->E[0] / sizeof(double),
+                (int)(sizeof G->E[0] / sizeof(double)), &mv->E[s][0][0]);
+    grid_interp(g, q, &G->c3[0][0], 4, 4, &mv->c3[s][0]);
+    grid_interp(g, q, &G->R[0][0][0][0], sizeof G->R[0] / sizeof(double),
+                (int)(sizeof G->R[0] / sizeof(double)), &mv->R[s][0][0][0]);
+    grid_interp(g, q, &G->W[0][0][0], 9, 9, &mv->W[s][0][0]);
+    grid_interp(g, q, &G->P[0][0][0], sizeof G->P[0] / sizeof(double),
+                (int)(sizeof G->P[0] / sizeof(double)), &mv->P[s][0][0]);
+    grid_interp(g, q, &G->L0[0], 1, 1, &mv->L0[s]);
+  }
 }
 
 /* 5. the modal force with every other degree of freedom condensed statically, exactly (no
@@ -796,7 +937,10 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
     }
     /* least squares by the normal equations (monomials of degree 8 on Chebyshev nodes in [-1, 1]
      * are conditioned well enough for this) */
-    if (ng < PN + 2) return 1;
+    if (ng < PN + 2) {
+      fprintf(stderr, "bench_rom_nl: sample %d: %d fit nodes reached\n", s, ng);
+      return 1;
+    }
     double A[PN][PN] = {{0}}, rhs[2 * KM][PN] = {{0}};
     for (int g = 0; g < PG1; ++g) {
       if (!have[g]) continue;
@@ -1131,7 +1275,9 @@ static int corr_eval(ea_planner_t *pl, fe_ctx_t *c, const double sc[2 * KM], con
   }
   double t1 = ea_bench_now();
   ci->t_plan += t1 - t0;
-  if (moving_sample(c, tr, 41, &mv)) {
+  if (grid_on && grid_valid)
+    grid_to_traj(&grid, tr, 41, &mv);
+  else if (moving_sample(c, tr, 41, &mv)) {
     ++ci->failed;
     return 1;
   }
@@ -1552,6 +1698,17 @@ int main(int argc, char **argv) {
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
   want_poly = getenv("BENCH_ROM_NL_POLY") != NULL;
+  if (getenv("BENCH_ROM_NL_GRID")) {
+    if (!want_poly || sscanf(getenv("BENCH_ROM_NL_GRID"), "%dx%d", &grid_nL, &grid_na) != 2 ||
+        grid_nL < 4 || grid_na < 4 || grid_nL * grid_na > NS_MAX) {
+      fprintf(stderr,
+              "bench_rom_nl: BENCH_ROM_NL_GRID=nLxna (4..; nL na <= %d) needs "
+              "BENCH_ROM_NL_POLY=1\n",
+              NS_MAX);
+      return 2;
+    }
+    grid_on = 1;
+  }
   const char *corr_name = want_poly                     ? "CMIP"
                           : getenv("BENCH_ROM_NL_CMIM") ? "CMIM"
                           : getenv("BENCH_ROM_NL_CMIX") ? "CMX"
@@ -1582,13 +1739,14 @@ int main(int argc, char **argv) {
       "model + moving shapes M [mm] | M + quadratic stiffness MQ [mm] | MQ + manifold curvature "
       "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | CM + manifold inertia CMI [mm] | "
       "CM + exact manifold inertia CMX [mm] | CMI + moving manifold CMIM [mm] | CMIM, static "
-      "force fitted CMIP [mm] | FE residual / dev^2 [1/m] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "force fitted CMIP [mm] | CMIP from a grid CMIG [mm] | FE residual / dev^2 [1/m] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
   static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
       t_fe05[200];
-  int ncorr = 0, nconv = 0, nratio = 0, nint = 0;
+  int ncorr = 0, nconv = 0, nratio = 0, nint = 0, ngrid = 0;
+  static double t_grid[200];
   const char *only = getenv("BENCH_ROM_NL_LINE"); /* one line by index, for diagnosis */
   for (int l = 0; l < nl; ++l) {
     if (only && atoi(only) != l) continue;
@@ -1621,6 +1779,14 @@ int main(int argc, char **argv) {
     cond_ctx = &c;
     free(cond_w);
     cond_w = calloc((size_t)c.nd * 24, sizeof(double));
+    int grid_ok = 0;
+    grid_valid = 0;
+    if (grid_on && cok) {
+      const double tg = ea_bench_now();
+      grid_ok = grid_valid = !grid_build(&c, &tr[2], &grid);
+      if (grid_ok && ngrid < 200) t_grid[ngrid++] = ea_bench_now() - tg;
+      if (!grid_ok) fprintf(stderr, "bench_rom_nl: %s: the grid failed\n", lines[l].name);
+    }
     for (int k = only_corr ? 2 : 0; k < 3; ++k) {
       predict(tb, &tr[k], &r[k]);
       double t0 = ea_bench_now();
@@ -1628,7 +1794,7 @@ int main(int argc, char **argv) {
       if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
       double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN, cmix = NAN,
-             cmip = NAN, cmim = NAN;
+             cmip = NAN, cmim = NAN, cmig = NAN;
       if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
@@ -1639,14 +1805,20 @@ int main(int argc, char **argv) {
         cmix = getenv("BENCH_ROM_NL_NO_CMX") ? NAN : integrate(tb, &tr[k], &mv, 131);
         cmim = getenv("BENCH_ROM_NL_NO_CMIM") ? NAN : integrate(tb, &tr[k], &mv, 355);
         cmip = want_poly ? integrate(tb, &tr[k], &mv, 835) : NAN;
+        if (grid_ok) {
+          static moving_t mvg;
+          grid_to_traj(&grid, &tr[k], 41, &mvg);
+          cmig = integrate(tb, &tr[k], &mvg, 835);
+        }
       }
       const double dev = r[k].dev_model;
-      printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
-             lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
-             pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
-             r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
-             1e3 * cmi, 1e3 * cmix, 1e3 * cmim, 1e3 * cmip, r[k].fe / (dev * dev));
+      printf(
+          "| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
+          "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
+          lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma, pn[k],
+          r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
+          r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
+          1e3 * cmi, 1e3 * cmix, 1e3 * cmim, 1e3 * cmip, 1e3 * cmig, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
@@ -1724,10 +1896,11 @@ int main(int argc, char **argv) {
          with_crude ? "; crude: target -= z_end, 6 iterations (the loop it replaces)" : "");
   printf("| line | payload factor | at rest: duration [s] | FE [mm] |%s Newton: evaluations | "
          "J by differences | failed evaluations | candidate's residual [mm] | converged | "
-         "candidate at 81 samples, "
+         "%s at 81 samples, "
          "dt 0.1 ms [mm] | FE [mm] | FE / at-rest FE | duration [s] | duration vs at rest [%%] |\n"
          "|---|---|---|---|%s---|---|---|---|---|---|---|---|---|---|\n",
          with_crude ? " crude: evaluations | CM [mm] | FE [mm] |" : "",
+         grid_on ? "CMIP along the path (not the grid)" : "the candidate",
          with_crude ? "---|---|---|" : "");
   for (int i = 0; i < ncorr; ++i)
     printf("%s\n", corr[i]);
@@ -1761,6 +1934,11 @@ int main(int argc, char **argv) {
            1e3 * ea_bench_median(t_fe05, ncorr));
   }
   printf("\ncondensation: Newton failed (the integration stopped) %d times\n", cond_fail);
+  if (ngrid > 0)
+    printf("\nCMIG: the %d x %d grid's coefficients (FE statics, modes, modal derivatives, the "
+           "condensed force's fits) per line: median %.0f ms; points filled from a neighbour (no "
+           "stable static state) %d\n",
+           grid_nL, grid_na, 1e3 * ea_bench_median(t_grid, ngrid), grid_filled);
   printf(
       "\nthe largest modal tip amplitude met by CMX, CMIM, CMIP: mode 1 %.1f mm, mode 2 %.1f mm\n",
       1e3 * emax_tip[0], 1e3 * emax_tip[1]);
