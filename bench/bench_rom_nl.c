@@ -629,6 +629,21 @@ static int cond_have_prev;
 static double cond_T[KM][3 * 64]; /* the condensed manifold's tangent dx/de_k at the last call */
 static double cond_dlam[KM][KM];  /* dlambda_i/de_k at the last call: A^-1 */
 
+/* The condensation's warm start in cond_w (after its work vectors, the layout of
+ * condensed_force): y (nd), then lambda (KM). */
+static double *cond_state(void) {
+  const int nd = cond_ctx->nd;
+  return cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * (nd - 3);
+}
+static size_t cond_state_size(void) {
+  return sizeof(double) * ((size_t)cond_ctx->nd + KM);
+}
+/* the next condensation starts from the static state */
+static void cond_restart(void) {
+  cond_have_prev = 0;
+  memset(cond_state(), 0, cond_state_size());
+}
+
 static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
                            const double *e, double *lam) {
   fe_ctx_t *c = cond_ctx;
@@ -636,7 +651,7 @@ static int condensed_force(const moving_t *mv, double t, const double q2[2], con
   const int nd = c->nd, nf = nd - 3;
   /* work layout */
   double *us = cond_w, *ph = us + nd, *aq = ph + KM * nd, *x = aq + nd, *f = x + nd, *f0 = f + nd;
-  double *Mph = f0 + nd, *Kb = Mph + KM * nd, *b = Kb + EA__FE_LDS * nd, *y = b + (KM + 1) * nf;
+  double *Mph = f0 + nd, *Kb = Mph + KM * nd, *b = Kb + EA__FE_LDS * nd, *y = cond_state();
   double *lam0 = y + nd; /* persistent: y and lambda of the last call */
   double fs = t / mv->t[mv->ns - 1] * (mv->ns - 1);
   int s = (int)floor(fs);
@@ -813,9 +828,8 @@ static int condensed_inertia(const moving_t *mv, double t, const double q2[2], c
                              const double *e, const double *ed, double *lam, double Mt[KM][KM],
                              double cv[KM]) {
   fe_ctx_t *c = cond_ctx;
-  const int nd = c->nd, nf = nd - 3;
-  double *y = cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf,
-         *lam0 = y + nd;
+  const int nd = c->nd;
+  double *y = cond_state();
   if (condensed_force(mv, t, q2, q1, e, lam)) return 1;
   static double T0[KM][3 * 64], Tp[KM][3 * 64], Tm[KM][3 * 64], MT[KM][3 * 64], ys[3 * 64 + KM];
   memcpy(T0, cond_T, sizeof T0);
@@ -833,7 +847,7 @@ static int condensed_inertia(const moving_t *mv, double t, const double q2[2], c
   cv[0] = cv[1] = 0;
   const double sp = hypot(ed[0], ed[1]);
   if (!(sp > 0)) return 0;
-  memcpy(ys, y, sizeof(double) * ((size_t)nd + KM));
+  memcpy(ys, y, cond_state_size());
   const double *ph = cond_w + nd; /* Phi_1 at t, as condensed_force interpolated it */
   const double h = 0.002 / hypot(ph[nd - 3], ph[nd - 2]);
   double ep[KM], em[KM], lp[KM];
@@ -843,11 +857,10 @@ static int condensed_inertia(const moving_t *mv, double t, const double q2[2], c
   }
   int rc = condensed_force(mv, t, q2, q1, ep, lp);
   if (!rc) memcpy(Tp, cond_T, sizeof Tp);
-  memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
+  memcpy(y, ys, cond_state_size());
   rc = rc || condensed_force(mv, t, q2, q1, em, lp);
   if (!rc) memcpy(Tm, cond_T, sizeof Tm);
-  memcpy(y, ys, sizeof(double) * ((size_t)nd + KM));
-  (void)lam0;
+  memcpy(y, ys, cond_state_size());
   if (rc) return 1;
   /* d2y/de2[e', e'] = |e'|^2 (T(e + h d) - T(e - h d)) d / (2 h), d = e' / |e'| */
   for (int i = 0; i < KM; ++i) {
@@ -889,12 +902,10 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
   const double *ph = mv->vec + (size_t)1 * nd; /* sample 0's modes */
   const double tn[KM] = {hypot(ph[nd - 3], ph[nd - 2]), hypot(ph[2 * nd - 3], ph[2 * nd - 2])};
   mv->esc[0] = tip1 / tn[0];
-  double *y = cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * (nd - 3);
   const double zero[2] = {0, 0};
   for (int s = 0; s < mv->ns; ++s) {
     double xs[PG1], lam_g[PG1][2 * KM];
-    cond_have_prev = 0;
-    memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+    cond_restart();
     double ecur = 0;
     /* node order: the middle (PG1 odd: x = 0 is a node), up, back to the middle, down */
     int ord[2 * PG1], no = 0;
@@ -908,8 +919,7 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
       const double x = cos(M_PI * (i + 0.5) / PG1), e1 = x * mv->esc[0];
       if (oi < PG1 / 2 + 1 ? stop & 1 : stop & 2) continue;
       if (oi == PG1 / 2 + 1) { /* back to the middle from the static state */
-        cond_have_prev = 0;
-        memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+        cond_restart();
         ecur = 0;
       }
       double lam[KM];
@@ -994,8 +1004,7 @@ static int poly_fit(moving_t *mv, fe_ctx_t *c) {
       if (k < KM) poly_max_err = fmax(poly_max_err, er / mx);
     }
   }
-  cond_have_prev = 0;
-  memset(y, 0, sizeof(double) * ((size_t)nd + KM));
+  cond_restart();
   mv->poly = 1;
   return 0;
 }
@@ -1161,12 +1170,8 @@ static double integrate_z(const ea_rom_table_t *tb, const ea_traj_t *tr, const m
   const double T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
   const double dt = (terms & 160) ? cm_dt : 1e-4; /* 512: tabulated, the default step */
   const int n = (int)ceil(T / dt - 1e-9);
-  if (terms & 160) { /* the condensation starts from the static state */
-    cond_have_prev = 0;
-    const int nd = cond_ctx->nd, nf = nd - 3;
-    memset(cond_w + (size_t)(5 + 2 * KM + EA__FE_LDS) * nd + (size_t)(KM + 1) * nf, 0,
-           sizeof(double) * ((size_t)nd + KM));
-  }
+  if (terms & 160) /* the condensation starts from the static state */
+    cond_restart();
   const double h = T / n;
   double z[2 * KM] = {0}, k1[2 * KM], k2[2 * KM], k3[2 * KM], k4[2 * KM], zt[2 * KM];
   for (int i = 0; i < n; ++i) {
