@@ -425,6 +425,42 @@ void ea_rom_table_eval2(const ea_rom_table_t *tb, double cable_length, double ca
                         ea_rom_point_t *v, ea_rom_point_t *dL, ea_rom_point_t *da,
                         ea_rom_point_t *dLL, ea_rom_point_t *dLa, ea_rom_point_t *daa);
 
+/** The reduced model at large modal deflection (model/fe_romnl.c; docs/fe.md, "At large modal
+ *  deflection"): the linear model's two modes with every other degree of freedom condensed
+ *  statically (the modal force to all orders, fitted), the inertia of the condensed motion on the
+ *  quadratic manifold of static modal derivatives, and the modes and the manifold moving with
+ *  q = (L_c, alpha). Its coefficients are computed at points of a path in q and interpolated
+ *  along it; its modal coordinates are those of the linear table it is sampled against. */
+#define EA_ROMNL_MODES 2
+typedef struct ea_romnl ea_romnl_t;
+typedef struct ea_romnl_info {
+  int samples;       /**< points of the path */
+  int nodes_dropped; /**< fit nodes beyond a fold of the condensation (the fit extrapolates) */
+  double fit_error;  /**< [-] worst residual of the condensed force's fit, of its largest value */
+  double time_s;     /**< [s] wall time of ea_romnl_sample */
+} ea_romnl_info_t;
+/** Allocate for arm (copied), tip mass [kg] and FE elements (0: the default). */
+ea_status_t ea_romnl_alloc(const ea_arm_t *arm, double tip_mass, int elements, ea_romnl_t **out,
+                           ea_error_t *err);
+void ea_romnl_free(ea_romnl_t *r);
+/** The coefficients at n points q = (L_c [m], alpha [rad]) pairs of a path, in order (about 9 FE
+ *  static solutions, 9 eigen-solves and 17 condensations each); mode signs those of tb (2 modes).
+ *  Replaces the previous samples. EA_ERR_NOCONV when a point has no stable static state or its
+ *  condensation fails. */
+ea_status_t ea_romnl_sample(ea_romnl_t *r, const ea_rom_table_t *tb, int n, const double *q,
+                            ea_error_t *err);
+void ea_romnl_info(const ea_romnl_t *r, ea_romnl_info_t *info);
+/** The path position (sample index plus fraction) nearest to q, searched from *cursor (a window
+ *  of segments after it; NULL: the whole path), *cursor updated; the distance [m, alpha weighted
+ *  0.5 m/rad] into *dist. Positions run with time along one motion: start the cursor at 0. */
+double ea_romnl_locate(const ea_romnl_t *r, const double q[2], int *cursor, double *dist);
+/** The modal accelerations: z = (e_1, e_1', e_2, e_2') [sqrt(kg) m, /s] at path position pos with
+ *  the linear table's point p at the same q, actuator rates q1 = q' and accelerations q2 = q'';
+ *  dz = z'. */
+void ea_romnl_rhs(const ea_romnl_t *r, double pos, const ea_rom_point_t *p, const double q1[2],
+                  const double q2[2], const double z[2 * EA_ROMNL_MODES],
+                  double dz[2 * EA_ROMNL_MODES]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -144,6 +144,19 @@ typedef struct ea_rom_prediction {
 ea_status_t ea_traj_rom_predict(const ea_rom_table_t *tb, const ea_traj_t *tr, double dt,
                                 double settle, ea_rom_prediction_t *out, ea_error_t *err);
 
+/** The nonlinear reduced model's coefficients (ea_romnl_sample) at n points of tr's path, equally
+ *  spaced in time; tb: the linear table whose mode signs they take. */
+ea_status_t ea_traj_romnl_sample(ea_romnl_t *r, const ea_rom_table_t *tb, const ea_traj_t *tr,
+                                 int n, ea_error_t *err);
+/** ea_traj_rom_predict with the nonlinear reduced model (sampled on tr's path, or on a path tr
+ *  follows): RK4 of step dt [s] (1e-4), the free vibration over settle [s] at the goal by the linear
+ *  table tb. *path_dist (may be NULL): the largest distance [m, alpha weighted 0.5 m/rad] of tr's
+ *  configurations from the sampled path; beyond a millimetre or so, sample tr's own path.
+ *  EA_ERR_INTEGRATION when the modal state leaves the model's range. */
+ea_status_t ea_traj_romnl_predict(const ea_rom_table_t *tb, const ea_romnl_t *r,
+                                  const ea_traj_t *tr, double dt, double settle,
+                                  ea_rom_prediction_t *out, double *path_dist, ea_error_t *err);
+
 /** How ea_rom_table_cached got its table. */
 typedef struct ea_rom_cache_info {
   int loaded;         /**< 1: read from the cache */

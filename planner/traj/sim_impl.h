@@ -5,6 +5,7 @@
 #define EA_SIM_IMPL_H
 
 #include "ea_fe.h"
+#include "ea_simulate.h"
 #include "ea_traj.h"
 
 /** Sampled drive: shoulder angle theta0 [rad] and the cable parameter of the
@@ -49,6 +50,10 @@ ea_status_t ea__sim_drive_start(ea_fe_model_t *m, const ea__sim_drive_t *d, cons
 /** Cubic Hermite of a trajectory's column c with its rate column cr at time t [s] (the
  *  interpolant the FE transient and ea_traj_rom_predict follow): value, rate and
  *  acceleration; outside the samples the end value, rate and acceleration 0. */
+/* The modal state z (2 K) at the end of tr and its free vibration's peak over settle [s] at the
+ * goal into out (traj_sim.c). */
+void ea__rom_settle(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, const double *z,
+                    double settle, ea_rom_prediction_t *out);
 void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v,
                       double *a);
 

@@ -576,6 +576,36 @@ static void ea__rom_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, do
   }
 }
 
+/* The end of a prediction: the modal state z (2 K) at the end of tr into out, and the peak of
+ * its free vibration at the goal over settle [s]: exact superposition of the modes, sampled
+ * finely. */
+void ea__rom_settle(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, const double *z,
+                    double settle, ea_rom_prediction_t *out) {
+  ea_rom_point_t p;
+  const int last = tr->n - 1;
+  ea_rom_table_eval(tb, EA_TRAJ_AT(tr, last, EA_TRAJ_cable_length),
+                    EA_TRAJ_AT(tr, last, EA_TRAJ_cable_angle), &p, NULL, NULL);
+  for (int k = 0; k < K; ++k) {
+    const double w = sqrt(fmax(p.omega2[k], 1e-300));
+    out->eta[k] = z[2 * k];
+    out->eta_rate[k] = z[2 * k + 1];
+    out->amplitude_m[k] = hypot(z[2 * k], z[2 * k + 1] / w) * hypot(p.tip[k][0], p.tip[k][1]);
+  }
+  const double w1 = sqrt(fmax(p.omega2[K - 1], 1e-300));
+  const int ns = (int)ceil(settle * w1 / (2 * M_PI) * 64) + 1;
+  for (int i = 0; i <= ns; ++i) {
+    const double t = settle * i / (ns > 0 ? ns : 1);
+    double dx = 0, dy = 0;
+    for (int k = 0; k < K; ++k) {
+      const double w = sqrt(fmax(p.omega2[k], 1e-300));
+      const double e = z[2 * k] * cos(w * t) + z[2 * k + 1] / w * sin(w * t);
+      dx += p.tip[k][0] * e;
+      dy += p.tip[k][1] * e;
+    }
+    out->residual_peak = fmax(out->residual_peak, hypot(dx, dy));
+  }
+}
+
 ea_status_t ea_traj_rom_predict(const ea_rom_table_t *tb, const ea_traj_t *tr, double dt,
                                 double settle, ea_rom_prediction_t *out, ea_error_t *err) {
   if (!tb || !tr || !out || tr->n < 1 || !(dt > 0) || !(settle >= 0))
@@ -608,29 +638,6 @@ ea_status_t ea_traj_rom_predict(const ea_rom_table_t *tb, const ea_traj_t *tr, d
     for (int j = 0; j < 2 * K; ++j)
       z[j] += h / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
   }
-  ea_rom_point_t p;
-  const int last = tr->n - 1;
-  ea_rom_table_eval(tb, EA_TRAJ_AT(tr, last, EA_TRAJ_cable_length),
-                    EA_TRAJ_AT(tr, last, EA_TRAJ_cable_angle), &p, NULL, NULL);
-  for (int k = 0; k < K; ++k) {
-    const double w = sqrt(fmax(p.omega2[k], 1e-300));
-    out->eta[k] = z[2 * k];
-    out->eta_rate[k] = z[2 * k + 1];
-    out->amplitude_m[k] = hypot(z[2 * k], z[2 * k + 1] / w) * hypot(p.tip[k][0], p.tip[k][1]);
-  }
-  /* free vibration at the goal: exact superposition of the modes, sampled finely */
-  const double w1 = sqrt(fmax(p.omega2[K - 1], 1e-300));
-  const int ns = (int)ceil(settle * w1 / (2 * M_PI) * 64) + 1;
-  for (int i = 0; i <= ns; ++i) {
-    const double t = settle * i / (ns > 0 ? ns : 1);
-    double dx = 0, dy = 0;
-    for (int k = 0; k < K; ++k) {
-      const double w = sqrt(fmax(p.omega2[k], 1e-300));
-      const double e = z[2 * k] * cos(w * t) + z[2 * k + 1] / w * sin(w * t);
-      dx += p.tip[k][0] * e;
-      dy += p.tip[k][1] * e;
-    }
-    out->residual_peak = fmax(out->residual_peak, hypot(dx, dy));
-  }
+  ea__rom_settle(tb, tr, K, z, settle, out);
   return EA_OK;
 }
