@@ -1,6 +1,7 @@
 /* Task specs built in C: defaults, points, and the validation shared with
  * the YAML loader (limits, objective, workspace of every point). */
 #include "ea_arm_file.h"
+#include "ea_fe.h"
 #include "ea_task.h"
 
 #include <math.h>
@@ -240,6 +241,11 @@ const char *ea_task_refine_method_name(ea_task_refine_method_t m) {
   return ((int)m >= 0 && m <= EA_TASK_REFINE_SBPLX) ? ea__refine_names[m] : "unknown";
 }
 
+const char *ea_task_refine_by_name(ea_task_refine_by_t b) {
+  static const char *const names[] = {"fe", "model", "model_only"};
+  return ((int)b >= 0 && b <= EA_TASK_REFINE_BY_MODEL_ONLY) ? names[b] : "unknown";
+}
+
 void ea_task_refine_default(ea_task_refine_t *r) {
   memset(r, 0, sizeof *r);
   r->method = EA_TASK_REFINE_NEWTON;
@@ -273,6 +279,18 @@ static ea_status_t ea__check_refine(const ea_task_t *t, ea_error_t *err) {
                         "end at rest in the model)");
   if ((int)r->method < 0 || r->method > EA_TASK_REFINE_SBPLX)
     return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine: unknown method %d", (int)r->method);
+  if ((int)r->by < 0 || r->by > EA_TASK_REFINE_BY_MODEL_ONLY)
+    return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine: unknown 'by' %d", (int)r->by);
+  if (r->by != EA_TASK_REFINE_BY_FE &&
+      (t->dynamics.modes != EA_ROMNL_MODES || t->dynamics.robust_tip_mass > 0.0 ||
+       t->dynamics.robust_EI > 0.0))
+    return ea_error_set(err, EA_ERR_INPUT,
+                        "dynamics.refine.by = %s: the nonlinear reduced model has %d modes and no "
+                        "robust corners (the task has dynamics.modes = %d%s)",
+                        ea_task_refine_by_name(r->by), EA_ROMNL_MODES, t->dynamics.modes,
+                        t->dynamics.robust_tip_mass > 0.0 || t->dynamics.robust_EI > 0.0
+                            ? " and robust"
+                            : "");
   if (r->modes < 0 || r->modes > t->dynamics.modes)
     return ea_error_set(err, EA_ERR_INPUT,
                         "dynamics.refine.modes = %d: must be in [0 (every mode), dynamics.modes = "

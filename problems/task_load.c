@@ -156,7 +156,7 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
     return ea__yerr(d, n, err, EA_ERR_INPUT, "key 'refine' must be true, false or a mapping");
   static const char *const keys[] = {
       "method",  "tolerance_m", "max_evaluations",     "max_time_s", "modes",
-      "fe_dt_s", "settle_s",    "max_duration_change", "seed",       NULL};
+      "fe_dt_s", "settle_s",    "max_duration_change", "seed",       "by",   NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics.refine", err);
   if (st) return st;
   r->enabled = 1;
@@ -164,6 +164,10 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
   int m = (int)r->method;
   if ((st = ea__ymap_enum(d, n, "method", 0, methods, &m, err))) return st;
   r->method = (ea_task_refine_method_t)m;
+  static const char *const bys[] = {"fe", "model", "model_only", NULL};
+  int b = (int)r->by;
+  if ((st = ea__ymap_enum(d, n, "by", 0, bys, &b, err))) return st;
+  r->by = (ea_task_refine_by_t)b;
   if ((st = ea__ymap_double(d, n, "tolerance_m", 0, 1e-9, 1.0, &r->tolerance_m, err))) return st;
   long v = r->max_evaluations;
   if ((st = ea__ymap_int(d, n, "max_evaluations", 0, 1, EA_TASK_REFINE_MAX_EVALUATIONS, &v, err)))

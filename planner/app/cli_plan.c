@@ -437,6 +437,11 @@ static void ea__plan_check_text(const ea__plan_run_t *r) {
            1e3 * r->ver->settings.dt, r->ver->settings.settle, 1e3 * r->ver->sim.residual_peak,
            r->ver->sim.residual_peak <= r->ver->residual_bound_m ? "within" : "NOT within",
            1e3 * r->ver->residual_bound_m);
+  else if (r->ref && r->ref->status == EA_OK &&
+           r->ref->settings.by == EA_TASK_REFINE_BY_MODEL_ONLY)
+    printf("not checked by the FE (dynamics.refine.by: model_only): the nonlinear reduced model "
+           "predicts a residual peak of %.4g mm\n",
+           1e3 * r->ref->residual_peak_m);
   else if (r->ref && r->ref->status == EA_OK)
     printf("checked by the FE (dt %g ms, %g s after the motion): residual peak %.4g mm %s bound "
            "%.4g mm\n",
@@ -550,7 +555,7 @@ static int ea__plan_figure_cli(const ea__plan_opts_t *o, const ea_task_t *task,
   if (r->ver && r->ver->status == EA_OK) {
     fe_peak = r->ver->sim.residual_peak;
     fe_check = "plan --verify";
-  } else if (r->ref && !o->shape) {
+  } else if (r->ref && !o->shape && r->ref->settings.by != EA_TASK_REFINE_BY_MODEL_ONLY) {
     fe_peak = r->ref->residual_peak_m;
     fe_check = "refinement";
   }

@@ -77,6 +77,7 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
   ea_json_str(j, "status", ea_status_name(r->status));
   ea_json_str(j, "message", r->message);
   ea_json_str(j, "method", ea_task_refine_method_name(s->method));
+  ea_json_str(j, "by", ea_task_refine_by_name(s->by));
   ea_json_bool(j, "converged", r->converged);
   ea_json_str(j, "stop_reason", r->stop_reason);
   ea_json_num(j, "tolerance_m", s->tolerance_m);
@@ -116,6 +117,11 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
   ea_json_num(j, "time_s", r->time_s);
   ea_json_num(j, "time_plan_s", r->time_plan_s);
   ea_json_num(j, "time_fe_s", r->time_fe_s);
+  if (s->by != EA_TASK_REFINE_BY_FE) {
+    ea_json_int(j, "model_evaluations", r->model_evals);
+    ea_json_num(j, "time_model_s", r->time_model_s);
+    ea_json_num(j, "model_only_residual_peak_m", r->model_only_peak_m);
+  }
   if (s->method != EA_TASK_REFINE_NEWTON) ea_json_int(j, "nlopt_result", r->nlopt_result);
   ea_json_arr_begin(j, "evaluation_log");
   for (int i = 0; i < r->n_evals; ++i) {
@@ -127,6 +133,7 @@ static void ea__refine_json(ea_json_t *j, const ea_refine_info_t *r) {
     ea_json_vec(j, "eta_rate_sqrtkg_m_per_s", e->eta_rate, r->model_modes * r->models);
     ea_json_str(j, "plan_status", ea_status_name(e->plan_status));
     ea_json_int(j, "plan_iterations", e->plan_iterations);
+    if (s->by != EA_TASK_REFINE_BY_FE) ea_json_bool(j, "by_model", e->by_model);
     ea_json_num(j, "plan_time_s", e->plan_time_s);
     ea_json_num(j, "duration_s", e->duration_s);
     ea_json_str(j, "fe_status", ea_status_name(e->fe_status));
@@ -355,7 +362,8 @@ static void ea__fe_check_json(ea_json_t *j, const ea_task_t *task, const ea_plan
                               const ea_plan_verify_t *verify) {
   if (info->status != EA_OK) return;
   ea_json_obj_begin(j, "fe_check");
-  const int refined = refine && refine->status == EA_OK;
+  const int model_only = refine && refine->settings.by == EA_TASK_REFINE_BY_MODEL_ONLY;
+  const int refined = refine && refine->status == EA_OK && !model_only;
   const int by_verify = verify && isfinite(verify->residual_bound_m);
   const int by_refine = !by_verify && refined;
   ea_json_bool(j, "checked", by_refine || by_verify);
@@ -378,7 +386,9 @@ static void ea__fe_check_json(ea_json_t *j, const ea_task_t *task, const ea_plan
     if (refined) ea_json_int(j, "evaluations", refine->n_evals);
   } else { /* why not: as the text summary says it */
     ea_json_str(j, "reason",
-                refine && refine->message[0]        ? refine->message
+                model_only ? "dynamics.refine.by: model_only: corrected by the nonlinear reduced "
+                             "model alone (refine.residual_peak_m is its prediction)"
+                : refine && refine->message[0]      ? refine->message
                 : refine                            ? "the refinement failed"
                 : !task || task->dynamics.modes < 1 ? "no dynamics: the task promises no rest"
                 : shape                             ? "a ZV-shaped plan: plan --verify checks it"

@@ -106,6 +106,18 @@ typedef enum ea_task_refine_method {
  *  the residual is within it; the FE at converged settings (dt 0.5 ms) then shows <= 1 mm. */
 #define EA_TASK_REST_TOLERANCE_M 5e-4
 
+/** What measures a refinement's candidates (docs/planner.md, "Refinement by the reduced model"). */
+typedef enum ea_task_refine_by {
+  EA_TASK_REFINE_BY_FE = 0,     /**< every candidate by the FE transient (default) */
+  EA_TASK_REFINE_BY_MODEL,      /**< first by the nonlinear reduced model (model/fe_romnl.c) until
+                                     it predicts rest, then the FE transient of that plan; the FE
+                                     refines on where it is not within the tolerance */
+  EA_TASK_REFINE_BY_MODEL_ONLY  /**< by the nonlinear reduced model alone: no FE transient runs,
+                                     the result is the model's prediction */
+} ea_task_refine_by_t;
+/** Name of a refinement's measure ("fe", "model", "model_only"). */
+const char *ea_task_refine_by_name(ea_task_refine_by_t b);
+
 /** Most FE transients a refinement may spend. */
 #define EA_TASK_REFINE_MAX_EVALUATIONS 100
 
@@ -131,7 +143,8 @@ typedef struct ea_task_refine {
    *  the evaluation's FE residual peak at the nominal arm [m] (NAN: not measured). */
   void (*progress)(void *data, int evaluation, int max_evaluations, double elapsed_s,
                    double residual_peak_m);
-  void *progress_data; /**< passed to progress */
+  void *progress_data;    /**< passed to progress */
+  ea_task_refine_by_t by; /**< what measures the candidates (default EA_TASK_REFINE_BY_FE) */
 } ea_task_refine_t;
 
 /** Defaults of the refinement (disabled). */
