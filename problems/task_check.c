@@ -284,13 +284,12 @@ static ea_status_t ea__check_refine(const ea_task_t *t, ea_error_t *err) {
   if (r->by != EA_TASK_REFINE_BY_FE &&
       (t->dynamics.modes != EA_ROMNL_MODES || t->dynamics.robust_tip_mass > 0.0 ||
        t->dynamics.robust_EI > 0.0))
-    return ea_error_set(err, EA_ERR_INPUT,
-                        "dynamics.refine.by = %s: the nonlinear reduced model has %d modes and no "
-                        "robust corners (the task has dynamics.modes = %d%s)",
-                        ea_task_refine_by_name(r->by), EA_ROMNL_MODES, t->dynamics.modes,
-                        t->dynamics.robust_tip_mass > 0.0 || t->dynamics.robust_EI > 0.0
-                            ? " and robust"
-                            : "");
+    return ea_error_set(
+        err, EA_ERR_INPUT,
+        "dynamics.refine.by = %s: the nonlinear reduced model has %d modes and no "
+        "robust corners (the task has dynamics.modes = %d%s)",
+        ea_task_refine_by_name(r->by), EA_ROMNL_MODES, t->dynamics.modes,
+        t->dynamics.robust_tip_mass > 0.0 || t->dynamics.robust_EI > 0.0 ? " and robust" : "");
   if (r->modes < 0 || r->modes > t->dynamics.modes)
     return ea_error_set(err, EA_ERR_INPUT,
                         "dynamics.refine.modes = %d: must be in [0 (every mode), dynamics.modes = "

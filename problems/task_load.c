@@ -156,7 +156,8 @@ static ea_status_t ea__load_refine(ea__ydoc_t *d, yaml_node_t *dyn, ea_task_refi
     return ea__yerr(d, n, err, EA_ERR_INPUT, "key 'refine' must be true, false or a mapping");
   static const char *const keys[] = {
       "method",  "tolerance_m", "max_evaluations",     "max_time_s", "modes",
-      "fe_dt_s", "settle_s",    "max_duration_change", "seed",       "by",   NULL};
+      "fe_dt_s", "settle_s",    "max_duration_change", "seed",       "by",
+      NULL};
   ea_status_t st = ea__ymap_check_keys(d, n, keys, "dynamics.refine", err);
   if (st) return st;
   r->enabled = 1;

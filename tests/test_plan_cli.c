@@ -266,6 +266,43 @@ static void test_implausible_arm(const char *arm) {
   remove("tpc_stiff.csv.lock");
 }
 
+/* dynamics.refine.by: model_only says the FE did not check the plan (text and fe_check), model
+ * runs the FE verdict after the model's evaluations; a bad value or a model the nonlinear
+ * reduced model cannot be is an input error naming the key. */
+static void test_refine_by(const char *arm) {
+  char js[1 << 16];
+  write_task("tpc_by.yaml", arm, 0.6,
+             "dynamics:\n  modes: 2\n  residual_m: 0\n  refine:\n    by: model_only\n");
+  int rc = run("plan tpc_by.yaml -o tpc_by.csv");
+  slurp("tpc_by.json", js, sizeof js);
+  ea_test_true(rc == 0 && strstr(out, "not checked by the FE (dynamics.refine.by: model_only)") &&
+                   strstr(js, "\"by\": \"model_only\"") && strstr(js, "\"checked\": false"),
+               "refine.by model_only: exit 0, the text and fe_check say the FE did not check it");
+  write_task("tpc_by.yaml", arm, 0.6,
+             "dynamics:\n  modes: 2\n  residual_m: 0\n  refine:\n    by: model\n");
+  rc = run("plan tpc_by.yaml -o tpc_by.csv");
+  slurp("tpc_by.json", js, sizeof js);
+  ea_test_true(rc == 0 && strstr(out, "checked by the FE") && strstr(js, "\"by_model\": true") &&
+                   strstr(js, "\"by_model\": false") && strstr(js, "\"checked\": true"),
+               "refine.by model: the model's evaluations, then an FE verdict that checks it");
+  write_task("tpc_by.yaml", arm, 0.6,
+             "dynamics:\n  modes: 2\n  residual_m: 0\n  refine:\n    by: exact\n");
+  rc = run("plan tpc_by.yaml -o tpc_by.csv");
+  ea_test_true(rc == 2 && strstr(out, "tpc_by.yaml:15:9: key 'by'") && strstr(out, "model_only"),
+               "refine.by exact: input error at the key's line:column listing the values");
+  printf("  -> %.300s\n", out);
+  write_task("tpc_by.yaml", arm, 0.6,
+             "dynamics:\n  modes: 1\n  residual_m: 0\n  refine:\n    by: model\n");
+  rc = run("plan tpc_by.yaml -o tpc_by.csv");
+  ea_test_true(rc == 2 && strstr(out, "dynamics.refine.by = model") &&
+                   strstr(out, "dynamics.modes = 1"),
+               "refine.by model with 1 mode: input error naming the key and the modes");
+  printf("  -> %.300s\n", out);
+  const char *rm[] = {"tpc_by.yaml", "tpc_by.csv", "tpc_by.json", "tpc_by.csv.lock"};
+  for (size_t i = 0; i < sizeof rm / sizeof *rm; ++i)
+    remove(rm[i]);
+}
+
 int main(void) {
   char arm[1024];
   if (cli_setup(arm, sizeof arm)) return 1;
@@ -274,6 +311,7 @@ int main(void) {
   test_pair(arm);
   test_engine(arm);
   test_implausible_arm(arm);
+  test_refine_by(arm);
   const char *rm[] = {"tpc_rest.yaml",    "tpc_far.csv",     "tpc_far.json",  "tpc_tol.csv",
                       "tpc_tol.json",     "tpc_ok.csv",      "tpc_ok.json",   "tpc_far.csv.lock",
                       "tpc_tol.csv.lock", "tpc_ok.csv.lock", "tpc_e.csv.lock"};

@@ -103,7 +103,7 @@ static int r_lines, r_within, r_refused;
 static double r_worst, r_times[256];
 
 static int rest_line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b, double pf,
-                      const char *name) {
+                     const char *name) {
   ea_task_t t = *base;
   t.payload_factor = pf;
   t.payload_kg = ea_arm_payload_from_factor(&t.arm, pf);

@@ -437,8 +437,7 @@ static void ea__plan_check_text(const ea__plan_run_t *r) {
            1e3 * r->ver->settings.dt, r->ver->settings.settle, 1e3 * r->ver->sim.residual_peak,
            r->ver->sim.residual_peak <= r->ver->residual_bound_m ? "within" : "NOT within",
            1e3 * r->ver->residual_bound_m);
-  else if (r->ref && r->ref->status == EA_OK &&
-           r->ref->settings.by == EA_TASK_REFINE_BY_MODEL_ONLY)
+  else if (r->ref && r->ref->status == EA_OK && r->ref->settings.by == EA_TASK_REFINE_BY_MODEL_ONLY)
     printf("not checked by the FE (dynamics.refine.by: model_only): the nonlinear reduced model "
            "predicts a residual peak of %.4g mm\n",
            1e3 * r->ref->residual_peak_m);
@@ -618,10 +617,13 @@ static int ea__plan_report(const ea__plan_opts_t *o, const ea__plan_run_t *r, in
     char extra[400] = "";
     int u = 0;
     if (r->ref) {
+      char nl[80] = "";
+      if (r->ref->settings.by != EA_TASK_REFINE_BY_FE)
+        snprintf(nl, sizeof nl, ", nonlinear reduced model %.2f", 1e3 * r->ref->time_model_s);
       u += snprintf(extra + u, sizeof extra - (size_t)u,
-                    ", refinement %.2f (%d evaluation%s: re-plans %.2f, FE transients %.2f)",
+                    ", refinement %.2f (%d evaluation%s: re-plans %.2f, FE transients %.2f%s)",
                     1e3 * r->ref->time_s, r->ref->n_evals, r->ref->n_evals == 1 ? "" : "s",
-                    1e3 * r->ref->time_plan_s, 1e3 * r->ref->time_fe_s);
+                    1e3 * r->ref->time_plan_s, 1e3 * r->ref->time_fe_s, nl);
       other -= r->ref->time_s;
     }
     if (o->shape && u >= 0 && (size_t)u < sizeof extra)

@@ -61,8 +61,8 @@ typedef struct ea_refine_eval {
                          <= 1: every model within its bound) */
   double fe_time_s; /**< [s] wall time of the FE transients */
   double elapsed_s; /**< [s] since the refinement started, at the end */
-  int by_model; /**< 1: measured by the nonlinear reduced model (settings.by), not the FE: the
-                     residual and fitted fields are the model's prediction */
+  int by_model;     /**< 1: measured by the nonlinear reduced model (settings.by), not the FE: the
+                         residual and fitted fields are the model's prediction */
   int accepted;     /**< 1: planned, duration within bounds, FE measured at every model's arm */
   int final_resolve; /**< 1: the re-plan of the best candidate at the end */
 } ea_refine_eval_t;
@@ -102,13 +102,13 @@ typedef struct ea_refine_info {
   double time_s;                                         /**< [s] wall time of the refinement */
   double time_plan_s;                                    /**< [s] of it in re-plans */
   double time_fe_s;                                      /**< [s] of it in FE transients */
-  double time_model_s; /**< [s] of it in the nonlinear reduced model (settings.by): sampling
-                            its coefficients and integrating it */
-  int model_evals;     /**< evaluations measured by the nonlinear reduced model */
+  double time_model_s;      /**< [s] of it in the nonlinear reduced model (settings.by): sampling
+                                 its coefficients and integrating it */
+  int model_evals;          /**< evaluations measured by the nonlinear reduced model */
   double model_only_peak_m; /**< [m] settings.by model: the model's residual peak at the plan it
                                  corrected, before the FE verdict (NAN: not run) */
-  int nlopt_result;                                      /**< NLopt's return code (0: Newton) */
-  char message[512];                                     /**< human-readable outcome */
+  int nlopt_result;         /**< NLopt's return code (0: Newton) */
+  char message[512];        /**< human-readable outcome */
 } ea_refine_info_t;
 
 /** Refine the planner's plan against the nonlinear FE transient (docs/planner.md). The task

@@ -149,9 +149,9 @@ ea_status_t ea_traj_rom_predict(const ea_rom_table_t *tb, const ea_traj_t *tr, d
 ea_status_t ea_traj_romnl_sample(ea_romnl_t *r, const ea_rom_table_t *tb, const ea_traj_t *tr,
                                  int n, ea_error_t *err);
 /** ea_traj_rom_predict with the nonlinear reduced model (sampled on tr's path, or on a path tr
- *  follows): RK4 of step dt [s] (1e-4), the free vibration over settle [s] at the goal by the linear
- *  table tb. *path_dist (may be NULL): the largest distance [m, alpha weighted 0.5 m/rad] of tr's
- *  configurations from the sampled path; beyond a millimetre or so, sample tr's own path.
+ *  follows): RK4 of step dt [s] (1e-4), the free vibration over settle [s] at the goal by the
+ * linear table tb. *path_dist (may be NULL): the largest distance [m, alpha weighted 0.5 m/rad] of
+ * tr's configurations from the sampled path; beyond a millimetre or so, sample tr's own path.
  *  EA_ERR_INTEGRATION when the modal state leaves the model's range. */
 ea_status_t ea_traj_romnl_predict(const ea_rom_table_t *tb, const ea_romnl_t *r,
                                   const ea_traj_t *tr, double dt, double settle,

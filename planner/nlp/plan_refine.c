@@ -63,7 +63,7 @@ typedef struct {
   ea_romnl_t *nl;                        /* the nonlinear reduced model (settings.by not fe) */
   int nl_sampled;                        /* its coefficients are on a path */
   double nl_dist0; /* [m] the sampled plan's own distance from its samples' polyline */
-  int by_model;                          /* 1: evaluations integrate it, not the FE transient */
+  int by_model;    /* 1: evaluations integrate it, not the FE transient */
 } ea__refine_t;
 
 /* The nonlinear reduced model's loop: its coefficients at this many points of the plan's path
@@ -832,8 +832,7 @@ ea_status_t ea_plan_refine(ea_planner_t *pl, const ea_task_refine_t *s, ea_plan_
                EA_ROMNL_MODES, R.K, R.M);
       st = ea_error_set(err, EA_ERR_ARG, "%s", info->message);
     } else {
-      st = ea_romnl_alloc(&R.arm[0], ea_arm_tip_mass(&R.arm[0], task->payload_kg), 0, &R.nl,
-                          err);
+      st = ea_romnl_alloc(&R.arm[0], ea_arm_tip_mass(&R.arm[0], task->payload_kg), 0, &R.nl, err);
       if (st) snprintf(info->message, sizeof info->message, "%s", err ? err->msg : "romnl");
       R.by_model = 1;
     }

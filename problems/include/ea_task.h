@@ -108,12 +108,12 @@ typedef enum ea_task_refine_method {
 
 /** What measures a refinement's candidates (docs/planner.md, "Refinement by the reduced model"). */
 typedef enum ea_task_refine_by {
-  EA_TASK_REFINE_BY_FE = 0,     /**< every candidate by the FE transient (default) */
-  EA_TASK_REFINE_BY_MODEL,      /**< first by the nonlinear reduced model (model/fe_romnl.c) until
-                                     it predicts rest, then the FE transient of that plan; the FE
-                                     refines on where it is not within the tolerance */
-  EA_TASK_REFINE_BY_MODEL_ONLY  /**< by the nonlinear reduced model alone: no FE transient runs,
-                                     the result is the model's prediction */
+  EA_TASK_REFINE_BY_FE = 0,    /**< every candidate by the FE transient (default) */
+  EA_TASK_REFINE_BY_MODEL,     /**< first by the nonlinear reduced model (model/fe_romnl.c) until
+                                    it predicts rest, then the FE transient of that plan; the FE
+                                    refines on where it is not within the tolerance */
+  EA_TASK_REFINE_BY_MODEL_ONLY /**< by the nonlinear reduced model alone: no FE transient runs,
+                                    the result is the model's prediction */
 } ea_task_refine_by_t;
 /** Name of a refinement's measure ("fe", "model", "model_only"). */
 const char *ea_task_refine_by_name(ea_task_refine_by_t b);
