@@ -38,7 +38,8 @@ enum {
 static const double RNL_HL = 2e-3;    /* [m] stencil step in L_c */
 static const double RNL_HA = 4e-3;    /* [rad] stencil step in alpha */
 static const double RNL_TIP1 = 0.15;  /* [m] mode 1's tip amplitude the fit covers (+-) */
-static const double RNL_WALK = 0.005; /* [m] largest tip step between condensations */
+static const double RNL_WALK = 0.03;  /* [m] largest tip step between condensations (each starts
+                                         from the last one's tangent) */
 static const double RNL_ASCALE = 0.5; /* [m/rad] alpha's weight in the path's distance */
 
 /* The coefficients at one sample. Index p of a pair jk = 11, 12, 22 is j + k. */
@@ -77,6 +78,9 @@ struct ea_romnl {
   double *b;                    /* (NK + 1) nf */
   double lam0[NK];
   double dlam[NK][NK];
+  double *yt;        /* NK x nd: dy/de at the last condensation (its predictor) */
+  double e_last[NK]; /* the e of the last condensation */
+  int have_tan;      /* yt and dlam hold */
 };
 
 static double dotM(const ea_romnl_t *r, const double *a, const double *b) {
@@ -130,8 +134,8 @@ ea_status_t ea_romnl_alloc(const ea_arm_t *arm, double tip_mass, int elements, e
   const int nd = 3 * ea_fe_model_nodes(r->m);
   r->nd = nd;
   r->nf = nd - 3;
-  const size_t n =
-      (size_t)nd * (9 * NK + 9 + 3 + 2 + EA__FE_LDS + 4 + NK) + (size_t)(NK + 1) * (size_t)r->nf;
+  const size_t n = (size_t)nd * (9 * NK + 9 + 3 + 2 + EA__FE_LDS + 4 + 2 * NK) +
+                   (size_t)(NK + 1) * (size_t)r->nf;
   r->ph9 = calloc(n, sizeof(double));
   if (!r->ph9) {
     ea_romnl_free(r);
@@ -148,6 +152,7 @@ ea_status_t ea_romnl_alloc(const ea_arm_t *arm, double tip_mass, int elements, e
   r->x = p, p += nd;
   r->y = p, p += nd;
   r->Mph = p, p += (size_t)NK * nd;
+  r->yt = p, p += (size_t)NK * nd;
   r->b = p;
   *out = r;
   return EA_OK;
@@ -255,6 +260,14 @@ static int rnl_condense(ea_romnl_t *r, int s, const double e[NK], double lam[NK]
   const double L0 = r->L0[s];
   double *x = r->x, *f = r->f, *f0 = r->f0, *y = r->y, *Mph = r->Mph, *b = r->b, *Kb = r->Kb;
   ea__fe_assemble(r->m, us, EA_FE_CABLE_PASSIVE, L0, f0, NULL);
+  ++r->info.condensations;
+  if (r->have_tan) { /* the tangent's predictor from the last condensation */
+    const double de[NK] = {e[0] - r->e_last[0], e[1] - r->e_last[1]};
+    for (int k = 3; k < nd; ++k)
+      y[k] += r->yt[k] * de[0] + r->yt[(size_t)nd + k] * de[1];
+    for (int i = 0; i < NK; ++i)
+      r->lam0[i] += r->dlam[i][0] * de[0] + r->dlam[i][1] * de[1];
+  }
   for (int k = 0; k < NK; ++k)
     lam[k] = r->lam0[k];
   double A[NK][NK];
@@ -275,6 +288,7 @@ static int rnl_condense(ea_romnl_t *r, int s, const double e[NK], double lam[NK]
       }
       b[i - 3] = R;
     }
+    ++r->info.factorizations;
     if (ea__fe_factor_free(r->m, Kb) || ea__fe_solve_factored(r->m, b, NK + 1)) return 1;
     /* dy = -z + Z dl with Z = K^-1 M Phi; Phi^T M dy = -Phi^T M y gives A dl = Phi^T M (z - y) */
     double rhs[NK];
@@ -310,20 +324,36 @@ static int rnl_condense(ea_romnl_t *r, int s, const double e[NK], double lam[NK]
       lam[k] += sc * dl[k];
     conv = sc == 1.0 && dmax < 1e-10;
   }
-  if (!conv || !isfinite(lam[0]) || !isfinite(lam[1])) return 1;
+  if (!conv || !isfinite(lam[0]) || !isfinite(lam[1])) {
+    r->have_tan = 0;
+    return 1;
+  }
   memcpy(r->lam0, lam, sizeof r->lam0);
-  /* the tangent of the condensation: dlambda/de = A^-1 (the last Newton step's A) */
+  /* the tangent of the condensation (the last Newton step's factors): K (Phi + dy/de) =
+   * M Phi dlambda/de and Phi^T M dy/de = 0 give dlambda/de = A^-1 and dy/de = Z A^-1 - Phi,
+   * Z = K^-1 M Phi */
   const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
   r->dlam[0][0] = A[1][1] / det;
   r->dlam[0][1] = -A[0][1] / det;
   r->dlam[1][0] = -A[1][0] / det;
   r->dlam[1][1] = A[0][0] / det;
+  for (int j = 0; j < NK; ++j) {
+    double *t = r->yt + (size_t)j * nd;
+    t[0] = t[1] = t[2] = 0.0;
+    for (int k = 3; k < nd; ++k)
+      t[k] = b[(size_t)1 * nf + (k - 3)] * r->dlam[0][j] +
+             b[(size_t)2 * nf + (k - 3)] * r->dlam[1][j] - ph[(size_t)j * nd + k];
+  }
+  r->e_last[0] = e[0];
+  r->e_last[1] = e[1];
+  r->have_tan = 1;
   return 0;
 }
 
 static void rnl_restart(ea_romnl_t *r) {
   memset(r->y, 0, sizeof(double) * (size_t)r->nd);
   r->lam0[0] = r->lam0[1] = 0.0;
+  r->have_tan = 0;
 }
 
 static void rnl_pbasis(double x, double *b) {
@@ -497,7 +527,10 @@ static int rnl_sample(ea_romnl_t *r, const ea_rom_table_t *tb, int s, const doub
     memset(r->Mph + (size_t)k * nd, 0, sizeof(double) * (size_t)nd);
     ea__fe_band_gemv(r->m, 1.0, r->m->Mb, phs + (size_t)k * nd, r->Mph + (size_t)k * nd);
   }
-  return rnl_fit(r, s);
+  const double tf = ea__mono_s();
+  const int rc = rnl_fit(r, s);
+  r->info.time_fit_s += ea__mono_s() - tf;
+  return rc;
 }
 
 ea_status_t ea_romnl_sample(ea_romnl_t *r, const ea_rom_table_t *tb, int n, const double *q,

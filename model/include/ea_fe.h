@@ -434,10 +434,14 @@ void ea_rom_table_eval2(const ea_rom_table_t *tb, double cable_length, double ca
 #define EA_ROMNL_MODES 2
 typedef struct ea_romnl ea_romnl_t;
 typedef struct ea_romnl_info {
-  int samples;       /**< points of the path */
-  int nodes_dropped; /**< fit nodes beyond a fold of the condensation (the fit extrapolates) */
-  double fit_error;  /**< [-] worst residual of the condensed force's fit, of its largest value */
-  double time_s;     /**< [s] wall time of ea_romnl_sample */
+  int samples;        /**< points of the path */
+  int nodes_dropped;  /**< fit nodes beyond a fold of the condensation (the fit extrapolates) */
+  double fit_error;   /**< [-] worst residual of the condensed force's fit, of its largest value */
+  double time_s;      /**< [s] wall time of ea_romnl_sample */
+  double time_fit_s;  /**< [s] of it in the condensed force's fits (the rest: FE static states,
+                           modes and modal derivatives) */
+  int condensations;  /**< Newton solves of the condensation (fits) */
+  int factorizations; /**< tangent factorizations in them */
 } ea_romnl_info_t;
 /** Allocate for arm (copied), tip mass [kg] and FE elements (0: the default). */
 ea_status_t ea_romnl_alloc(const ea_arm_t *arm, double tip_mass, int elements, ea_romnl_t **out,

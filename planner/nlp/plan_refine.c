@@ -74,6 +74,8 @@ typedef struct {
 #define EA__NL_SAMPLES 21
 #define EA__NL_PATH_M 1e-3
 #define EA__NL_TOL 0.02
+#define EA__NL_DT                                                                                  \
+  2e-4 /* [s] RK4 step of the model (0.013 % of the diagonal's residual from 5e-5) */
 
 /* Solve the n x n system A x = b (row-major A, destroyed) by Gaussian elimination with
  * partial pivoting; 0 on success, 1 if singular. */
@@ -221,13 +223,14 @@ static void ea__refine_model(ea__refine_t *R, ea_refine_eval_t *e) {
   e->by_model = 1;
   ++info->model_evals;
   ea_status_t st = EA_OK;
-  if (R->nl_sampled) st = ea_traj_romnl_predict(tb, R->nl, &R->tr, 1e-4, settle, &pr, &dist, &err);
+  if (R->nl_sampled)
+    st = ea_traj_romnl_predict(tb, R->nl, &R->tr, EA__NL_DT, settle, &pr, &dist, &err);
   if (!st && !(dist <= R->nl_dist0 + EA__NL_PATH_M)) {
     R->nl_sampled = 0;
     st = ea_traj_romnl_sample(R->nl, tb, &R->tr, EA__NL_SAMPLES, &err);
     if (!st) {
       R->nl_sampled = 1;
-      st = ea_traj_romnl_predict(tb, R->nl, &R->tr, 1e-4, settle, &pr, &dist, &err);
+      st = ea_traj_romnl_predict(tb, R->nl, &R->tr, EA__NL_DT, settle, &pr, &dist, &err);
       R->nl_dist0 = dist;
     }
   }
