@@ -301,6 +301,7 @@
   X(ea_plan_verify_t, passed)                                                                      \
   X(ea_plan_verify_t, failure)                                                                     \
   X(ea_plan_verify_t, base_travel_rad)                                                             \
+  X(ea_plan_verify_t, predicted_nonlinear_residual_m)                                              \
   X(ea_study_settings_t, threads)                                                                  \
   X(ea_study_settings_t, shard_k)                                                                  \
   X(ea_study_settings_t, shard_n)                                                                  \

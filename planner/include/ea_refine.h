@@ -191,6 +191,9 @@ typedef struct ea_plan_verify {
   double base_travel_rad;          /**< [rad] the trajectory's base-angle range (max - min): the
                                         FE transient is planar, the base rotation's loads
                                         (inertia, centrifugal, Coriolis) are not in it */
+  double predicted_nonlinear_residual_m; /**< [m] the nonlinear reduced model's residual peak
+                                              for the written trajectory (model/fe_romnl.c; a task
+                                              with 2 modes); NAN: not computed */
 } ea_plan_verify_t;
 
 /** Judge a verification: v->status, v->sim against v->residual_bound_m and

@@ -269,6 +269,7 @@ static void ea__verify_json(ea_json_t *j, const ea_plan_verify_t *v) {
   ea__num_or_null(j, "measured_time_to_rest_s", ok && isfinite(rest) ? (rest > 0 ? rest : 0) : NAN);
   ea__num_or_null(j, "predicted_residual_m", v->predicted_residual_m);
   ea__num_or_null(j, "predicted_time_to_rest_s", v->predicted_time_to_rest_s);
+  ea__num_or_null(j, "predicted_nonlinear_residual_m", v->predicted_nonlinear_residual_m);
   ea__num_or_null(j, "measured_tension_min_N", ok ? si->tension_min : NAN);
   ea__num_or_null(j, "measured_tension_min_time_s", ok ? si->tension_min_time : NAN);
   ea__num_or_null(j, "measured_tension_max_N", ok ? si->tension_max : NAN);

@@ -73,7 +73,7 @@ typedef struct {
  * model then leaves the FE to its own error). */
 #define EA__NL_SAMPLES 21
 #define EA__NL_PATH_M 1e-3
-#define EA__NL_TOL 0.02
+#define EA__NL_TOL 0.1
 #define EA__NL_DT                                                                                  \
   2e-4 /* [s] RK4 step of the model (0.013 % of the diagonal's residual from 5e-5) */
 

@@ -420,6 +420,7 @@ typedef struct ea_plan_verify {
   int passed;
   char failure[512];
   double base_travel_rad;
+  double predicted_nonlinear_residual_m;
 } ea_plan_verify_t;
 void ea_plan_verify_judge(ea_plan_verify_t *v);
 ea_status_t ea_plan_summary_write_ex(const ea_planner_t *pl, const ea_plan_info_t *info,

@@ -341,6 +341,7 @@ def plan(task, *, refine=None, verify=None, knots=None, default_arm=None):
         ver.tension_bound_N = task._o.get("limits").tension_min
         lib.ea_plan_verify_judge(ver)
         ver.predicted_residual_m = info.predicted_residual_m
+        ver.predicted_nonlinear_residual_m = math.nan  # the CLI's --verify computes it
         ver.predicted_time_to_rest_s = (info.predicted_time_to_rest_s
                                         if math.isfinite(info.predicted_residual_m)
                                         else math.nan)
