@@ -262,6 +262,18 @@ void ea_task_refine_default(ea_task_refine_t *r) {
 /* dynamics.refine: only for a plan that ends at rest in the reduced model. */
 static ea_status_t ea__check_refine(const ea_task_t *t, ea_error_t *err) {
   const ea_task_refine_t *r = &t->dynamics.refine;
+  /* what measures the default check's refinement too (plan --refine-by) */
+  if ((int)r->by < 0 || r->by > EA_TASK_REFINE_BY_MODEL_ONLY)
+    return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine: unknown 'by' %d", (int)r->by);
+  if (r->by != EA_TASK_REFINE_BY_FE && t->dynamics.modes > 0 &&
+      (t->dynamics.modes != EA_ROMNL_MODES || t->dynamics.robust_tip_mass > 0.0 ||
+       t->dynamics.robust_EI > 0.0))
+    return ea_error_set(
+        err, EA_ERR_INPUT,
+        "dynamics.refine.by = %s: the nonlinear reduced model has %d modes and no "
+        "robust corners (the task has dynamics.modes = %d%s)",
+        ea_task_refine_by_name(r->by), EA_ROMNL_MODES, t->dynamics.modes,
+        t->dynamics.robust_tip_mass > 0.0 || t->dynamics.robust_EI > 0.0 ? " and robust" : "");
   if (!r->enabled) return EA_OK;
   if (t->dynamics.modes < 1)
     return ea_error_set(err, EA_ERR_INPUT,
@@ -279,17 +291,6 @@ static ea_status_t ea__check_refine(const ea_task_t *t, ea_error_t *err) {
                         "end at rest in the model)");
   if ((int)r->method < 0 || r->method > EA_TASK_REFINE_SBPLX)
     return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine: unknown method %d", (int)r->method);
-  if ((int)r->by < 0 || r->by > EA_TASK_REFINE_BY_MODEL_ONLY)
-    return ea_error_set(err, EA_ERR_INPUT, "dynamics.refine: unknown 'by' %d", (int)r->by);
-  if (r->by != EA_TASK_REFINE_BY_FE &&
-      (t->dynamics.modes != EA_ROMNL_MODES || t->dynamics.robust_tip_mass > 0.0 ||
-       t->dynamics.robust_EI > 0.0))
-    return ea_error_set(
-        err, EA_ERR_INPUT,
-        "dynamics.refine.by = %s: the nonlinear reduced model has %d modes and no "
-        "robust corners (the task has dynamics.modes = %d%s)",
-        ea_task_refine_by_name(r->by), EA_ROMNL_MODES, t->dynamics.modes,
-        t->dynamics.robust_tip_mass > 0.0 || t->dynamics.robust_EI > 0.0 ? " and robust" : "");
   if (r->modes < 0 || r->modes > t->dynamics.modes)
     return ea_error_set(err, EA_ERR_INPUT,
                         "dynamics.refine.modes = %d: must be in [0 (every mode), dynamics.modes = "

@@ -299,6 +299,14 @@ static void test_refine_by(const char *arm) {
                    strstr(out, "dynamics.modes = 1"),
                "refine.by model with 1 mode: input error naming the key and the modes");
   printf("  -> %.300s\n", out);
+  /* the flag as the key; a value it does not know is a usage error */
+  write_task("tpc_by.yaml", arm, 0.6, "dynamics:\n  modes: 2\n  residual_m: 0\n");
+  rc = run("plan tpc_by.yaml -o tpc_by.csv --refine-by model_only");
+  ea_test_true(rc == 0 && strstr(out, "not checked by the FE (dynamics.refine.by: model_only)"),
+               "plan --refine-by model_only: the default check by the model alone, so said");
+  rc = run("plan tpc_by.yaml -o tpc_by.csv --refine-by exact");
+  ea_test_true(rc == 2 && strstr(out, "--refine-by: 'exact'"),
+               "plan --refine-by exact: usage error naming the flag and the value");
   /* --verify beside the FE: the nonlinear reduced model's prediction within 20 % of the FE's
    * measure on the issue's diagonal allowed 5 mm (the linear model's: 3.7 mm, the FE's 9.8 mm) */
   FILE *fp = fopen("tpc_by.yaml", "w");

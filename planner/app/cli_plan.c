@@ -17,6 +17,7 @@ static void ea__plan_help(FILE *fp) {
   fprintf(fp, "usage: elasticarm plan TASK.yaml [-o OUT.csv] [--summary OUT.json] [--json]\n"
               "                       [--figure OUT.svg|png|pdf] [--knots N] [--refine]\n"
               "                       [--shape zv] [--verify] [--no-verify]\n"
+              "                       [--refine-by fe|model|model_only]\n"
               "                       [--derivative-test]\n"
               "                       [--print-level N] [--quiet]\n\n"
               "Plans an admissible trajectory for the task (docs/task-format.md, docs/planner.md)\n"
@@ -77,6 +78,12 @@ static void ea__plan_help(FILE *fp) {
           "                     refinement's tolerance_m\n"
           "  --no-verify        no FE check of the plan's promise (as dynamics.verify: false):\n"
           "                     faster; the text says 'not checked by the FE'\n"
+          "  --refine-by WHAT   what measures the check's (or --refine's) candidates (as\n"
+          "                     dynamics.refine.by): fe (default), model (the nonlinear reduced\n"
+          "                     model until it predicts rest, then the FE verdict, the FE\n"
+          "                     refining on where it fails), model_only (no FE transient: the\n"
+          "                     text says 'not checked by the FE'); model needs 2 modes and no\n"
+          "                     robust corners\n"
           "  --derivative-test  run Ipopt's first-order derivative checker\n"
           "  --print-level N    Ipopt's output (0 = silent); Ipopt only: a plan made by the\n"
           "                     planner's own interior point or active-set Newton prints no\n"
@@ -324,16 +331,17 @@ static void ea__plan_check_text(const struct ea__plan_run *r);
 
 typedef struct {
   const char *task_path, *out, *summary, *figure;
-  int json, quiet, dtest, refine, shape, verify, no_verify;
+  int json, quiet, dtest, refine, shape, verify, no_verify, refine_by;
   long knots, plevel;
   char out_buf[1024], sum_buf[1024], fig_buf[1024];
 } ea__plan_opts_t;
 
 static const ea__cli_opt_t ea__plan_opts[] = {
-    {"help", 0, 'h'},    {"output", 1, 'o'}, {"summary", 1, 0},         {"figure", 1, 0},
-    {"json", 0, 0},      {"quiet", 0, 0},    {"derivative-test", 0, 0}, {"refine", 0, 0},
-    {"verify", 0, 0},    {"shape", 1, 0},    {"knots", 1, 0},           {"print-level", 1, 0},
-    {"no-verify", 0, 0}, {NULL, 0, 0}};
+    {"help", 0, 'h'},          {"output", 1, 'o'},  {"summary", 1, 0},
+    {"figure", 1, 0},          {"json", 0, 0},      {"quiet", 0, 0},
+    {"derivative-test", 0, 0}, {"refine", 0, 0},    {"verify", 0, 0},
+    {"shape", 1, 0},           {"knots", 1, 0},     {"print-level", 1, 0},
+    {"no-verify", 0, 0},       {"refine-by", 1, 0}, {NULL, 0, 0}};
 
 /* Parse the options into o. Returns -1 to go on, else the exit code (0 after --help). */
 static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_t *o) {
@@ -368,6 +376,13 @@ static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_
       o->verify = 1;
     } else if (!strcmp(a, "--no-verify")) {
       o->no_verify = 1;
+    } else if (!strcmp(a, "--refine-by")) {
+      int b = -1;
+      for (int k = 0; k <= EA_TASK_REFINE_BY_MODEL_ONLY; ++k)
+        if (!strcmp(v, ea_task_refine_by_name((ea_task_refine_by_t)k))) b = k;
+      if (b < 0)
+        return ea__cli_usage_error(cmd, "--refine-by: '%s' is not one of fe, model, model_only", v);
+      o->refine_by = b + 1; /* 0: the task's */
     } else if (!strcmp(a, "--shape")) {
       if (strcmp(v, "zv"))
         return ea__cli_usage_error(cmd, "--shape: '%s' is not a shaper (known: zv)", v);
@@ -701,6 +716,7 @@ int ea__cli_plan(int argc, char **argv) {
   if (o.dtest) task.solver.derivative_test = 1;
   if (o.refine) task.dynamics.refine.enabled = 1;
   if (o.no_verify) task.dynamics.verify = 0;
+  if (o.refine_by) task.dynamics.refine.by = (ea_task_refine_by_t)(o.refine_by - 1);
   task.dynamics.refine.progress = ea__plan_refine_progress;
   task.dynamics.refine.progress_data = &r.prog;
   if (o.plevel >= 0) task.solver.print_level = (int)o.plevel;
