@@ -22,7 +22,8 @@
  *     exactly from the condensation's tangent (CMX), and with the manifold's motion with the
  *     modes (CMIM: Phi^T M y'' = -Phi''^T M y - 2 Phi'^T M y' by the gauge Phi^T M y = 0, and
  *     dy/de against Phi'' e + 2 Phi' e'); CMIP is CMIM with the static condensed force fitted
- *     by polynomials in e1 at each sample (what a table would hold; BENCH_ROM_NL_POLY=1);
+ *     by polynomials in e1 at each sample: the library's nonlinear reduced model
+ *     (model/fe_romnl.c, ea_traj_romnl_*; 41 samples, RK4 dt 0.1 ms; BENCH_ROM_NL_POLY=1);
  *  4. at-rest plans corrected by a candidate without touching the transcription: the goal's 4
  *     modal targets moved (warm re-plans) by a globalised Newton until the candidate ends at rest
  *     (residual peak < 0.01 mm, at most 15 evaluations), then the FE; the time of one candidate
@@ -199,20 +200,18 @@ typedef struct {
                              modes */
   double c3[NS_MAX][4];   /* third derivatives of the potential in the modal coordinates (positions
                              relaxed to the rotations): c111, c112, c122, c222 */
-  double R[NS_MAX][3][KM][5];  /* Theta_p^T M (dPhi_j/dL, dPhi_j/da, d2Phi_j/dL2, d2Phi_j/dLda,
-                                  d2Phi_j/da2): the manifold and the moving modes */
-  double W[NS_MAX][3][3];      /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
-                                  quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
-  double P[NS_MAX][2 * KM][9]; /* the static condensed force lambda_i(e1, 0) and its slope
-                                   dlambda_i/de2(e1, 0), no base load: polynomials in e1 / esc[0]
-                                   (pbasis) */
-  double esc[KM];              /* [sqrt(kg) m] the fit's range of e_k: +-esc */
-  int poly;                    /* P holds a fit */
-  double L0[NS_MAX];           /* [m] passive cable rest length at the sample */
-  double *vec;                 /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
-                                  d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
+  double R[NS_MAX][3][KM][5]; /* Theta_p^T M (dPhi_j/dL, dPhi_j/da, d2Phi_j/dL2, d2Phi_j/dLda,
+                                 d2Phi_j/da2): the manifold and the moving modes */
+  double W[NS_MAX][3][3];     /* Theta_p^T M Theta_q (p, q: 11, 12, 22): the kinetic energy of the
+                                 quadratic manifold's motion y = Theta_jk e_j e_k / 2 */
+  double L0[NS_MAX];          /* [m] passive cable rest length at the sample */
+  double *vec;                /* per sample 8 full vectors: u_s, Phi_1, Phi_2, du_s/dL, du_s/da,
+                                 d2u_s/dL2, d2u_s/dLda, d2u_s/da2 */
   int nd;
 } moving_t;
+
+/* [m] the largest modal tip amplitude met by the candidates with the condensed manifold */
+static double emax_tip[KM];
 
 /* check of the moving-shape coefficients: Phi^T M Phi = I makes G antisymmetric */
 static double g_max, g_asym;
@@ -343,14 +342,10 @@ static void align_to_table(double *phi, int nd, const double q[2]) {
 
 static int condensed_force(const moving_t *mv, double t, const double q2[2], const double q1[2],
                            const double *e, double *lam);
-static int poly_fit(moving_t *mv, fe_ctx_t *c);
-static int want_poly;   /* BENCH_ROM_NL_POLY: moving_sample fits P */
-static int grid_filled; /* grid points filled from a neighbour */
+static int want_poly; /* BENCH_ROM_NL_POLY: the library's nonlinear reduced model (CMIP) */
 
-/* The coefficients at ns samples of tr (qlist NULL; t: time since the start), or at the ns
- * configurations qlist (t: the index; every point's modes take the table's signs). */
-static int moving_sample_q(fe_ctx_t *c, const ea_traj_t *tr, const double (*qlist)[2], int ns,
-                           moving_t *mv) {
+/* The coefficients at ns samples of tr (t: time since the start). */
+static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
   const int nd = c->nd;
   const double hL = 2e-3, ha = 4e-3;
   double *buf = malloc(sizeof(double) * (size_t)nd * (10 + 9 * KM));
@@ -361,8 +356,7 @@ static int moving_sample_q(fe_ctx_t *c, const ea_traj_t *tr, const double (*qlis
     free(buf);
     return 1;
   }
-  const double t0 = qlist ? 0 : EA_TRAJ_AT(tr, 0, EA_TRAJ_t),
-               T = qlist ? 0 : EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
+  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
   mv->ns = ns;
   if (!mv->vec) mv->vec = malloc(sizeof(double) * (size_t)nd * 8 * NS_MAX);
   mv->nd = nd;
@@ -376,16 +370,9 @@ static int moving_sample_q(fe_ctx_t *c, const ea_traj_t *tr, const double (*qlis
   for (int s = 0; s < ns && !rc; ++s) {
     const double t = t0 + T * s / (ns - 1);
     double q[2], v, a;
-    if (qlist) {
-      q[0] = qlist[s][0];
-      q[1] = qlist[s][1];
-      mv->t[s] = s;
-      have_ref = 0;
-    } else {
-      ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
-      ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
-      mv->t[s] = t - t0;
-    }
+    ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
+    ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
+    mv->t[s] = t - t0;
     for (int o = 0; o < 9 && !rc; ++o) {
       const int k = order[o], di = k % 3 - 1, dj = k / 3 - 1;
       double *p = ph + (size_t)k * KM * nd;
@@ -404,22 +391,6 @@ static int moving_sample_q(fe_ctx_t *c, const ea_traj_t *tr, const double (*qlis
         memcpy(mv->vec + (size_t)s * 8 * nd, u, sizeof(double) * (size_t)nd);
         memcpy(mv->vec + ((size_t)s * 8 + 1) * nd, p, sizeof(double) * (size_t)nd * KM);
       }
-    }
-    if (rc && qlist && s > 0) {
-      /* a grid point without a stable static state (a corner of the box off the workspace):
-       * its neighbour's coefficients, as a table fills its holes */
-      memcpy(mv->G[s], mv->G[s - 1], sizeof mv->G[s]);
-      memcpy(mv->D[s], mv->D[s - 1], sizeof mv->D[s]);
-      memcpy(mv->E[s], mv->E[s - 1], sizeof mv->E[s]);
-      memcpy(mv->c3[s], mv->c3[s - 1], sizeof mv->c3[s]);
-      memcpy(mv->R[s], mv->R[s - 1], sizeof mv->R[s]);
-      memcpy(mv->W[s], mv->W[s - 1], sizeof mv->W[s]);
-      mv->L0[s] = mv->L0[s - 1];
-      memcpy(mv->vec + (size_t)s * 8 * nd, mv->vec + (size_t)(s - 1) * 8 * nd,
-             sizeof(double) * 8 * (size_t)nd);
-      ++grid_filled;
-      rc = 0;
-      continue;
     }
     if (rc) break;
     memcpy(u9 + 4 * nd, u, sizeof(double) * (size_t)nd);
@@ -496,122 +467,7 @@ static int moving_sample_q(fe_ctx_t *c, const ea_traj_t *tr, const double (*qlis
     }
   free(buf);
   free(u9);
-  mv->poly = 0;
-  if (!rc && want_poly) rc = poly_fit(mv, c);
   return rc;
-}
-
-static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv) {
-  return moving_sample_q(c, tr, NULL, ns, mv);
-}
-
-/* The table's form (BENCH_ROM_NL_GRID=nLxna with BENCH_ROM_NL_POLY=1): the coefficients at the
- * points of an nL x na grid over the box of the plan's (L_c, alpha), then at each of the
- * trajectory's samples interpolated by Catmull-Rom in both directions (the grid's outer points
- * repeated). A line's path does not change when its plan is re-timed, so the grid is computed once
- * per line. */
-typedef struct {
-  int nL, na;
-  double L0, dL, a0, da;
-  moving_t m;
-} grid_t;
-static grid_t grid;
-static int grid_on, grid_valid, grid_nL = 8, grid_na = 6;
-
-static int grid_build(fe_ctx_t *c, const ea_traj_t *tr, grid_t *g) {
-  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-  for (int i = 0; i < tr->n; ++i) {
-    const double q[2] = {EA_TRAJ_AT(tr, i, EA_TRAJ_cable_length),
-                         EA_TRAJ_AT(tr, i, EA_TRAJ_cable_angle)};
-    for (int k = 0; k < 2; ++k) {
-      lo[k] = fmin(lo[k], q[k]);
-      hi[k] = fmax(hi[k], q[k]);
-    }
-  }
-  g->nL = grid_nL;
-  g->na = grid_na;
-  /* over the range exactly: beyond it the arm may have no stable static state */
-  g->dL = fmax(hi[0] - lo[0], 1e-3) / (g->nL - 1);
-  g->da = fmax(hi[1] - lo[1], 1e-3) / (g->na - 1);
-  g->L0 = lo[0];
-  g->a0 = lo[1];
-  static double ql[NS_MAX][2];
-  for (int j = 0; j < g->na; ++j)
-    for (int i = 0; i < g->nL; ++i) {
-      /* a snake, so that each static solve starts next to the last */
-      const int ii = (j % 2) ? g->nL - 1 - i : i;
-      ql[j * g->nL + i][0] = g->L0 + ii * g->dL;
-      ql[j * g->nL + i][1] = g->a0 + j * g->da;
-    }
-  return moving_sample_q(c, NULL, (const double(*)[2])ql, g->nL * g->na, &g->m);
-}
-
-static void cr_weights(double w, double cw[4]) {
-  const double w2 = w * w, w3 = w2 * w;
-  cw[0] = -0.5 * w3 + w2 - 0.5 * w;
-  cw[1] = 1.5 * w3 - 2.5 * w2 + 1;
-  cw[2] = -1.5 * w3 + 2 * w2 + 0.5 * w;
-  cw[3] = 0.5 * w3 - 0.5 * w2;
-}
-
-/* the grid's field f (n doubles per point, at offset off of each point's block in the arrays
- * of moving_t, as a pointer to point 0's) interpolated at q into out */
-static void grid_interp(const grid_t *g, const double q[2], const double *f0, size_t stride, int n,
-                        double *out) {
-  const double xL = (q[0] - g->L0) / g->dL, xa = (q[1] - g->a0) / g->da;
-  int iL = (int)floor(xL), ia = (int)floor(xa);
-  iL = iL < 0 ? 0 : iL > g->nL - 2 ? g->nL - 2 : iL;
-  ia = ia < 0 ? 0 : ia > g->na - 2 ? g->na - 2 : ia;
-  double wL[4], wa[4];
-  cr_weights(xL - iL, wL);
-  cr_weights(xa - ia, wa);
-  for (int k = 0; k < n; ++k)
-    out[k] = 0;
-  for (int b = 0; b < 4; ++b) {
-    int ja = ia - 1 + b;
-    ja = ja < 0 ? 0 : ja > g->na - 1 ? g->na - 1 : ja;
-    for (int a = 0; a < 4; ++a) {
-      int jL = iL - 1 + a;
-      jL = jL < 0 ? 0 : jL > g->nL - 1 ? g->nL - 1 : jL;
-      /* the snake's order */
-      const int col = (ja % 2) ? g->nL - 1 - jL : jL;
-      const double *f = f0 + (size_t)(ja * g->nL + col) * stride;
-      for (int k = 0; k < n; ++k)
-        out[k] += wL[a] * wa[b] * f[k];
-    }
-  }
-}
-
-/* the trajectory's ns samples from the grid */
-static void grid_to_traj(const grid_t *g, const ea_traj_t *tr, int ns, moving_t *mv) {
-  const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
-  const moving_t *G = &g->m;
-  mv->ns = ns;
-  mv->nd = G->nd;
-  mv->vec = G->vec; /* the tip scale of the first point's modes (emax_tip) */
-  mv->esc[0] = G->esc[0];
-  mv->esc[1] = G->esc[1];
-  mv->poly = G->poly;
-  for (int s = 0; s < ns; ++s) {
-    const double t = t0 + T * s / (ns - 1);
-    double q[2], v, a;
-    ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
-    ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
-    mv->t[s] = t - t0;
-    grid_interp(g, q, &G->G[0][0][0][0], sizeof G->G[0] / sizeof(double),
-                (int)(sizeof G->G[0] / sizeof(double)), &mv->G[s][0][0][0]);
-    grid_interp(g, q, &G->D[0][0][0][0], sizeof G->D[0] / sizeof(double),
-                (int)(sizeof G->D[0] / sizeof(double)), &mv->D[s][0][0][0]);
-    grid_interp(g, q, &G->E[0][0][0], sizeof G->E[0] / sizeof(double),
-                (int)(sizeof G->E[0] / sizeof(double)), &mv->E[s][0][0]);
-    grid_interp(g, q, &G->c3[0][0], 4, 4, &mv->c3[s][0]);
-    grid_interp(g, q, &G->R[0][0][0][0], sizeof G->R[0] / sizeof(double),
-                (int)(sizeof G->R[0] / sizeof(double)), &mv->R[s][0][0][0]);
-    grid_interp(g, q, &G->W[0][0][0], 9, 9, &mv->W[s][0][0]);
-    grid_interp(g, q, &G->P[0][0][0], sizeof G->P[0] / sizeof(double),
-                (int)(sizeof G->P[0] / sizeof(double)), &mv->P[s][0][0]);
-    grid_interp(g, q, &G->L0[0], 1, 1, &mv->L0[s]);
-  }
 }
 
 /* 5. the modal force with every other degree of freedom condensed statically, exactly (no
@@ -876,139 +732,6 @@ static int condensed_inertia(const moving_t *mv, double t, const double q2[2], c
   return 0;
 }
 
-/* The tabulated candidate (CMIP): the static condensed force lambda_s(e) at every sample as
- * lambda_s(e1, 0) + e2 dlambda_s/de2(e1, 0), each a polynomial of degree 8 in e1 / esc fitted by
- * least squares on PG1 Chebyshev nodes in [-esc, esc] (esc: 0.15 m of mode 1's tip by default,
- * BENCH_ROM_NL_POLY_TIP1); the slope from the condensation's tangent (dlambda/de = A^-1). Mode 2
- * stays below a millimetre on these plans, and a 2-D grid in (e1, e2) meets a fold of the
- * condensation (det A changes sign) near 140 mm x 3 mm. The base load enters as
- * (Phi + Theta e)^T M u_s'' (the table's B, C and E). The nodes are walked from the middle out
- * in steps of at most 5 mm of tip so that each condensation starts next to its solution. */
-enum { PDEG = 8, PN = PDEG + 1, PG1 = 17 };
-static void pbasis(double x, double *b) {
-  b[0] = 1;
-  for (int d = 1; d < PN; ++d)
-    b[d] = b[d - 1] * x;
-}
-static double
-    poly_max_err;        /* [relative] the fit's worst residual over the nodes, of max |lambda| */
-static int poly_dropped; /* nodes the condensation did not reach */
-static double emax_tip[KM]; /* [m] the largest modal tip amplitude met by the candidates */
-
-static int poly_fit(moving_t *mv, fe_ctx_t *c) {
-  const int nd = c->nd;
-  const double tip1 =
-      getenv("BENCH_ROM_NL_POLY_TIP1") ? atof(getenv("BENCH_ROM_NL_POLY_TIP1")) : 0.15;
-  const double *ph = mv->vec + (size_t)1 * nd; /* sample 0's modes */
-  const double tn[KM] = {hypot(ph[nd - 3], ph[nd - 2]), hypot(ph[2 * nd - 3], ph[2 * nd - 2])};
-  mv->esc[0] = tip1 / tn[0];
-  const double zero[2] = {0, 0};
-  for (int s = 0; s < mv->ns; ++s) {
-    double xs[PG1], lam_g[PG1][2 * KM];
-    cond_restart();
-    double ecur = 0;
-    /* node order: the middle (PG1 odd: x = 0 is a node), up, back to the middle, down */
-    int ord[2 * PG1], no = 0;
-    for (int i = PG1 / 2; i < PG1; ++i)
-      ord[no++] = i;
-    for (int i = PG1 / 2 - 1; i >= 0; --i)
-      ord[no++] = i;
-    int have[PG1] = {0}, ng = 0, stop = 0;
-    for (int oi = 0; oi < no; ++oi) {
-      const int i = ord[oi];
-      const double x = cos(M_PI * (i + 0.5) / PG1), e1 = x * mv->esc[0];
-      if (oi < PG1 / 2 + 1 ? stop & 1 : stop & 2) continue;
-      if (oi == PG1 / 2 + 1) { /* back to the middle from the static state */
-        cond_restart();
-        ecur = 0;
-      }
-      double lam[KM];
-      const int nst = (int)ceil(fabs(e1 - ecur) * tn[0] / 0.005);
-      int bad = 0;
-      for (int st = 1; st <= (nst < 1 ? 1 : nst) && !bad; ++st) {
-        const double es[KM] = {ecur + (e1 - ecur) * st / (nst < 1 ? 1 : nst), 0};
-        bad = condensed_force(mv, mv->t[s], zero, zero, es, lam);
-      }
-      /* a node the condensation cannot reach (beyond a fold of the condensed manifold): the fit
-       * stops there on this side and extrapolates */
-      ecur = e1;
-      if (bad) {
-        stop |= oi < PG1 / 2 + 1 ? 1 : 2;
-        ++poly_dropped;
-        continue;
-      }
-      have[i] = 1;
-      ++ng;
-      xs[i] = x;
-      for (int k = 0; k < KM; ++k) {
-        lam_g[i][k] = lam[k];
-        lam_g[i][KM + k] = cond_dlam[k][1]; /* the condensation's own tangent */
-      }
-    }
-    /* least squares by the normal equations (monomials of degree 8 on Chebyshev nodes in [-1, 1]
-     * are conditioned well enough for this) */
-    if (ng < PN + 2) {
-      fprintf(stderr, "bench_rom_nl: sample %d: %d fit nodes reached\n", s, ng);
-      return 1;
-    }
-    double A[PN][PN] = {{0}}, rhs[2 * KM][PN] = {{0}};
-    for (int g = 0; g < PG1; ++g) {
-      if (!have[g]) continue;
-      double b[PN];
-      pbasis(xs[g], b);
-      for (int r = 0; r < PN; ++r) {
-        for (int q = 0; q < PN; ++q)
-          A[r][q] += b[r] * b[q];
-        for (int k = 0; k < 2 * KM; ++k)
-          rhs[k][r] += b[r] * lam_g[g][k];
-      }
-    }
-    double Lc[PN][PN] = {{0}};
-    for (int j = 0; j < PN; ++j) {
-      double d = A[j][j];
-      for (int k = 0; k < j; ++k)
-        d -= Lc[j][k] * Lc[j][k];
-      if (!(d > 0)) return 1;
-      Lc[j][j] = sqrt(d);
-      for (int i = j + 1; i < PN; ++i) {
-        double v = A[i][j];
-        for (int k = 0; k < j; ++k)
-          v -= Lc[i][k] * Lc[j][k];
-        Lc[i][j] = v / Lc[j][j];
-      }
-    }
-    for (int k = 0; k < 2 * KM; ++k) {
-      double w[PN];
-      for (int i = 0; i < PN; ++i) {
-        double v = rhs[k][i];
-        for (int q = 0; q < i; ++q)
-          v -= Lc[i][q] * w[q];
-        w[i] = v / Lc[i][i];
-      }
-      for (int i = PN - 1; i >= 0; --i) {
-        double v = w[i];
-        for (int q = i + 1; q < PN; ++q)
-          v -= Lc[q][i] * mv->P[s][k][q];
-        mv->P[s][k][i] = v / Lc[i][i];
-      }
-      double mx = 0, er = 0;
-      for (int g = 0; g < PG1; ++g) {
-        if (!have[g]) continue;
-        double b[PN], v = 0;
-        pbasis(xs[g], b);
-        for (int q = 0; q < PN; ++q)
-          v += b[q] * mv->P[s][k][q];
-        mx = fmax(mx, fabs(lam_g[g][k]));
-        er = fmax(er, fabs(v - lam_g[g][k]));
-      }
-      if (k < KM) poly_max_err = fmax(poly_max_err, er / mx);
-    }
-  }
-  cond_restart();
-  mv->poly = 1;
-  return 0;
-}
-
 /* The model's modal equations along tr (RK4, dt 1e-4) as ea_traj_rom_predict integrates them,
  * with the moving-shape terms of mv added when mv is not NULL (scaled by w: 1 both, bit 1 G
  * only, bit 2 D only); the residual peak of the free vibration at the goal over 3 s. */
@@ -1048,7 +771,7 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
       c3[c] = (1 - f) * mv->c3[s][c] + f * mv->c3[s + 1][c];
   }
   double lam[KM] = {0}, Mt[KM][KM] = {{1, 0}, {0, 1}}, cv[KM] = {0};
-  if (mv && (terms & 128 || terms & 256 || terms & 512)) {
+  if (mv && (terms & 128 || terms & 256)) {
     const double *ph0 = mv->vec + (size_t)mv->nd;
     const int nd = mv->nd;
     emax_tip[0] = fmax(emax_tip[0], fabs(z[0]) * hypot(ph0[nd - 3], ph0[nd - 2]));
@@ -1057,27 +780,6 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   if (terms & 128) {
     const double e[KM] = {z[0], z[2]}, ed[KM] = {z[1], z[3]};
     if (condensed_inertia(mv, t, a, v, e, ed, lam, Mt, cv)) lam[0] = lam[1] = NAN;
-  } else if (terms & 512) { /* the fitted static force and the base load on (Phi + Theta e) */
-    double f = t / mv->t[mv->ns - 1] * (mv->ns - 1);
-    int s = (int)floor(f);
-    s = s < 0 ? 0 : s > mv->ns - 2 ? mv->ns - 2 : s;
-    f = fmin(fmax(f - s, 0.0), 1.0);
-    double b[PN];
-    pbasis(z[0] / mv->esc[0], b);
-    for (int i = 0; i < KM; ++i) {
-      double l0 = 0, l1 = 0;
-      for (int n = 0; n < PN; ++n) {
-        l0 += b[n] * (mv->P[s][i][n] + z[2] * mv->P[s][KM + i][n]);
-        l1 += b[n] * (mv->P[s + 1][i][n] + z[2] * mv->P[s + 1][KM + i][n]);
-      }
-      lam[i] = (1 - f) * l0 + f * l1 + p.B[i][0] * a[0] + p.B[i][1] * a[1] +
-               p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1];
-      for (int k = 0; k < KM; ++k) {
-        const double *Ek = E[i + k];
-        lam[i] += z[2 * k] * (Ek[0] * a[0] + Ek[1] * a[1] + Ek[2] * v[0] * v[0] +
-                              2 * Ek[3] * v[0] * v[1] + Ek[4] * v[1] * v[1]);
-      }
-    }
   } else if (terms & 32) {
     const double e[KM] = {z[0], z[2]};
     if (condensed_force(mv, t, a, v, e, lam)) lam[0] = lam[1] = NAN;
@@ -1085,7 +787,7 @@ static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t
   for (int i = 0; i < KM; ++i) {
     double F = -(p.B[i][0] * a[0] + p.B[i][1] * a[1]) -
                (p.C[i][0] * v[0] * v[0] + 2 * p.C[i][1] * v[0] * v[1] + p.C[i][2] * v[1] * v[1]);
-    if (terms & 672) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
+    if (terms & 160) F = -lam[i] + p.omega2[i] * z[2 * i]; /* the whole force condensed */
     for (int j = 0; j < KM; ++j) {
       const double e = z[2 * j], ed = z[2 * j + 1];
       if (terms & 1)
@@ -1215,6 +917,35 @@ static double integrate(const ea_rom_table_t *tb, const ea_traj_t *tr, const mov
   return integrate_z(tb, tr, mv, terms, NULL);
 }
 
+/* CMIP: the library's nonlinear reduced model (model/fe_romnl.c), sampled on tr's path (41
+ * points) and integrated along it (RK4, dt 0.1 ms); its end state into z (NULL: not wanted), the
+ * sampling's wall time into *t_sample. */
+static ea_romnl_t *nlm; /* for the line's arm and tip mass */
+static double nl_fit_err, nl_time;
+static int nl_dropped, nl_samples;
+static double integrate_nl(const ea_rom_table_t *tb, const ea_traj_t *tr, double *z,
+                           double *t_sample) {
+  ea_rom_prediction_t pr;
+  ea_error_t e = {0};
+  if (!nlm || ea_traj_romnl_sample(nlm, tb, tr, 41, &e) ||
+      ea_traj_romnl_predict(tb, nlm, tr, 1e-4, 3.0, &pr, NULL, &e)) {
+    fprintf(stderr, "bench_rom_nl: CMIP: %s\n", e.msg);
+    return NAN;
+  }
+  ea_romnl_info_t ri;
+  ea_romnl_info(nlm, &ri);
+  nl_fit_err = fmax(nl_fit_err, ri.fit_error);
+  nl_dropped += ri.nodes_dropped;
+  nl_time += ri.time_s;
+  ++nl_samples;
+  if (t_sample) *t_sample = ri.time_s;
+  for (int k = 0; z && k < KM; ++k) {
+    z[2 * k] = pr.eta[k];
+    z[2 * k + 1] = pr.eta_rate[k];
+  }
+  return pr.residual_peak;
+}
+
 /* 4. the at-rest plan corrected for the neglected terms without touching the transcription: the
  * goal's modal targets (eta_i, eta_i') moved until the model with those terms (integrated along
  * the re-planned trajectory) ends at rest. The unknowns and residuals are tip amplitudes at the
@@ -1280,17 +1011,22 @@ static int corr_eval(ea_planner_t *pl, fe_ctx_t *c, const double sc[2 * KM], con
   }
   double t1 = ea_bench_now();
   ci->t_plan += t1 - t0;
-  if (grid_on && grid_valid)
-    grid_to_traj(&grid, tr, 41, &mv);
-  else if (moving_sample(c, tr, 41, &mv)) {
-    ++ci->failed;
-    return 1;
-  }
-  double t2 = ea_bench_now();
-  ci->t_mv += t2 - t1;
   double z[2 * KM];
-  *peak = integrate_z(tb, tr, &mv, terms, z);
-  ci->t_int += ea_bench_now() - t2;
+  if (want_poly) { /* the library's model: its own sampling, then its integration */
+    double ts = 0;
+    *peak = integrate_nl(tb, tr, z, &ts);
+    ci->t_mv += ts;
+    ci->t_int += ea_bench_now() - t1 - ts;
+  } else {
+    if (moving_sample(c, tr, 41, &mv)) {
+      ++ci->failed;
+      return 1;
+    }
+    double t2 = ea_bench_now();
+    ci->t_mv += t2 - t1;
+    *peak = integrate_z(tb, tr, &mv, terms, z);
+    ci->t_int += ea_bench_now() - t2;
+  }
   for (int j = 0; j < 2 * KM; ++j)
     F[j] = z[j] * sc[j];
   if (corr_verbose)
@@ -1703,17 +1439,6 @@ int main(int argc, char **argv) {
   corr_verbose = getenv("BENCH_ROM_NL_VERBOSE") != NULL;
   /* BENCH_ROM_NL_CMI: the correction with the manifold's inertia (CMI) instead of CM */
   want_poly = getenv("BENCH_ROM_NL_POLY") != NULL;
-  if (getenv("BENCH_ROM_NL_GRID")) {
-    if (!want_poly || sscanf(getenv("BENCH_ROM_NL_GRID"), "%dx%d", &grid_nL, &grid_na) != 2 ||
-        grid_nL < 4 || grid_na < 4 || grid_nL * grid_na > NS_MAX) {
-      fprintf(stderr,
-              "bench_rom_nl: BENCH_ROM_NL_GRID=nLxna (4..; nL na <= %d) needs "
-              "BENCH_ROM_NL_POLY=1\n",
-              NS_MAX);
-      return 2;
-    }
-    grid_on = 1;
-  }
   const char *corr_name = want_poly                     ? "CMIP"
                           : getenv("BENCH_ROM_NL_CMIM") ? "CMIM"
                           : getenv("BENCH_ROM_NL_CMIX") ? "CMX"
@@ -1744,14 +1469,13 @@ int main(int argc, char **argv) {
       "model + moving shapes M [mm] | M + quadratic stiffness MQ [mm] | MQ + manifold curvature "
       "MQE [mm] | condensed C [mm] | C + moving shapes CM [mm] | CM + manifold inertia CMI [mm] | "
       "CM + exact manifold inertia CMX [mm] | CMI + moving manifold CMIM [mm] | CMIM, static "
-      "force fitted CMIP [mm] | CMIP from a grid CMIG [mm] | FE residual / dev^2 [1/m] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "force fitted CMIP (model/fe_romnl.c) [mm] | FE residual / dev^2 [1/m] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   static const char *pn[3] = {"quasi-static", "residual 5 mm", "at rest"};
   static char corr[200][600];
   static double fe0[200], fe1[200], ratio[200], t_int[200], t_mv[200], t_plan[200], t_fe4[200],
       t_fe05[200];
-  int ncorr = 0, nconv = 0, nratio = 0, nint = 0, ngrid = 0;
-  static double t_grid[200];
+  int ncorr = 0, nconv = 0, nratio = 0, nint = 0;
   const char *only = getenv("BENCH_ROM_NL_LINE"); /* one line by index, for diagnosis */
   for (int l = 0; l < nl; ++l) {
     if (only && atoi(only) != l) continue;
@@ -1784,14 +1508,10 @@ int main(int argc, char **argv) {
     cond_ctx = &c;
     free(cond_w);
     cond_w = calloc((size_t)c.nd * 24, sizeof(double));
-    int grid_ok = 0;
-    grid_valid = 0;
-    if (grid_on && cok) {
-      const double tg = ea_bench_now();
-      grid_ok = grid_valid = !grid_build(&c, &tr[2], &grid);
-      if (grid_ok && ngrid < 200) t_grid[ngrid++] = ea_bench_now() - tg;
-      if (!grid_ok) fprintf(stderr, "bench_rom_nl: %s: the grid failed\n", lines[l].name);
-    }
+    ea_romnl_free(nlm);
+    nlm = NULL;
+    if (want_poly && ea_romnl_alloc(&t.arm, ea_arm_tip_mass(&t.arm, t.payload_kg), 0, &nlm, &e))
+      fprintf(stderr, "bench_rom_nl: %s: %s\n", lines[l].name, e.msg);
     for (int k = only_corr ? 2 : 0; k < 3; ++k) {
       predict(tb, &tr[k], &r[k]);
       double t0 = ea_bench_now();
@@ -1799,7 +1519,7 @@ int main(int argc, char **argv) {
       if (k == 2) t_fe05[ncorr] = ea_bench_now() - t0;
       static moving_t mv;
       double with = NAN, quad = NAN, both = NAN, cond = NAN, condm = NAN, cmi = NAN, cmix = NAN,
-             cmip = NAN, cmim = NAN, cmig = NAN;
+             cmip = NAN, cmim = NAN;
       if (cok && !only_corr && !moving_sample(&c, &tr[k], 41, &mv)) {
         with = integrate(tb, &tr[k], &mv, 3);
         quad = integrate(tb, &tr[k], &mv, 7);
@@ -1809,21 +1529,15 @@ int main(int argc, char **argv) {
         cmi = integrate(tb, &tr[k], &mv, 99);
         cmix = getenv("BENCH_ROM_NL_NO_CMX") ? NAN : integrate(tb, &tr[k], &mv, 131);
         cmim = getenv("BENCH_ROM_NL_NO_CMIM") ? NAN : integrate(tb, &tr[k], &mv, 355);
-        cmip = want_poly ? integrate(tb, &tr[k], &mv, 835) : NAN;
-        if (grid_ok) {
-          static moving_t mvg;
-          grid_to_traj(&grid, &tr[k], 41, &mvg);
-          cmig = integrate(tb, &tr[k], &mvg, 835);
-        }
+        cmip = want_poly ? integrate_nl(tb, &tr[k], NULL, NULL) : NAN;
       }
       const double dev = r[k].dev_model;
-      printf(
-          "| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
-          "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
-          lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma, pn[k],
-          r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
-          r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
-          1e3 * cmi, 1e3 * cmix, 1e3 * cmim, 1e3 * cmip, 1e3 * cmig, r[k].fe / (dev * dev));
+      printf("| %s (%.3f, %.3f) -> (%.3f, %.3f) | %.2f | %s | %.4f | %.1f | %.1f | %.3f | %.3f | "
+             "%.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
+             lines[l].name, lines[l].x0, lines[l].y0, lines[l].x1, lines[l].y1, lines[l].gamma,
+             pn[k], r[k].dur, 1e3 * dev, 1e3 * r[k].dev_fe, 1e3 * r[k].pred, 1e3 * r[k].fe,
+             r[k].fe / r[k].pred, 1e3 * with, 1e3 * quad, 1e3 * both, 1e3 * cond, 1e3 * condm,
+             1e3 * cmi, 1e3 * cmix, 1e3 * cmim, 1e3 * cmip, r[k].fe / (dev * dev));
       fflush(stdout);
     }
     if (cok && ncorr < 200) {
@@ -1856,7 +1570,12 @@ int main(int argc, char **argv) {
         if (!rc) fe_run(&t, &tc, &rr);
         double fine = NAN; /* the CM model's own discretisation: 81 samples, RK4 dt 0.1 ms */
         static moving_t mvf;
-        if (!rc && v == 1 && !moving_sample(&c, &tc, 81, &mvf)) {
+        if (!rc && v == 1 && want_poly) {
+          ea_rom_prediction_t pr;
+          if (!ea_traj_romnl_sample(nlm, tb, &tc, 81, NULL) &&
+              !ea_traj_romnl_predict(tb, nlm, &tc, 5e-5, 3.0, &pr, NULL, NULL))
+            fine = pr.residual_peak;
+        } else if (!rc && v == 1 && !moving_sample(&c, &tc, 81, &mvf)) {
           cm_dt = 1e-4;
           fine = integrate(tb, &tc, &mvf, corr_terms);
           cm_dt = 2e-4;
@@ -1904,8 +1623,7 @@ int main(int argc, char **argv) {
          "%s at 81 samples, "
          "dt 0.1 ms [mm] | FE [mm] | FE / at-rest FE | duration [s] | duration vs at rest [%%] |\n"
          "|---|---|---|---|%s---|---|---|---|---|---|---|---|---|---|\n",
-         with_crude ? " crude: evaluations | CM [mm] | FE [mm] |" : "",
-         grid_on ? "CMIP along the path (not the grid)" : "the candidate",
+         with_crude ? " crude: evaluations | CM [mm] | FE [mm] |" : "", "the candidate",
          with_crude ? "---|---|---|" : "");
   for (int i = 0; i < ncorr; ++i)
     printf("%s\n", corr[i]);
@@ -1939,19 +1657,13 @@ int main(int argc, char **argv) {
            1e3 * ea_bench_median(t_fe05, ncorr));
   }
   printf("\ncondensation: Newton failed (the integration stopped) %d times\n", cond_fail);
-  if (ngrid > 0)
-    printf("\nCMIG: the %d x %d grid's coefficients (FE statics, modes, modal derivatives, the "
-           "condensed force's fits) per line: median %.0f ms; points filled from a neighbour (no "
-           "stable static state) %d\n",
-           grid_nL, grid_na, 1e3 * ea_bench_median(t_grid, ngrid), grid_filled);
-  printf(
-      "\nthe largest modal tip amplitude met by CMX, CMIM, CMIP: mode 1 %.1f mm, mode 2 %.1f mm\n",
-      1e3 * emax_tip[0], 1e3 * emax_tip[1]);
+  printf("\nthe largest modal tip amplitude met by CMX, CMIM: mode 1 %.1f mm, mode 2 %.1f mm\n",
+         1e3 * emax_tip[0], 1e3 * emax_tip[1]);
   if (want_poly)
-    printf(
-        "\nCMIP: the static condensed force's degree-8 fits in e1: worst residual over the nodes "
-        "%.2e of the largest |lambda|; nodes not reached (beyond a fold) %d\n",
-        poly_max_err, poly_dropped);
+    printf("\nCMIP (model/fe_romnl.c): the static condensed force's degree-8 fits in e1: worst "
+           "residual over the nodes %.2e of the largest |lambda|; nodes not reached (beyond a "
+           "fold) %d; sampling 41 points: %.0f ms in the mean over %d samplings\n",
+           nl_fit_err, nl_dropped, nl_samples ? 1e3 * nl_time / nl_samples : NAN, nl_samples);
   printf("\nmode signs: the FE modes' tip per unit eta against the table's at %d first samples: "
          "min |cos| %.6f, max | |tip_FE| / |tip_table| - 1 | %.2e; sign taken from the table %d "
          "times\n",
