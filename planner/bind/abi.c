@@ -348,6 +348,7 @@
   X(ea_task_t, dynamics.residual_m)                                                                \
   X(ea_task_t, dynamics.refine.enabled)                                                            \
   X(ea_task_t, dynamics.refine.tolerance_m)                                                        \
+  X(ea_task_t, dynamics.refine.by)                                                                 \
   X(ea_task_t, dynamics.verify)                                                                    \
   X(ea_task_t, knots)                                                                              \
   X(ea_study_t, name)                                                                              \
@@ -363,7 +364,9 @@
   X(ea_refine_info_t, residual_rms_m)                                                              \
   X(ea_refine_info_t, time_s)                                                                      \
   X(ea_refine_info_t, message)                                                                     \
-  X(ea_refine_info_t, settings.tolerance_m)
+  X(ea_refine_info_t, settings.tolerance_m)                                                        \
+  X(ea_refine_info_t, model_evals)                                                                 \
+  X(ea_refine_info_t, time_model_s)
 
 typedef struct {
   const char *type;

@@ -500,7 +500,7 @@ OPAQUE_FIELDS = {
         ("path", "int"), ("objective", "int"), ("duration_s", "double"),
         ("limits", "ea_task_limits_t"), ("dynamics.modes", "int"),
         ("dynamics.residual_m", "double"), ("dynamics.refine.enabled", "int"),
-        ("dynamics.refine.tolerance_m", "double"),
+        ("dynamics.refine.tolerance_m", "double"), ("dynamics.refine.by", "int"),
         ("dynamics.verify", "int"), ("knots", "int"),
     ),
     "ea_study_t": (("name", "char[128]"), ("n_cases", "long")),
@@ -510,5 +510,6 @@ OPAQUE_FIELDS = {
         ("residual_peak_before_m", "double"), ("duration_s", "double"),
         ("residual_peak_m", "double"), ("residual_rms_m", "double"), ("time_s", "double"),
         ("message", "char[512]"), ("settings.tolerance_m", "double"),
+        ("model_evals", "int"), ("time_model_s", "double"),
     ),
 }

@@ -264,7 +264,10 @@ def _run_id():
                            int.from_bytes(os.urandom(4), "little"))
 
 
-def plan(task, *, refine=None, verify=None, knots=None, default_arm=None):
+_REFINE_BY = {"fe": 0, "model": 1, "model_only": 2}
+
+
+def plan(task, *, refine=None, verify=None, knots=None, default_arm=None, refine_by=None):
     """Plan a task as `elasticarm plan` does (ea_planner_alloc, ea_planner_solve from
     cold), with the same checks of what the plan promises.
 
@@ -274,6 +277,9 @@ def plan(task, *, refine=None, verify=None, knots=None, default_arm=None):
     None (default): as the CLI, the task's dynamics.refine, else a plan that ends at rest
     is checked by the FE and refined until its residual is within 0.5 mm (unless the
     task's dynamics.verify is false).
+    refine_by: what measures the refinement's candidates (dynamics.refine.by, `plan
+    --refine-by`): "fe", "model" (the nonlinear reduced model, then the FE verdict) or
+    "model_only" (no FE transient: the plan is not checked by the FE); None: the task's.
     verify: True runs the FE transient of the plan (ea_traj_simulate with its defaults,
     `plan --verify`); False: never; None (default): when the task bounds the residual
     (dynamics.residual_m > 0), as the CLI checks that bound.
@@ -294,6 +300,10 @@ def plan(task, *, refine=None, verify=None, knots=None, default_arm=None):
     rest_check = lib.ea_plan_rest_check(task._o.ptr)  # 0 none, 1 at rest, 2 residual bound
     if refine is not None:
         task._o.set("dynamics.refine.enabled", 1 if refine else 0)
+    if refine_by is not None:
+        if refine_by not in _REFINE_BY:
+            raise ValueError("refine_by: %r is not one of fe, model, model_only" % (refine_by,))
+        task._o.set("dynamics.refine.by", _REFINE_BY[refine_by])
     # as the CLI: the task's refinement, else the default check of the promise
     default_check = refine is None and (task._o.get("dynamics.refine.enabled") or rest_check)
     if verify is None:

@@ -62,6 +62,26 @@ def test_at_rest_checked_by_the_fe_by_default():
     assert ea.plan(example("paper-line-rest.yaml"), refine=False).refine is None
 
 
+def test_refine_by_the_nonlinear_model(tmp_path):
+    # refine_by="model_only": the at-rest plan brought to rest by the nonlinear reduced model,
+    # no FE transient; the same bytes as `plan --refine-by model_only`, and the FE at its
+    # converged settings (an independent measure) finds it at rest
+    c_out, py_out = tmp_path / "c.csv", tmp_path / "py.csv"
+    cli("plan", example("paper-line-rest.yaml"), "-o", c_out, "--refine-by", "model_only",
+        "--quiet")
+    p = ea.plan(example("paper-line-rest.yaml"), refine_by="model_only")
+    p.write(py_out, summary=tmp_path / "py.json")
+    assert strip_run_id(read(py_out)) == strip_run_id(read(c_out))
+    summary = json.loads(read(tmp_path / "py.json"))
+    assert summary["refine"]["by"] == "model_only" and not summary["fe_check"]["checked"]
+    assert p.refine.converged and p.refine.residual_peak_m < 5e-5
+    sim = ea.simulate(p, scheme="genalpha", dt=5e-4, settle=3.0, damping_ratio=0.0,
+                      history=False)
+    assert sim.residual_peak_m < 1e-3
+    with pytest.raises(ValueError):
+        ea.plan(example("paper-line-rest.yaml"), refine_by="exact")
+
+
 def _paper_line_rest_with(tmp_path, dynamics):
     """paper-line-rest.yaml with its dynamics block replaced; the arm file by its path."""
     text = read(example("paper-line-rest.yaml")).decode()
