@@ -71,7 +71,14 @@ def test_refine_by_the_nonlinear_model(tmp_path):
         "--quiet")
     p = ea.plan(example("paper-line-rest.yaml"), refine_by="model_only")
     p.write(py_out, summary=tmp_path / "py.json")
-    assert strip_run_id(read(py_out)) == strip_run_id(read(c_out))
+    # the same plan to rounding: the model's band solves run in the BLAS the process loaded
+    # first (numpy's here), which moves the last digits (1e-13 m; accelerations 5e-8)
+    c_rows = [l for l in read(c_out).decode().splitlines() if not l.startswith("#")][1:]
+    py_rows = [l for l in read(py_out).decode().splitlines() if not l.startswith("#")][1:]
+    assert len(c_rows) == len(py_rows)
+    for a, b in zip(c_rows, py_rows):
+        assert [float(x) for x in b.split(",")] == pytest.approx(
+            [float(x) for x in a.split(",")], rel=1e-6, abs=1e-6)
     summary = json.loads(read(tmp_path / "py.json"))
     assert summary["refine"]["by"] == "model_only" and not summary["fe_check"]["checked"]
     assert p.refine.converged and p.refine.residual_peak_m < 5e-5
