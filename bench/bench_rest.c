@@ -4,7 +4,11 @@
  * paper line (repeated) and on a seeded random sweep of straight lines across the workspace
  * (payload factor 0..0.5; the generator of tests/test_rest_sweep.c). One thread.
  *
- *   bench_rest [LINES [REPEATS]]   (default 20 lines, the paper line 7 times)
+ *   bench_rest [LINES [REPEATS [BY]]]   (default 20 lines, the paper line 7 times, BY fe)
+ *
+ * BY (fe, model, model_only) is what measures the loop's candidates (dynamics.refine.by): the
+ * nonlinear reduced model's time has its own column; with model_only the loop's residual is the
+ * model's, no FE transient runs.
  *
  * Prints a markdown table: median, p90 and worst of the total (wall and this thread's CPU
  * time: one core's work on a shared machine) and of each phase (wall), the
@@ -24,6 +28,7 @@
 #include <time.h>
 
 static uint64_t rng_state = EA_TS_SEED;
+static ea_task_refine_by_t by = EA_TASK_REFINE_BY_FE;
 static double urand(void) {
   return ea_ts_urand(&rng_state);
 }
@@ -38,7 +43,8 @@ static double cpu(void) {
 #define NMAX 512
 typedef struct {
   int n;
-  double total[NMAX], cpu[NMAX], plan[NMAX], fe[NMAX], replan[NMAX], resid[NMAX], evals[NMAX];
+  double total[NMAX], cpu[NMAX], plan[NMAX], fe[NMAX], replan[NMAX], resid[NMAX], evals[NMAX],
+      model[NMAX];
   int not_converged;
 } runs_t;
 
@@ -54,6 +60,7 @@ static int one(const ea_task_t *t, runs_t *r) {
   const double t1 = ea_bench_now();
   ea_task_refine_t rs;
   ea_plan_rest_settings(t, &rs);
+  rs.by = by;
   if (!st) st = ea_plan_refine(pl, &rs, &pi, ri, &e);
   /* a residual bound: the verdict of one FE transient at --verify's settings, as the CLI */
   double t_verify = 0.0;
@@ -78,10 +85,15 @@ static int one(const ea_task_t *t, runs_t *r) {
     r->plan[k] = t1 - t0;
     r->fe[k] = ri->time_fe_s + t_verify;
     r->replan[k] = ri->time_plan_s;
+    r->model[k] = ri->time_model_s;
     r->resid[k] = ri->residual_peak_m;
     r->evals[k] = ri->n_evals;
     r->not_converged += !ri->converged || verdict_fail;
   }
+  if (st)
+    fprintf(stderr, "bench_rest: (%.4f, %.4f) -> (%.4f, %.4f), payload factor %.3f: %s: %s\n",
+            t->start.given[0], t->start.given[1], t->goal.given[0], t->goal.given[1],
+            t->payload_factor, ea_status_name(st), e.msg);
   ea_planner_free(pl);
   free(ri);
   return st != EA_OK;
@@ -98,20 +110,30 @@ static double q(const double *v, int n, double qq) {
   return qq == 0.5 && n % 2 == 0 ? 0.5 * (s[n / 2 - 1] + s[n / 2]) : s[i];
 }
 
+/* "median / worst" of v in ms */
+static void mw(const double *v, int n) {
+  printf(" %.0f / %.0f |", 1e3 * q(v, n, 0.5), 1e3 * q(v, n, 1.0));
+}
+
 static void row(const char *name, const runs_t *r) {
-  printf("| %s | %d | %.0f / %.0f / %.0f | %.0f / %.0f / %.0f | %.0f / %.0f | %.0f / %.0f | %.0f / "
-         "%.0f | %.0f / %.0f | "
-         "%.4f / %.4f | %d |\n",
-         name, r->n, 1e3 * q(r->total, r->n, 0.5), 1e3 * q(r->total, r->n, 0.9),
-         1e3 * q(r->total, r->n, 1.0), 1e3 * q(r->cpu, r->n, 0.5), 1e3 * q(r->cpu, r->n, 0.9),
-         1e3 * q(r->cpu, r->n, 1.0), 1e3 * q(r->plan, r->n, 0.5), 1e3 * q(r->plan, r->n, 1.0),
-         1e3 * q(r->fe, r->n, 0.5), 1e3 * q(r->fe, r->n, 1.0), 1e3 * q(r->replan, r->n, 0.5),
-         1e3 * q(r->replan, r->n, 1.0), q(r->evals, r->n, 0.5), q(r->evals, r->n, 1.0),
-         1e3 * q(r->resid, r->n, 0.5), 1e3 * q(r->resid, r->n, 1.0), r->not_converged);
+  const int n = r->n;
+  printf("| %s%s%s | %d | %.0f / %.0f / %.0f | %.0f / %.0f / %.0f |", name, by ? ", by " : "",
+         by ? ea_task_refine_by_name(by) : "", n, 1e3 * q(r->total, n, 0.5),
+         1e3 * q(r->total, n, 0.9), 1e3 * q(r->total, n, 1.0), 1e3 * q(r->cpu, n, 0.5),
+         1e3 * q(r->cpu, n, 0.9), 1e3 * q(r->cpu, n, 1.0));
+  mw(r->plan, n);
+  mw(r->fe, n);
+  mw(r->replan, n);
+  if (by != EA_TASK_REFINE_BY_FE) mw(r->model, n);
+  printf(" %.0f / %.0f | %.4f / %.4f | %d |\n", q(r->evals, n, 0.5), q(r->evals, n, 1.0),
+         1e3 * q(r->resid, n, 0.5), 1e3 * q(r->resid, n, 1.0), r->not_converged);
 }
 
 int main(int argc, char **argv) {
   const int lines = argc > 1 ? atoi(argv[1]) : 20, reps = argc > 2 ? atoi(argv[2]) : 7;
+  for (int k = 0; argc > 3 && k <= EA_TASK_REFINE_BY_MODEL_ONLY; ++k)
+    if (!strcmp(argv[3], ea_task_refine_by_name((ea_task_refine_by_t)k)))
+      by = (ea_task_refine_by_t)k;
   char path[1200];
   snprintf(path, sizeof path, "%s/problems/examples/paper-line-rest.yaml", EA_SOURCE_DIR);
   ea_task_t paper;
@@ -147,15 +169,16 @@ int main(int argc, char **argv) {
     }
   }
   printf("| case | plans | wall [ms]: median / p90 / worst | CPU [ms]: median / p90 / worst | "
-         "plan: median / worst | FE: median / "
-         "worst | re-plans: median / worst | evaluations: median / worst | loop FE residual "
-         "[mm]: median / worst | not within bound |\n");
-  printf("|---|---|---|---|---|---|---|---|---|---|\n");
+         "plan: median / worst | FE: median / worst | re-plans: median / worst |%s evaluations: "
+         "median / worst | loop %s residual [mm]: median / worst | not within bound |\n",
+         by != EA_TASK_REFINE_BY_FE ? " nonlinear model: median / worst |" : "",
+         by == EA_TASK_REFINE_BY_MODEL_ONLY ? "model" : "FE");
+  printf("|---|---|---|---|---|---|---|%s---|---|---|\n", by != EA_TASK_REFINE_BY_FE ? "---|" : "");
   row("paper line (paper-line-rest.yaml)", &rp);
   row("random straight lines", &rs);
   row("the same, residual_m 5 mm", &rb);
-  printf("(%d lines refused by the planner, %d allowed 5 mm; one thread; with a residual bound "
-         "the FE column includes the verdict's transient at dt 1 ms over 3 s)\n",
-         refused, refused_b);
+  printf("(refine.by %s; %d lines refused by the planner, %d allowed 5 mm; one thread; with a "
+         "residual bound the FE column includes the verdict's transient at dt 1 ms over 3 s)\n",
+         ea_task_refine_by_name(by), refused, refused_b);
   return 0;
 }

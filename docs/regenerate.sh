@@ -54,7 +54,7 @@ for x in "$EA" "$B/bench/bench_statics" "$B/bench/bench_fe" "$B/bench/bench_plan
   "$B/tests/test_plan" "$B/tests/test_fe" "$B/tests/test_stream" "$B/tests/test_refine_robust" \
   "$B/tests/test_plan_rest" "$B/tests/test_plan_vib" "$B/tests/test_plan_limits" "$B/tests/test_rom" \
   "$B/tests/test_rom_modes" "$B/tests/test_plan_hess" "$B/tests/test_plan_sweep" "$B/bench/bench_calib" \
-  "$B/tests/test_calib_e2e" "$B/tests/test_rest_sweep" "$B/bench/bench_rest"; do
+  "$B/tests/test_calib_e2e" "$B/tests/test_rest_sweep" "$B/bench/bench_rest" "$B/tests/test_romnl"; do
   [ -x "$x" ] || {
     echo "regenerate.sh: $x not built (cmake -S . -B build && cmake --build build -j2)" >&2
     exit 2
@@ -119,6 +119,11 @@ run bench_dyn "$B/bench/bench_dyn"
 run test_rest_sweep env EA_SOURCE_DIR=. "$B/tests/test_rest_sweep"
 # docs/planner.md: time per verified at-rest plan (bench_rest, ~1 min).
 run bench_rest "$B/bench/bench_rest" 20 7
+# docs/planner.md: the same by the nonlinear reduced model (refine.by; ~1 min each).
+run bench_rest_model_only "$B/bench/bench_rest" 20 7 model_only
+run bench_rest_model "$B/bench/bench_rest" 20 7 model
+# docs/fe.md, docs/planner.md: the nonlinear reduced model against the FE (~40 s).
+run test_romnl env EA_SOURCE_DIR=. "$B/tests/test_romnl"
 # docs/planner.md: the dynamics rows' Hessian against its reference (~1 s).
 run test_plan_hess env EA_SOURCE_DIR=. "$B/tests/test_plan_hess"
 # docs/planner.md: 200 random tasks, free and line paths (~15 s).
@@ -660,6 +665,52 @@ set -- $(brow "the same, residual_m 5 mm")
 pub "bench/bench_rest (residual_m 5 mm)" docs/planner.md \
   "| the same, residual_m 5 mm | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {} / {*} | {*} |" \
   "$1" "$2" "$(calc %.4f "$5")"
+
+# --- docs/planner.md: bench_rest by the nonlinear reduced model (plans, evaluations and the
+# loop's residual are deterministic, times are not; on the random lines the worst line's loop
+# stops at its time cap, so only the medians there)
+for by in model_only model; do
+  c="paper line (paper-line-rest.yaml)"
+  set -- $(awk -F'|' -v n=" $c, by $by " 'index($2, n) == 1 { print $3, $10, $11, $12; exit }' \
+    "$R/bench_rest_$by.out")
+  pub "bench/bench_rest $by ($c)" docs/planner.md \
+    "| $c, by $by | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {} | {} / {} | {} |" \
+    "$1" "$2" "$4" "$(calc %.4f "$5")" "$(calc %.4f "$7")" "$8"
+  for c in "random straight lines" "the same, residual_m 5 mm"; do
+    set -- $(awk -F'|' -v n=" $c, by $by " 'index($2, n) == 1 { print $3, $10, $11; exit }' \
+      "$R/bench_rest_$by.out")
+    pub "bench/bench_rest $by ($c)" docs/planner.md \
+      "| $c, by $by | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {} / {*} | {*} |" \
+      "$1" "$2" "$(calc %.4f "$5")"
+  done
+done
+# --- docs/fe.md, docs/planner.md: tests/test_romnl
+rn=$(grep ' lines measured, ' "$R/test_romnl.out")
+rnn() { echo "$rn" | sed -n "s/.*$1.*/\1/p"; }
+pub "tests/test_romnl (5 mm plans)" docs/fe.md \
+  "  refused by a limit): the predicted residual is within {} % of the FE's on every line; the" \
+  "$(rnn 'worst nonlinear error \([0-9.]*\) %')"
+pub "tests/test_romnl (5 mm plans)" docs/fe.md \
+  "  linear model is off by up to {} times on the same lines:" \
+  "$(rnn 'up to \([0-9.]*\) times')"
+for ln in "the diagonal" "line 1" "line 2" "line 4" "line 7" "line 8"; do
+  set -- $(awk -F'|' -v n=" $ln " '$2 == n { print $3, $4, $5, $6, $7, $8; exit }' "$R/test_romnl.out")
+  pub "tests/test_romnl (5 mm plans, $ln)" docs/fe.md "| $ln | {} | {} | {} | {} | {*} | {} |" \
+    "$1" "$2" "$3" "$4" "$6"
+done
+rl=$(grep '^at rest by the model alone, lines: ' "$R/test_romnl.out")
+rln() { echo "$rl" | sed -n "s/.*$1.*/\1/p"; }
+pub "tests/test_romnl (at rest, lines)" docs/fe.md \
+  "  diagonal and 20 seeded random lines all end within 1 mm by the FE (worst {} mm)." \
+  "$(calc %.3f "$(rln 'worst \([0-9.]*\) mm')")"
+pub "tests/test_romnl (at rest, lines)" docs/planner.md \
+  "diagonal and 20 seeded random straight lines all end within 1 mm (worst {} mm); the paper" \
+  "$(calc %.3f "$(rln 'worst \([0-9.]*\) mm')")"
+rp=$(grep '^at rest by the model alone, polylines: ' "$R/test_romnl.out")
+rpn() { echo "$rp" | sed -n "s/.*$1.*/\1/p"; }
+pub "tests/test_romnl (at rest, polylines)" docs/fe.md \
+  "- Polylines (two via points, motions of 2.7-6.2 s) are harder: {} of {} end within 1 mm by the" \
+  "$(rpn ', \([0-9]*\) within 1 mm')" "$(rpn 'polylines: \([0-9]*\) planned')"
 
 # --- docs/planner.md: bench_dyn (section 1: knots; 3: grid; 4: replanning)
 dyn() { awk -v k="$1" -v t="$2" '$1 == k && $2 == t { print $3, $7, $8, $10; exit }' "$R/bench_dyn.out"; }

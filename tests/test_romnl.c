@@ -38,6 +38,7 @@ static double mono(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static char table[16][200]; /* the prediction table's rows */
 static int n_lines, n_within, samples = 21;
 static double worst_rel, worst_lin;
 
@@ -79,6 +80,11 @@ static void line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b, do
     ea_test_true(0, what);
   } else {
     const double err = nl.residual_peak - fe, tol = fmax(0.2 * fe, 2e-4);
+    if (n_lines < 16)
+      snprintf(table[n_lines], sizeof table[n_lines],
+               "| %s | %.3f | %.1f | %.3f | %.3f | %+.1f | %.3f |", name, pf,
+               1e3 * nl.max_deviation, 1e3 * fe, 1e3 * nl.residual_peak, 100 * err / fe,
+               1e3 * lin.residual_peak);
     ++n_lines;
     n_within += fabs(err) <= tol;
     worst_rel = fmax(worst_rel, fabs(err) / fe);
@@ -206,9 +212,15 @@ int main(int argc, char **argv) {
     const ea_task_point_t p0 = ea_ts_rand_point(&rng), p1 = ea_ts_rand_point(&rng);
     line(&base, p0, p1, pf, name);
   }
-  printf("%d lines measured, %d within; worst nonlinear error %.1f %%; the linear model off by up "
-         "to %.2f times\n",
-         n_lines, n_within, 100 * worst_rel, worst_lin);
+  printf(
+      "\n| line | payload factor | modal tip deviation [mm] | FE residual [mm] | nonlinear model "
+      "[mm] | its error [%%] | linear model [mm] |\n|---|---|---|---|---|---|---|\n");
+  for (int i = 0; i < n_lines && i < 16; ++i)
+    printf("%s\n", table[i]);
+  printf(
+      "\n%d lines measured, %d within; worst nonlinear error %.1f %%; the linear model off by up "
+      "to %.2f times\n",
+      n_lines, n_within, 100 * worst_rel, worst_lin);
   ea_test_true(n_lines >= (n > 4 ? 4 : n), "at least 4 lines planned and measured");
   /* at rest by the model alone: the diagonal and seeded random lines */
   rest_tally_t L, P;

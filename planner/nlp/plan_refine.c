@@ -69,11 +69,12 @@ typedef struct {
 /* The nonlinear reduced model's loop: its coefficients at this many points of the plan's path
  * (tests/test_romnl: 21 points move the predicted residual by at most 2.6 % of the FE's, 41 by
  * 2.1 %), sampled again when a candidate's path leaves theirs by more than EA__NL_PATH_M
- * [m]; the loop stops when the model's residual peak is within EA__NL_TOL of the tolerance (the
- * model then leaves the FE to its own error). */
+ * [m]; the loop stops when the model's residual peak is within EA__NL_TOL of the tolerance at
+ * rest, EA__NL_BOUND of a residual bound (the model then leaves the FE to its own error). */
 #define EA__NL_SAMPLES 21
 #define EA__NL_PATH_M 1e-3
 #define EA__NL_TOL 0.1
+#define EA__NL_BOUND 0.9
 #define EA__NL_DT                                                                                  \
   2e-4 /* [s] RK4 step of the model (0.013 % of the diagonal's residual from 5e-5) */
 
@@ -239,9 +240,12 @@ static void ea__refine_model(ea__refine_t *R, ea_refine_eval_t *e) {
   if (st) {
     snprintf(R->fe_msg, sizeof R->fe_msg, "%.500s", err.msg);
   } else {
+    /* at rest the model's loop goes to EA__NL_TOL of the tolerance; a residual bound leaves
+     * the model's own error (a few per cent) as margin */
+    const double tol = R->task->dynamics.residual_m > 0.0 ? EA__NL_BOUND : EA__NL_TOL;
     e->model_residual_peak_m[0] = pr.residual_peak;
     e->model_residual_rms_m[0] = NAN;
-    e->score = pr.residual_peak / (EA__NL_TOL * info->allowed_m[0]);
+    e->score = pr.residual_peak / (tol * info->allowed_m[0]);
     for (int i = 0; i < R->K; ++i) {
       e->fitted_m[2 * i] = pr.eta[i] * R->tipn[0][i];
       e->fitted_m[2 * i + 1] = pr.eta_rate[i] * R->tipn[0][i] / R->w[0][i];
