@@ -369,9 +369,8 @@ static int moving_sample(fe_ctx_t *c, const ea_traj_t *tr, int ns, moving_t *mv)
   static const int order[9] = {4, 3, 5, 1, 7, 0, 2, 6, 8};
   for (int s = 0; s < ns && !rc; ++s) {
     const double t = t0 + T * s / (ns - 1);
-    double q[2], v, a;
-    ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[0], &v, &a);
-    ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[1], &v, &a);
+    double q[2], v[2], a[2];
+    ea__traj_actuators(tr, t - t0, q, v, a);
     mv->t[s] = t - t0;
     for (int o = 0; o < 9 && !rc; ++o) {
       const int k = order[o], di = k % 3 - 1, dj = k / 3 - 1;
@@ -738,9 +737,7 @@ static int condensed_inertia(const moving_t *mv, double t, const double q2[2], c
 static void ea_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, const moving_t *mv, int terms,
                    double t, const double *z, double *dz) {
   double q[2], v[2], a[2];
-  const double ta = t + EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, ta, &q[0], &v[0], &a[0]);
-  ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
+  ea__traj_actuators(tr, t, q, v, a);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
   double G[KM][KM][2] = {{{0}}}, D[KM][KM][3] = {{{0}}}, c3[4] = {0}, E[3][5] = {{0}},

@@ -6,8 +6,12 @@
 #define EA_TEST_SWEEP_H
 
 #include "ea_problems.h"
+#include "ea_simulate.h"
 
+#include <math.h>
 #include <stdint.h>
+#include <stdio.h>
+#include <time.h>
 
 /** The sweep's seed: the state a sweep starts from. */
 #define EA_TS_SEED 0x33c0ffeeULL
@@ -27,6 +31,33 @@ static inline ea_task_point_t ea_ts_rand_point(uint64_t *state) {
   const double y = -0.55 + 0.75 * ea_ts_urand(state);
   const double x = 0.15 + 0.55 * ea_ts_urand(state);
   return ea_task_point_planar(x, y, 0.0);
+}
+
+/* The FE residual peak [m] of a plan at converged settings, the sweep's reference (12 elements,
+ * generalized-alpha, dt 0.5 ms, 3 s after the motion, undamped); NAN, said on stdout, when the
+ * transient fails. */
+static inline double ea_ts_fe_converged(const ea_task_t *t, const ea_traj_t *tr) {
+  ea_sim_settings_t s;
+  ea_sim_settings_default(&s);
+  s.elements = 12;
+  s.scheme = EA_FE_SCHEME_GENALPHA;
+  s.dt = 5e-4;
+  s.settle = 3.0;
+  s.damping_ratio = 0.0;
+  ea_sim_info_t si;
+  ea_error_t e = {0};
+  if (ea_traj_simulate(&t->arm, tr, -1.0, &s, NULL, &si, &e)) {
+    printf("  FE: %s\n", e.msg);
+    return NAN;
+  }
+  return si.residual_peak;
+}
+
+/* Monotonic wall time [s]. */
+static inline double ea_ts_mono(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 #endif

@@ -31,32 +31,8 @@ static double urand(void) {
   return ea_ts_urand(&rng_state);
 }
 
-static double mono(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static ea_task_point_t rand_point(void) {
   return ea_ts_rand_point(&rng_state);
-}
-
-/* FE residual peak at converged settings of the planner's plan. */
-static double fe_converged(const ea_task_t *t, const ea_traj_t *tr) {
-  ea_sim_settings_t s;
-  ea_sim_settings_default(&s);
-  s.elements = 12;
-  s.scheme = EA_FE_SCHEME_GENALPHA;
-  s.dt = 5e-4;
-  s.settle = 3.0;
-  s.damping_ratio = 0.0;
-  ea_sim_info_t si;
-  ea_error_t e = {0};
-  if (ea_traj_simulate(&t->arm, tr, -1.0, &s, NULL, &si, &e)) {
-    printf("  FE: %s\n", e.msg);
-    return NAN;
-  }
-  return si.residual_peak;
 }
 
 typedef struct {
@@ -90,7 +66,7 @@ static void run_task(const char *name, const ea_task_t *t, tally_t *y) {
   ea_refine_info_t *ri = calloc(1, sizeof *ri);
   ea_traj_t tr;
   memset(&tr, 0, sizeof tr);
-  const double t0 = mono();
+  const double t0 = ea_ts_mono();
   ea_status_t st = ea_planner_alloc(t, &pl, &e);
   if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pi, &e);
   if (st) {
@@ -104,7 +80,7 @@ static void run_task(const char *name, const ea_task_t *t, tally_t *y) {
   ea_plan_rest_settings(t, &rs);
   st = ri ? ea_plan_refine(pl, &rs, &pi, ri, &e) : EA_ERR_NOMEM;
   if (!st) st = ea_planner_trajectory(pl, &tr, &e);
-  const double dt_s = mono() - t0;
+  const double dt_s = ea_ts_mono() - t0;
   ++y->planned;
   if (y->n_times < 128) y->times[y->n_times++] = dt_s;
   char what[700];
@@ -118,7 +94,7 @@ static void run_task(const char *name, const ea_task_t *t, tally_t *y) {
            t->payload_factor, ri->message);
   } else {
     const double bound = t->dynamics.residual_m > 0 ? t->dynamics.residual_m : 1e-3;
-    const double peak = fe_converged(t, &tr);
+    const double peak = ea_ts_fe_converged(t, &tr);
     const double qs = quasi_static_min(t);
     if (y->n_ratios < 128 && isfinite(qs)) y->ratios[y->n_ratios++] = ri->duration_s / qs;
     y->worst_mm = fmax(y->worst_mm, 1e3 * peak);

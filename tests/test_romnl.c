@@ -18,26 +18,6 @@
 #include <string.h>
 #include <time.h>
 
-static double fe_converged(const ea_task_t *t, const ea_traj_t *tr) {
-  ea_sim_settings_t s;
-  ea_sim_settings_default(&s);
-  s.elements = 12;
-  s.scheme = EA_FE_SCHEME_GENALPHA;
-  s.dt = 5e-4;
-  s.settle = 3.0;
-  s.damping_ratio = 0.0;
-  ea_sim_info_t si;
-  ea_error_t e = {0};
-  if (ea_traj_simulate(&t->arm, tr, -1.0, &s, NULL, &si, &e)) return NAN;
-  return si.residual_peak;
-}
-
-static double mono(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static char table[16][200]; /* the prediction table's rows */
 static int n_lines, n_within, samples = 21;
 static double worst_rel, worst_lin;
@@ -73,7 +53,7 @@ static void line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b, do
   if (!st) st = ea_traj_romnl_predict(tb, r, &tr, 1e-4, 3.0, &nl, &dist, &e);
   ea_romnl_info_t ri = {0};
   ea_romnl_info(r, &ri);
-  const double fe = fe_converged(&t, &tr);
+  const double fe = ea_ts_fe_converged(&t, &tr);
   char what[600];
   if (st) {
     snprintf(what, sizeof what, "%s: the nonlinear model ran: %s", name, e.msg);
@@ -129,7 +109,7 @@ static int rest_line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b
   ea_traj_t tr;
   memset(&tr, 0, sizeof tr);
   ea_refine_info_t *ri = calloc(1, sizeof *ri);
-  const double t0 = mono();
+  const double t0 = ea_ts_mono();
   ea_status_t st = ea_planner_alloc(&t, &pl, &e);
   if (!st) st = ea_planner_solve(pl, EA_PLAN_COLD, NULL, &pi, &e);
   if (st || !ri) { /* refused by a limit */
@@ -138,13 +118,13 @@ static int rest_line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b
     return 0;
   }
   double before = NAN; /* the at-rest plan's own FE residual (polylines) */
-  if (n_via && !ea_planner_trajectory(pl, &tr, &e)) before = fe_converged(&t, &tr);
+  if (n_via && !ea_planner_trajectory(pl, &tr, &e)) before = ea_ts_fe_converged(&t, &tr);
   ea_task_refine_t rs;
   ea_plan_rest_settings(&t, &rs);
   rs.by = EA_TASK_REFINE_BY_MODEL_ONLY;
   st = ea_plan_refine(pl, &rs, &pi, ri, &e);
   if (!st) st = ea_planner_trajectory(pl, &tr, &e);
-  const double dt = mono() - t0;
+  const double dt = ea_ts_mono() - t0;
   char what[700];
   if (st) {
     snprintf(what, sizeof what, "%s: at rest by the model: %s", name, e.msg);
@@ -155,7 +135,7 @@ static int rest_line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b
            "%s\n",
            name, a.given[0], a.given[1], b.given[0], b.given[1], pf, ri->message);
   } else {
-    const double fe = fe_converged(&t, &tr);
+    const double fe = ea_ts_fe_converged(&t, &tr);
     ++y->lines;
     y->within += fe <= 1e-3;
     y->better += fe < 0.5 * before;

@@ -56,5 +56,8 @@ void ea__rom_settle(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, const 
                     double settle, ea_rom_prediction_t *out);
 void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v,
                       double *a);
+/* The actuators q = (L_c, alpha), their rates v and accelerations a at time t [s] since the
+ * start of tr (ea__traj_hermite of both). */
+void ea__traj_actuators(const ea_traj_t *tr, double t, double q[2], double v[2], double a[2]);
 
 #endif

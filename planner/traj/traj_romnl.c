@@ -16,10 +16,8 @@ ea_status_t ea_traj_romnl_sample(ea_romnl_t *r, const ea_rom_table_t *tb, const 
   if (!q) return ea_error_set(err, EA_ERR_NOMEM, "nonlinear reduced model: out of memory");
   const double t0 = EA_TRAJ_AT(tr, 0, EA_TRAJ_t), T = EA_TRAJ_AT(tr, tr->n - 1, EA_TRAJ_t) - t0;
   for (int s = 0; s < n; ++s) {
-    double v, a;
-    const double t = t0 + T * s / (n - 1);
-    ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t, &q[2 * s], &v, &a);
-    ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t, &q[2 * s + 1], &v, &a);
+    double v[2], a[2];
+    ea__traj_actuators(tr, T * s / (n - 1), q + 2 * s, v, a);
   }
   const ea_status_t st = ea_romnl_sample(r, tb, n, q, err);
   free(q);
@@ -32,9 +30,7 @@ static void ea__romnl_rhs(const ea_rom_table_t *tb, const ea_romnl_t *r, const e
                           double t, int *cursor, double *dist, const double *z, double *dz,
                           double tip[2], double *dT) {
   double q[2], v[2], a[2];
-  const double ta = t + EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, ta, &q[0], &v[0], &a[0]);
-  ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
+  ea__traj_actuators(tr, t, q, v, a);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
   double d;

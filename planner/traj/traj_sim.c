@@ -552,12 +552,16 @@ void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, d
 }
 
 /* Modal right-hand side along the trajectory at time t (from the first sample). */
+void ea__traj_actuators(const ea_traj_t *tr, double t, double q[2], double v[2], double a[2]) {
+  const double ta = t + EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
+  ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, ta, &q[0], &v[0], &a[0]);
+  ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
+}
+
 static void ea__rom_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, double t,
                         const double *z, double *dz, double tip[2], double *dT) {
   double q[2], v[2], a[2];
-  const double t_abs = t + EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
-  ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, t_abs, &q[0], &v[0], &a[0]);
-  ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, t_abs, &q[1], &v[1], &a[1]);
+  ea__traj_actuators(tr, t, q, v, a);
   ea_rom_point_t p;
   ea_rom_table_eval(tb, q[0], q[1], &p, NULL, NULL);
   if (tip) tip[0] = tip[1] = 0.0;
