@@ -667,8 +667,11 @@ pub "bench/bench_rest (residual_m 5 mm)" docs/planner.md \
   "$1" "$2" "$(calc %.4f "$5")"
 
 # --- docs/planner.md: bench_rest by the nonlinear reduced model (plans, evaluations and the
-# loop's residual are deterministic, times are not; on the random lines the worst line's loop
-# stops at its time cap, so only the medians there)
+# paper line's residual are deterministic, times are not; on the random lines the worst line's
+# loop stops at its time cap, so only the medians there, and the median of the residuals where
+# the model's loops stopped is not checked: a loop stops at its first residual under 0.05 mm,
+# and a line near that edge takes one evaluation more or less when the plans differ in their
+# last bits (tables built in the process or read from the cache): 0.0064 or 0.0074 mm)
 for by in model_only model; do
   c="paper line (paper-line-rest.yaml)"
   set -- $(awk -F'|' -v n=" $c, by $by " 'index($2, n) == 1 { print $3, $10, $11, $12; exit }' \
@@ -680,8 +683,8 @@ for by in model_only model; do
     set -- $(awk -F'|' -v n=" $c, by $by " 'index($2, n) == 1 { print $3, $10, $11; exit }' \
       "$R/bench_rest_$by.out")
     pub "bench/bench_rest $by ($c)" docs/planner.md \
-      "| $c, by $by | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {} / {*} | {*} |" \
-      "$1" "$2" "$(calc %.4f "$5")"
+      "| $c, by $by | {} | {*} / {*} / {*} | {*} / {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {*} / {*} | {} / {*} | {*} / {*} | {*} |" \
+      "$1" "$2"
   done
 done
 # --- docs/fe.md, docs/planner.md: tests/test_romnl
