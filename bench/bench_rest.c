@@ -131,9 +131,10 @@ static void row(const char *name, const runs_t *r) {
 
 int main(int argc, char **argv) {
   const int lines = argc > 1 ? atoi(argv[1]) : 20, reps = argc > 2 ? atoi(argv[2]) : 7;
-  for (int k = 0; argc > 3 && k <= EA_TASK_REFINE_BY_MODEL_ONLY; ++k)
-    if (!strcmp(argv[3], ea_task_refine_by_name((ea_task_refine_by_t)k)))
-      by = (ea_task_refine_by_t)k;
+  if (argc > 3 && ea_task_refine_by_from_name(argv[3], &by)) {
+    fprintf(stderr, "bench_rest: BY '%s' is not one of fe, model, model_only\n", argv[3]);
+    return 2;
+  }
   char path[1200];
   snprintf(path, sizeof path, "%s/problems/examples/paper-line-rest.yaml", EA_SOURCE_DIR);
   ea_task_t paper;

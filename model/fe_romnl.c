@@ -54,8 +54,6 @@ typedef struct {
 } rnl_coef_t;
 
 struct ea_romnl {
-  ea_arm_t arm;
-  double tip_mass;
   ea_fe_model_t *m;
   ea_shooter_t *sh;
   int nd, nf;
@@ -68,7 +66,8 @@ struct ea_romnl {
   double *vec;   /* per sample NVEC vectors of nd */
   double *L0;    /* [m] passive cable rest length at each sample */
   ea_romnl_info_t info;
-  /* work */
+  /* work: one block (rnl_layout) */
+  double *work;
   double *ph9;                  /* 9 stencil points x NK modes x nd */
   double *u9;                   /* 9 x nd static states */
   double *th;                   /* 3 x nd modal derivatives */
@@ -101,8 +100,30 @@ void ea_romnl_free(ea_romnl_t *r) {
   free(r->c);
   free(r->vec);
   free(r->L0);
-  free(r->ph9);
+  free(r->work);
   free(r);
+}
+
+/* The work vectors in one block from base (NULL: only count); returns its length in doubles. */
+static size_t rnl_layout(ea_romnl_t *r, double *base) {
+  const size_t nd = (size_t)r->nd;
+  size_t o = 0;
+#define RNL_TAKE(field, count) (r->field = base ? base + o : NULL, o += (count))
+  RNL_TAKE(ph9, 9 * NK * nd);
+  RNL_TAKE(u9, 9 * nd);
+  RNL_TAKE(th, 3 * nd);
+  RNL_TAKE(d1, nd);
+  RNL_TAKE(w1, nd);
+  RNL_TAKE(Kb, EA__FE_LDS * nd);
+  RNL_TAKE(f, nd);
+  RNL_TAKE(f0, nd);
+  RNL_TAKE(x, nd);
+  RNL_TAKE(y, nd);
+  RNL_TAKE(Mph, NK * nd);
+  RNL_TAKE(yt, NK * nd);
+  RNL_TAKE(b, (NK + 1) * (size_t)r->nf);
+#undef RNL_TAKE
+  return o;
 }
 
 ea_status_t ea_romnl_alloc(const ea_arm_t *arm, double tip_mass, int elements, ea_romnl_t **out,
@@ -112,8 +133,6 @@ ea_status_t ea_romnl_alloc(const ea_arm_t *arm, double tip_mass, int elements, e
   *out = NULL;
   ea_romnl_t *r = calloc(1, sizeof *r);
   if (!r) return ea_error_set(err, EA_ERR_NOMEM, "nonlinear reduced model: out of memory");
-  r->arm = *arm;
-  r->tip_mass = tip_mass;
   ea_fe_settings_t fs;
   ea_fe_settings_default(&fs);
   if (elements > 0) fs.elements = elements;
@@ -134,26 +153,12 @@ ea_status_t ea_romnl_alloc(const ea_arm_t *arm, double tip_mass, int elements, e
   const int nd = 3 * ea_fe_model_nodes(r->m);
   r->nd = nd;
   r->nf = nd - 3;
-  const size_t n = (size_t)nd * (9 * NK + 9 + 3 + 2 + EA__FE_LDS + 4 + 2 * NK) +
-                   (size_t)(NK + 1) * (size_t)r->nf;
-  r->ph9 = calloc(n, sizeof(double));
-  if (!r->ph9) {
+  r->work = calloc(rnl_layout(r, NULL), sizeof(double));
+  if (!r->work) {
     ea_romnl_free(r);
     return ea_error_set(err, EA_ERR_NOMEM, "nonlinear reduced model: out of memory");
   }
-  double *p = r->ph9 + (size_t)9 * NK * nd;
-  r->u9 = p, p += (size_t)9 * nd;
-  r->th = p, p += (size_t)3 * nd;
-  r->d1 = p, p += nd;
-  r->w1 = p, p += nd;
-  r->Kb = p, p += (size_t)EA__FE_LDS * nd;
-  r->f = p, p += nd;
-  r->f0 = p, p += nd;
-  r->x = p, p += nd;
-  r->y = p, p += nd;
-  r->Mph = p, p += (size_t)NK * nd;
-  r->yt = p, p += (size_t)NK * nd;
-  r->b = p;
+  rnl_layout(r, r->work);
   *out = r;
   return EA_OK;
 }

@@ -241,9 +241,19 @@ const char *ea_task_refine_method_name(ea_task_refine_method_t m) {
   return ((int)m >= 0 && m <= EA_TASK_REFINE_SBPLX) ? ea__refine_names[m] : "unknown";
 }
 
+static const char *const ea__refine_by_names[] = {"fe", "model", "model_only"};
+
 const char *ea_task_refine_by_name(ea_task_refine_by_t b) {
-  static const char *const names[] = {"fe", "model", "model_only"};
-  return ((int)b >= 0 && b <= EA_TASK_REFINE_BY_MODEL_ONLY) ? names[b] : "unknown";
+  return ((int)b >= 0 && b <= EA_TASK_REFINE_BY_MODEL_ONLY) ? ea__refine_by_names[b] : "unknown";
+}
+
+int ea_task_refine_by_from_name(const char *name, ea_task_refine_by_t *b) {
+  for (int k = 0; name && k <= EA_TASK_REFINE_BY_MODEL_ONLY; ++k)
+    if (!strcmp(name, ea__refine_by_names[k])) {
+      *b = (ea_task_refine_by_t)k;
+      return 0;
+    }
+  return -1;
 }
 
 void ea_task_refine_default(ea_task_refine_t *r) {

@@ -19,7 +19,7 @@
 #include <time.h>
 
 static char table[16][200]; /* the prediction table's rows */
-static int n_lines, n_within, samples = 21;
+static int n_lines, n_within, samples = EA_ROMNL_SAMPLES;
 static double worst_rel, worst_lin;
 
 static void line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b, double pf,
@@ -157,6 +157,22 @@ static int rest_line(const ea_task_t *base, ea_task_point_t a, ea_task_point_t b
   return 1;
 }
 
+/* Tasks drawn until n are planned (the task check and the planner refuse some): lines, or
+ * polylines through n_via random points. */
+static void rest_sweep(const ea_task_t *base, uint64_t *rng, int n, int n_via, rest_tally_t *y) {
+  for (int i = 0, done = 0; done < n && i < 40 * n; ++i) {
+    char name[40];
+    snprintf(name, sizeof name, "at rest: %s %d", n_via ? "polyline" : "line", done + 1);
+    const double pf = 0.5 * ea_ts_urand(rng);
+    const ea_task_point_t p0 = ea_ts_rand_point(rng), p1 = ea_ts_rand_point(rng);
+    ea_task_point_t via[EA_TASK_MAX_VIA];
+    memset(via, 0, sizeof via);
+    for (int k = 0; k < n_via; ++k)
+      via[k] = ea_ts_rand_point(rng);
+    done += rest_line(base, p0, p1, pf, name, n_via, via, y);
+  }
+}
+
 static int cmpd(const void *x, const void *y) {
   const double a = *(const double *)x, b = *(const double *)y;
   return (a > b) - (a < b);
@@ -209,24 +225,9 @@ int main(int argc, char **argv) {
   rest_line(&base, d0, d1, 0.25, "at rest: the diagonal", 0, NULL, &L);
   rng = EA_TS_SEED ^ 0x52ULL;
   const int nr = argc > 3 ? atoi(argv[3]) : 20;
-  /* lines drawn until nr are planned (the task check and the planner refuse some) */
-  for (int i = 0, done = 0; done < nr && i < 40 * nr; ++i) {
-    char name[40];
-    snprintf(name, sizeof name, "at rest: line %d", done + 1);
-    const double pf = 0.5 * ea_ts_urand(&rng);
-    const ea_task_point_t p0 = ea_ts_rand_point(&rng), p1 = ea_ts_rand_point(&rng);
-    done += rest_line(&base, p0, p1, pf, name, 0, NULL, &L);
-  }
-  /* polylines through two random via points */
+  rest_sweep(&base, &rng, nr, 0, &L);
   const int np = argc > 4 ? atoi(argv[4]) : 8;
-  for (int i = 0, done = 0; done < np && i < 40 * np; ++i) {
-    char name[40];
-    snprintf(name, sizeof name, "at rest: polyline %d", done + 1);
-    const double pf = 0.5 * ea_ts_urand(&rng);
-    const ea_task_point_t p0 = ea_ts_rand_point(&rng), p1 = ea_ts_rand_point(&rng);
-    const ea_task_point_t via[2] = {ea_ts_rand_point(&rng), ea_ts_rand_point(&rng)};
-    done += rest_line(&base, p0, p1, pf, name, 2, via, &P);
-  }
+  rest_sweep(&base, &rng, np, 2, &P);
   for (int k = 0; k < 2; ++k) {
     rest_tally_t *y = k ? &P : &L;
     const int m = y->lines < 256 ? y->lines : 256;
@@ -240,10 +241,9 @@ int main(int argc, char **argv) {
    * straight lines (measured: every one) */
   ea_test_true(L.lines + L.refused >= nr + 1 && L.refused == 0 && L.within == L.lines,
                "at rest by the model alone, lines: every one ends <= 1 mm by the FE");
-  /* polylines run longer (up to 6 s) at larger deflection (up to 137 mm), where the model's
-   * error grows (measured: 5 of 8 within 1 mm, the others 1.1, 2.4 and 4.9 mm; docs/fe.md):
-   * the model alone at least halves each at-rest plan's FE residual, and the default check
-   * (the FE) is what keeps the promise there (tests/test_rest_sweep) */
+  /* polylines run longer, where the model's error grows (docs/fe.md): the model alone at least
+   * halves each at-rest plan's FE residual, and the default check (the FE) is what keeps the
+   * promise there (tests/test_rest_sweep) */
   ea_test_true(P.lines + P.refused >= np && P.refused <= 1 && P.better == P.lines &&
                    2 * P.within >= P.lines,
                "at rest by the model alone, polylines: each halves the at-rest plan's FE "

@@ -432,6 +432,8 @@ void ea_rom_table_eval2(const ea_rom_table_t *tb, double cable_length, double ca
  *  q = (L_c, alpha). Its coefficients are computed at points of a path in q and interpolated
  *  along it; its modal coordinates are those of the linear table it is sampled against. */
 #define EA_ROMNL_MODES 2
+/** Points at which the planner and plan --verify sample a plan's path (ea_traj_romnl_sample). */
+#define EA_ROMNL_SAMPLES 21
 typedef struct ea_romnl ea_romnl_t;
 typedef struct ea_romnl_info {
   int samples;        /**< points of the path */

@@ -262,7 +262,7 @@ static void ea__plan_verify(const ea_planner_t *pl, const ea_task_t *task, const
     ea_romnl_t *nl = NULL;
     ea_rom_prediction_t pn;
     if (!ea_romnl_alloc(&task->arm, ea_arm_tip_mass(&task->arm, task->payload_kg), 0, &nl, NULL) &&
-        !ea_traj_romnl_sample(nl, tn, tr, 21, NULL) &&
+        !ea_traj_romnl_sample(nl, tn, tr, EA_ROMNL_SAMPLES, NULL) &&
         !ea_traj_romnl_predict(tn, nl, tr, 1e-4, v->settings.settle, &pn, NULL, NULL))
       v->predicted_nonlinear_residual_m = pn.residual_peak;
     ea_romnl_free(nl);
@@ -331,7 +331,8 @@ static void ea__plan_check_text(const struct ea__plan_run *r);
 
 typedef struct {
   const char *task_path, *out, *summary, *figure;
-  int json, quiet, dtest, refine, shape, verify, no_verify, refine_by;
+  int json, quiet, dtest, refine, shape, verify, no_verify, have_by;
+  ea_task_refine_by_t by; /* --refine-by (have_by) */
   long knots, plevel;
   char out_buf[1024], sum_buf[1024], fig_buf[1024];
 } ea__plan_opts_t;
@@ -377,12 +378,9 @@ static int ea__plan_parse(const char *cmd, int argc, char **argv, ea__plan_opts_
     } else if (!strcmp(a, "--no-verify")) {
       o->no_verify = 1;
     } else if (!strcmp(a, "--refine-by")) {
-      int b = -1;
-      for (int k = 0; k <= EA_TASK_REFINE_BY_MODEL_ONLY; ++k)
-        if (!strcmp(v, ea_task_refine_by_name((ea_task_refine_by_t)k))) b = k;
-      if (b < 0)
+      if (ea_task_refine_by_from_name(v, &o->by))
         return ea__cli_usage_error(cmd, "--refine-by: '%s' is not one of fe, model, model_only", v);
-      o->refine_by = b + 1; /* 0: the task's */
+      o->have_by = 1;
     } else if (!strcmp(a, "--shape")) {
       if (strcmp(v, "zv"))
         return ea__cli_usage_error(cmd, "--shape: '%s' is not a shaper (known: zv)", v);
@@ -716,7 +714,7 @@ int ea__cli_plan(int argc, char **argv) {
   if (o.dtest) task.solver.derivative_test = 1;
   if (o.refine) task.dynamics.refine.enabled = 1;
   if (o.no_verify) task.dynamics.verify = 0;
-  if (o.refine_by) task.dynamics.refine.by = (ea_task_refine_by_t)(o.refine_by - 1);
+  if (o.have_by) task.dynamics.refine.by = o.by;
   task.dynamics.refine.progress = ea__plan_refine_progress;
   task.dynamics.refine.progress_data = &r.prog;
   if (o.plevel >= 0) task.solver.print_level = (int)o.plevel;

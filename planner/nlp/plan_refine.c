@@ -66,17 +66,15 @@ typedef struct {
   int by_model;    /* 1: evaluations integrate it, not the FE transient */
 } ea__refine_t;
 
-/* The nonlinear reduced model's loop: its coefficients at this many points of the plan's path
- * (tests/test_romnl: 21 points move the predicted residual by at most 2.6 % of the FE's, 41 by
- * 2.1 %), sampled again when a candidate's path leaves theirs by more than EA__NL_PATH_M
- * [m]; the loop stops when the model's residual peak is within EA__NL_TOL of the tolerance at
- * rest, EA__NL_BOUND of a residual bound (the model then leaves the FE to its own error). */
-#define EA__NL_SAMPLES 21
+/* The nonlinear reduced model's loop: its coefficients at EA_ROMNL_SAMPLES points of the plan's
+ * path, sampled again when a candidate's path leaves theirs by more than EA__NL_PATH_M [m]; RK4
+ * steps of EA__NL_DT [s] (docs/fe.md, "The nonlinear reduced model in the library"); the loop
+ * stops when the model's residual peak is within EA__NL_TOL of the tolerance at rest,
+ * EA__NL_BOUND of a residual bound (the model then leaves the FE to its own error). */
 #define EA__NL_PATH_M 1e-3
+#define EA__NL_DT 2e-4
 #define EA__NL_TOL 0.1
 #define EA__NL_BOUND 0.9
-#define EA__NL_DT                                                                                  \
-  2e-4 /* [s] RK4 step of the model (0.013 % of the diagonal's residual from 5e-5) */
 
 /* Solve the n x n system A x = b (row-major A, destroyed) by Gaussian elimination with
  * partial pivoting; 0 on success, 1 if singular. */
@@ -228,7 +226,7 @@ static void ea__refine_model(ea__refine_t *R, ea_refine_eval_t *e) {
     st = ea_traj_romnl_predict(tb, R->nl, &R->tr, EA__NL_DT, settle, &pr, &dist, &err);
   if (!st && !(dist <= R->nl_dist0 + EA__NL_PATH_M)) {
     R->nl_sampled = 0;
-    st = ea_traj_romnl_sample(R->nl, tb, &R->tr, EA__NL_SAMPLES, &err);
+    st = ea_traj_romnl_sample(R->nl, tb, &R->tr, EA_ROMNL_SAMPLES, &err);
     if (!st) {
       R->nl_sampled = 1;
       st = ea_traj_romnl_predict(tb, R->nl, &R->tr, EA__NL_DT, settle, &pr, &dist, &err);
@@ -236,7 +234,6 @@ static void ea__refine_model(ea__refine_t *R, ea_refine_eval_t *e) {
     }
   }
   e->fe_status = st;
-  e->score = NAN;
   if (st) {
     snprintf(R->fe_msg, sizeof R->fe_msg, "%.500s", err.msg);
   } else {
@@ -244,7 +241,6 @@ static void ea__refine_model(ea__refine_t *R, ea_refine_eval_t *e) {
      * the model's own error (a few per cent) as margin */
     const double tol = R->task->dynamics.residual_m > 0.0 ? EA__NL_BOUND : EA__NL_TOL;
     e->model_residual_peak_m[0] = pr.residual_peak;
-    e->model_residual_rms_m[0] = NAN;
     e->score = pr.residual_peak / (tol * info->allowed_m[0]);
     for (int i = 0; i < R->K; ++i) {
       e->fitted_m[2 * i] = pr.eta[i] * R->tipn[0][i];
@@ -252,7 +248,6 @@ static void ea__refine_model(ea__refine_t *R, ea_refine_eval_t *e) {
     }
   }
   e->residual_peak_m = e->model_residual_peak_m[0];
-  e->residual_rms_m = NAN;
   e->fe_time_s = ea__mono_s() - tm;
   info->time_model_s += e->fe_time_s;
 }

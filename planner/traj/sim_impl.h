@@ -47,13 +47,13 @@ void ea__sim_drive_finish(ea__sim_drive_t *d);
 ea_status_t ea__sim_drive_start(ea_fe_model_t *m, const ea__sim_drive_t *d, const double *q,
                                 ea_fe_static_info_t *info, ea_error_t *err);
 
-/** Cubic Hermite of a trajectory's column c with its rate column cr at time t [s] (the
- *  interpolant the FE transient and ea_traj_rom_predict follow): value, rate and
- *  acceleration; outside the samples the end value, rate and acceleration 0. */
 /* The modal state z (2 K) at the end of tr and its free vibration's peak over settle [s] at the
  * goal into out (traj_sim.c). */
 void ea__rom_settle(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, const double *z,
                     double settle, ea_rom_prediction_t *out);
+/** Cubic Hermite of a trajectory's column c with its rate column cr at time t [s] (the
+ *  interpolant the FE transient and ea_traj_rom_predict follow): value, rate and
+ *  acceleration; outside the samples the end value, rate and acceleration 0. */
 void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, double *v,
                       double *a);
 /* The actuators q = (L_c, alpha), their rates v and accelerations a at time t [s] since the

@@ -551,13 +551,13 @@ void ea__traj_hermite(const ea_traj_t *tr, int c, int cr, double t, double *q, d
   *a = ((12 * s - 6) * y0 + (6 * s - 4) * m0 + (-12 * s + 6) * y1 + (6 * s - 2) * m1) / (h * h);
 }
 
-/* Modal right-hand side along the trajectory at time t (from the first sample). */
 void ea__traj_actuators(const ea_traj_t *tr, double t, double q[2], double v[2], double a[2]) {
   const double ta = t + EA_TRAJ_AT(tr, 0, EA_TRAJ_t);
   ea__traj_hermite(tr, EA_TRAJ_cable_length, EA_TRAJ_cable_length_rate, ta, &q[0], &v[0], &a[0]);
   ea__traj_hermite(tr, EA_TRAJ_cable_angle, EA_TRAJ_cable_angle_rate, ta, &q[1], &v[1], &a[1]);
 }
 
+/* Modal right-hand side along the trajectory at time t (from the first sample). */
 static void ea__rom_rhs(const ea_rom_table_t *tb, const ea_traj_t *tr, int K, double t,
                         const double *z, double *dz, double tip[2], double *dT) {
   double q[2], v[2], a[2];

@@ -117,6 +117,8 @@ typedef enum ea_task_refine_by {
 } ea_task_refine_by_t;
 /** Name of a refinement's measure ("fe", "model", "model_only"). */
 const char *ea_task_refine_by_name(ea_task_refine_by_t b);
+/** The measure of that name into *b; 0, or -1 for a name that is none (*b unchanged). */
+int ea_task_refine_by_from_name(const char *name, ea_task_refine_by_t *b);
 
 /** Most FE transients a refinement may spend. */
 #define EA_TASK_REFINE_MAX_EVALUATIONS 100
